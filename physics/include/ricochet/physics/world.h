@@ -1,0 +1,100 @@
+#pragma once
+/// The physics world: create bodies and static shapes, step it, read state, query it, save it.
+///
+/// One thread owns a World. Create and destroy bodies between steps. Every input is validated:
+/// a bad definition or a NaN force returns an Error and changes nothing.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "ricochet/physics/body.h"
+#include "ricochet/physics/events.h"
+#include "ricochet/physics/profile.h"
+#include "ricochet/physics/query.h"
+#include "ricochet/physics/shapes.h"
+#include "ricochet/physics/world_def.h"
+
+namespace ricochet::physics {
+
+class WorldImpl;
+
+class World {
+ public:
+  /// Fails with InvalidArgument and the first wrong field when def.validate() is not empty.
+  static Result<World> create(const WorldDef& def = {});
+
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  ~World();
+
+  // --- bodies ---
+  Result<BodyId> create_body(const BodyDef& def);
+  Status destroy_body(BodyId id);
+  bool is_valid(BodyId id) const;
+  Result<BodyState> body_state(BodyId id) const;
+  std::uint32_t body_count() const;
+
+  Status set_transform(BodyId id, const Vec3& position, const Quat& orientation);
+  Status set_linear_velocity(BodyId id, const Vec3& velocity);
+  Status set_angular_velocity(BodyId id, const Vec3& velocity);
+  /// N, at the centre of mass, for the next step only.
+  Status apply_force(BodyId id, const Vec3& force);
+  /// N·m, for the next step only.
+  Status apply_torque(BodyId id, const Vec3& torque);
+  /// N·s at a world point; changes velocity immediately.
+  Status apply_impulse(BodyId id, const Vec3& impulse, const Vec3& point);
+  Status wake(BodyId id);
+
+  // --- static geometry ---
+  Result<ShapeId> add_plane(const PlaneDef& def);
+  Result<ShapeId> add_box(const BoxDef& def);
+  Result<ShapeId> add_mesh(const MeshDef& def);
+  Status remove_shape(ShapeId id);
+  std::uint32_t shape_count() const;
+
+  // --- simulation ---
+  /// Advances by dt_s seconds (finite, 0 < dt_s <= 1). Fails with InvalidArgument otherwise.
+  Status step(Real dt_s);
+  const StepProfile& profile() const;
+  const WorldDef& definition() const;
+  /// Wakes every body. Fails with InvalidArgument when not finite.
+  Status set_gravity(const Vec3& gravity);
+  std::uint64_t step_count() const;
+
+  // --- events of the last step ---
+  std::span<const ContactBeginEvent> contact_begin_events() const;
+  std::span<const ContactEndEvent> contact_end_events() const;
+  std::span<const ContactImpulseEvent> contact_impulse_events() const;
+  std::span<const NonFiniteEvent> nonfinite_events() const;
+
+  // --- queries (between steps) ---
+  /// Closest hit along origin + t·(direction·max_distance), t in [0, 1]. Direction need not be unit.
+  bool ray_cast_closest(const Vec3& origin, const Vec3& direction, Real max_distance,
+                        const QueryFilter& filter, RayHit& hit) const;
+  /// All hits along the ray, sorted by distance.
+  std::vector<RayHit> ray_cast_all(const Vec3& origin, const Vec3& direction, Real max_distance,
+                                   const QueryFilter& filter) const;
+  /// First contact of a sphere of radius moved from origin along direction for max_distance.
+  bool sphere_cast(const Vec3& origin, Real radius, const Vec3& direction, Real max_distance,
+                   const QueryFilter& filter, RayHit& hit) const;
+  /// Everything a sphere at center overlaps.
+  std::vector<ContactTarget> overlap_sphere(const Vec3& center, Real radius,
+                                            const QueryFilter& filter) const;
+
+  // --- determinism and rollback ---
+  /// 64-bit FNV-1a over every body's state, the contact cache and the step counter.
+  std::uint64_t state_hash() const;
+  /// Whole world state (bodies, shapes, contact cache, sleep state) as bytes.
+  std::vector<std::uint8_t> save_state() const;
+  /// Restores a save_state() image bit-exactly. Validates every length and field; on error the
+  /// world is unchanged.
+  Status restore_state(std::span<const std::uint8_t> bytes);
+
+ private:
+  explicit World(std::unique_ptr<WorldImpl> impl);
+  std::unique_ptr<WorldImpl> impl_;
+};
+
+}  // namespace ricochet::physics

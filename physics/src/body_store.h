@@ -1,0 +1,69 @@
+#pragma once
+/// Body storage: structure of arrays indexed by slot (BodyId::index), with generation counters.
+/// Hot solver data (velocities and inverse masses) lives in `motion`, contiguous per body.
+
+#include <cstdint>
+#include <vector>
+
+#include "ricochet/physics/body.h"
+
+namespace ricochet::physics {
+
+/// What the contact solver touches for every contact: 32 bytes per body in float.
+struct Motion {
+  Vec3 linear_velocity = Vec3::Zero();   ///< m/s
+  Real inverse_mass = 0;                 ///< 1/kg
+  Vec3 angular_velocity = Vec3::Zero();  ///< rad/s
+  Real inverse_inertia = 0;              ///< 1/(kg·m²); spheres are isotropic so one scalar suffices
+};
+
+enum BodyFlag : std::uint16_t {
+  kFlagAlive = 1 << 0,
+  kFlagKinematic = 1 << 1,
+  kFlagLockRotation = 1 << 2,
+  kFlagFast = 1 << 3,
+  kFlagSensor = 1 << 4,
+  kFlagAllowSleep = 1 << 5,
+  kFlagSleeping = 1 << 6,
+  kFlagFrozen = 1 << 7,
+};
+
+struct BodyStore {
+  std::vector<std::uint32_t> generation;
+  std::vector<std::uint16_t> flags;
+  std::vector<Vec3> position;
+  std::vector<Quat> orientation;
+  std::vector<Motion> motion;
+  std::vector<Vec3> force;
+  std::vector<Vec3> torque;
+  std::vector<Real> radius;
+  std::vector<Real> mass_inverse_original;     ///< inverse mass before any freeze
+  std::vector<Real> inertia_inverse_original;  ///< inverse inertia before any freeze
+  std::vector<Real> gravity_scale;
+  std::vector<Material> material;
+  std::vector<Filter> filter;
+  std::vector<Real> sleep_time;  ///< s the body has been slow
+  std::vector<std::uint64_t> user_data;
+  std::vector<std::uint32_t> free_slots;  ///< LIFO of dead slots
+  std::uint32_t alive_count = 0;
+
+  std::uint32_t slot_count() const { return static_cast<std::uint32_t>(generation.size()); }
+  bool alive(std::uint32_t slot) const { return (flags[slot] & kFlagAlive) != 0; }
+  bool has(std::uint32_t slot, std::uint16_t flag_mask) const { return (flags[slot] & flag_mask) != 0; }
+  bool valid(BodyId id) const {
+    return id.generation != 0 && id.index < slot_count() && generation[id.index] == id.generation &&
+           alive(id.index);
+  }
+  BodyId id_of(std::uint32_t slot) const { return {slot, generation[slot]}; }
+  /// Dynamic, alive, awake and not frozen: the bodies the solver moves.
+  bool simulated(std::uint32_t slot) const {
+    return (flags[slot] & (kFlagAlive | kFlagKinematic | kFlagSleeping | kFlagFrozen)) == kFlagAlive;
+  }
+
+  /// Takes a slot (reusing a dead one first) and fills it from a validated definition.
+  std::uint32_t create(const BodyDef& def);
+  void destroy(std::uint32_t slot);
+  BodyState state(std::uint32_t slot) const;
+};
+
+}  // namespace ricochet::physics

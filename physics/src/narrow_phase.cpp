@@ -1,0 +1,157 @@
+/// Narrowphase: contact point, normal and separation for every candidate, matched against last
+/// step's contacts by key so accumulated impulses warm-start the solver.
+///
+/// Contacts are created while the gap is below the speculative margin (|v|·dt, capped), so the
+/// solver can stop a body exactly at the surface instead of letting it sink in first.
+
+#include <algorithm>
+#include <cmath>
+
+#include "world_impl.h"
+
+namespace ricochet::physics {
+
+void ContactCache::build(const std::vector<Contact>& pairs, const std::vector<Contact>& statics) {
+  const std::size_t count = pairs.size() + statics.size();
+  std::size_t capacity = 16;
+  while (capacity < 2 * count) capacity <<= 1;
+  keys_.assign(capacity, kEmpty);
+  values_.resize(capacity);
+  mask_ = capacity - 1;
+  const auto insert = [&](std::uint64_t key, std::uint32_t value) {
+    std::uint64_t slot = (key * 0x9E3779B97F4A7C15ull) >> 20 & mask_;
+    while (keys_[slot] != kEmpty) slot = (slot + 1) & mask_;
+    keys_[slot] = key;
+    values_[slot] = value;
+  };
+  for (std::size_t i = 0; i < pairs.size(); ++i) insert(pairs[i].key, static_cast<std::uint32_t>(i));
+  for (std::size_t i = 0; i < statics.size(); ++i) {
+    insert(statics[i].key, static_cast<std::uint32_t>(pairs.size() + i));
+  }
+}
+
+std::int64_t ContactCache::find(std::uint64_t key) const {
+  if (keys_.empty()) return -1;
+  std::uint64_t slot = (key * 0x9E3779B97F4A7C15ull) >> 20 & mask_;
+  while (keys_[slot] != kEmpty) {
+    if (keys_[slot] == key) return values_[slot];
+    slot = (slot + 1) & mask_;
+  }
+  return -1;
+}
+
+namespace {
+
+struct Combined {
+  Real friction, restitution, rolling_coefficient;
+};
+
+Combined combine(const Material& a, const Material& b) {
+  return {std::sqrt(a.friction * b.friction), std::max(a.restitution, b.restitution),
+          std::sqrt(a.rolling_resistance * b.rolling_resistance)};
+}
+
+}  // namespace
+
+void WorldImpl::update_contacts() {
+  std::swap(previous_pair_contacts, pair_contacts);
+  std::swap(previous_static_contacts, static_contacts);
+  cache.build(previous_pair_contacts, previous_static_contacts);
+  const std::size_t previous_count = previous_pair_contacts.size() + previous_static_contacts.size();
+  previous_matched.assign(previous_count, 0);
+  pair_contacts.clear();
+  static_contacts.clear();
+
+  const auto match = [&](Contact& c) {
+    const std::int64_t found = cache.find(c.key);
+    if (found < 0) return;
+    previous_matched[static_cast<std::size_t>(found)] = 1;
+    const std::size_t pair_count = previous_pair_contacts.size();
+    const Contact& old = static_cast<std::size_t>(found) < pair_count
+                             ? previous_pair_contacts[static_cast<std::size_t>(found)]
+                             : previous_static_contacts[static_cast<std::size_t>(found) - pair_count];
+    c.previously_touching = old.touching;
+    if (def.warm_starting) {
+      c.normal_impulse = old.normal_impulse;
+      c.friction_impulse = old.friction_impulse;
+      c.rolling_impulse = old.rolling_impulse;
+    }
+  };
+
+  // Body pairs.
+  for (const BodyPair& pair : pairs) {
+    const std::uint16_t fa = bodies.flags[pair.a], fb = bodies.flags[pair.b];
+    const bool active_a = (fa & (kFlagSleeping | kFlagFrozen)) == 0;
+    const bool active_b = (fb & (kFlagSleeping | kFlagFrozen)) == 0;
+    if (!active_a && !active_b) continue;
+    const Vec3 d = bodies.position[pair.b] - bodies.position[pair.a];
+    const Real distance = d.norm();
+    const Real ra = bodies.radius[pair.a], rb = bodies.radius[pair.b];
+    Contact c;
+    c.a = pair.a;
+    c.b = pair.b;
+    c.key = pair_key(pair.a, pair.b);
+    c.normal = distance > Real(1e-9) * (ra + rb) ? Vec3(d / distance) : fallback_normal();
+    c.separation = distance - ra - rb;
+    c.ra = ra + c.separation / 2;
+    c.rb = rb + c.separation / 2;
+    c.point = bodies.position[pair.a] + c.normal * c.ra;
+    const Combined m = combine(bodies.material[pair.a], bodies.material[pair.b]);
+    c.friction = m.friction;
+    c.restitution = m.restitution;
+    c.rolling = m.rolling_coefficient * (ra * rb / (ra + rb));
+    match(c);
+    ++contact_count[pair.a];
+    ++contact_count[pair.b];
+    pair_contacts.push_back(c);
+  }
+
+  // Awake dynamic bodies against static geometry.
+  statics.rebuild_if_dirty();
+  const auto& planes = statics.plane_slots();
+  for (const std::uint32_t body : awake_list) {
+    if (bodies.has(body, kFlagKinematic) || bodies.has(body, kFlagSensor)) continue;
+    const Vec3& x = bodies.position[body];
+    const Real r = bodies.radius[body];
+    const Real margin = speculative_margin[body];
+    const Filter& filter = bodies.filter[body];
+    const Material& material = bodies.material[body];
+    const auto add_static = [&](std::uint32_t shape, std::uint32_t triangle,
+                                const Vec3& normal_out, Real separation) {
+      Contact c;
+      c.a = body;
+      c.b = shape;
+      c.key = static_key(body, shape, triangle);
+      c.normal = -normal_out;
+      c.separation = separation;
+      c.ra = r + separation / 2;
+      c.rb = 0;
+      c.point = x + c.normal * c.ra;
+      const Combined m = combine(material, statics.shape(shape).material);
+      c.friction = m.friction;
+      c.restitution = m.restitution;
+      c.rolling = m.rolling_coefficient * r;
+      match(c);
+      ++contact_count[body];
+      static_contacts.push_back(c);
+    };
+    for (const std::uint32_t slot : planes) {
+      const StaticShape& plane = statics.shape(slot);
+      if (!collides(filter, plane.filter)) continue;
+      const Real separation = plane.plane_normal.dot(x) - plane.plane_offset - r;
+      if (separation < margin) {
+        add_static(slot, 0, plane.plane_normal, separation);
+      }
+    }
+    statics.query_aabb(Aabb::around_sphere(x, r + margin), [&](std::uint32_t primitive) {
+      const StaticPrimitive& p = statics.primitive(primitive);
+      if (!collides(filter, statics.shape(p.shape).filter)) return;
+      const ClosestFeature f = statics.closest_feature(primitive, x);
+      const Real separation = f.distance - r;
+      if (separation < margin) add_static(p.shape, p.index, f.normal, separation);
+    });
+  }
+  profile.contacts = static_cast<int>(pair_contacts.size() + static_contacts.size());
+}
+
+}  // namespace ricochet::physics

@@ -1,0 +1,138 @@
+#pragma once
+/// Static shapes (planes, oriented boxes, triangle meshes) and the bounding volume hierarchy that
+/// holds every box and triangle. Planes are infinite and kept in their own list.
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry.h"
+#include "ricochet/physics/shapes.h"
+
+namespace ricochet::physics {
+
+struct StaticShape {
+  ShapeType type = ShapeType::Plane;
+  std::uint32_t generation = 0;
+  bool alive = false;
+  Material material;
+  Filter filter;
+  // Plane: solid below normal·x = offset.
+  Vec3 plane_normal = Vec3::UnitY();
+  Real plane_offset = 0;
+  // Box.
+  Vec3 box_center = Vec3::Zero();
+  Quat box_orientation = Quat::Identity();
+  Mat3 box_rotation = Mat3::Identity();  ///< local to world
+  Vec3 box_half_extents = Vec3::Ones();
+  // Mesh.
+  std::vector<Vec3> vertices;
+  std::vector<std::uint32_t> indices;
+};
+
+/// One box or one triangle in the hierarchy.
+struct StaticPrimitive {
+  std::uint32_t shape;  ///< slot in StaticGeometry::shapes
+  std::uint32_t index;  ///< triangle index within the mesh, 0 for a box
+};
+
+/// Closest feature of a primitive to a point.
+struct ClosestFeature {
+  Vec3 point;       ///< on the primitive's surface
+  Vec3 normal;      ///< unit, from the primitive towards the query point
+  Real distance;    ///< signed: negative when the point is inside a box
+};
+
+class StaticGeometry {
+ public:
+  std::uint32_t add(StaticShape shape);
+  void remove(std::uint32_t slot);
+  bool valid(ShapeId id) const {
+    return id.generation != 0 && id.index < shapes_.size() && shapes_[id.index].alive &&
+           shapes_[id.index].generation == id.generation;
+  }
+  ShapeId id_of(std::uint32_t slot) const { return {slot, shapes_[slot].generation}; }
+  const StaticShape& shape(std::uint32_t slot) const { return shapes_[slot]; }
+  const std::vector<StaticShape>& shapes() const { return shapes_; }
+  const std::vector<std::uint32_t>& plane_slots() const { return plane_slots_; }
+  std::uint32_t count() const { return alive_count_; }
+
+  /// Rebuilds the hierarchy if shapes changed since the last build.
+  void rebuild_if_dirty();
+
+  /// Calls visit(primitive_index) for every primitive whose box overlaps `box`.
+  template <class Visit>
+  void query_aabb(const Aabb& box, Visit&& visit) const;
+  /// Calls visit(primitive_index) for every primitive whose box, grown by `inflate`, the segment
+  /// o..o+d touches.
+  template <class Visit>
+  void query_segment(const Vec3& o, const Vec3& d, Real inflate, Visit&& visit) const;
+
+  const StaticPrimitive& primitive(std::uint32_t i) const { return primitives_[i]; }
+  ClosestFeature closest_feature(std::uint32_t primitive, const Vec3& point) const;
+  bool sweep(std::uint32_t primitive, const Vec3& o, const Vec3& d, Real radius, SweepHit& hit) const;
+  /// Triangle corners of a mesh primitive.
+  void triangle(const StaticPrimitive& p, Vec3& a, Vec3& b, Vec3& c) const;
+
+  /// Replaces everything (used by restore_state); rebuilds lists.
+  void assign(std::vector<StaticShape> shapes, std::vector<std::uint32_t> free_slots);
+  const std::vector<std::uint32_t>& free_slots() const { return free_slots_; }
+
+ private:
+  struct Node {
+    Aabb box;
+    std::uint32_t first = 0;  ///< leaf: first primitive; inner: left child (right = first + 1)
+    std::uint32_t count = 0;  ///< primitives in a leaf, 0 for an inner node
+  };
+  Aabb primitive_box(const StaticPrimitive& p) const;
+  void build_node(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
+                  std::vector<Aabb>& boxes, std::vector<Vec3>& centers);
+  void rebuild_lists();
+
+  std::vector<StaticShape> shapes_;
+  std::vector<std::uint32_t> free_slots_;
+  std::vector<std::uint32_t> plane_slots_;
+  std::vector<StaticPrimitive> primitives_;
+  std::vector<Node> nodes_;
+  std::uint32_t alive_count_ = 0;
+  bool dirty_ = false;
+};
+
+template <class Visit>
+void StaticGeometry::query_aabb(const Aabb& box, Visit&& visit) const {
+  if (nodes_.empty()) return;
+  std::uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!node.box.overlaps(box)) continue;
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) visit(i);
+    } else if (top + 2 <= 64) {
+      stack[top++] = node.first + 1;
+      stack[top++] = node.first;
+    }
+  }
+}
+
+template <class Visit>
+void StaticGeometry::query_segment(const Vec3& o, const Vec3& d, Real inflate, Visit&& visit) const {
+  if (nodes_.empty()) return;
+  std::uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  const Vec3 grow = Vec3::Constant(inflate);
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    Real t_enter;
+    if (!segment_overlaps_aabb(o, d, Aabb{node.box.min - grow, node.box.max + grow}, t_enter)) continue;
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) visit(i);
+    } else if (top + 2 <= 64) {
+      stack[top++] = node.first + 1;
+      stack[top++] = node.first;
+    }
+  }
+}
+
+}  // namespace ricochet::physics

@@ -1,0 +1,526 @@
+/// World API: validation of every input, body and shape lifetime, and the step's table of contents.
+
+#include "ricochet/physics/world.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "math_util.h"
+#include "world_impl.h"
+
+namespace ricochet::physics {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+Error invalid(const std::string& message) { return Error{ErrorCode::InvalidArgument, message}; }
+Error bad_handle(const char* what) {
+  return Error{ErrorCode::InvalidHandle, std::string(what) + ": null, stale or unknown BodyId"};
+}
+
+template <class T>
+std::string show(const T& value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+std::string show(const Vec3& v) {
+  std::ostringstream out;
+  out << '(' << v.x() << ", " << v.y() << ", " << v.z() << ')';
+  return out.str();
+}
+
+std::string validate_material(const Material& m) {
+  if (!std::isfinite(m.restitution) || m.restitution < 0 || m.restitution > 1) {
+    return "material.restitution must be 0..1, got " + show(m.restitution);
+  }
+  if (!std::isfinite(m.friction) || m.friction < 0) return "material.friction must be >= 0, got " + show(m.friction);
+  if (!std::isfinite(m.rolling_resistance) || m.rolling_resistance < 0) {
+    return "material.rolling_resistance must be >= 0, got " + show(m.rolling_resistance);
+  }
+  return {};
+}
+
+std::string validate_body(const BodyDef& d) {
+  if (!is_finite(d.position)) return "position must be finite, got " + show(d.position);
+  if (!is_finite(d.orientation) || d.orientation.squaredNorm() < Real(1e-12)) {
+    return "orientation must be a finite, non-zero quaternion";
+  }
+  if (!is_finite(d.linear_velocity)) return "linear_velocity must be finite, got " + show(d.linear_velocity);
+  if (!is_finite(d.angular_velocity)) return "angular_velocity must be finite, got " + show(d.angular_velocity);
+  if (!std::isfinite(d.radius) || d.radius <= 0) return "radius must be > 0 m, got " + show(d.radius);
+  if (d.type == BodyType::Dynamic && (!std::isfinite(d.mass) || d.mass <= 0)) {
+    return "mass must be > 0 kg, got " + show(d.mass);
+  }
+  if (!std::isfinite(d.gravity_scale)) return "gravity_scale must be finite, got " + show(d.gravity_scale);
+  return validate_material(d.material);
+}
+
+}  // namespace
+
+std::string WorldDef::validate() const {
+  const auto range = [](const char* name, auto value, auto lo, auto hi) -> std::string {
+    if (!(value >= lo && value <= hi)) {
+      return std::string(name) + " must be " + show(lo) + ".." + show(hi) + ", got " + show(value);
+    }
+    return {};
+  };
+  if (!is_finite(gravity)) return "gravity must be finite, got " + show(gravity);
+  for (const std::string& e : {
+           range("iterations", iterations, 1, 1000),
+           range("relax_iterations", relax_iterations, 0, 1000),
+           range("substeps", substeps, 1, 64),
+           range("baumgarte", baumgarte, Real(0), Real(1)),
+           range("linear_slop", linear_slop, Real(0), Real(1)),
+           range("max_correction_speed", max_correction_speed, Real(0), Real(1e6)),
+           range("contact_hertz", contact_hertz, Real(0), Real(1e6)),
+           range("contact_damping_ratio", contact_damping_ratio, Real(0), Real(1e6)),
+           range("restitution_threshold", restitution_threshold, Real(0), Real(1e6)),
+           range("max_speculative_distance", max_speculative_distance, Real(0), Real(1e3)),
+           range("max_linear_speed", max_linear_speed, Real(1e-3), Real(1e8)),
+           range("max_angular_speed", max_angular_speed, Real(1e-3), Real(1e8)),
+           range("sleep_linear_speed", sleep_linear_speed, Real(0), Real(1e6)),
+           range("sleep_angular_speed", sleep_angular_speed, Real(0), Real(1e6)),
+           range("time_to_sleep", time_to_sleep, Real(0), Real(1e6)),
+           range("max_bodies", max_bodies, 1u, kMaxBodySlots),
+           range("max_shapes", max_shapes, 1u, kMaxShapeSlots),
+       }) {
+    if (!e.empty()) return e;
+  }
+  return {};
+}
+
+// --- lifetime ---
+
+Result<World> World::create(const WorldDef& def) {
+  const std::string problem = def.validate();
+  if (!problem.empty()) return invalid("WorldDef: " + problem);
+  return World(std::make_unique<WorldImpl>(def));
+}
+
+World::World(std::unique_ptr<WorldImpl> impl) : impl_(std::move(impl)) {}
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+World::~World() = default;
+
+Result<BodyId> World::create_body(const BodyDef& def) {
+  const std::string problem = validate_body(def);
+  if (!problem.empty()) return invalid("BodyDef: " + problem);
+  BodyStore& b = impl_->bodies;
+  if (b.free_slots.empty() && b.slot_count() >= impl_->def.max_bodies) {
+    return Error{ErrorCode::CapacityExceeded,
+                 "create_body: world holds max_bodies = " + show(impl_->def.max_bodies) + "; raise WorldDef::max_bodies"};
+  }
+  return b.id_of(b.create(def));
+}
+
+Status World::destroy_body(BodyId id) {
+  if (!impl_->bodies.valid(id)) return bad_handle("destroy_body");
+  impl_->remove_contacts_of(id.index);
+  impl_->bodies.destroy(id.index);
+  return {};
+}
+
+void WorldImpl::remove_contacts_of(std::uint32_t slot) {
+  const BodyId id = bodies.id_of(slot);
+  const auto report_and_drop = [&](std::vector<Contact>& list, bool pair) {
+    std::erase_if(list, [&](const Contact& c) {
+      if (c.a != slot && !(pair && c.b == slot)) return false;
+      if (c.touching && def.contact_events) {
+        ContactTarget other = pair ? ContactTarget{bodies.id_of(c.a == slot ? c.b : c.a), {}}
+                                   : ContactTarget{{}, statics.id_of(c.b)};
+        pending_end_events.push_back({id, other});
+      }
+      return true;
+    });
+  };
+  report_and_drop(pair_contacts, true);
+  report_and_drop(static_contacts, false);
+  std::erase_if(sensor_overlaps, [&](std::uint64_t key) {
+    return static_cast<std::uint32_t>(key >> 32) == slot || static_cast<std::uint32_t>(key) == slot;
+  });
+}
+
+bool World::is_valid(BodyId id) const { return impl_->bodies.valid(id); }
+std::uint32_t World::body_count() const { return impl_->bodies.alive_count; }
+
+Result<BodyState> World::body_state(BodyId id) const {
+  if (!impl_->bodies.valid(id)) return bad_handle("body_state");
+  return impl_->bodies.state(id.index);
+}
+
+Status World::set_transform(BodyId id, const Vec3& position, const Quat& orientation) {
+  if (!impl_->bodies.valid(id)) return bad_handle("set_transform");
+  if (!is_finite(position)) return invalid("set_transform: position must be finite, got " + show(position));
+  if (!is_finite(orientation) || orientation.squaredNorm() < Real(1e-12)) {
+    return invalid("set_transform: orientation must be a finite, non-zero quaternion");
+  }
+  impl_->bodies.position[id.index] = position;
+  impl_->bodies.orientation[id.index] = orientation.normalized();
+  impl_->wake_body(id.index);
+  return {};
+}
+
+Status World::set_linear_velocity(BodyId id, const Vec3& velocity) {
+  if (!impl_->bodies.valid(id)) return bad_handle("set_linear_velocity");
+  if (!is_finite(velocity)) return invalid("set_linear_velocity: velocity must be finite, got " + show(velocity));
+  if (impl_->bodies.has(id.index, kFlagFrozen)) return {};
+  impl_->bodies.motion[id.index].linear_velocity = velocity;
+  impl_->wake_body(id.index);
+  return {};
+}
+
+Status World::set_angular_velocity(BodyId id, const Vec3& velocity) {
+  if (!impl_->bodies.valid(id)) return bad_handle("set_angular_velocity");
+  if (!is_finite(velocity)) return invalid("set_angular_velocity: velocity must be finite, got " + show(velocity));
+  BodyStore& b = impl_->bodies;
+  if (b.has(id.index, kFlagLockRotation) || b.has(id.index, kFlagFrozen)) return {};
+  b.motion[id.index].angular_velocity = velocity;
+  impl_->wake_body(id.index);
+  return {};
+}
+
+Status World::apply_force(BodyId id, const Vec3& force) {
+  if (!impl_->bodies.valid(id)) return bad_handle("apply_force");
+  const Vec3 total = impl_->bodies.force[id.index] + force;
+  if (!is_finite(force) || !is_finite(total)) return invalid("apply_force: force must be finite, got " + show(force));
+  impl_->bodies.force[id.index] = total;
+  impl_->wake_body(id.index);
+  return {};
+}
+
+Status World::apply_torque(BodyId id, const Vec3& torque) {
+  if (!impl_->bodies.valid(id)) return bad_handle("apply_torque");
+  const Vec3 total = impl_->bodies.torque[id.index] + torque;
+  if (!is_finite(torque) || !is_finite(total)) return invalid("apply_torque: torque must be finite, got " + show(torque));
+  impl_->bodies.torque[id.index] = total;
+  impl_->wake_body(id.index);
+  return {};
+}
+
+Status World::apply_impulse(BodyId id, const Vec3& impulse, const Vec3& point) {
+  if (!impl_->bodies.valid(id)) return bad_handle("apply_impulse");
+  if (!is_finite(impulse) || !is_finite(point)) {
+    return invalid("apply_impulse: impulse and point must be finite, got " + show(impulse) + " at " + show(point));
+  }
+  BodyStore& b = impl_->bodies;
+  if (b.has(id.index, kFlagFrozen)) return {};
+  Motion& m = b.motion[id.index];
+  const Vec3 v = m.linear_velocity + m.inverse_mass * impulse;
+  const Vec3 w = m.angular_velocity + m.inverse_inertia * (point - b.position[id.index]).cross(impulse);
+  if (!is_finite(v) || !is_finite(w)) return invalid("apply_impulse: resulting velocity is not finite");
+  m.linear_velocity = v;
+  m.angular_velocity = w;
+  impl_->wake_body(id.index);
+  return {};
+}
+
+Status World::wake(BodyId id) {
+  if (!impl_->bodies.valid(id)) return bad_handle("wake");
+  impl_->wake_body(id.index);
+  return {};
+}
+
+// --- static geometry ---
+
+namespace {
+
+Status check_shape_capacity(const StaticGeometry& statics, const WorldDef& def) {
+  if (statics.free_slots().empty() && statics.shapes().size() >= def.max_shapes) {
+    return Error{ErrorCode::CapacityExceeded,
+                 "world holds max_shapes = " + show(def.max_shapes) + "; raise WorldDef::max_shapes"};
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<ShapeId> World::add_plane(const PlaneDef& def) {
+  if (!is_finite(def.normal) || def.normal.norm() < Real(1e-6)) {
+    return invalid("PlaneDef: normal must be finite and non-zero, got " + show(def.normal));
+  }
+  if (!std::isfinite(def.offset)) return invalid("PlaneDef: offset must be finite");
+  if (const std::string e = validate_material(def.material); !e.empty()) return invalid("PlaneDef: " + e);
+  if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
+  StaticShape shape;
+  shape.type = ShapeType::Plane;
+  shape.plane_normal = def.normal.normalized();
+  shape.plane_offset = def.offset;
+  shape.material = def.material;
+  shape.filter = def.filter;
+  return impl_->statics.id_of(impl_->statics.add(std::move(shape)));
+}
+
+Result<ShapeId> World::add_box(const BoxDef& def) {
+  if (!is_finite(def.center)) return invalid("BoxDef: center must be finite, got " + show(def.center));
+  if (!is_finite(def.orientation) || def.orientation.squaredNorm() < Real(1e-12)) {
+    return invalid("BoxDef: orientation must be a finite, non-zero quaternion");
+  }
+  if (!is_finite(def.half_extents) || def.half_extents.minCoeff() <= 0) {
+    return invalid("BoxDef: half_extents must be finite and > 0 m, got " + show(def.half_extents));
+  }
+  if (const std::string e = validate_material(def.material); !e.empty()) return invalid("BoxDef: " + e);
+  if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
+  StaticShape shape;
+  shape.type = ShapeType::Box;
+  shape.box_center = def.center;
+  shape.box_orientation = def.orientation.normalized();
+  shape.box_half_extents = def.half_extents;
+  shape.material = def.material;
+  shape.filter = def.filter;
+  return impl_->statics.id_of(impl_->statics.add(std::move(shape)));
+}
+
+Result<ShapeId> World::add_mesh(const MeshDef& def) {
+  if (def.indices.empty() || def.indices.size() % 3 != 0) {
+    return invalid("MeshDef: indices must be a non-empty multiple of 3, got " + show(def.indices.size()));
+  }
+  if (def.indices.size() / 3 > kMaxMeshTriangles) {
+    return invalid("MeshDef: at most " + show(kMaxMeshTriangles) + " triangles per mesh, got " +
+                   show(def.indices.size() / 3) + "; split the mesh");
+  }
+  for (std::size_t i = 0; i < def.vertices.size(); ++i) {
+    if (!is_finite(def.vertices[i])) return invalid("MeshDef: vertex " + show(i) + " is not finite");
+  }
+  for (std::size_t i = 0; i < def.indices.size(); ++i) {
+    if (def.indices[i] >= def.vertices.size()) {
+      return invalid("MeshDef: index " + show(i) + " is " + show(def.indices[i]) + ", but there are only " +
+                     show(def.vertices.size()) + " vertices");
+    }
+  }
+  if (const std::string e = validate_material(def.material); !e.empty()) return invalid("MeshDef: " + e);
+  if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
+  StaticShape shape;
+  shape.type = ShapeType::Mesh;
+  shape.vertices = def.vertices;
+  shape.indices = def.indices;
+  shape.material = def.material;
+  shape.filter = def.filter;
+  return impl_->statics.id_of(impl_->statics.add(std::move(shape)));
+}
+
+Status World::remove_shape(ShapeId id) {
+  if (!impl_->statics.valid(id)) return Error{ErrorCode::InvalidHandle, "remove_shape: null, stale or unknown ShapeId"};
+  WorldImpl& w = *impl_;
+  std::erase_if(w.static_contacts, [&](const Contact& c) {
+    if (c.b != id.index) return false;
+    if (c.touching && w.def.contact_events) w.pending_end_events.push_back({w.bodies.id_of(c.a), {{}, id}});
+    return true;
+  });
+  for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
+    if (w.bodies.alive(s)) w.wake_body(s);  // whatever rested on it must fall
+  }
+  w.statics.remove(id.index);
+  return {};
+}
+
+std::uint32_t World::shape_count() const { return impl_->statics.count(); }
+
+// --- simulation ---
+
+Status World::step(Real dt_s) {
+  if (!std::isfinite(dt_s) || dt_s <= 0 || dt_s > 1) {
+    return invalid("step: dt_s must be finite and in (0, 1] s, got " + show(dt_s));
+  }
+  return impl_->step(dt_s);
+}
+
+Status WorldImpl::step(Real step_dt) {
+  const auto start = Clock::now();
+  auto t = start;
+  const auto lap = [&](double& field) {
+    const auto now = Clock::now();
+    field = std::chrono::duration<double, std::milli>(now - t).count();
+    t = now;
+  };
+  profile = StepProfile{};
+
+  begin_step(step_dt);
+  find_pairs();
+  wake_touching_islands();
+  gather_awake_bodies();
+  lap(profile.broad_phase_ms);
+  update_contacts();
+  lap(profile.narrow_phase_ms);
+  solve(step_dt);  // fills solve_ms and integrate_ms
+  t = Clock::now();
+  solve_continuous();
+  lap(profile.continuous_ms);
+  freeze_nonfinite();
+  update_sleep(step_dt);
+  lap(profile.sleep_ms);
+  report_events();
+  lap(profile.events_ms);
+  end_step();
+
+  profile.total_ms = ms_since(start);
+  profile.bodies_awake = static_cast<int>(awake_list.size());
+  return {};
+}
+
+void WorldImpl::begin_step(Real step_dt) {
+  dt = step_dt;
+  begin_events.clear();
+  end_events.clear();
+  impulse_events.clear();
+  nonfinite_events.clear();
+  const std::uint32_t slots = bodies.slot_count();
+  speculative_margin.resize(slots);
+  // A contact is created while the gap is below the margin: enough for this step's motion (so
+  // nothing sinks in before it is stopped), capped so fast bodies do not inflate the grid.
+  const Real base = 4 * def.linear_slop;
+  for (std::uint32_t s = 0; s < slots; ++s) {
+    speculative_margin[s] =
+        base + std::min(bodies.motion[s].linear_velocity.norm() * step_dt, def.max_speculative_distance);
+  }
+}
+
+void WorldImpl::gather_awake_bodies() {
+  const std::uint32_t slots = bodies.slot_count();
+  awake_list.clear();
+  for (std::uint32_t s = 0; s < slots; ++s) {
+    if ((bodies.flags[s] & (kFlagAlive | kFlagSleeping | kFlagFrozen)) == kFlagAlive) awake_list.push_back(s);
+  }
+  start_position = bodies.position;
+  start_orientation = bodies.orientation;
+  delta_position.assign(slots, Vec3::Zero());
+  if (def.position_correction == PositionCorrection::SplitImpulse) pseudo_velocity.assign(slots, Vec3::Zero());
+  contact_count.assign(slots, 0);
+}
+
+void WorldImpl::freeze_body(std::uint32_t slot) {
+  if (bodies.has(slot, kFlagFrozen)) return;
+  bodies.flags[slot] |= kFlagFrozen;
+  bodies.motion[slot] = Motion{};  // zero velocity, zero inverse mass: an obstacle, not a carrier
+  nonfinite_slots.push_back(slot);
+}
+
+void WorldImpl::freeze_nonfinite() {
+  for (const std::uint32_t s : awake_list) {
+    const Motion& m = bodies.motion[s];
+    if (!is_finite(bodies.position[s]) || !is_finite(bodies.orientation[s]) || !is_finite(m.linear_velocity) ||
+        !is_finite(m.angular_velocity)) {
+      freeze_body(s);
+    }
+  }
+  for (const std::uint32_t s : nonfinite_slots) {
+    bodies.position[s] = start_position[s];
+    bodies.orientation[s] = start_orientation[s];
+    nonfinite_events.push_back({bodies.id_of(s)});
+  }
+  nonfinite_slots.clear();
+}
+
+void WorldImpl::end_step() {
+  for (const std::uint32_t s : awake_list) {
+    bodies.force[s].setZero();
+    bodies.torque[s].setZero();
+  }
+  ++steps;
+}
+
+void WorldImpl::report_events() {
+  // Touching: the contact carried load this step, or the surfaces are within slop.
+  const Real touch_gap = def.linear_slop;
+  for (auto* list : {&pair_contacts, &static_contacts}) {
+    for (Contact& c : *list) c.touching = c.max_normal_impulse > 0 || c.separation < touch_gap;
+  }
+  // Sensors: overlapping pairs this step, as sorted keys.
+  std::swap(previous_sensor_overlaps, sensor_overlaps);
+  sensor_overlaps.clear();
+  for (const BodyPair& p : sensor_pairs) {
+    const Real reach = bodies.radius[p.a] + bodies.radius[p.b];
+    if ((bodies.position[p.b] - bodies.position[p.a]).squaredNorm() < reach * reach) {
+      sensor_overlaps.push_back(pair_key(p.a, p.b));
+    }
+  }
+  std::sort(sensor_overlaps.begin(), sensor_overlaps.end());
+  if (!def.contact_events) {
+    pending_end_events.clear();
+    return;
+  }
+  end_events = std::move(pending_end_events);
+  pending_end_events.clear();
+
+  const auto other_of = [&](const Contact& c, bool pair) {
+    return pair ? ContactTarget{bodies.id_of(c.b), {}} : ContactTarget{{}, statics.id_of(c.b)};
+  };
+  for (int list = 0; list < 2; ++list) {
+    const bool pair = list == 0;
+    for (const Contact& c : pair ? pair_contacts : static_contacts) {
+      if (!c.touching) continue;
+      const BodyId body = bodies.id_of(c.a);
+      if (!c.previously_touching) {
+        begin_events.push_back({body, other_of(c, pair), c.point, c.normal, std::max(Real(0), -c.relative_velocity)});
+      }
+      if (c.total_normal_impulse > 0) {
+        impulse_events.push_back({body, other_of(c, pair), c.point, c.normal, c.total_normal_impulse});
+      }
+    }
+  }
+  // Last step's touching contacts that are gone, then those that stopped touching.
+  const std::size_t previous_pairs = previous_pair_contacts.size();
+  for (std::size_t i = 0; i < previous_matched.size(); ++i) {
+    const bool pair = i < previous_pairs;
+    const Contact& old = pair ? previous_pair_contacts[i] : previous_static_contacts[i - previous_pairs];
+    if (old.touching && !previous_matched[i] && bodies.alive(old.a)) {
+      end_events.push_back({bodies.id_of(old.a), other_of(old, pair)});
+    }
+  }
+  for (auto* list : {&pair_contacts, &static_contacts}) {
+    const bool pair = list == &pair_contacts;
+    for (const Contact& c : *list) {
+      if (c.previously_touching && !c.touching) end_events.push_back({bodies.id_of(c.a), other_of(c, pair)});
+    }
+  }
+  // Sensor begin/end from the sorted key sets.
+  const auto sensor_event_target = [&](std::uint64_t key, BodyId& body, ContactTarget& other) {
+    body = bodies.id_of(static_cast<std::uint32_t>(key >> 32));
+    other = ContactTarget{bodies.id_of(static_cast<std::uint32_t>(key)), {}};
+  };
+  std::vector<std::uint64_t> diff;
+  std::set_difference(sensor_overlaps.begin(), sensor_overlaps.end(), previous_sensor_overlaps.begin(),
+                      previous_sensor_overlaps.end(), std::back_inserter(diff));
+  for (const std::uint64_t key : diff) {
+    ContactBeginEvent e{};
+    sensor_event_target(key, e.body, e.other);
+    const Vec3 d = bodies.position[e.other.body.index] - bodies.position[e.body.index];
+    e.normal = d.norm() > 0 ? Vec3(d.normalized()) : fallback_normal();
+    e.point = bodies.position[e.body.index] + e.normal * bodies.radius[e.body.index];
+    e.approach_speed = 0;
+    begin_events.push_back(e);
+  }
+  diff.clear();
+  std::set_difference(previous_sensor_overlaps.begin(), previous_sensor_overlaps.end(), sensor_overlaps.begin(),
+                      sensor_overlaps.end(), std::back_inserter(diff));
+  for (const std::uint64_t key : diff) {
+    ContactEndEvent e{};
+    sensor_event_target(key, e.body, e.other);
+    if (bodies.alive(e.body.index) && bodies.alive(e.other.body.index)) end_events.push_back(e);
+  }
+}
+
+const StepProfile& World::profile() const { return impl_->profile; }
+const WorldDef& World::definition() const { return impl_->def; }
+Status World::set_gravity(const Vec3& gravity) {
+  if (!is_finite(gravity)) return invalid("set_gravity: gravity must be finite, got " + show(gravity));
+  impl_->def.gravity = gravity;
+  for (std::uint32_t s = 0; s < impl_->bodies.slot_count(); ++s) {
+    if (impl_->bodies.alive(s)) impl_->wake_body(s);
+  }
+  return {};
+}
+std::uint64_t World::step_count() const { return impl_->steps; }
+
+std::span<const ContactBeginEvent> World::contact_begin_events() const { return impl_->begin_events; }
+std::span<const ContactEndEvent> World::contact_end_events() const { return impl_->end_events; }
+std::span<const ContactImpulseEvent> World::contact_impulse_events() const { return impl_->impulse_events; }
+std::span<const NonFiniteEvent> World::nonfinite_events() const { return impl_->nonfinite_events; }
+
+}  // namespace ricochet::physics

@@ -1,0 +1,141 @@
+#pragma once
+/// The world's private state and the phases of a step. Each phase lives in its own source file:
+///   broad_phase.cpp    find_pairs
+///   island_sleep.cpp   wake_touching_islands, update_sleep
+///   narrow_phase.cpp   update_contacts
+///   contact_solver.cpp solve (prepare, warm start, iterate, integrate, relax, restitution)
+///   continuous.cpp     solve_continuous
+///   queries.cpp        ray and sphere casts, overlaps
+///   state_io.cpp       state_hash, save_state, restore_state
+
+#include <cstdint>
+#include <vector>
+
+#include "body_store.h"
+#include "contact.h"
+#include "ricochet/physics/world.h"
+#include "static_geometry.h"
+
+namespace ricochet::physics {
+
+/// Candidate body pair from the broadphase (a < b by slot), with its centre distance.
+struct BodyPair {
+  std::uint32_t a;
+  std::uint32_t b;
+};
+
+/// Uniform hash grid over body centres, rebuilt every step.
+struct HashGrid {
+  Real cell_size = 1;
+  Real inverse_cell_size = 1;
+  std::uint32_t mask = 0;
+  std::vector<std::uint32_t> bucket_start;  ///< size mask + 2
+  struct Entry {
+    std::int32_t x, y, z;
+    std::uint32_t body;
+  };
+  std::vector<Entry> entries;  ///< sorted by bucket, stable by body slot
+  std::vector<std::uint32_t> entry_hash;  ///< bucket of each body slot
+  std::vector<std::uint32_t> cursor;      ///< counting-sort write positions
+
+  std::int32_t coordinate(Real v) const;
+  std::uint32_t hash(std::int32_t x, std::int32_t y, std::int32_t z) const {
+    return ((static_cast<std::uint32_t>(x) * 73856093u) ^ (static_cast<std::uint32_t>(y) * 19349663u) ^
+            (static_cast<std::uint32_t>(z) * 83492791u)) & mask;
+  }
+  template <class Visit>
+  void visit_cell(std::int32_t x, std::int32_t y, std::int32_t z, Visit&& visit) const {
+    if (entries.empty()) return;
+    const std::uint32_t h = hash(x, y, z);
+    for (std::uint32_t e = bucket_start[h]; e < bucket_start[h + 1]; ++e) {
+      const Entry& entry = entries[e];
+      if (entry.x == x && entry.y == y && entry.z == z) visit(entry.body);
+    }
+  }
+};
+
+class WorldImpl {
+ public:
+  explicit WorldImpl(const WorldDef& def) : def(def) {}
+
+  Status step(Real dt);
+
+  // --- step phases, in order ---
+  void begin_step(Real dt);
+  void find_pairs();
+  void wake_touching_islands();
+  void gather_awake_bodies();
+  void update_contacts();
+  void solve(Real dt);
+  void solve_continuous();
+  void freeze_nonfinite();
+  void update_sleep(Real dt);
+  void report_events();
+  void end_step();
+
+  // --- helpers used across phases ---
+  bool collides(const Filter& a, const Filter& b) const {
+    return (a.layer & b.mask) != 0 && (b.layer & a.mask) != 0;
+  }
+  void wake_body(std::uint32_t slot);
+  void freeze_body(std::uint32_t slot);
+  void remove_contacts_of(std::uint32_t slot);
+
+  // --- solver pieces (contact_solver.cpp) ---
+  void prepare_contacts();
+  void integrate_velocities(Real h);
+  void integrate_positions(Real h);
+  void warm_start();
+  void solve_contacts(Real h, bool use_bias);
+  void apply_restitution();
+  void reset_for_solve();
+
+  WorldDef def;
+  BodyStore bodies;
+  StaticGeometry statics;
+  std::uint64_t steps = 0;
+  Real dt = 0;  ///< seconds, of the current step
+
+  // Per-step scratch (sized to slot count).
+  std::vector<Vec3> start_position;        ///< position at step start (CCD, non-finite restore)
+  std::vector<Quat> start_orientation;
+  std::vector<Vec3> delta_position;        ///< m moved during this step (separation updates)
+  std::vector<Vec3> pseudo_velocity;       ///< split-impulse correction velocity
+  std::vector<Real> speculative_margin;    ///< m, per body this step
+  std::vector<std::uint32_t> contact_count;  ///< contacts per body this step (ExactBallistic)
+  std::vector<std::uint32_t> awake_list;   ///< simulated body slots this step, ascending
+  std::vector<std::uint32_t> nonfinite_slots;
+  HashGrid grid;
+  std::vector<BodyPair> pairs;
+  std::vector<BodyPair> sensor_pairs;
+
+  // Contacts: current step and last step (warm starting, begin/end events).
+  std::vector<Contact> pair_contacts, static_contacts;
+  std::vector<Contact> previous_pair_contacts, previous_static_contacts;
+  std::vector<std::uint64_t> sensor_overlaps;           ///< sorted pair keys overlapping now
+  std::vector<std::uint64_t> previous_sensor_overlaps;  ///< sorted, last step
+  std::vector<std::uint8_t> previous_matched;
+  ContactCache cache;
+
+  // Continuous collision scratch.
+  std::vector<std::uint32_t> fast_bodies;
+  std::vector<Real> time_of_impact;
+  std::vector<std::uint32_t> ccd_stamp;  ///< per slot: last sweep that tested it
+  std::uint32_t ccd_stamp_counter = 0;
+
+  // Islands (union-find over touching body pairs), used for sleeping.
+  std::vector<std::uint32_t> island_parent;
+  std::vector<std::uint8_t> island_scratch;  ///< per root: holds an awake body
+  std::vector<Real> island_sleep_time;       ///< per root: least sleep time of its bodies
+
+  // Events of the last step.
+  std::vector<ContactBeginEvent> begin_events;
+  std::vector<ContactEndEvent> end_events;
+  std::vector<ContactImpulseEvent> impulse_events;
+  std::vector<NonFiniteEvent> nonfinite_events;
+  std::vector<ContactEndEvent> pending_end_events;  ///< from destroy/remove between steps
+
+  StepProfile profile;
+};
+
+}  // namespace ricochet::physics

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs exactly the Debian 12 packages Ricochet needs to build, test and run.
+# Idempotent: checks each package with dpkg -s and only then runs apt-get update (once) and install.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build ccache pkg-config
+  libeigen3-dev      # physics math
+  libgtest-dev       # unit and integration tests
+  libcli11-dev       # command-line parsing for the tools (beats a hand-written parser)
+)
+# The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
+if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then
+  packages+=(libbullet-dev libode-dev)
+fi
+
+missing=()
+for package in "${packages[@]}"; do
+  dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
+done
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+echo "deps.sh: installing ${missing[*]}"
+if [[ $(id -u) -ne 0 ]]; then sudo=sudo; else sudo=; fi
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

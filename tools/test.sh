@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# The test command: installs dependencies, then builds and runs every test three ways:
+#   1. Release (-O2), float physics
+#   2. Debug with AddressSanitizer + UndefinedBehaviorSanitizer
+#   3. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only
+# Warnings are errors in all three.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./tools/deps.sh
+
+jobs=$(nproc)
+export CCACHE_DIR="${CCACHE_DIR:-$PWD/.ccache}"
+launcher=()
+if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+
+build_and_test() {
+  local dir=$1; shift
+  local label=$1; shift
+  echo "=== $dir ==="
+  cmake -S . -B "$dir" -G Ninja -DRICOCHET_WERROR=ON "${launcher[@]}" "$@"
+  cmake --build "$dir" -j "$jobs"
+  if [[ -n "$label" ]]; then
+    ctest --test-dir "$dir" --output-on-failure -j "$jobs" --timeout 600 -L "$label"
+  else
+    ctest --test-dir "$dir" --output-on-failure -j "$jobs" --timeout 600
+  fi
+}
+
+build_and_test build/release "" -DCMAKE_BUILD_TYPE=Release
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  build_and_test build/sanitize "" -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=ON
+build_and_test build/double physics -DCMAKE_BUILD_TYPE=Release -DRICOCHET_DOUBLE=ON
+echo "tools/test.sh: all tests passed"
