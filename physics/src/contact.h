@@ -12,27 +12,22 @@ namespace ricochet::physics {
 /// Spheres touch at a single point on the line between centres, so the lever arms are parallel to
 /// the normal: rA = ra·n, rB = -rb·n. The normal impulse then causes no torque.
 struct Contact {
-  // Hot: read by every solver iteration.
+  // Geometry and material, from the narrowphase.
   std::uint32_t a = 0;  ///< body slot
   std::uint32_t b = 0;  ///< body slot for body pairs, shape slot for static contacts
   Vec3 normal = Vec3::UnitY();  ///< unit, from a towards b
   Real separation = 0;          ///< m at step start; negative when penetrating
   Real ra = 0, rb = 0;          ///< m, lever lengths along the normal
-  Real normal_mass = 0;         ///< kg
-  Real tangent_mass = 0;        ///< kg
-  Real rolling_mass = 0;        ///< kg·m²
   Real friction = 0;
   Real rolling = 0;             ///< m: max rolling torque per unit normal impulse
   Real normal_impulse = 0;      ///< N·s, accumulated per substep (warm started)
-  Real pseudo_impulse = 0;      ///< N·s, split-impulse position correction
   Vec3 friction_impulse = Vec3::Zero();  ///< N·s, in the tangent plane
   Vec3 rolling_impulse = Vec3::Zero();   ///< N·m·s
-  // Warm: restitution and events.
+  // Results, for warm starting and events.
   Real restitution = 0;
   Real relative_velocity = 0;   ///< m/s along the normal at prepare (negative = approaching)
   Real max_normal_impulse = 0;  ///< N·s, largest per-substep normal impulse this step
   Real total_normal_impulse = 0;  ///< N·s over the whole step
-  // Cold.
   std::uint64_t key = 0;        ///< identity across steps for warm starting and events
   Vec3 point = Vec3::Zero();    ///< m, midway between the surfaces
   bool previously_touching = false;
@@ -62,8 +57,11 @@ class ContactCache {
  private:
   static constexpr std::uint64_t kEmpty = ~0ull;
   std::vector<std::uint64_t> keys_;
+  /// Fibonacci hashing: the top bits of key·2^64/φ.
+  std::uint64_t slot_of(std::uint64_t key) const { return (key * 0x9E3779B97F4A7C15ull) >> shift_; }
   std::vector<std::uint32_t> values_;
   std::uint64_t mask_ = 0;
+  unsigned shift_ = 60;
 };
 
 }  // namespace ricochet::physics

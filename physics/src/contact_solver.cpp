@@ -1,12 +1,13 @@
 /// Sequential impulses over sphere contacts, with integration, per (sub)step:
 ///
 ///   prepare → for each substep { integrate velocities → warm start → iterate (biased)
-///             → integrate positions → relax (unbiased, SoftStep) } → restitution
+///             → integrate positions → relax (unbiased, SoftStep) } → restitution → store impulses
 ///
 /// Accumulated impulses are clamped (normal >= 0, friction inside the Coulomb circle, rolling
 /// inside its torque limit) and carried across steps for warm starting. Position error is removed
-/// by the chosen PositionCorrection. Friction is one 2-D impulse in the tangent plane clamped to
-/// a circle (isotropic Coulomb), equivalent to two tangent rows without the box-clamp bias.
+/// by the chosen PositionCorrection. Friction is one 2-D impulse in the tangent plane clamped to a
+/// circle (isotropic Coulomb), equivalent to two tangent rows without the box-clamp bias.
+/// Spheres touch on the line between centres, so the normal impulse has no torque.
 
 #include <algorithm>
 #include <chrono>
@@ -24,6 +25,9 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
+
+constexpr int kColors = 24;
+constexpr std::uint32_t kUnusedLane = ~0u;
 
 /// Box2D v3 soft constraint coefficients for a contact spring of `hertz` with damping `zeta`.
 struct Softness {
@@ -50,190 +54,307 @@ struct PassParams {
   Softness soft;
 };
 
-/// The other side of a static contact: never moves.
-struct StaticSide {
-  static constexpr Real inverse_mass = 0;
-  static constexpr Real inverse_inertia = 0;
+inline Lanes splat(Real x) { return Lanes{} + x; }
+inline Lanes max_lanes(Lanes a, Lanes b) { return a > b ? a : b; }
+inline Lanes min_lanes(Lanes a, Lanes b) { return a < b ? a : b; }
+
+/// Factor that brings a vector of squared length len2 inside a circle of radius limit.
+inline Lanes circle_clamp_scale(Lanes len2, Lanes limit) {
+  Lanes scale;
+  for (int l = 0; l < kLanes; ++l) {
+    scale[l] = len2[l] > limit[l] * limit[l] ? (len2[l] > 0 ? limit[l] / std::sqrt(len2[l]) : Real(0)) : Real(1);
+  }
+  return scale;
+}
+
+struct BodyLanes {
+  Lanes vx, vy, vz, m, wx, wy, wz, i;
 };
 
-/// One contact row set: rolling, friction, normal (normal last: it matters most).
-/// kPair: b is a body; otherwise b is static (zero velocity).
-template <bool kPair, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
-void solve_contact(Contact& c, Motion& A, Motion* B_ptr, const Vec3* delta_position,
-                   Vec3* pseudo_velocity, const PassParams& p) {
-  const Vec3 n = c.normal;
-  const Vec3 zero = Vec3::Zero();
-  const Vec3& vb = kPair ? B_ptr->linear_velocity : zero;
-  const Vec3& wb = kPair ? B_ptr->angular_velocity : zero;
-  const Real mb = kPair ? B_ptr->inverse_mass : Real(0);
-  const Real ib = kPair ? B_ptr->inverse_inertia : Real(0);
-  Vec3 va = A.linear_velocity, wa = A.angular_velocity;
-  Vec3 vb_new = vb, wb_new = wb;
-  const Real ma = A.inverse_mass, ia = A.inverse_inertia;
-
-  if constexpr (kRolling) {
-    if (c.rolling > 0) {
-      const Real limit = c.rolling * c.normal_impulse;
-      const Vec3 dw = wb_new - wa;
-      Vec3 accumulated = c.rolling_impulse - c.rolling_mass * dw;
-      const Real len2 = accumulated.squaredNorm();
-      if (len2 > limit * limit) accumulated *= limit / std::sqrt(len2);
-      const Vec3 impulse = accumulated - c.rolling_impulse;
-      c.rolling_impulse = accumulated;
-      wa -= ia * impulse;
-      wb_new += ib * impulse;
-    }
+inline BodyLanes gather(const Motion* bodies, const std::uint32_t* index) {
+  BodyLanes r;
+  for (int l = 0; l < kLanes; ++l) {
+    const Motion& b = bodies[index[l]];
+    r.vx[l] = b.linear_velocity.x();
+    r.vy[l] = b.linear_velocity.y();
+    r.vz[l] = b.linear_velocity.z();
+    r.m[l] = b.inverse_mass;
+    r.wx[l] = b.angular_velocity.x();
+    r.wy[l] = b.angular_velocity.y();
+    r.wz[l] = b.angular_velocity.z();
+    r.i[l] = b.inverse_inertia;
   }
+  return r;
+}
 
-  {  // Friction: relative tangential velocity at the contact point.
-    const Vec3 dv = vb_new - va - (c.ra * wa + c.rb * wb_new).cross(n);
-    const Vec3 vt = dv - n * n.dot(dv);
-    const Real limit = c.friction * c.normal_impulse;
-    Vec3 accumulated = c.friction_impulse - c.tangent_mass * vt;
-    const Real len2 = accumulated.squaredNorm();
-    if (len2 > limit * limit) accumulated *= len2 > 0 ? limit / std::sqrt(len2) : Real(0);
-    const Vec3 impulse = accumulated - c.friction_impulse;
-    c.friction_impulse = accumulated;
-    const Vec3 torque_dir = n.cross(impulse);
-    va -= ma * impulse;
-    wa -= (ia * c.ra) * torque_dir;
-    vb_new += mb * impulse;
-    wb_new -= (ib * c.rb) * torque_dir;
-  }
-
-  {  // Normal.
-    Real s = c.separation;
-    if constexpr (kTrackDelta) {
-      s += n.dot((kPair ? delta_position[c.b] : zero) - delta_position[c.a]);
-    }
-    Real bias = 0, mass_scale = 1, impulse_scale = 0;
-    if (s > 0) {
-      bias = s * p.inverse_h;  // speculative: may close the gap this step, no further
-    } else if constexpr (kUseBias) {
-      if constexpr (kMethod == PositionCorrection::Baumgarte) {
-        bias = std::max(p.baumgarte * p.inverse_h * std::min(s + p.slop, Real(0)), -p.max_correction_speed);
-      } else if constexpr (kMethod == PositionCorrection::SoftStep) {
-        bias = std::max(p.soft.bias_rate * s, -p.max_correction_speed);
-        mass_scale = p.soft.mass_scale;
-        impulse_scale = p.soft.impulse_scale;
-      }
-    }
-    const Real vn = n.dot(vb_new - va);
-    const Real impulse = -c.normal_mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
-    const Real accumulated = std::max(c.normal_impulse + impulse, Real(0));
-    const Real applied = accumulated - c.normal_impulse;
-    c.normal_impulse = accumulated;
-    c.max_normal_impulse = std::max(c.max_normal_impulse, accumulated);
-    va -= (ma * applied) * n;
-    vb_new += (mb * applied) * n;
-
-    if constexpr (kMethod == PositionCorrection::SplitImpulse && kUseBias) {
-      // Pseudo-velocities push penetrating bodies apart without adding momentum.
-      const Real depth = s + p.slop;
-      if (depth < 0 || c.pseudo_impulse > 0) {
-        const Vec3& pa = pseudo_velocity[c.a];
-        const Real pvn = n.dot((kPair ? pseudo_velocity[c.b] : zero) - pa);
-        const Real target = std::min(-p.baumgarte * p.inverse_h * std::min(depth, Real(0)), p.max_correction_speed);
-        const Real pseudo = std::max(c.pseudo_impulse - c.normal_mass * (pvn - target), Real(0));
-        const Real pseudo_applied = pseudo - c.pseudo_impulse;
-        c.pseudo_impulse = pseudo;
-        pseudo_velocity[c.a] -= (ma * pseudo_applied) * n;
-        if constexpr (kPair) pseudo_velocity[c.b] += (mb * pseudo_applied) * n;
-      }
-    }
-  }
-
-  A.linear_velocity = va;
-  A.angular_velocity = wa;
-  if constexpr (kPair) {
-    B_ptr->linear_velocity = vb_new;
-    B_ptr->angular_velocity = wb_new;
+inline void scatter(Motion* bodies, const std::uint32_t* index, const BodyLanes& r) {
+  for (int l = 0; l < kLanes; ++l) {
+    Motion& b = bodies[index[l]];
+    b.linear_velocity = Vec3(r.vx[l], r.vy[l], r.vz[l]);
+    b.angular_velocity = Vec3(r.wx[l], r.wy[l], r.wz[l]);
   }
 }
 
-template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
-void solve_all(std::vector<Contact>& pair_contacts, std::vector<Contact>& static_contacts,
-               std::vector<Motion>& motion, const Vec3* delta_position, Vec3* pseudo_velocity,
-               const PassParams& p) {
-  Motion* m = motion.data();
-  for (Contact& c : pair_contacts) {
-    solve_contact<true, kMethod, kUseBias, kTrackDelta, kRolling>(c, m[c.a], &m[c.b], delta_position,
-                                                                  pseudo_velocity, p);
+/// Normal component of a per-body vector difference (b - a), lane-wise.
+inline Lanes normal_difference(const Vec3* v, const ContactBlock& c) {
+  Lanes d;
+  for (int l = 0; l < kLanes; ++l) {
+    const Vec3 diff = v[c.b[l]] - v[c.a[l]];
+    d[l] = diff.x() * c.nx[l] + diff.y() * c.ny[l] + diff.z() * c.nz[l];
   }
-  for (Contact& c : static_contacts) {
-    solve_contact<false, kMethod, kUseBias, kTrackDelta, kRolling>(c, m[c.a], nullptr, delta_position,
-                                                                   pseudo_velocity, p);
+  return d;
+}
+
+/// One pass over every block: rolling, friction, then normal (normal last: it matters most).
+/// flatten: GCC otherwise leaves small Eigen operators as calls in this hot loop.
+template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+[[gnu::flatten]] void solve_blocks(SolverScratch& s, const PassParams& p) {
+  Motion* sb = s.bodies.data();
+  const Vec3* delta = s.delta_position.data();
+  Vec3* pseudo = s.pseudo_velocity.data();
+  const std::size_t count = s.blocks.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    ContactBlock& c = s.blocks[k];
+    BodyLanes A = gather(sb, c.a);
+    BodyLanes B = gather(sb, c.b);
+
+    if constexpr (kRolling) {
+      RollingBlock& r = s.rolling[k];
+      const Lanes limit = r.limit * c.normal_impulse;
+      Lanes x = r.x - r.mass * (B.wx - A.wx);
+      Lanes y = r.y - r.mass * (B.wy - A.wy);
+      Lanes z = r.z - r.mass * (B.wz - A.wz);
+      const Lanes scale = circle_clamp_scale(x * x + y * y + z * z, limit);
+      x *= scale, y *= scale, z *= scale;
+      const Lanes ix = x - r.x, iy = y - r.y, iz = z - r.z;
+      r.x = x, r.y = y, r.z = z;
+      A.wx -= A.i * ix, A.wy -= A.i * iy, A.wz -= A.i * iz;
+      B.wx += B.i * ix, B.wy += B.i * iy, B.wz += B.i * iz;
+    }
+
+    {  // Friction on the relative tangential velocity at the contact point.
+      const Lanes sx = c.ra * A.wx + c.rb * B.wx;
+      const Lanes sy = c.ra * A.wy + c.rb * B.wy;
+      const Lanes sz = c.ra * A.wz + c.rb * B.wz;
+      const Lanes dvx = B.vx - A.vx - (sy * c.nz - sz * c.ny);
+      const Lanes dvy = B.vy - A.vy - (sz * c.nx - sx * c.nz);
+      const Lanes dvz = B.vz - A.vz - (sx * c.ny - sy * c.nx);
+      const Lanes dvn = dvx * c.nx + dvy * c.ny + dvz * c.nz;
+      Lanes fx = c.fx - c.tangent_mass * (dvx - c.nx * dvn);
+      Lanes fy = c.fy - c.tangent_mass * (dvy - c.ny * dvn);
+      Lanes fz = c.fz - c.tangent_mass * (dvz - c.nz * dvn);
+      const Lanes scale = circle_clamp_scale(fx * fx + fy * fy + fz * fz, c.friction * c.normal_impulse);
+      fx *= scale, fy *= scale, fz *= scale;
+      const Lanes ix = fx - c.fx, iy = fy - c.fy, iz = fz - c.fz;
+      c.fx = fx, c.fy = fy, c.fz = fz;
+      const Lanes tx = c.ny * iz - c.nz * iy, ty = c.nz * ix - c.nx * iz, tz = c.nx * iy - c.ny * ix;
+      const Lanes ka = A.i * c.ra, kb = B.i * c.rb;
+      A.vx -= A.m * ix, A.vy -= A.m * iy, A.vz -= A.m * iz;
+      A.wx -= ka * tx, A.wy -= ka * ty, A.wz -= ka * tz;
+      B.vx += B.m * ix, B.vy += B.m * iy, B.vz += B.m * iz;
+      B.wx -= kb * tx, B.wy -= kb * ty, B.wz -= kb * tz;
+    }
+
+    {  // Normal.
+      Lanes separation = c.separation;
+      if constexpr (kTrackDelta) separation += normal_difference(delta, c);
+      const auto speculative = separation > 0;
+      Lanes bias = separation * p.inverse_h;  // speculative: may close the gap, no further
+      Lanes mass_scale = splat(1), impulse_scale = splat(0);
+      if constexpr (kUseBias && kMethod == PositionCorrection::Baumgarte) {
+        const Lanes correction = max_lanes(p.baumgarte * p.inverse_h * min_lanes(separation + p.slop, splat(0)),
+                                           splat(-p.max_correction_speed));
+        bias = speculative ? bias : correction;
+      } else if constexpr (kUseBias && kMethod == PositionCorrection::SoftStep) {
+        const Lanes correction = max_lanes(p.soft.bias_rate * separation, splat(-p.max_correction_speed));
+        bias = speculative ? bias : correction;
+        mass_scale = speculative ? mass_scale : splat(p.soft.mass_scale);
+        impulse_scale = speculative ? impulse_scale : splat(p.soft.impulse_scale);
+      } else {
+        bias = speculative ? bias : splat(0);
+      }
+      const Lanes vn = (B.vx - A.vx) * c.nx + (B.vy - A.vy) * c.ny + (B.vz - A.vz) * c.nz;
+      const Lanes impulse = -c.normal_mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
+      const Lanes accumulated = max_lanes(c.normal_impulse + impulse, splat(0));
+      const Lanes applied = accumulated - c.normal_impulse;
+      c.normal_impulse = accumulated;
+      c.max_normal_impulse = max_lanes(c.max_normal_impulse, accumulated);
+      const Lanes pa = A.m * applied, pb = B.m * applied;
+      A.vx -= pa * c.nx, A.vy -= pa * c.ny, A.vz -= pa * c.nz;
+      B.vx += pb * c.nx, B.vy += pb * c.ny, B.vz += pb * c.nz;
+
+      if constexpr (kMethod == PositionCorrection::SplitImpulse && kUseBias) {
+        // Pseudo-velocities push penetrating bodies apart without adding momentum.
+        ContactBlockExtra& e = s.extra[k];
+        const Lanes target = min_lanes(-p.baumgarte * p.inverse_h * min_lanes(separation + p.slop, splat(0)),
+                                       splat(p.max_correction_speed));
+        const Lanes pvn = normal_difference(pseudo, c);
+        const Lanes next = max_lanes(e.pseudo_impulse - c.normal_mass * (pvn - target), splat(0));
+        const Lanes pseudo_applied = next - e.pseudo_impulse;
+        e.pseudo_impulse = next;
+        for (int l = 0; l < kLanes; ++l) {
+          const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
+          pseudo[c.a[l]] -= (A.m[l] * pseudo_applied[l]) * n;
+          pseudo[c.b[l]] += (B.m[l] * pseudo_applied[l]) * n;
+        }
+      }
+    }
+    scatter(sb, c.a, A);
+    scatter(sb, c.b, B);
   }
 }
 
 template <PositionCorrection kMethod, bool kUseBias>
-void solve_all_dispatch(bool track_delta, bool rolling, std::vector<Contact>& pair_contacts,
-                        std::vector<Contact>& static_contacts, std::vector<Motion>& motion,
-                        const Vec3* delta_position, Vec3* pseudo_velocity, const PassParams& p) {
+void solve_blocks_dispatch(SolverScratch& s, bool track_delta, const PassParams& p) {
   if (track_delta) {
-    if (rolling) {
-      solve_all<kMethod, kUseBias, true, true>(pair_contacts, static_contacts, motion, delta_position, pseudo_velocity, p);
+    if (s.has_rolling) {
+      solve_blocks<kMethod, kUseBias, true, true>(s, p);
     } else {
-      solve_all<kMethod, kUseBias, true, false>(pair_contacts, static_contacts, motion, delta_position, pseudo_velocity, p);
+      solve_blocks<kMethod, kUseBias, true, false>(s, p);
     }
-  } else if (rolling) {
-    solve_all<kMethod, kUseBias, false, true>(pair_contacts, static_contacts, motion, delta_position, pseudo_velocity, p);
+  } else if (s.has_rolling) {
+    solve_blocks<kMethod, kUseBias, false, true>(s, p);
   } else {
-    solve_all<kMethod, kUseBias, false, false>(pair_contacts, static_contacts, motion, delta_position, pseudo_velocity, p);
+    solve_blocks<kMethod, kUseBias, false, false>(s, p);
   }
 }
 
 }  // namespace
 
 void WorldImpl::prepare_contacts() {
-  const auto prepare = [&](Contact& c, const Motion& A, const Motion* B) {
-    const Real mb = B ? B->inverse_mass : Real(0);
-    const Real ib = B ? B->inverse_inertia : Real(0);
-    const Real mass_sum = A.inverse_mass + mb;
-    c.normal_mass = mass_sum > 0 ? 1 / mass_sum : Real(0);
-    const Real tangent_sum = mass_sum + A.inverse_inertia * c.ra * c.ra + ib * c.rb * c.rb;
-    c.tangent_mass = tangent_sum > 0 ? 1 / tangent_sum : Real(0);
-    const Real rolling_sum = A.inverse_inertia + ib;
-    c.rolling_mass = rolling_sum > 0 ? 1 / rolling_sum : Real(0);
-    const Vec3 vb = B ? B->linear_velocity : Vec3::Zero().eval();
-    c.relative_velocity = c.normal.dot(vb - A.linear_velocity);
-    c.friction_impulse -= c.normal * c.normal.dot(c.friction_impulse);
-    c.max_normal_impulse = 0;
-    c.total_normal_impulse = 0;
-    c.pseudo_impulse = 0;
+  SolverScratch& s = solver;
+  const std::uint32_t awake = static_cast<std::uint32_t>(awake_list.size());
+  const std::uint32_t dummy = awake;
+  s.index_of.assign(bodies.slot_count(), dummy);
+  s.bodies.resize(awake + 1);
+  s.has_rolling = false;
+  for (std::uint32_t k = 0; k < awake; ++k) {
+    const std::uint32_t slot = awake_list[k];
+    s.index_of[slot] = k;
+    s.bodies[k] = bodies.motion[slot];
+    s.has_rolling = s.has_rolling || bodies.material[slot].rolling_resistance > 0;
+  }
+  s.bodies[dummy] = Motion{};
+  s.delta_position.assign(awake + 1, Vec3::Zero());
+  if (def.position_correction == PositionCorrection::SplitImpulse) s.pseudo_velocity.assign(awake + 1, Vec3::Zero());
+
+  // Greedy colouring: a contact takes the first colour where neither of its moving bodies is used.
+  const std::size_t pair_count = pair_contacts.size();
+  const std::size_t total = pair_count + static_contacts.size();
+  const auto contact_at = [&](std::size_t i) -> Contact& {
+    return i < pair_count ? pair_contacts[i] : static_contacts[i - pair_count];
   };
-  auto& motion = bodies.motion;
-  for (Contact& c : pair_contacts) prepare(c, motion[c.a], &motion[c.b]);
-  for (Contact& c : static_contacts) prepare(c, motion[c.a], nullptr);
+  const std::size_t words = (awake + 64) / 64;
+  s.color_bits.assign(kColors * words, 0);
+  s.color_of.resize(total);
+  std::vector<std::uint32_t> color_count(kColors + 1, 0);
+  for (std::size_t i = 0; i < total; ++i) {
+    const Contact& c = contact_at(i);
+    const std::uint32_t a = s.index_of[c.a];
+    const std::uint32_t b = i < pair_count ? s.index_of[c.b] : dummy;
+    int color = kColors;
+    for (int k = 0; k < kColors; ++k) {
+      std::uint64_t* bits = &s.color_bits[k * words];
+      const bool a_used = a != dummy && (bits[a >> 6] >> (a & 63) & 1);
+      const bool b_used = b != dummy && (bits[b >> 6] >> (b & 63) & 1);
+      if (a_used || b_used) continue;
+      if (a != dummy) bits[a >> 6] |= 1ull << (a & 63);
+      if (b != dummy) bits[b >> 6] |= 1ull << (b & 63);
+      color = k;
+      break;
+    }
+    s.color_of[i] = static_cast<std::uint32_t>(color);
+    ++color_count[color];
+  }
+  std::size_t block_count = total > 0 ? color_count[kColors] : 0;
+  for (int k = 0; k < kColors; ++k) block_count += (color_count[k] + kLanes - 1) / kLanes;
+  s.blocks.assign(block_count, ContactBlock{});
+  s.extra.assign(block_count, ContactBlockExtra{});
+  s.rolling.assign(s.has_rolling ? block_count : 0, RollingBlock{});
+
+  // Block ranges per colour; overflow contacts get a block each.
+  std::vector<std::uint32_t> next_block(kColors + 1), next_lane(kColors + 1, 0);
+  std::uint32_t first = 0;
+  for (int k = 0; k <= kColors; ++k) {
+    next_block[k] = first;
+    first += k < kColors ? (color_count[k] + kLanes - 1) / kLanes : color_count[k];
+  }
+  for (std::size_t b = 0; b < block_count; ++b) {
+    for (int l = 0; l < kLanes; ++l) {
+      s.blocks[b].a[l] = s.blocks[b].b[l] = dummy;
+      s.extra[b].contact[l] = kUnusedLane;
+    }
+  }
+  for (std::size_t i = 0; i < total; ++i) {
+    Contact& c = contact_at(i);
+    const std::uint32_t color = s.color_of[i];
+    const std::uint32_t block = next_block[color];
+    const int lane = static_cast<int>(next_lane[color]);
+    if (color == kColors || lane + 1 == kLanes) {
+      ++next_block[color];
+      next_lane[color] = 0;
+    } else {
+      ++next_lane[color];
+    }
+    ContactBlock& blk = s.blocks[block];
+    ContactBlockExtra& extra = s.extra[block];
+    const std::uint32_t a = s.index_of[c.a];
+    const std::uint32_t b = i < pair_count ? s.index_of[c.b] : dummy;
+    const Motion& A = s.bodies[a];
+    const Motion& B = s.bodies[b];
+    blk.a[lane] = a;
+    blk.b[lane] = b;
+    blk.nx[lane] = c.normal.x(), blk.ny[lane] = c.normal.y(), blk.nz[lane] = c.normal.z();
+    blk.separation[lane] = c.separation;
+    blk.ra[lane] = c.ra, blk.rb[lane] = c.rb;
+    const Real mass_sum = A.inverse_mass + B.inverse_mass;
+    blk.normal_mass[lane] = mass_sum > 0 ? 1 / mass_sum : Real(0);
+    const Real tangent_sum = mass_sum + A.inverse_inertia * c.ra * c.ra + B.inverse_inertia * c.rb * c.rb;
+    blk.tangent_mass[lane] = tangent_sum > 0 ? 1 / tangent_sum : Real(0);
+    blk.friction[lane] = c.friction;
+    const Vec3 f = c.friction_impulse - c.normal * c.normal.dot(c.friction_impulse);
+    blk.normal_impulse[lane] = c.normal_impulse;
+    blk.fx[lane] = f.x(), blk.fy[lane] = f.y(), blk.fz[lane] = f.z();
+    blk.max_normal_impulse[lane] = 0;
+    if (s.has_rolling) {
+      RollingBlock& r = s.rolling[block];
+      const Real rolling_sum = A.inverse_inertia + B.inverse_inertia;
+      r.limit[lane] = c.rolling;
+      r.mass[lane] = rolling_sum > 0 ? 1 / rolling_sum : Real(0);
+      r.x[lane] = c.rolling_impulse.x(), r.y[lane] = c.rolling_impulse.y(), r.z[lane] = c.rolling_impulse.z();
+    }
+    extra.contact[lane] = static_cast<std::uint32_t>(i);
+    extra.relative_velocity[lane] = c.normal.dot(B.linear_velocity - A.linear_velocity);
+    extra.restitution[lane] = c.restitution;
+  }
 }
 
 void WorldImpl::warm_start() {
-  auto& motion = bodies.motion;
-  const auto apply = [](const Contact& c, Motion& A, Motion* B) {
-    const Vec3 linear = c.normal * c.normal_impulse + c.friction_impulse;
-    const Vec3 torque_dir = c.normal.cross(c.friction_impulse);
-    A.linear_velocity -= A.inverse_mass * linear;
-    A.angular_velocity -= A.inverse_inertia * (c.ra * torque_dir + c.rolling_impulse);
-    if (B) {
-      B->linear_velocity += B->inverse_mass * linear;
-      B->angular_velocity += B->inverse_inertia * (c.rolling_impulse - c.rb * torque_dir);
+  SolverScratch& s = solver;
+  for (std::size_t k = 0; k < s.blocks.size(); ++k) {
+    const ContactBlock& c = s.blocks[k];
+    for (int l = 0; l < kLanes; ++l) {
+      if (s.extra[k].contact[l] == kUnusedLane) continue;
+      const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
+      const Vec3 f(c.fx[l], c.fy[l], c.fz[l]);
+      const Vec3 rolling = s.has_rolling ? Vec3(s.rolling[k].x[l], s.rolling[k].y[l], s.rolling[k].z[l])
+                                         : Vec3::Zero().eval();
+      const Vec3 linear = n * c.normal_impulse[l] + f;
+      const Vec3 torque_dir = n.cross(f);
+      Motion& A = s.bodies[c.a[l]];
+      Motion& B = s.bodies[c.b[l]];
+      A.linear_velocity -= A.inverse_mass * linear;
+      A.angular_velocity -= A.inverse_inertia * (c.ra[l] * torque_dir + rolling);
+      B.linear_velocity += B.inverse_mass * linear;
+      B.angular_velocity += B.inverse_inertia * (rolling - c.rb[l] * torque_dir);
     }
-  };
-  for (const Contact& c : pair_contacts) apply(c, motion[c.a], &motion[c.b]);
-  for (const Contact& c : static_contacts) apply(c, motion[c.a], nullptr);
+  }
 }
 
-void WorldImpl::reset_for_solve() {
-  for (Contact& c : pair_contacts) {
-    c.normal_impulse = 0;
-    c.friction_impulse.setZero();
-    c.rolling_impulse.setZero();
-  }
-  for (Contact& c : static_contacts) {
-    c.normal_impulse = 0;
-    c.friction_impulse.setZero();
-    c.rolling_impulse.setZero();
-  }
+void WorldImpl::reset_impulses() {
+  SolverScratch& s = solver;
+  for (ContactBlock& c : s.blocks) c.normal_impulse = c.fx = c.fy = c.fz = splat(0);
+  for (RollingBlock& r : s.rolling) r.x = r.y = r.z = splat(0);
 }
 
 void WorldImpl::solve_contacts(Real h, bool use_bias) {
@@ -244,71 +365,92 @@ void WorldImpl::solve_contacts(Real h, bool use_bias) {
   p.max_correction_speed = def.max_correction_speed;
   p.soft = make_softness(std::min(def.contact_hertz, Real(0.25) / h), def.contact_damping_ratio, h);
   const bool track_delta = def.substeps > 1;
-  bool rolling = false;
-  for (const std::uint32_t slot : awake_list) {
-    if (bodies.material[slot].rolling_resistance > 0) {
-      rolling = true;
-      break;
-    }
-  }
-  const Vec3* delta = delta_position.data();
-  Vec3* pseudo = pseudo_velocity.data();
-  auto& motion = bodies.motion;
+  SolverScratch& s = solver;
   switch (def.position_correction) {
     case PositionCorrection::Baumgarte:
       if (use_bias) {
-        solve_all_dispatch<PositionCorrection::Baumgarte, true>(track_delta, rolling, pair_contacts, static_contacts, motion, delta, pseudo, p);
+        solve_blocks_dispatch<PositionCorrection::Baumgarte, true>(s, track_delta, p);
       } else {
-        solve_all_dispatch<PositionCorrection::Baumgarte, false>(track_delta, rolling, pair_contacts, static_contacts, motion, delta, pseudo, p);
+        solve_blocks_dispatch<PositionCorrection::Baumgarte, false>(s, track_delta, p);
       }
       break;
     case PositionCorrection::SplitImpulse:
       if (use_bias) {
-        solve_all_dispatch<PositionCorrection::SplitImpulse, true>(track_delta, rolling, pair_contacts, static_contacts, motion, delta, pseudo, p);
+        solve_blocks_dispatch<PositionCorrection::SplitImpulse, true>(s, track_delta, p);
       } else {
-        solve_all_dispatch<PositionCorrection::SplitImpulse, false>(track_delta, rolling, pair_contacts, static_contacts, motion, delta, pseudo, p);
+        solve_blocks_dispatch<PositionCorrection::SplitImpulse, false>(s, track_delta, p);
       }
       break;
     case PositionCorrection::SoftStep:
       if (use_bias) {
-        solve_all_dispatch<PositionCorrection::SoftStep, true>(track_delta, rolling, pair_contacts, static_contacts, motion, delta, pseudo, p);
+        solve_blocks_dispatch<PositionCorrection::SoftStep, true>(s, track_delta, p);
       } else {
-        solve_all_dispatch<PositionCorrection::SoftStep, false>(track_delta, rolling, pair_contacts, static_contacts, motion, delta, pseudo, p);
+        solve_blocks_dispatch<PositionCorrection::SoftStep, false>(s, track_delta, p);
       }
       break;
   }
 }
 
 void WorldImpl::apply_restitution() {
+  SolverScratch& s = solver;
   const Real threshold = def.restitution_threshold;
-  auto& motion = bodies.motion;
-  const auto apply = [&](Contact& c, Motion& A, Motion* B) {
-    if (c.restitution == 0 || c.relative_velocity > -threshold || c.max_normal_impulse == 0) return;
-    const Vec3 vb = B ? B->linear_velocity : Vec3::Zero().eval();
-    const Real vn = c.normal.dot(vb - A.linear_velocity);
-    const Real impulse = -c.normal_mass * (vn + c.restitution * c.relative_velocity);
-    const Real accumulated = std::max(c.normal_impulse + impulse, Real(0));
-    const Real applied = accumulated - c.normal_impulse;
-    c.normal_impulse = accumulated;
-    c.max_normal_impulse = std::max(c.max_normal_impulse, accumulated);
-    c.total_normal_impulse += applied;
-    A.linear_velocity -= (A.inverse_mass * applied) * c.normal;
-    if (B) B->linear_velocity += (B->inverse_mass * applied) * c.normal;
-  };
-  for (Contact& c : pair_contacts) apply(c, motion[c.a], &motion[c.b]);
-  for (Contact& c : static_contacts) apply(c, motion[c.a], nullptr);
+  for (std::size_t k = 0; k < s.blocks.size(); ++k) {
+    ContactBlock& c = s.blocks[k];
+    ContactBlockExtra& e = s.extra[k];
+    for (int l = 0; l < kLanes; ++l) {
+      if (e.contact[l] == kUnusedLane || e.restitution[l] == 0 || e.relative_velocity[l] > -threshold ||
+          c.max_normal_impulse[l] == 0) {
+        continue;
+      }
+      const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
+      Motion& A = s.bodies[c.a[l]];
+      Motion& B = s.bodies[c.b[l]];
+      const Real vn = n.dot(B.linear_velocity - A.linear_velocity);
+      const Real impulse = -c.normal_mass[l] * (vn + e.restitution[l] * e.relative_velocity[l]);
+      const Real accumulated = std::max(c.normal_impulse[l] + impulse, Real(0));
+      const Real applied = accumulated - c.normal_impulse[l];
+      c.normal_impulse[l] = accumulated;
+      c.max_normal_impulse[l] = std::max(c.max_normal_impulse[l], accumulated);
+      e.total_normal_impulse[l] += applied;
+      A.linear_velocity -= (A.inverse_mass * applied) * n;
+      B.linear_velocity += (B.inverse_mass * applied) * n;
+    }
+  }
+}
+
+void WorldImpl::store_impulses() {
+  SolverScratch& s = solver;
+  const std::size_t pair_count = pair_contacts.size();
+  for (std::size_t k = 0; k < s.blocks.size(); ++k) {
+    const ContactBlock& c = s.blocks[k];
+    const ContactBlockExtra& e = s.extra[k];
+    for (int l = 0; l < kLanes; ++l) {
+      const std::uint32_t i = e.contact[l];
+      if (i == kUnusedLane) continue;
+      Contact& contact = i < pair_count ? pair_contacts[i] : static_contacts[i - pair_count];
+      contact.normal_impulse = c.normal_impulse[l];
+      contact.friction_impulse = Vec3(c.fx[l], c.fy[l], c.fz[l]);
+      if (s.has_rolling) contact.rolling_impulse = Vec3(s.rolling[k].x[l], s.rolling[k].y[l], s.rolling[k].z[l]);
+      contact.max_normal_impulse = c.max_normal_impulse[l];
+      contact.total_normal_impulse = e.total_normal_impulse[l];
+      contact.relative_velocity = e.relative_velocity[l];
+    }
+  }
+  for (std::size_t k = 0; k < awake_list.size(); ++k) bodies.motion[awake_list[k]] = solver.bodies[k];
 }
 
 void WorldImpl::integrate_velocities(Real h) {
   const Real max_linear2 = def.max_linear_speed * def.max_linear_speed;
   const Real max_angular2 = def.max_angular_speed * def.max_angular_speed;
-  for (const std::uint32_t slot : awake_list) {
-    if (!bodies.simulated(slot)) continue;  // kinematic or frozen this step
-    Motion& m = bodies.motion[slot];
+  for (std::size_t k = 0; k < awake_list.size(); ++k) {
+    const std::uint32_t slot = awake_list[k];
+    if (!bodies.simulated(slot)) continue;  // kinematic, or frozen this step
+    Motion& m = solver.bodies[k];
     m.linear_velocity += h * (def.gravity * bodies.gravity_scale[slot] + bodies.force[slot] * m.inverse_mass);
     m.angular_velocity += (h * m.inverse_inertia) * bodies.torque[slot];
     if (!is_finite(m.linear_velocity) || !is_finite(m.angular_velocity)) {
       freeze_body(slot);  // before any contact can carry the bad value to a neighbour
+      m = Motion{};
       continue;
     }
     const Real v2 = m.linear_velocity.squaredNorm();
@@ -321,13 +463,14 @@ void WorldImpl::integrate_velocities(Real h) {
 void WorldImpl::integrate_positions(Real h) {
   const bool split = def.position_correction == PositionCorrection::SplitImpulse;
   const bool ballistic = def.integrator == Integrator::ExactBallistic;
-  for (const std::uint32_t slot : awake_list) {
+  for (std::size_t k = 0; k < awake_list.size(); ++k) {
+    const std::uint32_t slot = awake_list[k];
     if (bodies.has(slot, kFlagFrozen)) continue;
-    const Motion& m = bodies.motion[slot];
+    const Motion& m = solver.bodies[k];
     Vec3 move = m.linear_velocity * h;
     if (split) {
-      move += pseudo_velocity[slot] * h;
-      pseudo_velocity[slot].setZero();
+      move += solver.pseudo_velocity[k] * h;
+      solver.pseudo_velocity[k].setZero();
     }
     if (ballistic && contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic)) {
       // v already includes a·h, so x + v·h - ½a·h² = x + v0·h + ½a·h²: exact for constant a.
@@ -335,15 +478,13 @@ void WorldImpl::integrate_positions(Real h) {
       move -= acceleration * (Real(0.5) * h * h);
     }
     bodies.position[slot] += move;
-    delta_position[slot] += move;
+    solver.delta_position[k] += move;
     const Vec3& w = m.angular_velocity;
     if (w.x() != 0 || w.y() != 0 || w.z() != 0) {
       Quat& q = bodies.orientation[slot];
-      const Quat spin(0, w.x(), w.y(), w.z());
-      const Quat dq = spin * q;
+      const Quat dq = Quat(0, w.x(), w.y(), w.z()) * q;
       const Real half_h = Real(0.5) * h;
-      q = Quat(q.w() + half_h * dq.w(), q.x() + half_h * dq.x(), q.y() + half_h * dq.y(),
-               q.z() + half_h * dq.z());
+      q = Quat(q.w() + half_h * dq.w(), q.x() + half_h * dq.x(), q.y() + half_h * dq.y(), q.z() + half_h * dq.z());
       q.normalize();
     }
   }
@@ -357,31 +498,31 @@ void WorldImpl::solve(Real step_dt) {
   const bool explicit_euler = def.integrator == Integrator::ExplicitEuler;
   const bool relax = def.position_correction == PositionCorrection::SoftStep;
   prepare_contacts();
-  if (!def.warm_starting) reset_for_solve();
-  const auto timed_integrate_velocities = [&] {
+  if (!def.warm_starting) reset_impulses();
+  const auto timed = [&](auto&& integrate) {
     const auto t0 = Clock::now();
-    integrate_velocities(h);
+    integrate();
     integrate_ms += ms_since(t0);
   };
   for (int sub = 0; sub < substeps; ++sub) {
-    if (!explicit_euler) timed_integrate_velocities();
+    if (!explicit_euler) timed([&] { integrate_velocities(h); });
     if (def.warm_starting) {
       warm_start();
     } else if (sub > 0) {
-      reset_for_solve();
+      reset_impulses();
     }
     for (int i = 0; i < def.iterations; ++i) solve_contacts(h, true);
-    const auto t0 = Clock::now();
-    integrate_positions(h);
-    integrate_ms += ms_since(t0);
+    timed([&] { integrate_positions(h); });
     if (relax) {
       for (int i = 0; i < def.relax_iterations; ++i) solve_contacts(h, false);
     }
-    if (explicit_euler) timed_integrate_velocities();
-    for (Contact& c : pair_contacts) c.total_normal_impulse += c.normal_impulse;
-    for (Contact& c : static_contacts) c.total_normal_impulse += c.normal_impulse;
+    if (explicit_euler) timed([&] { integrate_velocities(h); });
+    for (std::size_t k = 0; k < solver.blocks.size(); ++k) {
+      solver.extra[k].total_normal_impulse += solver.blocks[k].normal_impulse;
+    }
   }
   apply_restitution();
+  store_impulses();
   profile.integrate_ms = integrate_ms;
   profile.solve_ms = ms_since(start) - integrate_ms;
 }

@@ -15,7 +15,7 @@ namespace {
 
 /// Visits every grid cell the segment from `from` to `to` passes through (3-D DDA), in order.
 template <class Visit>
-void walk_cells(const HashGrid& grid, const Vec3& from, const Vec3& to, Visit&& visit) {
+void walk_cells(const BodyGrid& grid, const Vec3& from, const Vec3& to, Visit&& visit) {
   std::int32_t cell[3], last[3], step[3];
   Real t_max[3], t_delta[3];
   const Vec3 d = to - from;
@@ -86,7 +86,8 @@ void WorldImpl::solve_continuous() {
         for (std::int32_t dx = -1; dx <= 1; ++dx)
           for (std::int32_t dy = -1; dy <= 1; ++dy)
             for (std::int32_t dz = -1; dz <= 1; ++dz)
-              grid.visit_cell(x + dx, y + dy, z + dz, [&](std::uint32_t other) {
+              grid.visit_cell(x + dx, y + dy, z + dz, [&](const BodyGrid::Entry& entry) {
+                const std::uint32_t other = entry.body;
                 if (other == body || ccd_stamp[other] == ccd_stamp_counter) return;
                 ccd_stamp[other] = ccd_stamp_counter;
                 if (bodies.has(other, kFlagSensor) || bodies.has(other, kFlagFast)) return;

@@ -5,6 +5,7 @@
 /// solver can stop a body exactly at the surface instead of letting it sink in first.
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "world_impl.h"
@@ -18,8 +19,9 @@ void ContactCache::build(const std::vector<Contact>& pairs, const std::vector<Co
   keys_.assign(capacity, kEmpty);
   values_.resize(capacity);
   mask_ = capacity - 1;
+  shift_ = 64 - static_cast<unsigned>(std::countr_zero(capacity));
   const auto insert = [&](std::uint64_t key, std::uint32_t value) {
-    std::uint64_t slot = (key * 0x9E3779B97F4A7C15ull) >> 20 & mask_;
+    std::uint64_t slot = slot_of(key);
     while (keys_[slot] != kEmpty) slot = (slot + 1) & mask_;
     keys_[slot] = key;
     values_[slot] = value;
@@ -32,7 +34,7 @@ void ContactCache::build(const std::vector<Contact>& pairs, const std::vector<Co
 
 std::int64_t ContactCache::find(std::uint64_t key) const {
   if (keys_.empty()) return -1;
-  std::uint64_t slot = (key * 0x9E3779B97F4A7C15ull) >> 20 & mask_;
+  std::uint64_t slot = slot_of(key);
   while (keys_[slot] != kEmpty) {
     if (keys_[slot] == key) return values_[slot];
     slot = (slot + 1) & mask_;

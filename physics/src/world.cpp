@@ -389,8 +389,6 @@ void WorldImpl::gather_awake_bodies() {
   }
   start_position = bodies.position;
   start_orientation = bodies.orientation;
-  delta_position.assign(slots, Vec3::Zero());
-  if (def.position_correction == PositionCorrection::SplitImpulse) pseudo_velocity.assign(slots, Vec3::Zero());
   contact_count.assign(slots, 0);
 }
 

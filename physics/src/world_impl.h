@@ -11,47 +11,19 @@
 #include <cstdint>
 #include <vector>
 
+#include "body_grid.h"
 #include "body_store.h"
 #include "contact.h"
+#include "contact_solver.h"
 #include "ricochet/physics/world.h"
 #include "static_geometry.h"
 
 namespace ricochet::physics {
 
-/// Candidate body pair from the broadphase (a < b by slot), with its centre distance.
+/// Candidate body pair from the broadphase (a < b by slot).
 struct BodyPair {
   std::uint32_t a;
   std::uint32_t b;
-};
-
-/// Uniform hash grid over body centres, rebuilt every step.
-struct HashGrid {
-  Real cell_size = 1;
-  Real inverse_cell_size = 1;
-  std::uint32_t mask = 0;
-  std::vector<std::uint32_t> bucket_start;  ///< size mask + 2
-  struct Entry {
-    std::int32_t x, y, z;
-    std::uint32_t body;
-  };
-  std::vector<Entry> entries;  ///< sorted by bucket, stable by body slot
-  std::vector<std::uint32_t> entry_hash;  ///< bucket of each body slot
-  std::vector<std::uint32_t> cursor;      ///< counting-sort write positions
-
-  std::int32_t coordinate(Real v) const;
-  std::uint32_t hash(std::int32_t x, std::int32_t y, std::int32_t z) const {
-    return ((static_cast<std::uint32_t>(x) * 73856093u) ^ (static_cast<std::uint32_t>(y) * 19349663u) ^
-            (static_cast<std::uint32_t>(z) * 83492791u)) & mask;
-  }
-  template <class Visit>
-  void visit_cell(std::int32_t x, std::int32_t y, std::int32_t z, Visit&& visit) const {
-    if (entries.empty()) return;
-    const std::uint32_t h = hash(x, y, z);
-    for (std::uint32_t e = bucket_start[h]; e < bucket_start[h + 1]; ++e) {
-      const Entry& entry = entries[e];
-      if (entry.x == x && entry.y == y && entry.z == z) visit(entry.body);
-    }
-  }
 };
 
 class WorldImpl {
@@ -88,7 +60,8 @@ class WorldImpl {
   void warm_start();
   void solve_contacts(Real h, bool use_bias);
   void apply_restitution();
-  void reset_for_solve();
+  void reset_impulses();
+  void store_impulses();
 
   WorldDef def;
   BodyStore bodies;
@@ -99,13 +72,12 @@ class WorldImpl {
   // Per-step scratch (sized to slot count).
   std::vector<Vec3> start_position;        ///< position at step start (CCD, non-finite restore)
   std::vector<Quat> start_orientation;
-  std::vector<Vec3> delta_position;        ///< m moved during this step (separation updates)
-  std::vector<Vec3> pseudo_velocity;       ///< split-impulse correction velocity
   std::vector<Real> speculative_margin;    ///< m, per body this step
   std::vector<std::uint32_t> contact_count;  ///< contacts per body this step (ExactBallistic)
   std::vector<std::uint32_t> awake_list;   ///< simulated body slots this step, ascending
   std::vector<std::uint32_t> nonfinite_slots;
-  HashGrid grid;
+  SolverScratch solver;
+  BodyGrid grid;
   std::vector<BodyPair> pairs;
   std::vector<BodyPair> sensor_pairs;
 

@@ -11,13 +11,36 @@
 namespace rp = ricochet::physics;
 using ricochet::bench::RainOptions;
 
+namespace {
+const char* correction_name(rp::PositionCorrection c) {
+  switch (c) {
+    case rp::PositionCorrection::Baumgarte: return "baumgarte";
+    case rp::PositionCorrection::SplitImpulse: return "split";
+    case rp::PositionCorrection::SoftStep: return "soft";
+  }
+  return "?";
+}
+}  // namespace
+
 int main(int argc, char** argv) {
   RainOptions options;
+  rp::WorldDef def;
+  std::string correction = "default";
   int exit_code = 0;
-  if (!ricochet::bench::parse_rain_options(argc, argv, "ricochet", options, exit_code)) return exit_code;
+  const auto add_engine_options = [&](CLI::App& app) {
+    app.add_option("--position-correction", correction, "baumgarte, split or soft (default: the WorldDef default)")
+        ->check(CLI::IsMember({"default", "baumgarte", "split", "soft"}));
+    app.add_option("--substeps", def.substeps, "solver substeps")->check(CLI::Range(1, 64));
+    app.add_option("--relax-iterations", def.relax_iterations, "unbiased iterations per substep")->check(CLI::Range(0, 1000));
+  };
+  if (!ricochet::bench::parse_rain_options(argc, argv, "ricochet", options, exit_code, add_engine_options)) {
+    return exit_code;
+  }
+  if (correction == "baumgarte") def.position_correction = rp::PositionCorrection::Baumgarte;
+  if (correction == "split") def.position_correction = rp::PositionCorrection::SplitImpulse;
+  if (correction == "soft") def.position_correction = rp::PositionCorrection::SoftStep;
 
   const ricochet::bench::RainScene scene = ricochet::bench::make_rain_scene(options.bodies);
-  rp::WorldDef def;
   def.iterations = options.iterations;
   def.enable_sleep = options.sleep != 0;
   def.contact_events = false;
@@ -102,10 +125,11 @@ int main(int argc, char** argv) {
   std::snprintf(profile, sizeof profile,
                 "{\"broad_phase_ms\":%.4f,\"narrow_phase_ms\":%.4f,\"solve_ms\":%.4f,\"integrate_ms\":%.4f,"
                 "\"continuous_ms\":%.4f,\"sleep_ms\":%.4f,\"events_ms\":%.4f,\"contacts_per_step\":%.1f,"
-                "\"real_bits\":%d}",
+                "\"real_bits\":%d,\"position_correction\":\"%s\",\"substeps\":%d,\"relax_iterations\":%d}",
                 sum.broad_phase_ms / n, sum.narrow_phase_ms / n, sum.solve_ms / n, sum.integrate_ms / n,
                 sum.continuous_ms / n, sum.sleep_ms / n, sum.events_ms / n, sum.contacts / n,
-                static_cast<int>(sizeof(rp::Real) * 8));
+                static_cast<int>(sizeof(rp::Real) * 8), correction_name(def.position_correction), def.substeps,
+                def.relax_iterations);
   ricochet::bench::print_rain_json("ricochet", options, total_ms / n, stats, profile);
   if (options.progress) {
     std::fprintf(stderr,

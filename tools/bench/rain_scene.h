@@ -29,8 +29,10 @@ struct RainOptions {
 };
 
 /// Parses the common command line. Returns false (after printing help or the error) to exit.
-inline bool parse_rain_options(int argc, char** argv, const char* engine, RainOptions& options,
-                               int& exit_code) {
+/// `add_engine_options` may add engine-specific options to the parser before parsing.
+template <class AddEngineOptions>
+bool parse_rain_options(int argc, char** argv, const char* engine, RainOptions& options, int& exit_code,
+                        AddEngineOptions&& add_engine_options) {
   CLI::App app{std::string("Rain benchmark scene, engine ") + engine};
   app.add_option("--bodies", options.bodies, "number of spheres")->check(CLI::Range(1, 10'000'000));
   app.add_option("--steps", options.steps, "steps to simulate")->check(CLI::Range(1, 10'000'000));
@@ -40,6 +42,7 @@ inline bool parse_rain_options(int argc, char** argv, const char* engine, RainOp
   app.add_option("--dump-positions", options.dump_positions,
                  "write final positions, one 'x y z' line per sphere in creation order");
   app.add_flag("--progress", options.progress, "print a progress line to stderr");
+  add_engine_options(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -47,6 +50,10 @@ inline bool parse_rain_options(int argc, char** argv, const char* engine, RainOp
     return false;
   }
   return true;
+}
+
+inline bool parse_rain_options(int argc, char** argv, const char* engine, RainOptions& options, int& exit_code) {
+  return parse_rain_options(argc, argv, engine, options, exit_code, [](CLI::App&) {});
 }
 
 struct RainScene {

@@ -58,8 +58,10 @@ class [[nodiscard]] Result {
   Result(Error error) : data_(std::move(error)) {}
   bool ok() const { return data_.index() == 0; }
   explicit operator bool() const { return ok(); }
-  T& value() { return std::get<0>(data_); }
-  const T& value() const { return std::get<0>(data_); }
+  T& value() & { return std::get<0>(data_); }
+  const T& value() const& { return std::get<0>(data_); }
+  /// Moves the value out of a temporary: `World w = World::create(def).value();`
+  T&& value() && { return std::get<0>(std::move(data_)); }
   const Error& error() const { return std::get<1>(data_); }
 
  private:

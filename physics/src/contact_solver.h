@@ -1,0 +1,63 @@
+#pragma once
+/// Solver-side data: compact per-step body velocities and graph-coloured contact blocks.
+///
+/// Contacts are greedily coloured so no two contacts of one colour share a moving body; each
+/// colour is cut into blocks of kLanes contacts stored lane-wise (AoSoA), and a block is solved
+/// with one set of vector instructions. Contacts that fit no colour get blocks of their own with
+/// one live lane. Unused lanes point at the dummy body (index = body count): zero velocity and
+/// zero inverse mass, so they change nothing.
+
+#include <cstdint>
+#include <vector>
+
+#include "body_store.h"
+
+namespace ricochet::physics {
+
+constexpr int kLanes = 4;
+/// kLanes Reals as one vector (GCC/Clang vector extension; SSE2 on x86-64, NEON on ARM).
+using Lanes = Real __attribute__((vector_size(kLanes * sizeof(Real))));
+
+/// Hot contact data for kLanes contacts.
+struct ContactBlock {
+  std::uint32_t a[kLanes];  ///< solver body index
+  std::uint32_t b[kLanes];  ///< solver body index, the dummy for static contacts
+  Lanes nx, ny, nz;          ///< normal, a → b
+  Lanes separation;          ///< m at step start
+  Lanes ra, rb;              ///< m, lever lengths along the normal
+  Lanes normal_mass, tangent_mass, friction;
+  Lanes normal_impulse;      ///< N·s, accumulated
+  Lanes fx, fy, fz;          ///< N·s, friction impulse
+  Lanes max_normal_impulse;  ///< N·s
+};
+
+/// Rolling resistance data for the same kLanes contacts (used only when some body has it).
+struct RollingBlock {
+  Lanes limit;  ///< m: torque limit per unit normal impulse
+  Lanes mass;   ///< kg·m²
+  Lanes x, y, z;  ///< N·m·s, accumulated
+};
+
+/// Cold per-block data: restitution, impulse totals, the way back to the Contact.
+struct ContactBlockExtra {
+  std::uint32_t contact[kLanes];  ///< index into pair contacts, then static contacts; ~0 if unused
+  Lanes relative_velocity;  ///< m/s, normal, at prepare
+  Lanes restitution;
+  Lanes total_normal_impulse;
+  Lanes pseudo_impulse;     ///< split impulse
+};
+
+struct SolverScratch {
+  std::vector<Motion> bodies;            ///< awake bodies in awake_list order, then the dummy
+  std::vector<std::uint32_t> index_of;   ///< per slot: solver body index (dummy if not awake)
+  std::vector<Vec3> delta_position;      ///< per solver body, m moved this step
+  std::vector<Vec3> pseudo_velocity;     ///< per solver body, split impulse
+  std::vector<ContactBlock> blocks;
+  std::vector<RollingBlock> rolling;
+  std::vector<ContactBlockExtra> extra;
+  std::vector<std::uint64_t> color_bits;  ///< kColors bitsets over solver bodies
+  std::vector<std::uint32_t> color_of;    ///< per contact
+  bool has_rolling = false;
+};
+
+}  // namespace ricochet::physics
