@@ -111,17 +111,40 @@ void BodyGrid::build(Real cell) {
   };
 
   const auto& entries = grid.entries;
-  for (std::uint32_t e = 0; e < entries.size(); ++e) {
-    const BodyGrid::Entry& me = entries[e];
-    // Same cell: the entries after this one in its cell (or bucket, checked by coordinates).
-    const std::uint32_t cell_end = grid.cell_start[grid.key(me.x, me.y, me.z) + 1];
-    for (std::uint32_t f = e + 1; f < cell_end; ++f) {
-      const BodyGrid::Entry& other = entries[f];
-      if (other.x == me.x && other.y == me.y && other.z == me.z) consider(me, other);
+  const auto scan = [&](std::uint32_t e, std::uint32_t begin, std::uint32_t end) {
+    for (std::uint32_t f = begin; f < end; ++f) consider(entries[e], entries[f]);
+  };
+  if (grid.dense) {
+    // Cells of one x-row are consecutive, so each neighbour row is one contiguous range:
+    // the rest of this cell plus cell x+1, then rows (y+1, z), (y-1..y+1, z+1) over x-1..x+1.
+    constexpr std::int32_t kRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+    const std::int64_t nx = grid.extent[0], ny = grid.extent[1], nz = grid.extent[2];
+    for (std::uint32_t e = 0; e < entries.size(); ++e) {
+      const BodyGrid::Entry& me = entries[e];
+      const std::int64_t x = me.x - grid.min_cell[0], y = me.y - grid.min_cell[1], z = me.z - grid.min_cell[2];
+      const std::int64_t row = (z * ny + y) * nx;
+      scan(e, e + 1, grid.cell_start[row + std::min(x + 1, nx - 1) + 1]);
+      for (const auto& r : kRows) {
+        const std::int64_t ry = y + r[0], rz = z + r[1];
+        if (ry < 0 || ry >= ny || rz >= nz) continue;
+        const std::int64_t other_row = (rz * ny + ry) * nx;
+        scan(e, grid.cell_start[other_row + std::max<std::int64_t>(x - 1, 0)],
+             grid.cell_start[other_row + std::min(x + 1, nx - 1) + 1]);
+      }
     }
-    for (const auto& offset : kForwardNeighbours) {
-      grid.visit_cell(me.x + offset[0], me.y + offset[1], me.z + offset[2],
-                      [&](const BodyGrid::Entry& other) { consider(me, other); });
+  } else {
+    for (std::uint32_t e = 0; e < entries.size(); ++e) {
+      const BodyGrid::Entry& me = entries[e];
+      // Same cell: the entries after this one in its bucket, checked by coordinates.
+      const std::uint32_t bucket_end = grid.cell_start[grid.key(me.x, me.y, me.z) + 1];
+      for (std::uint32_t f = e + 1; f < bucket_end; ++f) {
+        const BodyGrid::Entry& other = entries[f];
+        if (other.x == me.x && other.y == me.y && other.z == me.z) consider(me, other);
+      }
+      for (const auto& offset : kForwardNeighbours) {
+        grid.visit_cell(me.x + offset[0], me.y + offset[1], me.z + offset[2],
+                        [&](const BodyGrid::Entry& other) { consider(me, other); });
+      }
     }
   }
   profile.pair_candidates = static_cast<int>(pairs.size());

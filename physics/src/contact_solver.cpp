@@ -10,8 +10,11 @@
 /// Spheres touch on the line between centres, so the normal impulse has no torque.
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
 #include <numbers>
 
 #include "math_util.h"
@@ -58,40 +61,68 @@ inline Lanes splat(Real x) { return Lanes{} + x; }
 inline Lanes max_lanes(Lanes a, Lanes b) { return a > b ? a : b; }
 inline Lanes min_lanes(Lanes a, Lanes b) { return a < b ? a : b; }
 
-/// Factor that brings a vector of squared length len2 inside a circle of radius limit.
+inline Lanes sqrt_lanes(Lanes x) {
+  Lanes r;
+  for (int l = 0; l < kLanes; ++l) r[l] = std::sqrt(x[l]);
+  return r;
+}
+
+/// Factor that brings a vector of squared length len2 inside a circle of radius limit (>= 0).
 inline Lanes circle_clamp_scale(Lanes len2, Lanes limit) {
-  Lanes scale;
-  for (int l = 0; l < kLanes; ++l) {
-    scale[l] = len2[l] > limit[l] * limit[l] ? (len2[l] > 0 ? limit[l] / std::sqrt(len2[l]) : Real(0)) : Real(1);
-  }
-  return scale;
+  const auto outside = len2 > limit * limit;  // implies len2 > 0
+  const Lanes safe_len2 = outside ? len2 : splat(1);
+  return outside ? limit / sqrt_lanes(safe_len2) : splat(1);
 }
 
 struct BodyLanes {
   Lanes vx, vy, vz, m, wx, wy, wz, i;
 };
 
+static_assert(sizeof(Motion) == 2 * sizeof(Lanes), "Motion must be two lane vectors: v|m and w|i");
+using LaneIndex = std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t>;
+using Shuffle = LaneIndex __attribute__((vector_size(kLanes * sizeof(Real))));
+
+/// 4×4 transpose: rows (x, y, z, s) of four bodies become lanes x, y, z, s.
+inline void transpose(Lanes r0, Lanes r1, Lanes r2, Lanes r3, Lanes& x, Lanes& y, Lanes& z, Lanes& s) {
+  const Lanes t0 = __builtin_shuffle(r0, r1, Shuffle{0, 4, 1, 5});
+  const Lanes t1 = __builtin_shuffle(r2, r3, Shuffle{0, 4, 1, 5});
+  const Lanes t2 = __builtin_shuffle(r0, r1, Shuffle{2, 6, 3, 7});
+  const Lanes t3 = __builtin_shuffle(r2, r3, Shuffle{2, 6, 3, 7});
+  x = __builtin_shuffle(t0, t1, Shuffle{0, 1, 4, 5});
+  y = __builtin_shuffle(t0, t1, Shuffle{2, 3, 6, 7});
+  z = __builtin_shuffle(t2, t3, Shuffle{0, 1, 4, 5});
+  s = __builtin_shuffle(t2, t3, Shuffle{2, 3, 6, 7});
+}
+
+inline Lanes load(const Real* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+inline void store(Real* p, Lanes v) { std::memcpy(p, &v, sizeof v); }
+
 inline BodyLanes gather(const Motion* bodies, const std::uint32_t* index) {
+  static_assert(kLanes == 4);
   BodyLanes r;
-  for (int l = 0; l < kLanes; ++l) {
-    const Motion& b = bodies[index[l]];
-    r.vx[l] = b.linear_velocity.x();
-    r.vy[l] = b.linear_velocity.y();
-    r.vz[l] = b.linear_velocity.z();
-    r.m[l] = b.inverse_mass;
-    r.wx[l] = b.angular_velocity.x();
-    r.wy[l] = b.angular_velocity.y();
-    r.wz[l] = b.angular_velocity.z();
-    r.i[l] = b.inverse_inertia;
-  }
+  const Real* b0 = bodies[index[0]].linear_velocity.data();
+  const Real* b1 = bodies[index[1]].linear_velocity.data();
+  const Real* b2 = bodies[index[2]].linear_velocity.data();
+  const Real* b3 = bodies[index[3]].linear_velocity.data();
+  transpose(load(b0), load(b1), load(b2), load(b3), r.vx, r.vy, r.vz, r.m);
+  transpose(load(b0 + 4), load(b1 + 4), load(b2 + 4), load(b3 + 4), r.wx, r.wy, r.wz, r.i);
   return r;
 }
 
+/// Writes velocities back (the inverse masses ride along unchanged).
 inline void scatter(Motion* bodies, const std::uint32_t* index, const BodyLanes& r) {
+  Lanes v[4], w[4];
+  transpose(r.vx, r.vy, r.vz, r.m, v[0], v[1], v[2], v[3]);
+  transpose(r.wx, r.wy, r.wz, r.i, w[0], w[1], w[2], w[3]);
   for (int l = 0; l < kLanes; ++l) {
-    Motion& b = bodies[index[l]];
-    b.linear_velocity = Vec3(r.vx[l], r.vy[l], r.vz[l]);
-    b.angular_velocity = Vec3(r.wx[l], r.wy[l], r.wz[l]);
+    Real* b = bodies[index[l]].linear_velocity.data();
+    store(b, v[l]);
+    store(b + 4, w[l]);
   }
 }
 
@@ -244,26 +275,22 @@ void WorldImpl::prepare_contacts() {
   const auto contact_at = [&](std::size_t i) -> Contact& {
     return i < pair_count ? pair_contacts[i] : static_contacts[i - pair_count];
   };
-  const std::size_t words = (awake + 64) / 64;
-  s.color_bits.assign(kColors * words, 0);
+  // used_colors[k]: bit c set when body k already has a contact of colour c (the dummy never does).
+  std::vector<std::uint32_t>& used_colors = s.used_colors;
+  used_colors.assign(awake + 1, 0);
   s.color_of.resize(total);
   std::vector<std::uint32_t> color_count(kColors + 1, 0);
   for (std::size_t i = 0; i < total; ++i) {
     const Contact& c = contact_at(i);
     const std::uint32_t a = s.index_of[c.a];
     const std::uint32_t b = i < pair_count ? s.index_of[c.b] : dummy;
-    int color = kColors;
-    for (int k = 0; k < kColors; ++k) {
-      std::uint64_t* bits = &s.color_bits[k * words];
-      const bool a_used = a != dummy && (bits[a >> 6] >> (a & 63) & 1);
-      const bool b_used = b != dummy && (bits[b >> 6] >> (b & 63) & 1);
-      if (a_used || b_used) continue;
-      if (a != dummy) bits[a >> 6] |= 1ull << (a & 63);
-      if (b != dummy) bits[b >> 6] |= 1ull << (b & 63);
-      color = k;
-      break;
+    const std::uint32_t free_colors = ~(used_colors[a] | used_colors[b]) & ((1u << kColors) - 1);
+    const std::uint32_t color = free_colors != 0 ? static_cast<std::uint32_t>(std::countr_zero(free_colors)) : kColors;
+    if (color < kColors) {
+      if (a != dummy) used_colors[a] |= 1u << color;
+      if (b != dummy) used_colors[b] |= 1u << color;
     }
-    s.color_of[i] = static_cast<std::uint32_t>(color);
+    s.color_of[i] = color;
     ++color_count[color];
   }
   std::size_t block_count = total > 0 ? color_count[kColors] : 0;

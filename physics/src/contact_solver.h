@@ -55,7 +55,7 @@ struct SolverScratch {
   std::vector<ContactBlock> blocks;
   std::vector<RollingBlock> rolling;
   std::vector<ContactBlockExtra> extra;
-  std::vector<std::uint64_t> color_bits;  ///< kColors bitsets over solver bodies
+  std::vector<std::uint32_t> used_colors;  ///< per solver body: colours it already has
   std::vector<std::uint32_t> color_of;    ///< per contact
   bool has_rolling = false;
 };
