@@ -55,6 +55,25 @@ Combined combine(const Material& a, const Material& b) {
 
 }  // namespace
 
+/// A sphere over the inside of one triangle is also near that triangle's edges, which neighbouring
+/// triangles report as edge contacts with tilted normals ("internal edges"). An edge or vertex
+/// contact whose point lies on a triangle of the same mesh that the sphere touches face-on is
+/// such a ghost and is dropped, so a ball rolls and a bullet stops on a flat mesh as on a plane.
+bool WorldImpl::edge_covered_by_face(const MeshHit& edge) const {
+  const std::uint32_t shape = statics.primitive(edge.primitive).shape;
+  const Real tolerance = Real(1e-5) + Real(1e-6) * edge.feature.point.norm();
+  for (const MeshHit& face : mesh_hits) {
+    if (!face.feature.on_face || statics.primitive(face.primitive).shape != shape) continue;
+    Vec3 a, b, c;
+    statics.triangle(statics.primitive(face.primitive), a, b, c);
+    if ((closest_point_on_triangle(edge.feature.point, a, b, c) - edge.feature.point).squaredNorm() <=
+        tolerance * tolerance) {
+      return true;
+    }
+  }
+  return false;
+}
+
 void WorldImpl::update_contacts() {
   std::swap(previous_pair_contacts, pair_contacts);
   std::swap(previous_static_contacts, static_contacts);
@@ -145,13 +164,24 @@ void WorldImpl::update_contacts() {
         add_static(slot, 0, plane.plane_normal, separation);
       }
     }
+    // Boxes at once; mesh triangles gathered first so edge contacts can be checked against faces.
+    mesh_hits.clear();
     statics.query_aabb(Aabb::around_sphere(x, r + margin), [&](std::uint32_t primitive) {
       const StaticPrimitive& p = statics.primitive(primitive);
       if (!collides(filter, statics.shape(p.shape).filter)) return;
       const ClosestFeature f = statics.closest_feature(primitive, x);
-      const Real separation = f.distance - r;
-      if (separation < margin) add_static(p.shape, p.index, f.normal, separation);
+      if (f.distance - r >= margin) return;
+      if (statics.shape(p.shape).type == ShapeType::Mesh) {
+        mesh_hits.push_back({primitive, f});
+      } else {
+        add_static(p.shape, p.index, f.normal, f.distance - r);
+      }
     });
+    for (const MeshHit& hit : mesh_hits) {
+      if (!hit.feature.on_face && edge_covered_by_face(hit)) continue;
+      const StaticPrimitive& p = statics.primitive(hit.primitive);
+      add_static(p.shape, p.index, hit.feature.normal, hit.feature.distance - r);
+    }
   }
   profile.contacts = static_cast<int>(pair_contacts.size() + static_contacts.size());
 }

@@ -165,7 +165,7 @@ ClosestFeature StaticGeometry::closest_feature(std::uint32_t primitive, const Ve
       Vec3 n = local - clamped;
       const Real dist = n.norm();
       n /= dist;
-      return {s.box_center + s.box_rotation * clamped, s.box_rotation * n, dist};
+      return {s.box_center + s.box_rotation * clamped, s.box_rotation * n, dist, true};
     }
     // Inside: push out through the nearest face.
     int axis = 0;
@@ -181,22 +181,25 @@ ClosestFeature StaticGeometry::closest_feature(std::uint32_t primitive, const Ve
     n[axis] = local[axis] >= 0 ? Real(1) : Real(-1);
     Vec3 surface = local;
     surface[axis] = n[axis] * h[axis];
-    return {s.box_center + s.box_rotation * surface, s.box_rotation * n, -best};
+    return {s.box_center + s.box_rotation * surface, s.box_rotation * n, -best, true};
   }
   Vec3 a, b, c;
   triangle(p, a, b, c);
   const Vec3 q = closest_point_on_triangle(point, a, b, c);
+  Vec3 face = (b - a).cross(c - a);
+  const Real face_len = face.norm();
+  face = face_len > 0 ? Vec3(face / face_len) : fallback_normal();
   Vec3 n = point - q;
   const Real dist = n.norm();
+  // Inside the face when the offset is along the face normal only.
+  const Vec3 sideways = n - face * face.dot(n);
+  const bool on_face = sideways.squaredNorm() <= Real(1e-8) * (dist * dist) + Real(1e-12);
   if (dist > Real(1e-12) * (Real(1) + point.norm())) {
     n /= dist;
   } else {
-    // Centre on the triangle: use the face normal (its winding side).
-    n = (b - a).cross(c - a);
-    const Real len = n.norm();
-    n = len > 0 ? Vec3(n / len) : fallback_normal();
+    n = face;  // centre on the triangle: the winding side
   }
-  return {q, n, dist};
+  return {q, n, dist, on_face};
 }
 
 bool StaticGeometry::sweep(std::uint32_t primitive, const Vec3& o, const Vec3& d, Real radius,

@@ -40,6 +40,7 @@ struct ClosestFeature {
   Vec3 point;       ///< on the primitive's surface
   Vec3 normal;      ///< unit, from the primitive towards the query point
   Real distance;    ///< signed: negative when the point is inside a box
+  bool on_face;     ///< triangles: the closest point is inside the face, not on an edge or vertex
 };
 
 class StaticGeometry {

@@ -20,6 +20,12 @@
 
 namespace ricochet::physics {
 
+/// A mesh triangle near a body, before internal-edge filtering.
+struct MeshHit {
+  std::uint32_t primitive;
+  ClosestFeature feature;
+};
+
 /// Candidate body pair from the broadphase (a < b by slot).
 struct BodyPair {
   std::uint32_t a;
@@ -52,6 +58,7 @@ class WorldImpl {
   void wake_body(std::uint32_t slot);
   void freeze_body(std::uint32_t slot);
   void remove_contacts_of(std::uint32_t slot);
+  bool edge_covered_by_face(const MeshHit& edge) const;
 
   // --- solver pieces (contact_solver.cpp) ---
   void prepare_contacts();
@@ -80,6 +87,7 @@ class WorldImpl {
   BodyGrid grid;
   std::vector<BodyPair> pairs;
   std::vector<BodyPair> sensor_pairs;
+  std::vector<MeshHit> mesh_hits;  ///< narrowphase scratch, one body at a time
 
   // Contacts: current step and last step (warm starting, begin/end events).
   std::vector<Contact> pair_contacts, static_contacts;
