@@ -43,12 +43,12 @@ struct BodyDef {
   Real radius = Real(0.5);               ///< m, > 0
   Real mass = 1;                         ///< kg, > 0 (ignored for kinematic bodies)
   InertiaModel inertia = InertiaModel::SolidSphere;
-  Material material;
-  Filter filter;
+  Material material{};
+  Filter filter{};
   Real gravity_scale = 1;    ///< multiplies the world gravity
   bool lock_rotation = false;  ///< infinite inertia: the body never spins
   bool fast = false;           ///< continuous collision (swept tests) against statics and bodies
-  bool sensor = false;         ///< reports begin/end contact events but is never pushed or pushes
+  bool sensor = false;         ///< reports begin/end events with overlapping bodies (not statics); never pushes or is pushed
   bool allow_sleep = true;
   std::uint64_t user_data = 0;
 };

@@ -70,7 +70,8 @@ class World {
   std::span<const NonFiniteEvent> nonfinite_events() const;
 
   // --- queries (between steps) ---
-  /// Closest hit along origin + t·(direction·max_distance), t in [0, 1]. Direction need not be unit.
+  /// Closest hit within max_distance metres of origin along direction (normalised here, so it
+  /// need not be unit). A ray starting inside an object does not report that object.
   bool ray_cast_closest(const Vec3& origin, const Vec3& direction, Real max_distance,
                         const QueryFilter& filter, RayHit& hit) const;
   /// All hits along the ray, sorted by distance.
