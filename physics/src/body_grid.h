@@ -27,11 +27,12 @@ struct BodyGrid {
   std::int32_t min_cell[3] = {0, 0, 0};  ///< dense: lowest occupied cell
   std::int64_t extent[3] = {0, 0, 0};    ///< dense: cells per axis
   std::uint32_t shift = 32;              ///< hashed: 32 - log2(bucket count)
-  std::vector<std::uint32_t> cell_start;  ///< first entry per cell (dense) or bucket (hashed), plus end
-  std::vector<Entry> entries;             ///< sorted by cell or bucket
-  std::vector<Entry> unsorted;            ///< this step's entries in slot order (sort input)
-  std::vector<std::uint32_t> key_of;      ///< per unsorted entry: its cell or bucket
-  std::vector<std::uint32_t> cursor;      ///< counting-sort write positions
+  std::vector<std::uint32_t>
+      cell_start;                     ///< first entry per cell (dense) or bucket (hashed), plus end
+  std::vector<Entry> entries;         ///< sorted by cell or bucket
+  std::vector<Entry> unsorted;        ///< this step's entries in slot order (sort input)
+  std::vector<std::uint32_t> key_of;  ///< per unsorted entry: its cell or bucket
+  std::vector<std::uint32_t> cursor;  ///< counting-sort write positions
 
   /// Clamped so positions far beyond any arena cannot overflow the integer cell.
   std::int32_t coordinate(Real v) const;
@@ -41,9 +42,10 @@ struct BodyGrid {
   /// Cell index (dense) or bucket (hashed) of an occupied cell.
   std::uint32_t key(std::int32_t x, std::int32_t y, std::int32_t z) const {
     if (dense) {
-      return static_cast<std::uint32_t>(((std::int64_t{z} - min_cell[2]) * extent[1] + (std::int64_t{y} - min_cell[1])) *
-                                            extent[0] +
-                                        (std::int64_t{x} - min_cell[0]));
+      return static_cast<std::uint32_t>(
+          ((std::int64_t{z} - min_cell[2]) * extent[1] + (std::int64_t{y} - min_cell[1])) *
+              extent[0] +
+          (std::int64_t{x} - min_cell[0]));
     }
     return hash(x, y, z);
   }
@@ -53,8 +55,10 @@ struct BodyGrid {
   void visit_cell(std::int32_t x, std::int32_t y, std::int32_t z, Visit&& visit) const {
     if (entries.empty()) return;
     if (dense) {
-      if (x < min_cell[0] || y < min_cell[1] || z < min_cell[2] || std::int64_t{x} - min_cell[0] >= extent[0] ||
-          std::int64_t{y} - min_cell[1] >= extent[1] || std::int64_t{z} - min_cell[2] >= extent[2]) {
+      if (x < min_cell[0] || y < min_cell[1] || z < min_cell[2] ||
+          std::int64_t{x} - min_cell[0] >= extent[0] ||
+          std::int64_t{y} - min_cell[1] >= extent[1] ||
+          std::int64_t{z} - min_cell[2] >= extent[2]) {
         return;
       }
       const std::uint32_t k = key(x, y, z);

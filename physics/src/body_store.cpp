@@ -56,8 +56,9 @@ std::uint32_t BodyStore::create(const BodyDef& def) {
   orientation[slot] = def.orientation.normalized();
   const Real inverse_mass = def.type == BodyType::Kinematic ? Real(0) : 1 / def.mass;
   const Real inverse_inertia = inverse_inertia_of(def);
-  motion[slot] = Motion{def.linear_velocity, inverse_mass,
-                        def.lock_rotation ? Vec3::Zero().eval() : def.angular_velocity, inverse_inertia};
+  motion[slot] =
+      Motion{def.linear_velocity, inverse_mass,
+             def.lock_rotation ? Vec3::Zero().eval() : def.angular_velocity, inverse_inertia};
   mass_inverse_original[slot] = inverse_mass;
   inertia_inverse_original[slot] = inverse_inertia;
   force[slot].setZero();

@@ -14,7 +14,7 @@ struct Motion {
   Vec3 linear_velocity = Vec3::Zero();   ///< m/s
   Real inverse_mass = 0;                 ///< 1/kg
   Vec3 angular_velocity = Vec3::Zero();  ///< rad/s
-  Real inverse_inertia = 0;              ///< 1/(kg·m²); spheres are isotropic so one scalar suffices
+  Real inverse_inertia = 0;  ///< 1/(kg·m²); spheres are isotropic so one scalar suffices
 };
 
 enum BodyFlag : std::uint16_t {
@@ -49,7 +49,9 @@ struct BodyStore {
 
   std::uint32_t slot_count() const { return static_cast<std::uint32_t>(generation.size()); }
   bool alive(std::uint32_t slot) const { return (flags[slot] & kFlagAlive) != 0; }
-  bool has(std::uint32_t slot, std::uint16_t flag_mask) const { return (flags[slot] & flag_mask) != 0; }
+  bool has(std::uint32_t slot, std::uint16_t flag_mask) const {
+    return (flags[slot] & flag_mask) != 0;
+  }
   bool valid(BodyId id) const {
     return id.generation != 0 && id.index < slot_count() && generation[id.index] == id.generation &&
            alive(id.index);
@@ -57,7 +59,8 @@ struct BodyStore {
   BodyId id_of(std::uint32_t slot) const { return {slot, generation[slot]}; }
   /// Dynamic, alive, awake and not frozen: the bodies the solver moves.
   bool simulated(std::uint32_t slot) const {
-    return (flags[slot] & (kFlagAlive | kFlagKinematic | kFlagSleeping | kFlagFrozen)) == kFlagAlive;
+    return (flags[slot] & (kFlagAlive | kFlagKinematic | kFlagSleeping | kFlagFrozen)) ==
+           kFlagAlive;
   }
 
   /// Takes a slot (reusing a dead one first) and fills it from a validated definition.

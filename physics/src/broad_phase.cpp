@@ -17,8 +17,8 @@ namespace ricochet::physics {
 namespace {
 
 constexpr std::int32_t kForwardNeighbours[13][3] = {
-    {1, 0, 0},  {-1, 1, 0}, {0, 1, 0},   {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
-    {-1, 0, 1}, {0, 0, 1},  {1, 0, 1},   {-1, 1, 1}, {0, 1, 1},   {1, 1, 1},
+    {1, 0, 0},  {-1, 1, 0}, {0, 1, 0}, {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
+    {-1, 0, 1}, {0, 0, 1},  {1, 0, 1}, {-1, 1, 1}, {0, 1, 1},   {1, 1, 1},
 };
 
 std::uint32_t next_power_of_two(std::uint32_t v) {
@@ -64,7 +64,8 @@ void BodyGrid::build(Real cell) {
     keys = next_power_of_two(std::max<std::uint32_t>(2 * count, 16));
     shift = 32 - static_cast<std::uint32_t>(std::countr_zero(keys));
   }
-  for (std::uint32_t i = 0; i < count; ++i) key_of[i] = key(unsorted[i].x, unsorted[i].y, unsorted[i].z);
+  for (std::uint32_t i = 0; i < count; ++i)
+    key_of[i] = key(unsorted[i].x, unsorted[i].y, unsorted[i].z);
   cell_start.assign(keys + 1, 0);
   for (std::uint32_t i = 0; i < count; ++i) ++cell_start[key_of[i] + 1];
   for (std::uint32_t k = 0; k < keys; ++k) cell_start[k + 1] += cell_start[k];
@@ -121,7 +122,8 @@ void BodyGrid::build(Real cell) {
     const std::int64_t nx = grid.extent[0], ny = grid.extent[1], nz = grid.extent[2];
     for (std::uint32_t e = 0; e < entries.size(); ++e) {
       const BodyGrid::Entry& me = entries[e];
-      const std::int64_t x = me.x - grid.min_cell[0], y = me.y - grid.min_cell[1], z = me.z - grid.min_cell[2];
+      const std::int64_t x = me.x - grid.min_cell[0], y = me.y - grid.min_cell[1],
+                         z = me.z - grid.min_cell[2];
       const std::int64_t row = (z * ny + y) * nx;
       scan(e, e + 1, grid.cell_start[row + std::min(x + 1, nx - 1) + 1]);
       for (const auto& r : kRows) {

@@ -13,23 +13,23 @@ namespace ricochet::physics {
 /// the normal: rA = ra·n, rB = -rb·n. The normal impulse then causes no torque.
 struct Contact {
   // Geometry and material, from the narrowphase.
-  std::uint32_t a = 0;  ///< body slot
-  std::uint32_t b = 0;  ///< body slot for body pairs, shape slot for static contacts
+  std::uint32_t a = 0;          ///< body slot
+  std::uint32_t b = 0;          ///< body slot for body pairs, shape slot for static contacts
   Vec3 normal = Vec3::UnitY();  ///< unit, from a towards b
   Real separation = 0;          ///< m at step start; negative when penetrating
   Real ra = 0, rb = 0;          ///< m, lever lengths along the normal
   Real friction = 0;
-  Real rolling = 0;             ///< m: max rolling torque per unit normal impulse
-  Real normal_impulse = 0;      ///< N·s, accumulated per substep (warm started)
+  Real rolling = 0;                      ///< m: max rolling torque per unit normal impulse
+  Real normal_impulse = 0;               ///< N·s, accumulated per substep (warm started)
   Vec3 friction_impulse = Vec3::Zero();  ///< N·s, in the tangent plane
   Vec3 rolling_impulse = Vec3::Zero();   ///< N·m·s
   // Results, for warm starting and events.
   Real restitution = 0;
-  Real relative_velocity = 0;   ///< m/s along the normal at prepare (negative = approaching)
-  Real max_normal_impulse = 0;  ///< N·s, largest per-substep normal impulse this step
+  Real relative_velocity = 0;     ///< m/s along the normal at prepare (negative = approaching)
+  Real max_normal_impulse = 0;    ///< N·s, largest per-substep normal impulse this step
   Real total_normal_impulse = 0;  ///< N·s over the whole step
-  std::uint64_t key = 0;        ///< identity across steps for warm starting and events
-  Vec3 point = Vec3::Zero();    ///< m, midway between the surfaces
+  std::uint64_t key = 0;          ///< identity across steps for warm starting and events
+  Vec3 point = Vec3::Zero();      ///< m, midway between the surfaces
   bool previously_touching = false;
   bool touching = false;
 };

@@ -14,8 +14,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <type_traits>
 #include <numbers>
+#include <type_traits>
 
 #include "math_util.h"
 #include "world_impl.h"
@@ -57,9 +57,15 @@ struct PassParams {
   Softness soft;
 };
 
-inline Lanes splat(Real x) { return Lanes{} + x; }
-inline Lanes max_lanes(Lanes a, Lanes b) { return a > b ? a : b; }
-inline Lanes min_lanes(Lanes a, Lanes b) { return a < b ? a : b; }
+inline Lanes splat(Real x) {
+  return Lanes{} + x;
+}
+inline Lanes max_lanes(Lanes a, Lanes b) {
+  return a > b ? a : b;
+}
+inline Lanes min_lanes(Lanes a, Lanes b) {
+  return a < b ? a : b;
+}
 
 inline Lanes sqrt_lanes(Lanes x) {
   Lanes r;
@@ -83,7 +89,8 @@ using LaneIndex = std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64
 using Shuffle = LaneIndex __attribute__((vector_size(kLanes * sizeof(Real))));
 
 /// 4×4 transpose: rows (x, y, z, s) of four bodies become lanes x, y, z, s.
-inline void transpose(Lanes r0, Lanes r1, Lanes r2, Lanes r3, Lanes& x, Lanes& y, Lanes& z, Lanes& s) {
+inline void transpose(Lanes r0, Lanes r1, Lanes r2, Lanes r3, Lanes& x, Lanes& y, Lanes& z,
+                      Lanes& s) {
   const Lanes t0 = __builtin_shuffle(r0, r1, Shuffle{0, 4, 1, 5});
   const Lanes t1 = __builtin_shuffle(r2, r3, Shuffle{0, 4, 1, 5});
   const Lanes t2 = __builtin_shuffle(r0, r1, Shuffle{2, 6, 3, 7});
@@ -100,7 +107,9 @@ inline Lanes load(const Real* p) {
   return v;
 }
 
-inline void store(Real* p, Lanes v) { std::memcpy(p, &v, sizeof v); }
+inline void store(Real* p, Lanes v) {
+  std::memcpy(p, &v, sizeof v);
+}
 
 inline BodyLanes gather(const Motion* bodies, const std::uint32_t* index) {
   static_assert(kLanes == 4);
@@ -174,11 +183,13 @@ template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRol
       Lanes fx = c.fx - c.tangent_mass * (dvx - c.nx * dvn);
       Lanes fy = c.fy - c.tangent_mass * (dvy - c.ny * dvn);
       Lanes fz = c.fz - c.tangent_mass * (dvz - c.nz * dvn);
-      const Lanes scale = circle_clamp_scale(fx * fx + fy * fy + fz * fz, c.friction * c.normal_impulse);
+      const Lanes scale =
+          circle_clamp_scale(fx * fx + fy * fy + fz * fz, c.friction * c.normal_impulse);
       fx *= scale, fy *= scale, fz *= scale;
       const Lanes ix = fx - c.fx, iy = fy - c.fy, iz = fz - c.fz;
       c.fx = fx, c.fy = fy, c.fz = fz;
-      const Lanes tx = c.ny * iz - c.nz * iy, ty = c.nz * ix - c.nx * iz, tz = c.nx * iy - c.ny * ix;
+      const Lanes tx = c.ny * iz - c.nz * iy, ty = c.nz * ix - c.nx * iz,
+                  tz = c.nx * iy - c.ny * ix;
       const Lanes ka = A.i * c.ra, kb = B.i * c.rb;
       A.vx -= A.m * ix, A.vy -= A.m * iy, A.vz -= A.m * iz;
       A.wx -= ka * tx, A.wy -= ka * ty, A.wz -= ka * tz;
@@ -193,11 +204,13 @@ template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRol
       Lanes bias = separation * p.inverse_h;  // speculative: may close the gap, no further
       Lanes mass_scale = splat(1), impulse_scale = splat(0);
       if constexpr (kUseBias && kMethod == PositionCorrection::Baumgarte) {
-        const Lanes correction = max_lanes(p.baumgarte * p.inverse_h * min_lanes(separation + p.slop, splat(0)),
-                                           splat(-p.max_correction_speed));
+        const Lanes correction =
+            max_lanes(p.baumgarte * p.inverse_h * min_lanes(separation + p.slop, splat(0)),
+                      splat(-p.max_correction_speed));
         bias = speculative ? bias : correction;
       } else if constexpr (kUseBias && kMethod == PositionCorrection::SoftStep) {
-        const Lanes correction = max_lanes(p.soft.bias_rate * separation, splat(-p.max_correction_speed));
+        const Lanes correction =
+            max_lanes(p.soft.bias_rate * separation, splat(-p.max_correction_speed));
         bias = speculative ? bias : correction;
         mass_scale = speculative ? mass_scale : splat(p.soft.mass_scale);
         impulse_scale = speculative ? impulse_scale : splat(p.soft.impulse_scale);
@@ -205,7 +218,8 @@ template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRol
         bias = speculative ? bias : splat(0);
       }
       const Lanes vn = (B.vx - A.vx) * c.nx + (B.vy - A.vy) * c.ny + (B.vz - A.vz) * c.nz;
-      const Lanes impulse = -c.normal_mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
+      const Lanes impulse =
+          -c.normal_mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
       const Lanes accumulated = max_lanes(c.normal_impulse + impulse, splat(0));
       const Lanes applied = accumulated - c.normal_impulse;
       c.normal_impulse = accumulated;
@@ -217,8 +231,9 @@ template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRol
       if constexpr (kMethod == PositionCorrection::SplitImpulse && kUseBias) {
         // Pseudo-velocities push penetrating bodies apart without adding momentum.
         ContactBlockExtra& e = s.extra[k];
-        const Lanes target = min_lanes(-p.baumgarte * p.inverse_h * min_lanes(separation + p.slop, splat(0)),
-                                       splat(p.max_correction_speed));
+        const Lanes target =
+            min_lanes(-p.baumgarte * p.inverse_h * min_lanes(separation + p.slop, splat(0)),
+                      splat(p.max_correction_speed));
         const Lanes pvn = normal_difference(pseudo, c);
         const Lanes next = max_lanes(e.pseudo_impulse - c.normal_mass * (pvn - target), splat(0));
         const Lanes pseudo_applied = next - e.pseudo_impulse;
@@ -250,6 +265,15 @@ void solve_blocks_dispatch(SolverScratch& s, bool track_delta, const PassParams&
   }
 }
 
+template <PositionCorrection kMethod>
+void solve_blocks_with(SolverScratch& s, bool use_bias, bool track_delta, const PassParams& p) {
+  if (use_bias) {
+    solve_blocks_dispatch<kMethod, true>(s, track_delta, p);
+  } else {
+    solve_blocks_dispatch<kMethod, false>(s, track_delta, p);
+  }
+}
+
 }  // namespace
 
 void WorldImpl::prepare_contacts() {
@@ -267,7 +291,8 @@ void WorldImpl::prepare_contacts() {
   }
   s.bodies[dummy] = Motion{};
   s.delta_position.assign(awake + 1, Vec3::Zero());
-  if (def.position_correction == PositionCorrection::SplitImpulse) s.pseudo_velocity.assign(awake + 1, Vec3::Zero());
+  if (def.position_correction == PositionCorrection::SplitImpulse)
+    s.pseudo_velocity.assign(awake + 1, Vec3::Zero());
 
   // Greedy colouring: a contact takes the first colour where neither of its moving bodies is used.
   const std::size_t pair_count = pair_contacts.size();
@@ -285,7 +310,8 @@ void WorldImpl::prepare_contacts() {
     const std::uint32_t a = s.index_of[c.a];
     const std::uint32_t b = i < pair_count ? s.index_of[c.b] : dummy;
     const std::uint32_t free_colors = ~(used_colors[a] | used_colors[b]) & ((1u << kColors) - 1);
-    const std::uint32_t color = free_colors != 0 ? static_cast<std::uint32_t>(std::countr_zero(free_colors)) : kColors;
+    const std::uint32_t color =
+        free_colors != 0 ? static_cast<std::uint32_t>(std::countr_zero(free_colors)) : kColors;
     if (color < kColors) {
       if (a != dummy) used_colors[a] |= 1u << color;
       if (b != dummy) used_colors[b] |= 1u << color;
@@ -336,7 +362,8 @@ void WorldImpl::prepare_contacts() {
     blk.ra[lane] = c.ra, blk.rb[lane] = c.rb;
     const Real mass_sum = A.inverse_mass + B.inverse_mass;
     blk.normal_mass[lane] = mass_sum > 0 ? 1 / mass_sum : Real(0);
-    const Real tangent_sum = mass_sum + A.inverse_inertia * c.ra * c.ra + B.inverse_inertia * c.rb * c.rb;
+    const Real tangent_sum =
+        mass_sum + A.inverse_inertia * c.ra * c.ra + B.inverse_inertia * c.rb * c.rb;
     blk.tangent_mass[lane] = tangent_sum > 0 ? 1 / tangent_sum : Real(0);
     blk.friction[lane] = c.friction;
     const Vec3 f = c.friction_impulse - c.normal * c.normal.dot(c.friction_impulse);
@@ -348,7 +375,8 @@ void WorldImpl::prepare_contacts() {
       const Real rolling_sum = A.inverse_inertia + B.inverse_inertia;
       r.limit[lane] = c.rolling;
       r.mass[lane] = rolling_sum > 0 ? 1 / rolling_sum : Real(0);
-      r.x[lane] = c.rolling_impulse.x(), r.y[lane] = c.rolling_impulse.y(), r.z[lane] = c.rolling_impulse.z();
+      r.x[lane] = c.rolling_impulse.x(), r.y[lane] = c.rolling_impulse.y(),
+      r.z[lane] = c.rolling_impulse.z();
     }
     extra.contact[lane] = static_cast<std::uint32_t>(i);
     extra.relative_velocity[lane] = c.normal.dot(B.linear_velocity - A.linear_velocity);
@@ -364,8 +392,9 @@ void WorldImpl::warm_start() {
       if (s.extra[k].contact[l] == kUnusedLane) continue;
       const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
       const Vec3 f(c.fx[l], c.fy[l], c.fz[l]);
-      const Vec3 rolling = s.has_rolling ? Vec3(s.rolling[k].x[l], s.rolling[k].y[l], s.rolling[k].z[l])
-                                         : Vec3::Zero().eval();
+      const Vec3 rolling = s.has_rolling
+                               ? Vec3(s.rolling[k].x[l], s.rolling[k].y[l], s.rolling[k].z[l])
+                               : Vec3::Zero().eval();
       const Vec3 linear = n * c.normal_impulse[l] + f;
       const Vec3 torque_dir = n.cross(f);
       Motion& A = s.bodies[c.a[l]];
@@ -395,25 +424,13 @@ void WorldImpl::solve_contacts(Real h, bool use_bias) {
   SolverScratch& s = solver;
   switch (def.position_correction) {
     case PositionCorrection::Baumgarte:
-      if (use_bias) {
-        solve_blocks_dispatch<PositionCorrection::Baumgarte, true>(s, track_delta, p);
-      } else {
-        solve_blocks_dispatch<PositionCorrection::Baumgarte, false>(s, track_delta, p);
-      }
+      solve_blocks_with<PositionCorrection::Baumgarte>(s, use_bias, track_delta, p);
       break;
     case PositionCorrection::SplitImpulse:
-      if (use_bias) {
-        solve_blocks_dispatch<PositionCorrection::SplitImpulse, true>(s, track_delta, p);
-      } else {
-        solve_blocks_dispatch<PositionCorrection::SplitImpulse, false>(s, track_delta, p);
-      }
+      solve_blocks_with<PositionCorrection::SplitImpulse>(s, use_bias, track_delta, p);
       break;
     case PositionCorrection::SoftStep:
-      if (use_bias) {
-        solve_blocks_dispatch<PositionCorrection::SoftStep, true>(s, track_delta, p);
-      } else {
-        solve_blocks_dispatch<PositionCorrection::SoftStep, false>(s, track_delta, p);
-      }
+      solve_blocks_with<PositionCorrection::SoftStep>(s, use_bias, track_delta, p);
       break;
   }
 }
@@ -425,8 +442,8 @@ void WorldImpl::apply_restitution() {
     ContactBlock& c = s.blocks[k];
     ContactBlockExtra& e = s.extra[k];
     for (int l = 0; l < kLanes; ++l) {
-      if (e.contact[l] == kUnusedLane || e.restitution[l] == 0 || e.relative_velocity[l] > -threshold ||
-          c.max_normal_impulse[l] == 0) {
+      if (e.contact[l] == kUnusedLane || e.restitution[l] == 0 ||
+          e.relative_velocity[l] > -threshold || c.max_normal_impulse[l] == 0) {
         continue;
       }
       const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
@@ -457,13 +474,15 @@ void WorldImpl::store_impulses() {
       Contact& contact = i < pair_count ? pair_contacts[i] : static_contacts[i - pair_count];
       contact.normal_impulse = c.normal_impulse[l];
       contact.friction_impulse = Vec3(c.fx[l], c.fy[l], c.fz[l]);
-      if (s.has_rolling) contact.rolling_impulse = Vec3(s.rolling[k].x[l], s.rolling[k].y[l], s.rolling[k].z[l]);
+      if (s.has_rolling)
+        contact.rolling_impulse = Vec3(s.rolling[k].x[l], s.rolling[k].y[l], s.rolling[k].z[l]);
       contact.max_normal_impulse = c.max_normal_impulse[l];
       contact.total_normal_impulse = e.total_normal_impulse[l];
       contact.relative_velocity = e.relative_velocity[l];
     }
   }
-  for (std::size_t k = 0; k < awake_list.size(); ++k) bodies.motion[awake_list[k]] = solver.bodies[k];
+  for (std::size_t k = 0; k < awake_list.size(); ++k)
+    bodies.motion[awake_list[k]] = solver.bodies[k];
 }
 
 void WorldImpl::integrate_velocities(Real h) {
@@ -473,7 +492,8 @@ void WorldImpl::integrate_velocities(Real h) {
     const std::uint32_t slot = awake_list[k];
     if (!bodies.simulated(slot)) continue;  // kinematic, or frozen this step
     Motion& m = solver.bodies[k];
-    m.linear_velocity += h * (def.gravity * bodies.gravity_scale[slot] + bodies.force[slot] * m.inverse_mass);
+    m.linear_velocity +=
+        h * (def.gravity * bodies.gravity_scale[slot] + bodies.force[slot] * m.inverse_mass);
     m.angular_velocity += (h * m.inverse_inertia) * bodies.torque[slot];
     if (!is_finite(m.linear_velocity) || !is_finite(m.angular_velocity)) {
       freeze_body(slot);  // before any contact can carry the bad value to a neighbour
@@ -501,7 +521,8 @@ void WorldImpl::integrate_positions(Real h) {
     }
     if (ballistic && contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic)) {
       // v already includes a·h, so x + v·h - ½a·h² = x + v0·h + ½a·h²: exact for constant a.
-      const Vec3 acceleration = def.gravity * bodies.gravity_scale[slot] + bodies.force[slot] * m.inverse_mass;
+      const Vec3 acceleration =
+          def.gravity * bodies.gravity_scale[slot] + bodies.force[slot] * m.inverse_mass;
       move -= acceleration * (Real(0.5) * h * h);
     }
     bodies.position[slot] += move;
@@ -511,7 +532,8 @@ void WorldImpl::integrate_positions(Real h) {
       Quat& q = bodies.orientation[slot];
       const Quat dq = Quat(0, w.x(), w.y(), w.z()) * q;
       const Real half_h = Real(0.5) * h;
-      q = Quat(q.w() + half_h * dq.w(), q.x() + half_h * dq.x(), q.y() + half_h * dq.y(), q.z() + half_h * dq.z());
+      q = Quat(q.w() + half_h * dq.w(), q.x() + half_h * dq.x(), q.y() + half_h * dq.y(),
+               q.z() + half_h * dq.z());
       q.normalize();
     }
   }

@@ -22,9 +22,9 @@ using Lanes = Real __attribute__((vector_size(kLanes * sizeof(Real))));
 struct ContactBlock {
   std::uint32_t a[kLanes];  ///< solver body index
   std::uint32_t b[kLanes];  ///< solver body index, the dummy for static contacts
-  Lanes nx, ny, nz;          ///< normal, a → b
-  Lanes separation;          ///< m at step start
-  Lanes ra, rb;              ///< m, lever lengths along the normal
+  Lanes nx, ny, nz;         ///< normal, a → b
+  Lanes separation;         ///< m at step start
+  Lanes ra, rb;             ///< m, lever lengths along the normal
   Lanes normal_mass, tangent_mass, friction;
   Lanes normal_impulse;      ///< N·s, accumulated
   Lanes fx, fy, fz;          ///< N·s, friction impulse
@@ -33,30 +33,30 @@ struct ContactBlock {
 
 /// Rolling resistance data for the same kLanes contacts (used only when some body has it).
 struct RollingBlock {
-  Lanes limit;  ///< m: torque limit per unit normal impulse
-  Lanes mass;   ///< kg·m²
+  Lanes limit;    ///< m: torque limit per unit normal impulse
+  Lanes mass;     ///< kg·m²
   Lanes x, y, z;  ///< N·m·s, accumulated
 };
 
 /// Cold per-block data: restitution, impulse totals, the way back to the Contact.
 struct ContactBlockExtra {
   std::uint32_t contact[kLanes];  ///< index into pair contacts, then static contacts; ~0 if unused
-  Lanes relative_velocity;  ///< m/s, normal, at prepare
+  Lanes relative_velocity;        ///< m/s, normal, at prepare
   Lanes restitution;
   Lanes total_normal_impulse;
-  Lanes pseudo_impulse;     ///< split impulse
+  Lanes pseudo_impulse;  ///< split impulse
 };
 
 struct SolverScratch {
-  std::vector<Motion> bodies;            ///< awake bodies in awake_list order, then the dummy
-  std::vector<std::uint32_t> index_of;   ///< per slot: solver body index (dummy if not awake)
-  std::vector<Vec3> delta_position;      ///< per solver body, m moved this step
-  std::vector<Vec3> pseudo_velocity;     ///< per solver body, split impulse
+  std::vector<Motion> bodies;           ///< awake bodies in awake_list order, then the dummy
+  std::vector<std::uint32_t> index_of;  ///< per slot: solver body index (dummy if not awake)
+  std::vector<Vec3> delta_position;     ///< per solver body, m moved this step
+  std::vector<Vec3> pseudo_velocity;    ///< per solver body, split impulse
   std::vector<ContactBlock> blocks;
   std::vector<RollingBlock> rolling;
   std::vector<ContactBlockExtra> extra;
   std::vector<std::uint32_t> used_colors;  ///< per solver body: colours it already has
-  std::vector<std::uint32_t> color_of;    ///< per contact
+  std::vector<std::uint32_t> color_of;     ///< per contact
   bool has_rolling = false;
 };
 

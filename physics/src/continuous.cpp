@@ -54,7 +54,8 @@ void WorldImpl::solve_continuous() {
   std::vector<std::uint32_t>& fast = fast_bodies;
   fast.clear();
   for (const std::uint32_t s : awake_list) {
-    if (bodies.simulated(s) && bodies.has(s, kFlagFast) && !bodies.has(s, kFlagSensor)) fast.push_back(s);
+    if (bodies.simulated(s) && bodies.has(s, kFlagFast) && !bodies.has(s, kFlagSensor))
+      fast.push_back(s);
   }
   if (fast.empty()) return;
   time_of_impact.assign(fast.size(), Real(1));
@@ -71,7 +72,8 @@ void WorldImpl::solve_continuous() {
     SweepHit hit;
     for (const std::uint32_t slot : statics.plane_slots()) {
       const StaticShape& plane = statics.shape(slot);
-      if (collides(filter, plane.filter)) sweep_sphere_plane(o, d, r, plane.plane_normal, plane.plane_offset, hit);
+      if (collides(filter, plane.filter))
+        sweep_sphere_plane(o, d, r, plane.plane_normal, plane.plane_offset, hit);
     }
     statics.query_segment(o, d, r, [&](std::uint32_t primitive) {
       if (collides(filter, statics.shape(statics.primitive(primitive).shape).filter)) {
@@ -94,7 +96,8 @@ void WorldImpl::solve_continuous() {
                 if (!collides(filter, bodies.filter[other])) return;
                 const Vec3 other_start = start_of(other);
                 const Vec3 relative_d = d - (bodies.position[other] - other_start);
-                sweep_sphere_point(o - other_start, relative_d, r + bodies.radius[other], Vec3::Zero(), hit);
+                sweep_sphere_point(o - other_start, relative_d, r + bodies.radius[other],
+                                   Vec3::Zero(), hit);
               });
       });
     }

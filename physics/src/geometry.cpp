@@ -131,7 +131,8 @@ bool sweep_sphere_triangle(const Vec3& o, const Vec3& d, Real radius, const Vec3
   return found;
 }
 
-bool sweep_sphere_local_box(const Vec3& o, const Vec3& d, Real radius, const Vec3& h, SweepHit& hit) {
+bool sweep_sphere_local_box(const Vec3& o, const Vec3& d, Real radius, const Vec3& h,
+                            SweepHit& hit) {
   bool found = false;
   // Faces pushed out by the radius.
   for (int axis = 0; axis < 3; ++axis) {

@@ -9,8 +9,8 @@
 namespace ricochet::physics {
 
 struct SweepHit {
-  Real t = 1;                    ///< fraction of d at first touch
-  Vec3 normal = Vec3::UnitY();   ///< unit, from the shape towards the sphere at touch
+  Real t = 1;                   ///< fraction of d at first touch
+  Vec3 normal = Vec3::UnitY();  ///< unit, from the shape towards the sphere at touch
 };
 
 /// Closest point on triangle abc to p.

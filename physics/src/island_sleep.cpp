@@ -51,7 +51,7 @@ void WorldImpl::wake_touching_islands() {
     }
     // A moving kinematic body wakes what it reaches.
     const auto kinematic_moving = [&](std::uint32_t s) {
-      return bodies.has(s, kFlagKinematic) && !bodies.motion[s].linear_velocity.isZero(0) ;
+      return bodies.has(s, kFlagKinematic) && !bodies.motion[s].linear_velocity.isZero(0);
     };
     if (kinematic_moving(pair.a) && bodies.has(pair.b, kFlagSleeping)) wake_body(pair.b);
     if (kinematic_moving(pair.b) && bodies.has(pair.a, kFlagSleeping)) wake_body(pair.a);
@@ -62,7 +62,8 @@ void WorldImpl::wake_touching_islands() {
     }
   }
   for (std::uint32_t s = 0; s < slots; ++s) {
-    if (bodies.has(s, kFlagSleeping) && bodies.alive(s) && root_awake[find_root(island_parent, s)]) {
+    if (bodies.has(s, kFlagSleeping) && bodies.alive(s) &&
+        root_awake[find_root(island_parent, s)]) {
       wake_body(s);
     }
   }
@@ -81,7 +82,8 @@ void WorldImpl::update_sleep(Real step_dt) {
   }
   // Bodies carried or pushed by a moving kinematic body stay awake.
   for (const Contact& c : pair_contacts) {
-    const bool a_kinematic = bodies.has(c.a, kFlagKinematic), b_kinematic = bodies.has(c.b, kFlagKinematic);
+    const bool a_kinematic = bodies.has(c.a, kFlagKinematic),
+               b_kinematic = bodies.has(c.b, kFlagKinematic);
     if (a_kinematic && !bodies.motion[c.a].linear_velocity.isZero(0)) bodies.sleep_time[c.b] = 0;
     if (b_kinematic && !bodies.motion[c.b].linear_velocity.isZero(0)) bodies.sleep_time[c.a] = 0;
   }

@@ -9,10 +9,15 @@
 
 namespace ricochet::physics {
 
-inline bool is_finite(Real x) { return std::isfinite(x); }
-inline bool is_finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+inline bool is_finite(Real x) {
+  return std::isfinite(x);
+}
+inline bool is_finite(const Vec3& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+}
 inline bool is_finite(const Quat& q) {
-  return std::isfinite(q.w()) && std::isfinite(q.x()) && std::isfinite(q.y()) && std::isfinite(q.z());
+  return std::isfinite(q.w()) && std::isfinite(q.x()) && std::isfinite(q.y()) &&
+         std::isfinite(q.z());
 }
 
 /// Axis-aligned bounding box.
@@ -60,6 +65,8 @@ class Fnv1a {
 
 /// A unit vector perpendicular-ish to nothing in particular, used when a normal is undefined
 /// (two centres coincide). Fixed so the result stays deterministic.
-inline Vec3 fallback_normal() { return Vec3::UnitY(); }
+inline Vec3 fallback_normal() {
+  return Vec3::UnitY();
+}
 
 }  // namespace ricochet::physics

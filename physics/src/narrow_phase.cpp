@@ -26,7 +26,8 @@ void ContactCache::build(const std::vector<Contact>& pairs, const std::vector<Co
     keys_[slot] = key;
     values_[slot] = value;
   };
-  for (std::size_t i = 0; i < pairs.size(); ++i) insert(pairs[i].key, static_cast<std::uint32_t>(i));
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    insert(pairs[i].key, static_cast<std::uint32_t>(i));
   for (std::size_t i = 0; i < statics.size(); ++i) {
     insert(statics[i].key, static_cast<std::uint32_t>(pairs.size() + i));
   }
@@ -66,8 +67,8 @@ bool WorldImpl::edge_covered_by_face(const MeshHit& edge) const {
     if (!face.feature.on_face || statics.primitive(face.primitive).shape != shape) continue;
     Vec3 a, b, c;
     statics.triangle(statics.primitive(face.primitive), a, b, c);
-    if ((closest_point_on_triangle(edge.feature.point, a, b, c) - edge.feature.point).squaredNorm() <=
-        tolerance * tolerance) {
+    if ((closest_point_on_triangle(edge.feature.point, a, b, c) - edge.feature.point)
+            .squaredNorm() <= tolerance * tolerance) {
       return true;
     }
   }
@@ -78,7 +79,8 @@ void WorldImpl::update_contacts() {
   std::swap(previous_pair_contacts, pair_contacts);
   std::swap(previous_static_contacts, static_contacts);
   cache.build(previous_pair_contacts, previous_static_contacts);
-  const std::size_t previous_count = previous_pair_contacts.size() + previous_static_contacts.size();
+  const std::size_t previous_count =
+      previous_pair_contacts.size() + previous_static_contacts.size();
   previous_matched.assign(previous_count, 0);
   pair_contacts.clear();
   static_contacts.clear();
@@ -88,9 +90,10 @@ void WorldImpl::update_contacts() {
     if (found < 0) return;
     previous_matched[static_cast<std::size_t>(found)] = 1;
     const std::size_t pair_count = previous_pair_contacts.size();
-    const Contact& old = static_cast<std::size_t>(found) < pair_count
-                             ? previous_pair_contacts[static_cast<std::size_t>(found)]
-                             : previous_static_contacts[static_cast<std::size_t>(found) - pair_count];
+    const Contact& old =
+        static_cast<std::size_t>(found) < pair_count
+            ? previous_pair_contacts[static_cast<std::size_t>(found)]
+            : previous_static_contacts[static_cast<std::size_t>(found) - pair_count];
     c.previously_touching = old.touching;
     if (def.warm_starting) {
       c.normal_impulse = old.normal_impulse;
@@ -137,8 +140,8 @@ void WorldImpl::update_contacts() {
     const Real margin = speculative_margin[body];
     const Filter& filter = bodies.filter[body];
     const Material& material = bodies.material[body];
-    const auto add_static = [&](std::uint32_t shape, std::uint32_t triangle,
-                                const Vec3& normal_out, Real separation) {
+    const auto add_static = [&](std::uint32_t shape, std::uint32_t triangle, const Vec3& normal_out,
+                                Real separation) {
       Contact c;
       c.a = body;
       c.b = shape;

@@ -40,7 +40,8 @@ void cast_sphere(const WorldImpl& world, const Vec3& origin, Real radius, const 
       const std::uint32_t shape = statics.primitive(primitive).shape;
       if ((statics.shape(shape).filter.layer & filter.mask) == 0) return;
       SweepHit hit;
-      if (statics.sweep(primitive, origin, d, radius, hit)) report(ContactTarget{{}, statics.id_of(shape)}, hit);
+      if (statics.sweep(primitive, origin, d, radius, hit))
+        report(ContactTarget{{}, statics.id_of(shape)}, hit);
     });
   }
   const BodyStore& bodies = world.bodies;
@@ -58,8 +59,8 @@ void cast_sphere(const WorldImpl& world, const Vec3& origin, Real radius, const 
 
 namespace {
 
-RayHit make_hit(const ContactTarget& target, const SweepHit& sweep, const Vec3& origin, const Vec3& d,
-                Real radius) {
+RayHit make_hit(const ContactTarget& target, const SweepHit& sweep, const Vec3& origin,
+                const Vec3& d, Real radius) {
   RayHit hit;
   hit.target = target;
   hit.fraction = sweep.t;
@@ -70,8 +71,8 @@ RayHit make_hit(const ContactTarget& target, const SweepHit& sweep, const Vec3& 
 }
 
 bool valid_cast(const Vec3& origin, const Vec3& direction, Real max_distance, Real radius) {
-  return is_finite(origin) && is_finite(direction) && std::isfinite(max_distance) && max_distance > 0 &&
-         std::isfinite(radius) && radius >= 0 && direction.squaredNorm() > 0;
+  return is_finite(origin) && is_finite(direction) && std::isfinite(max_distance) &&
+         max_distance > 0 && std::isfinite(radius) && radius >= 0 && direction.squaredNorm() > 0;
 }
 
 }  // namespace
@@ -88,19 +89,20 @@ bool World::sphere_cast(const Vec3& origin, Real radius, const Vec3& direction, 
   bool found = false;
   SweepHit best;
   ContactTarget best_target;
-  cast_sphere(*impl_, origin, radius, d, filter, [&](const ContactTarget& target, const SweepHit& h) {
-    if (!found || h.t < best.t) {
-      best = h;
-      best_target = target;
-      found = true;
-    }
-  });
+  cast_sphere(*impl_, origin, radius, d, filter,
+              [&](const ContactTarget& target, const SweepHit& h) {
+                if (!found || h.t < best.t) {
+                  best = h;
+                  best_target = target;
+                  found = true;
+                }
+              });
   if (found) hit = make_hit(best_target, best, origin, d, radius);
   return found;
 }
 
-std::vector<RayHit> World::ray_cast_all(const Vec3& origin, const Vec3& direction, Real max_distance,
-                                        const QueryFilter& filter) const {
+std::vector<RayHit> World::ray_cast_all(const Vec3& origin, const Vec3& direction,
+                                        Real max_distance, const QueryFilter& filter) const {
   std::vector<RayHit> hits;
   if (!valid_cast(origin, direction, max_distance, 0)) return hits;
   const Vec3 d = direction.normalized() * max_distance;
@@ -121,7 +123,8 @@ std::vector<ContactTarget> World::overlap_sphere(const Vec3& center, Real radius
     for (const std::uint32_t slot : w.statics.plane_slots()) {
       const StaticShape& plane = w.statics.shape(slot);
       if ((plane.filter.layer & filter.mask) == 0) continue;
-      if (plane.plane_normal.dot(center) - plane.plane_offset < radius) found.push_back({{}, w.statics.id_of(slot)});
+      if (plane.plane_normal.dot(center) - plane.plane_offset < radius)
+        found.push_back({{}, w.statics.id_of(slot)});
     }
     std::vector<std::uint32_t> shapes;
     w.statics.query_aabb(Aabb::around_sphere(center, radius), [&](std::uint32_t primitive) {
@@ -136,7 +139,8 @@ std::vector<ContactTarget> World::overlap_sphere(const Vec3& center, Real radius
   for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
     if (!body_passes(w.bodies, s, filter)) continue;
     const Real reach = radius + w.bodies.radius[s];
-    if ((w.bodies.position[s] - center).squaredNorm() < reach * reach) found.push_back({w.bodies.id_of(s), {}});
+    if ((w.bodies.position[s] - center).squaredNorm() < reach * reach)
+      found.push_back({w.bodies.id_of(s), {}});
   }
   return found;
 }

@@ -49,7 +49,8 @@ class Reader {
   bool count(std::uint32_t& n, std::uint32_t limit, std::size_t min_size) {
     if (!pod(n)) return false;
     if (n > limit) return fail("count above limit");
-    if (static_cast<std::size_t>(n) * min_size > bytes_.size() - offset_) return fail("count exceeds data");
+    if (static_cast<std::size_t>(n) * min_size > bytes_.size() - offset_)
+      return fail("count exceeds data");
     return true;
   }
   bool fail(const char* why) {
@@ -75,12 +76,12 @@ void write_contact(Writer& w, const Contact& c) {
 
 bool read_contact(Reader& r, Contact& c) {
   std::uint8_t touching = 0;
-  const bool ok = r.pod(c.key) && r.pod(c.a) && r.pod(c.b) && r.vec(c.normal) && r.real(c.separation) &&
-                  r.real(c.ra) && r.real(c.rb) && r.real(c.friction) && r.real(c.restitution) &&
-                  r.real(c.rolling) && r.real(c.normal_impulse) && r.vec(c.friction_impulse) &&
-                  r.vec(c.rolling_impulse) && r.real(c.total_normal_impulse) &&
-                  r.real(c.max_normal_impulse) && r.real(c.relative_velocity) && r.vec(c.point) &&
-                  r.pod(touching);
+  const bool ok = r.pod(c.key) && r.pod(c.a) && r.pod(c.b) && r.vec(c.normal) &&
+                  r.real(c.separation) && r.real(c.ra) && r.real(c.rb) && r.real(c.friction) &&
+                  r.real(c.restitution) && r.real(c.rolling) && r.real(c.normal_impulse) &&
+                  r.vec(c.friction_impulse) && r.vec(c.rolling_impulse) &&
+                  r.real(c.total_normal_impulse) && r.real(c.max_normal_impulse) &&
+                  r.real(c.relative_velocity) && r.vec(c.point) && r.pod(touching);
   c.touching = touching != 0;
   return ok;
 }
@@ -129,9 +130,11 @@ std::vector<std::uint8_t> World::save_state() const {
     if (!b.alive(s)) continue;
     out.vec(b.position[s]), out.quat(b.orientation[s]);
     const Motion& m = b.motion[s];
-    out.vec(m.linear_velocity), out.pod(m.inverse_mass), out.vec(m.angular_velocity), out.pod(m.inverse_inertia);
+    out.vec(m.linear_velocity), out.pod(m.inverse_mass), out.vec(m.angular_velocity),
+        out.pod(m.inverse_inertia);
     out.vec(b.force[s]), out.vec(b.torque[s]);
-    out.pod(b.radius[s]), out.pod(b.mass_inverse_original[s]), out.pod(b.inertia_inverse_original[s]);
+    out.pod(b.radius[s]), out.pod(b.mass_inverse_original[s]),
+        out.pod(b.inertia_inverse_original[s]);
     out.pod(b.gravity_scale[s]);
     const Material& mat = b.material[s];
     out.pod(mat.restitution), out.pod(mat.friction), out.pod(mat.rolling_resistance);
@@ -179,18 +182,20 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
   std::uint8_t real_size = 0;
   if (!in.pod(magic) || magic != kMagic) return corrupt("not a Ricochet physics state (bad magic)");
   if (!in.pod(version) || version != kVersion) {
-    return corrupt("state version " + std::to_string(version) + ", this build reads " + std::to_string(kVersion));
+    return corrupt("state version " + std::to_string(version) + ", this build reads " +
+                   std::to_string(kVersion));
   }
   if (!in.pod(real_size) || real_size != sizeof(Real)) {
-    return corrupt("state saved with " + std::to_string(real_size * 8) + "-bit reals, this build uses " +
-                   std::to_string(sizeof(Real) * 8));
+    return corrupt("state saved with " + std::to_string(real_size * 8) +
+                   "-bit reals, this build uses " + std::to_string(sizeof(Real) * 8));
   }
   WorldImpl next(current.def);
   if (!in.pod(next.steps) || !in.vec(next.def.gravity)) return corrupt(in.error);
 
   BodyStore& b = next.bodies;
   std::uint32_t slots = 0;
-  if (!in.count(slots, std::min(current.def.max_bodies, kMaxBodySlots), 6)) return corrupt(in.error);
+  if (!in.count(slots, std::min(current.def.max_bodies, kMaxBodySlots), 6))
+    return corrupt(in.error);
   BodyDef placeholder;
   for (std::uint32_t s = 0; s < slots; ++s) {
     const std::uint32_t slot = b.create(placeholder);
@@ -211,11 +216,13 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
         !in.vec(b.force[slot]) || !in.vec(b.torque[slot]) || !in.real(b.radius[slot]) ||
         !in.real(b.mass_inverse_original[slot]) || !in.real(b.inertia_inverse_original[slot]) ||
         !in.real(b.gravity_scale[slot]) || !in.real(mat.restitution) || !in.real(mat.friction) ||
-        !in.real(mat.rolling_resistance) || !in.pod(b.filter[slot].layer) || !in.pod(b.filter[slot].mask) ||
-        !in.real(b.sleep_time[slot]) || !in.pod(b.user_data[slot])) {
+        !in.real(mat.rolling_resistance) || !in.pod(b.filter[slot].layer) ||
+        !in.pod(b.filter[slot].mask) || !in.real(b.sleep_time[slot]) ||
+        !in.pod(b.user_data[slot])) {
       return corrupt(in.error);
     }
-    if (b.radius[slot] <= 0 || m.inverse_mass < 0 || m.inverse_inertia < 0) return corrupt("body with invalid mass or radius");
+    if (b.radius[slot] <= 0 || m.inverse_mass < 0 || m.inverse_inertia < 0)
+      return corrupt("body with invalid mass or radius");
   }
   // Recount: create() counted every slot as alive.
   b.alive_count = 0;
@@ -231,7 +238,8 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
   }
 
   std::uint32_t shape_count = 0;
-  if (!in.count(shape_count, std::min(current.def.max_shapes, kMaxShapeSlots), 6)) return corrupt(in.error);
+  if (!in.count(shape_count, std::min(current.def.max_shapes, kMaxShapeSlots), 6))
+    return corrupt(in.error);
   std::vector<StaticShape> shapes(shape_count);
   for (StaticShape& shape : shapes) {
     std::uint8_t type = 0, alive = 0;
@@ -244,7 +252,8 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
     if (!in.real(shape.material.restitution) || !in.real(shape.material.friction) ||
         !in.real(shape.material.rolling_resistance) || !in.pod(shape.filter.layer) ||
         !in.pod(shape.filter.mask) || !in.vec(shape.plane_normal) || !in.real(shape.plane_offset) ||
-        !in.vec(shape.box_center) || !in.quat(shape.box_orientation) || !in.vec(shape.box_half_extents) ||
+        !in.vec(shape.box_center) || !in.quat(shape.box_orientation) ||
+        !in.vec(shape.box_half_extents) ||
         !in.count(vertex_count, 3 * kMaxMeshTriangles, 3 * sizeof(Real))) {
       return corrupt(in.error);
     }
@@ -265,7 +274,8 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
   std::vector<std::uint32_t> shape_free(shape_free_count);
   for (std::uint32_t& s : shape_free) {
     if (!in.pod(s)) return corrupt(in.error);
-    if (s >= shape_count || shapes[s].alive) return corrupt("shape free list names a live or missing slot");
+    if (s >= shape_count || shapes[s].alive)
+      return corrupt("shape free list names a live or missing slot");
   }
   next.statics.assign(std::move(shapes), std::move(shape_free));
 
@@ -277,7 +287,8 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
       if (!read_contact(in, c)) return corrupt(in.error);
       if (c.a >= slots || !b.alive(c.a)) return corrupt("contact names a missing body");
       const bool pair = list == &next.pair_contacts;
-      if (pair ? (c.b >= slots || !b.alive(c.b)) : (c.b >= shape_count || !next.statics.shape(c.b).alive)) {
+      if (pair ? (c.b >= slots || !b.alive(c.b))
+               : (c.b >= shape_count || !next.statics.shape(c.b).alive)) {
         return corrupt("contact names a missing body or shape");
       }
     }

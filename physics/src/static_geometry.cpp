@@ -41,7 +41,8 @@ void StaticGeometry::remove(std::uint32_t slot) {
   rebuild_lists();
 }
 
-void StaticGeometry::assign(std::vector<StaticShape> shapes, std::vector<std::uint32_t> free_slots) {
+void StaticGeometry::assign(std::vector<StaticShape> shapes,
+                            std::vector<std::uint32_t> free_slots) {
   shapes_ = std::move(shapes);
   free_slots_ = std::move(free_slots);
   alive_count_ = 0;
@@ -60,8 +61,12 @@ void StaticGeometry::rebuild_lists() {
     const StaticShape& s = shapes_[slot];
     if (!s.alive) continue;
     switch (s.type) {
-      case ShapeType::Plane: plane_slots_.push_back(slot); break;
-      case ShapeType::Box: primitives_.push_back({slot, 0}); break;
+      case ShapeType::Plane:
+        plane_slots_.push_back(slot);
+        break;
+      case ShapeType::Box:
+        primitives_.push_back({slot, 0});
+        break;
       case ShapeType::Mesh:
         for (std::uint32_t t = 0; t < s.indices.size() / 3; ++t) primitives_.push_back({slot, t});
         break;

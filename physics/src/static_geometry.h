@@ -37,10 +37,10 @@ struct StaticPrimitive {
 
 /// Closest feature of a primitive to a point.
 struct ClosestFeature {
-  Vec3 point;       ///< on the primitive's surface
-  Vec3 normal;      ///< unit, from the primitive towards the query point
-  Real distance;    ///< signed: negative when the point is inside a box
-  bool on_face;     ///< triangles: the closest point is inside the face, not on an edge or vertex
+  Vec3 point;     ///< on the primitive's surface
+  Vec3 normal;    ///< unit, from the primitive towards the query point
+  Real distance;  ///< signed: negative when the point is inside a box
+  bool on_face;   ///< triangles: the closest point is inside the face, not on an edge or vertex
 };
 
 class StaticGeometry {
@@ -70,7 +70,8 @@ class StaticGeometry {
 
   const StaticPrimitive& primitive(std::uint32_t i) const { return primitives_[i]; }
   ClosestFeature closest_feature(std::uint32_t primitive, const Vec3& point) const;
-  bool sweep(std::uint32_t primitive, const Vec3& o, const Vec3& d, Real radius, SweepHit& hit) const;
+  bool sweep(std::uint32_t primitive, const Vec3& o, const Vec3& d, Real radius,
+             SweepHit& hit) const;
   /// Triangle corners of a mesh primitive.
   void triangle(const StaticPrimitive& p, Vec3& a, Vec3& b, Vec3& c) const;
 
@@ -117,7 +118,8 @@ void StaticGeometry::query_aabb(const Aabb& box, Visit&& visit) const {
 }
 
 template <class Visit>
-void StaticGeometry::query_segment(const Vec3& o, const Vec3& d, Real inflate, Visit&& visit) const {
+void StaticGeometry::query_segment(const Vec3& o, const Vec3& d, Real inflate,
+                                   Visit&& visit) const {
   if (nodes_.empty()) return;
   std::uint32_t stack[64];
   int top = 0;
@@ -126,7 +128,8 @@ void StaticGeometry::query_segment(const Vec3& o, const Vec3& d, Real inflate, V
   while (top > 0) {
     const Node& node = nodes_[stack[--top]];
     Real t_enter;
-    if (!segment_overlaps_aabb(o, d, Aabb{node.box.min - grow, node.box.max + grow}, t_enter)) continue;
+    if (!segment_overlaps_aabb(o, d, Aabb{node.box.min - grow, node.box.max + grow}, t_enter))
+      continue;
     if (node.count > 0) {
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i) visit(i);
     } else if (top + 2 <= 64) {

@@ -19,7 +19,9 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-Error invalid(const std::string& message) { return Error{ErrorCode::InvalidArgument, message}; }
+Error invalid(const std::string& message) {
+  return Error{ErrorCode::InvalidArgument, message};
+}
 Error bad_handle(const char* what) {
   return Error{ErrorCode::InvalidHandle, std::string(what) + ": null, stale or unknown BodyId"};
 }
@@ -40,7 +42,8 @@ std::string validate_material(const Material& m) {
   if (!std::isfinite(m.restitution) || m.restitution < 0 || m.restitution > 1) {
     return "material.restitution must be 0..1, got " + show(m.restitution);
   }
-  if (!std::isfinite(m.friction) || m.friction < 0) return "material.friction must be >= 0, got " + show(m.friction);
+  if (!std::isfinite(m.friction) || m.friction < 0)
+    return "material.friction must be >= 0, got " + show(m.friction);
   if (!std::isfinite(m.rolling_resistance) || m.rolling_resistance < 0) {
     return "material.rolling_resistance must be >= 0, got " + show(m.rolling_resistance);
   }
@@ -52,13 +55,17 @@ std::string validate_body(const BodyDef& d) {
   if (!is_finite(d.orientation) || d.orientation.squaredNorm() < Real(1e-12)) {
     return "orientation must be a finite, non-zero quaternion";
   }
-  if (!is_finite(d.linear_velocity)) return "linear_velocity must be finite, got " + show(d.linear_velocity);
-  if (!is_finite(d.angular_velocity)) return "angular_velocity must be finite, got " + show(d.angular_velocity);
-  if (!std::isfinite(d.radius) || d.radius <= 0) return "radius must be > 0 m, got " + show(d.radius);
+  if (!is_finite(d.linear_velocity))
+    return "linear_velocity must be finite, got " + show(d.linear_velocity);
+  if (!is_finite(d.angular_velocity))
+    return "angular_velocity must be finite, got " + show(d.angular_velocity);
+  if (!std::isfinite(d.radius) || d.radius <= 0)
+    return "radius must be > 0 m, got " + show(d.radius);
   if (d.type == BodyType::Dynamic && (!std::isfinite(d.mass) || d.mass <= 0)) {
     return "mass must be > 0 kg, got " + show(d.mass);
   }
-  if (!std::isfinite(d.gravity_scale)) return "gravity_scale must be finite, got " + show(d.gravity_scale);
+  if (!std::isfinite(d.gravity_scale))
+    return "gravity_scale must be finite, got " + show(d.gravity_scale);
   return validate_material(d.material);
 }
 
@@ -115,7 +122,8 @@ Result<BodyId> World::create_body(const BodyDef& def) {
   BodyStore& b = impl_->bodies;
   if (b.free_slots.empty() && b.slot_count() >= impl_->def.max_bodies) {
     return Error{ErrorCode::CapacityExceeded,
-                 "create_body: world holds max_bodies = " + show(impl_->def.max_bodies) + "; raise WorldDef::max_bodies"};
+                 "create_body: world holds max_bodies = " + show(impl_->def.max_bodies) +
+                     "; raise WorldDef::max_bodies"};
   }
   return b.id_of(b.create(def));
 }
@@ -147,8 +155,12 @@ void WorldImpl::remove_contacts_of(std::uint32_t slot) {
   });
 }
 
-bool World::is_valid(BodyId id) const { return impl_->bodies.valid(id); }
-std::uint32_t World::body_count() const { return impl_->bodies.alive_count; }
+bool World::is_valid(BodyId id) const {
+  return impl_->bodies.valid(id);
+}
+std::uint32_t World::body_count() const {
+  return impl_->bodies.alive_count;
+}
 
 Result<BodyState> World::body_state(BodyId id) const {
   if (!impl_->bodies.valid(id)) return bad_handle("body_state");
@@ -157,7 +169,8 @@ Result<BodyState> World::body_state(BodyId id) const {
 
 Status World::set_transform(BodyId id, const Vec3& position, const Quat& orientation) {
   if (!impl_->bodies.valid(id)) return bad_handle("set_transform");
-  if (!is_finite(position)) return invalid("set_transform: position must be finite, got " + show(position));
+  if (!is_finite(position))
+    return invalid("set_transform: position must be finite, got " + show(position));
   if (!is_finite(orientation) || orientation.squaredNorm() < Real(1e-12)) {
     return invalid("set_transform: orientation must be a finite, non-zero quaternion");
   }
@@ -169,7 +182,8 @@ Status World::set_transform(BodyId id, const Vec3& position, const Quat& orienta
 
 Status World::set_linear_velocity(BodyId id, const Vec3& velocity) {
   if (!impl_->bodies.valid(id)) return bad_handle("set_linear_velocity");
-  if (!is_finite(velocity)) return invalid("set_linear_velocity: velocity must be finite, got " + show(velocity));
+  if (!is_finite(velocity))
+    return invalid("set_linear_velocity: velocity must be finite, got " + show(velocity));
   if (impl_->bodies.has(id.index, kFlagFrozen)) return {};
   impl_->bodies.motion[id.index].linear_velocity = velocity;
   impl_->wake_body(id.index);
@@ -178,7 +192,8 @@ Status World::set_linear_velocity(BodyId id, const Vec3& velocity) {
 
 Status World::set_angular_velocity(BodyId id, const Vec3& velocity) {
   if (!impl_->bodies.valid(id)) return bad_handle("set_angular_velocity");
-  if (!is_finite(velocity)) return invalid("set_angular_velocity: velocity must be finite, got " + show(velocity));
+  if (!is_finite(velocity))
+    return invalid("set_angular_velocity: velocity must be finite, got " + show(velocity));
   BodyStore& b = impl_->bodies;
   if (b.has(id.index, kFlagLockRotation) || b.has(id.index, kFlagFrozen)) return {};
   b.motion[id.index].angular_velocity = velocity;
@@ -189,7 +204,8 @@ Status World::set_angular_velocity(BodyId id, const Vec3& velocity) {
 Status World::apply_force(BodyId id, const Vec3& force) {
   if (!impl_->bodies.valid(id)) return bad_handle("apply_force");
   const Vec3 total = impl_->bodies.force[id.index] + force;
-  if (!is_finite(force) || !is_finite(total)) return invalid("apply_force: force must be finite, got " + show(force));
+  if (!is_finite(force) || !is_finite(total))
+    return invalid("apply_force: force must be finite, got " + show(force));
   impl_->bodies.force[id.index] = total;
   impl_->wake_body(id.index);
   return {};
@@ -198,7 +214,8 @@ Status World::apply_force(BodyId id, const Vec3& force) {
 Status World::apply_torque(BodyId id, const Vec3& torque) {
   if (!impl_->bodies.valid(id)) return bad_handle("apply_torque");
   const Vec3 total = impl_->bodies.torque[id.index] + torque;
-  if (!is_finite(torque) || !is_finite(total)) return invalid("apply_torque: torque must be finite, got " + show(torque));
+  if (!is_finite(torque) || !is_finite(total))
+    return invalid("apply_torque: torque must be finite, got " + show(torque));
   impl_->bodies.torque[id.index] = total;
   impl_->wake_body(id.index);
   return {};
@@ -207,14 +224,17 @@ Status World::apply_torque(BodyId id, const Vec3& torque) {
 Status World::apply_impulse(BodyId id, const Vec3& impulse, const Vec3& point) {
   if (!impl_->bodies.valid(id)) return bad_handle("apply_impulse");
   if (!is_finite(impulse) || !is_finite(point)) {
-    return invalid("apply_impulse: impulse and point must be finite, got " + show(impulse) + " at " + show(point));
+    return invalid("apply_impulse: impulse and point must be finite, got " + show(impulse) +
+                   " at " + show(point));
   }
   BodyStore& b = impl_->bodies;
   if (b.has(id.index, kFlagFrozen)) return {};
   Motion& m = b.motion[id.index];
   const Vec3 v = m.linear_velocity + m.inverse_mass * impulse;
-  const Vec3 w = m.angular_velocity + m.inverse_inertia * (point - b.position[id.index]).cross(impulse);
-  if (!is_finite(v) || !is_finite(w)) return invalid("apply_impulse: resulting velocity is not finite");
+  const Vec3 w =
+      m.angular_velocity + m.inverse_inertia * (point - b.position[id.index]).cross(impulse);
+  if (!is_finite(v) || !is_finite(w))
+    return invalid("apply_impulse: resulting velocity is not finite");
   m.linear_velocity = v;
   m.angular_velocity = w;
   impl_->wake_body(id.index);
@@ -233,8 +253,8 @@ namespace {
 
 Status check_shape_capacity(const StaticGeometry& statics, const WorldDef& def) {
   if (statics.free_slots().empty() && statics.shapes().size() >= def.max_shapes) {
-    return Error{ErrorCode::CapacityExceeded,
-                 "world holds max_shapes = " + show(def.max_shapes) + "; raise WorldDef::max_shapes"};
+    return Error{ErrorCode::CapacityExceeded, "world holds max_shapes = " + show(def.max_shapes) +
+                                                  "; raise WorldDef::max_shapes"};
   }
   return {};
 }
@@ -246,7 +266,8 @@ Result<ShapeId> World::add_plane(const PlaneDef& def) {
     return invalid("PlaneDef: normal must be finite and non-zero, got " + show(def.normal));
   }
   if (!std::isfinite(def.offset)) return invalid("PlaneDef: offset must be finite");
-  if (const std::string e = validate_material(def.material); !e.empty()) return invalid("PlaneDef: " + e);
+  if (const std::string e = validate_material(def.material); !e.empty())
+    return invalid("PlaneDef: " + e);
   if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
   StaticShape shape;
   shape.type = ShapeType::Plane;
@@ -258,14 +279,16 @@ Result<ShapeId> World::add_plane(const PlaneDef& def) {
 }
 
 Result<ShapeId> World::add_box(const BoxDef& def) {
-  if (!is_finite(def.center)) return invalid("BoxDef: center must be finite, got " + show(def.center));
+  if (!is_finite(def.center))
+    return invalid("BoxDef: center must be finite, got " + show(def.center));
   if (!is_finite(def.orientation) || def.orientation.squaredNorm() < Real(1e-12)) {
     return invalid("BoxDef: orientation must be a finite, non-zero quaternion");
   }
   if (!is_finite(def.half_extents) || def.half_extents.minCoeff() <= 0) {
     return invalid("BoxDef: half_extents must be finite and > 0 m, got " + show(def.half_extents));
   }
-  if (const std::string e = validate_material(def.material); !e.empty()) return invalid("BoxDef: " + e);
+  if (const std::string e = validate_material(def.material); !e.empty())
+    return invalid("BoxDef: " + e);
   if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
   StaticShape shape;
   shape.type = ShapeType::Box;
@@ -279,22 +302,25 @@ Result<ShapeId> World::add_box(const BoxDef& def) {
 
 Result<ShapeId> World::add_mesh(const MeshDef& def) {
   if (def.indices.empty() || def.indices.size() % 3 != 0) {
-    return invalid("MeshDef: indices must be a non-empty multiple of 3, got " + show(def.indices.size()));
+    return invalid("MeshDef: indices must be a non-empty multiple of 3, got " +
+                   show(def.indices.size()));
   }
   if (def.indices.size() / 3 > kMaxMeshTriangles) {
     return invalid("MeshDef: at most " + show(kMaxMeshTriangles) + " triangles per mesh, got " +
                    show(def.indices.size() / 3) + "; split the mesh");
   }
   for (std::size_t i = 0; i < def.vertices.size(); ++i) {
-    if (!is_finite(def.vertices[i])) return invalid("MeshDef: vertex " + show(i) + " is not finite");
+    if (!is_finite(def.vertices[i]))
+      return invalid("MeshDef: vertex " + show(i) + " is not finite");
   }
   for (std::size_t i = 0; i < def.indices.size(); ++i) {
     if (def.indices[i] >= def.vertices.size()) {
-      return invalid("MeshDef: index " + show(i) + " is " + show(def.indices[i]) + ", but there are only " +
-                     show(def.vertices.size()) + " vertices");
+      return invalid("MeshDef: index " + show(i) + " is " + show(def.indices[i]) +
+                     ", but there are only " + show(def.vertices.size()) + " vertices");
     }
   }
-  if (const std::string e = validate_material(def.material); !e.empty()) return invalid("MeshDef: " + e);
+  if (const std::string e = validate_material(def.material); !e.empty())
+    return invalid("MeshDef: " + e);
   if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
   StaticShape shape;
   shape.type = ShapeType::Mesh;
@@ -306,11 +332,13 @@ Result<ShapeId> World::add_mesh(const MeshDef& def) {
 }
 
 Status World::remove_shape(ShapeId id) {
-  if (!impl_->statics.valid(id)) return Error{ErrorCode::InvalidHandle, "remove_shape: null, stale or unknown ShapeId"};
+  if (!impl_->statics.valid(id))
+    return Error{ErrorCode::InvalidHandle, "remove_shape: null, stale or unknown ShapeId"};
   WorldImpl& w = *impl_;
   std::erase_if(w.static_contacts, [&](const Contact& c) {
     if (c.b != id.index) return false;
-    if (c.touching && w.def.contact_events) w.pending_end_events.push_back({w.bodies.id_of(c.a), {{}, id}});
+    if (c.touching && w.def.contact_events)
+      w.pending_end_events.push_back({w.bodies.id_of(c.a), {{}, id}});
     return true;
   });
   for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
@@ -320,7 +348,9 @@ Status World::remove_shape(ShapeId id) {
   return {};
 }
 
-std::uint32_t World::shape_count() const { return impl_->statics.count(); }
+std::uint32_t World::shape_count() const {
+  return impl_->statics.count();
+}
 
 // --- simulation ---
 
@@ -376,8 +406,8 @@ void WorldImpl::begin_step(Real step_dt) {
   // nothing sinks in before it is stopped), capped so fast bodies do not inflate the grid.
   const Real base = 4 * def.linear_slop;
   for (std::uint32_t s = 0; s < slots; ++s) {
-    speculative_margin[s] =
-        base + std::min(bodies.motion[s].linear_velocity.norm() * step_dt, def.max_speculative_distance);
+    speculative_margin[s] = base + std::min(bodies.motion[s].linear_velocity.norm() * step_dt,
+                                            def.max_speculative_distance);
   }
 }
 
@@ -385,7 +415,8 @@ void WorldImpl::gather_awake_bodies() {
   const std::uint32_t slots = bodies.slot_count();
   awake_list.clear();
   for (std::uint32_t s = 0; s < slots; ++s) {
-    if ((bodies.flags[s] & (kFlagAlive | kFlagSleeping | kFlagFrozen)) == kFlagAlive) awake_list.push_back(s);
+    if ((bodies.flags[s] & (kFlagAlive | kFlagSleeping | kFlagFrozen)) == kFlagAlive)
+      awake_list.push_back(s);
   }
   start_position = bodies.position;
   start_orientation = bodies.orientation;
@@ -402,8 +433,8 @@ void WorldImpl::freeze_body(std::uint32_t slot) {
 void WorldImpl::freeze_nonfinite() {
   for (const std::uint32_t s : awake_list) {
     const Motion& m = bodies.motion[s];
-    if (!is_finite(bodies.position[s]) || !is_finite(bodies.orientation[s]) || !is_finite(m.linear_velocity) ||
-        !is_finite(m.angular_velocity)) {
+    if (!is_finite(bodies.position[s]) || !is_finite(bodies.orientation[s]) ||
+        !is_finite(m.linear_velocity) || !is_finite(m.angular_velocity)) {
       freeze_body(s);
     }
   }
@@ -455,10 +486,12 @@ void WorldImpl::report_events() {
       if (!c.touching) continue;
       const BodyId body = bodies.id_of(c.a);
       if (!c.previously_touching) {
-        begin_events.push_back({body, other_of(c, pair), c.point, c.normal, std::max(Real(0), -c.relative_velocity)});
+        begin_events.push_back(
+            {body, other_of(c, pair), c.point, c.normal, std::max(Real(0), -c.relative_velocity)});
       }
       if (c.total_normal_impulse > 0) {
-        impulse_events.push_back({body, other_of(c, pair), c.point, c.normal, c.total_normal_impulse});
+        impulse_events.push_back(
+            {body, other_of(c, pair), c.point, c.normal, c.total_normal_impulse});
       }
     }
   }
@@ -466,7 +499,8 @@ void WorldImpl::report_events() {
   const std::size_t previous_pairs = previous_pair_contacts.size();
   for (std::size_t i = 0; i < previous_matched.size(); ++i) {
     const bool pair = i < previous_pairs;
-    const Contact& old = pair ? previous_pair_contacts[i] : previous_static_contacts[i - previous_pairs];
+    const Contact& old =
+        pair ? previous_pair_contacts[i] : previous_static_contacts[i - previous_pairs];
     if (old.touching && !previous_matched[i] && bodies.alive(old.a)) {
       end_events.push_back({bodies.id_of(old.a), other_of(old, pair)});
     }
@@ -474,7 +508,8 @@ void WorldImpl::report_events() {
   for (auto* list : {&pair_contacts, &static_contacts}) {
     const bool pair = list == &pair_contacts;
     for (const Contact& c : *list) {
-      if (c.previously_touching && !c.touching) end_events.push_back({bodies.id_of(c.a), other_of(c, pair)});
+      if (c.previously_touching && !c.touching)
+        end_events.push_back({bodies.id_of(c.a), other_of(c, pair)});
     }
   }
   // Sensor begin/end from the sorted key sets.
@@ -483,8 +518,9 @@ void WorldImpl::report_events() {
     other = ContactTarget{bodies.id_of(static_cast<std::uint32_t>(key)), {}};
   };
   std::vector<std::uint64_t> diff;
-  std::set_difference(sensor_overlaps.begin(), sensor_overlaps.end(), previous_sensor_overlaps.begin(),
-                      previous_sensor_overlaps.end(), std::back_inserter(diff));
+  std::set_difference(sensor_overlaps.begin(), sensor_overlaps.end(),
+                      previous_sensor_overlaps.begin(), previous_sensor_overlaps.end(),
+                      std::back_inserter(diff));
   for (const std::uint64_t key : diff) {
     ContactBeginEvent e{};
     sensor_event_target(key, e.body, e.other);
@@ -495,8 +531,8 @@ void WorldImpl::report_events() {
     begin_events.push_back(e);
   }
   diff.clear();
-  std::set_difference(previous_sensor_overlaps.begin(), previous_sensor_overlaps.end(), sensor_overlaps.begin(),
-                      sensor_overlaps.end(), std::back_inserter(diff));
+  std::set_difference(previous_sensor_overlaps.begin(), previous_sensor_overlaps.end(),
+                      sensor_overlaps.begin(), sensor_overlaps.end(), std::back_inserter(diff));
   for (const std::uint64_t key : diff) {
     ContactEndEvent e{};
     sensor_event_target(key, e.body, e.other);
@@ -504,21 +540,36 @@ void WorldImpl::report_events() {
   }
 }
 
-const StepProfile& World::profile() const { return impl_->profile; }
-const WorldDef& World::definition() const { return impl_->def; }
+const StepProfile& World::profile() const {
+  return impl_->profile;
+}
+const WorldDef& World::definition() const {
+  return impl_->def;
+}
 Status World::set_gravity(const Vec3& gravity) {
-  if (!is_finite(gravity)) return invalid("set_gravity: gravity must be finite, got " + show(gravity));
+  if (!is_finite(gravity))
+    return invalid("set_gravity: gravity must be finite, got " + show(gravity));
   impl_->def.gravity = gravity;
   for (std::uint32_t s = 0; s < impl_->bodies.slot_count(); ++s) {
     if (impl_->bodies.alive(s)) impl_->wake_body(s);
   }
   return {};
 }
-std::uint64_t World::step_count() const { return impl_->steps; }
+std::uint64_t World::step_count() const {
+  return impl_->steps;
+}
 
-std::span<const ContactBeginEvent> World::contact_begin_events() const { return impl_->begin_events; }
-std::span<const ContactEndEvent> World::contact_end_events() const { return impl_->end_events; }
-std::span<const ContactImpulseEvent> World::contact_impulse_events() const { return impl_->impulse_events; }
-std::span<const NonFiniteEvent> World::nonfinite_events() const { return impl_->nonfinite_events; }
+std::span<const ContactBeginEvent> World::contact_begin_events() const {
+  return impl_->begin_events;
+}
+std::span<const ContactEndEvent> World::contact_end_events() const {
+  return impl_->end_events;
+}
+std::span<const ContactImpulseEvent> World::contact_impulse_events() const {
+  return impl_->impulse_events;
+}
+std::span<const NonFiniteEvent> World::nonfinite_events() const {
+  return impl_->nonfinite_events;
+}
 
 }  // namespace ricochet::physics

@@ -77,11 +77,11 @@ class WorldImpl {
   Real dt = 0;  ///< seconds, of the current step
 
   // Per-step scratch (sized to slot count).
-  std::vector<Vec3> start_position;        ///< position at step start (CCD, non-finite restore)
+  std::vector<Vec3> start_position;  ///< position at step start (CCD, non-finite restore)
   std::vector<Quat> start_orientation;
-  std::vector<Real> speculative_margin;    ///< m, per body this step
+  std::vector<Real> speculative_margin;      ///< m, per body this step
   std::vector<std::uint32_t> contact_count;  ///< contacts per body this step (ExactBallistic)
-  std::vector<std::uint32_t> awake_list;   ///< simulated body slots this step, ascending
+  std::vector<std::uint32_t> awake_list;     ///< simulated body slots this step, ascending
   std::vector<std::uint32_t> nonfinite_slots;
   SolverScratch solver;
   BodyGrid grid;

@@ -8,7 +8,7 @@ namespace {
 #if defined(NDEBUG)
 constexpr int kRainBodies = 200;
 #else
-constexpr int kRainBodies = 64;           // Debug + sanitizers: same scene, fewer spheres
+constexpr int kRainBodies = 64;  // Debug + sanitizers: same scene, fewer spheres
 #endif
 constexpr int kRainSteps = 300;
 

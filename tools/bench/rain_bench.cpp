@@ -14,9 +14,12 @@ using ricochet::bench::RainOptions;
 namespace {
 const char* correction_name(rp::PositionCorrection c) {
   switch (c) {
-    case rp::PositionCorrection::Baumgarte: return "baumgarte";
-    case rp::PositionCorrection::SplitImpulse: return "split";
-    case rp::PositionCorrection::SoftStep: return "soft";
+    case rp::PositionCorrection::Baumgarte:
+      return "baumgarte";
+    case rp::PositionCorrection::SplitImpulse:
+      return "split";
+    case rp::PositionCorrection::SoftStep:
+      return "soft";
   }
   return "?";
 }
@@ -28,12 +31,15 @@ int main(int argc, char** argv) {
   std::string correction = "default";
   int exit_code = 0;
   const auto add_engine_options = [&](CLI::App& app) {
-    app.add_option("--position-correction", correction, "baumgarte, split or soft (default: the WorldDef default)")
+    app.add_option("--position-correction", correction,
+                   "baumgarte, split or soft (default: the WorldDef default)")
         ->check(CLI::IsMember({"default", "baumgarte", "split", "soft"}));
     app.add_option("--substeps", def.substeps, "solver substeps")->check(CLI::Range(1, 64));
-    app.add_option("--relax-iterations", def.relax_iterations, "unbiased iterations per substep")->check(CLI::Range(0, 1000));
+    app.add_option("--relax-iterations", def.relax_iterations, "unbiased iterations per substep")
+        ->check(CLI::Range(0, 1000));
   };
-  if (!ricochet::bench::parse_rain_options(argc, argv, "ricochet", options, exit_code, add_engine_options)) {
+  if (!ricochet::bench::parse_rain_options(argc, argv, "ricochet", options, exit_code,
+                                           add_engine_options)) {
     return exit_code;
   }
   if (correction == "baumgarte") def.position_correction = rp::PositionCorrection::Baumgarte;
@@ -61,9 +67,10 @@ int main(int argc, char** argv) {
     plane.material = material;
     return world.add_plane(plane).ok();
   };
-  const bool planes_ok = add_plane(rp::Vec3::UnitY(), 0) && add_plane(rp::Vec3::UnitX(), -scene.wall) &&
-                         add_plane(-rp::Vec3::UnitX(), -scene.wall) && add_plane(rp::Vec3::UnitZ(), -scene.wall) &&
-                         add_plane(-rp::Vec3::UnitZ(), -scene.wall);
+  const bool planes_ok =
+      add_plane(rp::Vec3::UnitY(), 0) && add_plane(rp::Vec3::UnitX(), -scene.wall) &&
+      add_plane(-rp::Vec3::UnitX(), -scene.wall) && add_plane(rp::Vec3::UnitZ(), -scene.wall) &&
+      add_plane(-rp::Vec3::UnitZ(), -scene.wall);
   if (!planes_ok) {
     std::fprintf(stderr, "physics-bench: could not add the arena planes\n");
     return 2;
@@ -73,7 +80,8 @@ int main(int argc, char** argv) {
   for (int i = 0; i < scene.bodies; ++i) {
     const auto p = ricochet::bench::rain_position(scene, i);
     rp::BodyDef body;
-    body.position = rp::Vec3(static_cast<rp::Real>(p[0]), static_cast<rp::Real>(p[1]), static_cast<rp::Real>(p[2]));
+    body.position = rp::Vec3(static_cast<rp::Real>(p[0]), static_cast<rp::Real>(p[1]),
+                             static_cast<rp::Real>(p[2]));
     body.radius = static_cast<rp::Real>(scene.radius);
     body.mass = static_cast<rp::Real>(scene.mass);
     body.material = material;
@@ -99,8 +107,8 @@ int main(int argc, char** argv) {
     sum.events_ms += p.events_ms;
     sum.contacts += p.contacts;
     if (options.progress && (step % 30 == 0 || step + 1 == options.steps)) {
-      std::fprintf(stderr, "\rstep %d/%d  %.3f ms/step  contacts %d  awake %d   ", step + 1, options.steps,
-                   p.total_ms, p.contacts, p.bodies_awake);
+      std::fprintf(stderr, "\rstep %d/%d  %.3f ms/step  contacts %d  awake %d   ", step + 1,
+                   options.steps, p.total_ms, p.contacts, p.bodies_awake);
     }
   }
   const double total_ms =
@@ -117,26 +125,17 @@ int main(int argc, char** argv) {
       velocities.push_back(static_cast<double>(s.linear_velocity[k]));
     }
   }
-  const auto stats = ricochet::bench::score_rain(scene, positions, velocities);
-  if (!options.dump_positions.empty() && !ricochet::bench::dump_positions(options.dump_positions, positions)) return 2;
-
   const double n = options.steps;
   char profile[512];
-  std::snprintf(profile, sizeof profile,
-                "{\"broad_phase_ms\":%.4f,\"narrow_phase_ms\":%.4f,\"solve_ms\":%.4f,\"integrate_ms\":%.4f,"
-                "\"continuous_ms\":%.4f,\"sleep_ms\":%.4f,\"events_ms\":%.4f,\"contacts_per_step\":%.1f,"
-                "\"real_bits\":%d,\"position_correction\":\"%s\",\"substeps\":%d,\"relax_iterations\":%d}",
-                sum.broad_phase_ms / n, sum.narrow_phase_ms / n, sum.solve_ms / n, sum.integrate_ms / n,
-                sum.continuous_ms / n, sum.sleep_ms / n, sum.events_ms / n, sum.contacts / n,
-                static_cast<int>(sizeof(rp::Real) * 8), correction_name(def.position_correction), def.substeps,
-                def.relax_iterations);
-  ricochet::bench::print_rain_json("ricochet", options, total_ms / n, stats, profile);
-  if (options.progress) {
-    std::fprintf(stderr,
-                 "rain: %d spheres, %d steps: %.3f ms/step, kinetic energy %.4g J, max penetration %.2f mm, "
-                 "escaped %d, NaN %d\n",
-                 scene.bodies, options.steps, total_ms / n, stats.kinetic_energy, stats.max_penetration * 1000,
-                 stats.escaped, stats.nan);
-  }
-  return 0;
+  std::snprintf(
+      profile, sizeof profile,
+      "{\"broad_phase_ms\":%.4f,\"narrow_phase_ms\":%.4f,\"solve_ms\":%.4f,\"integrate_ms\":%.4f,"
+      "\"continuous_ms\":%.4f,\"sleep_ms\":%.4f,\"events_ms\":%.4f,\"contacts_per_step\":%.1f,"
+      "\"real_bits\":%d,\"position_correction\":\"%s\",\"substeps\":%d,\"relax_iterations\":%d}",
+      sum.broad_phase_ms / n, sum.narrow_phase_ms / n, sum.solve_ms / n, sum.integrate_ms / n,
+      sum.continuous_ms / n, sum.sleep_ms / n, sum.events_ms / n, sum.contacts / n,
+      static_cast<int>(sizeof(rp::Real) * 8), correction_name(def.position_correction),
+      def.substeps, def.relax_iterations);
+  return ricochet::bench::report_rain("ricochet", options, scene, total_ms, positions, velocities,
+                                      profile);
 }

@@ -31,12 +31,13 @@ struct RainOptions {
 /// Parses the common command line. Returns false (after printing help or the error) to exit.
 /// `add_engine_options` may add engine-specific options to the parser before parsing.
 template <class AddEngineOptions>
-bool parse_rain_options(int argc, char** argv, const char* engine, RainOptions& options, int& exit_code,
-                        AddEngineOptions&& add_engine_options) {
+bool parse_rain_options(int argc, char** argv, const char* engine, RainOptions& options,
+                        int& exit_code, AddEngineOptions&& add_engine_options) {
   CLI::App app{std::string("Rain benchmark scene, engine ") + engine};
   app.add_option("--bodies", options.bodies, "number of spheres")->check(CLI::Range(1, 10'000'000));
   app.add_option("--steps", options.steps, "steps to simulate")->check(CLI::Range(1, 10'000'000));
-  app.add_option("--iterations", options.iterations, "solver iterations")->check(CLI::Range(1, 1000));
+  app.add_option("--iterations", options.iterations, "solver iterations")
+      ->check(CLI::Range(1, 1000));
   app.add_option("--dt", options.dt, "time step in seconds")->check(CLI::Range(1e-6, 1.0));
   app.add_option("--sleep", options.sleep, "allow sleeping (0 or 1)")->check(CLI::Range(0, 1));
   app.add_option("--dump-positions", options.dump_positions,
@@ -52,20 +53,21 @@ bool parse_rain_options(int argc, char** argv, const char* engine, RainOptions& 
   return true;
 }
 
-inline bool parse_rain_options(int argc, char** argv, const char* engine, RainOptions& options, int& exit_code) {
+inline bool parse_rain_options(int argc, char** argv, const char* engine, RainOptions& options,
+                               int& exit_code) {
   return parse_rain_options(argc, argv, engine, options, exit_code, [](CLI::App&) {});
 }
 
 struct RainScene {
   int bodies = 0;
   int side = 0;
-  double radius = 0.5;        ///< m
-  double mass = 1.0;          ///< kg
-  double spacing = 1.2;       ///< m
-  double wall = 0;            ///< m, walls at x, z = ±wall
+  double radius = 0.5;   ///< m
+  double mass = 1.0;     ///< kg
+  double spacing = 1.2;  ///< m
+  double wall = 0;       ///< m, walls at x, z = ±wall
   double restitution = 0.2;
   double friction = 0.5;
-  double gravity = -9.81;     ///< m/s², along y
+  double gravity = -9.81;  ///< m/s², along y
 };
 
 inline RainScene make_rain_scene(int bodies) {
@@ -86,8 +88,10 @@ inline std::array<double, 3> rain_position(const RainScene& scene, int i) {
   const int x = i % side;
   const int z = (i / side) % side;
   const int y = i / (side * side);
-  const double jx = 0.01 * (static_cast<double>((static_cast<std::int64_t>(i) * 7919) % 13) - 6) / 6;
-  const double jz = 0.01 * (static_cast<double>((static_cast<std::int64_t>(i) * 104729) % 11) - 5) / 5;
+  const double jx =
+      0.01 * (static_cast<double>((static_cast<std::int64_t>(i) * 7919) % 13) - 6) / 6;
+  const double jz =
+      0.01 * (static_cast<double>((static_cast<std::int64_t>(i) * 104729) % 11) - 5) / 5;
   const double s = scene.spacing;
   return {(x - side / 2.0 + 0.5) * s + jx, 1 + y * s, (z - side / 2.0 + 0.5) * s + jz};
 }
@@ -148,7 +152,8 @@ inline RainStats score_rain(const RainScene& scene, const std::vector<double>& p
               const double d = positions[3 * i + k] - positions[3 * j + k];
               d2 += d * d;
             }
-            if (d2 < 4 * r * r) stats.max_penetration = std::max(stats.max_penetration, 2 * r - std::sqrt(d2));
+            if (d2 < 4 * r * r)
+              stats.max_penetration = std::max(stats.max_penetration, 2 * r - std::sqrt(d2));
           }
         }
   }
@@ -164,7 +169,8 @@ inline bool dump_positions(const std::string& path, const std::vector<double>& p
   }
   char line[128];
   for (size_t i = 0; i + 2 < positions.size(); i += 3) {
-    std::snprintf(line, sizeof line, "%.6f %.6f %.6f\n", positions[i], positions[i + 1], positions[i + 2]);
+    std::snprintf(line, sizeof line, "%.6f %.6f %.6f\n", positions[i], positions[i + 1],
+                  positions[i + 2]);
     out << line;
   }
   return static_cast<bool>(out);
@@ -175,12 +181,33 @@ inline void print_rain_json(const char* engine, const RainOptions& options, doub
                             const RainStats& stats, const std::string& profile_json) {
   std::printf(
       "{\"engine\":\"%s\",\"scene\":\"rain\",\"bodies\":%d,\"steps\":%d,\"iterations\":%d,"
-      "\"dt\":%.9g,\"sleep\":%d,\"ms_per_step\":%.6g,\"kinetic_energy\":%.6g,\"max_penetration\":%.6g,"
+      "\"dt\":%.9g,\"sleep\":%d,\"ms_per_step\":%.6g,\"kinetic_energy\":%.6g,\"max_penetration\":%."
+      "6g,"
       "\"escaped\":%d,\"nan\":%d,\"profile\":%s}\n",
       engine, options.bodies, options.steps, options.iterations, options.dt, options.sleep,
       ms_per_step, stats.kinetic_energy, stats.max_penetration, stats.escaped, stats.nan,
       profile_json.c_str());
   std::fflush(stdout);
+}
+
+/// The end of every engine's run: score the final state, print the JSON line, dump positions if
+/// asked. Returns the process exit code.
+inline int report_rain(const char* engine, const RainOptions& options, const RainScene& scene,
+                       double total_ms, const std::vector<double>& positions,
+                       const std::vector<double>& velocities, const std::string& profile_json) {
+  const RainStats stats = score_rain(scene, positions, velocities);
+  print_rain_json(engine, options, total_ms / options.steps, stats, profile_json);
+  if (options.progress) {
+    std::fprintf(stderr,
+                 "rain (%s): %d spheres, %d steps: %.3f ms/step, kinetic energy %.4g J, max "
+                 "penetration %.2f mm, "
+                 "escaped %d, NaN %d\n",
+                 engine, scene.bodies, options.steps, total_ms / options.steps,
+                 stats.kinetic_energy, stats.max_penetration * 1000, stats.escaped, stats.nan);
+  }
+  if (!options.dump_positions.empty() && !dump_positions(options.dump_positions, positions))
+    return 1;
+  return 0;
 }
 
 }  // namespace ricochet::bench

@@ -44,7 +44,8 @@ int run(const RainOptions& options) {
   std::vector<std::unique_ptr<btStaticPlaneShape>> plane_shapes;
   std::vector<std::unique_ptr<btRigidBody>> planes;
   for (int k = 0; k < 5; ++k) {
-    plane_shapes.push_back(std::make_unique<btStaticPlaneShape>(plane_normals[k], plane_constants[k]));
+    plane_shapes.push_back(
+        std::make_unique<btStaticPlaneShape>(plane_normals[k], plane_constants[k]));
     btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, plane_shapes.back().get());
     info.m_restitution = restitution;
     info.m_friction = friction;
@@ -62,8 +63,8 @@ int run(const RainOptions& options) {
     const auto p = ricochet::bench::rain_position(scene, i);
     btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, &sphere, inertia);
     info.m_startWorldTransform.setIdentity();
-    info.m_startWorldTransform.setOrigin(btVector3(static_cast<btScalar>(p[0]), static_cast<btScalar>(p[1]),
-                                                   static_cast<btScalar>(p[2])));
+    info.m_startWorldTransform.setOrigin(btVector3(
+        static_cast<btScalar>(p[0]), static_cast<btScalar>(p[1]), static_cast<btScalar>(p[2])));
     info.m_restitution = restitution;
     info.m_friction = friction;
     bodies.push_back(std::make_unique<btRigidBody>(info));
@@ -77,7 +78,8 @@ int run(const RainOptions& options) {
     world.stepSimulation(dt, 0);
     if (options.progress && ((step + 1) % 60 == 0 || step + 1 == options.steps)) {
       const double elapsed =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count();
       std::fprintf(stderr, "bullet: step %d/%d, %.1f ms\n", step + 1, options.steps, elapsed);
     }
   }
@@ -98,14 +100,10 @@ int run(const RainOptions& options) {
   for (auto& body : bodies) world.removeRigidBody(body.get());
   for (auto& plane : planes) world.removeRigidBody(plane.get());
 
-  const auto stats = ricochet::bench::score_rain(scene, positions, velocities);
   char profile[64];
   std::snprintf(profile, sizeof profile, "{\"total_ms\":%.6g}", total_ms);
-  ricochet::bench::print_rain_json("bullet", options, total_ms / options.steps, stats, profile);
-  if (!options.dump_positions.empty() && !ricochet::bench::dump_positions(options.dump_positions, positions)) {
-    return 1;
-  }
-  return 0;
+  return ricochet::bench::report_rain("bullet", options, scene, total_ms, positions, velocities,
+                                      profile);
 }
 
 }  // namespace
@@ -113,6 +111,7 @@ int run(const RainOptions& options) {
 int main(int argc, char** argv) {
   RainOptions options;
   int exit_code = 0;
-  if (!ricochet::bench::parse_rain_options(argc, argv, "bullet", options, exit_code)) return exit_code;
+  if (!ricochet::bench::parse_rain_options(argc, argv, "bullet", options, exit_code))
+    return exit_code;
   return run(options);
 }

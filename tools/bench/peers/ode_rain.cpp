@@ -90,7 +90,8 @@ int run(const RainOptions& options) {
     dJointGroupEmpty(contacts);
     if (options.progress && ((step + 1) % 60 == 0 || step + 1 == options.steps)) {
       const double elapsed =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count();
       std::fprintf(stderr, "ode: step %d/%d, %.1f ms\n", step + 1, options.steps, elapsed);
     }
   }
@@ -112,14 +113,10 @@ int run(const RainOptions& options) {
   dSpaceDestroy(space);  // also destroys the geoms (cleanup mode is on by default)
   dWorldDestroy(world);  // also destroys the bodies
 
-  const auto stats = ricochet::bench::score_rain(scene, positions, velocities);
   char profile[64];
   std::snprintf(profile, sizeof profile, "{\"total_ms\":%.6g}", total_ms);
-  ricochet::bench::print_rain_json("ode", options, total_ms / options.steps, stats, profile);
-  if (!options.dump_positions.empty() && !ricochet::bench::dump_positions(options.dump_positions, positions)) {
-    return 1;
-  }
-  return 0;
+  return ricochet::bench::report_rain("ode", options, scene, total_ms, positions, velocities,
+                                      profile);
 }
 
 }  // namespace

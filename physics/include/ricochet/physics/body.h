@@ -21,9 +21,10 @@ enum class InertiaModel : std::uint8_t {
 /// Surface response. When two surfaces touch, restitution takes the larger value, friction and
 /// rolling resistance the geometric mean.
 struct Material {
-  Real restitution = 0;         ///< 0 (no bounce) to 1 (elastic)
-  Real friction = Real(0.6);    ///< Coulomb coefficient, >= 0
-  Real rolling_resistance = 0;  ///< dimensionless: resisting torque = coefficient * radius * normal force
+  Real restitution = 0;       ///< 0 (no bounce) to 1 (elastic)
+  Real friction = Real(0.6);  ///< Coulomb coefficient, >= 0
+  Real rolling_resistance =
+      0;  ///< dimensionless: resisting torque = coefficient * radius * normal force
 };
 
 /// Collision filter: two objects collide when each one's layer is in the other's mask.
@@ -45,10 +46,11 @@ struct BodyDef {
   InertiaModel inertia = InertiaModel::SolidSphere;
   Material material{};
   Filter filter{};
-  Real gravity_scale = 1;    ///< multiplies the world gravity
+  Real gravity_scale = 1;      ///< multiplies the world gravity
   bool lock_rotation = false;  ///< infinite inertia: the body never spins
   bool fast = false;           ///< continuous collision (swept tests) against statics and bodies
-  bool sensor = false;         ///< reports begin/end events with overlapping bodies (not statics); never pushes or is pushed
+  bool sensor = false;  ///< reports begin/end events with overlapping bodies (not statics); never
+                        ///< pushes or is pushed
   bool allow_sleep = true;
   std::uint64_t user_data = 0;
 };
@@ -63,7 +65,7 @@ struct BodyState {
   Vec3 force = Vec3::Zero();   ///< N, accumulated since the last step
   Vec3 torque = Vec3::Zero();  ///< N·m, accumulated since the last step
   Real radius = 0;
-  Real inverse_mass = 0;       ///< 1/kg, 0 for kinematic bodies
+  Real inverse_mass = 0;                      ///< 1/kg, 0 for kinematic bodies
   Mat3 inverse_inertia_world = Mat3::Zero();  ///< 1/(kg·m²)
   bool sleeping = false;
   bool frozen = false;  ///< stopped after its state became non-finite

@@ -13,11 +13,11 @@ struct ContactTarget {
 
 /// Two objects started touching this step.
 struct ContactBeginEvent {
-  BodyId body;           ///< always a body
+  BodyId body;  ///< always a body
   ContactTarget other;
-  Vec3 point;            ///< m, world
-  Vec3 normal;           ///< from body towards other
-  Real approach_speed;   ///< m/s, closing speed along the normal before the solve (>= 0)
+  Vec3 point;           ///< m, world
+  Vec3 normal;          ///< from body towards other
+  Real approach_speed;  ///< m/s, closing speed along the normal before the solve (>= 0)
 };
 
 /// Two objects stopped touching this step (or one was destroyed).
@@ -35,7 +35,8 @@ struct ContactImpulseEvent {
   Real normal_impulse;  ///< N·s, summed over substeps
 };
 
-/// A body whose state became NaN or infinite; it was restored to its state before the step and frozen.
+/// A body whose state became NaN or infinite; it was restored to its state before the step and
+/// frozen.
 struct NonFiniteEvent {
   BodyId body;
 };

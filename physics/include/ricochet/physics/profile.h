@@ -4,17 +4,17 @@
 namespace ricochet::physics {
 
 struct StepProfile {
-  double broad_phase_ms = 0;    ///< find candidate pairs (grid for bodies, BVH for statics)
-  double narrow_phase_ms = 0;   ///< contact points, normals, depths, warm-start matching
-  double solve_ms = 0;          ///< prepare, warm start, iterations, restitution, store impulses
-  double integrate_ms = 0;      ///< velocities and positions
-  double continuous_ms = 0;     ///< swept tests for fast bodies
-  double sleep_ms = 0;          ///< islands and sleeping
-  double events_ms = 0;         ///< begin/end/impulse events
+  double broad_phase_ms = 0;   ///< find candidate pairs (grid for bodies, BVH for statics)
+  double narrow_phase_ms = 0;  ///< contact points, normals, depths, warm-start matching
+  double solve_ms = 0;         ///< prepare, warm start, iterations, restitution, store impulses
+  double integrate_ms = 0;     ///< velocities and positions
+  double continuous_ms = 0;    ///< swept tests for fast bodies
+  double sleep_ms = 0;         ///< islands and sleeping
+  double events_ms = 0;        ///< begin/end/impulse events
   double total_ms = 0;
   int bodies_awake = 0;
-  int contacts = 0;             ///< contact constraints solved (including speculative ones)
-  int pair_candidates = 0;      ///< body pairs tested by the narrowphase
+  int contacts = 0;         ///< contact constraints solved (including speculative ones)
+  int pair_candidates = 0;  ///< body pairs tested by the narrowphase
 };
 
 }  // namespace ricochet::physics

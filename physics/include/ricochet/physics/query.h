@@ -17,10 +17,10 @@ struct QueryFilter {
 
 struct RayHit {
   ContactTarget target;
-  Vec3 point;      ///< m, where the ray (or the cast sphere's surface) touches
-  Vec3 normal;     ///< unit, pointing back towards the caster
-  Real fraction;   ///< 0..1 along the cast
-  Real distance;   ///< m along the cast
+  Vec3 point;     ///< m, where the ray (or the cast sphere's surface) touches
+  Vec3 normal;    ///< unit, pointing back towards the caster
+  Real fraction;  ///< 0..1 along the cast
+  Real distance;  ///< m along the cast
 };
 
 }  // namespace ricochet::physics

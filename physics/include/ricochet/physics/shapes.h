@@ -18,17 +18,17 @@ struct PlaneDef {
 
 /// Solid oriented box.
 struct BoxDef {
-  Vec3 center = Vec3::Zero();         ///< m
+  Vec3 center = Vec3::Zero();  ///< m
   Quat orientation = Quat::Identity();
-  Vec3 half_extents = Vec3::Ones();   ///< m, each > 0
+  Vec3 half_extents = Vec3::Ones();  ///< m, each > 0
   Material material{};
   Filter filter{};
 };
 
 /// Two-sided triangle soup, stored in a bounding volume hierarchy.
 struct MeshDef {
-  std::vector<Vec3> vertices;              ///< m
-  std::vector<std::uint32_t> indices;      ///< three per triangle, each < vertices.size()
+  std::vector<Vec3> vertices;          ///< m
+  std::vector<std::uint32_t> indices;  ///< three per triangle, each < vertices.size()
   Material material{};
   Filter filter{};
 };

@@ -19,7 +19,7 @@ enum class PositionCorrection : std::uint8_t {
 enum class Integrator : std::uint8_t {
   ExplicitEuler,      ///< x += v·dt, then v += a·dt (reference only; gains energy)
   SemiImplicitEuler,  ///< v += a·dt, then x += v·dt (symplectic; the default)
-  ExactBallistic,     ///< semi-implicit, but bodies without contacts follow x + v·dt + ½g·dt² exactly
+  ExactBallistic,  ///< semi-implicit, but bodies without contacts follow x + v·dt + ½g·dt² exactly
 };
 
 struct WorldDef {
@@ -28,25 +28,25 @@ struct WorldDef {
   /// SoftStep wants substeps >= 4.
   PositionCorrection position_correction = PositionCorrection::Baumgarte;
   Integrator integrator = Integrator::SemiImplicitEuler;
-  int iterations = 10;        ///< velocity iterations per substep, 1..1000
-  int relax_iterations = 1;   ///< unbiased iterations per substep (SplitImpulse, SoftStep), 0..1000
-  int substeps = 1;           ///< 1..64
-  Real baumgarte = Real(0.2);          ///< Baumgarte factor beta, 0..1
-  Real linear_slop = Real(0.005);      ///< m, penetration allowed without correction
-  Real max_correction_speed = 4;       ///< m/s, cap on position-correction velocity
-  Real contact_hertz = 30;             ///< SoftStep contact stiffness, Hz
-  Real contact_damping_ratio = 10;     ///< SoftStep contact damping ratio
-  Real restitution_threshold = 1;      ///< m/s, slower impacts do not bounce
+  int iterations = 10;       ///< velocity iterations per substep, 1..1000
+  int relax_iterations = 1;  ///< unbiased iterations per substep (SplitImpulse, SoftStep), 0..1000
+  int substeps = 1;          ///< 1..64
+  Real baumgarte = Real(0.2);                  ///< Baumgarte factor beta, 0..1
+  Real linear_slop = Real(0.005);              ///< m, penetration allowed without correction
+  Real max_correction_speed = 4;               ///< m/s, cap on position-correction velocity
+  Real contact_hertz = 30;                     ///< SoftStep contact stiffness, Hz
+  Real contact_damping_ratio = 10;             ///< SoftStep contact damping ratio
+  Real restitution_threshold = 1;              ///< m/s, slower impacts do not bounce
   Real max_speculative_distance = Real(0.25);  ///< m, largest gap at which a contact is created
-  Real max_linear_speed = 10000;       ///< m/s, velocities are clamped to this
-  Real max_angular_speed = 1000;       ///< rad/s
+  Real max_linear_speed = 10000;               ///< m/s, velocities are clamped to this
+  Real max_angular_speed = 1000;               ///< rad/s
   bool warm_starting = true;
   bool enable_sleep = true;
-  Real sleep_linear_speed = Real(0.05);   ///< m/s, below this a body may sleep
-  Real sleep_angular_speed = Real(0.1);   ///< rad/s
-  Real time_to_sleep = Real(0.5);         ///< s an island must stay slow before it sleeps
-  bool enable_continuous = true;          ///< swept tests for bodies flagged fast
-  bool contact_events = true;             ///< fill begin/end/impulse event lists each step
+  Real sleep_linear_speed = Real(0.05);  ///< m/s, below this a body may sleep
+  Real sleep_angular_speed = Real(0.1);  ///< rad/s
+  Real time_to_sleep = Real(0.5);        ///< s an island must stay slow before it sleeps
+  bool enable_continuous = true;         ///< swept tests for bodies flagged fast
+  bool contact_events = true;            ///< fill begin/end/impulse event lists each step
   std::uint32_t max_bodies = 1u << 22;
   std::uint32_t max_shapes = 1u << 20;
 
