@@ -90,9 +90,8 @@ void BodyGrid::build(Real cell) {
   // Every pair within reach then lies in the same or a neighbouring cell.
   grid.build(2 * max_reach);
 
-  const auto consider = [&](const BodyGrid::Entry& ei, const BodyGrid::Entry& ej) {
-    const Real reach = ei.reach + ej.reach;
-    if ((ej.position - ei.position).squaredNorm() >= reach * reach) return;
+  // Bodies within reach of each other: filtered by state, kind and layers, then recorded.
+  const auto accept = [&](const BodyGrid::Entry& ei, const BodyGrid::Entry& ej) {
     const std::uint32_t i = ei.body, j = ej.body;
     const std::uint16_t fi = bodies.flags[i], fj = bodies.flags[j];
     const bool active_i = (fi & (kFlagSleeping | kFlagFrozen)) == 0;
@@ -111,16 +110,36 @@ void BodyGrid::build(Real cell) {
     }
   };
 
-  const auto& entries = grid.entries;
+  const BodyGrid::Entry* entries = grid.entries.data();
+  const std::uint32_t entry_count = static_cast<std::uint32_t>(grid.entries.size());
+  const auto within_reach = [](const BodyGrid::Entry& ei, const BodyGrid::Entry& ej) {
+    const Real reach = ei.reach + ej.reach;
+    return (ej.position - ei.position).squaredNorm() < reach * reach;
+  };
+  // Entry e against the consecutive entries [begin, end): the distance test runs branch-free over
+  // a chunk and collects the hits (most candidates miss, and a mispredicted branch costs more
+  // than the test), then the hits are accepted in order.
   const auto scan = [&](std::uint32_t e, std::uint32_t begin, std::uint32_t end) {
-    for (std::uint32_t f = begin; f < end; ++f) consider(entries[e], entries[f]);
+    constexpr std::uint32_t kChunk = 32;
+    std::uint32_t hits[kChunk];
+    const BodyGrid::Entry& me = entries[e];
+    while (begin < end) {
+      const std::uint32_t stop = std::min(end, begin + kChunk);
+      std::uint32_t count = 0;
+      for (std::uint32_t f = begin; f < stop; ++f) {
+        hits[count] = f;
+        count += within_reach(me, entries[f]) ? 1 : 0;
+      }
+      for (std::uint32_t h = 0; h < count; ++h) accept(me, entries[hits[h]]);
+      begin = stop;
+    }
   };
   if (grid.dense) {
     // Cells of one x-row are consecutive, so each neighbour row is one contiguous range:
     // the rest of this cell plus cell x+1, then rows (y+1, z), (y-1..y+1, z+1) over x-1..x+1.
     constexpr std::int32_t kRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
     const std::int64_t nx = grid.extent[0], ny = grid.extent[1], nz = grid.extent[2];
-    for (std::uint32_t e = 0; e < entries.size(); ++e) {
+    for (std::uint32_t e = 0; e < entry_count; ++e) {
       const BodyGrid::Entry& me = entries[e];
       const std::int64_t x = me.x - grid.min_cell[0], y = me.y - grid.min_cell[1],
                          z = me.z - grid.min_cell[2];
@@ -135,17 +154,20 @@ void BodyGrid::build(Real cell) {
       }
     }
   } else {
-    for (std::uint32_t e = 0; e < entries.size(); ++e) {
+    for (std::uint32_t e = 0; e < entry_count; ++e) {
       const BodyGrid::Entry& me = entries[e];
       // Same cell: the entries after this one in its bucket, checked by coordinates.
       const std::uint32_t bucket_end = grid.cell_start[grid.key(me.x, me.y, me.z) + 1];
       for (std::uint32_t f = e + 1; f < bucket_end; ++f) {
         const BodyGrid::Entry& other = entries[f];
-        if (other.x == me.x && other.y == me.y && other.z == me.z) consider(me, other);
+        if (other.x == me.x && other.y == me.y && other.z == me.z && within_reach(me, other))
+          accept(me, other);
       }
       for (const auto& offset : kForwardNeighbours) {
         grid.visit_cell(me.x + offset[0], me.y + offset[1], me.z + offset[2],
-                        [&](const BodyGrid::Entry& other) { consider(me, other); });
+                        [&](const BodyGrid::Entry& other) {
+                          if (within_reach(me, other)) accept(me, other);
+                        });
       }
     }
   }

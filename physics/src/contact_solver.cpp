@@ -29,6 +29,12 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+#if defined(__x86_64__) || defined(__i386__)
+#define RICOCHET_X86 1
+#else
+#define RICOCHET_X86 0
+#endif
+
 constexpr int kColors = 24;
 constexpr std::uint32_t kUnusedLane = ~0u;
 
@@ -57,211 +63,341 @@ struct PassParams {
   Softness soft;
 };
 
-inline Lanes splat(Real x) {
-  return Lanes{} + x;
+// ---------------------------------------------------------------------------------------------
+// Vectors. A kernel pass works on V, either a whole block (Wide: one AVX register) or, on the
+// baseline float path, half a block at a time (Quad: four floats, one SSE2/NEON register).
+// Contacts of one block share no moving body, so solving its halves one after the other gives
+// the same bits as solving it whole.
+
+using Quad = Real __attribute__((vector_size(4 * sizeof(Real))));
+/// A whole block's lanes as a computation type (Lanes is the storage type: the same vector,
+/// aligned for the AVX2 path, but an attribute a template argument cannot carry).
+using Wide = Real __attribute__((vector_size(sizeof(Lanes))));
+
+template <class V>
+constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(Real));
+
+/// Integer lane indices for __builtin_shuffle on V.
+using IndexReal = std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t>;
+template <class V>
+struct ShuffleOf;
+template <>
+struct ShuffleOf<Wide> {
+  using type = IndexReal __attribute__((vector_size(sizeof(Wide))));
+};
+#if !defined(RICOCHET_DOUBLE)
+template <>
+struct ShuffleOf<Quad> {
+  using type = IndexReal __attribute__((vector_size(sizeof(Quad))));
+};
+#endif
+
+template <class V>
+inline V splat(Real x) {
+  return V{} + x;
 }
-inline Lanes max_lanes(Lanes a, Lanes b) {
+template <class V>
+inline V max_v(V a, V b) {
   return a > b ? a : b;
 }
-inline Lanes min_lanes(Lanes a, Lanes b) {
+template <class V>
+inline V min_v(V a, V b) {
   return a < b ? a : b;
 }
-
-inline Lanes sqrt_lanes(Lanes x) {
-  Lanes r;
-  for (int l = 0; l < kLanes; ++l) r[l] = std::sqrt(x[l]);
+template <class V>
+inline V sqrt_v(V x) {
+  V r;
+  for (int l = 0; l < kWidth<V>; ++l) r[l] = std::sqrt(x[l]);  // vectorised: sqrtps
   return r;
 }
 
 /// Factor that brings a vector of squared length len2 inside a circle of radius limit (>= 0).
-inline Lanes circle_clamp_scale(Lanes len2, Lanes limit) {
+template <class V>
+inline V circle_clamp_scale(V len2, V limit) {
   const auto outside = len2 > limit * limit;  // implies len2 > 0
-  const Lanes safe_len2 = outside ? len2 : splat(1);
-  return outside ? limit / sqrt_lanes(safe_len2) : splat(1);
+  const V safe_len2 = outside ? len2 : splat<V>(1);
+  return outside ? limit / sqrt_v(safe_len2) : splat<V>(1);
 }
 
-struct BodyLanes {
-  Lanes vx, vy, vz, m, wx, wy, wz, i;
-};
-
-static_assert(sizeof(Motion) == 2 * sizeof(Lanes), "Motion must be two lane vectors: v|m and w|i");
-using LaneIndex = std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t>;
-using Shuffle = LaneIndex __attribute__((vector_size(kLanes * sizeof(Real))));
-
-/// 4×4 transpose: rows (x, y, z, s) of four bodies become lanes x, y, z, s.
-inline void transpose(Lanes r0, Lanes r1, Lanes r2, Lanes r3, Lanes& x, Lanes& y, Lanes& z,
-                      Lanes& s) {
-  const Lanes t0 = __builtin_shuffle(r0, r1, Shuffle{0, 4, 1, 5});
-  const Lanes t1 = __builtin_shuffle(r2, r3, Shuffle{0, 4, 1, 5});
-  const Lanes t2 = __builtin_shuffle(r0, r1, Shuffle{2, 6, 3, 7});
-  const Lanes t3 = __builtin_shuffle(r2, r3, Shuffle{2, 6, 3, 7});
-  x = __builtin_shuffle(t0, t1, Shuffle{0, 1, 4, 5});
-  y = __builtin_shuffle(t0, t1, Shuffle{2, 3, 6, 7});
-  z = __builtin_shuffle(t2, t3, Shuffle{0, 1, 4, 5});
-  s = __builtin_shuffle(t2, t3, Shuffle{2, 3, 6, 7});
-}
-
-inline Lanes load(const Real* p) {
-  Lanes v;
+template <class V>
+inline V load(const Real* p) {
+  V v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-
-inline void store(Real* p, Lanes v) {
+template <class V>
+inline void store(Real* p, V v) {
   std::memcpy(p, &v, sizeof v);
 }
 
-inline BodyLanes gather(const Motion* bodies, const std::uint32_t* index) {
-  static_assert(kLanes == 4);
-  BodyLanes r;
-  const Real* b0 = bodies[index[0]].linear_velocity.data();
-  const Real* b1 = bodies[index[1]].linear_velocity.data();
-  const Real* b2 = bodies[index[2]].linear_velocity.data();
-  const Real* b3 = bodies[index[3]].linear_velocity.data();
-  transpose(load(b0), load(b1), load(b2), load(b3), r.vx, r.vy, r.vz, r.m);
-  transpose(load(b0 + 4), load(b1 + 4), load(b2 + 4), load(b3 + 4), r.wx, r.wy, r.wz, r.i);
-  return r;
+/// Lanes first .. first + width of a block field.
+template <class V>
+inline V get(const Lanes& field, int first) {
+  return load<V>(reinterpret_cast<const Real*>(&field) + first);
+}
+template <class V>
+inline void put(Lanes& field, int first, V v) {
+  store(reinterpret_cast<Real*>(&field) + first, v);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Gather and scatter: a Motion is eight Reals (v, 1/m, w, 1/I); W bodies' Motions are transposed
+// into eight vectors of W lanes and back.
+
+static_assert(sizeof(Motion) == 8 * sizeof(Real), "Motion must be v|m|w|i");
+
+template <class V>
+struct BodyVectors {
+  V vx, vy, vz, m, wx, wy, wz, i;
+};
+
+/// 4×4 transpose. Its own inverse.
+template <class V>
+inline void transpose4(V* r) {
+  using S = typename ShuffleOf<V>::type;
+  const V t0 = __builtin_shuffle(r[0], r[1], S{0, 4, 1, 5});
+  const V t1 = __builtin_shuffle(r[2], r[3], S{0, 4, 1, 5});
+  const V t2 = __builtin_shuffle(r[0], r[1], S{2, 6, 3, 7});
+  const V t3 = __builtin_shuffle(r[2], r[3], S{2, 6, 3, 7});
+  r[0] = __builtin_shuffle(t0, t1, S{0, 1, 4, 5});
+  r[1] = __builtin_shuffle(t0, t1, S{2, 3, 6, 7});
+  r[2] = __builtin_shuffle(t2, t3, S{0, 1, 4, 5});
+  r[3] = __builtin_shuffle(t2, t3, S{2, 3, 6, 7});
+}
+
+/// 8×8 transpose in three stages that map onto AVX's unpack, shuffle and 128-bit permute.
+/// Its own inverse.
+template <class V>
+inline void transpose8(V* r) {
+  using S = typename ShuffleOf<V>::type;
+  V t[8], u[8];
+  for (int k = 0; k < 8; k += 2) {  // interleave row pairs within each 128-bit half
+    t[k] = __builtin_shuffle(r[k], r[k + 1], S{0, 8, 1, 9, 4, 12, 5, 13});
+    t[k + 1] = __builtin_shuffle(r[k], r[k + 1], S{2, 10, 3, 11, 6, 14, 7, 15});
+  }
+  for (int k = 0; k < 8; k += 4) {  // pairs of pairs
+    u[k] = __builtin_shuffle(t[k], t[k + 2], S{0, 1, 8, 9, 4, 5, 12, 13});
+    u[k + 1] = __builtin_shuffle(t[k], t[k + 2], S{2, 3, 10, 11, 6, 7, 14, 15});
+    u[k + 2] = __builtin_shuffle(t[k + 1], t[k + 3], S{0, 1, 8, 9, 4, 5, 12, 13});
+    u[k + 3] = __builtin_shuffle(t[k + 1], t[k + 3], S{2, 3, 10, 11, 6, 7, 14, 15});
+  }
+  for (int k = 0; k < 4; ++k) {  // low halves give columns 0-3, high halves columns 4-7
+    r[k] = __builtin_shuffle(u[k], u[k + 4], S{0, 1, 2, 3, 8, 9, 10, 11});
+    r[k + 4] = __builtin_shuffle(u[k], u[k + 4], S{4, 5, 6, 7, 12, 13, 14, 15});
+  }
+}
+
+/// Rows in, lanes out (and back). Eight-wide: rows are bodies, one 8×8 transpose. Four-wide:
+/// rows 0-3 are the bodies' v|m halves and rows 4-7 their w|i halves, two 4×4 transposes.
+template <class V>
+inline void transpose_motions(V* r) {
+  if constexpr (kWidth<V> == 8) {
+    transpose8(r);
+  } else {
+    static_assert(kWidth<V> == 4);
+    transpose4(r);
+    transpose4(r + 4);
+  }
+}
+
+template <class V>
+inline BodyVectors<V> gather(const Motion* bodies, const std::uint32_t* index) {
+  constexpr int W = kWidth<V>;
+  V r[8];
+  for (int l = 0; l < W; ++l) {
+    const Real* motion = bodies[index[l]].linear_velocity.data();
+    for (int part = 0; part < 8 / W; ++part) r[l + part * W] = load<V>(motion + part * W);
+  }
+  transpose_motions(r);
+  return {r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]};
 }
 
 /// Writes velocities back (the inverse masses ride along unchanged).
-inline void scatter(Motion* bodies, const std::uint32_t* index, const BodyLanes& r) {
-  Lanes v[4], w[4];
-  transpose(r.vx, r.vy, r.vz, r.m, v[0], v[1], v[2], v[3]);
-  transpose(r.wx, r.wy, r.wz, r.i, w[0], w[1], w[2], w[3]);
-  for (int l = 0; l < kLanes; ++l) {
-    Real* b = bodies[index[l]].linear_velocity.data();
-    store(b, v[l]);
-    store(b + 4, w[l]);
+template <class V>
+inline void scatter(Motion* bodies, const std::uint32_t* index, const BodyVectors<V>& b) {
+  constexpr int W = kWidth<V>;
+  V r[8] = {b.vx, b.vy, b.vz, b.m, b.wx, b.wy, b.wz, b.i};
+  transpose_motions(r);
+  for (int l = 0; l < W; ++l) {
+    Real* motion = bodies[index[l]].linear_velocity.data();
+    for (int part = 0; part < 8 / W; ++part) store(motion + part * W, r[l + part * W]);
   }
 }
 
 /// Normal component of a per-body vector difference (b - a), lane-wise.
-inline Lanes normal_difference(const Vec3* v, const ContactBlock& c) {
-  Lanes d;
-  for (int l = 0; l < kLanes; ++l) {
-    const Vec3 diff = v[c.b[l]] - v[c.a[l]];
-    d[l] = diff.x() * c.nx[l] + diff.y() * c.ny[l] + diff.z() * c.nz[l];
+template <class V>
+inline V normal_difference(const Vec3* v, const std::uint32_t* a, const std::uint32_t* b, V nx,
+                           V ny, V nz) {
+  V d;
+  for (int l = 0; l < kWidth<V>; ++l) {
+    const Vec3 diff = v[b[l]] - v[a[l]];
+    d[l] = diff.x() * nx[l] + diff.y() * ny[l] + diff.z() * nz[l];
   }
   return d;
 }
 
-/// One pass over every block: rolling, friction, then normal (normal last: it matters most).
-/// flatten: GCC otherwise leaves small Eigen operators as calls in this hot loop.
-template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
-[[gnu::flatten]] void solve_blocks(SolverScratch& s, const PassParams& p) {
+// ---------------------------------------------------------------------------------------------
+// The kernel.
+
+/// Solves lanes first .. first + W of block k: rolling, friction, then normal (normal last: it
+/// matters most).
+template <class V, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+[[gnu::always_inline]] inline void solve_lanes(SolverScratch& s, std::size_t k, int first,
+                                               const PassParams& p) {
   Motion* sb = s.bodies.data();
-  const Vec3* delta = s.delta_position.data();
-  Vec3* pseudo = s.pseudo_velocity.data();
+  ContactBlock& c = s.blocks[k];
+  const std::uint32_t* ia = c.a + first;
+  const std::uint32_t* ib = c.b + first;
+  BodyVectors<V> A = gather<V>(sb, ia);
+  BodyVectors<V> B = gather<V>(sb, ib);
+  const V nx = get<V>(c.nx, first), ny = get<V>(c.ny, first), nz = get<V>(c.nz, first);
+  const V ra = get<V>(c.ra, first), rb = get<V>(c.rb, first);
+  const V normal_impulse = get<V>(c.normal_impulse, first);
+
+  if constexpr (kRolling) {
+    RollingBlock& r = s.rolling[k];
+    const V limit = get<V>(r.limit, first) * normal_impulse;
+    const V mass = get<V>(r.mass, first);
+    const V x0 = get<V>(r.x, first), y0 = get<V>(r.y, first), z0 = get<V>(r.z, first);
+    V x = x0 - mass * (B.wx - A.wx);
+    V y = y0 - mass * (B.wy - A.wy);
+    V z = z0 - mass * (B.wz - A.wz);
+    const V scale = circle_clamp_scale(x * x + y * y + z * z, limit);
+    x *= scale, y *= scale, z *= scale;
+    const V ix = x - x0, iy = y - y0, iz = z - z0;
+    put(r.x, first, x), put(r.y, first, y), put(r.z, first, z);
+    A.wx -= A.i * ix, A.wy -= A.i * iy, A.wz -= A.i * iz;
+    B.wx += B.i * ix, B.wy += B.i * iy, B.wz += B.i * iz;
+  }
+
+  {  // Friction on the relative tangential velocity at the contact point.
+    const V sx = ra * A.wx + rb * B.wx;
+    const V sy = ra * A.wy + rb * B.wy;
+    const V sz = ra * A.wz + rb * B.wz;
+    const V dvx = B.vx - A.vx - (sy * nz - sz * ny);
+    const V dvy = B.vy - A.vy - (sz * nx - sx * nz);
+    const V dvz = B.vz - A.vz - (sx * ny - sy * nx);
+    const V dvn = dvx * nx + dvy * ny + dvz * nz;
+    const V tangent_mass = get<V>(c.tangent_mass, first);
+    const V fx0 = get<V>(c.fx, first), fy0 = get<V>(c.fy, first), fz0 = get<V>(c.fz, first);
+    V fx = fx0 - tangent_mass * (dvx - nx * dvn);
+    V fy = fy0 - tangent_mass * (dvy - ny * dvn);
+    V fz = fz0 - tangent_mass * (dvz - nz * dvn);
+    const V scale =
+        circle_clamp_scale(fx * fx + fy * fy + fz * fz, get<V>(c.friction, first) * normal_impulse);
+    fx *= scale, fy *= scale, fz *= scale;
+    const V ix = fx - fx0, iy = fy - fy0, iz = fz - fz0;
+    put(c.fx, first, fx), put(c.fy, first, fy), put(c.fz, first, fz);
+    const V tx = ny * iz - nz * iy, ty = nz * ix - nx * iz, tz = nx * iy - ny * ix;
+    const V ka = A.i * ra, kb = B.i * rb;
+    A.vx -= A.m * ix, A.vy -= A.m * iy, A.vz -= A.m * iz;
+    A.wx -= ka * tx, A.wy -= ka * ty, A.wz -= ka * tz;
+    B.vx += B.m * ix, B.vy += B.m * iy, B.vz += B.m * iz;
+    B.wx -= kb * tx, B.wy -= kb * ty, B.wz -= kb * tz;
+  }
+
+  {  // Normal.
+    V separation = get<V>(c.separation, first);
+    if constexpr (kTrackDelta)
+      separation += normal_difference(s.delta_position.data(), ia, ib, nx, ny, nz);
+    const auto speculative = separation > 0;
+    V bias = separation * p.inverse_h;  // speculative: may close the gap, no further
+    V mass_scale = splat<V>(1), impulse_scale = splat<V>(0);
+    if constexpr (kUseBias && kMethod == PositionCorrection::Baumgarte) {
+      const V correction =
+          max_v(p.baumgarte * p.inverse_h * min_v(separation + p.slop, splat<V>(0)),
+                splat<V>(-p.max_correction_speed));
+      bias = speculative ? bias : correction;
+    } else if constexpr (kUseBias && kMethod == PositionCorrection::SoftStep) {
+      const V correction = max_v(p.soft.bias_rate * separation, splat<V>(-p.max_correction_speed));
+      bias = speculative ? bias : correction;
+      mass_scale = speculative ? mass_scale : splat<V>(p.soft.mass_scale);
+      impulse_scale = speculative ? impulse_scale : splat<V>(p.soft.impulse_scale);
+    } else {
+      bias = speculative ? bias : splat<V>(0);
+    }
+    const V normal_mass = get<V>(c.normal_mass, first);
+    const V vn = (B.vx - A.vx) * nx + (B.vy - A.vy) * ny + (B.vz - A.vz) * nz;
+    const V impulse = -normal_mass * mass_scale * (vn + bias) - impulse_scale * normal_impulse;
+    const V accumulated = max_v(normal_impulse + impulse, splat<V>(0));
+    const V applied = accumulated - normal_impulse;
+    put(c.normal_impulse, first, accumulated);
+    put(c.max_normal_impulse, first, max_v(get<V>(c.max_normal_impulse, first), accumulated));
+    const V pa = A.m * applied, pb = B.m * applied;
+    A.vx -= pa * nx, A.vy -= pa * ny, A.vz -= pa * nz;
+    B.vx += pb * nx, B.vy += pb * ny, B.vz += pb * nz;
+
+    if constexpr (kMethod == PositionCorrection::SplitImpulse && kUseBias) {
+      // Pseudo-velocities push penetrating bodies apart without adding momentum.
+      ContactBlockExtra& e = s.extra[k];
+      Vec3* pseudo = s.pseudo_velocity.data();
+      const V target = min_v(-p.baumgarte * p.inverse_h * min_v(separation + p.slop, splat<V>(0)),
+                             splat<V>(p.max_correction_speed));
+      const V pvn = normal_difference(pseudo, ia, ib, nx, ny, nz);
+      const V before = get<V>(e.pseudo_impulse, first);
+      const V next = max_v(before - normal_mass * (pvn - target), splat<V>(0));
+      const V pseudo_applied = next - before;
+      put(e.pseudo_impulse, first, next);
+      for (int l = 0; l < kWidth<V>; ++l) {
+        const Vec3 n(nx[l], ny[l], nz[l]);
+        pseudo[ia[l]] -= (A.m[l] * pseudo_applied[l]) * n;
+        pseudo[ib[l]] += (B.m[l] * pseudo_applied[l]) * n;
+      }
+    }
+  }
+  scatter(sb, ia, A);
+  scatter(sb, ib, B);
+}
+
+/// One pass over every block, W lanes at a time.
+template <class V, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+[[gnu::always_inline]] inline void solve_blocks(SolverScratch& s, const PassParams& p) {
   const std::size_t count = s.blocks.size();
   for (std::size_t k = 0; k < count; ++k) {
-    ContactBlock& c = s.blocks[k];
-    BodyLanes A = gather(sb, c.a);
-    BodyLanes B = gather(sb, c.b);
-
-    if constexpr (kRolling) {
-      RollingBlock& r = s.rolling[k];
-      const Lanes limit = r.limit * c.normal_impulse;
-      Lanes x = r.x - r.mass * (B.wx - A.wx);
-      Lanes y = r.y - r.mass * (B.wy - A.wy);
-      Lanes z = r.z - r.mass * (B.wz - A.wz);
-      const Lanes scale = circle_clamp_scale(x * x + y * y + z * z, limit);
-      x *= scale, y *= scale, z *= scale;
-      const Lanes ix = x - r.x, iy = y - r.y, iz = z - r.z;
-      r.x = x, r.y = y, r.z = z;
-      A.wx -= A.i * ix, A.wy -= A.i * iy, A.wz -= A.i * iz;
-      B.wx += B.i * ix, B.wy += B.i * iy, B.wz += B.i * iz;
-    }
-
-    {  // Friction on the relative tangential velocity at the contact point.
-      const Lanes sx = c.ra * A.wx + c.rb * B.wx;
-      const Lanes sy = c.ra * A.wy + c.rb * B.wy;
-      const Lanes sz = c.ra * A.wz + c.rb * B.wz;
-      const Lanes dvx = B.vx - A.vx - (sy * c.nz - sz * c.ny);
-      const Lanes dvy = B.vy - A.vy - (sz * c.nx - sx * c.nz);
-      const Lanes dvz = B.vz - A.vz - (sx * c.ny - sy * c.nx);
-      const Lanes dvn = dvx * c.nx + dvy * c.ny + dvz * c.nz;
-      Lanes fx = c.fx - c.tangent_mass * (dvx - c.nx * dvn);
-      Lanes fy = c.fy - c.tangent_mass * (dvy - c.ny * dvn);
-      Lanes fz = c.fz - c.tangent_mass * (dvz - c.nz * dvn);
-      const Lanes scale =
-          circle_clamp_scale(fx * fx + fy * fy + fz * fz, c.friction * c.normal_impulse);
-      fx *= scale, fy *= scale, fz *= scale;
-      const Lanes ix = fx - c.fx, iy = fy - c.fy, iz = fz - c.fz;
-      c.fx = fx, c.fy = fy, c.fz = fz;
-      const Lanes tx = c.ny * iz - c.nz * iy, ty = c.nz * ix - c.nx * iz,
-                  tz = c.nx * iy - c.ny * ix;
-      const Lanes ka = A.i * c.ra, kb = B.i * c.rb;
-      A.vx -= A.m * ix, A.vy -= A.m * iy, A.vz -= A.m * iz;
-      A.wx -= ka * tx, A.wy -= ka * ty, A.wz -= ka * tz;
-      B.vx += B.m * ix, B.vy += B.m * iy, B.vz += B.m * iz;
-      B.wx -= kb * tx, B.wy -= kb * ty, B.wz -= kb * tz;
-    }
-
-    {  // Normal.
-      Lanes separation = c.separation;
-      if constexpr (kTrackDelta) separation += normal_difference(delta, c);
-      const auto speculative = separation > 0;
-      Lanes bias = separation * p.inverse_h;  // speculative: may close the gap, no further
-      Lanes mass_scale = splat(1), impulse_scale = splat(0);
-      if constexpr (kUseBias && kMethod == PositionCorrection::Baumgarte) {
-        const Lanes correction =
-            max_lanes(p.baumgarte * p.inverse_h * min_lanes(separation + p.slop, splat(0)),
-                      splat(-p.max_correction_speed));
-        bias = speculative ? bias : correction;
-      } else if constexpr (kUseBias && kMethod == PositionCorrection::SoftStep) {
-        const Lanes correction =
-            max_lanes(p.soft.bias_rate * separation, splat(-p.max_correction_speed));
-        bias = speculative ? bias : correction;
-        mass_scale = speculative ? mass_scale : splat(p.soft.mass_scale);
-        impulse_scale = speculative ? impulse_scale : splat(p.soft.impulse_scale);
-      } else {
-        bias = speculative ? bias : splat(0);
-      }
-      const Lanes vn = (B.vx - A.vx) * c.nx + (B.vy - A.vy) * c.ny + (B.vz - A.vz) * c.nz;
-      const Lanes impulse =
-          -c.normal_mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
-      const Lanes accumulated = max_lanes(c.normal_impulse + impulse, splat(0));
-      const Lanes applied = accumulated - c.normal_impulse;
-      c.normal_impulse = accumulated;
-      c.max_normal_impulse = max_lanes(c.max_normal_impulse, accumulated);
-      const Lanes pa = A.m * applied, pb = B.m * applied;
-      A.vx -= pa * c.nx, A.vy -= pa * c.ny, A.vz -= pa * c.nz;
-      B.vx += pb * c.nx, B.vy += pb * c.ny, B.vz += pb * c.nz;
-
-      if constexpr (kMethod == PositionCorrection::SplitImpulse && kUseBias) {
-        // Pseudo-velocities push penetrating bodies apart without adding momentum.
-        ContactBlockExtra& e = s.extra[k];
-        const Lanes target =
-            min_lanes(-p.baumgarte * p.inverse_h * min_lanes(separation + p.slop, splat(0)),
-                      splat(p.max_correction_speed));
-        const Lanes pvn = normal_difference(pseudo, c);
-        const Lanes next = max_lanes(e.pseudo_impulse - c.normal_mass * (pvn - target), splat(0));
-        const Lanes pseudo_applied = next - e.pseudo_impulse;
-        e.pseudo_impulse = next;
-        for (int l = 0; l < kLanes; ++l) {
-          const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
-          pseudo[c.a[l]] -= (A.m[l] * pseudo_applied[l]) * n;
-          pseudo[c.b[l]] += (B.m[l] * pseudo_applied[l]) * n;
-        }
-      }
-    }
-    scatter(sb, c.a, A);
-    scatter(sb, c.b, B);
+    for (int first = 0; first < kLanes; first += kWidth<V>)
+      solve_lanes<V, kMethod, kUseBias, kTrackDelta, kRolling>(s, k, first, p);
   }
+}
+
+/// The baseline vector: half a block in float (one 16-byte register), a whole block in double.
+using BaselineVector = std::conditional_t<kLanes == 8, Quad, Wide>;
+
+/// The same pass compiled twice: for the baseline ISA and for AVX2. Every operation is IEEE
+/// (no FMA contraction), so both give bit-identical results; only the register width differs.
+/// flatten: GCC otherwise leaves small Eigen operators as calls in this hot loop.
+template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+[[gnu::flatten]] void solve_blocks_baseline(SolverScratch& s, const PassParams& p) {
+  solve_blocks<BaselineVector, kMethod, kUseBias, kTrackDelta, kRolling>(s, p);
+}
+
+#if RICOCHET_X86
+template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+[[gnu::flatten, gnu::target("avx2")]] void solve_blocks_avx2(SolverScratch& s,
+                                                            const PassParams& p) {
+  solve_blocks<Wide, kMethod, kUseBias, kTrackDelta, kRolling>(s, p);
+}
+#endif
+
+template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+void solve_blocks_on_best_isa(SolverScratch& s, const PassParams& p) {
+#if RICOCHET_X86
+  if (s.wide) return solve_blocks_avx2<kMethod, kUseBias, kTrackDelta, kRolling>(s, p);
+#endif
+  solve_blocks_baseline<kMethod, kUseBias, kTrackDelta, kRolling>(s, p);
 }
 
 template <PositionCorrection kMethod, bool kUseBias>
 void solve_blocks_dispatch(SolverScratch& s, bool track_delta, const PassParams& p) {
   if (track_delta) {
     if (s.has_rolling) {
-      solve_blocks<kMethod, kUseBias, true, true>(s, p);
+      solve_blocks_on_best_isa<kMethod, kUseBias, true, true>(s, p);
     } else {
-      solve_blocks<kMethod, kUseBias, true, false>(s, p);
+      solve_blocks_on_best_isa<kMethod, kUseBias, true, false>(s, p);
     }
   } else if (s.has_rolling) {
-    solve_blocks<kMethod, kUseBias, false, true>(s, p);
+    solve_blocks_on_best_isa<kMethod, kUseBias, false, true>(s, p);
   } else {
-    solve_blocks<kMethod, kUseBias, false, false>(s, p);
+    solve_blocks_on_best_isa<kMethod, kUseBias, false, false>(s, p);
   }
 }
 
@@ -290,6 +426,9 @@ void WorldImpl::prepare_contacts() {
     s.has_rolling = s.has_rolling || bodies.material[slot].rolling_resistance > 0;
   }
   s.bodies[dummy] = Motion{};
+#if RICOCHET_X86
+  s.wide = def.wide_simd && __builtin_cpu_supports("avx2");
+#endif
   s.delta_position.assign(awake + 1, Vec3::Zero());
   if (def.position_correction == PositionCorrection::SplitImpulse)
     s.pseudo_velocity.assign(awake + 1, Vec3::Zero());
@@ -409,8 +548,8 @@ void WorldImpl::warm_start() {
 
 void WorldImpl::reset_impulses() {
   SolverScratch& s = solver;
-  for (ContactBlock& c : s.blocks) c.normal_impulse = c.fx = c.fy = c.fz = splat(0);
-  for (RollingBlock& r : s.rolling) r.x = r.y = r.z = splat(0);
+  for (ContactBlock& c : s.blocks) c.normal_impulse = c.fx = c.fy = c.fz = splat<Wide>(0);
+  for (RollingBlock& r : s.rolling) r.x = r.y = r.z = splat<Wide>(0);
 }
 
 void WorldImpl::solve_contacts(Real h, bool use_bias) {
@@ -572,6 +711,7 @@ void WorldImpl::solve(Real step_dt) {
   }
   apply_restitution();
   store_impulses();
+  profile.wide_simd = solver.wide;
   profile.integrate_ms = integrate_ms;
   profile.solve_ms = ms_since(start) - integrate_ms;
 }

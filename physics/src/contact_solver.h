@@ -14,9 +14,12 @@
 
 namespace ricochet::physics {
 
-constexpr int kLanes = 4;
-/// kLanes Reals as one vector (GCC/Clang vector extension; SSE2 on x86-64, NEON on ARM).
-using Lanes = Real __attribute__((vector_size(kLanes * sizeof(Real))));
+/// Contacts solved together: one 32-byte vector of Reals, 8 floats or 4 doubles.
+constexpr int kLanes = 32 / static_cast<int>(sizeof(Real));
+/// kLanes Reals as one vector (GCC/Clang vector extension): one AVX register on the wide path,
+/// two SSE2 (or NEON) registers on the baseline path. Aligned to 32 explicitly: the baseline
+/// ABI would align it to 16 only, and the AVX2 path reads it with aligned loads.
+using Lanes = Real __attribute__((vector_size(kLanes * sizeof(Real)), aligned(32)));
 
 /// Hot contact data for kLanes contacts.
 struct ContactBlock {
@@ -58,6 +61,7 @@ struct SolverScratch {
   std::vector<std::uint32_t> used_colors;  ///< per solver body: colours it already has
   std::vector<std::uint32_t> color_of;     ///< per contact
   bool has_rolling = false;
+  bool wide = false;  ///< solve with AVX2 instructions (bit-identical to the baseline path)
 };
 
 }  // namespace ricochet::physics

@@ -14,8 +14,8 @@ constexpr int kRainSteps = 300;
 
 /// Spheres on a jittered grid above a floor inside four walls, with some initial velocities and
 /// mixed sizes, masses and materials; sleeping on (default WorldDef) so sleep is covered too.
-World build_rain(int count, std::vector<BodyId>& ids) {
-  World world = make_world(WorldDef{});
+World build_rain(int count, std::vector<BodyId>& ids, const WorldDef& def = WorldDef{}) {
+  World world = make_world(def);
   const Material m = material(Real(0.2), Real(0.5));
   add_floor(world, 0, m);
   const Real wall = 4;
@@ -113,6 +113,34 @@ TEST(Determinism, HashSeesEveryChange) {
   World e2 = make_world();
   ASSERT_TRUE(run(e2, 1));
   EXPECT_NE(e1.state_hash(), e2.state_hash());
+}
+
+TEST(Determinism, WideAndBaselineSimdAgreeBitForBit) {
+  // The contact solver runs AVX2 code when the CPU has it and SSE2/NEON code otherwise; every
+  // solver variant (position correction, substeps, rolling) must end in the same state on both.
+#if defined(__x86_64__)
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "CPU without AVX2: only one path exists";
+#else
+  GTEST_SKIP() << "not x86-64: only the baseline path exists";
+#endif
+  for (const PositionCorrection method :
+       {PositionCorrection::Baumgarte, PositionCorrection::SplitImpulse,
+        PositionCorrection::SoftStep}) {
+    for (const int substeps : {1, 4}) {
+      WorldDef def;
+      def.position_correction = method;
+      def.substeps = substeps;
+      std::vector<BodyId> ids_wide, ids_baseline;
+      def.wide_simd = true;
+      World wide = build_rain(kRainBodies / 2, ids_wide, def);
+      def.wide_simd = false;
+      World baseline = build_rain(kRainBodies / 2, ids_baseline, def);
+      ASSERT_TRUE(run(wide, 90));
+      ASSERT_TRUE(run(baseline, 90));
+      EXPECT_EQ(wide.state_hash(), baseline.state_hash())
+          << "method " << int(method) << ", substeps " << substeps;
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -15,6 +15,7 @@ struct StepProfile {
   int bodies_awake = 0;
   int contacts = 0;         ///< contact constraints solved (including speculative ones)
   int pair_candidates = 0;  ///< body pairs tested by the narrowphase
+  bool wide_simd = false;   ///< the contact solver ran its AVX2 path (WorldDef::wide_simd)
 };
 
 }  // namespace ricochet::physics

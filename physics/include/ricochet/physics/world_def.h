@@ -47,6 +47,9 @@ struct WorldDef {
   Real time_to_sleep = Real(0.5);        ///< s an island must stay slow before it sleeps
   bool enable_continuous = true;         ///< swept tests for bodies flagged fast
   bool contact_events = true;            ///< fill begin/end/impulse event lists each step
+  /// Solve contacts with AVX2 when the CPU has it. Results are bit-identical either way; off
+  /// only to measure the baseline (SSE2/NEON) path.
+  bool wide_simd = true;
   std::uint32_t max_bodies = 1u << 22;
   std::uint32_t max_shapes = 1u << 20;
 
