@@ -64,6 +64,10 @@ struct PassParams {
 };
 
 // ---------------------------------------------------------------------------------------------
+// Every function that takes or returns a vector is always_inline: the AVX2 kernel must never call
+// a baseline-ISA function with a 32-byte vector argument (the two pass it differently), and at
+// -O0 nothing else inlines.
+//
 // Vectors. A kernel pass works on V, either a whole block (Wide: one AVX register) or, on the
 // baseline float path, half a block at a time (Quad: four floats, one SSE2/NEON register).
 // Contacts of one block share no moving body, so solving its halves one after the other gives
@@ -93,19 +97,19 @@ struct ShuffleOf<Quad> {
 #endif
 
 template <class V>
-inline V splat(Real x) {
+[[gnu::always_inline]] inline V splat(Real x) {
   return V{} + x;
 }
 template <class V>
-inline V max_v(V a, V b) {
+[[gnu::always_inline]] inline V max_v(V a, V b) {
   return a > b ? a : b;
 }
 template <class V>
-inline V min_v(V a, V b) {
+[[gnu::always_inline]] inline V min_v(V a, V b) {
   return a < b ? a : b;
 }
 template <class V>
-inline V sqrt_v(V x) {
+[[gnu::always_inline]] inline V sqrt_v(V x) {
   V r;
   for (int l = 0; l < kWidth<V>; ++l) r[l] = std::sqrt(x[l]);  // vectorised: sqrtps
   return r;
@@ -113,30 +117,30 @@ inline V sqrt_v(V x) {
 
 /// Factor that brings a vector of squared length len2 inside a circle of radius limit (>= 0).
 template <class V>
-inline V circle_clamp_scale(V len2, V limit) {
+[[gnu::always_inline]] inline V circle_clamp_scale(V len2, V limit) {
   const auto outside = len2 > limit * limit;  // implies len2 > 0
   const V safe_len2 = outside ? len2 : splat<V>(1);
   return outside ? limit / sqrt_v(safe_len2) : splat<V>(1);
 }
 
 template <class V>
-inline V load(const Real* p) {
+[[gnu::always_inline]] inline V load(const Real* p) {
   V v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
 template <class V>
-inline void store(Real* p, V v) {
+[[gnu::always_inline]] inline void store(Real* p, V v) {
   std::memcpy(p, &v, sizeof v);
 }
 
 /// Lanes first .. first + width of a block field.
 template <class V>
-inline V get(const Lanes& field, int first) {
+[[gnu::always_inline]] inline V get(const Lanes& field, int first) {
   return load<V>(reinterpret_cast<const Real*>(&field) + first);
 }
 template <class V>
-inline void put(Lanes& field, int first, V v) {
+[[gnu::always_inline]] inline void put(Lanes& field, int first, V v) {
   store(reinterpret_cast<Real*>(&field) + first, v);
 }
 
@@ -153,7 +157,7 @@ struct BodyVectors {
 
 /// 4×4 transpose. Its own inverse.
 template <class V>
-inline void transpose4(V* r) {
+[[gnu::always_inline]] inline void transpose4(V* r) {
   using S = typename ShuffleOf<V>::type;
   const V t0 = __builtin_shuffle(r[0], r[1], S{0, 4, 1, 5});
   const V t1 = __builtin_shuffle(r[2], r[3], S{0, 4, 1, 5});
@@ -168,7 +172,7 @@ inline void transpose4(V* r) {
 /// 8×8 transpose in three stages that map onto AVX's unpack, shuffle and 128-bit permute.
 /// Its own inverse.
 template <class V>
-inline void transpose8(V* r) {
+[[gnu::always_inline]] inline void transpose8(V* r) {
   using S = typename ShuffleOf<V>::type;
   V t[8], u[8];
   for (int k = 0; k < 8; k += 2) {  // interleave row pairs within each 128-bit half
@@ -190,7 +194,7 @@ inline void transpose8(V* r) {
 /// Rows in, lanes out (and back). Eight-wide: rows are bodies, one 8×8 transpose. Four-wide:
 /// rows 0-3 are the bodies' v|m halves and rows 4-7 their w|i halves, two 4×4 transposes.
 template <class V>
-inline void transpose_motions(V* r) {
+[[gnu::always_inline]] inline void transpose_motions(V* r) {
   if constexpr (kWidth<V> == 8) {
     transpose8(r);
   } else {
@@ -201,7 +205,8 @@ inline void transpose_motions(V* r) {
 }
 
 template <class V>
-inline BodyVectors<V> gather(const Motion* bodies, const std::uint32_t* index) {
+[[gnu::always_inline]] inline BodyVectors<V> gather(const Motion* bodies,
+                                                    const std::uint32_t* index) {
   constexpr int W = kWidth<V>;
   V r[8];
   for (int l = 0; l < W; ++l) {
@@ -214,7 +219,8 @@ inline BodyVectors<V> gather(const Motion* bodies, const std::uint32_t* index) {
 
 /// Writes velocities back (the inverse masses ride along unchanged).
 template <class V>
-inline void scatter(Motion* bodies, const std::uint32_t* index, const BodyVectors<V>& b) {
+[[gnu::always_inline]] inline void scatter(Motion* bodies, const std::uint32_t* index,
+                                           const BodyVectors<V>& b) {
   constexpr int W = kWidth<V>;
   V r[8] = {b.vx, b.vy, b.vz, b.m, b.wx, b.wy, b.wz, b.i};
   transpose_motions(r);
@@ -224,10 +230,64 @@ inline void scatter(Motion* bodies, const std::uint32_t* index, const BodyVector
   }
 }
 
+/// Linear part only (v, 1/m): for contact models without spin, half the memory traffic.
+/// Eight-wide: body k in the low half and body k + 4 in the high half of row k, then a 4×4
+/// transpose within each half (the first two stages of transpose8).
+template <class V>
+[[gnu::always_inline]] inline void transpose_linear(V* r) {
+  if constexpr (kWidth<V> == 8) {
+    using S = typename ShuffleOf<V>::type;
+    const V t0 = __builtin_shuffle(r[0], r[1], S{0, 8, 1, 9, 4, 12, 5, 13});
+    const V t1 = __builtin_shuffle(r[0], r[1], S{2, 10, 3, 11, 6, 14, 7, 15});
+    const V t2 = __builtin_shuffle(r[2], r[3], S{0, 8, 1, 9, 4, 12, 5, 13});
+    const V t3 = __builtin_shuffle(r[2], r[3], S{2, 10, 3, 11, 6, 14, 7, 15});
+    r[0] = __builtin_shuffle(t0, t2, S{0, 1, 8, 9, 4, 5, 12, 13});
+    r[1] = __builtin_shuffle(t0, t2, S{2, 3, 10, 11, 6, 7, 14, 15});
+    r[2] = __builtin_shuffle(t1, t3, S{0, 1, 8, 9, 4, 5, 12, 13});
+    r[3] = __builtin_shuffle(t1, t3, S{2, 3, 10, 11, 6, 7, 14, 15});
+  } else {
+    transpose4(r);
+  }
+}
+
+template <class V>
+[[gnu::always_inline]] inline BodyVectors<V> gather_linear(const Motion* bodies,
+                                                           const std::uint32_t* index) {
+  V r[4];
+  for (int k = 0; k < 4; ++k) {
+    const Real* low = bodies[index[k]].linear_velocity.data();
+    if constexpr (kWidth<V> == 8) {
+      const Real* high = bodies[index[k + 4]].linear_velocity.data();
+      r[k] = __builtin_shufflevector(load<Quad>(low), load<Quad>(high), 0, 1, 2, 3, 4, 5, 6, 7);
+    } else {
+      r[k] = load<V>(low);
+    }
+  }
+  transpose_linear(r);
+  return {r[0], r[1], r[2], r[3], V{}, V{}, V{}, V{}};
+}
+
+template <class V>
+[[gnu::always_inline]] inline void scatter_linear(Motion* bodies, const std::uint32_t* index,
+                                                  const BodyVectors<V>& b) {
+  V r[4] = {b.vx, b.vy, b.vz, b.m};
+  transpose_linear(r);
+  for (int k = 0; k < 4; ++k) {
+    Real* low = bodies[index[k]].linear_velocity.data();
+    if constexpr (kWidth<V> == 8) {
+      store(low, __builtin_shufflevector(r[k], r[k], 0, 1, 2, 3));
+      store(bodies[index[k + 4]].linear_velocity.data(),
+            __builtin_shufflevector(r[k], r[k], 4, 5, 6, 7));
+    } else {
+      store(low, r[k]);
+    }
+  }
+}
+
 /// Normal component of a per-body vector difference (b - a), lane-wise.
 template <class V>
-inline V normal_difference(const Vec3* v, const std::uint32_t* a, const std::uint32_t* b, V nx,
-                           V ny, V nz) {
+[[gnu::always_inline]] inline V normal_difference(const Vec3* v, const std::uint32_t* a,
+                                                  const std::uint32_t* b, V nx, V ny, V nz) {
   V d;
   for (int l = 0; l < kWidth<V>; ++l) {
     const Vec3 diff = v[b[l]] - v[a[l]];
@@ -241,17 +301,26 @@ inline V normal_difference(const Vec3* v, const std::uint32_t* a, const std::uin
 
 /// Solves lanes first .. first + W of block k: rolling, friction, then normal (normal last: it
 /// matters most).
-template <class V, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+template <class V, ContactModel kModel, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta>
 [[gnu::always_inline]] inline void solve_lanes(SolverScratch& s, std::size_t k, int first,
                                                const PassParams& p) {
+  constexpr bool kSpin = kModel == ContactModel::Spin || kModel == ContactModel::SpinRolling;
+  constexpr bool kFriction = kModel != ContactModel::Normal;
+  constexpr bool kRolling = kModel == ContactModel::SpinRolling;
   Motion* sb = s.bodies.data();
   ContactBlock& c = s.blocks[k];
   const std::uint32_t* ia = c.a + first;
   const std::uint32_t* ib = c.b + first;
-  BodyVectors<V> A = gather<V>(sb, ia);
-  BodyVectors<V> B = gather<V>(sb, ib);
+  BodyVectors<V> A, B;
+  if constexpr (kSpin) {
+    A = gather<V>(sb, ia);
+    B = gather<V>(sb, ib);
+  } else {
+    A = gather_linear<V>(sb, ia);
+    B = gather_linear<V>(sb, ib);
+  }
   const V nx = get<V>(c.nx, first), ny = get<V>(c.ny, first), nz = get<V>(c.nz, first);
-  const V ra = get<V>(c.ra, first), rb = get<V>(c.rb, first);
+  [[maybe_unused]] const V ra = get<V>(c.ra, first), rb = get<V>(c.rb, first);
   const V normal_impulse = get<V>(c.normal_impulse, first);
 
   if constexpr (kRolling) {
@@ -270,13 +339,16 @@ template <class V, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, 
     B.wx += B.i * ix, B.wy += B.i * iy, B.wz += B.i * iz;
   }
 
-  {  // Friction on the relative tangential velocity at the contact point.
-    const V sx = ra * A.wx + rb * B.wx;
-    const V sy = ra * A.wy + rb * B.wy;
-    const V sz = ra * A.wz + rb * B.wz;
-    const V dvx = B.vx - A.vx - (sy * nz - sz * ny);
-    const V dvy = B.vy - A.vy - (sz * nx - sx * nz);
-    const V dvz = B.vz - A.vz - (sx * ny - sy * nx);
+  if constexpr (kFriction) {  // on the relative tangential velocity at the contact point
+    V dvx = B.vx - A.vx, dvy = B.vy - A.vy, dvz = B.vz - A.vz;
+    if constexpr (kSpin) {
+      const V sx = ra * A.wx + rb * B.wx;
+      const V sy = ra * A.wy + rb * B.wy;
+      const V sz = ra * A.wz + rb * B.wz;
+      dvx -= sy * nz - sz * ny;
+      dvy -= sz * nx - sx * nz;
+      dvz -= sx * ny - sy * nx;
+    }
     const V dvn = dvx * nx + dvy * ny + dvz * nz;
     const V tangent_mass = get<V>(c.tangent_mass, first);
     const V fx0 = get<V>(c.fx, first), fy0 = get<V>(c.fy, first), fz0 = get<V>(c.fz, first);
@@ -288,12 +360,14 @@ template <class V, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, 
     fx *= scale, fy *= scale, fz *= scale;
     const V ix = fx - fx0, iy = fy - fy0, iz = fz - fz0;
     put(c.fx, first, fx), put(c.fy, first, fy), put(c.fz, first, fz);
-    const V tx = ny * iz - nz * iy, ty = nz * ix - nx * iz, tz = nx * iy - ny * ix;
-    const V ka = A.i * ra, kb = B.i * rb;
     A.vx -= A.m * ix, A.vy -= A.m * iy, A.vz -= A.m * iz;
-    A.wx -= ka * tx, A.wy -= ka * ty, A.wz -= ka * tz;
     B.vx += B.m * ix, B.vy += B.m * iy, B.vz += B.m * iz;
-    B.wx -= kb * tx, B.wy -= kb * ty, B.wz -= kb * tz;
+    if constexpr (kSpin) {
+      const V tx = ny * iz - nz * iy, ty = nz * ix - nx * iz, tz = nx * iy - ny * ix;
+      const V ka = A.i * ra, kb = B.i * rb;
+      A.wx -= ka * tx, A.wy -= ka * ty, A.wz -= ka * tz;
+      B.wx -= kb * tx, B.wy -= kb * ty, B.wz -= kb * tz;
+    }
   }
 
   {  // Normal.
@@ -345,17 +419,22 @@ template <class V, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, 
       }
     }
   }
-  scatter(sb, ia, A);
-  scatter(sb, ib, B);
+  if constexpr (kSpin) {
+    scatter(sb, ia, A);
+    scatter(sb, ib, B);
+  } else {
+    scatter_linear(sb, ia, A);
+    scatter_linear(sb, ib, B);
+  }
 }
 
 /// One pass over every block, W lanes at a time.
-template <class V, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+template <class V, ContactModel kModel, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta>
 [[gnu::always_inline]] inline void solve_blocks(SolverScratch& s, const PassParams& p) {
   const std::size_t count = s.blocks.size();
   for (std::size_t k = 0; k < count; ++k) {
     for (int first = 0; first < kLanes; first += kWidth<V>)
-      solve_lanes<V, kMethod, kUseBias, kTrackDelta, kRolling>(s, k, first, p);
+      solve_lanes<V, kModel, kMethod, kUseBias, kTrackDelta>(s, k, first, p);
   }
 }
 
@@ -365,48 +444,48 @@ using BaselineVector = std::conditional_t<kLanes == 8, Quad, Wide>;
 /// The same pass compiled twice: for the baseline ISA and for AVX2. Every operation is IEEE
 /// (no FMA contraction), so both give bit-identical results; only the register width differs.
 /// flatten: GCC otherwise leaves small Eigen operators as calls in this hot loop.
-template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+template <ContactModel kModel, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta>
 [[gnu::flatten]] void solve_blocks_baseline(SolverScratch& s, const PassParams& p) {
-  solve_blocks<BaselineVector, kMethod, kUseBias, kTrackDelta, kRolling>(s, p);
+  solve_blocks<BaselineVector, kModel, kMethod, kUseBias, kTrackDelta>(s, p);
 }
 
 #if RICOCHET_X86
-template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+template <ContactModel kModel, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta>
 [[gnu::flatten, gnu::target("avx2")]] void solve_blocks_avx2(SolverScratch& s,
-                                                            const PassParams& p) {
-  solve_blocks<Wide, kMethod, kUseBias, kTrackDelta, kRolling>(s, p);
+                                                             const PassParams& p) {
+  solve_blocks<Wide, kModel, kMethod, kUseBias, kTrackDelta>(s, p);
 }
 #endif
 
-template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta, bool kRolling>
+template <ContactModel kModel, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta>
 void solve_blocks_on_best_isa(SolverScratch& s, const PassParams& p) {
 #if RICOCHET_X86
-  if (s.wide) return solve_blocks_avx2<kMethod, kUseBias, kTrackDelta, kRolling>(s, p);
+  if (s.wide) return solve_blocks_avx2<kModel, kMethod, kUseBias, kTrackDelta>(s, p);
 #endif
-  solve_blocks_baseline<kMethod, kUseBias, kTrackDelta, kRolling>(s, p);
+  solve_blocks_baseline<kModel, kMethod, kUseBias, kTrackDelta>(s, p);
+}
+
+template <PositionCorrection kMethod, bool kUseBias, bool kTrackDelta>
+void solve_blocks_for_model(SolverScratch& s, const PassParams& p) {
+  switch (s.model) {
+    case ContactModel::Normal:
+      return solve_blocks_on_best_isa<ContactModel::Normal, kMethod, kUseBias, kTrackDelta>(s, p);
+    case ContactModel::Friction:
+      return solve_blocks_on_best_isa<ContactModel::Friction, kMethod, kUseBias, kTrackDelta>(s, p);
+    case ContactModel::Spin:
+      return solve_blocks_on_best_isa<ContactModel::Spin, kMethod, kUseBias, kTrackDelta>(s, p);
+    case ContactModel::SpinRolling:
+      return solve_blocks_on_best_isa<ContactModel::SpinRolling, kMethod, kUseBias, kTrackDelta>(s,
+                                                                                                 p);
+  }
 }
 
 template <PositionCorrection kMethod, bool kUseBias>
 void solve_blocks_dispatch(SolverScratch& s, bool track_delta, const PassParams& p) {
   if (track_delta) {
-    if (s.has_rolling) {
-      solve_blocks_on_best_isa<kMethod, kUseBias, true, true>(s, p);
-    } else {
-      solve_blocks_on_best_isa<kMethod, kUseBias, true, false>(s, p);
-    }
-  } else if (s.has_rolling) {
-    solve_blocks_on_best_isa<kMethod, kUseBias, false, true>(s, p);
+    solve_blocks_for_model<kMethod, kUseBias, true>(s, p);
   } else {
-    solve_blocks_on_best_isa<kMethod, kUseBias, false, false>(s, p);
-  }
-}
-
-template <PositionCorrection kMethod>
-void solve_blocks_with(SolverScratch& s, bool use_bias, bool track_delta, const PassParams& p) {
-  if (use_bias) {
-    solve_blocks_dispatch<kMethod, true>(s, track_delta, p);
-  } else {
-    solve_blocks_dispatch<kMethod, false>(s, track_delta, p);
+    solve_blocks_for_model<kMethod, kUseBias, false>(s, p);
   }
 }
 
@@ -418,14 +497,24 @@ void WorldImpl::prepare_contacts() {
   const std::uint32_t dummy = awake;
   s.index_of.assign(bodies.slot_count(), dummy);
   s.bodies.resize(awake + 1);
-  s.has_rolling = false;
+  const bool spin = def.enable_rotation && def.enable_friction;
+  bool any_rolling = false;
   for (std::uint32_t k = 0; k < awake; ++k) {
     const std::uint32_t slot = awake_list[k];
     s.index_of[slot] = k;
     s.bodies[k] = bodies.motion[slot];
-    s.has_rolling = s.has_rolling || bodies.material[slot].rolling_resistance > 0;
+    any_rolling = any_rolling || bodies.material[slot].rolling_resistance > 0;
   }
   s.bodies[dummy] = Motion{};
+  if (!def.enable_friction) {
+    s.model = ContactModel::Normal;
+  } else if (!def.enable_rotation) {
+    s.model = ContactModel::Friction;
+  } else {
+    s.model = any_rolling && def.enable_rolling_resistance ? ContactModel::SpinRolling
+                                                           : ContactModel::Spin;
+  }
+  s.has_rolling = s.model == ContactModel::SpinRolling;
 #if RICOCHET_X86
   s.wide = def.wide_simd && __builtin_cpu_supports("avx2");
 #endif
@@ -502,10 +591,13 @@ void WorldImpl::prepare_contacts() {
     const Real mass_sum = A.inverse_mass + B.inverse_mass;
     blk.normal_mass[lane] = mass_sum > 0 ? 1 / mass_sum : Real(0);
     const Real tangent_sum =
-        mass_sum + A.inverse_inertia * c.ra * c.ra + B.inverse_inertia * c.rb * c.rb;
+        spin ? mass_sum + A.inverse_inertia * c.ra * c.ra + B.inverse_inertia * c.rb * c.rb
+             : mass_sum;
     blk.tangent_mass[lane] = tangent_sum > 0 ? 1 / tangent_sum : Real(0);
     blk.friction[lane] = c.friction;
-    const Vec3 f = c.friction_impulse - c.normal * c.normal.dot(c.friction_impulse);
+    const Vec3 f = def.enable_friction
+                       ? (c.friction_impulse - c.normal * c.normal.dot(c.friction_impulse)).eval()
+                       : Vec3::Zero().eval();
     blk.normal_impulse[lane] = c.normal_impulse;
     blk.fx[lane] = f.x(), blk.fy[lane] = f.y(), blk.fz[lane] = f.z();
     blk.max_normal_impulse[lane] = 0;
@@ -519,12 +611,13 @@ void WorldImpl::prepare_contacts() {
     }
     extra.contact[lane] = static_cast<std::uint32_t>(i);
     extra.relative_velocity[lane] = c.normal.dot(B.linear_velocity - A.linear_velocity);
-    extra.restitution[lane] = c.restitution;
+    extra.restitution[lane] = def.enable_restitution ? c.restitution : Real(0);
   }
 }
 
 void WorldImpl::warm_start() {
   SolverScratch& s = solver;
+  const bool spin = s.model == ContactModel::Spin || s.model == ContactModel::SpinRolling;
   for (std::size_t k = 0; k < s.blocks.size(); ++k) {
     const ContactBlock& c = s.blocks[k];
     for (int l = 0; l < kLanes; ++l) {
@@ -539,9 +632,11 @@ void WorldImpl::warm_start() {
       Motion& A = s.bodies[c.a[l]];
       Motion& B = s.bodies[c.b[l]];
       A.linear_velocity -= A.inverse_mass * linear;
-      A.angular_velocity -= A.inverse_inertia * (c.ra[l] * torque_dir + rolling);
       B.linear_velocity += B.inverse_mass * linear;
-      B.angular_velocity += B.inverse_inertia * (rolling - c.rb[l] * torque_dir);
+      if (spin) {
+        A.angular_velocity -= A.inverse_inertia * (c.ra[l] * torque_dir + rolling);
+        B.angular_velocity += B.inverse_inertia * (rolling - c.rb[l] * torque_dir);
+      }
     }
   }
 }
@@ -561,20 +656,20 @@ void WorldImpl::solve_contacts(Real h, bool use_bias) {
   p.soft = make_softness(std::min(def.contact_hertz, Real(0.25) / h), def.contact_damping_ratio, h);
   const bool track_delta = def.substeps > 1;
   SolverScratch& s = solver;
-  switch (def.position_correction) {
+  switch (def.position_correction) {  // only SoftStep has unbiased (relax) passes
     case PositionCorrection::Baumgarte:
-      solve_blocks_with<PositionCorrection::Baumgarte>(s, use_bias, track_delta, p);
-      break;
+      return solve_blocks_dispatch<PositionCorrection::Baumgarte, true>(s, track_delta, p);
     case PositionCorrection::SplitImpulse:
-      solve_blocks_with<PositionCorrection::SplitImpulse>(s, use_bias, track_delta, p);
-      break;
+      return solve_blocks_dispatch<PositionCorrection::SplitImpulse, true>(s, track_delta, p);
     case PositionCorrection::SoftStep:
-      solve_blocks_with<PositionCorrection::SoftStep>(s, use_bias, track_delta, p);
-      break;
+      if (use_bias)
+        return solve_blocks_dispatch<PositionCorrection::SoftStep, true>(s, track_delta, p);
+      return solve_blocks_dispatch<PositionCorrection::SoftStep, false>(s, track_delta, p);
   }
 }
 
 void WorldImpl::apply_restitution() {
+  if (!def.enable_restitution) return;
   SolverScratch& s = solver;
   const Real threshold = def.restitution_threshold;
   for (std::size_t k = 0; k < s.blocks.size(); ++k) {
@@ -624,60 +719,6 @@ void WorldImpl::store_impulses() {
     bodies.motion[awake_list[k]] = solver.bodies[k];
 }
 
-void WorldImpl::integrate_velocities(Real h) {
-  const Real max_linear2 = def.max_linear_speed * def.max_linear_speed;
-  const Real max_angular2 = def.max_angular_speed * def.max_angular_speed;
-  for (std::size_t k = 0; k < awake_list.size(); ++k) {
-    const std::uint32_t slot = awake_list[k];
-    if (!bodies.simulated(slot)) continue;  // kinematic, or frozen this step
-    Motion& m = solver.bodies[k];
-    m.linear_velocity +=
-        h * (def.gravity * bodies.gravity_scale[slot] + bodies.force[slot] * m.inverse_mass);
-    m.angular_velocity += (h * m.inverse_inertia) * bodies.torque[slot];
-    if (!is_finite(m.linear_velocity) || !is_finite(m.angular_velocity)) {
-      freeze_body(slot);  // before any contact can carry the bad value to a neighbour
-      m = Motion{};
-      continue;
-    }
-    const Real v2 = m.linear_velocity.squaredNorm();
-    if (v2 > max_linear2) m.linear_velocity *= def.max_linear_speed / std::sqrt(v2);
-    const Real w2 = m.angular_velocity.squaredNorm();
-    if (w2 > max_angular2) m.angular_velocity *= def.max_angular_speed / std::sqrt(w2);
-  }
-}
-
-void WorldImpl::integrate_positions(Real h) {
-  const bool split = def.position_correction == PositionCorrection::SplitImpulse;
-  const bool ballistic = def.integrator == Integrator::ExactBallistic;
-  for (std::size_t k = 0; k < awake_list.size(); ++k) {
-    const std::uint32_t slot = awake_list[k];
-    if (bodies.has(slot, kFlagFrozen)) continue;
-    const Motion& m = solver.bodies[k];
-    Vec3 move = m.linear_velocity * h;
-    if (split) {
-      move += solver.pseudo_velocity[k] * h;
-      solver.pseudo_velocity[k].setZero();
-    }
-    if (ballistic && contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic)) {
-      // v already includes a·h, so x + v·h - ½a·h² = x + v0·h + ½a·h²: exact for constant a.
-      const Vec3 acceleration =
-          def.gravity * bodies.gravity_scale[slot] + bodies.force[slot] * m.inverse_mass;
-      move -= acceleration * (Real(0.5) * h * h);
-    }
-    bodies.position[slot] += move;
-    solver.delta_position[k] += move;
-    const Vec3& w = m.angular_velocity;
-    if (w.x() != 0 || w.y() != 0 || w.z() != 0) {
-      Quat& q = bodies.orientation[slot];
-      const Quat dq = Quat(0, w.x(), w.y(), w.z()) * q;
-      const Real half_h = Real(0.5) * h;
-      q = Quat(q.w() + half_h * dq.w(), q.x() + half_h * dq.x(), q.y() + half_h * dq.y(),
-               q.z() + half_h * dq.z());
-      q.normalize();
-    }
-  }
-}
-
 void WorldImpl::solve(Real step_dt) {
   const auto start = Clock::now();
   double integrate_ms = 0;
@@ -693,7 +734,8 @@ void WorldImpl::solve(Real step_dt) {
     integrate_ms += ms_since(t0);
   };
   for (int sub = 0; sub < substeps; ++sub) {
-    if (!explicit_euler) timed([&] { integrate_velocities(h); });
+    // Explicit Euler takes a(x, v) from the substep's start, before anything moves.
+    timed([&] { explicit_euler ? evaluate_accelerations() : integrate_velocities(h); });
     if (def.warm_starting) {
       warm_start();
     } else if (sub > 0) {
@@ -704,7 +746,7 @@ void WorldImpl::solve(Real step_dt) {
     if (relax) {
       for (int i = 0; i < def.relax_iterations; ++i) solve_contacts(h, false);
     }
-    if (explicit_euler) timed([&] { integrate_velocities(h); });
+    if (explicit_euler) timed([&] { apply_accelerations(h); });
     for (std::size_t k = 0; k < solver.blocks.size(); ++k) {
       solver.extra[k].total_normal_impulse += solver.blocks[k].normal_impulse;
     }

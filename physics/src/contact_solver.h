@@ -50,18 +50,30 @@ struct ContactBlockExtra {
   Lanes pseudo_impulse;  ///< split impulse
 };
 
+/// What a contact does, chosen per world from its features; each is its own solver kernel.
+enum class ContactModel : std::uint8_t {
+  Normal,       ///< friction off: a push along the normal (no torque on spheres)
+  Friction,     ///< rotation off: normal and linear Coulomb friction
+  Spin,         ///< normal, friction with its torque
+  SpinRolling,  ///< and rolling resistance (some body has it)
+};
+
 struct SolverScratch {
-  std::vector<Motion> bodies;           ///< awake bodies in awake_list order, then the dummy
-  std::vector<std::uint32_t> index_of;  ///< per slot: solver body index (dummy if not awake)
-  std::vector<Vec3> delta_position;     ///< per solver body, m moved this step
-  std::vector<Vec3> pseudo_velocity;    ///< per solver body, split impulse
+  std::vector<Motion> bodies;             ///< awake bodies in awake_list order, then the dummy
+  std::vector<std::uint32_t> index_of;    ///< per slot: solver body index (dummy if not awake)
+  std::vector<Vec3> delta_position;       ///< per solver body, m moved this step
+  std::vector<Vec3> pseudo_velocity;      ///< per solver body, split impulse
+  std::vector<Vec3> acceleration;         ///< per solver body, m/s² applied this substep
+  std::vector<Vec3> free_flight_move;     ///< per solver body, m: Rk4 displacement this substep
+  std::vector<std::uint8_t> free_flight;  ///< per solver body: moved by Rk4 this substep
   std::vector<ContactBlock> blocks;
   std::vector<RollingBlock> rolling;
   std::vector<ContactBlockExtra> extra;
   std::vector<std::uint32_t> used_colors;  ///< per solver body: colours it already has
   std::vector<std::uint32_t> color_of;     ///< per contact
-  bool has_rolling = false;
-  bool wide = false;  ///< solve with AVX2 instructions (bit-identical to the baseline path)
+  ContactModel model = ContactModel::Spin;
+  bool has_rolling = false;  ///< model == SpinRolling
+  bool wide = false;         ///< solve with AVX2 instructions (bit-identical to the baseline path)
 };
 
 }  // namespace ricochet::physics

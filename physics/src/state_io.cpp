@@ -3,7 +3,8 @@
 /// with CorruptState and the world is left unchanged.
 ///
 /// Layout: "RCPW" | version u32 | sizeof(Real) u8 | steps u64 | gravity | bodies | free slots |
-///         static shapes | static free slots | pair contacts | static contacts | sensor keys
+///         static shapes | static free slots | pair contacts | static contacts | sensor keys |
+///         force fields | force free slots
 
 #include <algorithm>
 #include <cstring>
@@ -16,7 +17,7 @@ namespace ricochet::physics {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x57504352;  // "RCPW"
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;         // 2: force fields
 
 class Writer {
  public:
@@ -87,6 +88,39 @@ bool read_contact(Reader& r, Contact& c) {
 }
 
 constexpr std::size_t kMinContactBytes = 8 + 4 + 4;
+constexpr std::size_t kMinForceBytes = 1 + 4 + 1;
+
+void write_force(Writer& w, const ForceField& f) {
+  w.pod(static_cast<std::uint8_t>(f.kind)), w.pod(f.generation);
+  w.pod(static_cast<std::uint8_t>(f.alive));
+  if (!f.alive) return;
+  w.pod(f.body), w.vec(f.point), w.pod(f.stiffness), w.pod(f.rest_length), w.pod(f.damping);
+  w.pod(f.min_distance), w.pod(f.mask);
+}
+
+/// Reads one field and checks it as add_spring/add_attractor would; empty when valid.
+std::string read_force(Reader& r, const BodyStore& bodies, ForceField& f) {
+  std::uint8_t kind = 0, alive = 0;
+  if (!r.pod(kind) || !r.pod(f.generation) || !r.pod(alive)) return r.error;
+  if (kind > static_cast<std::uint8_t>(ForceKind::Attractor)) return "unknown force field kind";
+  f.kind = static_cast<ForceKind>(kind);
+  f.alive = alive != 0;
+  if (!f.alive) return {};
+  if (!r.pod(f.body) || !r.vec(f.point) || !r.real(f.stiffness) || !r.real(f.rest_length) ||
+      !r.real(f.damping) || !r.real(f.min_distance) || !r.pod(f.mask)) {
+    return r.error;
+  }
+  if (f.generation == 0) return "live force field with null generation";
+  if (f.stiffness <= 0 || f.rest_length < 0 || f.damping < 0 || f.min_distance < 0)
+    return "force field with out-of-range parameters";
+  if (f.kind == ForceKind::Spring && (f.body >= bodies.slot_count() || !bodies.alive(f.body) ||
+                                      bodies.has(f.body, kFlagKinematic))) {
+    return "spring names a missing or kinematic body";
+  }
+  if (f.kind == ForceKind::Attractor && f.min_distance <= 0)
+    return "attractor with min_distance <= 0";
+  return {};
+}
 
 }  // namespace
 
@@ -113,6 +147,20 @@ std::uint64_t World::state_hash() const {
       h.add(c.friction_impulse.data(), sizeof(Real) * 3);
       h.add(c.rolling_impulse.data(), sizeof(Real) * 3);
     }
+  }
+  const std::vector<ForceField>& fields = w.forces.fields();
+  for (std::uint32_t s = 0; s < fields.size(); ++s) {
+    const ForceField& f = fields[s];
+    if (!f.alive) continue;
+    h.add_value(s);
+    h.add_value(static_cast<std::uint8_t>(f.kind));
+    h.add_value(f.body);
+    h.add(f.point.data(), sizeof(Real) * 3);
+    h.add_value(f.stiffness);
+    h.add_value(f.rest_length);
+    h.add_value(f.damping);
+    h.add_value(f.min_distance);
+    h.add_value(f.mask);
   }
   return h.value();
 }
@@ -169,6 +217,10 @@ std::vector<std::uint8_t> World::save_state() const {
   }
   out.pod(static_cast<std::uint32_t>(w.sensor_overlaps.size()));
   for (const std::uint64_t key : w.sensor_overlaps) out.pod(key);
+  out.pod(static_cast<std::uint32_t>(w.forces.fields().size()));
+  for (const ForceField& f : w.forces.fields()) write_force(out, f);
+  out.pod(static_cast<std::uint32_t>(w.forces.free_slots().size()));
+  for (const std::uint32_t s : w.forces.free_slots()) out.pod(s);
   return std::move(out.bytes);
 }
 
@@ -299,6 +351,21 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
   for (std::uint64_t& key : next.sensor_overlaps) {
     if (!in.pod(key)) return corrupt(in.error);
   }
+  std::uint32_t force_count = 0;
+  if (!in.count(force_count, ForceFields::kMaxFields, kMinForceBytes)) return corrupt(in.error);
+  std::vector<ForceField> fields(force_count);
+  for (ForceField& f : fields) {
+    if (const std::string why = read_force(in, b, f); !why.empty()) return corrupt(why);
+  }
+  std::uint32_t force_free_count = 0;
+  if (!in.count(force_free_count, force_count, 4)) return corrupt(in.error);
+  std::vector<std::uint32_t> force_free(force_free_count);
+  for (std::uint32_t& s : force_free) {
+    if (!in.pod(s)) return corrupt(in.error);
+    if (s >= force_count || fields[s].alive)
+      return corrupt("force free list names a live or missing slot");
+  }
+  next.forces.assign(std::move(fields), std::move(force_free));
   if (!in.at_end()) return corrupt("trailing bytes after the state");
 
   *impl_ = std::move(next);

@@ -131,6 +131,7 @@ Result<BodyId> World::create_body(const BodyDef& def) {
 Status World::destroy_body(BodyId id) {
   if (!impl_->bodies.valid(id)) return bad_handle("destroy_body");
   impl_->remove_contacts_of(id.index);
+  impl_->forces.remove_springs_of(id.index);
   impl_->bodies.destroy(id.index);
   return {};
 }
@@ -350,6 +351,86 @@ Status World::remove_shape(ShapeId id) {
 
 std::uint32_t World::shape_count() const {
   return impl_->statics.count();
+}
+
+// --- force fields ---
+
+namespace {
+
+Status check_force_capacity(const ForceFields& forces) {
+  if (forces.free_slots().empty() && forces.fields().size() >= ForceFields::kMaxFields) {
+    return Error{ErrorCode::CapacityExceeded,
+                 "world holds " + show(ForceFields::kMaxFields) + " force fields at most"};
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<ForceId> World::add_spring(const SpringDef& def) {
+  WorldImpl& w = *impl_;
+  if (!w.bodies.valid(def.body)) return bad_handle("add_spring");
+  if (w.bodies.has(def.body.index, kFlagKinematic))
+    return invalid("SpringDef: body must be dynamic (kinematic bodies ignore forces)");
+  if (!is_finite(def.anchor))
+    return invalid("SpringDef: anchor must be finite, got " + show(def.anchor));
+  if (!std::isfinite(def.stiffness) || def.stiffness <= 0)
+    return invalid("SpringDef: stiffness must be > 0 N/m, got " + show(def.stiffness));
+  if (!std::isfinite(def.rest_length) || def.rest_length < 0)
+    return invalid("SpringDef: rest_length must be >= 0 m, got " + show(def.rest_length));
+  if (!std::isfinite(def.damping) || def.damping < 0)
+    return invalid("SpringDef: damping must be >= 0 N·s/m, got " + show(def.damping));
+  if (Status s = check_force_capacity(w.forces); !s) return s.error();
+  ForceField field;
+  field.kind = ForceKind::Spring;
+  field.body = def.body.index;
+  field.point = def.anchor;
+  field.stiffness = def.stiffness;
+  field.rest_length = def.rest_length;
+  field.damping = def.damping;
+  w.wake_body(def.body.index);
+  return w.forces.id_of(w.forces.add(field));
+}
+
+Result<ForceId> World::add_attractor(const AttractorDef& def) {
+  WorldImpl& w = *impl_;
+  if (!is_finite(def.center))
+    return invalid("AttractorDef: center must be finite, got " + show(def.center));
+  if (!std::isfinite(def.strength) || def.strength <= 0)
+    return invalid("AttractorDef: strength must be > 0 m³/s², got " + show(def.strength));
+  if (!std::isfinite(def.min_distance) || def.min_distance <= 0)
+    return invalid("AttractorDef: min_distance must be > 0 m, got " + show(def.min_distance));
+  if (Status s = check_force_capacity(w.forces); !s) return s.error();
+  ForceField field;
+  field.kind = ForceKind::Attractor;
+  field.point = def.center;
+  field.stiffness = def.strength;
+  field.min_distance = def.min_distance;
+  field.mask = def.mask;
+  for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
+    if (w.bodies.alive(s)) w.wake_body(s);
+  }
+  return w.forces.id_of(w.forces.add(field));
+}
+
+Status World::remove_force(ForceId id) {
+  WorldImpl& w = *impl_;
+  if (!w.forces.valid(id))
+    return Error{ErrorCode::InvalidHandle, "remove_force: null, stale or unknown ForceId"};
+  const ForceField& field = w.forces.fields()[id.index];
+  if (field.kind == ForceKind::Spring) {
+    w.wake_body(field.body);
+  } else {
+    for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
+      if (w.bodies.alive(s)) w.wake_body(s);
+    }
+  }
+  w.forces.remove(id.index);
+  return {};
+}
+
+std::uint32_t World::force_count() const {
+  return impl_->forces.count();
 }
 
 // --- simulation ---

@@ -15,6 +15,7 @@
 #include "body_store.h"
 #include "contact.h"
 #include "contact_solver.h"
+#include "force_fields.h"
 #include "ricochet/physics/world.h"
 #include "static_geometry.h"
 
@@ -62,8 +63,16 @@ class WorldImpl {
 
   // --- solver pieces (contact_solver.cpp) ---
   void prepare_contacts();
+  // --- integration (integrator.cpp) ---
+  /// m/s² on awake body k (slot) at position x and velocity v: gravity, applied force, fields.
+  Vec3 acceleration_of(std::uint32_t slot, const Motion& m, const Vec3& x, const Vec3& v) const;
+  /// Semi-implicit Euler, ExactBallistic and Rk4: v += a(x, v)·h (Rk4: a whole free-flight step).
   void integrate_velocities(Real h);
+  /// Explicit Euler: a(x, v) at the substep start, applied after the positions moved.
+  void evaluate_accelerations();
+  void apply_accelerations(Real h);
   void integrate_positions(Real h);
+  void clamp_or_freeze(std::uint32_t slot, Motion& m);
   void warm_start();
   void solve_contacts(Real h, bool use_bias);
   void apply_restitution();
@@ -73,6 +82,7 @@ class WorldImpl {
   WorldDef def;
   BodyStore bodies;
   StaticGeometry statics;
+  ForceFields forces;
   std::uint64_t steps = 0;
   Real dt = 0;  ///< seconds, of the current step
 

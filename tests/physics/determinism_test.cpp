@@ -123,13 +123,30 @@ TEST(Determinism, WideAndBaselineSimdAgreeBitForBit) {
 #else
   GTEST_SKIP() << "not x86-64: only the baseline path exists";
 #endif
-  for (const PositionCorrection method :
-       {PositionCorrection::Baumgarte, PositionCorrection::SplitImpulse,
-        PositionCorrection::SoftStep}) {
-    for (const int substeps : {1, 4}) {
+  struct Variant {
+    PositionCorrection method;
+    int substeps;
+    bool rotation, friction;
+  };
+  const Variant variants[] = {
+      {PositionCorrection::Baumgarte, 1, true, true},
+      {PositionCorrection::Baumgarte, 4, true, true},
+      {PositionCorrection::SplitImpulse, 1, true, true},
+      {PositionCorrection::SplitImpulse, 4, true, true},
+      {PositionCorrection::SoftStep, 1, true, true},
+      {PositionCorrection::SoftStep, 4, true, true},
+      {PositionCorrection::Baumgarte, 1, false, true},  // linear friction kernel
+      {PositionCorrection::SoftStep, 4, true, false},   // normal-only kernel
+  };
+  for (const Variant& v : variants) {
+    {
+      const PositionCorrection method = v.method;
+      const int substeps = v.substeps;
       WorldDef def;
       def.position_correction = method;
       def.substeps = substeps;
+      def.enable_rotation = v.rotation;
+      def.enable_friction = v.friction;
       std::vector<BodyId> ids_wide, ids_baseline;
       def.wide_simd = true;
       World wide = build_rain(kRainBodies / 2, ids_wide, def);
@@ -138,7 +155,8 @@ TEST(Determinism, WideAndBaselineSimdAgreeBitForBit) {
       ASSERT_TRUE(run(wide, 90));
       ASSERT_TRUE(run(baseline, 90));
       EXPECT_EQ(wide.state_hash(), baseline.state_hash())
-          << "method " << int(method) << ", substeps " << substeps;
+          << "method " << int(method) << ", substeps " << substeps << ", rotation " << v.rotation
+          << ", friction " << v.friction;
     }
   }
 }

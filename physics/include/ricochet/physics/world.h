@@ -11,6 +11,7 @@
 
 #include "ricochet/physics/body.h"
 #include "ricochet/physics/events.h"
+#include "ricochet/physics/force_field.h"
 #include "ricochet/physics/profile.h"
 #include "ricochet/physics/query.h"
 #include "ricochet/physics/shapes.h"
@@ -53,6 +54,12 @@ class World {
   Result<ShapeId> add_mesh(const MeshDef& def);
   Status remove_shape(ShapeId id);
   std::uint32_t shape_count() const;
+
+  // --- force fields (evaluated by the integrator; see force_field.h) ---
+  Result<ForceId> add_spring(const SpringDef& def);
+  Result<ForceId> add_attractor(const AttractorDef& def);
+  Status remove_force(ForceId id);
+  std::uint32_t force_count() const;
 
   // --- simulation ---
   /// Advances by dt_s seconds (finite, 0 < dt_s <= 1). Fails with InvalidArgument otherwise.

@@ -19,7 +19,12 @@ enum class PositionCorrection : std::uint8_t {
 enum class Integrator : std::uint8_t {
   ExplicitEuler,      ///< x += v·dt, then v += a·dt (reference only; gains energy)
   SemiImplicitEuler,  ///< v += a·dt, then x += v·dt (symplectic; the default)
-  ExactBallistic,  ///< semi-implicit, but bodies without contacts follow x + v·dt + ½g·dt² exactly
+  /// Semi-implicit, but bodies without contacts follow x + v·dt + ½a·dt² (exact when the
+  /// acceleration is constant over the step: gravity and applied forces, no force fields).
+  ExactBallistic,
+  /// Classical 4th-order Runge–Kutta for bodies without contacts (gravity, applied forces and
+  /// force fields evaluated at every stage); semi-implicit Euler for bodies in contact.
+  Rk4,
 };
 
 struct WorldDef {
@@ -28,15 +33,15 @@ struct WorldDef {
   /// SoftStep wants substeps >= 4.
   PositionCorrection position_correction = PositionCorrection::Baumgarte;
   Integrator integrator = Integrator::SemiImplicitEuler;
-  int iterations = 10;       ///< velocity iterations per substep, 1..1000
-  int relax_iterations = 1;  ///< unbiased iterations per substep (SplitImpulse, SoftStep), 0..1000
-  int substeps = 1;          ///< 1..64
-  Real baumgarte = Real(0.2);                  ///< Baumgarte factor beta, 0..1
-  Real linear_slop = Real(0.005);              ///< m, penetration allowed without correction
-  Real max_correction_speed = 4;               ///< m/s, cap on position-correction velocity
-  Real contact_hertz = 30;                     ///< SoftStep contact stiffness, Hz
-  Real contact_damping_ratio = 10;             ///< SoftStep contact damping ratio
-  Real restitution_threshold = 1;              ///< m/s, slower impacts do not bounce
+  int iterations = 10;              ///< velocity iterations per substep, 1..1000
+  int relax_iterations = 1;         ///< unbiased iterations per substep (SoftStep only), 0..1000
+  int substeps = 1;                 ///< 1..64
+  Real baumgarte = Real(0.2);       ///< Baumgarte factor beta, 0..1
+  Real linear_slop = Real(0.005);   ///< m, penetration allowed without correction
+  Real max_correction_speed = 4;    ///< m/s, cap on position-correction velocity
+  Real contact_hertz = 30;          ///< SoftStep contact stiffness, Hz
+  Real contact_damping_ratio = 10;  ///< SoftStep contact damping ratio
+  Real restitution_threshold = 1;   ///< m/s, slower impacts do not bounce
   Real max_speculative_distance = Real(0.25);  ///< m, largest gap at which a contact is created
   Real max_linear_speed = 10000;               ///< m/s, velocities are clamped to this
   Real max_angular_speed = 1000;               ///< rad/s
@@ -46,7 +51,16 @@ struct WorldDef {
   Real sleep_angular_speed = Real(0.1);  ///< rad/s
   Real time_to_sleep = Real(0.5);        ///< s an island must stay slow before it sleeps
   bool enable_continuous = true;         ///< swept tests for bodies flagged fast
-  bool contact_events = true;            ///< fill begin/end/impulse event lists each step
+
+  // Features a scene may not need (see scene_profile.h). Off costs nothing in the step: the
+  // solver runs a kernel without that feature rather than a branch per contact.
+  /// Off: no body spins. Contacts apply no torque, torques and angular velocities are ignored and
+  /// orientations stay as set (players are spheres that need no spin).
+  bool enable_rotation = true;
+  bool enable_friction = true;            ///< off: contacts push along the normal only
+  bool enable_rolling_resistance = true;  ///< off: Material::rolling_resistance is ignored
+  bool enable_restitution = true;         ///< off: Material::restitution is ignored (no bounce)
+  bool contact_events = true;             ///< fill begin/end/impulse event lists each step
   /// Solve contacts with AVX2 when the CPU has it. Results are bit-identical either way; off
   /// only to measure the baseline (SSE2/NEON) path.
   bool wide_simd = true;

@@ -1,0 +1,143 @@
+/// Integration of velocities and positions over one (sub)step, for every Integrator:
+///
+///   SemiImplicitEuler  v += a(x, v)·h, then (after contacts) x += v·h        symplectic
+///   ExplicitEuler      a from the substep start; x += v·h, then v += a·h     reference only
+///   ExactBallistic     semi-implicit, but free bodies move x += v0·h + ½a·h²
+///   Rk4                free bodies take a classical Runge–Kutta step of x and v together
+///
+/// "Free" means no contact this step (speculative ones included): a body in contact is moved by
+/// the solver's impulses, which only the Euler scheme composes with. Rotation is always
+/// semi-implicit: ω += I⁻¹τ·h, q += ½·(0, ω)·q·h, renormalised.
+
+#include <cmath>
+
+#include "math_util.h"
+#include "world_impl.h"
+
+namespace ricochet::physics {
+
+Vec3 WorldImpl::acceleration_of(std::uint32_t slot, const Motion& m, const Vec3& x,
+                                const Vec3& v) const {
+  const Vec3 gravity = def.gravity * bodies.gravity_scale[slot];
+  if (forces.empty()) return gravity + bodies.force[slot] * m.inverse_mass;
+  const Vec3 field = forces.force_on(slot, bodies.filter[slot].layer, m.inverse_mass, x, v);
+  return gravity + (bodies.force[slot] + field) * m.inverse_mass;
+}
+
+namespace {
+
+/// One classical RK4 step of dx/dt = v, dv/dt = a(x, v): the displacement and the new velocity.
+template <class Acceleration>
+void runge_kutta_step(const Vec3& x0, const Vec3& v0, Real h, Acceleration&& a, Vec3& move,
+                      Vec3& v1) {
+  const Real half_h = Real(0.5) * h;
+  const Vec3 a1 = a(x0, v0);
+  const Vec3 v2 = v0 + half_h * a1;
+  const Vec3 a2 = a(x0 + half_h * v0, v2);
+  const Vec3 v3 = v0 + half_h * a2;
+  const Vec3 a3 = a(x0 + half_h * v2, v3);
+  const Vec3 v4 = v0 + h * a3;
+  const Vec3 a4 = a(x0 + h * v3, v4);
+  const Real sixth_h = h / 6;
+  move = sixth_h * (v0 + 2 * v2 + 2 * v3 + v4);
+  v1 = v0 + sixth_h * (a1 + 2 * a2 + 2 * a3 + a4);
+}
+
+}  // namespace
+
+/// Freezes a body whose velocity became non-finite (before any contact can carry the bad value
+/// to a neighbour); clamps speeds to the world's limits otherwise.
+void WorldImpl::clamp_or_freeze(std::uint32_t slot, Motion& m) {
+  if (!is_finite(m.linear_velocity) || !is_finite(m.angular_velocity)) {
+    freeze_body(slot);
+    m = Motion{};
+    return;
+  }
+  const Real v2 = m.linear_velocity.squaredNorm();
+  if (v2 > def.max_linear_speed * def.max_linear_speed)
+    m.linear_velocity *= def.max_linear_speed / std::sqrt(v2);
+  const Real w2 = m.angular_velocity.squaredNorm();
+  if (w2 > def.max_angular_speed * def.max_angular_speed)
+    m.angular_velocity *= def.max_angular_speed / std::sqrt(w2);
+}
+
+void WorldImpl::integrate_velocities(Real h) {
+  const bool rk4 = def.integrator == Integrator::Rk4;
+  solver.acceleration.resize(awake_list.size());
+  if (rk4) {
+    solver.free_flight.assign(awake_list.size(), 0);
+    solver.free_flight_move.resize(awake_list.size());
+  }
+  for (std::size_t k = 0; k < awake_list.size(); ++k) {
+    const std::uint32_t slot = awake_list[k];
+    if (!bodies.simulated(slot)) continue;  // kinematic, or frozen this step
+    Motion& m = solver.bodies[k];
+    const Vec3 x0 = bodies.position[slot];
+    const Vec3 v0 = m.linear_velocity;
+    if (rk4 && contact_count[slot] == 0) {
+      const auto a = [&](const Vec3& x, const Vec3& v) { return acceleration_of(slot, m, x, v); };
+      runge_kutta_step(x0, v0, h, a, solver.free_flight_move[k], m.linear_velocity);
+      solver.free_flight[k] = 1;
+    } else {
+      solver.acceleration[k] = acceleration_of(slot, m, x0, v0);
+      m.linear_velocity += h * solver.acceleration[k];
+    }
+    if (def.enable_rotation) m.angular_velocity += (h * m.inverse_inertia) * bodies.torque[slot];
+    clamp_or_freeze(slot, m);
+  }
+}
+
+void WorldImpl::evaluate_accelerations() {
+  solver.acceleration.resize(awake_list.size());
+  for (std::size_t k = 0; k < awake_list.size(); ++k) {
+    const std::uint32_t slot = awake_list[k];
+    if (!bodies.simulated(slot)) continue;
+    const Motion& m = solver.bodies[k];
+    solver.acceleration[k] = acceleration_of(slot, m, bodies.position[slot], m.linear_velocity);
+  }
+}
+
+void WorldImpl::apply_accelerations(Real h) {
+  for (std::size_t k = 0; k < awake_list.size(); ++k) {
+    const std::uint32_t slot = awake_list[k];
+    if (!bodies.simulated(slot)) continue;
+    Motion& m = solver.bodies[k];
+    m.linear_velocity += h * solver.acceleration[k];
+    if (def.enable_rotation) m.angular_velocity += (h * m.inverse_inertia) * bodies.torque[slot];
+    clamp_or_freeze(slot, m);
+  }
+}
+
+void WorldImpl::integrate_positions(Real h) {
+  const bool split = def.position_correction == PositionCorrection::SplitImpulse;
+  const bool ballistic = def.integrator == Integrator::ExactBallistic;
+  const bool rk4 = def.integrator == Integrator::Rk4;
+  for (std::size_t k = 0; k < awake_list.size(); ++k) {
+    const std::uint32_t slot = awake_list[k];
+    if (bodies.has(slot, kFlagFrozen)) continue;
+    const Motion& m = solver.bodies[k];
+    Vec3 move = m.linear_velocity * h;
+    if (rk4 && solver.free_flight[k]) move = solver.free_flight_move[k];
+    if (split) {
+      move += solver.pseudo_velocity[k] * h;
+      solver.pseudo_velocity[k].setZero();
+    }
+    if (ballistic && contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic)) {
+      // v already includes a·h, so x + v·h - ½a·h² = x + v0·h + ½a·h²: exact for constant a.
+      move -= solver.acceleration[k] * (Real(0.5) * h * h);
+    }
+    bodies.position[slot] += move;
+    solver.delta_position[k] += move;
+    const Vec3& w = m.angular_velocity;
+    if (def.enable_rotation && (w.x() != 0 || w.y() != 0 || w.z() != 0)) {
+      Quat& q = bodies.orientation[slot];
+      const Quat dq = Quat(0, w.x(), w.y(), w.z()) * q;
+      const Real half_h = Real(0.5) * h;
+      q = Quat(q.w() + half_h * dq.w(), q.x() + half_h * dq.x(), q.y() + half_h * dq.y(),
+               q.z() + half_h * dq.z());
+      q.normalize();
+    }
+  }
+}
+
+}  // namespace ricochet::physics
