@@ -515,6 +515,7 @@ void WorldImpl::prepare_contacts() {
                                                            : ContactModel::Spin;
   }
   s.has_rolling = s.model == ContactModel::SpinRolling;
+  s.needs_shock = false;
 #if RICOCHET_X86
   s.wide = def.wide_simd && __builtin_cpu_supports("avx2");
 #endif
@@ -551,6 +552,7 @@ void WorldImpl::prepare_contacts() {
   for (int k = 0; k < kColors; ++k) block_count += (color_count[k] + kLanes - 1) / kLanes;
   s.blocks.assign(block_count, ContactBlock{});
   s.extra.assign(block_count, ContactBlockExtra{});
+  s.lane_of_contact.resize(total);
   s.rolling.assign(s.has_rolling ? block_count : 0, RollingBlock{});
 
   // Block ranges per colour; overflow contacts get a block each.
@@ -589,6 +591,11 @@ void WorldImpl::prepare_contacts() {
     blk.separation[lane] = c.separation;
     blk.ra[lane] = c.ra, blk.rb[lane] = c.rb;
     const Real mass_sum = A.inverse_mass + B.inverse_mass;
+    // Inverse masses more than shock_mass_ratio apart: sequential impulses converge slowly.
+    // (Static and kinematic sides have inverse mass 0 and never count.)
+    const Real heavier = std::min(A.inverse_mass, B.inverse_mass);
+    s.needs_shock = s.needs_shock || (heavier > 0 && heavier * def.shock_mass_ratio <
+                                                         std::max(A.inverse_mass, B.inverse_mass));
     blk.normal_mass[lane] = mass_sum > 0 ? 1 / mass_sum : Real(0);
     const Real tangent_sum =
         spin ? mass_sum + A.inverse_inertia * c.ra * c.ra + B.inverse_inertia * c.rb * c.rb
@@ -610,6 +617,7 @@ void WorldImpl::prepare_contacts() {
       r.z[lane] = c.rolling_impulse.z();
     }
     extra.contact[lane] = static_cast<std::uint32_t>(i);
+    s.lane_of_contact[i] = block * kLanes + static_cast<std::uint32_t>(lane);
     extra.relative_velocity[lane] = c.normal.dot(B.linear_velocity - A.linear_velocity);
     extra.restitution[lane] = def.enable_restitution ? c.restitution : Real(0);
   }
@@ -727,6 +735,10 @@ void WorldImpl::solve(Real step_dt) {
   const bool explicit_euler = def.integrator == Integrator::ExplicitEuler;
   const bool relax = def.position_correction == PositionCorrection::SoftStep;
   prepare_contacts();
+  const bool shock = def.shock_propagation && solver.needs_shock;
+  if (shock) order_contacts_by_support();
+  // Baumgarte corrects positions through velocity; the other methods have their own channel.
+  const bool correction_in_shock_pass = def.position_correction == PositionCorrection::Baumgarte;
   if (!def.warm_starting) reset_impulses();
   const auto timed = [&](auto&& integrate) {
     const auto t0 = Clock::now();
@@ -742,6 +754,7 @@ void WorldImpl::solve(Real step_dt) {
       reset_impulses();
     }
     for (int i = 0; i < def.iterations; ++i) solve_contacts(h, true);
+    if (shock) propagate_shock(1 / h, correction_in_shock_pass);
     timed([&] { integrate_positions(h); });
     if (relax) {
       for (int i = 0; i < def.relax_iterations; ++i) solve_contacts(h, false);

@@ -69,10 +69,17 @@ struct SolverScratch {
   std::vector<ContactBlock> blocks;
   std::vector<RollingBlock> rolling;
   std::vector<ContactBlockExtra> extra;
-  std::vector<std::uint32_t> used_colors;  ///< per solver body: colours it already has
-  std::vector<std::uint32_t> color_of;     ///< per contact
+  std::vector<std::uint32_t> used_colors;      ///< per solver body: colours it already has
+  std::vector<std::uint32_t> color_of;         ///< per contact
+  std::vector<std::uint32_t> lane_of_contact;  ///< per contact: block · kLanes + lane
+  // Shock propagation (shock_propagation.cpp).
+  std::vector<std::uint32_t> adjacency_start, adjacency, cursor;
+  std::vector<std::uint32_t> support_level;  ///< per solver body; the dummy (statics) is 0
+  std::vector<std::uint32_t> support_key;    ///< per contact: level of its supporting side
+  std::vector<std::uint32_t> support_order;  ///< supported contacts, ground up
   ContactModel model = ContactModel::Spin;
   bool has_rolling = false;  ///< model == SpinRolling
+  bool needs_shock = false;  ///< some contact joins masses more than shock_mass_ratio apart
   bool wide = false;         ///< solve with AVX2 instructions (bit-identical to the baseline path)
 };
 

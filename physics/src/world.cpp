@@ -90,6 +90,7 @@ std::string WorldDef::validate() const {
            range("contact_damping_ratio", contact_damping_ratio, Real(0), Real(1e6)),
            range("restitution_threshold", restitution_threshold, Real(0), Real(1e6)),
            range("max_speculative_distance", max_speculative_distance, Real(0), Real(1e3)),
+           range("shock_mass_ratio", shock_mass_ratio, Real(1), Real(1e9)),
            range("max_linear_speed", max_linear_speed, Real(1e-3), Real(1e8)),
            range("max_angular_speed", max_angular_speed, Real(1e-3), Real(1e8)),
            range("sleep_linear_speed", sleep_linear_speed, Real(0), Real(1e6)),

@@ -76,6 +76,9 @@ class WorldImpl {
   void warm_start();
   void solve_contacts(Real h, bool use_bias);
   void apply_restitution();
+  // --- shock propagation (shock_propagation.cpp) ---
+  void order_contacts_by_support();
+  void propagate_shock(Real inverse_h, bool use_bias);
   void reset_impulses();
   void store_impulses();
 

@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
     app.add_option("--substeps", def.substeps, "solver substeps")->check(CLI::Range(1, 64));
     app.add_option("--relax-iterations", def.relax_iterations, "unbiased iterations per substep")
         ->check(CLI::Range(0, 1000));
+    app.add_option("--shock-propagation", def.shock_propagation,
+                   "1: a last ground-up pass with supports immovable (default); 0: off");
     app.add_option("--wide-simd", def.wide_simd,
                    "1: AVX2 contact solver when the CPU has it; 0: the baseline SSE2 path");
   };
@@ -133,12 +135,12 @@ int main(int argc, char** argv) {
       profile, sizeof profile,
       "{\"broad_phase_ms\":%.4f,\"narrow_phase_ms\":%.4f,\"solve_ms\":%.4f,\"integrate_ms\":%.4f,"
       "\"continuous_ms\":%.4f,\"sleep_ms\":%.4f,\"events_ms\":%.4f,\"contacts_per_step\":%.1f,"
-      "\"real_bits\":%d,\"simd\":\"%s\",\"position_correction\":\"%s\",\"substeps\":%d,\"relax_iterations\":%d}",
+      "\"real_bits\":%d,\"simd\":\"%s\",\"position_correction\":\"%s\",\"substeps\":%d,\"relax_"
+      "iterations\":%d}",
       sum.broad_phase_ms / n, sum.narrow_phase_ms / n, sum.solve_ms / n, sum.integrate_ms / n,
       sum.continuous_ms / n, sum.sleep_ms / n, sum.events_ms / n, sum.contacts / n,
       static_cast<int>(sizeof(rp::Real) * 8), world.profile().wide_simd ? "avx2" : "baseline",
-      correction_name(def.position_correction),
-      def.substeps, def.relax_iterations);
+      correction_name(def.position_correction), def.substeps, def.relax_iterations);
   return ricochet::bench::report_rain("ricochet", options, scene, total_ms, positions, velocities,
                                       profile);
 }

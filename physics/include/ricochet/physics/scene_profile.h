@@ -15,7 +15,7 @@ namespace ricochet::physics::profiles {
 
 /// Collision layers used by the profiles' body definitions.
 enum Layer : std::uint32_t {
-  kLayerStatic = 1u << 0,      ///< arena geometry (static shapes keep the default layer 1)
+  kLayerStatic = 1u << 0,  ///< arena geometry (static shapes keep the default layer 1)
   kLayerPlayer = 1u << 1,
   kLayerProjectile = 1u << 2,
   kLayerProp = 1u << 3,

@@ -46,6 +46,13 @@ struct WorldDef {
   Real max_linear_speed = 10000;               ///< m/s, velocities are clamped to this
   Real max_angular_speed = 1000;               ///< rad/s
   bool warm_starting = true;
+  /// A last pass per substep from the ground up in which each contact's supporting body is
+  /// immovable: heavy-on-light stacks hold at any mass ratio (sequential impulses alone need
+  /// about `ratio` iterations). It runs only in steps where some contact joins two dynamic
+  /// bodies whose masses differ by more than shock_mass_ratio, and then costs a breadth-first
+  /// pass over the contact graph and one scalar pass over the contacts.
+  bool shock_propagation = true;
+  Real shock_mass_ratio = 4;  ///< 1..1e9; at 1 any two touching bodies of unequal mass trigger it
   bool enable_sleep = true;
   Real sleep_linear_speed = Real(0.05);  ///< m/s, below this a body may sleep
   Real sleep_angular_speed = Real(0.1);  ///< rad/s
