@@ -125,6 +125,11 @@ bool sweep_sphere_triangle(const Vec3& o, const Vec3& d, Real radius, const Vec3
       }
     }
   }
+  // The swept shape (triangle grown by the radius) is convex, so a path enters it once: a face
+  // entry is the entry. A ray (radius 0) meets edges and vertices through the face test, whose
+  // inside check includes the boundary; solving the degenerate edge capsules as well would
+  // report rounding-magnified hits (~√ε early) at vertices.
+  if (found || radius == 0) return found;
   found = sweep_sphere_segment(o, d, radius, a, b, hit) || found;
   found = sweep_sphere_segment(o, d, radius, b, c, hit) || found;
   found = sweep_sphere_segment(o, d, radius, c, a, hit) || found;
@@ -133,6 +138,20 @@ bool sweep_sphere_triangle(const Vec3& o, const Vec3& d, Real radius, const Vec3
 
 bool sweep_sphere_local_box(const Vec3& o, const Vec3& d, Real radius, const Vec3& h,
                             SweepHit& hit) {
+  // Reject paths that miss the box grown by the radius (a slab test), before any edge.
+  Real enter = 0, leave = 1;
+  for (int axis = 0; axis < 3; ++axis) {
+    const Real extent = h[axis] + radius;
+    if (d[axis] == 0) {
+      if (std::abs(o[axis]) > extent) return false;
+      continue;
+    }
+    Real t0 = (-extent - o[axis]) / d[axis], t1 = (extent - o[axis]) / d[axis];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+    if (enter > leave) return false;
+  }
   bool found = false;
   // Faces pushed out by the radius.
   for (int axis = 0; axis < 3; ++axis) {
@@ -151,6 +170,9 @@ bool sweep_sphere_local_box(const Vec3& o, const Vec3& d, Real radius, const Vec
       }
     }
   }
+  // The rounded box is convex, so a path enters it once: a face entry is the entry. A ray
+  // meets edges and corners through the face test (its bounds include the boundary).
+  if (found || radius == 0) return found;
   // Edges (with their corner spheres).
   for (int axis = 0; axis < 3; ++axis) {
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;

@@ -131,7 +131,6 @@ void WorldImpl::update_contacts() {
   }
 
   // Awake dynamic bodies against static geometry.
-  statics.rebuild_if_dirty();
   const auto& planes = statics.plane_slots();
   for (const std::uint32_t body : awake_list) {
     if (bodies.has(body, kFlagKinematic) || bodies.has(body, kFlagSensor)) continue;

@@ -72,7 +72,8 @@ void StaticGeometry::rebuild_lists() {
         break;
     }
   }
-  dirty_ = true;
+  // Rebuilt at once (not at the next step) so queries between edits never see a stale tree.
+  rebuild_tree();
 }
 
 void StaticGeometry::triangle(const StaticPrimitive& p, Vec3& a, Vec3& b, Vec3& c) const {
@@ -97,9 +98,7 @@ Aabb StaticGeometry::primitive_box(const StaticPrimitive& p) const {
   return box;
 }
 
-void StaticGeometry::rebuild_if_dirty() {
-  if (!dirty_) return;
-  dirty_ = false;
+void StaticGeometry::rebuild_tree() {
   nodes_.clear();
   if (primitives_.empty()) return;
   std::vector<Aabb> boxes(primitives_.size());

@@ -57,9 +57,6 @@ class StaticGeometry {
   const std::vector<std::uint32_t>& plane_slots() const { return plane_slots_; }
   std::uint32_t count() const { return alive_count_; }
 
-  /// Rebuilds the hierarchy if shapes changed since the last build.
-  void rebuild_if_dirty();
-
   /// Calls visit(primitive_index) for every primitive whose box overlaps `box`.
   template <class Visit>
   void query_aabb(const Aabb& box, Visit&& visit) const;
@@ -88,7 +85,9 @@ class StaticGeometry {
   Aabb primitive_box(const StaticPrimitive& p) const;
   void build_node(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
                   std::vector<Aabb>& boxes, std::vector<Vec3>& centers);
+  /// Plane list, primitive list and hierarchy, after every add, remove or assign.
   void rebuild_lists();
+  void rebuild_tree();
 
   std::vector<StaticShape> shapes_;
   std::vector<std::uint32_t> free_slots_;
@@ -96,7 +95,6 @@ class StaticGeometry {
   std::vector<StaticPrimitive> primitives_;
   std::vector<Node> nodes_;
   std::uint32_t alive_count_ = 0;
-  bool dirty_ = false;
 };
 
 template <class Visit>

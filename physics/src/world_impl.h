@@ -47,6 +47,7 @@ class WorldImpl {
   void update_contacts();
   void solve(Real dt);
   void solve_continuous();
+  void sweep_bodies_against_bodies();
   void freeze_nonfinite();
   void update_sleep(Real dt);
   void report_events();
@@ -111,10 +112,16 @@ class WorldImpl {
   ContactCache cache;
 
   // Continuous collision scratch.
+  struct SweptBox {
+    Vec3 lo, hi;  ///< m, box around a body's whole move this step
+    std::uint32_t body;
+  };
+  static constexpr std::uint32_t kNotFast = 0xFFFFFFFFu;
   std::vector<std::uint32_t> fast_bodies;
+  std::vector<std::uint8_t> fast_sweeping;  ///< per fast body: moved far enough to be swept
+  std::vector<std::uint32_t> fast_index;    ///< per slot: index into fast_bodies, or kNotFast
+  std::vector<SweptBox> swept_boxes;
   std::vector<Real> time_of_impact;
-  std::vector<std::uint32_t> ccd_stamp;  ///< per slot: last sweep that tested it
-  std::uint32_t ccd_stamp_counter = 0;
 
   // Islands (union-find over touching body pairs), used for sleeping.
   std::vector<std::uint32_t> island_parent;

@@ -252,6 +252,24 @@ inline Eigen::Vector3d to_d(const Vec3& v) {
   return v.cast<double>();
 }
 
+/// EXPECT_TRUE(bounded(s, centre, reach_m, max_speed)): the state is finite, its position within
+/// reach_m metres of centre and its speed at most max_speed m/s (no explosion); says which bound
+/// broke otherwise.
+inline ::testing::AssertionResult bounded(const BodyState& s, const Vec3& centre, double reach_m,
+                                          double max_speed) {
+  if (!is_finite(s)) return ::testing::AssertionFailure() << "state is not finite";
+  const double distance = (to_d(s.position) - to_d(centre)).norm();
+  if (distance > reach_m) {
+    return ::testing::AssertionFailure() << "position (" << s.position.transpose() << ") is "
+                                         << distance << " m from the centre, limit " << reach_m;
+  }
+  const double speed = to_d(s.linear_velocity).norm();
+  if (speed > max_speed) {
+    return ::testing::AssertionFailure() << "speed " << speed << " m/s, limit " << max_speed;
+  }
+  return ::testing::AssertionSuccess();
+}
+
 /// Kinetic energy, linear plus rotational, in double. A body with zero inverse inertia (locked
 /// rotation) has no rotational term; a kinematic body (inverse mass 0) has none at all.
 inline double kinetic_energy(const BodyState& s) {
