@@ -343,9 +343,7 @@ Status World::remove_shape(ShapeId id) {
       w.pending_end_events.push_back({w.bodies.id_of(c.a), {{}, id}});
     return true;
   });
-  for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
-    if (w.bodies.alive(s)) w.wake_body(s);  // whatever rested on it must fall
-  }
+  w.wake_all();  // whatever rested on it must fall
   w.statics.remove(id.index);
   return {};
 }
@@ -408,9 +406,7 @@ Result<ForceId> World::add_attractor(const AttractorDef& def) {
   field.stiffness = def.strength;
   field.min_distance = def.min_distance;
   field.mask = def.mask;
-  for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
-    if (w.bodies.alive(s)) w.wake_body(s);
-  }
+  w.wake_all();
   return w.forces.id_of(w.forces.add(field));
 }
 
@@ -422,9 +418,7 @@ Status World::remove_force(ForceId id) {
   if (field.kind == ForceKind::Spring) {
     w.wake_body(field.body);
   } else {
-    for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
-      if (w.bodies.alive(s)) w.wake_body(s);
-    }
+    w.wake_all();
   }
   w.forces.remove(id.index);
   return {};
@@ -503,6 +497,12 @@ void WorldImpl::gather_awake_bodies() {
   start_position = bodies.position;
   start_orientation = bodies.orientation;
   contact_count.assign(slots, 0);
+}
+
+void WorldImpl::wake_all() {
+  for (std::uint32_t s = 0; s < bodies.slot_count(); ++s) {
+    if (bodies.alive(s)) wake_body(s);
+  }
 }
 
 void WorldImpl::freeze_body(std::uint32_t slot) {
@@ -632,9 +632,7 @@ Status World::set_gravity(const Vec3& gravity) {
   if (!is_finite(gravity))
     return invalid("set_gravity: gravity must be finite, got " + show(gravity));
   impl_->def.gravity = gravity;
-  for (std::uint32_t s = 0; s < impl_->bodies.slot_count(); ++s) {
-    if (impl_->bodies.alive(s)) impl_->wake_body(s);
-  }
+  impl_->wake_all();
   return {};
 }
 std::uint64_t World::step_count() const {

@@ -58,6 +58,7 @@ class WorldImpl {
     return (a.layer & b.mask) != 0 && (b.layer & a.mask) != 0;
   }
   void wake_body(std::uint32_t slot);
+  void wake_all();
   void freeze_body(std::uint32_t slot);
   void remove_contacts_of(std::uint32_t slot);
   bool edge_covered_by_face(const MeshHit& edge) const;

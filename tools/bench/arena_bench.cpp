@@ -108,6 +108,7 @@ rp::Vec3 steer(int i, int n) {
 
 struct RunResult {
   double ms_per_step = 0;  ///< World::step only
+  rp::StepProfile phases;  ///< per-phase ms, averaged over the steps
   int hits = 0;            ///< projectile-player contact begins
   std::vector<rp::Vec3> final_players;
 };
@@ -148,6 +149,14 @@ RunResult run(Model m, int steps) {
     (void)a.world.step(rp::Real(1) / 60);
     total_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const rp::StepProfile& p = a.world.profile();
+    r.phases.broad_phase_ms += p.broad_phase_ms / steps;
+    r.phases.narrow_phase_ms += p.narrow_phase_ms / steps;
+    r.phases.solve_ms += p.solve_ms / steps;
+    r.phases.integrate_ms += p.integrate_ms / steps;
+    r.phases.continuous_ms += p.continuous_ms / steps;
+    r.phases.sleep_ms += p.sleep_ms / steps;
+    r.phases.events_ms += p.events_ms / steps;
     for (const rp::ContactBeginEvent& e : a.world.contact_begin_events()) {
       const auto is_player = [&](rp::BodyId id) {
         return std::find(a.players.begin(), a.players.end(), id) != a.players.end();
@@ -188,8 +197,12 @@ int main(int argc, char** argv) {
     const RunResult& r = result[static_cast<int>(m)];
     std::printf(
         "{\"bench\":\"arena\",\"model\":\"%s\",\"players\":%d,\"projectiles\":%d,\"steps\":%d,"
-        "\"ms_per_step\":%.5f,\"projectile_hits\":%d}\n",
-        model_name(m), kPlayers, kProjectiles, steps, r.ms_per_step, r.hits);
+        "\"ms_per_step\":%.5f,\"projectile_hits\":%d,\"profile\":{\"broad_phase_ms\":%.4f,"
+        "\"narrow_phase_ms\":%.4f,\"solve_ms\":%.4f,\"integrate_ms\":%.4f,\"continuous_ms\":%.4f,"
+        "\"sleep_ms\":%.4f,\"events_ms\":%.4f}}\n",
+        model_name(m), kPlayers, kProjectiles, steps, r.ms_per_step, r.hits,
+        r.phases.broad_phase_ms, r.phases.narrow_phase_ms, r.phases.solve_ms, r.phases.integrate_ms,
+        r.phases.continuous_ms, r.phases.sleep_ms, r.phases.events_ms);
   }
   const RunResult& full = result[0];
   const RunResult& lean = result[1];
