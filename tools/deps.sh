@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev      # physics math
   libgtest-dev       # unit and integration tests
   libcli11-dev       # command-line parsing for the tools (beats a hand-written parser)
+  gnuplot-nox        # plots of the physics study (tools/physics-study)
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
 if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then

@@ -1,0 +1,71 @@
+set terminal pngcairo size 960,600 noenhanced font 'sans,10'
+set output 'column_drift_vs_cost.png'
+set title 'column: drift vs cost, iterations 1..50 per position correction'
+set xlabel 'ms per step'
+set ylabel 'max displacement from rest, m'
+set grid
+set key outside right top
+set logscale x
+set format x '%g'
+set logscale y
+set format y '%.0e'
+$d0 << EOD
+0.00365307 3.09759521
+0.0042115 0.166593552
+0.00531969 0.048617363
+0.00741407 0.0234956741
+0.0085054 0.0182199478
+0.0225036 0.00733280182
+0.0301841 0.00166130066
+EOD
+$d1 << EOD
+0.00394806 0.240440369
+0.00470853 0.114339828
+0.00810577 0.052977562
+0.0092569 0.0237808228
+0.0106783 0.0182199478
+0.0182611 0.00733280182
+0.0406673 0.00166130066
+EOD
+$d2 << EOD
+0.00423726 0.13156414
+0.00479504 0.110432625
+0.0058591 0.110432625
+0.00797512 0.110434532
+0.00908236 0.110434532
+0.0143977 0.110435486
+0.0311247 0.110435486
+EOD
+$d3 << EOD
+0.00452575 3.26481262
+0.00544769 0.16782527
+0.0072104 0.0486148368
+0.0107898 0.0234951512
+0.0123901 0.0182190017
+0.0239148 0.00733283007
+0.0472144 0.00166119639
+EOD
+$d4 << EOD
+0.00478895 0.240439191
+0.00586348 0.114338756
+0.0124008 0.0529756926
+0.012264 0.0237795811
+0.0143671 0.0182190017
+0.0248427 0.00733283007
+0.0576416 0.00166119639
+EOD
+$d5 << EOD
+0.0054171 0.131562963
+0.00640198 0.11044009
+0.00813683 0.11044009
+0.0115383 0.11044009
+0.0134616 0.11044009
+0.0219309 0.11044009
+0.0479136 0.110440091
+EOD
+plot $d0 using 1:2 with linespoints title "Baumgarte float", \
+     $d1 using 1:2 with linespoints title "SplitImpulse float", \
+     $d2 using 1:2 with linespoints title "SoftStep float", \
+     $d3 using 1:2 with linespoints dashtype 2 title "Baumgarte double", \
+     $d4 using 1:2 with linespoints dashtype 2 title "SplitImpulse double", \
+     $d5 using 1:2 with linespoints dashtype 2 title "SoftStep double"

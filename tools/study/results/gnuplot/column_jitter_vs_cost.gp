@@ -1,0 +1,71 @@
+set terminal pngcairo size 960,600 noenhanced font 'sans,10'
+set output 'column_jitter_vs_cost.png'
+set title 'column: jitter vs cost, iterations 1..50 per position correction'
+set xlabel 'ms per step'
+set ylabel 'RMS speed, m/s'
+set grid
+set key outside right top
+set logscale x
+set format x '%g'
+set logscale y
+set format y '%.0e'
+$d0 << EOD
+0.00365307 1.73824895
+0.0042115 0.651139528
+0.00531969 0.336717737
+0.00741407 0.0128030937
+0.0085054 0.00930118282
+0.0225036 0.00414883762
+0.0301841 0.00119518992
+EOD
+$d1 << EOD
+0.00394806 0.0998116354
+0.00470853 0.0494355102
+0.00810577 0.0242535237
+0.0092569 0.0116718727
+0.0106783 0.00915881753
+0.0182611 0.00414883762
+0.0406673 0.00119518992
+EOD
+$d2 << EOD
+0.00423726 0.0445477858
+0.00479504 0.0306902554
+0.0058591 0.024022712
+0.00797512 0.0218140685
+0.00908236 0.0215358081
+0.0143977 0.021182247
+0.0311247 0.0211059223
+EOD
+$d3 << EOD
+0.00452575 1.88966093
+0.00544769 0.652648692
+0.0072104 0.336794585
+0.0107898 0.0128032644
+0.0123901 0.00930127563
+0.0239148 0.00414894737
+0.0472144 0.00119518691
+EOD
+$d4 << EOD
+0.00478895 0.0998119599
+0.00586348 0.0494356391
+0.0124008 0.024253141
+0.012264 0.0116716663
+0.0143671 0.00915893008
+0.0248427 0.00414894737
+0.0576416 0.00119518691
+EOD
+$d5 << EOD
+0.0054171 0.044547668
+0.00640198 0.0306902424
+0.00813683 0.0240291947
+0.0115383 0.0218140769
+0.0134616 0.0215357771
+0.0219309 0.0211822282
+0.0479136 0.0211058392
+EOD
+plot $d0 using 1:2 with linespoints title "Baumgarte float", \
+     $d1 using 1:2 with linespoints title "SplitImpulse float", \
+     $d2 using 1:2 with linespoints title "SoftStep float", \
+     $d3 using 1:2 with linespoints dashtype 2 title "Baumgarte double", \
+     $d4 using 1:2 with linespoints dashtype 2 title "SplitImpulse double", \
+     $d5 using 1:2 with linespoints dashtype 2 title "SoftStep double"

@@ -1,0 +1,71 @@
+set terminal pngcairo size 960,600 noenhanced font 'sans,10'
+set output 'pyramid_drift_vs_cost.png'
+set title 'pyramid: drift vs cost, iterations 1..50 per position correction'
+set xlabel 'ms per step'
+set ylabel 'max displacement from rest, m'
+set grid
+set key outside right top
+set logscale x
+set format x '%g'
+set logscale y
+set format y '%.0e'
+$d0 << EOD
+0.0133736 0.0123371829
+0.0110447 0.00453648834
+0.0136861 0.00116425421
+0.0189317 0.000193976704
+0.0241623 0.00011184714
+0.0354014 1.81091542e-05
+0.0765718 2.56986479e-07
+EOD
+$d1 << EOD
+0.00977151 0.0123371829
+0.0114976 0.00453648834
+0.0151887 0.00116425421
+0.0222531 0.000193976704
+0.026128 0.00011184714
+0.0438327 1.81091542e-05
+0.101897 2.56986479e-07
+EOD
+$d2 << EOD
+0.0106337 0.00651501815
+0.0120456 0.00565743931
+0.0147773 0.005153281
+0.0202418 0.00491896986
+0.0231373 0.00488316147
+0.0389101 0.00485025752
+0.0824247 0.00485883164
+EOD
+$d3 << EOD
+0.0117928 0.0123371011
+0.0144077 0.00453626618
+0.0197331 0.0011642741
+0.0319718 0.000193828041
+0.0376862 0.000111743589
+0.0663134 1.81282774e-05
+0.149473 1.81584189e-07
+EOD
+$d4 << EOD
+0.0133083 0.0123371011
+0.0154301 0.00453626618
+0.0218334 0.0011642741
+0.0345888 0.000193828041
+0.0414152 0.000111743589
+0.0716136 1.81282774e-05
+0.162537 1.81584189e-07
+EOD
+$d5 << EOD
+0.0144033 0.00652234439
+0.017033 0.00567478793
+0.0222584 0.00515145139
+0.0328666 0.00491670339
+0.0385291 0.00488109149
+0.0667983 0.00484782999
+0.145254 0.00485702345
+EOD
+plot $d0 using 1:2 with linespoints title "Baumgarte float", \
+     $d1 using 1:2 with linespoints title "SplitImpulse float", \
+     $d2 using 1:2 with linespoints title "SoftStep float", \
+     $d3 using 1:2 with linespoints dashtype 2 title "Baumgarte double", \
+     $d4 using 1:2 with linespoints dashtype 2 title "SplitImpulse double", \
+     $d5 using 1:2 with linespoints dashtype 2 title "SoftStep double"

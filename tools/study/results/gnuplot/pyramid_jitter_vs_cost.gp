@@ -1,0 +1,71 @@
+set terminal pngcairo size 960,600 noenhanced font 'sans,10'
+set output 'pyramid_jitter_vs_cost.png'
+set title 'pyramid: jitter vs cost, iterations 1..50 per position correction'
+set xlabel 'ms per step'
+set ylabel 'RMS speed, m/s'
+set grid
+set key outside right top
+set logscale x
+set format x '%g'
+set logscale y
+set format y '%.0e'
+$d0 << EOD
+0.0133736 0.00485894392
+0.0110447 0.00194916205
+0.0136861 0.00061598085
+0.0189317 0.000119688601
+0.0241623 6.91980535e-05
+0.0354014 1.21592771e-05
+0.0765718 1.1080188e-07
+EOD
+$d1 << EOD
+0.00977151 0.00479647035
+0.0114976 0.00194916205
+0.0151887 0.00061598085
+0.0222531 0.000119688601
+0.026128 6.91980535e-05
+0.0438327 1.21592771e-05
+0.101897 1.1080188e-07
+EOD
+$d2 << EOD
+0.0106337 0.00200994062
+0.0120456 0.00117422952
+0.0147773 0.000684953619
+0.0202418 0.000583278036
+0.0231373 0.000579608002
+0.0389101 0.00057991413
+0.0824247 0.000582515511
+EOD
+$d3 << EOD
+0.0117928 0.00485894504
+0.0144077 0.0019491591
+0.0197331 0.000615985057
+0.0319718 0.000119683696
+0.0376862 6.9174838e-05
+0.0663134 1.20240092e-05
+0.149473 1.17523075e-07
+EOD
+$d4 << EOD
+0.0133083 0.00479647132
+0.0154301 0.0019491591
+0.0218334 0.000615985057
+0.0345888 0.000119683696
+0.0414152 6.9174838e-05
+0.0716136 1.20240092e-05
+0.162537 1.17523075e-07
+EOD
+$d5 << EOD
+0.0144033 0.00201043195
+0.017033 0.00117315731
+0.0222584 0.000684953458
+0.0328666 0.000583273912
+0.0385291 0.000579600663
+0.0667983 0.000579903605
+0.145254 0.000582499874
+EOD
+plot $d0 using 1:2 with linespoints title "Baumgarte float", \
+     $d1 using 1:2 with linespoints title "SplitImpulse float", \
+     $d2 using 1:2 with linespoints title "SoftStep float", \
+     $d3 using 1:2 with linespoints dashtype 2 title "Baumgarte double", \
+     $d4 using 1:2 with linespoints dashtype 2 title "SplitImpulse double", \
+     $d5 using 1:2 with linespoints dashtype 2 title "SoftStep double"
