@@ -491,13 +491,12 @@ void solve_blocks_dispatch(SolverScratch& s, bool track_delta, const PassParams&
 
 }  // namespace
 
-void WorldImpl::prepare_contacts() {
+void WorldImpl::prepare_bodies() {
   SolverScratch& s = solver;
   const std::uint32_t awake = static_cast<std::uint32_t>(awake_list.size());
   const std::uint32_t dummy = awake;
   s.index_of.assign(bodies.slot_count(), dummy);
   s.bodies.resize(awake + 1);
-  const bool spin = def.enable_rotation && def.enable_friction;
   bool any_rolling = false;
   for (std::uint32_t k = 0; k < awake; ++k) {
     const std::uint32_t slot = awake_list[k];
@@ -522,6 +521,13 @@ void WorldImpl::prepare_contacts() {
   s.delta_position.assign(awake + 1, Vec3::Zero());
   if (def.position_correction == PositionCorrection::SplitImpulse)
     s.pseudo_velocity.assign(awake + 1, Vec3::Zero());
+}
+
+void WorldImpl::prepare_contacts() {
+  SolverScratch& s = solver;
+  const std::uint32_t awake = static_cast<std::uint32_t>(awake_list.size());
+  const std::uint32_t dummy = awake;
+  const bool spin = def.enable_rotation && def.enable_friction;
 
   // Greedy colouring: a contact takes the first colour where neither of its moving bodies is used.
   const std::size_t pair_count = pair_contacts.size();
@@ -734,17 +740,18 @@ void WorldImpl::solve(Real step_dt) {
   const Real h = step_dt / static_cast<Real>(substeps);
   const bool explicit_euler = def.integrator == Integrator::ExplicitEuler;
   const bool relax = def.position_correction == PositionCorrection::SoftStep;
+  const auto timed = [&](auto&& integrate) {
+    const auto t0 = Clock::now();
+    integrate();
+    integrate_ms += ms_since(t0);
+  };
+  prepare_bodies();
   prepare_contacts();
   const bool shock = def.shock_propagation && solver.needs_shock;
   if (shock) order_contacts_by_support();
   // Baumgarte corrects positions through velocity; the other methods have their own channel.
   const bool correction_in_shock_pass = def.position_correction == PositionCorrection::Baumgarte;
   if (!def.warm_starting) reset_impulses();
-  const auto timed = [&](auto&& integrate) {
-    const auto t0 = Clock::now();
-    integrate();
-    integrate_ms += ms_since(t0);
-  };
   for (int sub = 0; sub < substeps; ++sub) {
     // Explicit Euler takes a(x, v) from the substep's start, before anything moves.
     timed([&] { explicit_euler ? evaluate_accelerations() : integrate_velocities(h); });

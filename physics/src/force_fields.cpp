@@ -67,6 +67,16 @@ void ForceFields::rebuild_index() {
   });
 }
 
+bool ForceFields::acts_on(std::uint32_t body, std::uint32_t layer) const {
+  for (const std::uint32_t s : attractors_) {
+    if ((layer & fields_[s].mask) != 0) return true;
+  }
+  const auto first =
+      std::lower_bound(springs_.begin(), springs_.end(), body,
+                       [&](std::uint32_t s, std::uint32_t b) { return fields_[s].body < b; });
+  return first != springs_.end() && fields_[*first].body == body;
+}
+
 Vec3 ForceFields::force_on(std::uint32_t body, std::uint32_t layer, Real inverse_mass,
                            const Vec3& x, const Vec3& v) const {
   Vec3 force = Vec3::Zero();

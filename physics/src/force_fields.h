@@ -45,6 +45,9 @@ class ForceFields {
   /// Replaces everything (restore_state); fields and free list already validated.
   void assign(std::vector<ForceField> fields, std::vector<std::uint32_t> free_slots);
 
+  /// Whether any field pulls on body slot (with that collision layer).
+  bool acts_on(std::uint32_t body, std::uint32_t layer) const;
+
   /// N on body slot (layer, 1/kg) at position x (m) moving at v (m/s).
   Vec3 force_on(std::uint32_t body, std::uint32_t layer, Real inverse_mass, const Vec3& x,
                 const Vec3& v) const;

@@ -2,7 +2,8 @@
 ///
 ///   SemiImplicitEuler  v += a(x, v)·h, then (after contacts) x += v·h        symplectic
 ///   ExplicitEuler      a from the substep start; x += v·h, then v += a·h     reference only
-///   ExactBallistic     semi-implicit, but free bodies move x += v0·h + ½a·h²
+///   ExactBallistic     semi-implicit, but free bodies move x += v0·h + ½a·h² (not under a force
+///                      field, whose acceleration is not constant: those stay semi-implicit)
 ///   Rk4                free bodies take a classical Runge–Kutta step of x and v together
 ///
 /// "Free" means no contact this step (speculative ones included): a body in contact is moved by
@@ -122,7 +123,8 @@ void WorldImpl::integrate_positions(Real h) {
       move += solver.pseudo_velocity[k] * h;
       solver.pseudo_velocity[k].setZero();
     }
-    if (ballistic && contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic)) {
+    if (ballistic && contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic) &&
+        (forces.empty() || !forces.acts_on(slot, bodies.filter[slot].layer))) {
       // v already includes a·h, so x + v·h - ½a·h² = x + v0·h + ½a·h²: exact for constant a.
       move -= solver.acceleration[k] * (Real(0.5) * h * h);
     }

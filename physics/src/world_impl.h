@@ -64,6 +64,7 @@ class WorldImpl {
   bool edge_covered_by_face(const MeshHit& edge) const;
 
   // --- solver pieces (contact_solver.cpp) ---
+  void prepare_bodies();
   void prepare_contacts();
   // --- integration (integrator.cpp) ---
   /// m/s² on awake body k (slot) at position x and velocity v: gravity, applied force, fields.

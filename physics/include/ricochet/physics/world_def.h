@@ -20,7 +20,8 @@ enum class Integrator : std::uint8_t {
   ExplicitEuler,      ///< x += v·dt, then v += a·dt (reference only; gains energy)
   SemiImplicitEuler,  ///< v += a·dt, then x += v·dt (symplectic; the default)
   /// Semi-implicit, but bodies without contacts follow x + v·dt + ½a·dt² (exact when the
-  /// acceleration is constant over the step: gravity and applied forces, no force fields).
+  /// acceleration is constant over the step: gravity and applied forces). Bodies under a force
+  /// field stay semi-implicit (the term would pump energy into a spring or an orbit).
   ExactBallistic,
   /// Classical 4th-order Runge–Kutta for bodies without contacts (gravity, applied forces and
   /// force fields evaluated at every stage); semi-implicit Euler for bodies in contact.
