@@ -51,7 +51,7 @@ void WorldImpl::order_contacts_by_support() {
   std::vector<std::uint32_t>& level = s.support_level;
   level.assign(body_count, kNoLevel);
   level[dummy] = 0;
-  std::vector<std::uint32_t>& queue = s.cursor;  // reused
+  std::vector<std::uint32_t>& queue = s.cursor;  // the fill cursors are spent: reuse the buffer
   queue.clear();
   for (const Contact& c : static_contacts) {
     const std::uint32_t a = s.index_of[c.a];
@@ -107,8 +107,8 @@ void WorldImpl::propagate_shock(Real inverse_h, bool use_bias) {
     const std::uint32_t a = c.a[lane], b = c.b[lane];
     Motion& A = s.bodies[a];
     Motion& B = s.bodies[b];
-    const Real ma = level[a] <= level[b] && level[a] != level[b] ? Real(0) : A.inverse_mass;
-    const Real mb = level[b] <= level[a] && level[a] != level[b] ? Real(0) : B.inverse_mass;
+    const Real ma = level[a] < level[b] ? Real(0) : A.inverse_mass;  // a supports b
+    const Real mb = level[b] < level[a] ? Real(0) : B.inverse_mass;  // b supports a
     if (ma + mb == 0) continue;
     const Vec3 n(c.nx[lane], c.ny[lane], c.nz[lane]);
     const Real separation = c.separation[lane];
