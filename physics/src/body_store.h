@@ -26,6 +26,9 @@ enum BodyFlag : std::uint16_t {
   kFlagAllowSleep = 1 << 5,
   kFlagSleeping = 1 << 6,
   kFlagFrozen = 1 << 7,
+  /// The last move was exact for constant acceleration (ExactBallistic or Rk4 free flight), so
+  /// the stored velocity is the true end-of-step one, not the semi-implicit step mean.
+  kFlagExactVelocity = 1 << 8,
 };
 
 struct BodyStore {

@@ -7,8 +7,9 @@
 ///   Rk4                free bodies take a classical Runge–Kutta step of x and v together
 ///
 /// "Free" means no contact this step (speculative ones included): a body in contact is moved by
-/// the solver's impulses, which only the Euler scheme composes with. Rotation is always
-/// semi-implicit: ω += I⁻¹τ·h, q += ½·(0, ω)·q·h, renormalised.
+/// the solver's impulses, which only the Euler scheme composes with. A body that switches between
+/// free and semi-implicit has its stored velocity converted (see kFlagExactVelocity). Rotation is
+/// always semi-implicit: ω += I⁻¹τ·h, q += ½·(0, ω)·q·h, renormalised.
 
 #include <cmath>
 
@@ -62,6 +63,47 @@ void WorldImpl::clamp_or_freeze(std::uint32_t slot, Motion& m) {
     m.angular_velocity *= def.max_angular_speed / std::sqrt(w2);
 }
 
+bool WorldImpl::moves_exactly(std::uint32_t slot) const {
+  switch (def.integrator) {
+    case Integrator::Rk4:
+      return contact_count[slot] == 0;
+    case Integrator::ExactBallistic:
+      return contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic) &&
+             (forces.empty() || !forces.acts_on(slot, bodies.filter[slot].layer));
+    case Integrator::SemiImplicitEuler:
+    case Integrator::ExplicitEuler:
+      break;
+  }
+  return false;
+}
+
+void WorldImpl::mark_velocity_as_given(std::uint32_t slot) {
+  // A caller's velocity is the velocity at this instant: the end-of-step form when the integrator
+  // can move exactly. Semi-implicit worlds take it as their mean, as they always have.
+  if (def.integrator == Integrator::ExactBallistic || def.integrator == Integrator::Rk4) {
+    bodies.flags[slot] |= kFlagExactVelocity;
+  } else {
+    bodies.flags[slot] &= static_cast<std::uint16_t>(~kFlagExactVelocity);
+  }
+}
+
+void WorldImpl::convert_velocity_forms(Real h) {
+  if (def.integrator != Integrator::ExactBallistic && def.integrator != Integrator::Rk4) return;
+  for (const std::uint32_t slot : awake_list) {
+    if (!bodies.simulated(slot)) continue;
+    const bool exact = moves_exactly(slot);
+    if (exact == bodies.has(slot, kFlagExactVelocity)) continue;
+    // Semi-implicit Euler stores the mean velocity of the step just taken, an exact move the
+    // velocity at its end: for constant a they differ by ½·a·h. Converting when a body switches
+    // keeps its trajectory on the same parabola, so no energy jumps in or out.
+    Motion& m = bodies.motion[slot];
+    const Real half_h = exact ? Real(0.5) * h : Real(-0.5) * h;
+    m.linear_velocity +=
+        half_h * acceleration_of(slot, m, bodies.position[slot], m.linear_velocity);
+    bodies.flags[slot] ^= kFlagExactVelocity;
+  }
+}
+
 void WorldImpl::integrate_velocities(Real h) {
   const bool rk4 = def.integrator == Integrator::Rk4;
   solver.acceleration.resize(awake_list.size());
@@ -71,6 +113,7 @@ void WorldImpl::integrate_velocities(Real h) {
   }
   for (std::size_t k = 0; k < awake_list.size(); ++k) {
     const std::uint32_t slot = awake_list[k];
+    solver.acceleration[k].setZero();
     if (!bodies.simulated(slot)) continue;  // kinematic, or frozen this step
     Motion& m = solver.bodies[k];
     const Vec3 x0 = bodies.position[slot];
@@ -92,6 +135,7 @@ void WorldImpl::evaluate_accelerations() {
   solver.acceleration.resize(awake_list.size());
   for (std::size_t k = 0; k < awake_list.size(); ++k) {
     const std::uint32_t slot = awake_list[k];
+    solver.acceleration[k].setZero();
     if (!bodies.simulated(slot)) continue;
     const Motion& m = solver.bodies[k];
     solver.acceleration[k] = acceleration_of(slot, m, bodies.position[slot], m.linear_velocity);
@@ -123,8 +167,7 @@ void WorldImpl::integrate_positions(Real h) {
       move += solver.pseudo_velocity[k] * h;
       solver.pseudo_velocity[k].setZero();
     }
-    if (ballistic && contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic) &&
-        (forces.empty() || !forces.acts_on(slot, bodies.filter[slot].layer))) {
+    if (ballistic && moves_exactly(slot)) {
       // v already includes a·h, so x + v·h - ½a·h² = x + v0·h + ½a·h²: exact for constant a.
       move -= solver.acceleration[k] * (Real(0.5) * h * h);
     }

@@ -126,7 +126,9 @@ Result<BodyId> World::create_body(const BodyDef& def) {
                  "create_body: world holds max_bodies = " + show(impl_->def.max_bodies) +
                      "; raise WorldDef::max_bodies"};
   }
-  return b.id_of(b.create(def));
+  const std::uint32_t slot = b.create(def);
+  impl_->mark_velocity_as_given(slot);
+  return b.id_of(slot);
 }
 
 Status World::destroy_body(BodyId id) {
@@ -188,6 +190,7 @@ Status World::set_linear_velocity(BodyId id, const Vec3& velocity) {
     return invalid("set_linear_velocity: velocity must be finite, got " + show(velocity));
   if (impl_->bodies.has(id.index, kFlagFrozen)) return {};
   impl_->bodies.motion[id.index].linear_velocity = velocity;
+  impl_->mark_velocity_as_given(id.index);
   impl_->wake_body(id.index);
   return {};
 }

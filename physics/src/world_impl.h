@@ -68,6 +68,12 @@ class WorldImpl {
   void prepare_contacts();
   // --- integration (integrator.cpp) ---
   /// m/s² on awake body k (slot) at position x and velocity v: gravity, applied force, fields.
+  /// True when the integrator moves this body exactly for constant acceleration this step.
+  bool moves_exactly(std::uint32_t slot) const;
+  /// Puts each stored velocity in the form this step's move expects (kFlagExactVelocity).
+  void convert_velocity_forms(Real h);
+  /// A velocity set by the caller is the velocity at this instant.
+  void mark_velocity_as_given(std::uint32_t slot);
   Vec3 acceleration_of(std::uint32_t slot, const Motion& m, const Vec3& x, const Vec3& v) const;
   /// Semi-implicit Euler, ExactBallistic and Rk4: v += a(x, v)·h (Rk4: a whole free-flight step).
   void integrate_velocities(Real h);
@@ -78,7 +84,7 @@ class WorldImpl {
   void clamp_or_freeze(std::uint32_t slot, Motion& m);
   void warm_start();
   void solve_contacts(Real h, bool use_bias);
-  void apply_restitution();
+  void apply_restitution(Real h);
   // --- shock propagation (shock_propagation.cpp) ---
   void order_contacts_by_support();
   void propagate_shock(Real inverse_h, bool use_bias);
