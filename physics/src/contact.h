@@ -44,6 +44,7 @@ inline std::uint64_t static_key(std::uint32_t body, std::uint32_t shape, std::ui
          (static_cast<std::uint64_t>(shape) << 21) | triangle;
 }
 constexpr std::uint32_t kMaxBodySlots = 1u << 22;
+constexpr std::uint32_t kMaxProjectileSlots = 1u << 22;
 constexpr std::uint32_t kMaxShapeSlots = 1u << 20;
 constexpr std::uint32_t kMaxMeshTriangles = 1u << 21;
 

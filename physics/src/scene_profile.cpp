@@ -30,7 +30,18 @@ BodyDef player(const Vec3& position) {
   return def;
 }
 
-BodyDef projectile(const Vec3& position, const Vec3& velocity) {
+ProjectileDef bullet(const Vec3& position, const Vec3& velocity, BodyId shooter) {
+  ProjectileDef def;
+  def.position = position;
+  def.velocity = velocity;
+  def.radius = Real(0.02);
+  def.gravity_scale = 0;
+  def.filter = {kLayerProjectile, kLayerStatic | kLayerPlayer | kLayerProp};
+  def.ignore = shooter;
+  return def;
+}
+
+BodyDef bullet_body(const Vec3& position, const Vec3& velocity) {
   BodyDef def;
   def.position = position;
   def.linear_velocity = velocity;

@@ -4,7 +4,7 @@
 ///
 /// Layout: "RCPW" | version u32 | sizeof(Real) u8 | steps u64 | gravity | bodies | free slots |
 ///         static shapes | static free slots | pair contacts | static contacts | sensor keys |
-///         force fields | force free slots
+///         force fields | force free slots | projectiles | projectile free slots
 
 #include <algorithm>
 #include <cstring>
@@ -17,7 +17,7 @@ namespace ricochet::physics {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x57504352;  // "RCPW"
-constexpr std::uint32_t kVersion = 2;         // 2: force fields
+constexpr std::uint32_t kVersion = 3;         // 2: force fields, 3: projectiles
 
 class Writer {
  public:
@@ -122,6 +122,37 @@ std::string read_force(Reader& r, const BodyStore& bodies, ForceField& f) {
   return {};
 }
 
+/// Reads the projectile slots and free list, checking each as create_projectile would; empty
+/// when valid.
+std::string read_projectiles(Reader& in, const WorldDef& def, ProjectileStore& p) {
+  std::uint32_t slots = 0;
+  if (!in.count(slots, def.max_projectiles, 5)) return in.error;
+  p = ProjectileStore{};
+  p.resize(slots);
+  for (std::uint32_t s = 0; s < slots; ++s) {
+    if (!in.pod(p.generation[s]) || !in.pod(p.alive[s])) return in.error;
+    if (p.alive[s] > 1) return "projectile alive flag not 0 or 1";
+    if (!p.alive[s]) continue;
+    ++p.alive_count;
+    if (!in.vec(p.position[s]) || !in.vec(p.velocity[s]) || !in.real(p.radius[s]) ||
+        !in.real(p.gravity_scale[s]) || !in.pod(p.filter[s].layer) || !in.pod(p.filter[s].mask) ||
+        !in.pod(p.ignore[s].index) || !in.pod(p.ignore[s].generation) || !in.pod(p.user_data[s])) {
+      return in.error;
+    }
+    if (p.generation[s] == 0) return "live projectile with null generation";
+    if (p.radius[s] < 0 || p.velocity[s].norm() > def.max_linear_speed)
+      return "projectile with negative radius or speed above max_linear_speed";
+  }
+  std::uint32_t free_count = 0;
+  if (!in.count(free_count, slots, 4)) return in.error;
+  p.free_slots.resize(free_count);
+  for (std::uint32_t& s : p.free_slots) {
+    if (!in.pod(s)) return in.error;
+    if (s >= slots || p.alive[s]) return "projectile free list names a live or missing slot";
+  }
+  return {};
+}
+
 }  // namespace
 
 std::uint64_t World::state_hash() const {
@@ -161,6 +192,14 @@ std::uint64_t World::state_hash() const {
     h.add_value(f.damping);
     h.add_value(f.min_distance);
     h.add_value(f.mask);
+  }
+  const ProjectileStore& p = w.projectiles;
+  for (std::uint32_t s = 0; s < p.slot_count(); ++s) {
+    if (!p.alive[s]) continue;
+    h.add_value(s);
+    h.add_value(p.generation[s]);
+    h.add(p.position[s].data(), sizeof(Real) * 3);
+    h.add(p.velocity[s].data(), sizeof(Real) * 3);
   }
   return h.value();
 }
@@ -221,6 +260,18 @@ std::vector<std::uint8_t> World::save_state() const {
   for (const ForceField& f : w.forces.fields()) write_force(out, f);
   out.pod(static_cast<std::uint32_t>(w.forces.free_slots().size()));
   for (const std::uint32_t s : w.forces.free_slots()) out.pod(s);
+  const ProjectileStore& p = w.projectiles;
+  out.pod(p.slot_count());
+  for (std::uint32_t s = 0; s < p.slot_count(); ++s) {
+    out.pod(p.generation[s]), out.pod(p.alive[s]);
+    if (!p.alive[s]) continue;
+    out.vec(p.position[s]), out.vec(p.velocity[s]), out.pod(p.radius[s]),
+        out.pod(p.gravity_scale[s]);
+    out.pod(p.filter[s].layer), out.pod(p.filter[s].mask);
+    out.pod(p.ignore[s].index), out.pod(p.ignore[s].generation), out.pod(p.user_data[s]);
+  }
+  out.pod(static_cast<std::uint32_t>(p.free_slots.size()));
+  for (const std::uint32_t s : p.free_slots) out.pod(s);
   return std::move(out.bytes);
 }
 
@@ -366,6 +417,8 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
       return corrupt("force free list names a live or missing slot");
   }
   next.forces.assign(std::move(fields), std::move(force_free));
+  if (const std::string why = read_projectiles(in, current.def, next.projectiles); !why.empty())
+    return corrupt(why);
   if (!in.at_end()) return corrupt("trailing bytes after the state");
 
   *impl_ = std::move(next);

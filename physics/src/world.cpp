@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 #include "math_util.h"
+#include "show.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
@@ -24,18 +24,6 @@ Error invalid(const std::string& message) {
 }
 Error bad_handle(const char* what) {
   return Error{ErrorCode::InvalidHandle, std::string(what) + ": null, stale or unknown BodyId"};
-}
-
-template <class T>
-std::string show(const T& value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-std::string show(const Vec3& v) {
-  std::ostringstream out;
-  out << '(' << v.x() << ", " << v.y() << ", " << v.z() << ')';
-  return out.str();
 }
 
 std::string validate_material(const Material& m) {
@@ -98,6 +86,7 @@ std::string WorldDef::validate() const {
            range("time_to_sleep", time_to_sleep, Real(0), Real(1e6)),
            range("max_bodies", max_bodies, 1u, kMaxBodySlots),
            range("max_shapes", max_shapes, 1u, kMaxShapeSlots),
+           range("max_projectiles", max_projectiles, 1u, kMaxProjectileSlots),
        }) {
     if (!e.empty()) return e;
   }
@@ -462,6 +451,9 @@ Status WorldImpl::step(Real step_dt) {
   solve_continuous();
   lap(profile.continuous_ms);
   freeze_nonfinite();
+  t = Clock::now();
+  step_projectiles();
+  lap(profile.projectiles_ms);
   update_sleep(step_dt);
   lap(profile.sleep_ms);
   report_events();
@@ -479,6 +471,7 @@ void WorldImpl::begin_step(Real step_dt) {
   end_events.clear();
   impulse_events.clear();
   nonfinite_events.clear();
+  projectile_hits.clear();
   const std::uint32_t slots = bodies.slot_count();
   speculative_margin.resize(slots);
   // A contact is created while the gap is below the margin: enough for this step's motion (so

@@ -16,6 +16,7 @@
 #include "contact.h"
 #include "contact_solver.h"
 #include "force_fields.h"
+#include "projectile_store.h"
 #include "ricochet/physics/world.h"
 #include "static_geometry.h"
 
@@ -48,6 +49,9 @@ class WorldImpl {
   void solve(Real dt);
   void solve_continuous();
   void sweep_bodies_against_bodies();
+  void step_projectiles();
+  void sweep_projectiles_against_statics();
+  void sweep_projectiles_against_bodies();
   void freeze_nonfinite();
   void update_sleep(Real dt);
   void report_events();
@@ -67,13 +71,13 @@ class WorldImpl {
   void prepare_bodies();
   void prepare_contacts();
   // --- integration (integrator.cpp) ---
-  /// m/s² on awake body k (slot) at position x and velocity v: gravity, applied force, fields.
   /// True when the integrator moves this body exactly for constant acceleration this step.
   bool moves_exactly(std::uint32_t slot) const;
   /// Puts each stored velocity in the form this step's move expects (kFlagExactVelocity).
   void convert_velocity_forms(Real h);
   /// A velocity set by the caller is the velocity at this instant.
   void mark_velocity_as_given(std::uint32_t slot);
+  /// m/s² on awake body k (slot) at position x and velocity v: gravity, applied force, fields.
   Vec3 acceleration_of(std::uint32_t slot, const Motion& m, const Vec3& x, const Vec3& v) const;
   /// Semi-implicit Euler, ExactBallistic and Rk4: v += a(x, v)·h (Rk4: a whole free-flight step).
   void integrate_velocities(Real h);
@@ -95,6 +99,7 @@ class WorldImpl {
   BodyStore bodies;
   StaticGeometry statics;
   ForceFields forces;
+  ProjectileStore projectiles;
   std::uint64_t steps = 0;
   Real dt = 0;  ///< seconds, of the current step
 
@@ -137,6 +142,15 @@ class WorldImpl {
   std::vector<Real> island_sleep_time;       ///< per root: least sleep time of its bodies
 
   // Events of the last step.
+  /// A projectile's move this step and its earliest hit so far (projectiles.cpp).
+  struct ProjectileSweep {
+    std::uint32_t slot = 0;
+    Vec3 from, move;  ///< m
+    SweepHit hit;     ///< t = 1: nothing hit
+    ContactTarget target;
+  };
+  std::vector<ProjectileSweep> projectile_sweeps;
+  std::vector<ProjectileHitEvent> projectile_hits;
   std::vector<ContactBeginEvent> begin_events;
   std::vector<ContactEndEvent> end_events;
   std::vector<ContactImpulseEvent> impulse_events;

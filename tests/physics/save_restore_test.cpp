@@ -100,6 +100,15 @@ World small_world(std::vector<BodyId>& ids) {
   ids.push_back(add_sphere(world, Vec3(0, 1, 0)));
   ids.push_back(add_sphere(world, Vec3(Real(0.2), 2, 0)));
   ids.push_back(add_sphere(world, Vec3(2, Real(1.6), 0), Real(0.3)));
+  // Two projectiles, one destroyed, so the image carries a live slot and a free one.
+  ProjectileDef drifting;
+  drifting.position = Vec3(-3, 5, 0);
+  drifting.velocity = Vec3(1, 0, 0);
+  drifting.gravity_scale = 0;
+  drifting.radius = Real(0.01);
+  unwrap(world.create_projectile(drifting), "create_projectile");
+  const ProjectileId gone = unwrap(world.create_projectile(drifting), "create_projectile");
+  RICOCHET_EXPECT_OK(world.destroy_projectile(gone));
   return world;
 }
 

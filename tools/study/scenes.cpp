@@ -21,6 +21,8 @@ const std::vector<Scene>& scenes() {
       {"slope_roll", "Ball rolling down a slope: a = 5/7 g sin(theta)", run_slope_roll,
        report_slope_roll},
       {"rain", "Cost: the rain scene of tools/bench", run_rain, report_rain},
+      {"profiles", "Scene profiles: arena_players against the full model", run_profiles,
+       report_profiles},
   };
   return all;
 }

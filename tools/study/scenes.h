@@ -41,5 +41,7 @@ void run_slope_roll(Study&);
 void report_slope_roll(Report&);
 void run_rain(Study&);
 void report_rain(Report&);
+void run_profiles(Study&);
+void report_profiles(Report&);
 
 }  // namespace ricochet::study

@@ -9,6 +9,7 @@ struct StepProfile {
   double solve_ms = 0;         ///< prepare, warm start, iterations, restitution, store impulses
   double integrate_ms = 0;     ///< velocities and positions
   double continuous_ms = 0;    ///< swept tests for fast bodies
+  double projectiles_ms = 0;   ///< projectile moves and sweeps
   double sleep_ms = 0;         ///< islands and sleeping
   double events_ms = 0;        ///< begin/end/impulse events
   double total_ms = 0;

@@ -4,11 +4,12 @@
 /// continuous collision). Start from one and change what your scene needs differently.
 ///
 /// Measured against each other on the same 64-player + 256-projectile arena by
-/// tools/bench/arena_bench.cpp (results in tools/bench/results/arena.json).
+/// tools/bench/arena_bench.cpp (results in tools/bench/results/arena.jsonl).
 
 #include <cstdint>
 
 #include "ricochet/physics/body.h"
+#include "ricochet/physics/projectile.h"
 #include "ricochet/physics/world_def.h"
 
 namespace ricochet::physics::profiles {
@@ -21,9 +22,10 @@ enum Layer : std::uint32_t {
   kLayerProp = 1u << 3,
 };
 
-/// Players and projectiles in an arena: no spin (players are upright capsules' stand-ins, bullets
-/// need no rotation), linear friction only, no rolling resistance, no restitution, 4 iterations,
-/// no sleeping (players are always moving), continuous collision only for bodies flagged fast.
+/// Players and bullets in an arena: no spin (players are upright capsules' stand-ins), linear
+/// friction only, no rolling resistance, no restitution, 4 iterations, no sleeping (players are
+/// always moving), continuous collision only for bodies flagged fast. Bullets are projectiles
+/// (bullet()), which never enter the contact pipeline.
 WorldDef arena_players();
 
 /// Everything on, as WorldDef{} with sleeping: props that tumble, roll, bounce and rest.
@@ -33,9 +35,12 @@ WorldDef physics_props();
 /// other players and projectiles.
 BodyDef player(const Vec3& position);
 
-/// A projectile: 2 cm radius, 10 g, continuous collision, no gravity (a bullet over arena
-/// distances); collides with the arena and players, not with other projectiles.
-BodyDef projectile(const Vec3& position, const Vec3& velocity);
+/// A bullet: a 2 cm swept projectile (World::create_projectile), no gravity over arena
+/// distances; hits the arena, players and props, never other bullets. `shooter` is never hit.
+ProjectileDef bullet(const Vec3& position, const Vec3& velocity, BodyId shooter = {});
+
+/// The same bullet as a rigid body (10 g, continuous collision), for when it must bounce or push.
+BodyDef bullet_body(const Vec3& position, const Vec3& velocity);
 
 /// A prop: 0.5 m radius, 5 kg, full rotation, collides with everything.
 BodyDef prop(const Vec3& position);

@@ -13,6 +13,7 @@
 #include "ricochet/physics/events.h"
 #include "ricochet/physics/force_field.h"
 #include "ricochet/physics/profile.h"
+#include "ricochet/physics/projectile.h"
 #include "ricochet/physics/query.h"
 #include "ricochet/physics/shapes.h"
 #include "ricochet/physics/world_def.h"
@@ -48,6 +49,13 @@ class World {
   Status apply_impulse(BodyId id, const Vec3& impulse, const Vec3& point);
   Status wake(BodyId id);
 
+  // --- projectiles (swept, never in contacts; see projectile.h) ---
+  Result<ProjectileId> create_projectile(const ProjectileDef& def);
+  Status destroy_projectile(ProjectileId id);
+  bool is_valid(ProjectileId id) const;
+  Result<ProjectileState> projectile_state(ProjectileId id) const;
+  std::uint32_t projectile_count() const;
+
   // --- static geometry ---
   Result<ShapeId> add_plane(const PlaneDef& def);
   Result<ShapeId> add_box(const BoxDef& def);
@@ -75,6 +83,8 @@ class World {
   std::span<const ContactEndEvent> contact_end_events() const;
   std::span<const ContactImpulseEvent> contact_impulse_events() const;
   std::span<const NonFiniteEvent> nonfinite_events() const;
+  /// Projectiles that hit something this step (and are gone), in projectile slot order.
+  std::span<const ProjectileHitEvent> projectile_hit_events() const;
 
   // --- queries (between steps) ---
   /// Closest hit within max_distance metres of origin along direction (normalised here, so it
@@ -92,9 +102,10 @@ class World {
                                             const QueryFilter& filter) const;
 
   // --- determinism and rollback ---
-  /// 64-bit FNV-1a over every body's state, the contact cache and the step counter.
+  /// 64-bit FNV-1a over every body's and projectile's state, the contact cache, the force fields
+  /// and the step counter.
   std::uint64_t state_hash() const;
-  /// Whole world state (bodies, shapes, contact cache, sleep state) as bytes.
+  /// Whole world state (bodies, projectiles, shapes, contact cache, sleep state) as bytes.
   std::vector<std::uint8_t> save_state() const;
   /// Restores a save_state() image bit-exactly. Validates every length and field; on error the
   /// world is unchanged.

@@ -74,6 +74,7 @@ struct WorldDef {
   bool wide_simd = true;
   std::uint32_t max_bodies = 1u << 22;
   std::uint32_t max_shapes = 1u << 20;
+  std::uint32_t max_projectiles = 1u << 20;
 
   /// Empty when valid; otherwise says which field is wrong and what it must be.
   std::string validate() const;
