@@ -6,6 +6,8 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev      # physics math
+  libsqlite3-dev     # the embedded database (db/)
+  libsodium-dev      # Argon2id password hashing and session tokens (db/)
   libgtest-dev       # unit and integration tests
   libcli11-dev       # command-line parsing for the tools (beats a hand-written parser)
   gnuplot-nox        # plots of the physics study (tools/physics-study)

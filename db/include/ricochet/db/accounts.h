@@ -1,0 +1,119 @@
+#pragma once
+/// Account rules over any Store: usernames, Argon2id passwords, session tokens, rate limits.
+///
+///   register  name 3–24 of [A-Za-z0-9_.-], unique ignoring case; password 8..1024 bytes,
+///             stored as crypto_pwhash_str (Argon2id, interactive limits by default)
+///   login     checks the password (against a dummy hash when the name is unknown, so the time
+///             taken does not tell whether an account exists), refuses banned accounts, counts
+///             failures per account and per address (RateLimited past the limit), and returns a
+///             random 256-bit token; the store keeps only its SHA-256, with an expiry
+///   session   check, revoke; banning an account revokes all its sessions
+///
+/// Time is a parameter (Unix ms) of every call, so expiry and rate limits are testable.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ricochet/db/records.h"
+#include "ricochet/db/result.h"
+#include "ricochet/db/store.h"
+
+namespace ricochet::db {
+
+inline constexpr std::size_t kMaxPasswordBytes = 1024;
+inline constexpr std::size_t kTokenBytes = 32;  ///< 256 bits; the text form is 64 hex digits
+
+/// Argon2id work per hash. Interactive is libsodium's recommendation for logins (64 MiB, 2
+/// passes); Minimum exists for tests and for seeding benches, never for production.
+enum class PasswordCost { Interactive, Moderate, Minimum };
+
+/// At most `max_failures` failed logins within `window_ms`; further attempts are refused with
+/// RateLimited (without checking the password) until the oldest failure leaves the window.
+struct RateLimit {
+  int max_failures = 5;
+  UnixMillis window_ms = 60'000;
+};
+
+struct AccountsOptions {
+  PasswordCost cost = PasswordCost::Interactive;
+  std::size_t min_password_length = 8;  ///< bytes
+  UnixMillis session_lifetime_ms = 24 * 3600 * 1000LL;
+  RateLimit per_account{5, 60'000};
+  RateLimit per_address{20, 60'000};
+  std::int64_t min_matches_for_win_rate = 10;
+};
+
+struct LoginResult {
+  std::string token;  ///< 64 lowercase hex digits; shown once, never stored
+  AccountId account = 0;
+  UnixMillis expires_ms = 0;
+};
+
+struct SessionInfo {
+  AccountId account = 0;
+  std::string username;
+  UnixMillis expires_ms = 0;
+};
+
+/// What was refused and why, for metrics: one counter per error code.
+struct AccountsCounters {
+  std::array<std::uint64_t, kDbErrorCodeCount> errors{};
+  std::uint64_t registrations = 0;
+  std::uint64_t logins = 0;
+  std::uint64_t password_checks = 0;  ///< Argon2id verifications, real or dummy
+  std::uint64_t session_checks = 0;
+};
+
+class Accounts {
+ public:
+  /// The store must outlive this object.
+  Accounts(Store& store, AccountsOptions options = {});
+
+  DbResult<AccountId> register_account(std::string_view username, std::string_view password,
+                                       UnixMillis now);
+  /// `address` names the client (an IP) for the per-address limit; empty skips that limit.
+  DbResult<LoginResult> login(std::string_view username, std::string_view password,
+                              std::string_view address, UnixMillis now);
+  DbResult<SessionInfo> check_session(std::string_view token, UnixMillis now);
+  DbStatus revoke_session(std::string_view token);
+  /// Checks the old password first (WrongCredentials); revokes every session of the account.
+  DbStatus change_password(AccountId id, std::string_view old_password,
+                           std::string_view new_password);
+  /// Banning revokes every session of the account; unbanning lets it log in again.
+  DbStatus set_banned(AccountId id, bool banned);
+
+  /// Stats and boards, with the configured win-rate minimum.
+  DbResult<PlayerStats> player_stats(AccountId id);
+  DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit);
+  DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind);
+  DbResult<MatchId> record_match(const MatchRecord& match);
+
+  const AccountsCounters& counters() const { return counters_; }
+  Store& store() { return store_; }
+
+  /// Empty when the name is acceptable; otherwise what is wrong with it.
+  static std::string check_username(std::string_view username);
+
+ private:
+  template <class T>
+  T counted(T result);
+  DbStatus counted_status(DbStatus status);
+  bool over_limit(const std::string& key, const RateLimit& limit, UnixMillis now);
+  void note_failure(const std::string& key, UnixMillis now);
+  std::string hash_password(std::string_view password) const;
+  bool verify_password(const std::string& hash, std::string_view password);
+
+  Store& store_;
+  AccountsOptions options_;
+  AccountsCounters counters_;
+  std::string dummy_hash_;  ///< verified against when the username is unknown
+  /// Failure times per "account:<key>" and "address:<ip>", oldest first, pruned as they age.
+  std::map<std::string, std::vector<UnixMillis>> failures_;
+};
+
+}  // namespace ricochet::db

@@ -1,0 +1,91 @@
+#pragma once
+/// The DB thread: every database job runs here, in submission order, never on the game thread.
+///
+///   game thread ── submit(job, post, done) ──▶ queue ──▶ DB thread runs job(accounts)
+///   game thread ◀── post(done(result)) ─────────────────┘
+///
+/// `post` is how a result gets back to the caller: it receives a completion and must run it on
+/// the caller's executor (the server passes `asio::post(io_context, ...)`; tests pass a queue
+/// they drain). The game tick therefore never waits for the disk: a slow or locked database
+/// shows as latency on logins, never as a late tick. When more than `max_queued` jobs wait, a
+/// new job is refused at once with Busy (back-pressure instead of unbounded memory). Jobs still
+/// queued at stop() complete with Stopped.
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <type_traits>
+#include <utility>
+
+#include "ricochet/db/accounts.h"
+#include "ricochet/db/store.h"
+
+namespace ricochet::db {
+
+/// Runs a completion on the caller's executor.
+using Post = std::function<void(std::function<void()>)>;
+
+struct DbWorkerOptions {
+  AccountsOptions accounts;
+  std::size_t max_queued = 10'000;
+};
+
+class DbWorker {
+ public:
+  /// Starts the DB thread; it owns the store from here on.
+  DbWorker(std::unique_ptr<Store> store, DbWorkerOptions options = {});
+  /// stop(), then joins.
+  ~DbWorker();
+  DbWorker(const DbWorker&) = delete;
+  DbWorker& operator=(const DbWorker&) = delete;
+
+  /// Queues job(Accounts&) -> R for the DB thread, then posts done(R) through `post`. R is a
+  /// DbResult<T> or DbStatus. Never blocks on the database; thread-safe.
+  template <class Job, class Done>
+  void submit(Job job, Post post, Done done);
+
+  /// Lets the running job finish, completes the queued ones with Stopped, joins the thread.
+  void stop();
+  std::size_t queued() const;
+  /// Jobs run so far (for metrics and tests).
+  std::size_t completed() const;
+
+ private:
+  using Task = std::function<void(Accounts*)>;  ///< nullptr: the worker stopped
+  bool enqueue(Task task);
+  void run();
+
+  std::unique_ptr<Store> store_;
+  Accounts accounts_;
+  std::size_t max_queued_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<Task> queue_;
+  bool stopping_ = false;
+  std::size_t completed_ = 0;
+  std::thread thread_;
+};
+
+template <class Job, class Done>
+void DbWorker::submit(Job job, Post post, Done done) {
+  using R = std::invoke_result_t<Job&, Accounts&>;
+  auto shared_post = std::make_shared<Post>(std::move(post));
+  auto shared_done = std::make_shared<Done>(std::move(done));
+  const auto deliver = [shared_post, shared_done](R result) {
+    (*shared_post)(
+        [shared_done, result = std::move(result)]() mutable { (*shared_done)(std::move(result)); });
+  };
+  Task task = [job = std::move(job), deliver](Accounts* accounts) mutable {
+    if (!accounts) return deliver(R(DbError{DbErrorCode::Stopped, "the DB worker stopped"}));
+    deliver(job(*accounts));
+  };
+  if (!enqueue(std::move(task))) {
+    deliver(R(DbError{DbErrorCode::Busy, "the DB queue is full; retry later"}));
+  }
+}
+
+}  // namespace ricochet::db

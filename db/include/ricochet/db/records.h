@@ -1,0 +1,91 @@
+#pragma once
+/// What the store keeps: accounts, sessions, matches with per-player results, lifetime stats and
+/// ratings. Times are Unix milliseconds passed in by the caller (the store never reads a clock).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ricochet::db {
+
+using AccountId = std::int64_t;
+using MatchId = std::int64_t;
+using UnixMillis = std::int64_t;
+
+struct Account {
+  AccountId id = 0;
+  std::string username;  ///< as registered (case kept)
+  UnixMillis created_ms = 0;
+  std::optional<UnixMillis> last_login_ms;
+  bool banned = false;
+};
+
+/// An account row with its password hash, for the accounts logic only.
+struct AccountCredentials {
+  Account account;
+  std::string password_hash;  ///< libsodium crypto_pwhash_str output (Argon2id)
+};
+
+/// A stored session: only the SHA-256 of the token is kept.
+struct SessionRow {
+  AccountId account = 0;
+  UnixMillis created_ms = 0;
+  UnixMillis expires_ms = 0;
+};
+
+/// One player's result in a match.
+struct PlayerResult {
+  AccountId account = 0;
+  std::int32_t kills = 0;
+  std::int32_t deaths = 0;
+  std::int32_t score = 0;
+  std::int32_t shots = 0;
+  std::int32_t hits = 0;
+  double damage_dealt = 0;  ///< hit points
+  double damage_taken = 0;  ///< hit points
+  double seconds_played = 0;
+};
+
+/// A finished match, written in one transaction with every player's result.
+struct MatchRecord {
+  std::string map;
+  std::string mode;
+  UnixMillis started_ms = 0;
+  UnixMillis ended_ms = 0;
+  std::int32_t tick_rate = 60;  ///< Hz
+  std::vector<PlayerResult> players;
+};
+
+/// Lifetime totals of one account.
+struct PlayerStats {
+  AccountId account = 0;
+  std::string username;
+  std::int64_t matches = 0;
+  std::int64_t wins = 0;  ///< matches where the player had the top score (ties all win)
+  std::int64_t kills = 0;
+  std::int64_t deaths = 0;
+  std::int64_t score = 0;
+  std::int64_t shots = 0;
+  std::int64_t hits = 0;
+  double damage_dealt = 0;
+  double damage_taken = 0;
+  double seconds_played = 0;
+  double rating = 1500;  ///< Elo (see rating.h)
+};
+
+enum class LeaderboardKind {
+  Rating,   ///< highest Elo first
+  Kills,    ///< most lifetime kills first
+  WinRate,  ///< wins / matches, only accounts with at least the minimum number of matches
+};
+
+struct LeaderboardEntry {
+  std::int64_t rank = 0;  ///< 1-based; equal values share the better rank
+  AccountId account = 0;
+  std::string username;
+  double value = 0;  ///< rating, kills or win rate
+  std::int64_t matches = 0;
+};
+
+}  // namespace ricochet::db

@@ -1,0 +1,588 @@
+/// The SQLite Store (store.h): one connection, WAL journal, every statement prepared once at open
+/// and bound per call (no SQL is ever built from values).
+///
+/// Opening, in order: open the file (CannotOpen) → read user_version, the first read, where a
+/// file that is not a database fails (CorruptDatabase) and a newer schema is refused
+/// (SchemaTooNew) before anything is written → PRAGMA quick_check (CorruptDatabase) →
+/// journal_mode=WAL, synchronous, foreign_keys → migrations → prepare the statements.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "leaderboard_sql.h"
+#include "migrations.h"
+#include "ricochet/db/rating.h"
+#include "ricochet/db/store.h"
+#include "sqlite_handle.h"
+
+namespace ricochet::db {
+
+namespace {
+
+constexpr std::size_t kTokenHashBytes = 32;  ///< SHA-256
+constexpr std::size_t kMaxNameBytes = 64;    ///< map and mode names
+constexpr std::int32_t kMaxTickRate = 1000;  ///< Hz
+
+constexpr std::array kBoards = {LeaderboardKind::Rating, LeaderboardKind::Kills,
+                                LeaderboardKind::WinRate};
+
+std::size_t board_index(LeaderboardKind kind) {
+  return static_cast<std::size_t>(kind);
+}
+
+// --- match validation (before any write) ---
+
+std::string check_name(const char* field, const std::string& value) {
+  if (value.empty() || value.size() > kMaxNameBytes)
+    return std::string("match ") + field + " must be 1.." + std::to_string(kMaxNameBytes) +
+           " bytes, got " + std::to_string(value.size());
+  return {};
+}
+
+std::string check_player(std::size_t index, const PlayerResult& p) {
+  const std::string who =
+      "player " + std::to_string(index) + " (account " + std::to_string(p.account) + "): ";
+  const std::pair<const char*, std::int32_t> counters[] = {{"kills", p.kills},
+                                                           {"deaths", p.deaths},
+                                                           {"score", p.score},
+                                                           {"shots", p.shots},
+                                                           {"hits", p.hits}};
+  for (const auto& [name, value] : counters)
+    if (value < 0) return who + name + " must be >= 0, got " + std::to_string(value);
+  const std::pair<const char*, double> amounts[] = {{"damage_dealt", p.damage_dealt},
+                                                    {"damage_taken", p.damage_taken},
+                                                    {"seconds_played", p.seconds_played}};
+  for (const auto& [name, value] : amounts)
+    if (!std::isfinite(value) || value < 0)
+      return who + name + " must be a finite number >= 0, got " + std::to_string(value);
+  return {};
+}
+
+/// Empty when the record can be written; otherwise what is wrong with it.
+std::string check_match(const MatchRecord& match) {
+  if (match.players.empty()) return "a match needs at least one player";
+  if (auto e = check_name("map", match.map); !e.empty()) return e;
+  if (auto e = check_name("mode", match.mode); !e.empty()) return e;
+  if (match.ended_ms < match.started_ms)
+    return "match ended_ms (" + std::to_string(match.ended_ms) + ") is before started_ms (" +
+           std::to_string(match.started_ms) + ")";
+  if (match.tick_rate < 1 || match.tick_rate > kMaxTickRate)
+    return "match tick_rate must be 1.." + std::to_string(kMaxTickRate) + " Hz, got " +
+           std::to_string(match.tick_rate);
+  for (std::size_t i = 0; i < match.players.size(); ++i)
+    if (auto e = check_player(i, match.players[i]); !e.empty()) return e;
+  std::vector<AccountId> ids;
+  for (const PlayerResult& p : match.players) ids.push_back(p.account);
+  std::sort(ids.begin(), ids.end());
+  if (auto twice = std::adjacent_find(ids.begin(), ids.end()); twice != ids.end())
+    return "account " + std::to_string(*twice) + " is listed twice in the match";
+  return {};
+}
+
+DbError invalid_match(std::string message) {
+  return DbError{DbErrorCode::InvalidMatch, std::move(message)};
+}
+
+class SqliteStore final : public Store {
+ public:
+  SqliteStore(std::string path, sqlite::Connection db)
+      : path_(std::move(path)), db_(std::move(db)) {}
+
+  DbStatus prepare_statements();
+
+  DbResult<AccountId> insert_account(std::string_view username, std::string_view username_key,
+                                     std::string_view password_hash, UnixMillis now) override;
+  DbResult<std::optional<AccountCredentials>> find_account_by_key(
+      std::string_view username_key) override;
+  DbResult<Account> account(AccountId id) override;
+  DbStatus set_password_hash(AccountId id, std::string_view password_hash) override;
+  DbStatus set_banned(AccountId id, bool banned) override;
+  DbStatus set_last_login(AccountId id, UnixMillis now) override;
+
+  DbStatus insert_session(std::string_view token_hash, AccountId account, UnixMillis created_ms,
+                          UnixMillis expires_ms) override;
+  DbResult<std::optional<SessionRow>> find_session(std::string_view token_hash) override;
+  DbStatus delete_session(std::string_view token_hash) override;
+  DbStatus delete_sessions_of(AccountId account) override;
+  DbResult<std::int64_t> delete_expired_sessions(UnixMillis now) override;
+
+  DbResult<MatchId> record_match(const MatchRecord& match) override;
+  DbResult<std::int64_t> match_count() override;
+  DbResult<PlayerStats> player_stats(AccountId id) override;
+  DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit,
+                                                      std::int64_t min_matches) override;
+  DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind,
+                                                    std::int64_t min_matches) override;
+
+ private:
+  DbError failure(int rc, std::string_view what) const {
+    return sqlite::error_from(db_.get(), rc, path_, what);
+  }
+  /// A row that holds a value of the wrong type: the file was edited or damaged.
+  DbError bad_row(const sqlite::Query& query, std::string_view what) const {
+    return DbError{DbErrorCode::CorruptDatabase,
+                   path_ + ": " + std::string(what) + ": " + query.column_error()};
+  }
+  DbError unknown_account(AccountId id) const {
+    return DbError{DbErrorCode::UnknownAccount, "no account with id " + std::to_string(id)};
+  }
+  /// Runs an UPDATE of one account by id; UnknownAccount when no row changed.
+  DbStatus update_account(sqlite::Query& query, AccountId id, std::string_view what);
+  /// The rating of each player, in order, inside the match's transaction; InvalidMatch naming
+  /// the first account that does not exist.
+  DbResult<std::vector<double>> current_ratings(const MatchRecord& match);
+  DbStatus write_match(const MatchRecord& match, MatchId& id);
+
+  std::string path_;
+  sqlite::Connection db_;  // declared before the statements: closed after they are finalized
+
+  sqlite::Statement insert_account_, find_account_by_key_, account_, set_password_hash_,
+      set_banned_, set_last_login_;
+  sqlite::Statement insert_session_, find_session_, delete_session_, delete_sessions_of_,
+      delete_expired_sessions_;
+  sqlite::Statement rating_of_, insert_match_, insert_match_player_, upsert_stats_, match_count_,
+      player_stats_;
+  std::array<sqlite::Statement, kBoards.size()> top_, entry_of_, count_better_;
+};
+
+DbStatus SqliteStore::prepare_statements() {
+  const std::pair<sqlite::Statement*, const char*> statements[] = {
+      {&insert_account_,
+       "INSERT INTO accounts (username, username_key, password_hash, created_ms)"
+       " VALUES (?1, ?2, ?3, ?4)"},
+      {&find_account_by_key_,
+       "SELECT id, username, created_ms, last_login_ms, banned, password_hash"
+       " FROM accounts WHERE username_key = ?1"},
+      {&account_,
+       "SELECT id, username, created_ms, last_login_ms, banned FROM accounts WHERE id = ?1"},
+      {&set_password_hash_, "UPDATE accounts SET password_hash = ?1 WHERE id = ?2"},
+      {&set_banned_, "UPDATE accounts SET banned = ?1 WHERE id = ?2"},
+      {&set_last_login_, "UPDATE accounts SET last_login_ms = ?1 WHERE id = ?2"},
+      {&insert_session_,
+       "INSERT INTO sessions (token_hash, account_id, created_ms, expires_ms)"
+       " VALUES (?1, ?2, ?3, ?4)"},
+      {&find_session_,
+       "SELECT account_id, created_ms, expires_ms FROM sessions WHERE token_hash = ?1"},
+      {&delete_session_, "DELETE FROM sessions WHERE token_hash = ?1"},
+      {&delete_sessions_of_, "DELETE FROM sessions WHERE account_id = ?1"},
+      {&delete_expired_sessions_, "DELETE FROM sessions WHERE expires_ms < ?1"},
+      {&rating_of_,
+       "SELECT s.rating FROM accounts AS a LEFT JOIN player_stats AS s ON s.account_id = a.id"
+       " WHERE a.id = ?1"},
+      {&insert_match_,
+       "INSERT INTO matches (map, mode, started_ms, ended_ms, tick_rate)"
+       " VALUES (?1, ?2, ?3, ?4, ?5)"},
+      {&insert_match_player_,
+       "INSERT INTO match_players (match_id, account_id, kills, deaths, score, shots, hits,"
+       " damage_dealt, damage_taken, seconds_played, rating_before, rating_after)"
+       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)"},
+      {&upsert_stats_,
+       "INSERT INTO player_stats (account_id, matches, wins, kills, deaths, score, shots, hits,"
+       " damage_dealt, damage_taken, seconds_played, rating)"
+       " VALUES (?1, 1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)"
+       " ON CONFLICT (account_id) DO UPDATE SET matches = matches + 1,"
+       " wins = wins + excluded.wins, kills = kills + excluded.kills,"
+       " deaths = deaths + excluded.deaths, score = score + excluded.score,"
+       " shots = shots + excluded.shots, hits = hits + excluded.hits,"
+       " damage_dealt = damage_dealt + excluded.damage_dealt,"
+       " damage_taken = damage_taken + excluded.damage_taken,"
+       " seconds_played = seconds_played + excluded.seconds_played,"
+       " rating = excluded.rating"},
+      {&match_count_, "SELECT COUNT(*) FROM matches"},
+      {&player_stats_,
+       "SELECT a.username, s.account_id IS NOT NULL, s.matches, s.wins, s.kills, s.deaths,"
+       " s.score, s.shots, s.hits, s.damage_dealt, s.damage_taken, s.seconds_played, s.rating"
+       " FROM accounts AS a LEFT JOIN player_stats AS s ON s.account_id = a.id"
+       " WHERE a.id = ?1"},
+  };
+  for (const auto& [statement, sql] : statements)
+    if (const int rc = statement->prepare(db_.get(), sql); rc != SQLITE_OK)
+      return failure(rc, std::string("preparing \"") + sql + "\"");
+  for (LeaderboardKind kind : kBoards) {
+    const std::size_t i = board_index(kind);
+    for (const auto& [statement, sql] :
+         {std::pair{&top_[i], leaderboard_sql::top(kind)},
+          std::pair{&entry_of_[i], leaderboard_sql::entry_of(kind)},
+          std::pair{&count_better_[i], leaderboard_sql::count_better(kind)}})
+      if (const int rc = statement->prepare(db_.get(), sql); rc != SQLITE_OK)
+        return failure(rc, std::string("preparing \"") + sql + "\"");
+  }
+  return {};
+}
+
+// --- accounts ---
+
+DbResult<AccountId> SqliteStore::insert_account(std::string_view username,
+                                                std::string_view username_key,
+                                                std::string_view password_hash, UnixMillis now) {
+  sqlite::Query q(insert_account_);
+  q.bind_text(username).bind_text(username_key).bind_text(password_hash).bind_int(now);
+  const int rc = q.step();
+  if (rc == SQLITE_CONSTRAINT_UNIQUE)
+    return DbError{DbErrorCode::DuplicateUsername,
+                   "username '" + std::string(username) + "' is taken (ignoring case)"};
+  if (rc != SQLITE_DONE) return failure(rc, "inserting an account");
+  return sqlite3_last_insert_rowid(db_.get());
+}
+
+DbResult<std::optional<AccountCredentials>> SqliteStore::find_account_by_key(
+    std::string_view username_key) {
+  sqlite::Query q(find_account_by_key_);
+  q.bind_text(username_key);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return std::optional<AccountCredentials>();
+  if (rc != SQLITE_ROW) return failure(rc, "finding an account by name");
+  AccountCredentials found;
+  found.account.id = q.integer(0);
+  found.account.username = q.text(1);
+  found.account.created_ms = q.integer(2);
+  found.account.last_login_ms = q.optional_integer(3);
+  found.account.banned = q.integer(4) != 0;
+  found.password_hash = q.text(5);
+  if (!q.column_error().empty()) return bad_row(q, "reading an account");
+  return std::optional<AccountCredentials>(std::move(found));
+}
+
+DbResult<Account> SqliteStore::account(AccountId id) {
+  sqlite::Query q(account_);
+  q.bind_int(id);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return unknown_account(id);
+  if (rc != SQLITE_ROW) return failure(rc, "reading an account");
+  Account found;
+  found.id = q.integer(0);
+  found.username = q.text(1);
+  found.created_ms = q.integer(2);
+  found.last_login_ms = q.optional_integer(3);
+  found.banned = q.integer(4) != 0;
+  if (!q.column_error().empty()) return bad_row(q, "reading an account");
+  return found;
+}
+
+DbStatus SqliteStore::update_account(sqlite::Query& query, AccountId id, std::string_view what) {
+  query.bind_int(id);
+  if (const int rc = query.step(); rc != SQLITE_DONE) return failure(rc, what);
+  if (sqlite3_changes64(db_.get()) == 0) return unknown_account(id);
+  return {};
+}
+
+DbStatus SqliteStore::set_password_hash(AccountId id, std::string_view password_hash) {
+  sqlite::Query q(set_password_hash_);
+  q.bind_text(password_hash);
+  return update_account(q, id, "setting a password hash");
+}
+
+DbStatus SqliteStore::set_banned(AccountId id, bool banned) {
+  sqlite::Query q(set_banned_);
+  q.bind_int(banned ? 1 : 0);
+  return update_account(q, id, "setting the banned flag");
+}
+
+DbStatus SqliteStore::set_last_login(AccountId id, UnixMillis now) {
+  sqlite::Query q(set_last_login_);
+  q.bind_int(now);
+  return update_account(q, id, "setting the last login time");
+}
+
+// --- sessions ---
+
+/// UnknownSession for a hash of the wrong size: the caller passes SHA-256 digests only.
+DbStatus check_token_hash(std::string_view token_hash) {
+  if (token_hash.size() == kTokenHashBytes) return {};
+  return DbError{DbErrorCode::UnknownSession, "a session token hash is " +
+                                                  std::to_string(kTokenHashBytes) + " bytes, got " +
+                                                  std::to_string(token_hash.size())};
+}
+
+DbStatus SqliteStore::insert_session(std::string_view token_hash, AccountId account,
+                                     UnixMillis created_ms, UnixMillis expires_ms) {
+  if (DbStatus s = check_token_hash(token_hash); !s) return s;
+  sqlite::Query q(insert_session_);
+  q.bind_blob(token_hash).bind_int(account).bind_int(created_ms).bind_int(expires_ms);
+  const int rc = q.step();
+  if (rc == SQLITE_CONSTRAINT_FOREIGNKEY) return unknown_account(account);
+  if (rc != SQLITE_DONE) return failure(rc, "inserting a session");
+  return {};
+}
+
+DbResult<std::optional<SessionRow>> SqliteStore::find_session(std::string_view token_hash) {
+  if (token_hash.size() != kTokenHashBytes) return std::optional<SessionRow>();
+  sqlite::Query q(find_session_);
+  q.bind_blob(token_hash);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return std::optional<SessionRow>();
+  if (rc != SQLITE_ROW) return failure(rc, "finding a session");
+  SessionRow row;
+  row.account = q.integer(0);
+  row.created_ms = q.integer(1);
+  row.expires_ms = q.integer(2);
+  if (!q.column_error().empty()) return bad_row(q, "reading a session");
+  return std::optional<SessionRow>(row);
+}
+
+DbStatus SqliteStore::delete_session(std::string_view token_hash) {
+  if (token_hash.size() != kTokenHashBytes) return {};  // no such session can exist
+  sqlite::Query q(delete_session_);
+  q.bind_blob(token_hash);
+  if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "deleting a session");
+  return {};
+}
+
+DbStatus SqliteStore::delete_sessions_of(AccountId account) {
+  sqlite::Query q(delete_sessions_of_);
+  q.bind_int(account);
+  if (const int rc = q.step(); rc != SQLITE_DONE)
+    return failure(rc, "deleting the sessions of an account");
+  return {};
+}
+
+DbResult<std::int64_t> SqliteStore::delete_expired_sessions(UnixMillis now) {
+  sqlite::Query q(delete_expired_sessions_);
+  q.bind_int(now);
+  if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "deleting expired sessions");
+  return static_cast<std::int64_t>(sqlite3_changes64(db_.get()));
+}
+
+// --- matches and stats ---
+
+DbResult<std::vector<double>> SqliteStore::current_ratings(const MatchRecord& match) {
+  std::vector<double> ratings;
+  for (const PlayerResult& p : match.players) {
+    sqlite::Query q(rating_of_);
+    q.bind_int(p.account);
+    const int rc = q.step();
+    if (rc == SQLITE_DONE)
+      return invalid_match("account " + std::to_string(p.account) + " does not exist");
+    if (rc != SQLITE_ROW) return failure(rc, "reading a player's rating");
+    ratings.push_back(q.is_null(0) ? kInitialRating : q.real(0));
+    if (!q.column_error().empty()) return bad_row(q, "reading a player's rating");
+  }
+  return ratings;
+}
+
+DbStatus SqliteStore::write_match(const MatchRecord& match, MatchId& id) {
+  auto before = current_ratings(match);
+  if (!before) return before.error();
+  std::vector<RatedScore> rated;
+  for (std::size_t i = 0; i < match.players.size(); ++i)
+    rated.push_back({before.value()[i], static_cast<double>(match.players[i].score)});
+  const std::vector<double> after = updated_ratings(rated);
+  std::int32_t top_score = std::numeric_limits<std::int32_t>::min();
+  for (const PlayerResult& p : match.players) top_score = std::max(top_score, p.score);
+
+  {
+    sqlite::Query q(insert_match_);
+    q.bind_text(match.map).bind_text(match.mode).bind_int(match.started_ms);
+    q.bind_int(match.ended_ms).bind_int(match.tick_rate);
+    if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "inserting a match");
+    id = sqlite3_last_insert_rowid(db_.get());
+  }
+  for (std::size_t i = 0; i < match.players.size(); ++i) {
+    const PlayerResult& p = match.players[i];
+    sqlite::Query q(insert_match_player_);
+    q.bind_int(id).bind_int(p.account).bind_int(p.kills).bind_int(p.deaths).bind_int(p.score);
+    q.bind_int(p.shots).bind_int(p.hits).bind_real(p.damage_dealt).bind_real(p.damage_taken);
+    q.bind_real(p.seconds_played).bind_real(before.value()[i]).bind_real(after[i]);
+    if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "inserting a match player");
+  }
+  for (std::size_t i = 0; i < match.players.size(); ++i) {
+    const PlayerResult& p = match.players[i];
+    sqlite::Query q(upsert_stats_);
+    q.bind_int(p.account).bind_int(p.score == top_score ? 1 : 0).bind_int(p.kills);
+    q.bind_int(p.deaths).bind_int(p.score).bind_int(p.shots).bind_int(p.hits);
+    q.bind_real(p.damage_dealt).bind_real(p.damage_taken).bind_real(p.seconds_played);
+    q.bind_real(after[i]);
+    if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "updating a player's stats");
+  }
+  return {};
+}
+
+DbResult<MatchId> SqliteStore::record_match(const MatchRecord& match) {
+  if (std::string problem = check_match(match); !problem.empty())
+    return invalid_match(std::move(problem));
+  sqlite::Transaction transaction(db_.get());
+  if (const int rc = transaction.begin(); rc != SQLITE_OK)
+    return failure(rc, "starting the match transaction");
+  MatchId id = 0;
+  if (DbStatus written = write_match(match, id); !written) return written.error();
+  if (const int rc = transaction.commit(); rc != SQLITE_OK)
+    return failure(rc, "committing a match");
+  return id;
+}
+
+DbResult<std::int64_t> SqliteStore::match_count() {
+  sqlite::Query q(match_count_);
+  if (const int rc = q.step(); rc != SQLITE_ROW) return failure(rc, "counting matches");
+  const std::int64_t count = q.integer(0);
+  if (!q.column_error().empty()) return bad_row(q, "counting matches");
+  return count;
+}
+
+DbResult<PlayerStats> SqliteStore::player_stats(AccountId id) {
+  sqlite::Query q(player_stats_);
+  q.bind_int(id);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return unknown_account(id);
+  if (rc != SQLITE_ROW) return failure(rc, "reading player stats");
+  PlayerStats stats;
+  stats.account = id;
+  stats.username = q.text(0);
+  if (q.integer(1) != 0) {  // has a stats row
+    stats.matches = q.integer(2);
+    stats.wins = q.integer(3);
+    stats.kills = q.integer(4);
+    stats.deaths = q.integer(5);
+    stats.score = q.integer(6);
+    stats.shots = q.integer(7);
+    stats.hits = q.integer(8);
+    stats.damage_dealt = q.real(9);
+    stats.damage_taken = q.real(10);
+    stats.seconds_played = q.real(11);
+    stats.rating = q.real(12);
+  }
+  if (!q.column_error().empty()) return bad_row(q, "reading player stats");
+  return stats;
+}
+
+// --- leaderboards ---
+
+/// Reads a board value: kills are integers, rating and win rate reals.
+double board_value(sqlite::Query& q, int column, LeaderboardKind kind) {
+  return kind == LeaderboardKind::Kills ? static_cast<double>(q.integer(column)) : q.real(column);
+}
+
+DbResult<std::vector<LeaderboardEntry>> SqliteStore::leaderboard(LeaderboardKind kind, int limit,
+                                                                 std::int64_t min_matches) {
+  std::vector<LeaderboardEntry> entries;
+  if (limit <= 0) return entries;  // SQLite reads a negative LIMIT as "no limit"
+  sqlite::Query q(top_[board_index(kind)]);
+  q.bind_int(limit);
+  if (kind == LeaderboardKind::WinRate) q.bind_int(std::max<std::int64_t>(min_matches, 1));
+  int rc;
+  while ((rc = q.step()) == SQLITE_ROW) {
+    LeaderboardEntry e;
+    e.account = q.integer(0);
+    e.username = q.text(1);
+    e.value = board_value(q, 2, kind);
+    e.matches = q.integer(3);
+    if (!q.column_error().empty()) return bad_row(q, "reading a leaderboard");
+    // Rows come best first, so an entry ranks after everything above it unless it ties.
+    const bool ties = !entries.empty() && entries.back().value == e.value;
+    e.rank = ties ? entries.back().rank : static_cast<std::int64_t>(entries.size()) + 1;
+    entries.push_back(std::move(e));
+  }
+  if (rc != SQLITE_DONE) return failure(rc, "reading a leaderboard");
+  return entries;
+}
+
+DbResult<std::optional<LeaderboardEntry>> SqliteStore::rank_of(AccountId id, LeaderboardKind kind,
+                                                               std::int64_t min_matches) {
+  const std::int64_t needed =
+      kind == LeaderboardKind::WinRate ? std::max<std::int64_t>(min_matches, 1) : 1;
+  LeaderboardEntry e;
+  e.account = id;
+  {
+    sqlite::Query q(entry_of_[board_index(kind)]);
+    q.bind_int(id);
+    const int rc = q.step();
+    if (rc == SQLITE_DONE) return unknown_account(id);
+    if (rc != SQLITE_ROW) return failure(rc, "reading a leaderboard entry");
+    if (q.is_null(1)) return std::optional<LeaderboardEntry>();  // never played
+    e.username = q.text(0);
+    e.matches = q.integer(1);
+    e.value = board_value(q, 2, kind);
+    if (!q.column_error().empty()) return bad_row(q, "reading a leaderboard entry");
+  }
+  if (e.matches < needed) return std::optional<LeaderboardEntry>();
+  sqlite::Query q(count_better_[board_index(kind)]);
+  if (kind == LeaderboardKind::Kills)
+    q.bind_int(static_cast<std::int64_t>(e.value));
+  else
+    q.bind_real(e.value);
+  if (kind == LeaderboardKind::WinRate) q.bind_int(needed);
+  if (const int rc = q.step(); rc != SQLITE_ROW) return failure(rc, "ranking an account");
+  e.rank = q.integer(0) + 1;
+  if (!q.column_error().empty()) return bad_row(q, "ranking an account");
+  return std::optional<LeaderboardEntry>(std::move(e));
+}
+
+// --- opening ---
+
+/// Runs a PRAGMA that answers with one text row and checks the answer.
+DbStatus set_pragma(sqlite3* db, const std::string& path, const char* sql, const char* expected) {
+  std::string answer;
+  if (const int rc = sqlite::single_text(db, sql, answer); rc != SQLITE_OK)
+    return sqlite::error_from(db, rc, path, sql);
+  if (answer != expected)
+    return DbError{DbErrorCode::Storage,
+                   path + ": " + sql + " answered '" + answer + "', expected '" + expected + "'"};
+  return {};
+}
+
+DbStatus check_integrity(sqlite3* db, const std::string& path) {
+  std::string answer;
+  if (const int rc = sqlite::single_text(db, "PRAGMA quick_check", answer); rc != SQLITE_OK)
+    return sqlite::error_from(db, rc, path, "PRAGMA quick_check");
+  if (answer != "ok")
+    return DbError{DbErrorCode::CorruptDatabase, path +
+                                                     " is damaged (PRAGMA quick_check: " + answer +
+                                                     "); restore it from a backup or move it away"};
+  return {};
+}
+
+DbStatus configure(sqlite3* db, const SqliteOptions& options) {
+  const std::string& path = options.path;
+  // WAL: readers never block the writer, and a commit is one append to the log.
+  if (DbStatus s = set_pragma(db, path, "PRAGMA journal_mode = WAL", "wal"); !s) {
+    DbError e = s.error();
+    if (e.code == DbErrorCode::Storage)
+      e.message += "; WAL needs a database file on a local filesystem";
+    return e;
+  }
+  const char* synchronous =
+      options.synchronous_full ? "PRAGMA synchronous = FULL" : "PRAGMA synchronous = NORMAL";
+  if (const int rc = sqlite::exec(db, synchronous); rc != SQLITE_OK)
+    return sqlite::error_from(db, rc, path, synchronous);
+  if (const int rc = sqlite::exec(db, "PRAGMA foreign_keys = ON"); rc != SQLITE_OK)
+    return sqlite::error_from(db, rc, path, "PRAGMA foreign_keys = ON");
+  // Setting the pragma is silently ignored by an SQLite built without foreign keys.
+  return set_pragma(db, path, "PRAGMA foreign_keys", "1");
+}
+
+}  // namespace
+
+DbResult<std::unique_ptr<Store>> open_sqlite_store(const SqliteOptions& options) {
+  const std::string& path = options.path;
+  if (path.empty())
+    return DbError{DbErrorCode::CannotOpen, "no database file given (SqliteOptions::path)"};
+  if (options.busy_timeout_ms < 0)
+    return DbError{DbErrorCode::CannotOpen, path + ": busy_timeout_ms must be >= 0, got " +
+                                                std::to_string(options.busy_timeout_ms)};
+  sqlite::Connection db;  // closed on every return below, even when opening failed
+  const int rc = sqlite::open(
+      path,
+      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX | SQLITE_OPEN_EXRESCODE, db);
+  if (rc != SQLITE_OK) {
+    DbError e = sqlite::error_from(db.get(), rc, path, "opening the database");
+    e.code = DbErrorCode::CannotOpen;
+    return e;
+  }
+  // SQLite falls back to read-only when the file cannot be written; the store must write.
+  if (sqlite3_db_readonly(db.get(), "main") == 1)
+    return DbError{DbErrorCode::CannotOpen,
+                   path + " can only be opened read-only; check the file's permissions"};
+  sqlite3_busy_timeout(db.get(), options.busy_timeout_ms);
+
+  if (auto version = read_schema_version(db.get(), path); !version) return version.error();
+  if (DbStatus s = check_integrity(db.get(), path); !s) return s.error();
+  if (DbStatus s = configure(db.get(), options); !s) return s.error();
+  if (DbStatus s = apply_migrations(db.get(), path); !s) return s.error();
+
+  auto store = std::make_unique<SqliteStore>(path, std::move(db));
+  if (DbStatus s = store->prepare_statements(); !s) return s.error();
+  return std::unique_ptr<Store>(std::move(store));
+}
+
+}  // namespace ricochet::db

@@ -1,0 +1,273 @@
+// Accounts over a real SQLite file: usernames, Argon2id passwords, sessions, bans, rate limits,
+// each refusal with its own error code and a message.
+
+#include "ricochet/db/accounts.h"
+
+#include <sqlite3.h>
+
+#include "db_test_util.h"
+
+namespace ricochet::db::test {
+namespace {
+
+constexpr UnixMillis kT0 = 1'700'000'000'000;  // a fixed "now"
+
+AccountsOptions fast_options() {
+  AccountsOptions o;
+  o.cost = PasswordCost::Minimum;  // tests check the rules, not Argon2id's cost
+  return o;
+}
+
+/// One text or blob value from the database file through a separate raw connection.
+std::string query_one(const std::string& path, const char* sql) {
+  sqlite3* raw = nullptr;
+  std::string out;
+  if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(raw, sql, -1, &stmt, nullptr) == SQLITE_OK &&
+        sqlite3_step(stmt) == SQLITE_ROW) {
+      const auto* bytes = static_cast<const char*>(sqlite3_column_blob(stmt, 0));
+      out.assign(bytes ? bytes : "", static_cast<std::size_t>(sqlite3_column_bytes(stmt, 0)));
+    }
+    sqlite3_finalize(stmt);
+  }
+  sqlite3_close(raw);
+  return out;
+}
+
+class AccountsTest : public ::testing::Test {
+ protected:
+  void SetUp() override { open(fast_options()); }
+  void open(const AccountsOptions& options) {
+    accounts_.reset();
+    store_ = must(open_sqlite_store({.path = path_}), "open_sqlite_store");
+    accounts_ = std::make_unique<Accounts>(*store_, options);
+  }
+  Accounts& accounts() { return *accounts_; }
+  AccountId register_ok(const std::string& name, const std::string& password = "correct horse") {
+    return must(accounts().register_account(name, password, kT0), "register_account");
+  }
+  std::uint64_t errors(DbErrorCode code) const {
+    return accounts_->counters().errors[static_cast<std::size_t>(code)];
+  }
+
+  TempDir dir_;
+  std::string path_ = dir_.file("ricochet.db");
+  std::unique_ptr<Store> store_;
+  std::unique_ptr<Accounts> accounts_;
+};
+
+TEST_F(AccountsTest, RegisterLoginAndCheckTheSession) {
+  const AccountId id = register_ok("Alice");
+  const LoginResult login =
+      must(accounts().login("Alice", "correct horse", "10.0.0.1", kT0 + 5), "login");
+  EXPECT_EQ(login.account, id);
+  EXPECT_EQ(login.token.size(), 64u);
+  EXPECT_EQ(login.token.find_first_not_of("0123456789abcdef"), std::string::npos);
+  EXPECT_EQ(login.expires_ms, kT0 + 5 + 24 * 3600 * 1000LL);
+  const SessionInfo session = must(accounts().check_session(login.token, kT0 + 10), "check");
+  EXPECT_EQ(session.account, id);
+  EXPECT_EQ(session.username, "Alice");
+  const Account account = must(store_->account(id), "account");
+  EXPECT_EQ(account.created_ms, kT0);
+  EXPECT_EQ(account.last_login_ms, kT0 + 5);
+  // Two logins give two different tokens, both valid.
+  const LoginResult again = must(accounts().login("alice", "correct horse", "", kT0 + 6), "login");
+  EXPECT_NE(again.token, login.token);
+  EXPECT_TRUE(accounts().check_session(login.token, kT0 + 10).ok());
+  EXPECT_TRUE(accounts().check_session(again.token, kT0 + 10).ok());
+}
+
+TEST_F(AccountsTest, OnlyHashesAreStored) {
+  register_ok("bob", "open sesame 123");
+  const LoginResult login = must(accounts().login("bob", "open sesame 123", "", kT0), "login");
+  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  EXPECT_EQ(hash.rfind("$argon2id$", 0), 0u) << hash;
+  EXPECT_EQ(hash.find("open sesame"), std::string::npos);
+  const std::string token_hash = query_one(path_, "SELECT token_hash FROM sessions");
+  EXPECT_EQ(token_hash.size(), 32u);
+  EXPECT_EQ(token_hash.find(login.token.substr(0, 16)), std::string::npos);
+}
+
+TEST_F(AccountsTest, DefaultCostIsArgon2idInteractive) {
+  open(AccountsOptions{});
+  register_ok("carol");
+  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  // libsodium's interactive limits: 64 MiB, 2 passes.
+  EXPECT_EQ(hash.rfind("$argon2id$v=19$m=65536,t=2,p=1$", 0), 0u) << hash;
+}
+
+TEST_F(AccountsTest, LoginRehashesAPasswordMadeWithOtherLimits) {
+  register_ok("dave");  // Minimum cost
+  open(AccountsOptions{});
+  ASSERT_TRUE(accounts().login("dave", "correct horse", "", kT0).ok());
+  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  EXPECT_EQ(hash.rfind("$argon2id$v=19$m=65536,t=2,p=1$", 0), 0u) << hash;
+  EXPECT_TRUE(accounts().login("dave", "correct horse", "", kT0 + 1).ok());
+}
+
+TEST_F(AccountsTest, UsernameRules) {
+  const std::vector<std::string> bad_names = {
+      "",      "ab",    "abcdefghijklmnopqrstuvwxy", "a b",
+      "name!", "émile", std::string("nul\0byte", 8), "semi;colon",
+      "quote'"};
+  for (const std::string& bad : bad_names) {
+    EXPECT_TRUE(fails_with(accounts().register_account(bad, "correct horse", kT0),
+                           DbErrorCode::InvalidUsername))
+        << "'" << bad << "'";
+  }
+  for (const std::string good : {"abc", "abcdefghijklmnopqrstuvwx", "a_b-c.d", "ZZ9"}) {
+    EXPECT_TRUE(accounts().register_account(good, "correct horse", kT0).ok()) << good;
+  }
+  EXPECT_EQ(errors(DbErrorCode::InvalidUsername), 9u);
+}
+
+TEST_F(AccountsTest, UsernamesAreUniqueIgnoringCase) {
+  register_ok("Alice");
+  EXPECT_TRUE(fails_with(accounts().register_account("alice", "correct horse", kT0),
+                         DbErrorCode::DuplicateUsername));
+  EXPECT_TRUE(fails_with(accounts().register_account("ALICE", "correct horse", kT0),
+                         DbErrorCode::DuplicateUsername));
+  EXPECT_TRUE(accounts().login("aLiCe", "correct horse", "", kT0).ok());
+  EXPECT_EQ(errors(DbErrorCode::DuplicateUsername), 2u);
+}
+
+TEST_F(AccountsTest, PasswordRules) {
+  EXPECT_TRUE(fails_with(accounts().register_account("erin", "", kT0), DbErrorCode::EmptyPassword));
+  EXPECT_TRUE(fails_with(accounts().register_account("erin", "1234567", kT0),
+                         DbErrorCode::PasswordTooShort));
+  EXPECT_TRUE(fails_with(accounts().register_account("erin", std::string(1025, 'x'), kT0),
+                         DbErrorCode::PasswordTooLong));
+  EXPECT_TRUE(accounts().register_account("erin", "12345678", kT0).ok());
+  EXPECT_TRUE(fails_with(accounts().login("erin", std::string(5000, 'x'), "", kT0),
+                         DbErrorCode::PasswordTooLong));
+}
+
+TEST_F(AccountsTest, WrongPasswordAndUnknownNameLookTheSameAndCostTheSame) {
+  register_ok("frank");
+  const std::uint64_t checks = accounts().counters().password_checks;
+  const auto wrong = accounts().login("frank", "wrong horse", "", kT0);
+  const auto unknown = accounts().login("nobody", "wrong horse", "", kT0);
+  const auto invalid = accounts().login("x", "wrong horse", "", kT0);
+  for (const auto* r : {&wrong, &unknown, &invalid}) {
+    ASSERT_TRUE(fails_with(*r, DbErrorCode::WrongCredentials));
+    EXPECT_EQ(r->error().message, "wrong username or password");
+  }
+  // Each attempt ran exactly one Argon2id verification (a dummy one for unknown names).
+  EXPECT_EQ(accounts().counters().password_checks - checks, 3u);
+}
+
+TEST_F(AccountsTest, BannedAccountsCannotLogInAndLoseTheirSessions) {
+  const AccountId id = register_ok("grace");
+  const LoginResult login = must(accounts().login("grace", "correct horse", "", kT0), "login");
+  RICOCHET_DB_ASSERT_OK(accounts().set_banned(id, true));
+  EXPECT_TRUE(
+      fails_with(accounts().check_session(login.token, kT0 + 1), DbErrorCode::UnknownSession));
+  EXPECT_TRUE(fails_with(accounts().login("grace", "correct horse", "", kT0 + 2),
+                         DbErrorCode::AccountBanned));
+  // A wrong password on a banned account still says wrong credentials: the ban is only shown to
+  // whoever knows the password.
+  EXPECT_TRUE(fails_with(accounts().login("grace", "bad horse", "", kT0 + 2),
+                         DbErrorCode::WrongCredentials));
+  RICOCHET_DB_ASSERT_OK(accounts().set_banned(id, false));
+  EXPECT_TRUE(accounts().login("grace", "correct horse", "", kT0 + 3).ok());
+  EXPECT_TRUE(fails_with(accounts().set_banned(9999, true), DbErrorCode::UnknownAccount));
+}
+
+TEST_F(AccountsTest, SessionsExpire) {
+  AccountsOptions o = fast_options();
+  o.session_lifetime_ms = 1000;
+  open(o);
+  register_ok("heidi");
+  const LoginResult login = must(accounts().login("heidi", "correct horse", "", kT0), "login");
+  EXPECT_TRUE(accounts().check_session(login.token, kT0 + 999).ok());
+  EXPECT_TRUE(
+      fails_with(accounts().check_session(login.token, kT0 + 1000), DbErrorCode::ExpiredSession));
+  // An expired session is removed once seen.
+  EXPECT_TRUE(
+      fails_with(accounts().check_session(login.token, kT0 + 1001), DbErrorCode::UnknownSession));
+}
+
+TEST_F(AccountsTest, RevokedAndMalformedTokensAreUnknown) {
+  register_ok("ivan");
+  const LoginResult login = must(accounts().login("ivan", "correct horse", "", kT0), "login");
+  RICOCHET_DB_ASSERT_OK(accounts().revoke_session(login.token));
+  EXPECT_TRUE(fails_with(accounts().check_session(login.token, kT0), DbErrorCode::UnknownSession));
+  EXPECT_TRUE(fails_with(accounts().revoke_session(login.token), DbErrorCode::UnknownSession));
+  std::string upper = login.token;
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  const std::vector<std::string> bad_tokens = {
+      std::string(), "xyz", login.token.substr(1), upper, std::string(64, 'g'), login.token + "0"};
+  for (const std::string& bad : bad_tokens) {
+    EXPECT_TRUE(fails_with(accounts().check_session(bad, kT0), DbErrorCode::UnknownSession)) << bad;
+  }
+}
+
+TEST_F(AccountsTest, ChangePassword) {
+  const AccountId id = register_ok("judy");
+  const LoginResult login = must(accounts().login("judy", "correct horse", "", kT0), "login");
+  EXPECT_TRUE(fails_with(accounts().change_password(id, "wrong horse", "battery staple"),
+                         DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(fails_with(accounts().change_password(id, "correct horse", "short"),
+                         DbErrorCode::PasswordTooShort));
+  EXPECT_TRUE(
+      fails_with(accounts().change_password(id, "correct horse", ""), DbErrorCode::EmptyPassword));
+  RICOCHET_DB_ASSERT_OK(accounts().change_password(id, "correct horse", "battery staple"));
+  EXPECT_TRUE(fails_with(accounts().check_session(login.token, kT0), DbErrorCode::UnknownSession));
+  EXPECT_TRUE(fails_with(accounts().login("judy", "correct horse", "", kT0),
+                         DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(accounts().login("judy", "battery staple", "", kT0).ok());
+  EXPECT_TRUE(fails_with(accounts().change_password(4242, "x", "battery staple"),
+                         DbErrorCode::UnknownAccount));
+}
+
+TEST_F(AccountsTest, FailedLoginsPerAccountAreRateLimited) {
+  AccountsOptions o = fast_options();
+  o.per_account = {3, 10'000};
+  open(o);
+  register_ok("mallory");
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(fails_with(accounts().login("mallory", "guess", "", kT0 + i),
+                           DbErrorCode::WrongCredentials));
+  }
+  const std::uint64_t checks = accounts().counters().password_checks;
+  // Now even the right password is refused, and no hash is computed for it.
+  EXPECT_TRUE(fails_with(accounts().login("MALLORY", "correct horse", "", kT0 + 5),
+                         DbErrorCode::RateLimited));
+  EXPECT_EQ(accounts().counters().password_checks, checks);
+  // Once the oldest failure leaves the 10 s window, one more attempt is allowed.
+  EXPECT_TRUE(accounts().login("mallory", "correct horse", "", kT0 + 10'001).ok());
+  // A success clears the account's failures.
+  EXPECT_TRUE(fails_with(accounts().login("mallory", "guess", "", kT0 + 10'002),
+                         DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(accounts().login("mallory", "correct horse", "", kT0 + 10'003).ok());
+}
+
+TEST_F(AccountsTest, FailedLoginsPerAddressAreRateLimited) {
+  AccountsOptions o = fast_options();
+  o.per_address = {4, 60'000};
+  open(o);
+  register_ok("oscar");
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_TRUE(fails_with(accounts().login("user" + std::to_string(i), "guess", "10.1.1.1", kT0),
+                           DbErrorCode::WrongCredentials));
+  }
+  EXPECT_TRUE(fails_with(accounts().login("oscar", "correct horse", "10.1.1.1", kT0 + 1),
+                         DbErrorCode::RateLimited));
+  EXPECT_TRUE(accounts().login("oscar", "correct horse", "10.2.2.2", kT0 + 1).ok());
+  EXPECT_TRUE(accounts().login("oscar", "correct horse", "10.1.1.1", kT0 + 60'001).ok());
+  EXPECT_EQ(errors(DbErrorCode::RateLimited), 1u);
+  EXPECT_EQ(errors(DbErrorCode::WrongCredentials), 4u);
+}
+
+TEST_F(AccountsTest, StateSurvivesReopening) {
+  register_ok("peggy");
+  const LoginResult login = must(accounts().login("peggy", "correct horse", "", kT0), "login");
+  open(fast_options());
+  EXPECT_TRUE(accounts().check_session(login.token, kT0 + 1).ok());
+  EXPECT_TRUE(fails_with(accounts().register_account("Peggy", "correct horse", kT0),
+                         DbErrorCode::DuplicateUsername));
+}
+
+}  // namespace
+}  // namespace ricochet::db::test

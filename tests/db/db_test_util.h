@@ -1,0 +1,81 @@
+#pragma once
+/// Helpers for the db tests: a fresh temporary directory per test (real files, no mocks) and
+/// assertions on DbResult / DbStatus that print the error.
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "ricochet/db/result.h"
+
+namespace ricochet::db::test {
+
+/// A directory under $TMPDIR (or /tmp) removed with everything in it when the test ends.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "ricochet-db-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline std::string describe(const DbError& e) {
+  return std::string(to_string(e.code)) + ": " + e.message;
+}
+
+template <class T>
+::testing::AssertionResult fails_with(const DbResult<T>& r, DbErrorCode code) {
+  if (r.ok()) return ::testing::AssertionFailure() << "succeeded, expected " << to_string(code);
+  if (r.error().code != code)
+    return ::testing::AssertionFailure()
+           << "failed with " << describe(r.error()) << ", expected " << to_string(code);
+  if (r.error().message.empty()) return ::testing::AssertionFailure() << "empty error message";
+  return ::testing::AssertionSuccess();
+}
+
+inline ::testing::AssertionResult fails_with(const DbStatus& s, DbErrorCode code) {
+  if (s.ok()) return ::testing::AssertionFailure() << "succeeded, expected " << to_string(code);
+  if (s.error().code != code)
+    return ::testing::AssertionFailure()
+           << "failed with " << describe(s.error()) << ", expected " << to_string(code);
+  if (s.error().message.empty()) return ::testing::AssertionFailure() << "empty error message";
+  return ::testing::AssertionSuccess();
+}
+
+/// The value of a result that must succeed; fails the test with the error otherwise.
+template <class T>
+T must(DbResult<T> r, const char* what) {
+  if (!r.ok()) throw std::runtime_error(std::string(what) + ": " + describe(r.error()));
+  return std::move(r).value();
+}
+
+#define RICOCHET_DB_ASSERT_OK(expr)                                                \
+  do {                                                                             \
+    const auto& ricochet_db_s = (expr);                                            \
+    ASSERT_TRUE(ricochet_db_s.ok())                                                \
+        << #expr << ": " << ::ricochet::db::test::describe(ricochet_db_s.error()); \
+  } while (0)
+
+#define RICOCHET_DB_EXPECT_OK(expr)                                                \
+  do {                                                                             \
+    const auto& ricochet_db_s = (expr);                                            \
+    EXPECT_TRUE(ricochet_db_s.ok())                                                \
+        << #expr << ": " << ::ricochet::db::test::describe(ricochet_db_s.error()); \
+  } while (0)
+
+}  // namespace ricochet::db::test

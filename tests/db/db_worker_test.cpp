@@ -1,0 +1,222 @@
+// The DB thread: jobs run off the caller's thread, results come back through the caller's post,
+// in order; a locked database delays results but never blocks the caller; a full queue and a
+// stopped worker answer at once.
+
+#include "ricochet/db/db_worker.h"
+
+#include <sqlite3.h>
+
+#include <atomic>
+#include <chrono>
+#include <future>
+
+#include "db_test_util.h"
+
+namespace ricochet::db::test {
+namespace {
+
+using namespace std::chrono_literals;
+constexpr UnixMillis kT0 = 1'700'000'000'000;
+
+/// The caller's executor: completions queue here and run when the caller drains them.
+class CallerQueue {
+ public:
+  Post post() {
+    return [this](std::function<void()> completion) {
+      std::lock_guard lock(mutex_);
+      pending_.push_back(std::move(completion));
+    };
+  }
+  /// Runs what has arrived; returns how many ran.
+  int drain() {
+    std::deque<std::function<void()>> ready;
+    {
+      std::lock_guard lock(mutex_);
+      ready.swap(pending_);
+    }
+    for (auto& f : ready) f();
+    return static_cast<int>(ready.size());
+  }
+  /// Drains until `done()` or the deadline; the caller keeps "ticking" meanwhile.
+  bool drain_until(const std::function<bool()>& done, std::chrono::milliseconds limit = 10s) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (!done()) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      drain();
+      std::this_thread::sleep_for(1ms);
+    }
+    return true;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::deque<std::function<void()>> pending_;
+};
+
+DbWorkerOptions fast_options() {
+  DbWorkerOptions o;
+  o.accounts.cost = PasswordCost::Minimum;
+  return o;
+}
+
+std::unique_ptr<Store> open_store(const std::string& path, int busy_timeout_ms = 5000) {
+  return must(open_sqlite_store({.path = path, .busy_timeout_ms = busy_timeout_ms}), "open");
+}
+
+TEST(DbWorker, JobsRunOnTheDbThreadAndCompleteOnTheCallers) {
+  TempDir dir;
+  DbWorker worker(open_store(dir.file("w.db")), fast_options());
+  CallerQueue caller;
+  const auto caller_thread = std::this_thread::get_id();
+  std::thread::id job_thread;
+  std::optional<DbResult<AccountId>> result;
+  std::thread::id completion_thread;
+  worker.submit(
+      [&](Accounts& a) {
+        job_thread = std::this_thread::get_id();
+        return a.register_account("alice", "correct horse", kT0);
+      },
+      caller.post(),
+      [&](DbResult<AccountId> r) {
+        completion_thread = std::this_thread::get_id();
+        result = std::move(r);
+      });
+  ASSERT_TRUE(caller.drain_until([&] { return result.has_value(); }));
+  ASSERT_TRUE(result->ok()) << describe(result->error());
+  EXPECT_NE(job_thread, caller_thread);
+  EXPECT_EQ(completion_thread, caller_thread);
+}
+
+TEST(DbWorker, CompletionsArriveInSubmissionOrder) {
+  TempDir dir;
+  DbWorker worker(open_store(dir.file("w.db")), fast_options());
+  CallerQueue caller;
+  std::vector<int> order;
+  for (int i = 0; i < 50; ++i) {
+    worker.submit(
+        [i](Accounts& a) {
+          return a.register_account("user" + std::to_string(i), "correct horse", kT0);
+        },
+        caller.post(),
+        [&order, i](DbResult<AccountId> r) {
+          EXPECT_TRUE(r.ok());
+          order.push_back(i);
+        });
+  }
+  ASSERT_TRUE(caller.drain_until([&] { return order.size() == 50; }));
+  for (int i = 0; i < 50; ++i) EXPECT_EQ(order[i], i);
+  EXPECT_EQ(worker.completed(), 50u);
+}
+
+TEST(DbWorker, ALockedDatabaseIsLatencyNotABlockedCaller) {
+  TempDir dir;
+  const std::string path = dir.file("w.db");
+  DbWorker worker(open_store(path, 10'000), fast_options());
+  // Another process (here: a raw connection) holds the write lock.
+  sqlite3* other = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &other), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(other, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr), SQLITE_OK);
+
+  CallerQueue caller;
+  std::optional<DbResult<AccountId>> result;
+  worker.submit([](Accounts& a) { return a.register_account("bob", "correct horse", kT0); },
+                caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
+  // submit() returned although the database cannot be written; the caller keeps ticking.
+  int ticks = 0;
+  for (; ticks < 50; ++ticks) {
+    caller.drain();
+    std::this_thread::sleep_for(2ms);
+  }
+  EXPECT_FALSE(result.has_value()) << "the write finished while another connection held the lock";
+  ASSERT_EQ(sqlite3_exec(other, "ROLLBACK", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(other);
+  ASSERT_TRUE(caller.drain_until([&] { return result.has_value(); }));
+  EXPECT_TRUE(result->ok()) << describe(result->error());
+  EXPECT_EQ(ticks, 50);
+}
+
+TEST(DbWorker, ALockHeldPastTheBusyTimeoutIsBusy) {
+  TempDir dir;
+  const std::string path = dir.file("w.db");
+  DbWorker worker(open_store(path, 100), fast_options());
+  sqlite3* other = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &other), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(other, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr), SQLITE_OK);
+  CallerQueue caller;
+  std::optional<DbResult<AccountId>> result;
+  worker.submit([](Accounts& a) { return a.register_account("carol", "correct horse", kT0); },
+                caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
+  ASSERT_TRUE(caller.drain_until([&] { return result.has_value(); }));
+  EXPECT_TRUE(fails_with(*result, DbErrorCode::Busy));
+  sqlite3_exec(other, "ROLLBACK", nullptr, nullptr, nullptr);
+  sqlite3_close(other);
+}
+
+TEST(DbWorker, AFullQueueAnswersBusyAtOnce) {
+  TempDir dir;
+  DbWorkerOptions options = fast_options();
+  options.max_queued = 1;
+  DbWorker worker(open_store(dir.file("w.db")), options);
+  CallerQueue caller;
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> blocking{false};
+  std::vector<DbErrorCode> codes;
+  std::vector<bool> oks;
+  const auto record = [&](DbStatus s) {
+    oks.push_back(s.ok());
+    if (!s.ok()) codes.push_back(s.error().code);
+  };
+  // Job 1 holds the DB thread; job 2 waits in the queue; job 3 finds the queue full.
+  worker.submit(
+      [&, released](Accounts&) {
+        blocking = true;
+        released.wait();
+        return DbStatus();
+      },
+      caller.post(), record);
+  while (!blocking) std::this_thread::sleep_for(1ms);
+  worker.submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  worker.submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  EXPECT_EQ(caller.drain(), 1);  // the refusal is already there
+  ASSERT_EQ(codes.size(), 1u);
+  EXPECT_EQ(codes[0], DbErrorCode::Busy);
+  release.set_value();
+  ASSERT_TRUE(caller.drain_until([&] { return oks.size() == 3; }));
+  EXPECT_EQ(std::count(oks.begin(), oks.end(), true), 2);
+}
+
+TEST(DbWorker, StopCompletesQueuedJobsWithStopped) {
+  TempDir dir;
+  auto worker = std::make_unique<DbWorker>(open_store(dir.file("w.db")), fast_options());
+  CallerQueue caller;
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> blocking{false};
+  std::vector<DbStatus> results;
+  const auto record = [&](DbStatus s) { results.push_back(std::move(s)); };
+  worker->submit(
+      [&, released](Accounts&) {
+        blocking = true;
+        released.wait();
+        return DbStatus();
+      },
+      caller.post(), record);
+  while (!blocking) std::this_thread::sleep_for(1ms);
+  for (int i = 0; i < 3; ++i)
+    worker->submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  std::thread stopper([&] { worker->stop(); });
+  std::this_thread::sleep_for(20ms);
+  release.set_value();
+  stopper.join();
+  worker->submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  caller.drain();
+  ASSERT_EQ(results.size(), 5u);
+  EXPECT_TRUE(results[0].ok());  // the running job finished
+  for (std::size_t i = 1; i < results.size(); ++i)
+    EXPECT_TRUE(fails_with(results[i], DbErrorCode::Stopped));
+  worker.reset();  // a second stop in the destructor is harmless
+}
+
+}  // namespace
+}  // namespace ricochet::db::test

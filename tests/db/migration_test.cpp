@@ -1,0 +1,270 @@
+// Opening and migrating SQLite files: a new file ends at the current schema version, reopening
+// changes nothing, concurrent first opens migrate once, and files that cannot be used (newer
+// schema, not a database, truncated, a directory, a missing directory) are refused with the
+// path in the message and without a crash. Also checks that the connection settings (WAL,
+// synchronous, foreign keys, busy timeout) are really in effect on the store's connection.
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <thread>
+
+#include "db_test_util.h"
+#include "migrations.h"
+#include "ricochet/db/store.h"
+#include "sqlite_handle.h"
+
+namespace ricochet::db::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+DbResult<std::unique_ptr<Store>> open_store(const std::string& path) {
+  SqliteOptions options;
+  options.path = path;
+  return open_sqlite_store(options);
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+std::int64_t raw_integer(const std::string& path, const std::string& sql) {
+  sqlite::Connection raw;
+  EXPECT_EQ(sqlite::open(path, SQLITE_OPEN_READONLY, raw), SQLITE_OK);
+  std::int64_t value = -1;
+  EXPECT_EQ(sqlite::single_integer(raw.get(), sql, value), SQLITE_OK)
+      << sql << ": " << sqlite3_errmsg(raw.get());
+  return value;
+}
+
+/// Files in `dir`, by name.
+std::vector<std::string> files_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+::testing::AssertionResult mentions(const DbError& error, const std::string& text) {
+  if (error.message.find(text) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure()
+         << "'" << error.message << "' does not mention '" << text << "'";
+}
+
+TEST(MigrationTest, VersionsAreNumberedFromOne) {
+  const auto migrations = sqlite_migrations();
+  ASSERT_FALSE(migrations.empty());
+  for (std::size_t i = 0; i < migrations.size(); ++i)
+    EXPECT_EQ(migrations[i].version, static_cast<int>(i) + 1);
+  EXPECT_EQ(migrations.back().version, sqlite_schema_version());
+}
+
+TEST(MigrationTest, NewFileEndsAtTheCurrentVersion) {
+  TempDir dir;
+  const std::string path = dir.file("new.db");
+  must(open_store(path), "open");
+  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), sqlite_schema_version());
+  EXPECT_EQ(raw_integer(path,
+                        "SELECT COUNT(*) FROM sqlite_schema WHERE type = 'table' AND name IN"
+                        " ('accounts', 'sessions', 'matches', 'match_players', 'player_stats')"),
+            5);
+}
+
+TEST(MigrationTest, ReopeningIsIdempotent) {
+  TempDir dir;
+  const std::string path = dir.file("again.db");
+  AccountId id = 0;
+  {
+    auto store = must(open_store(path), "first open");
+    id = must(store->insert_account("alice", "alice", "h", 1), "insert");
+  }
+  const std::int64_t objects = raw_integer(path, "SELECT COUNT(*) FROM sqlite_schema");
+  for (int i = 0; i < 3; ++i) {
+    auto store = must(open_store(path), "reopen");
+    EXPECT_EQ(must(store->account(id), "account").username, "alice");
+  }
+  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), sqlite_schema_version());
+  EXPECT_EQ(raw_integer(path, "SELECT COUNT(*) FROM sqlite_schema"), objects);
+  EXPECT_EQ(raw_integer(path, "SELECT COUNT(*) FROM accounts"), 1);
+}
+
+TEST(MigrationTest, ConcurrentFirstOpensMigrateOnce) {
+  TempDir dir;
+  const std::string path = dir.file("race.db");
+  std::vector<std::thread> threads;
+  std::vector<DbStatus> results(4);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    threads.emplace_back([&, i] {
+      auto store = open_store(path);
+      if (!store) results[i] = store.error();
+    });
+  }
+  for (auto& t : threads) t.join();
+  for (const DbStatus& s : results) RICOCHET_DB_EXPECT_OK(s);
+  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), sqlite_schema_version());
+}
+
+TEST(MigrationTest, NewerSchemaIsRefusedAndTheFileLeftAlone) {
+  TempDir dir;
+  const std::string path = dir.file("future.db");
+  const int newer = sqlite_schema_version() + 6;
+  {
+    sqlite::Connection raw;
+    ASSERT_EQ(sqlite::open(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, raw), SQLITE_OK);
+    const std::string sql =
+        "CREATE TABLE future_things (x); PRAGMA user_version = " + std::to_string(newer);
+    ASSERT_EQ(sqlite::exec(raw.get(), sql.c_str()), SQLITE_OK) << sqlite3_errmsg(raw.get());
+  }
+  const std::string before = read_bytes(path);
+  const auto opened = open_store(path);
+  ASSERT_TRUE(fails_with(opened, DbErrorCode::SchemaTooNew));
+  EXPECT_TRUE(mentions(opened.error(), path));
+  EXPECT_TRUE(mentions(opened.error(), "schema version " + std::to_string(newer)));
+  EXPECT_TRUE(mentions(opened.error(), "knows up to " + std::to_string(sqlite_schema_version())));
+  EXPECT_TRUE(mentions(opened.error(), "upgrade Ricochet"));
+  EXPECT_EQ(read_bytes(path), before);
+  EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"future.db"});  // no -wal, no -shm
+}
+
+TEST(MigrationTest, NegativeSchemaVersionIsCorrupt) {
+  TempDir dir;
+  const std::string path = dir.file("negative.db");
+  {
+    sqlite::Connection raw;
+    ASSERT_EQ(sqlite::open(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, raw), SQLITE_OK);
+    ASSERT_EQ(sqlite::exec(raw.get(), "CREATE TABLE t (x); PRAGMA user_version = -3"), SQLITE_OK);
+  }
+  const auto opened = open_store(path);
+  ASSERT_TRUE(fails_with(opened, DbErrorCode::CorruptDatabase));
+  EXPECT_TRUE(mentions(opened.error(), path));
+}
+
+TEST(MigrationTest, GarbageFileIsCorrupt) {
+  TempDir dir;
+  const std::string path = dir.file("garbage.db");
+  const std::string garbage(4096, static_cast<char>(0xAB));
+  write_bytes(path, garbage);
+  const auto opened = open_store(path);
+  ASSERT_TRUE(fails_with(opened, DbErrorCode::CorruptDatabase));
+  EXPECT_TRUE(mentions(opened.error(), path));
+  EXPECT_EQ(read_bytes(path), garbage);
+}
+
+TEST(MigrationTest, TruncatedDatabaseIsCorrupt) {
+  TempDir dir;
+  const std::string path = dir.file("truncated.db");
+  {
+    auto store = must(open_store(path), "open");
+    for (int i = 0; i < 300; ++i) {
+      const std::string name = "player" + std::to_string(i);
+      must(store->insert_account(name, name, std::string(100, 'h'), i), "insert");
+    }
+  }
+  ASSERT_FALSE(fs::exists(path + "-wal")) << "closing should checkpoint and remove the WAL";
+  const auto size = fs::file_size(path);
+  ASSERT_GE(size, 8u * 4096u);
+  fs::resize_file(path, size / 2);
+  const auto opened = open_store(path);
+  ASSERT_TRUE(fails_with(opened, DbErrorCode::CorruptDatabase));
+  EXPECT_TRUE(mentions(opened.error(), path));
+}
+
+TEST(MigrationTest, DirectoryCannotBeOpened) {
+  TempDir dir;
+  const std::string path = dir.file("a-directory");
+  fs::create_directory(path);
+  const auto opened = open_store(path);
+  ASSERT_TRUE(fails_with(opened, DbErrorCode::CannotOpen));
+  EXPECT_TRUE(mentions(opened.error(), path));
+}
+
+TEST(MigrationTest, FileInMissingDirectoryCannotBeOpened) {
+  TempDir dir;
+  const std::string path = dir.file("missing/ricochet.db");
+  const auto opened = open_store(path);
+  ASSERT_TRUE(fails_with(opened, DbErrorCode::CannotOpen));
+  EXPECT_TRUE(mentions(opened.error(), path));
+  EXPECT_FALSE(fs::exists(dir.file("missing")));
+}
+
+TEST(MigrationTest, ReadOnlyFileCannotBeOpened) {
+  if (geteuid() == 0) GTEST_SKIP() << "root can write a read-only file";
+  TempDir dir;
+  const std::string path = dir.file("read-only.db");
+  must(open_store(path), "create");
+  fs::permissions(path, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  const auto opened = open_store(path);
+  ASSERT_TRUE(fails_with(opened, DbErrorCode::CannotOpen));
+  EXPECT_TRUE(mentions(opened.error(), path));
+}
+
+TEST(MigrationTest, EmptyPathCannotBeOpened) {
+  EXPECT_TRUE(fails_with(open_store(""), DbErrorCode::CannotOpen));
+}
+
+// --- connection settings, read on the store's own connection ---
+
+sqlite3* g_opened = nullptr;
+
+int remember_connection(sqlite3* db, const char**, const sqlite3_api_routines*) {
+  g_opened = db;
+  return SQLITE_OK;
+}
+
+/// Opens a store and hands back the sqlite3 handle it opened, caught with an auto-extension
+/// (SQLite calls it for every connection opened in the process).
+std::unique_ptr<Store> open_and_catch_connection(const SqliteOptions& options, sqlite3*& db) {
+  const auto hook = reinterpret_cast<void (*)()>(&remember_connection);
+  g_opened = nullptr;
+  EXPECT_EQ(sqlite3_auto_extension(hook), SQLITE_OK);
+  auto store = must(open_sqlite_store(options), "open");
+  sqlite3_cancel_auto_extension(hook);
+  db = g_opened;
+  return store;
+}
+
+std::int64_t pragma(sqlite3* db, const char* sql) {
+  std::int64_t value = -1;
+  EXPECT_EQ(sqlite::single_integer(db, sql, value), SQLITE_OK) << sql;
+  return value;
+}
+
+TEST(MigrationTest, ConnectionSettingsAreInEffect) {
+  TempDir dir;
+  SqliteOptions options;
+  options.path = dir.file("settings.db");
+  options.busy_timeout_ms = 1234;
+  sqlite3* db = nullptr;
+  auto store = open_and_catch_connection(options, db);
+  ASSERT_NE(db, nullptr);
+  EXPECT_EQ(pragma(db, "PRAGMA synchronous"), 1);  // NORMAL
+  EXPECT_EQ(pragma(db, "PRAGMA foreign_keys"), 1);
+  EXPECT_EQ(pragma(db, "PRAGMA busy_timeout"), 1234);
+  std::string mode;
+  ASSERT_EQ(sqlite::single_text(db, "PRAGMA journal_mode", mode), SQLITE_OK);
+  EXPECT_EQ(mode, "wal");
+  store.reset();
+
+  // The journal mode is kept in the file: a fresh connection sees it too.
+  sqlite::Connection raw;
+  ASSERT_EQ(sqlite::open(options.path, SQLITE_OPEN_READONLY, raw), SQLITE_OK);
+  ASSERT_EQ(sqlite::single_text(raw.get(), "PRAGMA journal_mode", mode), SQLITE_OK);
+  EXPECT_EQ(mode, "wal");
+
+  options.synchronous_full = true;
+  store = open_and_catch_connection(options, db);
+  ASSERT_NE(db, nullptr);
+  EXPECT_EQ(pragma(db, "PRAGMA synchronous"), 2);  // FULL
+}
+
+}  // namespace
+}  // namespace ricochet::db::test
