@@ -70,7 +70,10 @@ std::string Accounts::check_username(std::string_view username) {
 
 template <class T>
 T Accounts::counted(T result) {
-  if (!result.ok()) ++counters_.errors[static_cast<std::size_t>(result.error().code)];
+  if (!result.ok()) {
+    ++counters_.errors[static_cast<std::size_t>(result.error().code)];
+    if (options_.on_refusal) options_.on_refusal(result.error());
+  }
   return result;
 }
 

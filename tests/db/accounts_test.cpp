@@ -260,6 +260,25 @@ TEST_F(AccountsTest, FailedLoginsPerAddressAreRateLimited) {
   EXPECT_EQ(errors(DbErrorCode::WrongCredentials), 4u);
 }
 
+TEST_F(AccountsTest, EveryRefusalIsReportedForLoggingWithoutSecrets) {
+  AccountsOptions o = fast_options();
+  std::vector<DbError> refusals;
+  o.on_refusal = [&](const DbError& e) { refusals.push_back(e); };
+  open(o);
+  register_ok("trent", "secret password 1");
+  (void)accounts().register_account("trent", "secret password 2", kT0);
+  (void)accounts().login("trent", "secret password 3", "10.9.9.9", kT0);
+  (void)accounts().check_session(std::string(64, 'a'), kT0);
+  ASSERT_EQ(refusals.size(), 3u);
+  EXPECT_EQ(refusals[0].code, DbErrorCode::DuplicateUsername);
+  EXPECT_EQ(refusals[1].code, DbErrorCode::WrongCredentials);
+  EXPECT_EQ(refusals[2].code, DbErrorCode::UnknownSession);
+  for (const DbError& e : refusals) {
+    EXPECT_EQ(e.message.find("secret"), std::string::npos) << e.message;
+    EXPECT_EQ(e.message.find(std::string(64, 'a')), std::string::npos) << e.message;
+  }
+}
+
 TEST_F(AccountsTest, StateSurvivesReopening) {
   register_ok("peggy");
   const LoginResult login = must(accounts().login("peggy", "correct horse", "", kT0), "login");

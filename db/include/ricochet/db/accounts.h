@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -46,6 +47,10 @@ struct AccountsOptions {
   RateLimit per_account{5, 60'000};
   RateLimit per_address{20, 60'000};
   std::int64_t min_matches_for_win_rate = 10;
+  /// Called with every refusal (bad name, wrong password, rate limit, storage failure...) after
+  /// it is counted, so the server can log the reason. Runs on the thread calling Accounts (the
+  /// DB thread under DbWorker). Never given a password or a token.
+  std::function<void(const DbError&)> on_refusal;
 };
 
 struct LoginResult {
