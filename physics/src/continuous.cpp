@@ -58,6 +58,24 @@ void WorldImpl::solve_continuous() {
   }
 }
 
+Real WorldImpl::sort_body_move_boxes() {
+  std::vector<SweptBox>& boxes = swept_boxes;
+  boxes.clear();
+  Real widest = 0;
+  for (std::uint32_t s = 0; s < bodies.slot_count(); ++s) {
+    if (!bodies.alive(s) || bodies.has(s, kFlagSensor)) continue;
+    const Vec3& to = bodies.position[s];
+    const Vec3& from = start_position[s];
+    const Vec3 r = Vec3::Constant(bodies.radius[s]);
+    boxes.push_back({from.cwiseMin(to) - r, from.cwiseMax(to) + r, s});
+    widest = std::max(widest, boxes.back().hi.x() - boxes.back().lo.x());
+  }
+  std::sort(boxes.begin(), boxes.end(), [](const SweptBox& x, const SweptBox& y) {
+    return x.lo.x() < y.lo.x() || (x.lo.x() == y.lo.x() && x.body < y.body);
+  });
+  return widest;
+}
+
 /// Fast bodies against every other body (sleeping ones too) by relative motion: sweep and prune
 /// over the boxes around each body's whole move, along x, sorted by box start then slot so the
 /// pair order is deterministic. A pair is tested when one side is a sweeping fast body; each
@@ -66,18 +84,8 @@ void WorldImpl::sweep_bodies_against_bodies() {
   const std::vector<std::uint32_t>& fast = fast_bodies;
   fast_index.assign(bodies.slot_count(), kNotFast);
   for (std::uint32_t k = 0; k < fast.size(); ++k) fast_index[fast[k]] = k;
-  std::vector<SweptBox>& boxes = swept_boxes;
-  boxes.clear();
-  for (std::uint32_t s = 0; s < bodies.slot_count(); ++s) {
-    if (!bodies.alive(s) || bodies.has(s, kFlagSensor)) continue;
-    const Vec3& to = bodies.position[s];
-    const Vec3& from = start_position[s];
-    const Vec3 r = Vec3::Constant(bodies.radius[s]);
-    boxes.push_back({from.cwiseMin(to) - r, from.cwiseMax(to) + r, s});
-  }
-  std::sort(boxes.begin(), boxes.end(), [](const SweptBox& x, const SweptBox& y) {
-    return x.lo.x() < y.lo.x() || (x.lo.x() == y.lo.x() && x.body < y.body);
-  });
+  sort_body_move_boxes();
+  const std::vector<SweptBox>& boxes = swept_boxes;
   const auto sweeps = [&](std::uint32_t s) {
     return fast_index[s] != kNotFast && fast_sweeping[fast_index[s]] != 0;
   };

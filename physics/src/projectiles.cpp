@@ -147,21 +147,9 @@ void WorldImpl::sweep_projectiles_against_statics() {
 /// same way on every run.
 void WorldImpl::sweep_projectiles_against_bodies() {
   const ProjectileStore& p = projectiles;
-  std::vector<SweptBox>& boxes = swept_boxes;
-  boxes.clear();
-  Real widest = 0;
-  for (std::uint32_t s = 0; s < bodies.slot_count(); ++s) {
-    if (!bodies.alive(s) || bodies.has(s, kFlagSensor)) continue;
-    const Vec3& to = bodies.position[s];
-    const Vec3& from = start_position[s];
-    const Vec3 r = Vec3::Constant(bodies.radius[s]);
-    boxes.push_back({from.cwiseMin(to) - r, from.cwiseMax(to) + r, s});
-    widest = std::max(widest, boxes.back().hi.x() - boxes.back().lo.x());
-  }
+  const Real widest = sort_body_move_boxes();
+  const std::vector<SweptBox>& boxes = swept_boxes;
   if (boxes.empty()) return;
-  std::sort(boxes.begin(), boxes.end(), [](const SweptBox& x, const SweptBox& y) {
-    return x.lo.x() < y.lo.x() || (x.lo.x() == y.lo.x() && x.body < y.body);
-  });
   for (ProjectileSweep& sweep : projectile_sweeps) {
     const Vec3 to = sweep.from + sweep.move;
     const Real radius = p.radius[sweep.slot];

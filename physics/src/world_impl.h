@@ -49,6 +49,9 @@ class WorldImpl {
   void solve(Real dt);
   void solve_continuous();
   void sweep_bodies_against_bodies();
+  /// Fills swept_boxes with a box around every live, non-sensor body's whole move this step,
+  /// sorted along x by start then slot (a deterministic order); returns the widest x extent, m.
+  Real sort_body_move_boxes();
   void step_projectiles();
   void sweep_projectiles_against_statics();
   void sweep_projectiles_against_bodies();

@@ -53,6 +53,52 @@ class CallerQueue {
   std::deque<std::function<void()>> pending_;
 };
 
+/// Another process's write lock on the file (here: a raw connection in this process).
+class OtherWriter {
+ public:
+  explicit OtherWriter(const std::string& path) {
+    if (sqlite3_open(path.c_str(), &db_) != SQLITE_OK ||
+        sqlite3_exec(db_, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr) != SQLITE_OK) {
+      throw std::runtime_error("cannot take the write lock on " + path);
+    }
+  }
+  ~OtherWriter() { release(); }
+  OtherWriter(const OtherWriter&) = delete;
+  OtherWriter& operator=(const OtherWriter&) = delete;
+  void release() {
+    if (!db_) return;
+    sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+    sqlite3_close(db_);
+    db_ = nullptr;
+  }
+
+ private:
+  sqlite3* db_ = nullptr;
+};
+
+/// A job that holds the DB thread until released, so later jobs wait in the queue.
+class BlockingJob {
+ public:
+  /// Submits the job and returns once the DB thread is inside it.
+  template <class Done>
+  void submit(DbWorker& worker, Post post, Done done) {
+    std::shared_future<void> released = release_.get_future().share();
+    worker.submit(
+        [this, released](Accounts&) {
+          running_ = true;
+          released.wait();
+          return DbStatus();
+        },
+        std::move(post), std::move(done));
+    while (!running_) std::this_thread::sleep_for(1ms);
+  }
+  void release() { release_.set_value(); }
+
+ private:
+  std::promise<void> release_;
+  std::atomic<bool> running_{false};
+};
+
 DbWorkerOptions fast_options() {
   DbWorkerOptions o;
   o.accounts.cost = PasswordCost::Minimum;
@@ -112,10 +158,7 @@ TEST(DbWorker, ALockedDatabaseIsLatencyNotABlockedCaller) {
   TempDir dir;
   const std::string path = dir.file("w.db");
   DbWorker worker(open_store(path, 10'000), fast_options());
-  // Another process (here: a raw connection) holds the write lock.
-  sqlite3* other = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &other), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(other, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr), SQLITE_OK);
+  OtherWriter other(path);  // another process holds the write lock
 
   CallerQueue caller;
   std::optional<DbResult<AccountId>> result;
@@ -128,8 +171,7 @@ TEST(DbWorker, ALockedDatabaseIsLatencyNotABlockedCaller) {
     std::this_thread::sleep_for(2ms);
   }
   EXPECT_FALSE(result.has_value()) << "the write finished while another connection held the lock";
-  ASSERT_EQ(sqlite3_exec(other, "ROLLBACK", nullptr, nullptr, nullptr), SQLITE_OK);
-  sqlite3_close(other);
+  other.release();
   ASSERT_TRUE(caller.drain_until([&] { return result.has_value(); }));
   EXPECT_TRUE(result->ok()) << describe(result->error());
   EXPECT_EQ(ticks, 50);
@@ -139,17 +181,13 @@ TEST(DbWorker, ALockHeldPastTheBusyTimeoutIsBusy) {
   TempDir dir;
   const std::string path = dir.file("w.db");
   DbWorker worker(open_store(path, 100), fast_options());
-  sqlite3* other = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &other), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(other, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr), SQLITE_OK);
+  OtherWriter other(path);
   CallerQueue caller;
   std::optional<DbResult<AccountId>> result;
   worker.submit([](Accounts& a) { return a.register_account("carol", "correct horse", kT0); },
                 caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
   ASSERT_TRUE(caller.drain_until([&] { return result.has_value(); }));
   EXPECT_TRUE(fails_with(*result, DbErrorCode::Busy));
-  sqlite3_exec(other, "ROLLBACK", nullptr, nullptr, nullptr);
-  sqlite3_close(other);
 }
 
 TEST(DbWorker, AFullQueueAnswersBusyAtOnce) {
@@ -158,9 +196,6 @@ TEST(DbWorker, AFullQueueAnswersBusyAtOnce) {
   options.max_queued = 1;
   DbWorker worker(open_store(dir.file("w.db")), options);
   CallerQueue caller;
-  std::promise<void> release;
-  std::shared_future<void> released = release.get_future().share();
-  std::atomic<bool> blocking{false};
   std::vector<DbErrorCode> codes;
   std::vector<bool> oks;
   const auto record = [&](DbStatus s) {
@@ -168,20 +203,14 @@ TEST(DbWorker, AFullQueueAnswersBusyAtOnce) {
     if (!s.ok()) codes.push_back(s.error().code);
   };
   // Job 1 holds the DB thread; job 2 waits in the queue; job 3 finds the queue full.
-  worker.submit(
-      [&, released](Accounts&) {
-        blocking = true;
-        released.wait();
-        return DbStatus();
-      },
-      caller.post(), record);
-  while (!blocking) std::this_thread::sleep_for(1ms);
+  BlockingJob blocking;
+  blocking.submit(worker, caller.post(), record);
   worker.submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
   worker.submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
   EXPECT_EQ(caller.drain(), 1);  // the refusal is already there
   ASSERT_EQ(codes.size(), 1u);
   EXPECT_EQ(codes[0], DbErrorCode::Busy);
-  release.set_value();
+  blocking.release();
   ASSERT_TRUE(caller.drain_until([&] { return oks.size() == 3; }));
   EXPECT_EQ(std::count(oks.begin(), oks.end(), true), 2);
 }
@@ -190,24 +219,15 @@ TEST(DbWorker, StopCompletesQueuedJobsWithStopped) {
   TempDir dir;
   auto worker = std::make_unique<DbWorker>(open_store(dir.file("w.db")), fast_options());
   CallerQueue caller;
-  std::promise<void> release;
-  std::shared_future<void> released = release.get_future().share();
-  std::atomic<bool> blocking{false};
   std::vector<DbStatus> results;
   const auto record = [&](DbStatus s) { results.push_back(std::move(s)); };
-  worker->submit(
-      [&, released](Accounts&) {
-        blocking = true;
-        released.wait();
-        return DbStatus();
-      },
-      caller.post(), record);
-  while (!blocking) std::this_thread::sleep_for(1ms);
+  BlockingJob blocking;
+  blocking.submit(*worker, caller.post(), record);
   for (int i = 0; i < 3; ++i)
     worker->submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
   std::thread stopper([&] { worker->stop(); });
   std::this_thread::sleep_for(20ms);
-  release.set_value();
+  blocking.release();
   stopper.join();
   worker->submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
   caller.drain();
