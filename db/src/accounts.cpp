@@ -48,9 +48,7 @@ std::string printable(std::string_view s) {
 }  // namespace
 
 Accounts::Accounts(Store& store, AccountsOptions options)
-    : store_(store),
-      options_(options),
-      dummy_hash_(ricochet::db::hash_password("ricochet dummy", options.cost)) {}
+    : store_(store), options_(options), dummy_hash_(hash_password(random_token(), options.cost)) {}
 
 std::string Accounts::check_username(std::string_view username) {
   if (username.size() < kMinUsername || username.size() > kMaxUsername) {
@@ -81,10 +79,6 @@ DbStatus Accounts::counted_status(DbStatus status) {
   return counted(std::move(status));
 }
 
-std::string Accounts::hash_password(std::string_view password) const {
-  return ricochet::db::hash_password(password, options_.cost);
-}
-
 bool Accounts::verify_password(const std::string& hash, std::string_view password) {
   ++counters_.password_checks;
   return password_matches(hash, password);
@@ -112,27 +106,31 @@ void Accounts::note_failure(const std::string& key, UnixMillis now) {
   failures_[key].push_back(now);
 }
 
-DbResult<AccountId> Accounts::register_account(std::string_view username, std::string_view password,
-                                               UnixMillis now) {
+DbStatus Accounts::check_registration(std::string_view username, std::string_view password) {
   if (const std::string why = check_username(username); !why.empty())
-    return counted(DbResult<AccountId>(error(DbErrorCode::InvalidUsername, why)));
-  if (password.empty()) {
-    return counted(
-        DbResult<AccountId>(error(DbErrorCode::EmptyPassword, "password must not be empty")));
-  }
+    return counted_status(error(DbErrorCode::InvalidUsername, why));
+  if (password.empty())
+    return counted_status(error(DbErrorCode::EmptyPassword, "password must not be empty"));
   if (password.size() < options_.min_password_length) {
-    return counted(DbResult<AccountId>(error(
-        DbErrorCode::PasswordTooShort, "password must be at least " +
-                                           std::to_string(options_.min_password_length) +
-                                           " bytes, got " + std::to_string(password.size()))));
+    return counted_status(
+        error(DbErrorCode::PasswordTooShort, "password must be at least " +
+                                                 std::to_string(options_.min_password_length) +
+                                                 " bytes, got " + std::to_string(password.size())));
   }
   if (password.size() > kMaxPasswordBytes) {
-    return counted(
-        DbResult<AccountId>(error(DbErrorCode::PasswordTooLong,
-                                  "password must be at most " + std::to_string(kMaxPasswordBytes) +
-                                      " bytes, got " + std::to_string(password.size()))));
+    return counted_status(error(DbErrorCode::PasswordTooLong,
+                                "password must be at most " + std::to_string(kMaxPasswordBytes) +
+                                    " bytes, got " + std::to_string(password.size())));
   }
-  const std::string hash = hash_password(password);
+  return {};
+}
+
+std::string Accounts::hash_new_password(std::string_view password) const {
+  return hash_password(password, options_.cost);
+}
+
+DbResult<AccountId> Accounts::finish_registration(std::string_view username,
+                                                  const std::string& hash, UnixMillis now) {
   if (hash.empty()) {
     return counted(
         DbResult<AccountId>(error(DbErrorCode::Storage, "password hashing ran out of memory")));
@@ -142,49 +140,81 @@ DbResult<AccountId> Accounts::register_account(std::string_view username, std::s
   return id;
 }
 
-DbResult<LoginResult> Accounts::login(std::string_view username, std::string_view password,
-                                      std::string_view address, UnixMillis now) {
-  using R = DbResult<LoginResult>;
+void Accounts::forget_failure(const std::string& key, UnixMillis when, bool all) {
+  const auto it = failures_.find(key);
+  if (it == failures_.end()) return;
+  std::vector<UnixMillis>& times = it->second;
+  if (all) {
+    times.clear();
+  } else if (const auto t = std::find(times.begin(), times.end(), when); t != times.end()) {
+    times.erase(t);
+  }
+  if (times.empty()) failures_.erase(it);
+}
+
+DbResult<AccountId> Accounts::register_account(std::string_view username, std::string_view password,
+                                               UnixMillis now) {
+  if (DbStatus s = check_registration(username, password); !s.ok()) return s.error();
+  return finish_registration(username, hash_new_password(password), now);
+}
+
+DbResult<Accounts::LoginAttempt> Accounts::begin_login(std::string_view username,
+                                                       std::size_t password_bytes,
+                                                       std::string_view address, UnixMillis now) {
+  using R = DbResult<LoginAttempt>;
   const std::string key = lowercase(username);
-  const std::string account_key = "account:" + key;
-  const std::string address_key = "address:" + std::string(address);
-  if (!address.empty() && over_limit(address_key, options_.per_address, now)) {
+  if (!address.empty() &&
+      over_limit("address:" + std::string(address), options_.per_address, now)) {
     return counted(R(error(DbErrorCode::RateLimited,
                            "too many failed logins from " + printable(address) + "; retry later")));
   }
-  if (over_limit(account_key, options_.per_account, now)) {
+  if (over_limit("account:" + key, options_.per_account, now)) {
     return counted(R(error(DbErrorCode::RateLimited, "too many failed logins for '" +
                                                          printable(username) + "'; retry later")));
   }
-  if (password.size() > kMaxPasswordBytes) {
+  if (password_bytes > kMaxPasswordBytes) {
     return counted(R(error(DbErrorCode::PasswordTooLong,
                            "password must be at most " + std::to_string(kMaxPasswordBytes) +
-                               " bytes, got " + std::to_string(password.size()))));
+                               " bytes, got " + std::to_string(password_bytes))));
   }
-  const auto fail = [&] {
-    note_failure(account_key, now);
-    if (!address.empty()) note_failure(address_key, now);
-    return counted(R(error(DbErrorCode::WrongCredentials, "wrong username or password")));
-  };
-  std::optional<AccountCredentials> found;
+  // Counted as a failure until it succeeds, so attempts in flight at once (the password check
+  // runs elsewhere under DbWorker) cannot slip past the limit together.
+  note_failure("account:" + key, now);
+  if (!address.empty()) note_failure("address:" + std::string(address), now);
+  LoginAttempt attempt;
+  attempt.username = std::string(username);
+  attempt.address = std::string(address);
+  attempt.started_ms = now;
   if (check_username(username).empty()) {
     DbResult<std::optional<AccountCredentials>> lookup = store_.find_account_by_key(key);
     if (!lookup.ok()) return counted(R(lookup.error()));
-    found = std::move(lookup).value();
+    attempt.found = std::move(lookup).value();
   }
-  if (!found) {
-    (void)verify_password(dummy_hash_, password);  // the same work as a real check
-    return fail();
-  }
-  if (!verify_password(found->password_hash, password)) return fail();
-  const Account& account = found->account;
+  // Unknown names are checked against a dummy hash: the same work, so the same time.
+  attempt.hash = attempt.found ? attempt.found->password_hash : dummy_hash_;
+  return attempt;
+}
+
+bool Accounts::password_verifies(const LoginAttempt& attempt, std::string_view password) {
+  return password_matches(attempt.hash, password);
+}
+
+DbResult<LoginResult> Accounts::finish_login(const LoginAttempt& attempt, bool password_ok,
+                                             std::string_view password, UnixMillis now) {
+  using R = DbResult<LoginResult>;
+  ++counters_.password_checks;
+  if (!attempt.found || !password_ok)  // begin_login already counted the failure
+    return counted(R(error(DbErrorCode::WrongCredentials, "wrong username or password")));
+  const Account& account = attempt.found->account;
   if (account.banned) {
     return counted(
         R(error(DbErrorCode::AccountBanned, "account '" + account.username + "' is banned")));
   }
-  failures_.erase(account_key);
-  if (needs_rehash(found->password_hash, options_.cost)) {
-    const std::string rehashed = hash_password(password);
+  forget_failure("account:" + lowercase(attempt.username), attempt.started_ms, true);
+  if (!attempt.address.empty())
+    forget_failure("address:" + attempt.address, attempt.started_ms, false);
+  if (needs_rehash(attempt.found->password_hash, options_.cost)) {
+    const std::string rehashed = hash_new_password(password);
     if (!rehashed.empty()) {
       if (DbStatus s = store_.set_password_hash(account.id, rehashed); !s.ok())
         return counted(R(s.error()));
@@ -202,6 +232,14 @@ DbResult<LoginResult> Accounts::login(std::string_view username, std::string_vie
   if (DbStatus s = store_.set_last_login(account.id, now); !s.ok()) return counted(R(s.error()));
   ++counters_.logins;
   return result;
+}
+
+DbResult<LoginResult> Accounts::login(std::string_view username, std::string_view password,
+                                      std::string_view address, UnixMillis now) {
+  DbResult<LoginAttempt> attempt = begin_login(username, password.size(), address, now);
+  if (!attempt.ok()) return attempt.error();
+  const bool ok = password_verifies(attempt.value(), password);
+  return finish_login(attempt.value(), ok, password, now);
 }
 
 DbResult<SessionInfo> Accounts::check_session(std::string_view token, UnixMillis now) {
@@ -264,7 +302,7 @@ DbStatus Accounts::change_password(AccountId id, std::string_view old_password,
         error(DbErrorCode::PasswordTooLong,
               "new password must be at most " + std::to_string(kMaxPasswordBytes) + " bytes"));
   }
-  const std::string hash = hash_password(new_password);
+  const std::string hash = hash_new_password(new_password);
   if (hash.empty())
     return counted_status(error(DbErrorCode::Storage, "password hashing ran out of memory"));
   if (DbStatus s = store_.set_password_hash(id, hash); !s.ok()) return counted_status(s);

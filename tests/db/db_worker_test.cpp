@@ -238,5 +238,87 @@ TEST(DbWorker, StopCompletesQueuedJobsWithStopped) {
   worker.reset();  // a second stop in the destructor is harmless
 }
 
+TEST(DbWorker, RegisterAndLoginHashOnThePasswordThread) {
+  TempDir dir;
+  DbWorker worker(open_store(dir.file("w.db")), fast_options());
+  CallerQueue caller;
+  std::optional<DbResult<AccountId>> registered;
+  worker.register_account("alice", "correct horse", kT0, caller.post(),
+                          [&](DbResult<AccountId> r) { registered = std::move(r); });
+  ASSERT_TRUE(caller.drain_until([&] { return registered.has_value(); }));
+  ASSERT_TRUE(registered->ok()) << describe(registered->error());
+  std::optional<DbResult<LoginResult>> login, wrong, invalid;
+  worker.login("Alice", "correct horse", "10.0.0.1", kT0 + 1, caller.post(),
+               [&](DbResult<LoginResult> r) { login = std::move(r); });
+  worker.login("alice", "wrong horse", "10.0.0.1", kT0 + 2, caller.post(),
+               [&](DbResult<LoginResult> r) { wrong = std::move(r); });
+  std::optional<DbResult<AccountId>> bad_name;
+  worker.register_account("a!", "correct horse", kT0, caller.post(),
+                          [&](DbResult<AccountId> r) { bad_name = std::move(r); });
+  ASSERT_TRUE(caller.drain_until([&] { return login && wrong && bad_name; }));
+  ASSERT_TRUE(login->ok()) << describe(login->error());
+  EXPECT_EQ(login->value().account, registered->value());
+  EXPECT_TRUE(fails_with(*wrong, DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(fails_with(*bad_name, DbErrorCode::InvalidUsername));
+  // The session is in the store the DB thread uses.
+  std::optional<DbResult<SessionInfo>> session;
+  worker.submit(
+      [token = login->value().token](Accounts& a) { return a.check_session(token, kT0 + 3); },
+      caller.post(), [&](DbResult<SessionInfo> r) { session = std::move(r); });
+  ASSERT_TRUE(caller.drain_until([&] { return session.has_value(); }));
+  EXPECT_TRUE(session->ok());
+}
+
+TEST(DbWorker, ALoginBurstDoesNotHoldUpOtherDatabaseWork) {
+  TempDir dir;
+  DbWorkerOptions options;  // Argon2id at the interactive cost: ~0.1 s per check
+  DbWorker worker(open_store(dir.file("w.db")), options);
+  CallerQueue caller;
+  std::optional<DbResult<AccountId>> registered;
+  worker.register_account("bob", "correct horse", kT0, caller.post(),
+                          [&](DbResult<AccountId> r) { registered = std::move(r); });
+  ASSERT_TRUE(caller.drain_until([&] { return registered.has_value(); }, 60s));
+  ASSERT_TRUE(registered->ok());
+  std::vector<std::string> order;
+  for (int i = 0; i < 3; ++i) {
+    worker.login("bob", "correct horse", "", kT0 + i, caller.post(),
+                 [&order](DbResult<LoginResult> r) {
+                   EXPECT_TRUE(r.ok());
+                   order.push_back("login");
+                 });
+  }
+  worker.submit([](Accounts& a) { return a.player_stats(1); }, caller.post(),
+                [&order](DbResult<PlayerStats> r) {
+                  EXPECT_TRUE(r.ok());
+                  order.push_back("stats");
+                });
+  ASSERT_TRUE(caller.drain_until([&] { return order.size() == 4; }, 60s));
+  // Three Argon2id checks queue on the password thread; the stats read, submitted after them,
+  // is answered before the last of them.
+  EXPECT_NE(order.back(), "stats");
+}
+
+TEST(DbWorker, ConcurrentWrongPasswordsCannotSlipPastTheRateLimit) {
+  TempDir dir;
+  DbWorkerOptions options = fast_options();
+  options.accounts.per_account = {3, 60'000};
+  DbWorker worker(open_store(dir.file("w.db")), options);
+  CallerQueue caller;
+  std::optional<DbResult<AccountId>> registered;
+  worker.register_account("carol", "correct horse", kT0, caller.post(),
+                          [&](DbResult<AccountId> r) { registered = std::move(r); });
+  ASSERT_TRUE(caller.drain_until([&] { return registered.has_value(); }));
+  std::vector<DbErrorCode> codes;
+  for (int i = 0; i < 10; ++i) {
+    worker.login("carol", "guess " + std::to_string(i), "", kT0 + 1, caller.post(),
+                 [&codes](DbResult<LoginResult> r) {
+                   codes.push_back(r.ok() ? DbErrorCode::Stopped : r.error().code);
+                 });
+  }
+  ASSERT_TRUE(caller.drain_until([&] { return codes.size() == 10; }));
+  EXPECT_EQ(std::count(codes.begin(), codes.end(), DbErrorCode::WrongCredentials), 3);
+  EXPECT_EQ(std::count(codes.begin(), codes.end(), DbErrorCode::RateLimited), 7);
+}
+
 }  // namespace
 }  // namespace ricochet::db::test

@@ -85,6 +85,34 @@ class Accounts {
   DbResult<LoginResult> login(std::string_view username, std::string_view password,
                               std::string_view address, UnixMillis now);
   DbResult<SessionInfo> check_session(std::string_view token, UnixMillis now);
+
+  // --- register and login in steps, for a caller that runs Argon2id on another thread ---
+  // (DbWorker does: the DB thread then never spends ~100 ms per login hashing.)
+
+  /// The name and password rules of register_account, without hashing or storing.
+  DbStatus check_registration(std::string_view username, std::string_view password);
+  /// Argon2id at the configured cost. Reads only immutable options: any thread may call it.
+  /// Empty when libsodium could not allocate the memory.
+  std::string hash_new_password(std::string_view password) const;
+  DbResult<AccountId> finish_registration(std::string_view username, const std::string& hash,
+                                          UnixMillis now);
+
+  /// A login between its lookup and its password check.
+  struct LoginAttempt {
+    std::string username;  ///< as given
+    std::string address;
+    std::optional<AccountCredentials> found;  ///< nullopt: unknown (or invalid) name
+    std::string hash;  ///< what the password is checked against: the account's, or a dummy
+    UnixMillis started_ms = 0;
+  };
+  /// Rate limits and the account lookup; no hashing.
+  DbResult<LoginAttempt> begin_login(std::string_view username, std::size_t password_bytes,
+                                     std::string_view address, UnixMillis now);
+  /// The Argon2id check. Touches no state: any thread may call it.
+  static bool password_verifies(const LoginAttempt& attempt, std::string_view password);
+  /// Counts the check, records failures, refuses banned accounts, issues the session.
+  DbResult<LoginResult> finish_login(const LoginAttempt& attempt, bool password_ok,
+                                     std::string_view password, UnixMillis now);
   DbStatus revoke_session(std::string_view token);
   /// Checks the old password first (WrongCredentials); revokes every session of the account.
   DbStatus change_password(AccountId id, std::string_view old_password,
@@ -110,7 +138,8 @@ class Accounts {
   DbStatus counted_status(DbStatus status);
   bool over_limit(const std::string& key, const RateLimit& limit, UnixMillis now);
   void note_failure(const std::string& key, UnixMillis now);
-  std::string hash_password(std::string_view password) const;
+  /// Drops the failure noted at `when` (or, with `all`, every failure) under `key`.
+  void forget_failure(const std::string& key, UnixMillis when, bool all);
   bool verify_password(const std::string& hash, std::string_view password);
 
   Store& store_;

@@ -10,6 +10,13 @@
 /// shows as latency on logins, never as a late tick. When more than `max_queued` jobs wait, a
 /// new job is refused at once with Busy (back-pressure instead of unbounded memory). Jobs still
 /// queued at stop() complete with Stopped.
+///
+/// Argon2id is deliberately slow (~100 ms per hash at interactive cost), so login() and
+/// register_account() run it on separate password threads between two short DB-thread steps:
+///
+///   DB thread: lookup, rate limits ─▶ password thread: Argon2id ─▶ DB thread: session, counters
+///
+/// A burst of logins then delays other logins, not match results or token checks.
 
 #include <condition_variable>
 #include <cstddef>
@@ -17,9 +24,11 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "ricochet/db/accounts.h"
 #include "ricochet/db/store.h"
@@ -31,7 +40,8 @@ using Post = std::function<void(std::function<void()>)>;
 
 struct DbWorkerOptions {
   AccountsOptions accounts;
-  std::size_t max_queued = 10'000;
+  std::size_t max_queued = 10'000;  ///< per queue (DB jobs, password checks)
+  int password_threads = 1;         ///< each Argon2id interactive hash holds 64 MiB while it runs
 };
 
 class DbWorker {
@@ -48,7 +58,14 @@ class DbWorker {
   template <class Job, class Done>
   void submit(Job job, Post post, Done done);
 
-  /// Lets the running job finish, completes the queued ones with Stopped, joins the thread.
+  /// Accounts::login with the password check on a password thread (see above).
+  void login(std::string username, std::string password, std::string address, UnixMillis now,
+             Post post, std::function<void(DbResult<LoginResult>)> done);
+  /// Accounts::register_account with the hashing on a password thread.
+  void register_account(std::string username, std::string password, UnixMillis now, Post post,
+                        std::function<void(DbResult<AccountId>)> done);
+
+  /// Lets the running jobs finish, completes the queued ones with Stopped, joins the threads.
   void stop();
   std::size_t queued() const;
   /// Jobs run so far (for metrics and tests).
@@ -56,8 +73,11 @@ class DbWorker {
 
  private:
   using Task = std::function<void(Accounts*)>;  ///< nullptr: the worker stopped
+  using CpuTask = std::function<void(bool stopped)>;
   bool enqueue(Task task);
+  bool enqueue_cpu(CpuTask task);
   void run();
+  void run_cpu();
 
   std::unique_ptr<Store> store_;
   Accounts accounts_;
@@ -68,6 +88,9 @@ class DbWorker {
   bool stopping_ = false;
   std::size_t completed_ = 0;
   std::thread thread_;
+  std::condition_variable cpu_wake_;
+  std::deque<CpuTask> cpu_queue_;  ///< guarded by mutex_
+  std::vector<std::thread> cpu_threads_;
 };
 
 template <class Job, class Done>
