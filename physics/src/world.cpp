@@ -476,10 +476,14 @@ void WorldImpl::begin_step(Real step_dt) {
   speculative_margin.resize(slots);
   // A contact is created while the gap is below the margin: enough for this step's motion (so
   // nothing sinks in before it is stopped), capped so fast bodies do not inflate the grid.
+  // A fast body moving more than its radius per step is swept instead (solve_continuous), and
+  // keeps only the base margin: a wide speculative contact would stop it against anything it
+  // merely passes within the margin of (a ghost hit).
   const Real base = 4 * def.linear_slop;
   for (std::uint32_t s = 0; s < slots; ++s) {
-    speculative_margin[s] = base + std::min(bodies.motion[s].linear_velocity.norm() * step_dt,
-                                            def.max_speculative_distance);
+    const Real move = bodies.motion[s].linear_velocity.norm() * step_dt;
+    const bool swept = def.enable_continuous && bodies.has(s, kFlagFast) && move > bodies.radius[s];
+    speculative_margin[s] = swept ? base : base + std::min(move, def.max_speculative_distance);
   }
 }
 
