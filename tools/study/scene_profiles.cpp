@@ -131,8 +131,11 @@ void report_profiles(Report& r) {
       "get pushed by bullets, which is what a shooter wants. The hit rates differ the other "
       "way: projectiles are exact swept tests, while the full model counts speculative "
       "contacts, which can stop a fast bullet that would have passed a player within the "
-      "speculative margin (up to 0.25 m). With `max_speculative_distance = 0` the full model's "
-      "hit rate falls to the profile's (measured 19.6 % against 20.2 % when this section was "
+      "speculative margin (a ghost hit). A fast body that moves more than its radius per step "
+      "is swept and keeps only the base margin (4 × linear_slop), which removed most of them "
+      "(the full model's hit rate was 26.9 % before that change); what is left comes from the "
+      "players' own margin (|v|·dt). With `max_speculative_distance = 0` the full model's hit "
+      "rate matched the profile's (19.6 % against 20.2 %, measured when this section was "
       "written). Bullets that must bounce or push stay rigid bodies (`profiles::bullet_body`).");
 }
 
