@@ -19,129 +19,100 @@ DbWorker::~DbWorker() {
   stop();
 }
 
-bool DbWorker::enqueue(Task task) {
+template <class T, class Stopped>
+bool DbWorker::push(std::deque<T>& queue, std::condition_variable& wake, T task, Stopped stopped) {
   std::unique_lock lock(mutex_);
   if (stopping_) {
-    lock.unlock();  // never call back into the caller while holding the queue
-    task(nullptr);
+    lock.unlock();  // never call back into the caller while holding the queues
+    stopped(task);
     return true;
   }
-  if (queue_.size() >= max_queued_) return false;
-  queue_.push_back(std::move(task));
+  if (queue.size() >= max_queued_) return false;
+  queue.push_back(std::move(task));
   lock.unlock();
-  wake_.notify_one();
+  wake.notify_one();
   return true;
+}
+
+template <class T>
+bool DbWorker::pop(std::deque<T>& queue, std::condition_variable& wake, T& task) {
+  std::unique_lock lock(mutex_);
+  wake.wait(lock, [&] { return stopping_ || !queue.empty(); });
+  if (stopping_) return false;
+  task = std::move(queue.front());
+  queue.pop_front();
+  return true;
+}
+
+bool DbWorker::enqueue(Task task) {
+  return push(queue_, wake_, std::move(task), [](Task& t) { t(nullptr); });
 }
 
 bool DbWorker::enqueue_cpu(CpuTask task) {
-  std::unique_lock lock(mutex_);
-  if (stopping_) {
-    lock.unlock();
-    task(true);
-    return true;
-  }
-  if (cpu_queue_.size() >= max_queued_) return false;
-  cpu_queue_.push_back(std::move(task));
-  lock.unlock();
-  cpu_wake_.notify_one();
-  return true;
-}
-
-void DbWorker::run_cpu() {
-  for (;;) {
-    CpuTask task;
-    {
-      std::unique_lock lock(mutex_);
-      cpu_wake_.wait(lock, [&] { return stopping_ || !cpu_queue_.empty(); });
-      if (stopping_) return;
-      task = std::move(cpu_queue_.front());
-      cpu_queue_.pop_front();
-    }
-    task(false);
-  }
-}
-
-void DbWorker::login(std::string username, std::string password, std::string address,
-                     UnixMillis now, Post post, std::function<void(DbResult<LoginResult>)> done) {
-  using R = DbResult<LoginResult>;
-  auto deliver = [post = std::make_shared<Post>(std::move(post)),
-                  done = std::make_shared<std::function<void(R)>>(std::move(done))](R result) {
-    (*post)([done, result = std::move(result)]() mutable { (*done)(std::move(result)); });
-  };
-  const auto stopped = [] { return R(DbError{DbErrorCode::Stopped, "the DB worker stopped"}); };
-  const auto full = [] {
-    return R(DbError{DbErrorCode::Busy, "the DB queue is full; retry later"});
-  };
-  Task lookup = [this, username = std::move(username), password = std::move(password),
-                 address = std::move(address), now, deliver, stopped,
-                 full](Accounts* accounts) mutable {
-    if (!accounts) return deliver(stopped());
-    DbResult<Accounts::LoginAttempt> attempt =
-        accounts->begin_login(username, password.size(), address, now);
-    if (!attempt.ok()) return deliver(attempt.error());
-    auto shared = std::make_shared<Accounts::LoginAttempt>(std::move(attempt).value());
-    CpuTask check = [this, shared, password = std::move(password), now, deliver, stopped,
-                     full](bool is_stopped) mutable {
-      if (is_stopped) return deliver(stopped());
-      const bool ok = Accounts::password_verifies(*shared, password);
-      Task finish = [shared, ok, password = std::move(password), now, deliver,
-                     stopped](Accounts* accounts) {
-        if (!accounts) return deliver(stopped());
-        deliver(accounts->finish_login(*shared, ok, password, now));
-      };
-      if (!enqueue(std::move(finish))) deliver(full());
-    };
-    if (!enqueue_cpu(std::move(check))) deliver(full());
-  };
-  if (!enqueue(std::move(lookup))) deliver(full());
-}
-
-void DbWorker::register_account(std::string username, std::string password, UnixMillis now,
-                                Post post, std::function<void(DbResult<AccountId>)> done) {
-  using R = DbResult<AccountId>;
-  auto deliver = [post = std::make_shared<Post>(std::move(post)),
-                  done = std::make_shared<std::function<void(R)>>(std::move(done))](R result) {
-    (*post)([done, result = std::move(result)]() mutable { (*done)(std::move(result)); });
-  };
-  const auto stopped = [] { return R(DbError{DbErrorCode::Stopped, "the DB worker stopped"}); };
-  const auto full = [] {
-    return R(DbError{DbErrorCode::Busy, "the DB queue is full; retry later"});
-  };
-  Task check = [this, username = std::move(username), password = std::move(password), now, deliver,
-                stopped, full](Accounts* accounts) mutable {
-    if (!accounts) return deliver(stopped());
-    if (DbStatus s = accounts->check_registration(username, password); !s.ok())
-      return deliver(s.error());
-    CpuTask hash = [this, accounts, username = std::move(username), password = std::move(password),
-                    now, deliver, stopped, full](bool is_stopped) mutable {
-      if (is_stopped) return deliver(stopped());
-      std::string hashed = accounts->hash_new_password(password);
-      Task store = [username = std::move(username), hashed = std::move(hashed), now, deliver,
-                    stopped](Accounts* accounts) {
-        if (!accounts) return deliver(stopped());
-        deliver(accounts->finish_registration(username, hashed, now));
-      };
-      if (!enqueue(std::move(store))) deliver(full());
-    };
-    if (!enqueue_cpu(std::move(hash))) deliver(full());
-  };
-  if (!enqueue(std::move(check))) deliver(full());
+  return push(cpu_queue_, cpu_wake_, std::move(task), [](CpuTask& t) { t(true); });
 }
 
 void DbWorker::run() {
-  for (;;) {
-    Task task;
-    {
-      std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
-      if (stopping_) return;
-      task = std::move(queue_.front());
-      queue_.pop_front();
-    }
+  Task task;
+  while (pop(queue_, wake_, task)) {
     task(&accounts_);
     std::lock_guard lock(mutex_);
     ++completed_;
   }
+}
+
+void DbWorker::run_cpu() {
+  CpuTask task;
+  while (pop(cpu_queue_, cpu_wake_, task)) task(false);
+}
+
+void DbWorker::login(std::string username, std::string password, std::string address,
+                     UnixMillis now, Post post, std::function<void(DbResult<LoginResult>)> done) {
+  const detail::Delivery<DbResult<LoginResult>> deliver(std::move(post), std::move(done));
+  Task lookup = [this, username = std::move(username), password = std::move(password),
+                 address = std::move(address), now, deliver](Accounts* accounts) mutable {
+    if (!accounts) return deliver.stopped();
+    DbResult<Accounts::LoginAttempt> attempt =
+        accounts->begin_login(username, password.size(), address, now);
+    if (!attempt.ok()) return deliver(attempt.error());
+    auto shared = std::make_shared<Accounts::LoginAttempt>(std::move(attempt).value());
+    CpuTask check = [this, shared, password = std::move(password), now,
+                     deliver](bool stopped) mutable {
+      if (stopped) return deliver.stopped();
+      const bool ok = Accounts::password_verifies(*shared, password);
+      Task finish = [shared, ok, password = std::move(password), now, deliver](Accounts* accounts) {
+        if (!accounts) return deliver.stopped();
+        deliver(accounts->finish_login(*shared, ok, password, now));
+      };
+      if (!enqueue(std::move(finish))) deliver.queue_full();
+    };
+    if (!enqueue_cpu(std::move(check))) deliver.queue_full();
+  };
+  if (!enqueue(std::move(lookup))) deliver.queue_full();
+}
+
+void DbWorker::register_account(std::string username, std::string password, UnixMillis now,
+                                Post post, std::function<void(DbResult<AccountId>)> done) {
+  const detail::Delivery<DbResult<AccountId>> deliver(std::move(post), std::move(done));
+  Task check = [this, username = std::move(username), password = std::move(password), now,
+                deliver](Accounts* accounts) mutable {
+    if (!accounts) return deliver.stopped();
+    if (DbStatus s = accounts->check_registration(username, password); !s.ok())
+      return deliver(s.error());
+    CpuTask hash = [this, accounts, username = std::move(username), password = std::move(password),
+                    now, deliver](bool stopped) mutable {
+      if (stopped) return deliver.stopped();
+      std::string hashed = accounts->hash_new_password(password);
+      Task store = [username = std::move(username), hashed = std::move(hashed), now,
+                    deliver](Accounts* accounts) {
+        if (!accounts) return deliver.stopped();
+        deliver(accounts->finish_registration(username, hashed, now));
+      };
+      if (!enqueue(std::move(store))) deliver.queue_full();
+    };
+    if (!enqueue_cpu(std::move(hash))) deliver.queue_full();
+  };
+  if (!enqueue(std::move(check))) deliver.queue_full();
 }
 
 void DbWorker::stop() {

@@ -38,6 +38,32 @@ namespace ricochet::db {
 /// Runs a completion on the caller's executor.
 using Post = std::function<void(std::function<void()>)>;
 
+namespace detail {
+
+/// Hands one job's result to the caller through its post; also the answers of a worker that
+/// is stopped or whose queue is full. Copies share the post and the completion.
+template <class R>
+class Delivery {
+ public:
+  template <class Done>
+  Delivery(Post post, Done done)
+      : post_(std::make_shared<Post>(std::move(post))),
+        done_(std::make_shared<std::function<void(R)>>(std::move(done))) {}
+  void operator()(R result) const {
+    (*post_)([done = done_, result = std::move(result)]() mutable { (*done)(std::move(result)); });
+  }
+  void stopped() const { (*this)(R(DbError{DbErrorCode::Stopped, "the DB worker stopped"})); }
+  void queue_full() const {
+    (*this)(R(DbError{DbErrorCode::Busy, "the DB queue is full; retry later"}));
+  }
+
+ private:
+  std::shared_ptr<Post> post_;
+  std::shared_ptr<std::function<void(R)>> done_;
+};
+
+}  // namespace detail
+
 struct DbWorkerOptions {
   AccountsOptions accounts;
   std::size_t max_queued = 10'000;  ///< per queue (DB jobs, password checks)
@@ -74,6 +100,12 @@ class DbWorker {
  private:
   using Task = std::function<void(Accounts*)>;  ///< nullptr: the worker stopped
   using CpuTask = std::function<void(bool stopped)>;
+  /// Queues a task, or runs it at once as stopped; false when the queue is full.
+  template <class T, class Stopped>
+  bool push(std::deque<T>& queue, std::condition_variable& wake, T task, Stopped stopped);
+  /// Waits for a task; false when the worker stops.
+  template <class T>
+  bool pop(std::deque<T>& queue, std::condition_variable& wake, T& task);
   bool enqueue(Task task);
   bool enqueue_cpu(CpuTask task);
   void run();
@@ -96,19 +128,12 @@ class DbWorker {
 template <class Job, class Done>
 void DbWorker::submit(Job job, Post post, Done done) {
   using R = std::invoke_result_t<Job&, Accounts&>;
-  auto shared_post = std::make_shared<Post>(std::move(post));
-  auto shared_done = std::make_shared<Done>(std::move(done));
-  const auto deliver = [shared_post, shared_done](R result) {
-    (*shared_post)(
-        [shared_done, result = std::move(result)]() mutable { (*shared_done)(std::move(result)); });
-  };
+  const detail::Delivery<R> deliver(std::move(post), std::move(done));
   Task task = [job = std::move(job), deliver](Accounts* accounts) mutable {
-    if (!accounts) return deliver(R(DbError{DbErrorCode::Stopped, "the DB worker stopped"}));
+    if (!accounts) return deliver.stopped();
     deliver(job(*accounts));
   };
-  if (!enqueue(std::move(task))) {
-    deliver(R(DbError{DbErrorCode::Busy, "the DB queue is full; retry later"}));
-  }
+  if (!enqueue(std::move(task))) deliver.queue_full();
 }
 
 }  // namespace ricochet::db
