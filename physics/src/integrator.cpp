@@ -118,7 +118,7 @@ void WorldImpl::integrate_velocities(Real h) {
     Motion& m = solver.bodies[k];
     const Vec3 x0 = bodies.position[slot];
     const Vec3 v0 = m.linear_velocity;
-    if (rk4 && contact_count[slot] == 0) {
+    if (rk4 && moves_exactly(slot)) {
       const auto a = [&](const Vec3& x, const Vec3& v) { return acceleration_of(slot, m, x, v); };
       runge_kutta_step(x0, v0, h, a, solver.free_flight_move[k], m.linear_velocity);
       solver.free_flight[k] = 1;

@@ -206,7 +206,9 @@ TEST(DbWorker, AFullQueueAnswersBusyAtOnce) {
   BlockingJob blocking;
   blocking.submit(worker, caller.post(), record);
   worker.submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  EXPECT_EQ(worker.queued(), 1u);
   worker.submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  EXPECT_EQ(worker.queued(), 1u);
   EXPECT_EQ(caller.drain(), 1);  // the refusal is already there
   ASSERT_EQ(codes.size(), 1u);
   EXPECT_EQ(codes[0], DbErrorCode::Busy);

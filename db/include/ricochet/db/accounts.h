@@ -127,7 +127,6 @@ class Accounts {
   DbResult<MatchId> record_match(const MatchRecord& match);
 
   const AccountsCounters& counters() const { return counters_; }
-  Store& store() { return store_; }
 
   /// Empty when the name is acceptable; otherwise what is wrong with it.
   static std::string check_username(std::string_view username);
