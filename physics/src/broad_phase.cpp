@@ -75,25 +75,25 @@ void BodyGrid::build(Real cell) {
 }
 
 [[gnu::flatten]] void WorldImpl::find_pairs() {
-  pairs.clear();
-  sensor_pairs.clear();
-  grid.unsorted.clear();
+  scratch.pairs.clear();
+  scratch.sensor_pairs.clear();
+  scratch.grid.unsorted.clear();
   Real max_reach = 0;
-  for (std::uint32_t s = 0; s < bodies.slot_count(); ++s) {
-    if (!bodies.alive(s)) continue;
-    const Real reach = bodies.radius[s] + speculative_margin[s];
+  for (std::uint32_t s = 0; s < state.bodies.slot_count(); ++s) {
+    if (!state.bodies.alive(s)) continue;
+    const Real reach = state.bodies.radius[s] + scratch.speculative_margin[s];
     max_reach = std::max(max_reach, reach);
-    grid.unsorted.push_back(BodyGrid::Entry{bodies.position[s], reach, 0, 0, 0, s});
+    scratch.grid.unsorted.push_back(BodyGrid::Entry{state.bodies.position[s], reach, 0, 0, 0, s});
   }
-  grid.entries.clear();
-  if (grid.unsorted.empty()) return;
+  scratch.grid.entries.clear();
+  if (scratch.grid.unsorted.empty()) return;
   // Every pair within reach then lies in the same or a neighbouring cell.
-  grid.build(2 * max_reach);
+  scratch.grid.build(2 * max_reach);
 
   // Bodies within reach of each other: filtered by state, kind and layers, then recorded.
   const auto accept = [&](const BodyGrid::Entry& ei, const BodyGrid::Entry& ej) {
     const std::uint32_t i = ei.body, j = ej.body;
-    const std::uint16_t fi = bodies.flags[i], fj = bodies.flags[j];
+    const std::uint16_t fi = state.bodies.flags[i], fj = state.bodies.flags[j];
     const bool active_i = (fi & (kFlagSleeping | kFlagFrozen)) == 0;
     const bool active_j = (fj & (kFlagSleeping | kFlagFrozen)) == 0;
     if (!active_i && !active_j) {
@@ -101,17 +101,17 @@ void BodyGrid::build(Real cell) {
       if (!def.enable_sleep || ((fi | fj) & kFlagFrozen) != 0) return;
     }
     if ((fi & fj & kFlagKinematic) != 0) return;
-    if (!collides(bodies.filter[i], bodies.filter[j])) return;
+    if (!collides(state.bodies.filter[i], state.bodies.filter[j])) return;
     const BodyPair pair{std::min(i, j), std::max(i, j)};
     if (((fi | fj) & kFlagSensor) != 0) {
-      sensor_pairs.push_back(pair);
+      scratch.sensor_pairs.push_back(pair);
     } else {
-      pairs.push_back(pair);
+      scratch.pairs.push_back(pair);
     }
   };
 
-  const BodyGrid::Entry* entries = grid.entries.data();
-  const std::uint32_t entry_count = static_cast<std::uint32_t>(grid.entries.size());
+  const BodyGrid::Entry* entries = scratch.grid.entries.data();
+  const std::uint32_t entry_count = static_cast<std::uint32_t>(scratch.grid.entries.size());
   const auto within_reach = [](const BodyGrid::Entry& ei, const BodyGrid::Entry& ej) {
     const Real reach = ei.reach + ej.reach;
     return (ej.position - ei.position).squaredNorm() < reach * reach;
@@ -134,44 +134,46 @@ void BodyGrid::build(Real cell) {
       begin = stop;
     }
   };
-  if (grid.dense) {
+  if (scratch.grid.dense) {
     // Cells of one x-row are consecutive, so each neighbour row is one contiguous range:
     // the rest of this cell plus cell x+1, then rows (y+1, z), (y-1..y+1, z+1) over x-1..x+1.
     constexpr std::int32_t kRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-    const std::int64_t nx = grid.extent[0], ny = grid.extent[1], nz = grid.extent[2];
+    const std::int64_t nx = scratch.grid.extent[0], ny = scratch.grid.extent[1],
+                       nz = scratch.grid.extent[2];
     for (std::uint32_t e = 0; e < entry_count; ++e) {
       const BodyGrid::Entry& me = entries[e];
-      const std::int64_t x = me.x - grid.min_cell[0], y = me.y - grid.min_cell[1],
-                         z = me.z - grid.min_cell[2];
+      const std::int64_t x = me.x - scratch.grid.min_cell[0], y = me.y - scratch.grid.min_cell[1],
+                         z = me.z - scratch.grid.min_cell[2];
       const std::int64_t row = (z * ny + y) * nx;
-      scan(e, e + 1, grid.cell_start[row + std::min(x + 1, nx - 1) + 1]);
+      scan(e, e + 1, scratch.grid.cell_start[row + std::min(x + 1, nx - 1) + 1]);
       for (const auto& r : kRows) {
         const std::int64_t ry = y + r[0], rz = z + r[1];
         if (ry < 0 || ry >= ny || rz >= nz) continue;
         const std::int64_t other_row = (rz * ny + ry) * nx;
-        scan(e, grid.cell_start[other_row + std::max<std::int64_t>(x - 1, 0)],
-             grid.cell_start[other_row + std::min(x + 1, nx - 1) + 1]);
+        scan(e, scratch.grid.cell_start[other_row + std::max<std::int64_t>(x - 1, 0)],
+             scratch.grid.cell_start[other_row + std::min(x + 1, nx - 1) + 1]);
       }
     }
   } else {
     for (std::uint32_t e = 0; e < entry_count; ++e) {
       const BodyGrid::Entry& me = entries[e];
       // Same cell: the entries after this one in its bucket, checked by coordinates.
-      const std::uint32_t bucket_end = grid.cell_start[grid.key(me.x, me.y, me.z) + 1];
+      const std::uint32_t bucket_end =
+          scratch.grid.cell_start[scratch.grid.key(me.x, me.y, me.z) + 1];
       for (std::uint32_t f = e + 1; f < bucket_end; ++f) {
         const BodyGrid::Entry& other = entries[f];
         if (other.x == me.x && other.y == me.y && other.z == me.z && within_reach(me, other))
           accept(me, other);
       }
       for (const auto& offset : kForwardNeighbours) {
-        grid.visit_cell(me.x + offset[0], me.y + offset[1], me.z + offset[2],
-                        [&](const BodyGrid::Entry& other) {
-                          if (within_reach(me, other)) accept(me, other);
-                        });
+        scratch.grid.visit_cell(me.x + offset[0], me.y + offset[1], me.z + offset[2],
+                                [&](const BodyGrid::Entry& other) {
+                                  if (within_reach(me, other)) accept(me, other);
+                                });
       }
     }
   }
-  profile.pair_candidates = static_cast<int>(pairs.size());
+  profile.pair_candidates = static_cast<int>(scratch.pairs.size());
 }
 
 }  // namespace ricochet::physics

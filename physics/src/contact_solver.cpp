@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -23,11 +22,6 @@
 namespace ricochet::physics {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 #if defined(__x86_64__) || defined(__i386__)
 #define RICOCHET_X86 1
@@ -175,11 +169,11 @@ template <class V>
 [[gnu::always_inline]] inline void transpose8(V* r) {
   using S = typename ShuffleOf<V>::type;
   V t[8], u[8];
-  for (int k = 0; k < 8; k += 2) {  // interleave row pairs within each 128-bit half
+  for (int k = 0; k < 8; k += 2) {  // interleave row scratch.pairs within each 128-bit half
     t[k] = __builtin_shuffle(r[k], r[k + 1], S{0, 8, 1, 9, 4, 12, 5, 13});
     t[k + 1] = __builtin_shuffle(r[k], r[k + 1], S{2, 10, 3, 11, 6, 14, 7, 15});
   }
-  for (int k = 0; k < 8; k += 4) {  // pairs of pairs
+  for (int k = 0; k < 8; k += 4) {  // scratch.pairs of scratch.pairs
     u[k] = __builtin_shuffle(t[k], t[k + 2], S{0, 1, 8, 9, 4, 5, 12, 13});
     u[k + 1] = __builtin_shuffle(t[k], t[k + 2], S{2, 3, 10, 11, 6, 7, 14, 15});
     u[k + 2] = __builtin_shuffle(t[k + 1], t[k + 3], S{0, 1, 8, 9, 4, 5, 12, 13});
@@ -492,17 +486,17 @@ void solve_blocks_dispatch(SolverScratch& s, bool track_delta, const PassParams&
 }  // namespace
 
 void WorldImpl::prepare_bodies() {
-  SolverScratch& s = solver;
-  const std::uint32_t awake = static_cast<std::uint32_t>(awake_list.size());
+  SolverScratch& s = scratch.solver;
+  const std::uint32_t awake = static_cast<std::uint32_t>(scratch.awake_list.size());
   const std::uint32_t dummy = awake;
-  s.index_of.assign(bodies.slot_count(), dummy);
+  s.index_of.assign(state.bodies.slot_count(), dummy);
   s.bodies.resize(awake + 1);
   bool any_rolling = false;
   for (std::uint32_t k = 0; k < awake; ++k) {
-    const std::uint32_t slot = awake_list[k];
+    const std::uint32_t slot = scratch.awake_list[k];
     s.index_of[slot] = k;
-    s.bodies[k] = bodies.motion[slot];
-    any_rolling = any_rolling || bodies.material[slot].rolling_resistance > 0;
+    s.bodies[k] = state.bodies.motion[slot];
+    any_rolling = any_rolling || state.bodies.material[slot].rolling_resistance > 0;
   }
   s.bodies[dummy] = Motion{};
   if (!def.enable_friction) {
@@ -524,16 +518,16 @@ void WorldImpl::prepare_bodies() {
 }
 
 void WorldImpl::prepare_contacts() {
-  SolverScratch& s = solver;
-  const std::uint32_t awake = static_cast<std::uint32_t>(awake_list.size());
+  SolverScratch& s = scratch.solver;
+  const std::uint32_t awake = static_cast<std::uint32_t>(scratch.awake_list.size());
   const std::uint32_t dummy = awake;
   const bool spin = def.enable_rotation && def.enable_friction;
 
   // Greedy colouring: a contact takes the first colour where neither of its moving bodies is used.
-  const std::size_t pair_count = pair_contacts.size();
-  const std::size_t total = pair_count + static_contacts.size();
+  const std::size_t pair_count = state.pair_contacts.size();
+  const std::size_t total = pair_count + state.static_contacts.size();
   const auto contact_at = [&](std::size_t i) -> Contact& {
-    return i < pair_count ? pair_contacts[i] : static_contacts[i - pair_count];
+    return i < pair_count ? state.pair_contacts[i] : state.static_contacts[i - pair_count];
   };
   // used_colors[k]: bit c set when body k already has a contact of colour c (the dummy never does).
   std::vector<std::uint32_t>& used_colors = s.used_colors;
@@ -630,7 +624,7 @@ void WorldImpl::prepare_contacts() {
 }
 
 void WorldImpl::warm_start() {
-  SolverScratch& s = solver;
+  SolverScratch& s = scratch.solver;
   const bool spin = s.model == ContactModel::Spin || s.model == ContactModel::SpinRolling;
   for (std::size_t k = 0; k < s.blocks.size(); ++k) {
     const ContactBlock& c = s.blocks[k];
@@ -656,7 +650,7 @@ void WorldImpl::warm_start() {
 }
 
 void WorldImpl::reset_impulses() {
-  SolverScratch& s = solver;
+  SolverScratch& s = scratch.solver;
   for (ContactBlock& c : s.blocks) c.normal_impulse = c.fx = c.fy = c.fz = splat<Wide>(0);
   for (RollingBlock& r : s.rolling) r.x = r.y = r.z = splat<Wide>(0);
 }
@@ -669,7 +663,7 @@ void WorldImpl::solve_contacts(Real h, bool use_bias) {
   p.max_correction_speed = def.max_correction_speed;
   p.soft = make_softness(std::min(def.contact_hertz, Real(0.25) / h), def.contact_damping_ratio, h);
   const bool track_delta = def.substeps > 1;
-  SolverScratch& s = solver;
+  SolverScratch& s = scratch.solver;
   switch (def.position_correction) {  // only SoftStep has unbiased (relax) passes
     case PositionCorrection::Baumgarte:
       return solve_blocks_dispatch<PositionCorrection::Baumgarte, true>(s, track_delta, p);
@@ -695,7 +689,7 @@ void WorldImpl::solve_contacts(Real h, bool use_bias) {
 /// scaled by e² and nothing else.
 void WorldImpl::apply_restitution(Real h) {
   if (!def.enable_restitution) return;
-  SolverScratch& s = solver;
+  SolverScratch& s = scratch.solver;
   const Real threshold = def.restitution_threshold;
   const Real half_h = (def.integrator == Integrator::ExplicitEuler ? Real(-0.5) : Real(0.5)) * h;
   const auto acceleration = [&](std::uint32_t body) -> Vec3 {
@@ -735,15 +729,16 @@ void WorldImpl::apply_restitution(Real h) {
 }
 
 void WorldImpl::store_impulses() {
-  SolverScratch& s = solver;
-  const std::size_t pair_count = pair_contacts.size();
+  SolverScratch& s = scratch.solver;
+  const std::size_t pair_count = state.pair_contacts.size();
   for (std::size_t k = 0; k < s.blocks.size(); ++k) {
     const ContactBlock& c = s.blocks[k];
     const ContactBlockExtra& e = s.extra[k];
     for (int l = 0; l < kLanes; ++l) {
       const std::uint32_t i = e.contact[l];
       if (i == kUnusedLane) continue;
-      Contact& contact = i < pair_count ? pair_contacts[i] : static_contacts[i - pair_count];
+      Contact& contact =
+          i < pair_count ? state.pair_contacts[i] : state.static_contacts[i - pair_count];
       contact.normal_impulse = c.normal_impulse[l];
       contact.friction_impulse = Vec3(c.fx[l], c.fy[l], c.fz[l]);
       if (s.has_rolling)
@@ -753,26 +748,24 @@ void WorldImpl::store_impulses() {
       contact.relative_velocity = e.relative_velocity[l];
     }
   }
-  for (std::size_t k = 0; k < awake_list.size(); ++k)
-    bodies.motion[awake_list[k]] = solver.bodies[k];
+  for (std::size_t k = 0; k < scratch.awake_list.size(); ++k)
+    state.bodies.motion[scratch.awake_list[k]] = scratch.solver.bodies[k];
 }
 
-void WorldImpl::solve(Real step_dt) {
-  const auto start = Clock::now();
-  double integrate_ms = 0;
+void WorldImpl::solve(Real step_dt, ProfileTimer& timer) {
   const int substeps = def.substeps;
   const Real h = step_dt / static_cast<Real>(substeps);
   const bool explicit_euler = def.integrator == Integrator::ExplicitEuler;
   const bool relax = def.position_correction == PositionCorrection::SoftStep;
   const auto timed = [&](auto&& integrate) {
-    const auto t0 = Clock::now();
+    timer.lap(profile.solve_ms);
     integrate();
-    integrate_ms += ms_since(t0);
+    timer.lap(profile.integrate_ms);
   };
   convert_velocity_forms(h);
   prepare_bodies();
   prepare_contacts();
-  const bool shock = def.shock_propagation && solver.needs_shock;
+  const bool shock = def.shock_propagation && scratch.solver.needs_shock;
   if (shock) order_contacts_by_support();
   // Baumgarte corrects positions through velocity; the other methods have their own channel.
   const bool correction_in_shock_pass = def.position_correction == PositionCorrection::Baumgarte;
@@ -792,15 +785,14 @@ void WorldImpl::solve(Real step_dt) {
       for (int i = 0; i < def.relax_iterations; ++i) solve_contacts(h, false);
     }
     if (explicit_euler) timed([&] { apply_accelerations(h); });
-    for (std::size_t k = 0; k < solver.blocks.size(); ++k) {
-      solver.extra[k].total_normal_impulse += solver.blocks[k].normal_impulse;
+    for (std::size_t k = 0; k < scratch.solver.blocks.size(); ++k) {
+      scratch.solver.extra[k].total_normal_impulse += scratch.solver.blocks[k].normal_impulse;
     }
   }
   apply_restitution(h);
   store_impulses();
-  profile.wide_simd = solver.wide;
-  profile.integrate_ms = integrate_ms;
-  profile.solve_ms = ms_since(start) - integrate_ms;
+  profile.wide_simd = scratch.solver.wide;
+  timer.lap(profile.solve_ms);
 }
 
 }  // namespace ricochet::physics

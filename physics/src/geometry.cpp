@@ -27,14 +27,6 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-Vec3 closest_point_on_segment(const Vec3& x, const Vec3& p, const Vec3& q) {
-  const Vec3 pq = q - p;
-  const Real len2 = pq.squaredNorm();
-  if (len2 <= 0) return p;
-  const Real t = std::clamp((x - p).dot(pq) / len2, Real(0), Real(1));
-  return p + pq * t;
-}
-
 namespace {
 
 /// Smallest t in [0, 1] with |o + t·d - c| = R, for o outside the sphere.

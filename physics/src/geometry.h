@@ -16,9 +16,6 @@ struct SweepHit {
 /// Closest point on triangle abc to p.
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
-/// Closest point on segment pq to x.
-Vec3 closest_point_on_segment(const Vec3& x, const Vec3& p, const Vec3& q);
-
 /// Sphere (radius r) swept against a point-sphere of radius R at c. Updates hit if earlier.
 bool sweep_sphere_point(const Vec3& o, const Vec3& d, Real radius, const Vec3& c, SweepHit& hit);
 

@@ -20,10 +20,11 @@ namespace ricochet::physics {
 
 Vec3 WorldImpl::acceleration_of(std::uint32_t slot, const Motion& m, const Vec3& x,
                                 const Vec3& v) const {
-  const Vec3 gravity = def.gravity * bodies.gravity_scale[slot];
-  if (forces.empty()) return gravity + bodies.force[slot] * m.inverse_mass;
-  const Vec3 field = forces.force_on(slot, bodies.filter[slot].layer, m.inverse_mass, x, v);
-  return gravity + (bodies.force[slot] + field) * m.inverse_mass;
+  const Vec3 gravity = state.gravity * state.bodies.gravity_scale[slot];
+  if (state.forces.empty()) return gravity + state.bodies.force[slot] * m.inverse_mass;
+  const Vec3 field =
+      state.forces.force_on(slot, state.bodies.filter[slot].layer, m.inverse_mass, x, v);
+  return gravity + (state.bodies.force[slot] + field) * m.inverse_mass;
 }
 
 namespace {
@@ -66,10 +67,10 @@ void WorldImpl::clamp_or_freeze(std::uint32_t slot, Motion& m) {
 bool WorldImpl::moves_exactly(std::uint32_t slot) const {
   switch (def.integrator) {
     case Integrator::Rk4:
-      return contact_count[slot] == 0;
+      return scratch.contact_count[slot] == 0;
     case Integrator::ExactBallistic:
-      return contact_count[slot] == 0 && !bodies.has(slot, kFlagKinematic) &&
-             (forces.empty() || !forces.acts_on(slot, bodies.filter[slot].layer));
+      return scratch.contact_count[slot] == 0 && !state.bodies.has(slot, kFlagKinematic) &&
+             (state.forces.empty() || !state.forces.acts_on(slot, state.bodies.filter[slot].layer));
     case Integrator::SemiImplicitEuler:
     case Integrator::ExplicitEuler:
       break;
@@ -81,74 +82,77 @@ void WorldImpl::mark_velocity_as_given(std::uint32_t slot) {
   // A caller's velocity is the velocity at this instant: the end-of-step form when the integrator
   // can move exactly. Semi-implicit worlds take it as their mean, as they always have.
   if (def.integrator == Integrator::ExactBallistic || def.integrator == Integrator::Rk4) {
-    bodies.flags[slot] |= kFlagExactVelocity;
+    state.bodies.flags[slot] |= kFlagExactVelocity;
   } else {
-    bodies.flags[slot] &= static_cast<std::uint16_t>(~kFlagExactVelocity);
+    state.bodies.flags[slot] &= static_cast<std::uint16_t>(~kFlagExactVelocity);
   }
 }
 
 void WorldImpl::convert_velocity_forms(Real h) {
   if (def.integrator != Integrator::ExactBallistic && def.integrator != Integrator::Rk4) return;
-  for (const std::uint32_t slot : awake_list) {
-    if (!bodies.simulated(slot)) continue;
+  for (const std::uint32_t slot : scratch.awake_list) {
+    if (!state.bodies.simulated(slot)) continue;
     const bool exact = moves_exactly(slot);
-    if (exact == bodies.has(slot, kFlagExactVelocity)) continue;
+    if (exact == state.bodies.has(slot, kFlagExactVelocity)) continue;
     // Semi-implicit Euler stores the mean velocity of the step just taken, an exact move the
     // velocity at its end: for constant a they differ by ½·a·h. Converting when a body switches
     // keeps its trajectory on the same parabola, so no energy jumps in or out.
-    Motion& m = bodies.motion[slot];
+    Motion& m = state.bodies.motion[slot];
     const Real half_h = exact ? Real(0.5) * h : Real(-0.5) * h;
     m.linear_velocity +=
-        half_h * acceleration_of(slot, m, bodies.position[slot], m.linear_velocity);
-    bodies.flags[slot] ^= kFlagExactVelocity;
+        half_h * acceleration_of(slot, m, state.bodies.position[slot], m.linear_velocity);
+    state.bodies.flags[slot] ^= kFlagExactVelocity;
   }
 }
 
 void WorldImpl::integrate_velocities(Real h) {
   const bool rk4 = def.integrator == Integrator::Rk4;
-  solver.acceleration.resize(awake_list.size());
+  scratch.solver.acceleration.resize(scratch.awake_list.size());
   if (rk4) {
-    solver.free_flight.assign(awake_list.size(), 0);
-    solver.free_flight_move.resize(awake_list.size());
+    scratch.solver.free_flight.assign(scratch.awake_list.size(), 0);
+    scratch.solver.free_flight_move.resize(scratch.awake_list.size());
   }
-  for (std::size_t k = 0; k < awake_list.size(); ++k) {
-    const std::uint32_t slot = awake_list[k];
-    solver.acceleration[k].setZero();
-    if (!bodies.simulated(slot)) continue;  // kinematic, or frozen this step
-    Motion& m = solver.bodies[k];
-    const Vec3 x0 = bodies.position[slot];
+  for (std::size_t k = 0; k < scratch.awake_list.size(); ++k) {
+    const std::uint32_t slot = scratch.awake_list[k];
+    scratch.solver.acceleration[k].setZero();
+    if (!state.bodies.simulated(slot)) continue;  // kinematic, or frozen this step
+    Motion& m = scratch.solver.bodies[k];
+    const Vec3 x0 = state.bodies.position[slot];
     const Vec3 v0 = m.linear_velocity;
     if (rk4 && moves_exactly(slot)) {
       const auto a = [&](const Vec3& x, const Vec3& v) { return acceleration_of(slot, m, x, v); };
-      runge_kutta_step(x0, v0, h, a, solver.free_flight_move[k], m.linear_velocity);
-      solver.free_flight[k] = 1;
+      runge_kutta_step(x0, v0, h, a, scratch.solver.free_flight_move[k], m.linear_velocity);
+      scratch.solver.free_flight[k] = 1;
     } else {
-      solver.acceleration[k] = acceleration_of(slot, m, x0, v0);
-      m.linear_velocity += h * solver.acceleration[k];
+      scratch.solver.acceleration[k] = acceleration_of(slot, m, x0, v0);
+      m.linear_velocity += h * scratch.solver.acceleration[k];
     }
-    if (def.enable_rotation) m.angular_velocity += (h * m.inverse_inertia) * bodies.torque[slot];
+    if (def.enable_rotation)
+      m.angular_velocity += (h * m.inverse_inertia) * state.bodies.torque[slot];
     clamp_or_freeze(slot, m);
   }
 }
 
 void WorldImpl::evaluate_accelerations() {
-  solver.acceleration.resize(awake_list.size());
-  for (std::size_t k = 0; k < awake_list.size(); ++k) {
-    const std::uint32_t slot = awake_list[k];
-    solver.acceleration[k].setZero();
-    if (!bodies.simulated(slot)) continue;
-    const Motion& m = solver.bodies[k];
-    solver.acceleration[k] = acceleration_of(slot, m, bodies.position[slot], m.linear_velocity);
+  scratch.solver.acceleration.resize(scratch.awake_list.size());
+  for (std::size_t k = 0; k < scratch.awake_list.size(); ++k) {
+    const std::uint32_t slot = scratch.awake_list[k];
+    scratch.solver.acceleration[k].setZero();
+    if (!state.bodies.simulated(slot)) continue;
+    const Motion& m = scratch.solver.bodies[k];
+    scratch.solver.acceleration[k] =
+        acceleration_of(slot, m, state.bodies.position[slot], m.linear_velocity);
   }
 }
 
 void WorldImpl::apply_accelerations(Real h) {
-  for (std::size_t k = 0; k < awake_list.size(); ++k) {
-    const std::uint32_t slot = awake_list[k];
-    if (!bodies.simulated(slot)) continue;
-    Motion& m = solver.bodies[k];
-    m.linear_velocity += h * solver.acceleration[k];
-    if (def.enable_rotation) m.angular_velocity += (h * m.inverse_inertia) * bodies.torque[slot];
+  for (std::size_t k = 0; k < scratch.awake_list.size(); ++k) {
+    const std::uint32_t slot = scratch.awake_list[k];
+    if (!state.bodies.simulated(slot)) continue;
+    Motion& m = scratch.solver.bodies[k];
+    m.linear_velocity += h * scratch.solver.acceleration[k];
+    if (def.enable_rotation)
+      m.angular_velocity += (h * m.inverse_inertia) * state.bodies.torque[slot];
     clamp_or_freeze(slot, m);
   }
 }
@@ -157,25 +161,25 @@ void WorldImpl::integrate_positions(Real h) {
   const bool split = def.position_correction == PositionCorrection::SplitImpulse;
   const bool ballistic = def.integrator == Integrator::ExactBallistic;
   const bool rk4 = def.integrator == Integrator::Rk4;
-  for (std::size_t k = 0; k < awake_list.size(); ++k) {
-    const std::uint32_t slot = awake_list[k];
-    if (bodies.has(slot, kFlagFrozen)) continue;
-    const Motion& m = solver.bodies[k];
+  for (std::size_t k = 0; k < scratch.awake_list.size(); ++k) {
+    const std::uint32_t slot = scratch.awake_list[k];
+    if (state.bodies.has(slot, kFlagFrozen)) continue;
+    const Motion& m = scratch.solver.bodies[k];
     Vec3 move = m.linear_velocity * h;
-    if (rk4 && solver.free_flight[k]) move = solver.free_flight_move[k];
+    if (rk4 && scratch.solver.free_flight[k]) move = scratch.solver.free_flight_move[k];
     if (split) {
-      move += solver.pseudo_velocity[k] * h;
-      solver.pseudo_velocity[k].setZero();
+      move += scratch.solver.pseudo_velocity[k] * h;
+      scratch.solver.pseudo_velocity[k].setZero();
     }
     if (ballistic && moves_exactly(slot)) {
       // v already includes a·h, so x + v·h - ½a·h² = x + v0·h + ½a·h²: exact for constant a.
-      move -= solver.acceleration[k] * (Real(0.5) * h * h);
+      move -= scratch.solver.acceleration[k] * (Real(0.5) * h * h);
     }
-    bodies.position[slot] += move;
-    solver.delta_position[k] += move;
+    state.bodies.position[slot] += move;
+    scratch.solver.delta_position[k] += move;
     const Vec3& w = m.angular_velocity;
     if (def.enable_rotation && (w.x() != 0 || w.y() != 0 || w.z() != 0)) {
-      Quat& q = bodies.orientation[slot];
+      Quat& q = state.bodies.orientation[slot];
       const Quat dq = Quat(0, w.x(), w.y(), w.z()) * q;
       const Real half_h = Real(0.5) * h;
       q = Quat(q.w() + half_h * dq.w(), q.x() + half_h * dq.x(), q.y() + half_h * dq.y(),

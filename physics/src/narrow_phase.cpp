@@ -61,12 +61,12 @@ Combined combine(const Material& a, const Material& b) {
 /// contact whose point lies on a triangle of the same mesh that the sphere touches face-on is
 /// such a ghost and is dropped, so a ball rolls and a bullet stops on a flat mesh as on a plane.
 bool WorldImpl::edge_covered_by_face(const MeshHit& edge) const {
-  const std::uint32_t shape = statics.primitive(edge.primitive).shape;
+  const std::uint32_t shape = state.statics.primitive(edge.primitive).shape;
   const Real tolerance = Real(1e-5) + Real(1e-6) * edge.feature.point.norm();
-  for (const MeshHit& face : mesh_hits) {
-    if (!face.feature.on_face || statics.primitive(face.primitive).shape != shape) continue;
+  for (const MeshHit& face : scratch.mesh_hits) {
+    if (!face.feature.on_face || state.statics.primitive(face.primitive).shape != shape) continue;
     Vec3 a, b, c;
-    statics.triangle(statics.primitive(face.primitive), a, b, c);
+    state.statics.triangle(state.statics.primitive(face.primitive), a, b, c);
     if ((closest_point_on_triangle(edge.feature.point, a, b, c) - edge.feature.point)
             .squaredNorm() <= tolerance * tolerance) {
       return true;
@@ -76,24 +76,24 @@ bool WorldImpl::edge_covered_by_face(const MeshHit& edge) const {
 }
 
 void WorldImpl::update_contacts() {
-  std::swap(previous_pair_contacts, pair_contacts);
-  std::swap(previous_static_contacts, static_contacts);
-  cache.build(previous_pair_contacts, previous_static_contacts);
+  std::swap(scratch.previous_pair_contacts, state.pair_contacts);
+  std::swap(scratch.previous_static_contacts, state.static_contacts);
+  scratch.cache.build(scratch.previous_pair_contacts, scratch.previous_static_contacts);
   const std::size_t previous_count =
-      previous_pair_contacts.size() + previous_static_contacts.size();
-  previous_matched.assign(previous_count, 0);
-  pair_contacts.clear();
-  static_contacts.clear();
+      scratch.previous_pair_contacts.size() + scratch.previous_static_contacts.size();
+  scratch.previous_matched.assign(previous_count, 0);
+  state.pair_contacts.clear();
+  state.static_contacts.clear();
 
   const auto match = [&](Contact& c) {
-    const std::int64_t found = cache.find(c.key);
+    const std::int64_t found = scratch.cache.find(c.key);
     if (found < 0) return;
-    previous_matched[static_cast<std::size_t>(found)] = 1;
-    const std::size_t pair_count = previous_pair_contacts.size();
+    scratch.previous_matched[static_cast<std::size_t>(found)] = 1;
+    const std::size_t pair_count = scratch.previous_pair_contacts.size();
     const Contact& old =
         static_cast<std::size_t>(found) < pair_count
-            ? previous_pair_contacts[static_cast<std::size_t>(found)]
-            : previous_static_contacts[static_cast<std::size_t>(found) - pair_count];
+            ? scratch.previous_pair_contacts[static_cast<std::size_t>(found)]
+            : scratch.previous_static_contacts[static_cast<std::size_t>(found) - pair_count];
     c.previously_touching = old.touching;
     if (def.warm_starting) {
       c.normal_impulse = old.normal_impulse;
@@ -103,14 +103,14 @@ void WorldImpl::update_contacts() {
   };
 
   // Body pairs.
-  for (const BodyPair& pair : pairs) {
-    const std::uint16_t fa = bodies.flags[pair.a], fb = bodies.flags[pair.b];
+  for (const BodyPair& pair : scratch.pairs) {
+    const std::uint16_t fa = state.bodies.flags[pair.a], fb = state.bodies.flags[pair.b];
     const bool active_a = (fa & (kFlagSleeping | kFlagFrozen)) == 0;
     const bool active_b = (fb & (kFlagSleeping | kFlagFrozen)) == 0;
     if (!active_a && !active_b) continue;
-    const Vec3 d = bodies.position[pair.b] - bodies.position[pair.a];
+    const Vec3 d = state.bodies.position[pair.b] - state.bodies.position[pair.a];
     const Real distance = d.norm();
-    const Real ra = bodies.radius[pair.a], rb = bodies.radius[pair.b];
+    const Real ra = state.bodies.radius[pair.a], rb = state.bodies.radius[pair.b];
     Contact c;
     c.a = pair.a;
     c.b = pair.b;
@@ -119,26 +119,26 @@ void WorldImpl::update_contacts() {
     c.separation = distance - ra - rb;
     c.ra = ra + c.separation / 2;
     c.rb = rb + c.separation / 2;
-    c.point = bodies.position[pair.a] + c.normal * c.ra;
-    const Combined m = combine(bodies.material[pair.a], bodies.material[pair.b]);
+    c.point = state.bodies.position[pair.a] + c.normal * c.ra;
+    const Combined m = combine(state.bodies.material[pair.a], state.bodies.material[pair.b]);
     c.friction = m.friction;
     c.restitution = m.restitution;
     c.rolling = m.rolling_coefficient * (ra * rb / (ra + rb));
     match(c);
-    ++contact_count[pair.a];
-    ++contact_count[pair.b];
-    pair_contacts.push_back(c);
+    ++scratch.contact_count[pair.a];
+    ++scratch.contact_count[pair.b];
+    state.pair_contacts.push_back(c);
   }
 
   // Awake dynamic bodies against static geometry.
-  const auto& planes = statics.plane_slots();
-  for (const std::uint32_t body : awake_list) {
-    if (bodies.has(body, kFlagKinematic) || bodies.has(body, kFlagSensor)) continue;
-    const Vec3& x = bodies.position[body];
-    const Real r = bodies.radius[body];
-    const Real margin = speculative_margin[body];
-    const Filter& filter = bodies.filter[body];
-    const Material& material = bodies.material[body];
+  const auto& planes = state.statics.plane_slots();
+  for (const std::uint32_t body : scratch.awake_list) {
+    if (state.bodies.has(body, kFlagKinematic) || state.bodies.has(body, kFlagSensor)) continue;
+    const Vec3& x = state.bodies.position[body];
+    const Real r = state.bodies.radius[body];
+    const Real margin = scratch.speculative_margin[body];
+    const Filter& filter = state.bodies.filter[body];
+    const Material& material = state.bodies.material[body];
     const auto add_static = [&](std::uint32_t shape, std::uint32_t triangle, const Vec3& normal_out,
                                 Real separation) {
       Contact c;
@@ -150,16 +150,16 @@ void WorldImpl::update_contacts() {
       c.ra = r + separation / 2;
       c.rb = 0;
       c.point = x + c.normal * c.ra;
-      const Combined m = combine(material, statics.shape(shape).material);
+      const Combined m = combine(material, state.statics.shape(shape).material);
       c.friction = m.friction;
       c.restitution = m.restitution;
       c.rolling = m.rolling_coefficient * r;
       match(c);
-      ++contact_count[body];
-      static_contacts.push_back(c);
+      ++scratch.contact_count[body];
+      state.static_contacts.push_back(c);
     };
     for (const std::uint32_t slot : planes) {
-      const StaticShape& plane = statics.shape(slot);
+      const StaticShape& plane = state.statics.shape(slot);
       if (!collides(filter, plane.filter)) continue;
       const Real separation = plane.plane_normal.dot(x) - plane.plane_offset - r;
       if (separation < margin) {
@@ -167,25 +167,25 @@ void WorldImpl::update_contacts() {
       }
     }
     // Boxes at once; mesh triangles gathered first so edge contacts can be checked against faces.
-    mesh_hits.clear();
-    statics.query_aabb(Aabb::around_sphere(x, r + margin), [&](std::uint32_t primitive) {
-      const StaticPrimitive& p = statics.primitive(primitive);
-      if (!collides(filter, statics.shape(p.shape).filter)) return;
-      const ClosestFeature f = statics.closest_feature(primitive, x);
+    scratch.mesh_hits.clear();
+    state.statics.query_aabb(Aabb::around_sphere(x, r + margin), [&](std::uint32_t primitive) {
+      const StaticPrimitive& p = state.statics.primitive(primitive);
+      if (!collides(filter, state.statics.shape(p.shape).filter)) return;
+      const ClosestFeature f = state.statics.closest_feature(primitive, x);
       if (f.distance - r >= margin) return;
-      if (statics.shape(p.shape).type == ShapeType::Mesh) {
-        mesh_hits.push_back({primitive, f});
+      if (state.statics.shape(p.shape).type == ShapeType::Mesh) {
+        scratch.mesh_hits.push_back({primitive, f});
       } else {
         add_static(p.shape, p.index, f.normal, f.distance - r);
       }
     });
-    for (const MeshHit& hit : mesh_hits) {
+    for (const MeshHit& hit : scratch.mesh_hits) {
       if (!hit.feature.on_face && edge_covered_by_face(hit)) continue;
-      const StaticPrimitive& p = statics.primitive(hit.primitive);
+      const StaticPrimitive& p = state.statics.primitive(hit.primitive);
       add_static(p.shape, p.index, hit.feature.normal, hit.feature.distance - r);
     }
   }
-  profile.contacts = static_cast<int>(pair_contacts.size() + static_contacts.size());
+  profile.contacts = static_cast<int>(state.pair_contacts.size() + state.static_contacts.size());
 }
 
 }  // namespace ricochet::physics

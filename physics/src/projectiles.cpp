@@ -38,7 +38,7 @@ Result<ProjectileId> World::create_projectile(const ProjectileDef& def) {
   WorldImpl& w = *impl_;
   const std::string problem = validate_projectile(def, w.def.max_linear_speed);
   if (!problem.empty()) return Error{ErrorCode::InvalidArgument, "ProjectileDef: " + problem};
-  ProjectileStore& p = w.projectiles;
+  ProjectileStore& p = w.state.projectiles;
   if (p.free_slots.empty() && p.slot_count() >= w.def.max_projectiles) {
     return Error{ErrorCode::CapacityExceeded,
                  "create_projectile: world holds max_projectiles = " + show(w.def.max_projectiles) +
@@ -48,41 +48,41 @@ Result<ProjectileId> World::create_projectile(const ProjectileDef& def) {
 }
 
 Status World::destroy_projectile(ProjectileId id) {
-  if (!impl_->projectiles.valid(id))
+  if (!impl_->state.projectiles.valid(id))
     return Error{ErrorCode::InvalidHandle, "destroy_projectile: stale or null projectile handle"};
-  impl_->projectiles.destroy(id.index);
+  impl_->state.projectiles.destroy(id.index);
   return {};
 }
 
 bool World::is_valid(ProjectileId id) const {
-  return impl_->projectiles.valid(id);
+  return impl_->state.projectiles.valid(id);
 }
 
 Result<ProjectileState> World::projectile_state(ProjectileId id) const {
-  const ProjectileStore& p = impl_->projectiles;
+  const ProjectileStore& p = impl_->state.projectiles;
   if (!p.valid(id))
     return Error{ErrorCode::InvalidHandle, "projectile_state: stale or null projectile handle"};
   return ProjectileState{p.position[id.index], p.velocity[id.index], p.user_data[id.index]};
 }
 
 std::uint32_t World::projectile_count() const {
-  return impl_->projectiles.alive_count;
+  return impl_->state.projectiles.alive_count;
 }
 
 std::span<const ProjectileHitEvent> World::projectile_hit_events() const {
-  return impl_->projectile_hits;
+  return impl_->events.projectile_hits;
 }
 
 void WorldImpl::step_projectiles() {
-  ProjectileStore& p = projectiles;
-  std::vector<ProjectileSweep>& sweeps = projectile_sweeps;
+  ProjectileStore& p = state.projectiles;
+  std::vector<StepScratch::ProjectileSweep>& sweeps = scratch.projectile_sweeps;
   sweeps.clear();
   if (p.alive_count == 0) return;
-  const Real h = dt;
+  const Real h = scratch.dt;
   for (std::uint32_t s = 0; s < p.slot_count(); ++s) {
     if (!p.alive[s]) continue;
-    const Vec3 a = def.gravity * p.gravity_scale[s];
-    ProjectileSweep sweep;
+    const Vec3 a = state.gravity * p.gravity_scale[s];
+    StepScratch::ProjectileSweep sweep;
     sweep.slot = s;
     sweep.from = p.position[s];
     sweep.move = p.velocity[s] * h + a * (Real(0.5) * h * h);
@@ -90,9 +90,9 @@ void WorldImpl::step_projectiles() {
   }
   sweep_projectiles_against_statics();
   sweep_projectiles_against_bodies();
-  for (const ProjectileSweep& sweep : sweeps) {
+  for (const StepScratch::ProjectileSweep& sweep : sweeps) {
     const std::uint32_t s = sweep.slot;
-    const Vec3 a = def.gravity * p.gravity_scale[s];
+    const Vec3 a = state.gravity * p.gravity_scale[s];
     if (sweep.hit.t >= 1) {
       p.position[s] = sweep.from + sweep.move;
       p.velocity[s] += a * h;
@@ -107,22 +107,22 @@ void WorldImpl::step_projectiles() {
     e.velocity = p.velocity[s] + a * (h * t);
     e.time = h * t;
     e.user_data = p.user_data[s];
-    projectile_hits.push_back(e);
+    events.projectile_hits.push_back(e);
     p.destroy(s);
   }
 }
 
 void WorldImpl::sweep_projectiles_against_statics() {
-  const ProjectileStore& p = projectiles;
-  for (ProjectileSweep& sweep : projectile_sweeps) {
+  const ProjectileStore& p = state.projectiles;
+  for (StepScratch::ProjectileSweep& sweep : scratch.projectile_sweeps) {
     const Filter& filter = p.filter[sweep.slot];
     const Real r = p.radius[sweep.slot];
     const auto keep = [&](std::uint32_t shape, const SweepHit& hit) {
       sweep.hit = hit;
-      sweep.target = ContactTarget{{}, statics.id_of(shape)};
+      sweep.target = ContactTarget{{}, state.statics.id_of(shape)};
     };
-    for (const std::uint32_t slot : statics.plane_slots()) {
-      const StaticShape& plane = statics.shape(slot);
+    for (const std::uint32_t slot : state.statics.plane_slots()) {
+      const StaticShape& plane = state.statics.shape(slot);
       SweepHit hit = sweep.hit;
       if (collides(filter, plane.filter) &&
           sweep_sphere_plane(sweep.from, sweep.move, r, plane.plane_normal, plane.plane_offset,
@@ -130,11 +130,11 @@ void WorldImpl::sweep_projectiles_against_statics() {
         keep(slot, hit);
       }
     }
-    statics.query_segment(sweep.from, sweep.move, r, [&](std::uint32_t primitive) {
-      const std::uint32_t shape = statics.primitive(primitive).shape;
+    state.statics.query_segment(sweep.from, sweep.move, r, [&](std::uint32_t primitive) {
+      const std::uint32_t shape = state.statics.primitive(primitive).shape;
       SweepHit hit = sweep.hit;
-      if (collides(filter, statics.shape(shape).filter) &&
-          statics.sweep(primitive, sweep.from, sweep.move, r, hit)) {
+      if (collides(filter, state.statics.shape(shape).filter) &&
+          state.statics.sweep(primitive, sweep.from, sweep.move, r, hit)) {
         keep(shape, hit);
       }
     });
@@ -146,35 +146,36 @@ void WorldImpl::sweep_projectiles_against_statics() {
 /// (a body box is at most the widest one wide). The order of tests is fixed, so ties resolve the
 /// same way on every run.
 void WorldImpl::sweep_projectiles_against_bodies() {
-  const ProjectileStore& p = projectiles;
+  const ProjectileStore& p = state.projectiles;
   const Real widest = sort_body_move_boxes();
-  const std::vector<SweptBox>& boxes = swept_boxes;
+  const std::vector<StepScratch::SweptBox>& boxes = scratch.swept_boxes;
   if (boxes.empty()) return;
-  for (ProjectileSweep& sweep : projectile_sweeps) {
+  for (StepScratch::ProjectileSweep& sweep : scratch.projectile_sweeps) {
     const Vec3 to = sweep.from + sweep.move;
     const Real radius = p.radius[sweep.slot];
     const Vec3 lo = sweep.from.cwiseMin(to) - Vec3::Constant(radius);
     const Vec3 hi = sweep.from.cwiseMax(to) + Vec3::Constant(radius);
-    const auto first = std::lower_bound(boxes.begin(), boxes.end(), lo.x() - widest,
-                                        [](const SweptBox& box, Real x) { return box.lo.x() < x; });
+    const auto first =
+        std::lower_bound(boxes.begin(), boxes.end(), lo.x() - widest,
+                         [](const StepScratch::SweptBox& box, Real x) { return box.lo.x() < x; });
     for (auto it = first; it != boxes.end() && it->lo.x() <= hi.x(); ++it) {
-      const SweptBox& b = *it;
+      const StepScratch::SweptBox& b = *it;
       if (b.hi.x() < lo.x() || b.lo.y() > hi.y() || lo.y() > b.hi.y() || b.lo.z() > hi.z() ||
           lo.z() > b.hi.z()) {
         continue;
       }
       const std::uint32_t body = b.body;
       const BodyId ignore = p.ignore[sweep.slot];
-      if (ignore.index == body && ignore.generation == bodies.generation[body]) continue;
-      if (!collides(p.filter[sweep.slot], bodies.filter[body])) continue;
+      if (ignore.index == body && ignore.generation == state.bodies.generation[body]) continue;
+      if (!collides(p.filter[sweep.slot], state.bodies.filter[body])) continue;
       // In the body's frame: the projectile starts at from - start and moves by the difference
       // of the two moves; the body is a point inflated by both radii.
-      const Vec3 body_move = bodies.position[body] - start_position[body];
+      const Vec3 body_move = state.bodies.position[body] - scratch.start_position[body];
       SweepHit hit = sweep.hit;
-      if (sweep_sphere_point(sweep.from - start_position[body], sweep.move - body_move,
-                             radius + bodies.radius[body], Vec3::Zero(), hit)) {
+      if (sweep_sphere_point(sweep.from - scratch.start_position[body], sweep.move - body_move,
+                             radius + state.bodies.radius[body], Vec3::Zero(), hit)) {
         sweep.hit = hit;
-        sweep.target = ContactTarget{bodies.id_of(body), {}};
+        sweep.target = ContactTarget{state.bodies.id_of(body), {}};
       }
     }
   }

@@ -26,7 +26,7 @@ bool body_passes(const BodyStore& bodies, std::uint32_t s, const QueryFilter& fi
 template <class Report>
 void cast_sphere(const WorldImpl& world, const Vec3& origin, Real radius, const Vec3& d,
                  const QueryFilter& filter, Report&& report) {
-  const StaticGeometry& statics = world.statics;
+  const StaticGeometry& statics = world.state.statics;
   if (filter.statics) {
     for (const std::uint32_t slot : statics.plane_slots()) {
       const StaticShape& plane = statics.shape(slot);
@@ -44,7 +44,7 @@ void cast_sphere(const WorldImpl& world, const Vec3& origin, Real radius, const 
         report(ContactTarget{{}, statics.id_of(shape)}, hit);
     });
   }
-  const BodyStore& bodies = world.bodies;
+  const BodyStore& bodies = world.state.bodies;
   Aabb path = Aabb::around_sphere(origin, radius);
   path.grow(Aabb::around_sphere(origin + d, radius));
   for (std::uint32_t s = 0; s < bodies.slot_count(); ++s) {
@@ -120,27 +120,28 @@ std::vector<ContactTarget> World::overlap_sphere(const Vec3& center, Real radius
   if (!is_finite(center) || !std::isfinite(radius) || radius < 0) return found;
   const WorldImpl& w = *impl_;
   if (filter.statics) {
-    for (const std::uint32_t slot : w.statics.plane_slots()) {
-      const StaticShape& plane = w.statics.shape(slot);
+    for (const std::uint32_t slot : w.state.statics.plane_slots()) {
+      const StaticShape& plane = w.state.statics.shape(slot);
       if ((plane.filter.layer & filter.mask) == 0) continue;
       if (plane.plane_normal.dot(center) - plane.plane_offset < radius)
-        found.push_back({{}, w.statics.id_of(slot)});
+        found.push_back({{}, w.state.statics.id_of(slot)});
     }
     std::vector<std::uint32_t> shapes;
-    w.statics.query_aabb(Aabb::around_sphere(center, radius), [&](std::uint32_t primitive) {
-      const std::uint32_t shape = w.statics.primitive(primitive).shape;
-      if ((w.statics.shape(shape).filter.layer & filter.mask) == 0) return;
-      if (w.statics.closest_feature(primitive, center).distance < radius) shapes.push_back(shape);
+    w.state.statics.query_aabb(Aabb::around_sphere(center, radius), [&](std::uint32_t primitive) {
+      const std::uint32_t shape = w.state.statics.primitive(primitive).shape;
+      if ((w.state.statics.shape(shape).filter.layer & filter.mask) == 0) return;
+      if (w.state.statics.closest_feature(primitive, center).distance < radius)
+        shapes.push_back(shape);
     });
     std::sort(shapes.begin(), shapes.end());
     shapes.erase(std::unique(shapes.begin(), shapes.end()), shapes.end());
-    for (const std::uint32_t shape : shapes) found.push_back({{}, w.statics.id_of(shape)});
+    for (const std::uint32_t shape : shapes) found.push_back({{}, w.state.statics.id_of(shape)});
   }
-  for (std::uint32_t s = 0; s < w.bodies.slot_count(); ++s) {
-    if (!body_passes(w.bodies, s, filter)) continue;
-    const Real reach = radius + w.bodies.radius[s];
-    if ((w.bodies.position[s] - center).squaredNorm() < reach * reach)
-      found.push_back({w.bodies.id_of(s), {}});
+  for (std::uint32_t s = 0; s < w.state.bodies.slot_count(); ++s) {
+    if (!body_passes(w.state.bodies, s, filter)) continue;
+    const Real reach = radius + w.state.bodies.radius[s];
+    if ((w.state.bodies.position[s] - center).squaredNorm() < reach * reach)
+      found.push_back({w.state.bodies.id_of(s), {}});
   }
   return found;
 }

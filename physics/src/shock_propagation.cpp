@@ -23,18 +23,18 @@ constexpr std::uint32_t kNoLevel = std::numeric_limits<std::uint32_t>::max();
 }
 
 void WorldImpl::order_contacts_by_support() {
-  SolverScratch& s = solver;
+  SolverScratch& s = scratch.solver;
   const std::uint32_t body_count = static_cast<std::uint32_t>(s.bodies.size());  // with dummy
   const std::uint32_t dummy = body_count - 1;
-  const std::size_t pair_count = pair_contacts.size();
-  const std::size_t total = pair_count + static_contacts.size();
+  const std::size_t pair_count = state.pair_contacts.size();
+  const std::size_t total = pair_count + state.static_contacts.size();
 
   // Pair-contact adjacency (compressed rows) over solver bodies.
   std::vector<std::uint32_t>& start = s.adjacency_start;
   std::vector<std::uint32_t>& neighbours = s.adjacency;
   start.assign(body_count + 1, 0);
   for (std::size_t i = 0; i < pair_count; ++i) {
-    const Contact& c = pair_contacts[i];
+    const Contact& c = state.pair_contacts[i];
     ++start[s.index_of[c.a] + 1];
     ++start[s.index_of[c.b] + 1];
   }
@@ -42,7 +42,8 @@ void WorldImpl::order_contacts_by_support() {
   neighbours.resize(start[body_count]);
   s.cursor.assign(start.begin(), start.end() - 1);
   for (std::size_t i = 0; i < pair_count; ++i) {
-    const std::uint32_t a = s.index_of[pair_contacts[i].a], b = s.index_of[pair_contacts[i].b];
+    const std::uint32_t a = s.index_of[state.pair_contacts[i].a],
+                        b = s.index_of[state.pair_contacts[i].b];
     neighbours[s.cursor[a]++] = b;
     neighbours[s.cursor[b]++] = a;
   }
@@ -53,7 +54,7 @@ void WorldImpl::order_contacts_by_support() {
   level[dummy] = 0;
   std::vector<std::uint32_t>& queue = s.cursor;  // the fill cursors are spent: reuse the buffer
   queue.clear();
-  for (const Contact& c : static_contacts) {
+  for (const Contact& c : state.static_contacts) {
     const std::uint32_t a = s.index_of[c.a];
     if (a != dummy && level[a] == kNoLevel) {
       level[a] = 1;
@@ -81,8 +82,8 @@ void WorldImpl::order_contacts_by_support() {
   for (std::size_t i = 0; i < total; ++i) {
     std::uint32_t support = 0;
     if (i < pair_count) {
-      support =
-          std::min(level[s.index_of[pair_contacts[i].a]], level[s.index_of[pair_contacts[i].b]]);
+      support = std::min(level[s.index_of[state.pair_contacts[i].a]],
+                         level[s.index_of[state.pair_contacts[i].b]]);
     }
     key[i] = std::min(support, unsupported);
   }
@@ -98,7 +99,7 @@ void WorldImpl::order_contacts_by_support() {
 }
 
 void WorldImpl::propagate_shock(Real inverse_h, bool use_bias) {
-  SolverScratch& s = solver;
+  SolverScratch& s = scratch.solver;
   const std::vector<std::uint32_t>& level = s.support_level;
   for (const std::uint32_t i : s.support_order) {
     const std::uint32_t where = s.lane_of_contact[i];

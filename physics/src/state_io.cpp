@@ -158,8 +158,8 @@ std::string read_projectiles(Reader& in, const WorldDef& def, ProjectileStore& p
 std::uint64_t World::state_hash() const {
   const WorldImpl& w = *impl_;
   Fnv1a h;
-  h.add_value(w.steps);
-  const BodyStore& b = w.bodies;
+  h.add_value(w.state.steps);
+  const BodyStore& b = w.state.bodies;
   for (std::uint32_t s = 0; s < b.slot_count(); ++s) {
     if (!b.alive(s)) continue;
     h.add_value(s);
@@ -171,7 +171,7 @@ std::uint64_t World::state_hash() const {
     h.add(b.motion[s].angular_velocity.data(), sizeof(Real) * 3);
     h.add_value(b.sleep_time[s]);
   }
-  for (const auto* list : {&w.pair_contacts, &w.static_contacts}) {
+  for (const auto* list : {&w.state.pair_contacts, &w.state.static_contacts}) {
     for (const Contact& c : *list) {
       h.add_value(c.key);
       h.add_value(c.normal_impulse);
@@ -179,7 +179,7 @@ std::uint64_t World::state_hash() const {
       h.add(c.rolling_impulse.data(), sizeof(Real) * 3);
     }
   }
-  const std::vector<ForceField>& fields = w.forces.fields();
+  const std::vector<ForceField>& fields = w.state.forces.fields();
   for (std::uint32_t s = 0; s < fields.size(); ++s) {
     const ForceField& f = fields[s];
     if (!f.alive) continue;
@@ -193,7 +193,7 @@ std::uint64_t World::state_hash() const {
     h.add_value(f.min_distance);
     h.add_value(f.mask);
   }
-  const ProjectileStore& p = w.projectiles;
+  const ProjectileStore& p = w.state.projectiles;
   for (std::uint32_t s = 0; s < p.slot_count(); ++s) {
     if (!p.alive[s]) continue;
     h.add_value(s);
@@ -208,9 +208,9 @@ std::vector<std::uint8_t> World::save_state() const {
   const WorldImpl& w = *impl_;
   Writer out;
   out.pod(kMagic), out.pod(kVersion), out.pod(static_cast<std::uint8_t>(sizeof(Real)));
-  out.pod(w.steps);
-  out.vec(w.def.gravity);
-  const BodyStore& b = w.bodies;
+  out.pod(w.state.steps);
+  out.vec(w.state.gravity);
+  const BodyStore& b = w.state.bodies;
   out.pod(b.slot_count());
   for (std::uint32_t s = 0; s < b.slot_count(); ++s) {
     out.pod(b.generation[s]), out.pod(b.flags[s]);
@@ -231,7 +231,7 @@ std::vector<std::uint8_t> World::save_state() const {
   out.pod(static_cast<std::uint32_t>(b.free_slots.size()));
   for (const std::uint32_t s : b.free_slots) out.pod(s);
 
-  const auto& shapes = w.statics.shapes();
+  const auto& shapes = w.state.statics.shapes();
   out.pod(static_cast<std::uint32_t>(shapes.size()));
   for (const StaticShape& shape : shapes) {
     out.pod(static_cast<std::uint8_t>(shape.type)), out.pod(shape.generation);
@@ -247,20 +247,20 @@ std::vector<std::uint8_t> World::save_state() const {
     out.pod(static_cast<std::uint32_t>(shape.indices.size()));
     for (const std::uint32_t i : shape.indices) out.pod(i);
   }
-  out.pod(static_cast<std::uint32_t>(w.statics.free_slots().size()));
-  for (const std::uint32_t s : w.statics.free_slots()) out.pod(s);
+  out.pod(static_cast<std::uint32_t>(w.state.statics.free_slots().size()));
+  for (const std::uint32_t s : w.state.statics.free_slots()) out.pod(s);
 
-  for (const auto* list : {&w.pair_contacts, &w.static_contacts}) {
+  for (const auto* list : {&w.state.pair_contacts, &w.state.static_contacts}) {
     out.pod(static_cast<std::uint32_t>(list->size()));
     for (const Contact& c : *list) write_contact(out, c);
   }
-  out.pod(static_cast<std::uint32_t>(w.sensor_overlaps.size()));
-  for (const std::uint64_t key : w.sensor_overlaps) out.pod(key);
-  out.pod(static_cast<std::uint32_t>(w.forces.fields().size()));
-  for (const ForceField& f : w.forces.fields()) write_force(out, f);
-  out.pod(static_cast<std::uint32_t>(w.forces.free_slots().size()));
-  for (const std::uint32_t s : w.forces.free_slots()) out.pod(s);
-  const ProjectileStore& p = w.projectiles;
+  out.pod(static_cast<std::uint32_t>(w.state.sensor_overlaps.size()));
+  for (const std::uint64_t key : w.state.sensor_overlaps) out.pod(key);
+  out.pod(static_cast<std::uint32_t>(w.state.forces.fields().size()));
+  for (const ForceField& f : w.state.forces.fields()) write_force(out, f);
+  out.pod(static_cast<std::uint32_t>(w.state.forces.free_slots().size()));
+  for (const std::uint32_t s : w.state.forces.free_slots()) out.pod(s);
+  const ProjectileStore& p = w.state.projectiles;
   out.pod(p.slot_count());
   for (std::uint32_t s = 0; s < p.slot_count(); ++s) {
     out.pod(p.generation[s]), out.pod(p.alive[s]);
@@ -293,9 +293,9 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
                    "-bit reals, this build uses " + std::to_string(sizeof(Real) * 8));
   }
   WorldImpl next(current.def);
-  if (!in.pod(next.steps) || !in.vec(next.def.gravity)) return corrupt(in.error);
+  if (!in.pod(next.state.steps) || !in.vec(next.state.gravity)) return corrupt(in.error);
 
-  BodyStore& b = next.bodies;
+  BodyStore& b = next.state.bodies;
   std::uint32_t slots = 0;
   if (!in.count(slots, std::min(current.def.max_bodies, kMaxBodySlots), 6))
     return corrupt(in.error);
@@ -380,26 +380,26 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
     if (s >= shape_count || shapes[s].alive)
       return corrupt("shape free list names a live or missing slot");
   }
-  next.statics.assign(std::move(shapes), std::move(shape_free));
+  next.state.statics.assign(std::move(shapes), std::move(shape_free));
 
-  for (auto* list : {&next.pair_contacts, &next.static_contacts}) {
+  for (auto* list : {&next.state.pair_contacts, &next.state.static_contacts}) {
     std::uint32_t n = 0;
     if (!in.count(n, 1u << 28, kMinContactBytes)) return corrupt(in.error);
     list->resize(n);
     for (Contact& c : *list) {
       if (!read_contact(in, c)) return corrupt(in.error);
       if (c.a >= slots || !b.alive(c.a)) return corrupt("contact names a missing body");
-      const bool pair = list == &next.pair_contacts;
+      const bool pair = list == &next.state.pair_contacts;
       if (pair ? (c.b >= slots || !b.alive(c.b))
-               : (c.b >= shape_count || !next.statics.shape(c.b).alive)) {
+               : (c.b >= shape_count || !next.state.statics.shape(c.b).alive)) {
         return corrupt("contact names a missing body or shape");
       }
     }
   }
   std::uint32_t overlap_count = 0;
   if (!in.count(overlap_count, 1u << 28, 8)) return corrupt(in.error);
-  next.sensor_overlaps.resize(overlap_count);
-  for (std::uint64_t& key : next.sensor_overlaps) {
+  next.state.sensor_overlaps.resize(overlap_count);
+  for (std::uint64_t& key : next.state.sensor_overlaps) {
     if (!in.pod(key)) return corrupt(in.error);
   }
   std::uint32_t force_count = 0;
@@ -416,11 +416,13 @@ Status World::restore_state(std::span<const std::uint8_t> bytes) {
     if (s >= force_count || fields[s].alive)
       return corrupt("force free list names a live or missing slot");
   }
-  next.forces.assign(std::move(fields), std::move(force_free));
-  if (const std::string why = read_projectiles(in, current.def, next.projectiles); !why.empty())
+  next.state.forces.assign(std::move(fields), std::move(force_free));
+  if (const std::string why = read_projectiles(in, current.def, next.state.projectiles);
+      !why.empty())
     return corrupt(why);
   if (!in.at_end()) return corrupt("trailing bytes after the state");
 
+  next.def.gravity = next.state.gravity;
   *impl_ = std::move(next);
   return {};
 }

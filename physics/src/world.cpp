@@ -3,21 +3,16 @@
 #include "ricochet/physics/world.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "math_util.h"
+#include "profile_timer.h"
 #include "show.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 Error invalid(const std::string& message) {
   return Error{ErrorCode::InvalidArgument, message};
@@ -109,7 +104,7 @@ World::~World() = default;
 Result<BodyId> World::create_body(const BodyDef& def) {
   const std::string problem = validate_body(def);
   if (!problem.empty()) return invalid("BodyDef: " + problem);
-  BodyStore& b = impl_->bodies;
+  BodyStore& b = impl_->state.bodies;
   if (b.free_slots.empty() && b.slot_count() >= impl_->def.max_bodies) {
     return Error{ErrorCode::CapacityExceeded,
                  "create_body: world holds max_bodies = " + show(impl_->def.max_bodies) +
@@ -121,74 +116,74 @@ Result<BodyId> World::create_body(const BodyDef& def) {
 }
 
 Status World::destroy_body(BodyId id) {
-  if (!impl_->bodies.valid(id)) return bad_handle("destroy_body");
+  if (!impl_->state.bodies.valid(id)) return bad_handle("destroy_body");
   impl_->remove_contacts_of(id.index);
-  impl_->forces.remove_springs_of(id.index);
-  impl_->bodies.destroy(id.index);
+  impl_->state.forces.remove_springs_of(id.index);
+  impl_->state.bodies.destroy(id.index);
   return {};
 }
 
 void WorldImpl::remove_contacts_of(std::uint32_t slot) {
-  const BodyId id = bodies.id_of(slot);
+  const BodyId id = state.bodies.id_of(slot);
   const auto report_and_drop = [&](std::vector<Contact>& list, bool pair) {
     std::erase_if(list, [&](const Contact& c) {
       if (c.a != slot && !(pair && c.b == slot)) return false;
       if (c.touching && def.contact_events) {
-        ContactTarget other = pair ? ContactTarget{bodies.id_of(c.a == slot ? c.b : c.a), {}}
-                                   : ContactTarget{{}, statics.id_of(c.b)};
-        pending_end_events.push_back({id, other});
+        ContactTarget other = pair ? ContactTarget{state.bodies.id_of(c.a == slot ? c.b : c.a), {}}
+                                   : ContactTarget{{}, state.statics.id_of(c.b)};
+        events.pending_end_events.push_back({id, other});
       }
       return true;
     });
   };
-  report_and_drop(pair_contacts, true);
-  report_and_drop(static_contacts, false);
-  std::erase_if(sensor_overlaps, [&](std::uint64_t key) {
+  report_and_drop(state.pair_contacts, true);
+  report_and_drop(state.static_contacts, false);
+  std::erase_if(state.sensor_overlaps, [&](std::uint64_t key) {
     return static_cast<std::uint32_t>(key >> 32) == slot || static_cast<std::uint32_t>(key) == slot;
   });
 }
 
 bool World::is_valid(BodyId id) const {
-  return impl_->bodies.valid(id);
+  return impl_->state.bodies.valid(id);
 }
 std::uint32_t World::body_count() const {
-  return impl_->bodies.alive_count;
+  return impl_->state.bodies.alive_count;
 }
 
 Result<BodyState> World::body_state(BodyId id) const {
-  if (!impl_->bodies.valid(id)) return bad_handle("body_state");
-  return impl_->bodies.state(id.index);
+  if (!impl_->state.bodies.valid(id)) return bad_handle("body_state");
+  return impl_->state.bodies.state(id.index);
 }
 
 Status World::set_transform(BodyId id, const Vec3& position, const Quat& orientation) {
-  if (!impl_->bodies.valid(id)) return bad_handle("set_transform");
+  if (!impl_->state.bodies.valid(id)) return bad_handle("set_transform");
   if (!is_finite(position))
     return invalid("set_transform: position must be finite, got " + show(position));
   if (!is_finite(orientation) || orientation.squaredNorm() < Real(1e-12)) {
     return invalid("set_transform: orientation must be a finite, non-zero quaternion");
   }
-  impl_->bodies.position[id.index] = position;
-  impl_->bodies.orientation[id.index] = orientation.normalized();
+  impl_->state.bodies.position[id.index] = position;
+  impl_->state.bodies.orientation[id.index] = orientation.normalized();
   impl_->wake_body(id.index);
   return {};
 }
 
 Status World::set_linear_velocity(BodyId id, const Vec3& velocity) {
-  if (!impl_->bodies.valid(id)) return bad_handle("set_linear_velocity");
+  if (!impl_->state.bodies.valid(id)) return bad_handle("set_linear_velocity");
   if (!is_finite(velocity))
     return invalid("set_linear_velocity: velocity must be finite, got " + show(velocity));
-  if (impl_->bodies.has(id.index, kFlagFrozen)) return {};
-  impl_->bodies.motion[id.index].linear_velocity = velocity;
+  if (impl_->state.bodies.has(id.index, kFlagFrozen)) return {};
+  impl_->state.bodies.motion[id.index].linear_velocity = velocity;
   impl_->mark_velocity_as_given(id.index);
   impl_->wake_body(id.index);
   return {};
 }
 
 Status World::set_angular_velocity(BodyId id, const Vec3& velocity) {
-  if (!impl_->bodies.valid(id)) return bad_handle("set_angular_velocity");
+  if (!impl_->state.bodies.valid(id)) return bad_handle("set_angular_velocity");
   if (!is_finite(velocity))
     return invalid("set_angular_velocity: velocity must be finite, got " + show(velocity));
-  BodyStore& b = impl_->bodies;
+  BodyStore& b = impl_->state.bodies;
   if (b.has(id.index, kFlagLockRotation) || b.has(id.index, kFlagFrozen)) return {};
   b.motion[id.index].angular_velocity = velocity;
   impl_->wake_body(id.index);
@@ -196,32 +191,32 @@ Status World::set_angular_velocity(BodyId id, const Vec3& velocity) {
 }
 
 Status World::apply_force(BodyId id, const Vec3& force) {
-  if (!impl_->bodies.valid(id)) return bad_handle("apply_force");
-  const Vec3 total = impl_->bodies.force[id.index] + force;
+  if (!impl_->state.bodies.valid(id)) return bad_handle("apply_force");
+  const Vec3 total = impl_->state.bodies.force[id.index] + force;
   if (!is_finite(force) || !is_finite(total))
     return invalid("apply_force: force must be finite, got " + show(force));
-  impl_->bodies.force[id.index] = total;
+  impl_->state.bodies.force[id.index] = total;
   impl_->wake_body(id.index);
   return {};
 }
 
 Status World::apply_torque(BodyId id, const Vec3& torque) {
-  if (!impl_->bodies.valid(id)) return bad_handle("apply_torque");
-  const Vec3 total = impl_->bodies.torque[id.index] + torque;
+  if (!impl_->state.bodies.valid(id)) return bad_handle("apply_torque");
+  const Vec3 total = impl_->state.bodies.torque[id.index] + torque;
   if (!is_finite(torque) || !is_finite(total))
     return invalid("apply_torque: torque must be finite, got " + show(torque));
-  impl_->bodies.torque[id.index] = total;
+  impl_->state.bodies.torque[id.index] = total;
   impl_->wake_body(id.index);
   return {};
 }
 
 Status World::apply_impulse(BodyId id, const Vec3& impulse, const Vec3& point) {
-  if (!impl_->bodies.valid(id)) return bad_handle("apply_impulse");
+  if (!impl_->state.bodies.valid(id)) return bad_handle("apply_impulse");
   if (!is_finite(impulse) || !is_finite(point)) {
     return invalid("apply_impulse: impulse and point must be finite, got " + show(impulse) +
                    " at " + show(point));
   }
-  BodyStore& b = impl_->bodies;
+  BodyStore& b = impl_->state.bodies;
   if (b.has(id.index, kFlagFrozen)) return {};
   Motion& m = b.motion[id.index];
   const Vec3 v = m.linear_velocity + m.inverse_mass * impulse;
@@ -236,7 +231,7 @@ Status World::apply_impulse(BodyId id, const Vec3& impulse, const Vec3& point) {
 }
 
 Status World::wake(BodyId id) {
-  if (!impl_->bodies.valid(id)) return bad_handle("wake");
+  if (!impl_->state.bodies.valid(id)) return bad_handle("wake");
   impl_->wake_body(id.index);
   return {};
 }
@@ -262,14 +257,14 @@ Result<ShapeId> World::add_plane(const PlaneDef& def) {
   if (!std::isfinite(def.offset)) return invalid("PlaneDef: offset must be finite");
   if (const std::string e = validate_material(def.material); !e.empty())
     return invalid("PlaneDef: " + e);
-  if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
+  if (Status s = check_shape_capacity(impl_->state.statics, impl_->def); !s) return s.error();
   StaticShape shape;
   shape.type = ShapeType::Plane;
   shape.plane_normal = def.normal.normalized();
   shape.plane_offset = def.offset;
   shape.material = def.material;
   shape.filter = def.filter;
-  return impl_->statics.id_of(impl_->statics.add(std::move(shape)));
+  return impl_->state.statics.id_of(impl_->state.statics.add(std::move(shape)));
 }
 
 Result<ShapeId> World::add_box(const BoxDef& def) {
@@ -283,7 +278,7 @@ Result<ShapeId> World::add_box(const BoxDef& def) {
   }
   if (const std::string e = validate_material(def.material); !e.empty())
     return invalid("BoxDef: " + e);
-  if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
+  if (Status s = check_shape_capacity(impl_->state.statics, impl_->def); !s) return s.error();
   StaticShape shape;
   shape.type = ShapeType::Box;
   shape.box_center = def.center;
@@ -291,7 +286,7 @@ Result<ShapeId> World::add_box(const BoxDef& def) {
   shape.box_half_extents = def.half_extents;
   shape.material = def.material;
   shape.filter = def.filter;
-  return impl_->statics.id_of(impl_->statics.add(std::move(shape)));
+  return impl_->state.statics.id_of(impl_->state.statics.add(std::move(shape)));
 }
 
 Result<ShapeId> World::add_mesh(const MeshDef& def) {
@@ -315,33 +310,33 @@ Result<ShapeId> World::add_mesh(const MeshDef& def) {
   }
   if (const std::string e = validate_material(def.material); !e.empty())
     return invalid("MeshDef: " + e);
-  if (Status s = check_shape_capacity(impl_->statics, impl_->def); !s) return s.error();
+  if (Status s = check_shape_capacity(impl_->state.statics, impl_->def); !s) return s.error();
   StaticShape shape;
   shape.type = ShapeType::Mesh;
   shape.vertices = def.vertices;
   shape.indices = def.indices;
   shape.material = def.material;
   shape.filter = def.filter;
-  return impl_->statics.id_of(impl_->statics.add(std::move(shape)));
+  return impl_->state.statics.id_of(impl_->state.statics.add(std::move(shape)));
 }
 
 Status World::remove_shape(ShapeId id) {
-  if (!impl_->statics.valid(id))
+  if (!impl_->state.statics.valid(id))
     return Error{ErrorCode::InvalidHandle, "remove_shape: null, stale or unknown ShapeId"};
   WorldImpl& w = *impl_;
-  std::erase_if(w.static_contacts, [&](const Contact& c) {
+  std::erase_if(w.state.static_contacts, [&](const Contact& c) {
     if (c.b != id.index) return false;
     if (c.touching && w.def.contact_events)
-      w.pending_end_events.push_back({w.bodies.id_of(c.a), {{}, id}});
+      w.events.pending_end_events.push_back({w.state.bodies.id_of(c.a), {{}, id}});
     return true;
   });
   w.wake_all();  // whatever rested on it must fall
-  w.statics.remove(id.index);
+  w.state.statics.remove(id.index);
   return {};
 }
 
 std::uint32_t World::shape_count() const {
-  return impl_->statics.count();
+  return impl_->state.statics.count();
 }
 
 // --- force fields ---
@@ -360,9 +355,9 @@ Status check_force_capacity(const ForceFields& forces) {
 
 Result<ForceId> World::add_spring(const SpringDef& def) {
   WorldImpl& w = *impl_;
-  if (!w.bodies.valid(def.body)) return bad_handle("add_spring");
-  if (w.bodies.has(def.body.index, kFlagKinematic))
-    return invalid("SpringDef: body must be dynamic (kinematic bodies ignore forces)");
+  if (!w.state.bodies.valid(def.body)) return bad_handle("add_spring");
+  if (w.state.bodies.has(def.body.index, kFlagKinematic))
+    return invalid("SpringDef: body must be dynamic (kinematic state.bodies ignore state.forces)");
   if (!is_finite(def.anchor))
     return invalid("SpringDef: anchor must be finite, got " + show(def.anchor));
   if (!std::isfinite(def.stiffness) || def.stiffness <= 0)
@@ -371,7 +366,7 @@ Result<ForceId> World::add_spring(const SpringDef& def) {
     return invalid("SpringDef: rest_length must be >= 0 m, got " + show(def.rest_length));
   if (!std::isfinite(def.damping) || def.damping < 0)
     return invalid("SpringDef: damping must be >= 0 N·s/m, got " + show(def.damping));
-  if (Status s = check_force_capacity(w.forces); !s) return s.error();
+  if (Status s = check_force_capacity(w.state.forces); !s) return s.error();
   ForceField field;
   field.kind = ForceKind::Spring;
   field.body = def.body.index;
@@ -380,7 +375,7 @@ Result<ForceId> World::add_spring(const SpringDef& def) {
   field.rest_length = def.rest_length;
   field.damping = def.damping;
   w.wake_body(def.body.index);
-  return w.forces.id_of(w.forces.add(field));
+  return w.state.forces.id_of(w.state.forces.add(field));
 }
 
 Result<ForceId> World::add_attractor(const AttractorDef& def) {
@@ -391,7 +386,7 @@ Result<ForceId> World::add_attractor(const AttractorDef& def) {
     return invalid("AttractorDef: strength must be > 0 m³/s², got " + show(def.strength));
   if (!std::isfinite(def.min_distance) || def.min_distance <= 0)
     return invalid("AttractorDef: min_distance must be > 0 m, got " + show(def.min_distance));
-  if (Status s = check_force_capacity(w.forces); !s) return s.error();
+  if (Status s = check_force_capacity(w.state.forces); !s) return s.error();
   ForceField field;
   field.kind = ForceKind::Attractor;
   field.point = def.center;
@@ -399,25 +394,25 @@ Result<ForceId> World::add_attractor(const AttractorDef& def) {
   field.min_distance = def.min_distance;
   field.mask = def.mask;
   w.wake_all();
-  return w.forces.id_of(w.forces.add(field));
+  return w.state.forces.id_of(w.state.forces.add(field));
 }
 
 Status World::remove_force(ForceId id) {
   WorldImpl& w = *impl_;
-  if (!w.forces.valid(id))
+  if (!w.state.forces.valid(id))
     return Error{ErrorCode::InvalidHandle, "remove_force: null, stale or unknown ForceId"};
-  const ForceField& field = w.forces.fields()[id.index];
+  const ForceField& field = w.state.forces.fields()[id.index];
   if (field.kind == ForceKind::Spring) {
     w.wake_body(field.body);
   } else {
     w.wake_all();
   }
-  w.forces.remove(id.index);
+  w.state.forces.remove(id.index);
   return {};
 }
 
 std::uint32_t World::force_count() const {
-  return impl_->forces.count();
+  return impl_->state.forces.count();
 }
 
 // --- simulation ---
@@ -430,50 +425,37 @@ Status World::step(Real dt_s) {
 }
 
 Status WorldImpl::step(Real step_dt) {
-  const auto start = Clock::now();
-  auto t = start;
-  const auto lap = [&](double& field) {
-    const auto now = Clock::now();
-    field = std::chrono::duration<double, std::milli>(now - t).count();
-    t = now;
-  };
   profile = StepProfile{};
-
+  ProfileTimer timer;
   begin_step(step_dt);
   find_pairs();
   wake_touching_islands();
   gather_awake_bodies();
-  lap(profile.broad_phase_ms);
+  timer.lap(profile.broad_phase_ms);
   update_contacts();
-  lap(profile.narrow_phase_ms);
-  solve(step_dt);  // fills solve_ms and integrate_ms
-  t = Clock::now();
+  timer.lap(profile.narrow_phase_ms);
+  solve(step_dt, timer);  // laps into solve_ms and integrate_ms
   solve_continuous();
-  lap(profile.continuous_ms);
   freeze_nonfinite();
-  t = Clock::now();
+  timer.lap(profile.continuous_ms);
   step_projectiles();
-  lap(profile.projectiles_ms);
+  timer.lap(profile.projectiles_ms);
   update_sleep(step_dt);
-  lap(profile.sleep_ms);
+  timer.lap(profile.sleep_ms);
   report_events();
-  lap(profile.events_ms);
+  timer.lap(profile.events_ms);
   end_step();
 
-  profile.total_ms = ms_since(start);
-  profile.bodies_awake = static_cast<int>(awake_list.size());
+  profile.total_ms = timer.total_ms();
+  profile.bodies_awake = static_cast<int>(scratch.awake_list.size());
   return {};
 }
 
 void WorldImpl::begin_step(Real step_dt) {
-  dt = step_dt;
-  begin_events.clear();
-  end_events.clear();
-  impulse_events.clear();
-  nonfinite_events.clear();
-  projectile_hits.clear();
-  const std::uint32_t slots = bodies.slot_count();
-  speculative_margin.resize(slots);
+  scratch.dt = step_dt;
+  events.clear_step();
+  const std::uint32_t slots = state.bodies.slot_count();
+  scratch.speculative_margin.resize(slots);
   // A contact is created while the gap is below the margin: enough for this step's motion (so
   // nothing sinks in before it is stopped), capped so fast bodies do not inflate the grid.
   // A fast body moving more than its radius per step is swept instead (solve_continuous), and
@@ -481,145 +463,62 @@ void WorldImpl::begin_step(Real step_dt) {
   // merely passes within the margin of (a ghost hit).
   const Real base = 4 * def.linear_slop;
   for (std::uint32_t s = 0; s < slots; ++s) {
-    const Real move = bodies.motion[s].linear_velocity.norm() * step_dt;
-    const bool swept = def.enable_continuous && bodies.has(s, kFlagFast) && move > bodies.radius[s];
-    speculative_margin[s] = swept ? base : base + std::min(move, def.max_speculative_distance);
+    const Real move = state.bodies.motion[s].linear_velocity.norm() * step_dt;
+    const bool swept =
+        def.enable_continuous && state.bodies.has(s, kFlagFast) && move > state.bodies.radius[s];
+    scratch.speculative_margin[s] =
+        swept ? base : base + std::min(move, def.max_speculative_distance);
   }
 }
 
 void WorldImpl::gather_awake_bodies() {
-  const std::uint32_t slots = bodies.slot_count();
-  awake_list.clear();
+  const std::uint32_t slots = state.bodies.slot_count();
+  scratch.awake_list.clear();
   for (std::uint32_t s = 0; s < slots; ++s) {
-    if ((bodies.flags[s] & (kFlagAlive | kFlagSleeping | kFlagFrozen)) == kFlagAlive)
-      awake_list.push_back(s);
+    if ((state.bodies.flags[s] & (kFlagAlive | kFlagSleeping | kFlagFrozen)) == kFlagAlive)
+      scratch.awake_list.push_back(s);
   }
-  start_position = bodies.position;
-  start_orientation = bodies.orientation;
-  contact_count.assign(slots, 0);
+  scratch.start_position = state.bodies.position;
+  scratch.start_orientation = state.bodies.orientation;
+  scratch.contact_count.assign(slots, 0);
 }
 
 void WorldImpl::wake_all() {
-  for (std::uint32_t s = 0; s < bodies.slot_count(); ++s) {
-    if (bodies.alive(s)) wake_body(s);
+  for (std::uint32_t s = 0; s < state.bodies.slot_count(); ++s) {
+    if (state.bodies.alive(s)) wake_body(s);
   }
 }
 
 void WorldImpl::freeze_body(std::uint32_t slot) {
-  if (bodies.has(slot, kFlagFrozen)) return;
-  bodies.flags[slot] |= kFlagFrozen;
-  bodies.motion[slot] = Motion{};  // zero velocity, zero inverse mass: an obstacle, not a carrier
-  nonfinite_slots.push_back(slot);
+  if (state.bodies.has(slot, kFlagFrozen)) return;
+  state.bodies.flags[slot] |= kFlagFrozen;
+  state.bodies.motion[slot] =
+      Motion{};  // zero velocity, zero inverse mass: an obstacle, not a carrier
+  scratch.nonfinite_slots.push_back(slot);
 }
 
 void WorldImpl::freeze_nonfinite() {
-  for (const std::uint32_t s : awake_list) {
-    const Motion& m = bodies.motion[s];
-    if (!is_finite(bodies.position[s]) || !is_finite(bodies.orientation[s]) ||
+  for (const std::uint32_t s : scratch.awake_list) {
+    const Motion& m = state.bodies.motion[s];
+    if (!is_finite(state.bodies.position[s]) || !is_finite(state.bodies.orientation[s]) ||
         !is_finite(m.linear_velocity) || !is_finite(m.angular_velocity)) {
       freeze_body(s);
     }
   }
-  for (const std::uint32_t s : nonfinite_slots) {
-    bodies.position[s] = start_position[s];
-    bodies.orientation[s] = start_orientation[s];
-    nonfinite_events.push_back({bodies.id_of(s)});
+  for (const std::uint32_t s : scratch.nonfinite_slots) {
+    state.bodies.position[s] = scratch.start_position[s];
+    state.bodies.orientation[s] = scratch.start_orientation[s];
+    events.nonfinite_events.push_back({state.bodies.id_of(s)});
   }
-  nonfinite_slots.clear();
+  scratch.nonfinite_slots.clear();
 }
 
 void WorldImpl::end_step() {
-  for (const std::uint32_t s : awake_list) {
-    bodies.force[s].setZero();
-    bodies.torque[s].setZero();
+  for (const std::uint32_t s : scratch.awake_list) {
+    state.bodies.force[s].setZero();
+    state.bodies.torque[s].setZero();
   }
-  ++steps;
-}
-
-void WorldImpl::report_events() {
-  // Touching: the contact carried load this step, or the surfaces are within slop.
-  const Real touch_gap = def.linear_slop;
-  for (auto* list : {&pair_contacts, &static_contacts}) {
-    for (Contact& c : *list) c.touching = c.max_normal_impulse > 0 || c.separation < touch_gap;
-  }
-  // Sensors: overlapping pairs this step, as sorted keys.
-  std::swap(previous_sensor_overlaps, sensor_overlaps);
-  sensor_overlaps.clear();
-  for (const BodyPair& p : sensor_pairs) {
-    const Real reach = bodies.radius[p.a] + bodies.radius[p.b];
-    if ((bodies.position[p.b] - bodies.position[p.a]).squaredNorm() < reach * reach) {
-      sensor_overlaps.push_back(pair_key(p.a, p.b));
-    }
-  }
-  std::sort(sensor_overlaps.begin(), sensor_overlaps.end());
-  if (!def.contact_events) {
-    pending_end_events.clear();
-    return;
-  }
-  end_events = std::move(pending_end_events);
-  pending_end_events.clear();
-
-  const auto other_of = [&](const Contact& c, bool pair) {
-    return pair ? ContactTarget{bodies.id_of(c.b), {}} : ContactTarget{{}, statics.id_of(c.b)};
-  };
-  for (int list = 0; list < 2; ++list) {
-    const bool pair = list == 0;
-    for (const Contact& c : pair ? pair_contacts : static_contacts) {
-      if (!c.touching) continue;
-      const BodyId body = bodies.id_of(c.a);
-      if (!c.previously_touching) {
-        begin_events.push_back(
-            {body, other_of(c, pair), c.point, c.normal, std::max(Real(0), -c.relative_velocity)});
-      }
-      if (c.total_normal_impulse > 0) {
-        impulse_events.push_back(
-            {body, other_of(c, pair), c.point, c.normal, c.total_normal_impulse});
-      }
-    }
-  }
-  // Last step's touching contacts that are gone, then those that stopped touching.
-  const std::size_t previous_pairs = previous_pair_contacts.size();
-  for (std::size_t i = 0; i < previous_matched.size(); ++i) {
-    const bool pair = i < previous_pairs;
-    const Contact& old =
-        pair ? previous_pair_contacts[i] : previous_static_contacts[i - previous_pairs];
-    if (old.touching && !previous_matched[i] && bodies.alive(old.a)) {
-      end_events.push_back({bodies.id_of(old.a), other_of(old, pair)});
-    }
-  }
-  for (auto* list : {&pair_contacts, &static_contacts}) {
-    const bool pair = list == &pair_contacts;
-    for (const Contact& c : *list) {
-      if (c.previously_touching && !c.touching)
-        end_events.push_back({bodies.id_of(c.a), other_of(c, pair)});
-    }
-  }
-  // Sensor begin/end from the sorted key sets.
-  const auto sensor_event_target = [&](std::uint64_t key, BodyId& body, ContactTarget& other) {
-    body = bodies.id_of(static_cast<std::uint32_t>(key >> 32));
-    other = ContactTarget{bodies.id_of(static_cast<std::uint32_t>(key)), {}};
-  };
-  std::vector<std::uint64_t> diff;
-  std::set_difference(sensor_overlaps.begin(), sensor_overlaps.end(),
-                      previous_sensor_overlaps.begin(), previous_sensor_overlaps.end(),
-                      std::back_inserter(diff));
-  for (const std::uint64_t key : diff) {
-    ContactBeginEvent e{};
-    sensor_event_target(key, e.body, e.other);
-    const Vec3 d = bodies.position[e.other.body.index] - bodies.position[e.body.index];
-    e.normal = d.norm() > 0 ? Vec3(d.normalized()) : fallback_normal();
-    e.point = bodies.position[e.body.index] + e.normal * bodies.radius[e.body.index];
-    e.approach_speed = 0;
-    begin_events.push_back(e);
-  }
-  diff.clear();
-  std::set_difference(previous_sensor_overlaps.begin(), previous_sensor_overlaps.end(),
-                      sensor_overlaps.begin(), sensor_overlaps.end(), std::back_inserter(diff));
-  for (const std::uint64_t key : diff) {
-    ContactEndEvent e{};
-    sensor_event_target(key, e.body, e.other);
-    if (bodies.alive(e.body.index) && bodies.alive(e.other.body.index)) end_events.push_back(e);
-  }
+  ++state.steps;
 }
 
 const StepProfile& World::profile() const {
@@ -631,25 +530,26 @@ const WorldDef& World::definition() const {
 Status World::set_gravity(const Vec3& gravity) {
   if (!is_finite(gravity))
     return invalid("set_gravity: gravity must be finite, got " + show(gravity));
+  impl_->state.gravity = gravity;
   impl_->def.gravity = gravity;
   impl_->wake_all();
   return {};
 }
 std::uint64_t World::step_count() const {
-  return impl_->steps;
+  return impl_->state.steps;
 }
 
 std::span<const ContactBeginEvent> World::contact_begin_events() const {
-  return impl_->begin_events;
+  return impl_->events.begin_events;
 }
 std::span<const ContactEndEvent> World::contact_end_events() const {
-  return impl_->end_events;
+  return impl_->events.end_events;
 }
 std::span<const ContactImpulseEvent> World::contact_impulse_events() const {
-  return impl_->impulse_events;
+  return impl_->events.impulse_events;
 }
 std::span<const NonFiniteEvent> World::nonfinite_events() const {
-  return impl_->nonfinite_events;
+  return impl_->events.nonfinite_events;
 }
 
 }  // namespace ricochet::physics

@@ -7,6 +7,12 @@
 ///   continuous.cpp     solve_continuous
 ///   queries.cpp        ray and sphere casts, overlaps
 ///   state_io.cpp       state_hash, save_state, restore_state
+///   events.cpp         report_events
+///
+/// What a step reads and writes is split three ways, as Box2D v3 keeps b2World apart from its
+/// b2StepContext: `WorldState` is everything that is saved, restored and hashed (nothing else
+/// is); `StepScratch` is rebuilt or reused each step and never saved; `StepEvents` is what the
+/// last step reports.
 
 #include <cstdint>
 #include <vector>
@@ -16,6 +22,7 @@
 #include "contact.h"
 #include "contact_solver.h"
 #include "force_fields.h"
+#include "profile_timer.h"
 #include "projectile_store.h"
 #include "ricochet/physics/world.h"
 #include "static_geometry.h"
@@ -34,9 +41,90 @@ struct BodyPair {
   std::uint32_t b;
 };
 
+/// Everything save_state writes, restore_state reads and state_hash covers. A field that is not
+/// here is not part of the simulation's state and must be rebuilt by the next step.
+struct WorldState {
+  BodyStore bodies;
+  StaticGeometry statics;
+  ForceFields forces;
+  ProjectileStore projectiles;
+  std::uint64_t steps = 0;
+  Vec3 gravity = Vec3::Zero();  ///< m/s², WorldDef::gravity until set_gravity changes it
+  /// Contacts of the last step: warm-start impulses and touching state for the next one.
+  std::vector<Contact> pair_contacts, static_contacts;
+  std::vector<std::uint64_t> sensor_overlaps;  ///< sorted pair keys overlapping after the last step
+};
+
+/// Buffers a step fills and reads; sized to the slot count and reused, never saved.
+struct StepScratch {
+  Real dt = 0;                       ///< s, of the current step
+  std::vector<Vec3> start_position;  ///< position at step start (CCD, non-finite restore)
+  std::vector<Quat> start_orientation;
+  std::vector<Real> speculative_margin;      ///< m, per body this step
+  std::vector<std::uint32_t> contact_count;  ///< contacts per body this step (ExactBallistic)
+  std::vector<std::uint32_t> awake_list;     ///< simulated body slots this step, ascending
+  std::vector<std::uint32_t> nonfinite_slots;
+  SolverScratch solver;
+  BodyGrid grid;
+  std::vector<BodyPair> pairs;
+  std::vector<BodyPair> sensor_pairs;
+  std::vector<MeshHit> mesh_hits;  ///< narrowphase scratch, one body at a time
+
+  // Last step's contacts while this step's are built (warm starting, begin/end events).
+  std::vector<Contact> previous_pair_contacts, previous_static_contacts;
+  std::vector<std::uint64_t> previous_sensor_overlaps;  ///< sorted, last step
+  std::vector<std::uint8_t> previous_matched;
+  std::vector<std::uint64_t> sensor_difference;  ///< event reporting: keys that began or ended
+  ContactCache cache;
+
+  // Continuous collision.
+  struct SweptBox {
+    Vec3 lo, hi;  ///< m, box around a body's whole move this step
+    std::uint32_t body;
+  };
+  static constexpr std::uint32_t kNotFast = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> fast_bodies;
+  std::vector<std::uint8_t> fast_sweeping;  ///< per fast body: moved far enough to be swept
+  std::vector<std::uint32_t> fast_index;    ///< per slot: index into fast_bodies, or kNotFast
+  std::vector<SweptBox> swept_boxes;
+  std::vector<Real> time_of_impact;
+
+  // Islands (union-find over touching body pairs), used for sleeping.
+  std::vector<std::uint32_t> island_parent;
+  std::vector<std::uint8_t> island_scratch;  ///< per root: holds an awake body
+  std::vector<Real> island_sleep_time;       ///< per root: least sleep time of its bodies
+
+  /// A projectile's move this step and its earliest hit so far (projectiles.cpp).
+  struct ProjectileSweep {
+    std::uint32_t slot = 0;
+    Vec3 from, move;  ///< m
+    SweepHit hit;     ///< t = 1: nothing hit
+    ContactTarget target;
+  };
+  std::vector<ProjectileSweep> projectile_sweeps;
+};
+
+/// What the last step reports to game code.
+struct StepEvents {
+  std::vector<ProjectileHitEvent> projectile_hits;
+  std::vector<ContactBeginEvent> begin_events;
+  std::vector<ContactEndEvent> end_events;
+  std::vector<ContactImpulseEvent> impulse_events;
+  std::vector<NonFiniteEvent> nonfinite_events;
+  std::vector<ContactEndEvent> pending_end_events;  ///< from destroy/remove between steps
+
+  void clear_step() {
+    begin_events.clear();
+    end_events.clear();
+    impulse_events.clear();
+    nonfinite_events.clear();
+    projectile_hits.clear();
+  }
+};
+
 class WorldImpl {
  public:
-  explicit WorldImpl(const WorldDef& def) : def(def) {}
+  explicit WorldImpl(const WorldDef& def) : def(def) { state.gravity = def.gravity; }
 
   Status step(Real dt);
 
@@ -46,7 +134,7 @@ class WorldImpl {
   void wake_touching_islands();
   void gather_awake_bodies();
   void update_contacts();
-  void solve(Real dt);
+  void solve(Real dt, ProfileTimer& timer);
   void solve_continuous();
   void sweep_bodies_against_bodies();
   /// Fills swept_boxes with a box around every live, non-sensor body's whole move this step,
@@ -98,68 +186,10 @@ class WorldImpl {
   void reset_impulses();
   void store_impulses();
 
-  WorldDef def;
-  BodyStore bodies;
-  StaticGeometry statics;
-  ForceFields forces;
-  ProjectileStore projectiles;
-  std::uint64_t steps = 0;
-  Real dt = 0;  ///< seconds, of the current step
-
-  // Per-step scratch (sized to slot count).
-  std::vector<Vec3> start_position;  ///< position at step start (CCD, non-finite restore)
-  std::vector<Quat> start_orientation;
-  std::vector<Real> speculative_margin;      ///< m, per body this step
-  std::vector<std::uint32_t> contact_count;  ///< contacts per body this step (ExactBallistic)
-  std::vector<std::uint32_t> awake_list;     ///< simulated body slots this step, ascending
-  std::vector<std::uint32_t> nonfinite_slots;
-  SolverScratch solver;
-  BodyGrid grid;
-  std::vector<BodyPair> pairs;
-  std::vector<BodyPair> sensor_pairs;
-  std::vector<MeshHit> mesh_hits;  ///< narrowphase scratch, one body at a time
-
-  // Contacts: current step and last step (warm starting, begin/end events).
-  std::vector<Contact> pair_contacts, static_contacts;
-  std::vector<Contact> previous_pair_contacts, previous_static_contacts;
-  std::vector<std::uint64_t> sensor_overlaps;           ///< sorted pair keys overlapping now
-  std::vector<std::uint64_t> previous_sensor_overlaps;  ///< sorted, last step
-  std::vector<std::uint8_t> previous_matched;
-  ContactCache cache;
-
-  // Continuous collision scratch.
-  struct SweptBox {
-    Vec3 lo, hi;  ///< m, box around a body's whole move this step
-    std::uint32_t body;
-  };
-  static constexpr std::uint32_t kNotFast = 0xFFFFFFFFu;
-  std::vector<std::uint32_t> fast_bodies;
-  std::vector<std::uint8_t> fast_sweeping;  ///< per fast body: moved far enough to be swept
-  std::vector<std::uint32_t> fast_index;    ///< per slot: index into fast_bodies, or kNotFast
-  std::vector<SweptBox> swept_boxes;
-  std::vector<Real> time_of_impact;
-
-  // Islands (union-find over touching body pairs), used for sleeping.
-  std::vector<std::uint32_t> island_parent;
-  std::vector<std::uint8_t> island_scratch;  ///< per root: holds an awake body
-  std::vector<Real> island_sleep_time;       ///< per root: least sleep time of its bodies
-
-  // Events of the last step.
-  /// A projectile's move this step and its earliest hit so far (projectiles.cpp).
-  struct ProjectileSweep {
-    std::uint32_t slot = 0;
-    Vec3 from, move;  ///< m
-    SweepHit hit;     ///< t = 1: nothing hit
-    ContactTarget target;
-  };
-  std::vector<ProjectileSweep> projectile_sweeps;
-  std::vector<ProjectileHitEvent> projectile_hits;
-  std::vector<ContactBeginEvent> begin_events;
-  std::vector<ContactEndEvent> end_events;
-  std::vector<ContactImpulseEvent> impulse_events;
-  std::vector<NonFiniteEvent> nonfinite_events;
-  std::vector<ContactEndEvent> pending_end_events;  ///< from destroy/remove between steps
-
+  WorldDef def;  ///< as created; def.gravity follows state.gravity
+  WorldState state;
+  StepScratch scratch;
+  StepEvents events;
   StepProfile profile;
 };
 
