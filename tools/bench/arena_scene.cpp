@@ -65,7 +65,7 @@ bool outside(const rp::Vec3& p) {
   return std::abs(p.x()) > kHalfWidth || std::abs(p.z()) > kHalfWidth || p.y() < 0 || p.y() > 10;
 }
 
-Arena build(Model m) {
+Arena build(Model m, ArenaFloor floor) {
   Arena a{
       rp::World::create(m == Model::Full ? profiles::physics_props() : profiles::arena_players())
           .value(),
@@ -73,7 +73,11 @@ Arena build(Model m) {
       {},
       {}};
   rp::World& w = a.world;
-  (void)w.add_plane({.normal = rp::Vec3::UnitY(), .offset = 0});
+  if (floor == ArenaFloor::Plane) {
+    (void)w.add_plane({.normal = rp::Vec3::UnitY(), .offset = 0});
+  } else {  // 100 × 100 cells = kArenaMeshTriangles, 5 cm bumps under the players
+    (void)w.add_mesh(heightfield(100, kHalfWidth + 2, rp::Real(0.05)));
+  }
   const rp::Real h = kHalfWidth;
   for (int side = 0; side < 4; ++side) {  // four 1 m thick, 4 m high walls
     const rp::Real s = side % 2 == 0 ? rp::Real(1) : rp::Real(-1);
@@ -103,8 +107,32 @@ rp::Vec3 steer(int i, int n) {
 
 }  // namespace
 
-ArenaResult run_arena(ArenaModel m, int steps, const ArenaStep& step) {
-  Arena a = build(m);
+rp::MeshDef heightfield(int cells, rp::Real half_width_m, rp::Real amplitude_m) {
+  rp::MeshDef mesh;
+  const int n = cells + 1;  // vertices per side
+  const rp::Real spacing = 2 * half_width_m / static_cast<rp::Real>(cells);
+  for (int z = 0; z < n; ++z) {
+    for (int x = 0; x < n; ++x) {
+      const rp::Real px = -half_width_m + spacing * static_cast<rp::Real>(x);
+      const rp::Real pz = -half_width_m + spacing * static_cast<rp::Real>(z);
+      const rp::Real py = amplitude_m * std::sin(rp::Real(0.7) * px) * std::cos(rp::Real(0.5) * pz);
+      mesh.vertices.emplace_back(px, py, pz);
+    }
+  }
+  for (int z = 0; z < cells; ++z) {
+    for (int x = 0; x < cells; ++x) {
+      const auto v = static_cast<std::uint32_t>(z * n + x);
+      const auto below = static_cast<std::uint32_t>(n);
+      // Counter-clockwise seen from above, so the face normals point up.
+      mesh.indices.insert(mesh.indices.end(),
+                          {v, v + below, v + 1, v + 1, v + below, v + below + 1});
+    }
+  }
+  return mesh;
+}
+
+ArenaResult run_arena(ArenaModel m, int steps, const ArenaStep& step, ArenaFloor floor) {
+  Arena a = build(m, floor);
   Lcg rng{12345};
   ArenaResult r;
   double total_ms = 0;

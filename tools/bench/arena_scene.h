@@ -22,10 +22,15 @@ namespace rp = ricochet::physics;
 
 enum class ArenaModel { Full, ArenaPlayers };
 
+/// The arena's floor: an infinite plane, or a map-sized triangle mesh (a gently rolling
+/// heightfield of kArenaMeshTriangles triangles) like the one a level file would hold.
+enum class ArenaFloor { Plane, Mesh };
+
 const char* arena_model_name(ArenaModel m);
 
 inline constexpr int kArenaPlayers = 64;
 inline constexpr int kArenaBullets = 256;
+inline constexpr int kArenaMeshTriangles = 20000;
 
 struct ArenaResult {
   double ms_per_step = 0;  ///< what the step function reported, per step
@@ -38,6 +43,11 @@ struct ArenaResult {
 /// Steps the world once and returns the milliseconds to count (World::step only).
 using ArenaStep = std::function<double(rp::World&)>;
 
-ArenaResult run_arena(ArenaModel model, int steps, const ArenaStep& step);
+ArenaResult run_arena(ArenaModel model, int steps, const ArenaStep& step,
+                      ArenaFloor floor = ArenaFloor::Plane);
+
+/// The mesh floor: a square heightfield of half width half_width_m, cells × cells quads (two
+/// triangles each), heights within ±amplitude_m around y = 0.
+rp::MeshDef heightfield(int cells, rp::Real half_width_m, rp::Real amplitude_m);
 
 }  // namespace ricochet::bench
