@@ -18,33 +18,24 @@ void grow_to(std::vector<T>& v, std::uint32_t size) {
 }  // namespace
 
 std::uint32_t BodyStore::create(const BodyDef& def) {
-  std::uint32_t slot;
-  if (!free_slots.empty()) {
-    slot = free_slots.back();
-    free_slots.pop_back();
-  } else {
-    slot = slot_count();
-    const std::uint32_t size = slot + 1;
-    generation.push_back(0);
-    grow_to(flags, size);
-    grow_to(position, size);
-    grow_to(orientation, size);
-    grow_to(motion, size);
-    grow_to(force, size);
-    grow_to(torque, size);
-    grow_to(radius, size);
-    grow_to(mass_inverse_original, size);
-    grow_to(inertia_inverse_original, size);
-    grow_to(gravity_scale, size);
-    grow_to(material, size);
-    grow_to(filter, size);
-    grow_to(sleep_time, size);
-    grow_to(user_data, size);
-  }
-  ++generation[slot];
-  if (generation[slot] == 0) generation[slot] = 1;  // 0 is the null handle
+  const std::uint32_t slot = slots.acquire();
+  const std::uint32_t size = slots.slot_count();
+  grow_to(flags, size);
+  grow_to(position, size);
+  grow_to(orientation, size);
+  grow_to(motion, size);
+  grow_to(force, size);
+  grow_to(torque, size);
+  grow_to(radius, size);
+  grow_to(mass_inverse_original, size);
+  grow_to(inertia_inverse_original, size);
+  grow_to(gravity_scale, size);
+  grow_to(material, size);
+  grow_to(filter, size);
+  grow_to(sleep_time, size);
+  grow_to(user_data, size);
 
-  std::uint16_t f = kFlagAlive;
+  std::uint16_t f = 0;
   if (def.type == BodyType::Kinematic) f |= kFlagKinematic;
   if (def.lock_rotation) f |= kFlagLockRotation;
   if (def.fast) f |= kFlagFast;
@@ -69,15 +60,13 @@ std::uint32_t BodyStore::create(const BodyDef& def) {
   filter[slot] = def.filter;
   sleep_time[slot] = 0;
   user_data[slot] = def.user_data;
-  ++alive_count;
   return slot;
 }
 
 void BodyStore::destroy(std::uint32_t slot) {
   flags[slot] = 0;
   motion[slot] = Motion{};
-  free_slots.push_back(slot);
-  --alive_count;
+  slots.release(slot);
 }
 
 BodyState BodyStore::state(std::uint32_t slot) const {

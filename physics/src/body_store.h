@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "ricochet/physics/body.h"
+#include "slot_pool.h"
 
 namespace ricochet::physics {
 
@@ -17,22 +18,23 @@ struct Motion {
   Real inverse_inertia = 0;  ///< 1/(kg·m²); spheres are isotropic so one scalar suffices
 };
 
+/// Per-body flags; a dead slot's flags are 0 (whether a slot is alive is its generation's, in
+/// SlotPool).
 enum BodyFlag : std::uint16_t {
-  kFlagAlive = 1 << 0,
-  kFlagKinematic = 1 << 1,
-  kFlagLockRotation = 1 << 2,
-  kFlagFast = 1 << 3,
-  kFlagSensor = 1 << 4,
-  kFlagAllowSleep = 1 << 5,
-  kFlagSleeping = 1 << 6,
-  kFlagFrozen = 1 << 7,
+  kFlagKinematic = 1 << 0,
+  kFlagLockRotation = 1 << 1,
+  kFlagFast = 1 << 2,
+  kFlagSensor = 1 << 3,
+  kFlagAllowSleep = 1 << 4,
+  kFlagSleeping = 1 << 5,
+  kFlagFrozen = 1 << 6,
   /// The last move was exact for constant acceleration (ExactBallistic or Rk4 free flight), so
   /// the stored velocity is the true end-of-step one, not the semi-implicit step mean.
-  kFlagExactVelocity = 1 << 8,
+  kFlagExactVelocity = 1 << 7,
 };
 
 struct BodyStore {
-  std::vector<std::uint32_t> generation;
+  SlotPool slots;
   std::vector<std::uint16_t> flags;
   std::vector<Vec3> position;
   std::vector<Quat> orientation;
@@ -47,26 +49,20 @@ struct BodyStore {
   std::vector<Filter> filter;
   std::vector<Real> sleep_time;  ///< s the body has been slow
   std::vector<std::uint64_t> user_data;
-  std::vector<std::uint32_t> free_slots;  ///< LIFO of dead slots
-  std::uint32_t alive_count = 0;
 
-  std::uint32_t slot_count() const { return static_cast<std::uint32_t>(generation.size()); }
-  bool alive(std::uint32_t slot) const { return (flags[slot] & kFlagAlive) != 0; }
+  std::uint32_t slot_count() const { return slots.slot_count(); }
+  bool alive(std::uint32_t slot) const { return slots.alive(slot); }
   bool has(std::uint32_t slot, std::uint16_t flag_mask) const {
     return (flags[slot] & flag_mask) != 0;
   }
-  bool valid(BodyId id) const {
-    return id.generation != 0 && id.index < slot_count() && generation[id.index] == id.generation &&
-           alive(id.index);
-  }
-  BodyId id_of(std::uint32_t slot) const { return {slot, generation[slot]}; }
+  bool valid(BodyId id) const { return slots.valid(id); }
+  BodyId id_of(std::uint32_t slot) const { return slots.id_of<BodyTag>(slot); }
   /// Dynamic, alive, awake and not frozen: the bodies the solver moves.
   bool simulated(std::uint32_t slot) const {
-    return (flags[slot] & (kFlagAlive | kFlagKinematic | kFlagSleeping | kFlagFrozen)) ==
-           kFlagAlive;
+    return alive(slot) && (flags[slot] & (kFlagKinematic | kFlagSleeping | kFlagFrozen)) == 0;
   }
 
-  /// Takes a slot (reusing a dead one first) and fills it from a validated definition.
+  /// Takes a slot (reusing the last dead one first) and fills it from a validated definition.
   std::uint32_t create(const BodyDef& def);
   void destroy(std::uint32_t slot);
   BodyState state(std::uint32_t slot) const;

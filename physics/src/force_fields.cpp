@@ -9,49 +9,33 @@
 namespace ricochet::physics {
 
 std::uint32_t ForceFields::add(const ForceField& field) {
-  std::uint32_t slot;
-  if (!free_slots_.empty()) {
-    slot = free_slots_.back();
-    free_slots_.pop_back();
-  } else {
-    slot = static_cast<std::uint32_t>(fields_.size());
-    fields_.emplace_back();
-  }
-  const std::uint32_t generation = fields_[slot].generation + 1;
+  const std::uint32_t slot = slots_.acquire();
+  if (fields_.size() < slots_.slot_count()) fields_.resize(slots_.slot_count());
   fields_[slot] = field;
-  fields_[slot].generation = generation == 0 ? 1 : generation;
-  fields_[slot].alive = true;
-  ++alive_count_;
   rebuild_index();
   return slot;
 }
 
 void ForceFields::remove(std::uint32_t slot) {
-  fields_[slot].alive = false;
-  free_slots_.push_back(slot);
-  --alive_count_;
+  slots_.release(slot);
   rebuild_index();
 }
 
 void ForceFields::remove_springs_of(std::uint32_t body) {
   bool removed = false;
   for (std::uint32_t s = 0; s < fields_.size(); ++s) {
-    ForceField& f = fields_[s];
-    if (f.alive && f.kind == ForceKind::Spring && f.body == body) {
-      f.alive = false;
-      free_slots_.push_back(s);
-      --alive_count_;
+    const ForceField& f = fields_[s];
+    if (slots_.alive(s) && f.kind == ForceKind::Spring && f.body == body) {
+      slots_.release(s);
       removed = true;
     }
   }
   if (removed) rebuild_index();
 }
 
-void ForceFields::assign(std::vector<ForceField> fields, std::vector<std::uint32_t> free_slots) {
+void ForceFields::assign(SlotPool slots, std::vector<ForceField> fields) {
+  slots_ = std::move(slots);
   fields_ = std::move(fields);
-  free_slots_ = std::move(free_slots);
-  alive_count_ = static_cast<std::uint32_t>(
-      std::count_if(fields_.begin(), fields_.end(), [](const ForceField& f) { return f.alive; }));
   rebuild_index();
 }
 
@@ -59,7 +43,7 @@ void ForceFields::rebuild_index() {
   attractors_.clear();
   springs_.clear();
   for (std::uint32_t s = 0; s < fields_.size(); ++s) {
-    if (!fields_[s].alive) continue;
+    if (!slots_.alive(s)) continue;
     (fields_[s].kind == ForceKind::Attractor ? attractors_ : springs_).push_back(s);
   }
   std::stable_sort(springs_.begin(), springs_.end(), [&](std::uint32_t a, std::uint32_t b) {

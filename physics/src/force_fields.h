@@ -7,6 +7,7 @@
 
 #include "ricochet/physics/body.h"
 #include "ricochet/physics/force_field.h"
+#include "slot_pool.h"
 
 namespace ricochet::physics {
 
@@ -14,8 +15,6 @@ enum class ForceKind : std::uint8_t { Spring, Attractor };
 
 struct ForceField {
   ForceKind kind = ForceKind::Spring;
-  std::uint32_t generation = 0;
-  bool alive = false;
   std::uint32_t body = 0;     ///< spring: body slot
   Vec3 point = Vec3::Zero();  ///< m: spring anchor or attractor centre
   Real stiffness = 0;         ///< spring N/m, or attractor strength m³/s²
@@ -33,17 +32,15 @@ class ForceFields {
   void remove(std::uint32_t slot);
   /// Removes every spring attached to body slot.
   void remove_springs_of(std::uint32_t body);
-  bool valid(ForceId id) const {
-    return id.generation != 0 && id.index < fields_.size() && fields_[id.index].alive &&
-           fields_[id.index].generation == id.generation;
-  }
-  ForceId id_of(std::uint32_t slot) const { return {slot, fields_[slot].generation}; }
-  bool empty() const { return alive_count_ == 0; }
-  std::uint32_t count() const { return alive_count_; }
+  bool valid(ForceId id) const { return slots_.valid(id); }
+  ForceId id_of(std::uint32_t slot) const { return slots_.id_of<ForceTag>(slot); }
+  bool alive(std::uint32_t slot) const { return slots_.alive(slot); }
+  bool empty() const { return slots_.alive_count == 0; }
+  std::uint32_t count() const { return slots_.alive_count; }
+  const SlotPool& slots() const { return slots_; }
   const std::vector<ForceField>& fields() const { return fields_; }
-  const std::vector<std::uint32_t>& free_slots() const { return free_slots_; }
-  /// Replaces everything (restore_state); fields and free list already validated.
-  void assign(std::vector<ForceField> fields, std::vector<std::uint32_t> free_slots);
+  /// Replaces everything (restore_state); already validated.
+  void assign(SlotPool slots, std::vector<ForceField> fields);
 
   /// Whether any field pulls on body slot (with that collision layer).
   bool acts_on(std::uint32_t body, std::uint32_t layer) const;
@@ -55,9 +52,8 @@ class ForceFields {
  private:
   void rebuild_index();
 
-  std::vector<ForceField> fields_;
-  std::vector<std::uint32_t> free_slots_;
-  std::uint32_t alive_count_ = 0;
+  SlotPool slots_;
+  std::vector<ForceField> fields_;         ///< per slot
   std::vector<std::uint32_t> attractors_;  ///< slots of live attractors, ascending
   /// Live springs sorted by (body, slot): the springs of one body are a contiguous run.
   std::vector<std::uint32_t> springs_;

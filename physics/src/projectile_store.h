@@ -5,12 +5,12 @@
 #include <vector>
 
 #include "ricochet/physics/projectile.h"
+#include "slot_pool.h"
 
 namespace ricochet::physics {
 
 struct ProjectileStore {
-  std::vector<std::uint32_t> generation;
-  std::vector<std::uint8_t> alive;
+  SlotPool slots;
   std::vector<Vec3> position;  ///< m
   std::vector<Vec3> velocity;  ///< m/s
   std::vector<Real> radius;    ///< m
@@ -18,26 +18,15 @@ struct ProjectileStore {
   std::vector<Filter> filter;
   std::vector<BodyId> ignore;
   std::vector<std::uint64_t> user_data;
-  std::vector<std::uint32_t> free_slots;
-  std::uint32_t alive_count = 0;
 
-  std::uint32_t slot_count() const { return static_cast<std::uint32_t>(generation.size()); }
-  bool valid(ProjectileId id) const {
-    return id.index < slot_count() && alive[id.index] && generation[id.index] == id.generation;
-  }
-  ProjectileId id_of(std::uint32_t slot) const { return {slot, generation[slot]}; }
+  std::uint32_t slot_count() const { return slots.slot_count(); }
+  bool alive(std::uint32_t slot) const { return slots.alive(slot); }
+  bool valid(ProjectileId id) const { return slots.valid(id); }
+  ProjectileId id_of(std::uint32_t slot) const { return slots.id_of<ProjectileTag>(slot); }
 
   std::uint32_t create(const ProjectileDef& def) {
-    std::uint32_t slot;
-    if (!free_slots.empty()) {
-      slot = free_slots.back();
-      free_slots.pop_back();
-    } else {
-      slot = slot_count();
-      resize(slot + 1);
-    }
-    if (++generation[slot] == 0) generation[slot] = 1;  // 0 is the null handle
-    alive[slot] = 1;
+    const std::uint32_t slot = slots.acquire();
+    resize(slots.slot_count());
     position[slot] = def.position;
     velocity[slot] = def.velocity;
     radius[slot] = def.radius;
@@ -45,26 +34,20 @@ struct ProjectileStore {
     filter[slot] = def.filter;
     ignore[slot] = def.ignore;
     user_data[slot] = def.user_data;
-    ++alive_count;
     return slot;
   }
 
-  void destroy(std::uint32_t slot) {
-    alive[slot] = 0;
-    free_slots.push_back(slot);
-    --alive_count;
-  }
+  void destroy(std::uint32_t slot) { slots.release(slot); }
 
-  void resize(std::uint32_t slots) {
-    generation.resize(slots, 0);
-    alive.resize(slots, 0);
-    position.resize(slots, Vec3::Zero());
-    velocity.resize(slots, Vec3::Zero());
-    radius.resize(slots, 0);
-    gravity_scale.resize(slots, 0);
-    filter.resize(slots);
-    ignore.resize(slots);
-    user_data.resize(slots, 0);
+  /// Grows (or shrinks) every per-slot array but the pool's to `count` slots.
+  void resize(std::uint32_t count) {
+    position.resize(count, Vec3::Zero());
+    velocity.resize(count, Vec3::Zero());
+    radius.resize(count, 0);
+    gravity_scale.resize(count, 0);
+    filter.resize(count);
+    ignore.resize(count);
+    user_data.resize(count, 0);
   }
 };
 

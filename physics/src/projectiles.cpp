@@ -39,7 +39,7 @@ Result<ProjectileId> World::create_projectile(const ProjectileDef& def) {
   const std::string problem = validate_projectile(def, w.def.max_linear_speed);
   if (!problem.empty()) return Error{ErrorCode::InvalidArgument, "ProjectileDef: " + problem};
   ProjectileStore& p = w.state.projectiles;
-  if (p.free_slots.empty() && p.slot_count() >= w.def.max_projectiles) {
+  if (p.slots.full(w.def.max_projectiles)) {
     return Error{ErrorCode::CapacityExceeded,
                  "create_projectile: world holds max_projectiles = " + show(w.def.max_projectiles) +
                      "; raise WorldDef::max_projectiles"};
@@ -66,7 +66,7 @@ Result<ProjectileState> World::projectile_state(ProjectileId id) const {
 }
 
 std::uint32_t World::projectile_count() const {
-  return impl_->state.projectiles.alive_count;
+  return impl_->state.projectiles.slots.alive_count;
 }
 
 std::span<const ProjectileHitEvent> World::projectile_hit_events() const {
@@ -77,10 +77,10 @@ void WorldImpl::step_projectiles() {
   ProjectileStore& p = state.projectiles;
   std::vector<StepScratch::ProjectileSweep>& sweeps = scratch.projectile_sweeps;
   sweeps.clear();
-  if (p.alive_count == 0) return;
+  if (p.slots.alive_count == 0) return;
   const Real h = scratch.dt;
   for (std::uint32_t s = 0; s < p.slot_count(); ++s) {
-    if (!p.alive[s]) continue;
+    if (!p.alive(s)) continue;
     const Vec3 a = state.gravity * p.gravity_scale[s];
     StepScratch::ProjectileSweep sweep;
     sweep.slot = s;
@@ -166,7 +166,7 @@ void WorldImpl::sweep_projectiles_against_bodies() {
       }
       const std::uint32_t body = b.body;
       const BodyId ignore = p.ignore[sweep.slot];
-      if (ignore.index == body && ignore.generation == state.bodies.generation[body]) continue;
+      if (ignore == state.bodies.id_of(body)) continue;
       if (!collides(p.filter[sweep.slot], state.bodies.filter[body])) continue;
       // In the body's frame: the projectile starts at from - start and moves by the difference
       // of the two moves; the body is a point inflated by both radii.

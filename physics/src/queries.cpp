@@ -17,7 +17,7 @@ bool body_passes(const BodyStore& bodies, std::uint32_t s, const QueryFilter& fi
   if (!bodies.alive(s) || !filter.bodies) return false;
   if (bodies.has(s, kFlagSensor) && !filter.sensors) return false;
   if ((bodies.filter[s].layer & filter.mask) == 0) return false;
-  return !(filter.ignore.index == s && filter.ignore.generation == bodies.generation[s]);
+  return filter.ignore != bodies.id_of(s);
 }
 
 }  // namespace

@@ -1,10 +1,32 @@
-/// State hash, save and restore. The save image is little-endian field by field (no struct
-/// memcpy), versioned, and fully validated on restore: a truncated or forged image is rejected
-/// with CorruptState and the world is left unchanged.
+/// State images: save, restore and hash. An image is little-endian, field by field (no struct
+/// memcpy, so no padding bytes), versioned, and fully validated on restore: a truncated or forged
+/// image is refused with CorruptState naming the field, and the world is left unchanged.
 ///
-/// Layout: "RCPW" | version u32 | sizeof(Real) u8 | steps u64 | gravity | bodies | free slots |
-///         static shapes | static free slots | pair contacts | static contacts | sensor keys |
-///         force fields | force free slots | projectiles | projectile free slots
+/// The image has two sections. The configuration is what only API calls change (body slots and
+/// each body's definition, static shapes, force fields); the dynamic state is what a step changes.
+/// A StateParts::Dynamic image carries only the dynamic state and the configuration's
+/// fingerprint (FNV-1a of its section), so it is small and restores in place, without touching
+/// the shapes' hierarchy or reallocating: a rewind per tick.
+///
+///   header   "RCPW" u32 | version u32 | sizeof(Real) u8 | has_config u8 | fingerprint u64 |
+///            config bytes u32 (0 without config)
+///   config   body pool | per live body: flags u16 (kConfigFlags), radius, inverse mass,
+///              inverse inertia, gravity scale, material (3 reals), filter (2 u32), user data u64
+///            shape pool | per live shape: type u8, material, filter, plane normal, plane offset,
+///              box centre, box orientation, box half extents, vertex count u32, vertices,
+///              index count u32, indices u32
+///            force pool | per live field: kind u8, body u32, point, stiffness, rest length,
+///              damping, min distance, mask u32
+///   dynamic  steps u64 | gravity
+///            per live body: flags u16 (kStateFlags), position, orientation (w x y z), linear
+///              velocity, angular velocity, sleep time
+///            loads: count u32 | per body with a force or torque: slot u32, force, torque
+///            pair contacts, static contacts: count u32 | key u64, normal impulse, friction
+///              impulse, rolling impulse, touching u8
+///            sensor overlaps: count u32 | keys u64, ascending
+///            projectile pool | per live projectile: position, velocity, radius, gravity scale,
+///              filter, ignore (index u32, generation u32), user data u64
+///   pool     slot count u32 | generation u32 per slot | free count u32 | free slots u32
 
 #include <algorithm>
 #include <cstring>
@@ -17,47 +39,106 @@ namespace ricochet::physics {
 namespace {
 
 constexpr std::uint32_t kMagic = 0x57504352;  // "RCPW"
-constexpr std::uint32_t kVersion = 3;         // 2: force fields, 3: projectiles
+/// 2: force fields, 3: projectiles, 4: configuration and dynamic sections, in-place restore.
+constexpr std::uint32_t kVersion = 4;
+constexpr std::size_t kHeaderBytes = 4 + 4 + 1 + 1 + 8 + 4;
+/// Flags set by a body's definition (configuration) and by the simulation (dynamic state).
+constexpr std::uint16_t kConfigFlags =
+    kFlagKinematic | kFlagLockRotation | kFlagFast | kFlagSensor | kFlagAllowSleep;
+constexpr std::uint16_t kStateFlags = kFlagSleeping | kFlagFrozen | kFlagExactVelocity;
 
+/// Writes into a caller-owned buffer. Run once without a buffer to measure, then with one.
 class Writer {
  public:
+  explicit Writer(std::uint8_t* out = nullptr) : out_(out) {}
   template <class T>
   void pod(const T& value) {
     static_assert(std::is_trivially_copyable_v<T>);
-    const auto* p = reinterpret_cast<const std::uint8_t*>(&value);
-    bytes.insert(bytes.end(), p, p + sizeof(T));
+    if (out_) std::memcpy(out_ + size_, &value, sizeof(T));
+    size_ += sizeof(T);
   }
+  void u8(bool value) { pod(static_cast<std::uint8_t>(value)); }
   void vec(const Vec3& v) { pod(v.x()), pod(v.y()), pod(v.z()); }
   void quat(const Quat& q) { pod(q.w()), pod(q.x()), pod(q.y()), pod(q.z()); }
-  std::vector<std::uint8_t> bytes;
+  void pool(const SlotPool& p) {
+    pod(p.slot_count());
+    for (const std::uint32_t g : p.generation) pod(g);
+    pod(static_cast<std::uint32_t>(p.free_slots.size()));
+    for (const std::uint32_t s : p.free_slots) pod(s);
+  }
+  std::size_t size() const { return size_; }
+
+ private:
+  std::uint8_t* out_;
+  std::size_t size_ = 0;
 };
 
 class Reader {
  public:
   explicit Reader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+  /// Each read names its field, so a refusal says which one was wrong.
   template <class T>
-  bool pod(T& value) {
+  bool pod(T& value, const char* field) {
     static_assert(std::is_trivially_copyable_v<T>);
-    if (bytes_.size() - offset_ < sizeof(T)) return fail("truncated");
+    if (bytes_.size() - offset_ < sizeof(T)) return fail(field, "truncated");
     std::memcpy(&value, bytes_.data() + offset_, sizeof(T));
     offset_ += sizeof(T);
     return true;
   }
-  bool real(Real& value) { return pod(value) && (is_finite(value) || fail("non-finite number")); }
-  bool vec(Vec3& v) { return real(v.x()) && real(v.y()) && real(v.z()); }
-  bool quat(Quat& q) { return real(q.w()) && real(q.x()) && real(q.y()) && real(q.z()); }
-  /// A count that must be at most `limit` and fit in the remaining bytes at `min_size` each.
-  bool count(std::uint32_t& n, std::uint32_t limit, std::size_t min_size) {
-    if (!pod(n)) return false;
-    if (n > limit) return fail("count above limit");
-    if (static_cast<std::size_t>(n) * min_size > bytes_.size() - offset_)
-      return fail("count exceeds data");
+  bool real(Real& value, const char* field) {
+    return pod(value, field) && (is_finite(value) || fail(field, "not finite"));
+  }
+  bool vec(Vec3& v, const char* field) {
+    return real(v.x(), field) && real(v.y(), field) && real(v.z(), field);
+  }
+  bool quat(Quat& q, const char* field) {
+    return real(q.w(), field) && real(q.x(), field) && real(q.y(), field) && real(q.z(), field);
+  }
+  bool flag(bool& value, const char* field) {
+    std::uint8_t byte = 0;
+    if (!pod(byte, field)) return false;
+    if (byte > 1) return fail(field, "not 0 or 1");
+    value = byte != 0;
     return true;
   }
-  bool fail(const char* why) {
-    if (error.empty()) error = std::string(why) + " at byte " + std::to_string(offset_);
+  /// A count that must be at most `limit` and fit in the remaining bytes at `min_size` each.
+  bool count(std::uint32_t& n, std::uint32_t limit, std::size_t min_size, const char* field) {
+    if (!pod(n, field)) return false;
+    if (n > limit)
+      return fail(
+          field,
+          ("is " + std::to_string(n) + ", above the limit " + std::to_string(limit)).c_str());
+    if (static_cast<std::size_t>(n) * min_size > bytes_.size() - offset_)
+      return fail(field, "exceeds the data");
+    return true;
+  }
+  /// Reads a pool of at most `limit` slots and checks its free list.
+  bool pool(SlotPool& p, std::uint32_t limit, std::vector<std::uint8_t>& seen, const char* field) {
+    std::uint32_t slots = 0, free_count = 0;
+    if (!count(slots, limit, 4, field)) return false;
+    p.generation.resize(slots);
+    for (std::uint32_t& g : p.generation) {
+      if (!pod(g, field)) return false;
+    }
+    if (!count(free_count, slots, 4, field)) return false;
+    p.free_slots.resize(free_count);
+    for (std::uint32_t& s : p.free_slots) {
+      if (!pod(s, field)) return false;
+    }
+    if (const std::string why = p.validate(seen); !why.empty()) return fail(field, why.c_str());
+    return true;
+  }
+  bool fail(const char* field, const char* why) {
+    if (error.empty())
+      error = std::string(field) + ": " + why + " (at byte " + std::to_string(offset_) + ")";
     return false;
   }
+  bool skip(std::size_t n) {
+    if (bytes_.size() - offset_ < n) return fail("config", "truncated");
+    offset_ += n;
+    return true;
+  }
+  std::size_t offset() const { return offset_; }
   bool at_end() const { return offset_ == bytes_.size(); }
   std::string error;
 
@@ -66,177 +147,25 @@ class Reader {
   std::size_t offset_ = 0;
 };
 
-void write_contact(Writer& w, const Contact& c) {
-  w.pod(c.key), w.pod(c.a), w.pod(c.b);
-  w.vec(c.normal), w.pod(c.separation), w.pod(c.ra), w.pod(c.rb);
-  w.pod(c.friction), w.pod(c.restitution), w.pod(c.rolling);
-  w.pod(c.normal_impulse), w.vec(c.friction_impulse), w.vec(c.rolling_impulse);
-  w.pod(c.total_normal_impulse), w.pod(c.max_normal_impulse), w.pod(c.relative_velocity);
-  w.vec(c.point), w.pod(static_cast<std::uint8_t>(c.touching));
-}
+// --- configuration section ---
 
-bool read_contact(Reader& r, Contact& c) {
-  std::uint8_t touching = 0;
-  const bool ok = r.pod(c.key) && r.pod(c.a) && r.pod(c.b) && r.vec(c.normal) &&
-                  r.real(c.separation) && r.real(c.ra) && r.real(c.rb) && r.real(c.friction) &&
-                  r.real(c.restitution) && r.real(c.rolling) && r.real(c.normal_impulse) &&
-                  r.vec(c.friction_impulse) && r.vec(c.rolling_impulse) &&
-                  r.real(c.total_normal_impulse) && r.real(c.max_normal_impulse) &&
-                  r.real(c.relative_velocity) && r.vec(c.point) && r.pod(touching);
-  c.touching = touching != 0;
-  return ok;
-}
-
-constexpr std::size_t kMinContactBytes = 8 + 4 + 4;
-constexpr std::size_t kMinForceBytes = 1 + 4 + 1;
-
-void write_force(Writer& w, const ForceField& f) {
-  w.pod(static_cast<std::uint8_t>(f.kind)), w.pod(f.generation);
-  w.pod(static_cast<std::uint8_t>(f.alive));
-  if (!f.alive) return;
-  w.pod(f.body), w.vec(f.point), w.pod(f.stiffness), w.pod(f.rest_length), w.pod(f.damping);
-  w.pod(f.min_distance), w.pod(f.mask);
-}
-
-/// Reads one field and checks it as add_spring/add_attractor would; empty when valid.
-std::string read_force(Reader& r, const BodyStore& bodies, ForceField& f) {
-  std::uint8_t kind = 0, alive = 0;
-  if (!r.pod(kind) || !r.pod(f.generation) || !r.pod(alive)) return r.error;
-  if (kind > static_cast<std::uint8_t>(ForceKind::Attractor)) return "unknown force field kind";
-  f.kind = static_cast<ForceKind>(kind);
-  f.alive = alive != 0;
-  if (!f.alive) return {};
-  if (!r.pod(f.body) || !r.vec(f.point) || !r.real(f.stiffness) || !r.real(f.rest_length) ||
-      !r.real(f.damping) || !r.real(f.min_distance) || !r.pod(f.mask)) {
-    return r.error;
+void write_config(Writer& out, const WorldState& s) {
+  const BodyStore& b = s.bodies;
+  out.pool(b.slots);
+  for (std::uint32_t k = 0; k < b.slot_count(); ++k) {
+    if (!b.alive(k)) continue;
+    out.pod(static_cast<std::uint16_t>(b.flags[k] & kConfigFlags));
+    out.pod(b.radius[k]), out.pod(b.mass_inverse_original[k]);
+    out.pod(b.inertia_inverse_original[k]), out.pod(b.gravity_scale[k]);
+    const Material& m = b.material[k];
+    out.pod(m.restitution), out.pod(m.friction), out.pod(m.rolling_resistance);
+    out.pod(b.filter[k].layer), out.pod(b.filter[k].mask), out.pod(b.user_data[k]);
   }
-  if (f.generation == 0) return "live force field with null generation";
-  if (f.stiffness <= 0 || f.rest_length < 0 || f.damping < 0 || f.min_distance < 0)
-    return "force field with out-of-range parameters";
-  if (f.kind == ForceKind::Spring && (f.body >= bodies.slot_count() || !bodies.alive(f.body) ||
-                                      bodies.has(f.body, kFlagKinematic))) {
-    return "spring names a missing or kinematic body";
-  }
-  if (f.kind == ForceKind::Attractor && f.min_distance <= 0)
-    return "attractor with min_distance <= 0";
-  return {};
-}
-
-/// Reads the projectile slots and free list, checking each as create_projectile would; empty
-/// when valid.
-std::string read_projectiles(Reader& in, const WorldDef& def, ProjectileStore& p) {
-  std::uint32_t slots = 0;
-  if (!in.count(slots, def.max_projectiles, 5)) return in.error;
-  p = ProjectileStore{};
-  p.resize(slots);
-  for (std::uint32_t s = 0; s < slots; ++s) {
-    if (!in.pod(p.generation[s]) || !in.pod(p.alive[s])) return in.error;
-    if (p.alive[s] > 1) return "projectile alive flag not 0 or 1";
-    if (!p.alive[s]) continue;
-    ++p.alive_count;
-    if (!in.vec(p.position[s]) || !in.vec(p.velocity[s]) || !in.real(p.radius[s]) ||
-        !in.real(p.gravity_scale[s]) || !in.pod(p.filter[s].layer) || !in.pod(p.filter[s].mask) ||
-        !in.pod(p.ignore[s].index) || !in.pod(p.ignore[s].generation) || !in.pod(p.user_data[s])) {
-      return in.error;
-    }
-    if (p.generation[s] == 0) return "live projectile with null generation";
-    if (p.radius[s] < 0 || p.velocity[s].norm() > def.max_linear_speed)
-      return "projectile with negative radius or speed above max_linear_speed";
-  }
-  std::uint32_t free_count = 0;
-  if (!in.count(free_count, slots, 4)) return in.error;
-  p.free_slots.resize(free_count);
-  for (std::uint32_t& s : p.free_slots) {
-    if (!in.pod(s)) return in.error;
-    if (s >= slots || p.alive[s]) return "projectile free list names a live or missing slot";
-  }
-  return {};
-}
-
-}  // namespace
-
-std::uint64_t World::state_hash() const {
-  const WorldImpl& w = *impl_;
-  Fnv1a h;
-  h.add_value(w.state.steps);
-  const BodyStore& b = w.state.bodies;
-  for (std::uint32_t s = 0; s < b.slot_count(); ++s) {
-    if (!b.alive(s)) continue;
-    h.add_value(s);
-    h.add_value(b.generation[s]);
-    h.add_value(b.flags[s]);
-    h.add(b.position[s].data(), sizeof(Real) * 3);
-    h.add(b.orientation[s].coeffs().data(), sizeof(Real) * 4);
-    h.add(b.motion[s].linear_velocity.data(), sizeof(Real) * 3);
-    h.add(b.motion[s].angular_velocity.data(), sizeof(Real) * 3);
-    h.add_value(b.sleep_time[s]);
-  }
-  for (const auto* list : {&w.state.pair_contacts, &w.state.static_contacts}) {
-    for (const Contact& c : *list) {
-      h.add_value(c.key);
-      h.add_value(c.normal_impulse);
-      h.add(c.friction_impulse.data(), sizeof(Real) * 3);
-      h.add(c.rolling_impulse.data(), sizeof(Real) * 3);
-    }
-  }
-  const std::vector<ForceField>& fields = w.state.forces.fields();
-  for (std::uint32_t s = 0; s < fields.size(); ++s) {
-    const ForceField& f = fields[s];
-    if (!f.alive) continue;
-    h.add_value(s);
-    h.add_value(static_cast<std::uint8_t>(f.kind));
-    h.add_value(f.body);
-    h.add(f.point.data(), sizeof(Real) * 3);
-    h.add_value(f.stiffness);
-    h.add_value(f.rest_length);
-    h.add_value(f.damping);
-    h.add_value(f.min_distance);
-    h.add_value(f.mask);
-  }
-  const ProjectileStore& p = w.state.projectiles;
-  for (std::uint32_t s = 0; s < p.slot_count(); ++s) {
-    if (!p.alive[s]) continue;
-    h.add_value(s);
-    h.add_value(p.generation[s]);
-    h.add(p.position[s].data(), sizeof(Real) * 3);
-    h.add(p.velocity[s].data(), sizeof(Real) * 3);
-  }
-  return h.value();
-}
-
-std::vector<std::uint8_t> World::save_state() const {
-  const WorldImpl& w = *impl_;
-  Writer out;
-  out.pod(kMagic), out.pod(kVersion), out.pod(static_cast<std::uint8_t>(sizeof(Real)));
-  out.pod(w.state.steps);
-  out.vec(w.state.gravity);
-  const BodyStore& b = w.state.bodies;
-  out.pod(b.slot_count());
-  for (std::uint32_t s = 0; s < b.slot_count(); ++s) {
-    out.pod(b.generation[s]), out.pod(b.flags[s]);
-    if (!b.alive(s)) continue;
-    out.vec(b.position[s]), out.quat(b.orientation[s]);
-    const Motion& m = b.motion[s];
-    out.vec(m.linear_velocity), out.pod(m.inverse_mass), out.vec(m.angular_velocity),
-        out.pod(m.inverse_inertia);
-    out.vec(b.force[s]), out.vec(b.torque[s]);
-    out.pod(b.radius[s]), out.pod(b.mass_inverse_original[s]),
-        out.pod(b.inertia_inverse_original[s]);
-    out.pod(b.gravity_scale[s]);
-    const Material& mat = b.material[s];
-    out.pod(mat.restitution), out.pod(mat.friction), out.pod(mat.rolling_resistance);
-    out.pod(b.filter[s].layer), out.pod(b.filter[s].mask);
-    out.pod(b.sleep_time[s]), out.pod(b.user_data[s]);
-  }
-  out.pod(static_cast<std::uint32_t>(b.free_slots.size()));
-  for (const std::uint32_t s : b.free_slots) out.pod(s);
-
-  const auto& shapes = w.state.statics.shapes();
-  out.pod(static_cast<std::uint32_t>(shapes.size()));
-  for (const StaticShape& shape : shapes) {
-    out.pod(static_cast<std::uint8_t>(shape.type)), out.pod(shape.generation);
-    out.pod(static_cast<std::uint8_t>(shape.alive));
-    if (!shape.alive) continue;
+  out.pool(s.statics.slots());
+  for (std::uint32_t k = 0; k < s.statics.slots().slot_count(); ++k) {
+    if (!s.statics.alive(k)) continue;
+    const StaticShape& shape = s.statics.shape(k);
+    out.pod(static_cast<std::uint8_t>(shape.type));
     out.pod(shape.material.restitution), out.pod(shape.material.friction);
     out.pod(shape.material.rolling_resistance);
     out.pod(shape.filter.layer), out.pod(shape.filter.mask);
@@ -247,184 +176,441 @@ std::vector<std::uint8_t> World::save_state() const {
     out.pod(static_cast<std::uint32_t>(shape.indices.size()));
     for (const std::uint32_t i : shape.indices) out.pod(i);
   }
-  out.pod(static_cast<std::uint32_t>(w.state.statics.free_slots().size()));
-  for (const std::uint32_t s : w.state.statics.free_slots()) out.pod(s);
-
-  for (const auto* list : {&w.state.pair_contacts, &w.state.static_contacts}) {
-    out.pod(static_cast<std::uint32_t>(list->size()));
-    for (const Contact& c : *list) write_contact(out, c);
+  out.pool(s.forces.slots());
+  for (std::uint32_t k = 0; k < s.forces.slots().slot_count(); ++k) {
+    if (!s.forces.alive(k)) continue;
+    const ForceField& f = s.forces.fields()[k];
+    out.pod(static_cast<std::uint8_t>(f.kind)), out.pod(f.body), out.vec(f.point);
+    out.pod(f.stiffness), out.pod(f.rest_length), out.pod(f.damping), out.pod(f.min_distance);
+    out.pod(f.mask);
   }
-  out.pod(static_cast<std::uint32_t>(w.state.sensor_overlaps.size()));
-  for (const std::uint64_t key : w.state.sensor_overlaps) out.pod(key);
-  out.pod(static_cast<std::uint32_t>(w.state.forces.fields().size()));
-  for (const ForceField& f : w.state.forces.fields()) write_force(out, f);
-  out.pod(static_cast<std::uint32_t>(w.state.forces.free_slots().size()));
-  for (const std::uint32_t s : w.state.forces.free_slots()) out.pod(s);
-  const ProjectileStore& p = w.state.projectiles;
-  out.pod(p.slot_count());
-  for (std::uint32_t s = 0; s < p.slot_count(); ++s) {
-    out.pod(p.generation[s]), out.pod(p.alive[s]);
-    if (!p.alive[s]) continue;
-    out.vec(p.position[s]), out.vec(p.velocity[s]), out.pod(p.radius[s]),
-        out.pod(p.gravity_scale[s]);
-    out.pod(p.filter[s].layer), out.pod(p.filter[s].mask);
-    out.pod(p.ignore[s].index), out.pod(p.ignore[s].generation), out.pod(p.user_data[s]);
-  }
-  out.pod(static_cast<std::uint32_t>(p.free_slots.size()));
-  for (const std::uint32_t s : p.free_slots) out.pod(s);
-  return std::move(out.bytes);
 }
 
-Status World::restore_state(std::span<const std::uint8_t> bytes) {
-  const WorldImpl& current = *impl_;
+bool material_ok(const Material& m) {
+  return m.restitution >= 0 && m.restitution <= 1 && m.friction >= 0 && m.rolling_resistance >= 0;
+}
+
+bool unit(const Quat& q) {
+  return std::abs(q.squaredNorm() - 1) <= Real(1e-3);
+}
+
+/// Reads the configuration into `next` (bodies' configuration fields, shapes, force fields),
+/// checking each as the API that creates it would.
+bool read_config(Reader& in, const WorldDef& def, WorldState& next,
+                 std::vector<std::uint8_t>& seen) {
+  BodyStore& b = next.bodies;
+  if (!in.pool(b.slots, std::min(def.max_bodies, kMaxBodySlots), seen, "body pool")) return false;
+  const std::uint32_t slots = b.slot_count();
+  for (auto* v : {&b.position, &b.force, &b.torque}) v->assign(slots, Vec3::Zero());
+  b.flags.assign(slots, 0);
+  b.orientation.assign(slots, Quat::Identity());
+  b.motion.assign(slots, Motion{});
+  for (auto* v : {&b.radius, &b.mass_inverse_original, &b.inertia_inverse_original,
+                  &b.gravity_scale, &b.sleep_time}) {
+    v->assign(slots, 0);
+  }
+  b.material.assign(slots, Material{});
+  b.filter.assign(slots, Filter{});
+  b.user_data.assign(slots, 0);
+  for (std::uint32_t k = 0; k < slots; ++k) {
+    if (!b.alive(k)) continue;
+    Material& m = b.material[k];
+    if (!in.pod(b.flags[k], "body flags") || !in.real(b.radius[k], "body radius") ||
+        !in.real(b.mass_inverse_original[k], "body inverse mass") ||
+        !in.real(b.inertia_inverse_original[k], "body inverse inertia") ||
+        !in.real(b.gravity_scale[k], "body gravity scale") ||
+        !in.real(m.restitution, "body material") || !in.real(m.friction, "body material") ||
+        !in.real(m.rolling_resistance, "body material") ||
+        !in.pod(b.filter[k].layer, "body filter") || !in.pod(b.filter[k].mask, "body filter") ||
+        !in.pod(b.user_data[k], "body user data")) {
+      return false;
+    }
+    if ((b.flags[k] & ~kConfigFlags) != 0) return in.fail("body flags", "unknown flag bits");
+    if (b.radius[k] <= 0) return in.fail("body radius", "not > 0");
+    const bool kinematic = (b.flags[k] & kFlagKinematic) != 0;
+    if (b.mass_inverse_original[k] < 0 || (kinematic && b.mass_inverse_original[k] != 0) ||
+        (!kinematic && b.mass_inverse_original[k] == 0)) {
+      return in.fail("body inverse mass", "negative, or not 0 exactly for kinematic bodies");
+    }
+    if (b.inertia_inverse_original[k] < 0) return in.fail("body inverse inertia", "negative");
+    if (!material_ok(m)) return in.fail("body material", "out of range");
+  }
+
+  SlotPool shape_pool;
+  if (!in.pool(shape_pool, std::min(def.max_shapes, kMaxShapeSlots), seen, "shape pool"))
+    return false;
+  std::vector<StaticShape> shapes(shape_pool.slot_count());
+  for (std::uint32_t k = 0; k < shape_pool.slot_count(); ++k) {
+    if (!shape_pool.alive(k)) continue;
+    StaticShape& shape = shapes[k];
+    std::uint8_t type = 0;
+    std::uint32_t vertex_count = 0, index_count = 0;
+    if (!in.pod(type, "shape type")) return false;
+    if (type > static_cast<std::uint8_t>(ShapeType::Mesh)) return in.fail("shape type", "unknown");
+    shape.type = static_cast<ShapeType>(type);
+    if (!in.real(shape.material.restitution, "shape material") ||
+        !in.real(shape.material.friction, "shape material") ||
+        !in.real(shape.material.rolling_resistance, "shape material") ||
+        !in.pod(shape.filter.layer, "shape filter") || !in.pod(shape.filter.mask, "shape filter") ||
+        !in.vec(shape.plane_normal, "plane normal") ||
+        !in.real(shape.plane_offset, "plane offset") || !in.vec(shape.box_center, "box centre") ||
+        !in.quat(shape.box_orientation, "box orientation") ||
+        !in.vec(shape.box_half_extents, "box half extents") ||
+        !in.count(vertex_count, 3 * kMaxMeshTriangles, 3 * sizeof(Real), "mesh vertex count")) {
+      return false;
+    }
+    if (!material_ok(shape.material)) return in.fail("shape material", "out of range");
+    if (std::abs(shape.plane_normal.squaredNorm() - 1) > Real(1e-3))
+      return in.fail("plane normal", "not unit");
+    if (!unit(shape.box_orientation)) return in.fail("box orientation", "not unit");
+    if (shape.box_half_extents.minCoeff() <= 0) return in.fail("box half extents", "not > 0");
+    shape.vertices.resize(vertex_count);
+    for (Vec3& v : shape.vertices) {
+      if (!in.vec(v, "mesh vertex")) return false;
+    }
+    if (!in.count(index_count, 3 * kMaxMeshTriangles, 4, "mesh index count")) return false;
+    if (index_count % 3 != 0) return in.fail("mesh index count", "not a multiple of 3");
+    if ((shape.type == ShapeType::Mesh) != (index_count > 0))
+      return in.fail("mesh index count", "0 for a mesh, or triangles on a plane or box");
+    shape.indices.resize(index_count);
+    for (std::uint32_t& i : shape.indices) {
+      if (!in.pod(i, "mesh index")) return false;
+      if (i >= vertex_count) return in.fail("mesh index", "not below the vertex count");
+    }
+  }
+
+  SlotPool force_pool;
+  if (!in.pool(force_pool, ForceFields::kMaxFields, seen, "force pool")) return false;
+  std::vector<ForceField> fields(force_pool.slot_count());
+  for (std::uint32_t k = 0; k < force_pool.slot_count(); ++k) {
+    if (!force_pool.alive(k)) continue;
+    ForceField& f = fields[k];
+    std::uint8_t kind = 0;
+    if (!in.pod(kind, "force kind")) return false;
+    if (kind > static_cast<std::uint8_t>(ForceKind::Attractor))
+      return in.fail("force kind", "unknown");
+    f.kind = static_cast<ForceKind>(kind);
+    if (!in.pod(f.body, "force body") || !in.vec(f.point, "force point") ||
+        !in.real(f.stiffness, "force stiffness") || !in.real(f.rest_length, "force rest length") ||
+        !in.real(f.damping, "force damping") || !in.real(f.min_distance, "force min distance") ||
+        !in.pod(f.mask, "force mask")) {
+      return false;
+    }
+    if (f.stiffness <= 0 || f.rest_length < 0 || f.damping < 0 || f.min_distance < 0)
+      return in.fail("force parameters", "out of range");
+    if (f.kind == ForceKind::Spring &&
+        (f.body >= slots || !b.alive(f.body) || b.has(f.body, kFlagKinematic))) {
+      return in.fail("force body", "names a missing or kinematic body");
+    }
+    if (f.kind == ForceKind::Attractor && f.min_distance <= 0)
+      return in.fail("force min distance", "not > 0 for an attractor");
+  }
+  next.statics.assign(std::move(shape_pool), std::move(shapes));
+  next.forces.assign(std::move(force_pool), std::move(fields));
+  return true;
+}
+
+// --- dynamic section ---
+
+void write_contacts(Writer& out, const std::vector<Contact>& contacts) {
+  out.pod(static_cast<std::uint32_t>(contacts.size()));
+  for (const Contact& c : contacts) {
+    out.pod(c.key), out.pod(c.normal_impulse), out.vec(c.friction_impulse);
+    out.vec(c.rolling_impulse), out.u8(c.touching);
+  }
+}
+
+void write_dynamic(Writer& out, const WorldState& s) {
+  out.pod(s.steps), out.vec(s.gravity);
+  const BodyStore& b = s.bodies;
+  std::uint32_t loaded = 0;
+  for (std::uint32_t k = 0; k < b.slot_count(); ++k) {
+    if (!b.alive(k)) continue;
+    out.pod(static_cast<std::uint16_t>(b.flags[k] & kStateFlags));
+    out.vec(b.position[k]), out.quat(b.orientation[k]);
+    out.vec(b.motion[k].linear_velocity), out.vec(b.motion[k].angular_velocity);
+    out.pod(b.sleep_time[k]);
+    loaded += b.force[k] != Vec3::Zero() || b.torque[k] != Vec3::Zero() ? 1 : 0;
+  }
+  out.pod(loaded);
+  for (std::uint32_t k = 0; k < b.slot_count() && loaded > 0; ++k) {
+    if (!b.alive(k) || (b.force[k] == Vec3::Zero() && b.torque[k] == Vec3::Zero())) continue;
+    out.pod(k), out.vec(b.force[k]), out.vec(b.torque[k]);
+  }
+  write_contacts(out, s.pair_contacts);
+  write_contacts(out, s.static_contacts);
+  out.pod(static_cast<std::uint32_t>(s.sensor_overlaps.size()));
+  for (const std::uint64_t key : s.sensor_overlaps) out.pod(key);
+  const ProjectileStore& p = s.projectiles;
+  out.pool(p.slots);
+  for (std::uint32_t k = 0; k < p.slot_count(); ++k) {
+    if (!p.alive(k)) continue;
+    out.vec(p.position[k]), out.vec(p.velocity[k]), out.pod(p.radius[k]);
+    out.pod(p.gravity_scale[k]), out.pod(p.filter[k].layer), out.pod(p.filter[k].mask);
+    out.pod(p.ignore[k].index), out.pod(p.ignore[k].generation), out.pod(p.user_data[k]);
+  }
+}
+
+/// Reads contacts, deriving each one's body and shape slots from its key and checking that they
+/// name live objects.
+bool read_contacts(Reader& in, const BodyStore& b, const StaticGeometry& statics, bool pairs,
+                   std::vector<Contact>& contacts) {
+  const char* field = pairs ? "pair contact" : "static contact";
+  std::uint32_t n = 0;
+  if (!in.count(n, 1u << 28, 8 + 7 * sizeof(Real) + 1, field)) return false;
+  contacts.resize(n);
+  for (Contact& c : contacts) {
+    c = Contact{};
+    if (!in.pod(c.key, field) || !in.real(c.normal_impulse, field) ||
+        !in.vec(c.friction_impulse, field) || !in.vec(c.rolling_impulse, field) ||
+        !in.flag(c.touching, field)) {
+      return false;
+    }
+    if (c.normal_impulse < 0) return in.fail(field, "negative normal impulse");
+    if (pairs) {
+      if ((c.key >> 63) != 0) return in.fail(field, "static key among pair contacts");
+      c.a = static_cast<std::uint32_t>(c.key >> 32);
+      c.b = static_cast<std::uint32_t>(c.key);
+      if (c.a >= c.b || c.b >= b.slot_count() || !b.alive(c.a) || !b.alive(c.b))
+        return in.fail(field, "key names a missing body or is not ordered a < b");
+    } else {
+      if ((c.key >> 63) == 0) return in.fail(field, "pair key among static contacts");
+      c.a = static_cast<std::uint32_t>(c.key >> 41) & (kMaxBodySlots - 1);
+      c.b = static_cast<std::uint32_t>(c.key >> 21) & (kMaxShapeSlots - 1);
+      const std::uint32_t triangle = static_cast<std::uint32_t>(c.key) & (kMaxMeshTriangles - 1);
+      if (c.a >= b.slot_count() || !b.alive(c.a) || c.b >= statics.slots().slot_count() ||
+          !statics.alive(c.b)) {
+        return in.fail(field, "key names a missing body or shape");
+      }
+      const StaticShape& shape = statics.shape(c.b);
+      const std::size_t triangles = shape.type == ShapeType::Mesh ? shape.indices.size() / 3 : 1;
+      if (triangle >= triangles) return in.fail(field, "key names a missing triangle");
+    }
+  }
+  return true;
+}
+
+/// Reads the dynamic section into `out` (whose configuration fields are already in place),
+/// checking every value against that configuration.
+bool read_dynamic(Reader& in, const WorldDef& def, const WorldState& config, RestoreScratch& out) {
+  const BodyStore& b = config.bodies;
+  if (!in.pod(out.steps, "steps") || !in.vec(out.gravity, "gravity")) return false;
+  const std::uint32_t slots = b.slot_count();
+  out.flags.resize(slots);
+  out.position.resize(slots);
+  out.orientation.resize(slots);
+  out.motion.resize(slots);
+  out.force.assign(slots, Vec3::Zero());
+  out.torque.assign(slots, Vec3::Zero());
+  out.sleep_time.resize(slots);
+  for (std::uint32_t k = 0; k < slots; ++k) {
+    out.flags[k] = 0;
+    out.motion[k] = Motion{};
+    if (!b.alive(k)) continue;
+    std::uint16_t flags = 0;
+    Motion& m = out.motion[k];
+    if (!in.pod(flags, "body state flags") || !in.vec(out.position[k], "body position") ||
+        !in.quat(out.orientation[k], "body orientation") ||
+        !in.vec(m.linear_velocity, "body linear velocity") ||
+        !in.vec(m.angular_velocity, "body angular velocity") ||
+        !in.real(out.sleep_time[k], "body sleep time")) {
+      return false;
+    }
+    if ((flags & ~kStateFlags) != 0) return in.fail("body state flags", "unknown flag bits");
+    if (!unit(out.orientation[k])) return in.fail("body orientation", "not unit");
+    if (out.sleep_time[k] < 0) return in.fail("body sleep time", "negative");
+    out.flags[k] = static_cast<std::uint16_t>(flags | (b.flags[k] & kConfigFlags));
+    if ((flags & kFlagFrozen) != 0) {  // a frozen body is an obstacle: no velocity, no mass
+      if (m.linear_velocity != Vec3::Zero() || m.angular_velocity != Vec3::Zero())
+        return in.fail("body linear velocity", "not zero for a frozen body");
+    } else {
+      m.inverse_mass = b.mass_inverse_original[k];
+      m.inverse_inertia = b.inertia_inverse_original[k];
+    }
+  }
+  std::uint32_t loaded = 0;
+  if (!in.count(loaded, slots, 4 + 6 * sizeof(Real), "body loads")) return false;
+  std::uint32_t previous = 0;
+  for (std::uint32_t n = 0; n < loaded; ++n) {
+    std::uint32_t k = 0;
+    if (!in.pod(k, "body load slot")) return false;
+    if (k >= slots || !b.alive(k) || (n > 0 && k <= previous))
+      return in.fail("body load slot", "names a missing body or is out of order");
+    previous = k;
+    if (!in.vec(out.force[k], "body force") || !in.vec(out.torque[k], "body torque")) return false;
+  }
+  if (!read_contacts(in, b, config.statics, true, out.pair_contacts) ||
+      !read_contacts(in, b, config.statics, false, out.static_contacts)) {
+    return false;
+  }
+  std::uint32_t overlaps = 0;
+  if (!in.count(overlaps, 1u << 28, 8, "sensor overlap")) return false;
+  out.sensor_overlaps.resize(overlaps);
+  for (std::uint32_t n = 0; n < overlaps; ++n) {
+    std::uint64_t& key = out.sensor_overlaps[n];
+    if (!in.pod(key, "sensor overlap")) return false;
+    const auto first = static_cast<std::uint32_t>(key >> 32),
+               second = static_cast<std::uint32_t>(key);
+    if (first >= second || second >= slots || !b.alive(first) || !b.alive(second))
+      return in.fail("sensor overlap", "key names a missing body or is not ordered a < b");
+    if (!b.has(first, kFlagSensor) && !b.has(second, kFlagSensor))
+      return in.fail("sensor overlap", "key names two bodies neither of which is a sensor");
+    if (n > 0 && key <= out.sensor_overlaps[n - 1])
+      return in.fail("sensor overlap", "keys not strictly ascending");
+  }
+  ProjectileStore& p = out.projectiles;
+  if (!in.pool(p.slots, std::min(def.max_projectiles, kMaxProjectileSlots), out.seen,
+               "projectile pool")) {
+    return false;
+  }
+  p.resize(p.slot_count());
+  for (std::uint32_t k = 0; k < p.slot_count(); ++k) {
+    if (!p.alive(k)) continue;
+    if (!in.vec(p.position[k], "projectile position") ||
+        !in.vec(p.velocity[k], "projectile velocity") ||
+        !in.real(p.radius[k], "projectile radius") ||
+        !in.real(p.gravity_scale[k], "projectile gravity scale") ||
+        !in.pod(p.filter[k].layer, "projectile filter") ||
+        !in.pod(p.filter[k].mask, "projectile filter") ||
+        !in.pod(p.ignore[k].index, "projectile ignore") ||
+        !in.pod(p.ignore[k].generation, "projectile ignore") ||
+        !in.pod(p.user_data[k], "projectile user data")) {
+      return false;
+    }
+    if (p.radius[k] < 0) return in.fail("projectile radius", "negative");
+    if (p.velocity[k].norm() > def.max_linear_speed)
+      return in.fail("projectile velocity", "above max_linear_speed");
+  }
+  return true;
+}
+
+/// Swaps what read_dynamic read into the world's state (the old buffers become scratch).
+void commit_dynamic(RestoreScratch& in, WorldState& s) {
+  BodyStore& b = s.bodies;
+  std::swap(b.flags, in.flags);
+  std::swap(b.position, in.position);
+  std::swap(b.orientation, in.orientation);
+  std::swap(b.motion, in.motion);
+  std::swap(b.force, in.force);
+  std::swap(b.torque, in.torque);
+  std::swap(b.sleep_time, in.sleep_time);
+  std::swap(s.pair_contacts, in.pair_contacts);
+  std::swap(s.static_contacts, in.static_contacts);
+  std::swap(s.sensor_overlaps, in.sensor_overlaps);
+  std::swap(s.projectiles, in.projectiles);
+  s.steps = in.steps;
+  s.gravity = in.gravity;
+}
+
+}  // namespace
+
+std::uint64_t WorldImpl::config_fingerprint() const {
+  if (fingerprint_version != config_version) {
+    Writer measure;
+    write_config(measure, state);
+    image_scratch.resize(measure.size());
+    Writer out(image_scratch.data());
+    write_config(out, state);
+    Fnv1a h;
+    h.add(image_scratch.data(), image_scratch.size());
+    fingerprint = h.value();
+    fingerprint_version = config_version;
+  }
+  return fingerprint;
+}
+
+void WorldImpl::save(std::vector<std::uint8_t>& image, StateParts parts) const {
+  const bool with_config = parts == StateParts::All;
+  const std::uint64_t print = config_fingerprint();
+  Writer measure;
+  if (with_config) write_config(measure, state);
+  const std::size_t config_bytes = measure.size();
+  write_dynamic(measure, state);
+  image.resize(kHeaderBytes + measure.size());
+  Writer out(image.data());
+  out.pod(kMagic), out.pod(kVersion), out.pod(static_cast<std::uint8_t>(sizeof(Real)));
+  out.u8(with_config), out.pod(print), out.pod(static_cast<std::uint32_t>(config_bytes));
+  if (with_config) write_config(out, state);
+  write_dynamic(out, state);
+}
+
+Status WorldImpl::restore(std::span<const std::uint8_t> bytes) {
   Reader in(bytes);
   const auto corrupt = [&](const std::string& why) {
     return Status(Error{ErrorCode::CorruptState, "restore_state: " + why});
   };
-  std::uint32_t magic = 0, version = 0;
+  std::uint32_t magic = 0, version = 0, config_bytes = 0;
   std::uint8_t real_size = 0;
-  if (!in.pod(magic) || magic != kMagic) return corrupt("not a Ricochet physics state (bad magic)");
-  if (!in.pod(version) || version != kVersion) {
+  bool with_config = false;
+  std::uint64_t print = 0;
+  if (!in.pod(magic, "magic") || magic != kMagic)
+    return corrupt("not a Ricochet physics state (bad magic)");
+  if (!in.pod(version, "version") || version != kVersion) {
     return corrupt("state version " + std::to_string(version) + ", this build reads " +
                    std::to_string(kVersion));
   }
-  if (!in.pod(real_size) || real_size != sizeof(Real)) {
+  if (!in.pod(real_size, "real size") || real_size != sizeof(Real)) {
     return corrupt("state saved with " + std::to_string(real_size * 8) +
                    "-bit reals, this build uses " + std::to_string(sizeof(Real) * 8));
   }
-  WorldImpl next(current.def);
-  if (!in.pod(next.state.steps) || !in.vec(next.state.gravity)) return corrupt(in.error);
-
-  BodyStore& b = next.state.bodies;
-  std::uint32_t slots = 0;
-  if (!in.count(slots, std::min(current.def.max_bodies, kMaxBodySlots), 6))
+  if (!in.flag(with_config, "has config") || !in.pod(print, "fingerprint") ||
+      !in.pod(config_bytes, "config bytes")) {
     return corrupt(in.error);
-  BodyDef placeholder;
-  for (std::uint32_t s = 0; s < slots; ++s) {
-    const std::uint32_t slot = b.create(placeholder);
-    std::uint32_t generation = 0;
-    std::uint16_t flags = 0;
-    if (!in.pod(generation) || !in.pod(flags)) return corrupt(in.error);
-    b.generation[slot] = generation;
-    b.flags[slot] = flags;
-    if ((flags & kFlagAlive) == 0) {
-      if (flags != 0) return corrupt("dead body slot with flags set");
-      continue;
-    }
-    if (generation == 0) return corrupt("live body with null generation");
-    Motion& m = b.motion[slot];
-    Material& mat = b.material[slot];
-    if (!in.vec(b.position[slot]) || !in.quat(b.orientation[slot]) || !in.vec(m.linear_velocity) ||
-        !in.real(m.inverse_mass) || !in.vec(m.angular_velocity) || !in.real(m.inverse_inertia) ||
-        !in.vec(b.force[slot]) || !in.vec(b.torque[slot]) || !in.real(b.radius[slot]) ||
-        !in.real(b.mass_inverse_original[slot]) || !in.real(b.inertia_inverse_original[slot]) ||
-        !in.real(b.gravity_scale[slot]) || !in.real(mat.restitution) || !in.real(mat.friction) ||
-        !in.real(mat.rolling_resistance) || !in.pod(b.filter[slot].layer) ||
-        !in.pod(b.filter[slot].mask) || !in.real(b.sleep_time[slot]) ||
-        !in.pod(b.user_data[slot])) {
+  }
+  if (!with_config && config_bytes != 0) return corrupt("config bytes: not 0 without config");
+
+  if (print == config_fingerprint()) {  // same configuration: restore in place
+    if (!in.skip(config_bytes) || !read_dynamic(in, def, state, restore_scratch))
       return corrupt(in.error);
+    if (!in.at_end()) return corrupt("trailing bytes after the state");
+    commit_dynamic(restore_scratch, state);
+  } else {
+    if (!with_config) {
+      return corrupt(
+          "the image holds only the dynamic state of another configuration "
+          "(bodies, shapes or force fields differ); restore a StateParts::All image");
     }
-    if (b.radius[slot] <= 0 || m.inverse_mass < 0 || m.inverse_inertia < 0)
-      return corrupt("body with invalid mass or radius");
+    if (bytes.size() - in.offset() < config_bytes) return corrupt("config bytes: truncated");
+    Fnv1a config_hash;
+    config_hash.add(bytes.data() + in.offset(), config_bytes);
+    if (config_hash.value() != print)
+      return corrupt("fingerprint: does not match the configuration section");
+    WorldState next;
+    const std::size_t config_start = in.offset();
+    if (!read_config(in, def, next, restore_scratch.seen)) return corrupt(in.error);
+    if (in.offset() - config_start != config_bytes)
+      return corrupt("config bytes: " + std::to_string(config_bytes) + " announced, " +
+                     std::to_string(in.offset() - config_start) + " read");
+    if (!read_dynamic(in, def, next, restore_scratch)) return corrupt(in.error);
+    if (!in.at_end()) return corrupt("trailing bytes after the state");
+    commit_dynamic(restore_scratch, next);
+    state = std::move(next);
+    ++config_version;
   }
-  // Recount: create() counted every slot as alive.
-  b.alive_count = 0;
-  for (std::uint32_t s = 0; s < slots; ++s) b.alive_count += b.alive(s) ? 1 : 0;
-  b.free_slots.clear();
-  std::uint32_t free_count = 0;
-  if (!in.count(free_count, slots, 4)) return corrupt(in.error);
-  for (std::uint32_t k = 0; k < free_count; ++k) {
-    std::uint32_t s = 0;
-    if (!in.pod(s)) return corrupt(in.error);
-    if (s >= slots || b.alive(s)) return corrupt("free list names a live or missing body slot");
-    b.free_slots.push_back(s);
-  }
-
-  std::uint32_t shape_count = 0;
-  if (!in.count(shape_count, std::min(current.def.max_shapes, kMaxShapeSlots), 6))
-    return corrupt(in.error);
-  std::vector<StaticShape> shapes(shape_count);
-  for (StaticShape& shape : shapes) {
-    std::uint8_t type = 0, alive = 0;
-    if (!in.pod(type) || !in.pod(shape.generation) || !in.pod(alive)) return corrupt(in.error);
-    if (type > static_cast<std::uint8_t>(ShapeType::Mesh)) return corrupt("unknown shape type");
-    shape.type = static_cast<ShapeType>(type);
-    shape.alive = alive != 0;
-    if (!shape.alive) continue;
-    std::uint32_t vertex_count = 0, index_count = 0;
-    if (!in.real(shape.material.restitution) || !in.real(shape.material.friction) ||
-        !in.real(shape.material.rolling_resistance) || !in.pod(shape.filter.layer) ||
-        !in.pod(shape.filter.mask) || !in.vec(shape.plane_normal) || !in.real(shape.plane_offset) ||
-        !in.vec(shape.box_center) || !in.quat(shape.box_orientation) ||
-        !in.vec(shape.box_half_extents) ||
-        !in.count(vertex_count, 3 * kMaxMeshTriangles, 3 * sizeof(Real))) {
-      return corrupt(in.error);
-    }
-    shape.vertices.resize(vertex_count);
-    for (Vec3& v : shape.vertices) {
-      if (!in.vec(v)) return corrupt(in.error);
-    }
-    if (!in.count(index_count, 3 * kMaxMeshTriangles, 4)) return corrupt(in.error);
-    shape.indices.resize(index_count);
-    for (std::uint32_t& i : shape.indices) {
-      if (!in.pod(i)) return corrupt(in.error);
-      if (i >= vertex_count) return corrupt("mesh index out of range");
-    }
-    if (index_count % 3 != 0) return corrupt("mesh index count not a multiple of 3");
-  }
-  std::uint32_t shape_free_count = 0;
-  if (!in.count(shape_free_count, shape_count, 4)) return corrupt(in.error);
-  std::vector<std::uint32_t> shape_free(shape_free_count);
-  for (std::uint32_t& s : shape_free) {
-    if (!in.pod(s)) return corrupt(in.error);
-    if (s >= shape_count || shapes[s].alive)
-      return corrupt("shape free list names a live or missing slot");
-  }
-  next.state.statics.assign(std::move(shapes), std::move(shape_free));
-
-  for (auto* list : {&next.state.pair_contacts, &next.state.static_contacts}) {
-    std::uint32_t n = 0;
-    if (!in.count(n, 1u << 28, kMinContactBytes)) return corrupt(in.error);
-    list->resize(n);
-    for (Contact& c : *list) {
-      if (!read_contact(in, c)) return corrupt(in.error);
-      if (c.a >= slots || !b.alive(c.a)) return corrupt("contact names a missing body");
-      const bool pair = list == &next.state.pair_contacts;
-      if (pair ? (c.b >= slots || !b.alive(c.b))
-               : (c.b >= shape_count || !next.state.statics.shape(c.b).alive)) {
-        return corrupt("contact names a missing body or shape");
-      }
-    }
-  }
-  std::uint32_t overlap_count = 0;
-  if (!in.count(overlap_count, 1u << 28, 8)) return corrupt(in.error);
-  next.state.sensor_overlaps.resize(overlap_count);
-  for (std::uint64_t& key : next.state.sensor_overlaps) {
-    if (!in.pod(key)) return corrupt(in.error);
-  }
-  std::uint32_t force_count = 0;
-  if (!in.count(force_count, ForceFields::kMaxFields, kMinForceBytes)) return corrupt(in.error);
-  std::vector<ForceField> fields(force_count);
-  for (ForceField& f : fields) {
-    if (const std::string why = read_force(in, b, f); !why.empty()) return corrupt(why);
-  }
-  std::uint32_t force_free_count = 0;
-  if (!in.count(force_free_count, force_count, 4)) return corrupt(in.error);
-  std::vector<std::uint32_t> force_free(force_free_count);
-  for (std::uint32_t& s : force_free) {
-    if (!in.pod(s)) return corrupt(in.error);
-    if (s >= force_count || fields[s].alive)
-      return corrupt("force free list names a live or missing slot");
-  }
-  next.state.forces.assign(std::move(fields), std::move(force_free));
-  if (const std::string why = read_projectiles(in, current.def, next.state.projectiles);
-      !why.empty())
-    return corrupt(why);
-  if (!in.at_end()) return corrupt("trailing bytes after the state");
-
-  next.def.gravity = next.state.gravity;
-  *impl_ = std::move(next);
+  def.gravity = state.gravity;
+  events = StepEvents{};
   return {};
+}
+
+std::uint64_t World::state_hash() const {
+  impl_->save(impl_->image_scratch_hash, StateParts::Dynamic);
+  Fnv1a h;
+  h.add(impl_->image_scratch_hash.data(), impl_->image_scratch_hash.size());
+  return h.value();
+}
+
+void World::save_state(std::vector<std::uint8_t>& image, StateParts parts) const {
+  impl_->save(image, parts);
+}
+
+std::vector<std::uint8_t> World::save_state() const {
+  std::vector<std::uint8_t> image;
+  impl_->save(image, StateParts::All);
+  return image;
+}
+
+Status World::restore_state(std::span<const std::uint8_t> bytes) {
+  return impl_->restore(bytes);
 }
 
 }  // namespace ricochet::physics

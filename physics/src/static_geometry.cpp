@@ -10,45 +10,24 @@ constexpr std::uint32_t kLeafSize = 4;
 }
 
 std::uint32_t StaticGeometry::add(StaticShape shape) {
-  std::uint32_t slot;
-  if (!free_slots_.empty()) {
-    slot = free_slots_.back();
-    free_slots_.pop_back();
-    shape.generation = shapes_[slot].generation + 1;
-    if (shape.generation == 0) shape.generation = 1;
-    shapes_[slot] = std::move(shape);
-  } else {
-    slot = static_cast<std::uint32_t>(shapes_.size());
-    shape.generation = 1;
-    shapes_.push_back(std::move(shape));
-  }
-  shapes_[slot].alive = true;
-  if (shapes_[slot].type == ShapeType::Box) {
-    shapes_[slot].box_rotation = shapes_[slot].box_orientation.toRotationMatrix();
-  }
-  ++alive_count_;
+  const std::uint32_t slot = slots_.acquire();
+  if (shapes_.size() < slots_.slot_count()) shapes_.resize(slots_.slot_count());
+  if (shape.type == ShapeType::Box) shape.box_rotation = shape.box_orientation.toRotationMatrix();
+  shapes_[slot] = std::move(shape);
   rebuild_lists();
   return slot;
 }
 
 void StaticGeometry::remove(std::uint32_t slot) {
-  StaticShape& s = shapes_[slot];
-  s.alive = false;
-  s.vertices = {};
-  s.indices = {};
-  free_slots_.push_back(slot);
-  --alive_count_;
+  shapes_[slot] = StaticShape{};
+  slots_.release(slot);
   rebuild_lists();
 }
 
-void StaticGeometry::assign(std::vector<StaticShape> shapes,
-                            std::vector<std::uint32_t> free_slots) {
+void StaticGeometry::assign(SlotPool slots, std::vector<StaticShape> shapes) {
+  slots_ = std::move(slots);
   shapes_ = std::move(shapes);
-  free_slots_ = std::move(free_slots);
-  alive_count_ = 0;
   for (StaticShape& s : shapes_) {
-    if (!s.alive) continue;
-    ++alive_count_;
     if (s.type == ShapeType::Box) s.box_rotation = s.box_orientation.toRotationMatrix();
   }
   rebuild_lists();
@@ -58,8 +37,8 @@ void StaticGeometry::rebuild_lists() {
   plane_slots_.clear();
   primitives_.clear();
   for (std::uint32_t slot = 0; slot < shapes_.size(); ++slot) {
+    if (!slots_.alive(slot)) continue;
     const StaticShape& s = shapes_[slot];
-    if (!s.alive) continue;
     switch (s.type) {
       case ShapeType::Plane:
         plane_slots_.push_back(slot);

@@ -7,13 +7,12 @@
 
 #include "geometry.h"
 #include "ricochet/physics/shapes.h"
+#include "slot_pool.h"
 
 namespace ricochet::physics {
 
 struct StaticShape {
   ShapeType type = ShapeType::Plane;
-  std::uint32_t generation = 0;
-  bool alive = false;
   Material material;
   Filter filter;
   // Plane: solid below normal·x = offset.
@@ -47,15 +46,14 @@ class StaticGeometry {
  public:
   std::uint32_t add(StaticShape shape);
   void remove(std::uint32_t slot);
-  bool valid(ShapeId id) const {
-    return id.generation != 0 && id.index < shapes_.size() && shapes_[id.index].alive &&
-           shapes_[id.index].generation == id.generation;
-  }
-  ShapeId id_of(std::uint32_t slot) const { return {slot, shapes_[slot].generation}; }
+  bool valid(ShapeId id) const { return slots_.valid(id); }
+  ShapeId id_of(std::uint32_t slot) const { return slots_.id_of<ShapeTag>(slot); }
+  bool alive(std::uint32_t slot) const { return slots_.alive(slot); }
+  const SlotPool& slots() const { return slots_; }
   const StaticShape& shape(std::uint32_t slot) const { return shapes_[slot]; }
   const std::vector<StaticShape>& shapes() const { return shapes_; }
   const std::vector<std::uint32_t>& plane_slots() const { return plane_slots_; }
-  std::uint32_t count() const { return alive_count_; }
+  std::uint32_t count() const { return slots_.alive_count; }
 
   /// Calls visit(primitive_index) for every primitive whose box overlaps `box`.
   template <class Visit>
@@ -72,9 +70,8 @@ class StaticGeometry {
   /// Triangle corners of a mesh primitive.
   void triangle(const StaticPrimitive& p, Vec3& a, Vec3& b, Vec3& c) const;
 
-  /// Replaces everything (used by restore_state); rebuilds lists.
-  void assign(std::vector<StaticShape> shapes, std::vector<std::uint32_t> free_slots);
-  const std::vector<std::uint32_t>& free_slots() const { return free_slots_; }
+  /// Replaces everything (restore_state; already validated); rebuilds lists and the hierarchy.
+  void assign(SlotPool slots, std::vector<StaticShape> shapes);
 
  private:
   struct Node {
@@ -89,12 +86,11 @@ class StaticGeometry {
   void rebuild_lists();
   void rebuild_tree();
 
-  std::vector<StaticShape> shapes_;
-  std::vector<std::uint32_t> free_slots_;
+  SlotPool slots_;
+  std::vector<StaticShape> shapes_;  ///< per slot; a dead slot's is default
   std::vector<std::uint32_t> plane_slots_;
   std::vector<StaticPrimitive> primitives_;
   std::vector<Node> nodes_;
-  std::uint32_t alive_count_ = 0;
 };
 
 template <class Visit>

@@ -105,13 +105,14 @@ Result<BodyId> World::create_body(const BodyDef& def) {
   const std::string problem = validate_body(def);
   if (!problem.empty()) return invalid("BodyDef: " + problem);
   BodyStore& b = impl_->state.bodies;
-  if (b.free_slots.empty() && b.slot_count() >= impl_->def.max_bodies) {
+  if (b.slots.full(impl_->def.max_bodies)) {
     return Error{ErrorCode::CapacityExceeded,
                  "create_body: world holds max_bodies = " + show(impl_->def.max_bodies) +
                      "; raise WorldDef::max_bodies"};
   }
   const std::uint32_t slot = b.create(def);
   impl_->mark_velocity_as_given(slot);
+  impl_->configuration_changed();
   return b.id_of(slot);
 }
 
@@ -120,6 +121,7 @@ Status World::destroy_body(BodyId id) {
   impl_->remove_contacts_of(id.index);
   impl_->state.forces.remove_springs_of(id.index);
   impl_->state.bodies.destroy(id.index);
+  impl_->configuration_changed();
   return {};
 }
 
@@ -141,13 +143,16 @@ void WorldImpl::remove_contacts_of(std::uint32_t slot) {
   std::erase_if(state.sensor_overlaps, [&](std::uint64_t key) {
     return static_cast<std::uint32_t>(key >> 32) == slot || static_cast<std::uint32_t>(key) == slot;
   });
+  std::erase_if(state.sensor_overlaps, [&](std::uint64_t key) {
+    return static_cast<std::uint32_t>(key >> 32) == slot || static_cast<std::uint32_t>(key) == slot;
+  });
 }
 
 bool World::is_valid(BodyId id) const {
   return impl_->state.bodies.valid(id);
 }
 std::uint32_t World::body_count() const {
-  return impl_->state.bodies.alive_count;
+  return impl_->state.bodies.slots.alive_count;
 }
 
 Result<BodyState> World::body_state(BodyId id) const {
@@ -241,7 +246,7 @@ Status World::wake(BodyId id) {
 namespace {
 
 Status check_shape_capacity(const StaticGeometry& statics, const WorldDef& def) {
-  if (statics.free_slots().empty() && statics.shapes().size() >= def.max_shapes) {
+  if (statics.slots().full(def.max_shapes)) {
     return Error{ErrorCode::CapacityExceeded, "world holds max_shapes = " + show(def.max_shapes) +
                                                   "; raise WorldDef::max_shapes"};
   }
@@ -264,7 +269,7 @@ Result<ShapeId> World::add_plane(const PlaneDef& def) {
   shape.plane_offset = def.offset;
   shape.material = def.material;
   shape.filter = def.filter;
-  return impl_->state.statics.id_of(impl_->state.statics.add(std::move(shape)));
+  return impl_->add_shape(std::move(shape));
 }
 
 Result<ShapeId> World::add_box(const BoxDef& def) {
@@ -286,7 +291,7 @@ Result<ShapeId> World::add_box(const BoxDef& def) {
   shape.box_half_extents = def.half_extents;
   shape.material = def.material;
   shape.filter = def.filter;
-  return impl_->state.statics.id_of(impl_->state.statics.add(std::move(shape)));
+  return impl_->add_shape(std::move(shape));
 }
 
 Result<ShapeId> World::add_mesh(const MeshDef& def) {
@@ -317,7 +322,12 @@ Result<ShapeId> World::add_mesh(const MeshDef& def) {
   shape.indices = def.indices;
   shape.material = def.material;
   shape.filter = def.filter;
-  return impl_->state.statics.id_of(impl_->state.statics.add(std::move(shape)));
+  return impl_->add_shape(std::move(shape));
+}
+
+ShapeId WorldImpl::add_shape(StaticShape shape) {
+  configuration_changed();
+  return state.statics.id_of(state.statics.add(std::move(shape)));
 }
 
 Status World::remove_shape(ShapeId id) {
@@ -332,6 +342,7 @@ Status World::remove_shape(ShapeId id) {
   });
   w.wake_all();  // whatever rested on it must fall
   w.state.statics.remove(id.index);
+  w.configuration_changed();
   return {};
 }
 
@@ -344,7 +355,7 @@ std::uint32_t World::shape_count() const {
 namespace {
 
 Status check_force_capacity(const ForceFields& forces) {
-  if (forces.free_slots().empty() && forces.fields().size() >= ForceFields::kMaxFields) {
+  if (forces.slots().full(ForceFields::kMaxFields)) {
     return Error{ErrorCode::CapacityExceeded,
                  "world holds " + show(ForceFields::kMaxFields) + " force fields at most"};
   }
@@ -375,6 +386,7 @@ Result<ForceId> World::add_spring(const SpringDef& def) {
   field.rest_length = def.rest_length;
   field.damping = def.damping;
   w.wake_body(def.body.index);
+  w.configuration_changed();
   return w.state.forces.id_of(w.state.forces.add(field));
 }
 
@@ -394,6 +406,7 @@ Result<ForceId> World::add_attractor(const AttractorDef& def) {
   field.min_distance = def.min_distance;
   field.mask = def.mask;
   w.wake_all();
+  w.configuration_changed();
   return w.state.forces.id_of(w.state.forces.add(field));
 }
 
@@ -408,6 +421,7 @@ Status World::remove_force(ForceId id) {
     w.wake_all();
   }
   w.state.forces.remove(id.index);
+  w.configuration_changed();
   return {};
 }
 
@@ -475,7 +489,7 @@ void WorldImpl::gather_awake_bodies() {
   const std::uint32_t slots = state.bodies.slot_count();
   scratch.awake_list.clear();
   for (std::uint32_t s = 0; s < slots; ++s) {
-    if ((state.bodies.flags[s] & (kFlagAlive | kFlagSleeping | kFlagFrozen)) == kFlagAlive)
+    if (state.bodies.alive(s) && (state.bodies.flags[s] & (kFlagSleeping | kFlagFrozen)) == 0)
       scratch.awake_list.push_back(s);
   }
   scratch.start_position = state.bodies.position;

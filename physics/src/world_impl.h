@@ -104,6 +104,23 @@ struct StepScratch {
   std::vector<ProjectileSweep> projectile_sweeps;
 };
 
+/// restore_state reads an image into these first and swaps them in only when all of it is valid,
+/// so a bad image changes nothing; kept between restores so a rewind per tick allocates nothing.
+struct RestoreScratch {
+  std::uint64_t steps = 0;
+  Vec3 gravity = Vec3::Zero();
+  std::vector<std::uint16_t> flags;
+  std::vector<Vec3> position;
+  std::vector<Quat> orientation;
+  std::vector<Motion> motion;
+  std::vector<Vec3> force, torque;
+  std::vector<Real> sleep_time;
+  std::vector<Contact> pair_contacts, static_contacts;
+  std::vector<std::uint64_t> sensor_overlaps;
+  ProjectileStore projectiles;
+  std::vector<std::uint8_t> seen;  ///< slot pool validation
+};
+
 /// What the last step reports to game code.
 struct StepEvents {
   std::vector<ProjectileHitEvent> projectile_hits;
@@ -148,6 +165,15 @@ class WorldImpl {
   void report_events();
   void end_step();
 
+  // --- state images (state_io.cpp) ---
+  void save(std::vector<std::uint8_t>& image, StateParts parts) const;
+  Status restore(std::span<const std::uint8_t> bytes);
+  /// FNV-1a of the configuration section, recomputed only after the configuration changed.
+  std::uint64_t config_fingerprint() const;
+  /// Called by every API edit of bodies, shapes or force fields (not by steps).
+  void configuration_changed() { ++config_version; }
+  ShapeId add_shape(StaticShape shape);
+
   // --- helpers used across phases ---
   bool collides(const Filter& a, const Filter& b) const {
     return (a.layer & b.mask) != 0 && (b.layer & a.mask) != 0;
@@ -191,6 +217,14 @@ class WorldImpl {
   StepScratch scratch;
   StepEvents events;
   StepProfile profile;
+
+  // State images: the configuration's fingerprint cache and reused buffers.
+  std::uint64_t config_version = 0;
+  mutable std::uint64_t fingerprint = 0;
+  mutable std::uint64_t fingerprint_version = ~0ull;
+  mutable std::vector<std::uint8_t> image_scratch;       ///< configuration section, for hashing
+  mutable std::vector<std::uint8_t> image_scratch_hash;  ///< dynamic image, for state_hash
+  RestoreScratch restore_scratch;
 };
 
 }  // namespace ricochet::physics

@@ -9,14 +9,6 @@
 
 namespace ricochet::physics {
 
-/// Handle to a force field; same generation rule as BodyId.
-struct ForceId {
-  std::uint32_t index = 0;
-  std::uint32_t generation = 0;  ///< 0 means null
-  bool is_null() const { return generation == 0; }
-  friend bool operator==(ForceId, ForceId) = default;
-};
-
 /// A Hooke spring from a dynamic body's centre to a fixed world point, with a dashpot along it:
 /// F = -stiffness·(|d| - rest_length)·d̂ - damping·(v·d̂)·d̂, d = position - anchor.
 /// Removed with its body.

@@ -21,14 +21,6 @@
 
 namespace ricochet::physics {
 
-/// Handle to a projectile; goes stale when it hits something or is destroyed.
-struct ProjectileId {
-  std::uint32_t index = 0;
-  std::uint32_t generation = 0;  ///< 0 means null
-  bool is_null() const { return generation == 0; }
-  friend bool operator==(ProjectileId, ProjectileId) = default;
-};
-
 struct ProjectileDef {
   Vec3 position = Vec3::Zero();  ///< m, centre
   Vec3 velocity = Vec3::Zero();  ///< m/s, at most WorldDef::max_linear_speed

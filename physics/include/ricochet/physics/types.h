@@ -20,22 +20,25 @@ using Vec3 = Eigen::Matrix<Real, 3, 1>;
 using Quat = Eigen::Quaternion<Real>;
 using Mat3 = Eigen::Matrix<Real, 3, 3>;
 
-/// Handle to a dynamic or kinematic body. A destroyed body's handle goes stale: its generation no
-/// longer matches, so a use is reported as InvalidHandle instead of touching another body.
-struct BodyId {
-  std::uint32_t index = 0;
+/// A small id with a generation counter, as Box2D's b2BodyId: when the object is destroyed its
+/// slot's generation moves on, so a stale handle is reported as InvalidHandle instead of
+/// touching whatever reuses the slot. The tag keeps body, shape, projectile and force ids apart.
+template <class Tag>
+struct Handle {
+  std::uint32_t index = 0;       ///< slot
   std::uint32_t generation = 0;  ///< 0 means null
   bool is_null() const { return generation == 0; }
-  friend bool operator==(BodyId, BodyId) = default;
+  friend bool operator==(Handle, Handle) = default;
 };
 
-/// Handle to a static shape (plane, box or triangle mesh); same generation rule as BodyId.
-struct ShapeId {
-  std::uint32_t index = 0;
-  std::uint32_t generation = 0;  ///< 0 means null
-  bool is_null() const { return generation == 0; }
-  friend bool operator==(ShapeId, ShapeId) = default;
-};
+/// A dynamic or kinematic body.
+using BodyId = Handle<struct BodyTag>;
+/// A static shape (plane, box or triangle mesh).
+using ShapeId = Handle<struct ShapeTag>;
+/// A swept projectile (projectile.h).
+using ProjectileId = Handle<struct ProjectileTag>;
+/// A force field: a spring or an attractor (force_field.h).
+using ForceId = Handle<struct ForceTag>;
 
 enum class ErrorCode : std::uint8_t {
   InvalidArgument,   ///< a definition or parameter is out of range or not finite

@@ -22,6 +22,16 @@ namespace ricochet::physics {
 
 class WorldImpl;
 
+/// What save_state writes.
+enum class StateParts : std::uint8_t {
+  /// Self-contained: the configuration (every body's definition, static shapes, force fields)
+  /// and the dynamic state. Restores into any world created with the same WorldDef limits.
+  All,
+  /// Only what steps change (about 60 bytes per moving body in float) and the configuration's
+  /// fingerprint; restores in place, cheaply, into a world whose configuration is the same.
+  Dynamic,
+};
+
 class World {
  public:
   /// Fails with InvalidArgument and the first wrong field when def.validate() is not empty.
@@ -102,13 +112,18 @@ class World {
                                             const QueryFilter& filter) const;
 
   // --- determinism and rollback ---
-  /// 64-bit FNV-1a over every body's and projectile's state, the contact cache, the force fields
-  /// and the step counter.
+  /// 64-bit FNV-1a of the StateParts::Dynamic image: the dynamic state and the configuration's
+  /// fingerprint, so it covers everything that is saved.
   std::uint64_t state_hash() const;
-  /// Whole world state (bodies, projectiles, shapes, contact cache, sleep state) as bytes.
+  /// Writes the state into `image`, resized to fit; its capacity is reused, so a save per tick
+  /// allocates nothing once warm.
+  void save_state(std::vector<std::uint8_t>& image, StateParts parts = StateParts::All) const;
+  /// The StateParts::All image in a new buffer.
   std::vector<std::uint8_t> save_state() const;
-  /// Restores a save_state() image bit-exactly. Validates every length and field; on error the
-  /// world is unchanged.
+  /// Restores a save_state() image bit-exactly. When the image's configuration is this world's
+  /// (by fingerprint) only the dynamic state is read, in place; otherwise the image must hold
+  /// its configuration. Validates every length and field and names the first wrong one; on
+  /// error the world is unchanged.
   Status restore_state(std::span<const std::uint8_t> bytes);
 
  private:
