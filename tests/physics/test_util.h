@@ -371,6 +371,20 @@ class Lcg {
   std::uint64_t state_;
 };
 
+inline const char* integrator_name(Integrator i) {
+  switch (i) {
+    case Integrator::ExplicitEuler:
+      return "ExplicitEuler";
+    case Integrator::SemiImplicitEuler:
+      return "SemiImplicitEuler";
+    case Integrator::ExactBallistic:
+      return "ExactBallistic";
+    case Integrator::Rk4:
+      return "Rk4";
+  }
+  return "Unknown";
+}
+
 inline const char* correction_name(PositionCorrection c) {
   switch (c) {
     case PositionCorrection::Baumgarte:
