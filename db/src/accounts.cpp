@@ -133,7 +133,7 @@ DbResult<AccountId> Accounts::finish_registration(std::string_view username,
                                                   const std::string& hash, UnixMillis now) {
   if (hash.empty()) {
     return counted(
-        DbResult<AccountId>(error(DbErrorCode::Storage, "password hashing ran out of memory")));
+        DbResult<AccountId>(error(DbErrorCode::OutOfMemory, "password hashing ran out of memory")));
   }
   DbResult<AccountId> id = counted(store_.insert_account(username, lowercase(username), hash, now));
   if (id.ok()) ++counters_.registrations;
@@ -304,7 +304,7 @@ DbStatus Accounts::change_password(AccountId id, std::string_view old_password,
   }
   const std::string hash = hash_new_password(new_password);
   if (hash.empty())
-    return counted_status(error(DbErrorCode::Storage, "password hashing ran out of memory"));
+    return counted_status(error(DbErrorCode::OutOfMemory, "password hashing ran out of memory"));
   if (DbStatus s = store_.set_password_hash(id, hash); !s.ok()) return counted_status(s);
   return counted_status(store_.delete_sessions_of(id));
 }

@@ -190,7 +190,7 @@ TEST(DbWorker, ALockHeldPastTheBusyTimeoutIsBusy) {
   EXPECT_TRUE(fails_with(*result, DbErrorCode::Busy));
 }
 
-TEST(DbWorker, AFullQueueAnswersBusyAtOnce) {
+TEST(DbWorker, AFullQueueAnswersQueueFullAtOnce) {
   TempDir dir;
   DbWorkerOptions options = fast_options();
   options.max_queued = 1;
@@ -211,7 +211,7 @@ TEST(DbWorker, AFullQueueAnswersBusyAtOnce) {
   EXPECT_EQ(worker.queued(), 1u);
   EXPECT_EQ(caller.drain(), 1);  // the refusal is already there
   ASSERT_EQ(codes.size(), 1u);
-  EXPECT_EQ(codes[0], DbErrorCode::Busy);
+  EXPECT_EQ(codes[0], DbErrorCode::QueueFull);
   blocking.release();
   ASSERT_TRUE(caller.drain_until([&] { return oks.size() == 3; }));
   EXPECT_EQ(std::count(oks.begin(), oks.end(), true), 2);

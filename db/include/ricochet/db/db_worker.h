@@ -8,8 +8,8 @@
 /// the caller's executor (the server passes `asio::post(io_context, ...)`; tests pass a queue
 /// they drain). The game tick therefore never waits for the disk: a slow or locked database
 /// shows as latency on logins, never as a late tick. When more than `max_queued` jobs wait, a
-/// new job is refused at once with Busy (back-pressure instead of unbounded memory). Jobs still
-/// queued at stop() complete with Stopped.
+/// new job is refused at once with QueueFull (back-pressure instead of unbounded memory). Jobs
+/// still queued at stop() complete with Stopped.
 ///
 /// Argon2id is deliberately slow (~100 ms per hash at interactive cost), so login() and
 /// register_account() run it on separate password threads between two short DB-thread steps:
@@ -54,7 +54,7 @@ class Delivery {
   }
   void stopped() const { (*this)(R(DbError{DbErrorCode::Stopped, "the DB worker stopped"})); }
   void queue_full() const {
-    (*this)(R(DbError{DbErrorCode::Busy, "the DB queue is full; retry later"}));
+    (*this)(R(DbError{DbErrorCode::QueueFull, "the DB queue is full; retry later"}));
   }
 
  private:
