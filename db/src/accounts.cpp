@@ -213,23 +213,25 @@ DbResult<LoginResult> Accounts::finish_login(const LoginAttempt& attempt, bool p
   forget_failure("account:" + lowercase(attempt.username), attempt.started_ms, true);
   if (!attempt.address.empty())
     forget_failure("address:" + attempt.address, attempt.started_ms, false);
-  if (needs_rehash(attempt.found->password_hash, options_.cost)) {
-    const std::string rehashed = hash_new_password(password);
-    if (!rehashed.empty()) {
-      if (DbStatus s = store_.set_password_hash(account.id, rehashed); !s.ok())
-        return counted(R(s.error()));
-    }
-  }
   LoginResult result;
   result.token = random_token();
   result.account = account.id;
   result.expires_ms = now + options_.session_lifetime_ms;
-  if (DbStatus s =
-          store_.insert_session(token_hash(result.token), account.id, now, result.expires_ms);
-      !s.ok()) {
-    return counted(R(s.error()));
-  }
-  if (DbStatus s = store_.set_last_login(account.id, now); !s.ok()) return counted(R(s.error()));
+  // The upgraded hash, the session and the login time are written together or not at all.
+  const DbStatus written = atomically(store_, [&]() -> DbStatus {
+    if (needs_rehash(attempt.found->password_hash, options_.cost)) {
+      const std::string rehashed = hash_new_password(password);
+      if (!rehashed.empty()) {
+        if (DbStatus s = store_.set_password_hash(account.id, rehashed); !s.ok()) return s;
+      }
+    }
+    if (DbStatus s =
+            store_.insert_session(token_hash(result.token), account.id, now, result.expires_ms);
+        !s.ok())
+      return s;
+    return store_.set_last_login(account.id, now);
+  });
+  if (!written.ok()) return counted(R(written.error()));
   ++counters_.logins;
   return result;
 }
@@ -305,16 +307,19 @@ DbStatus Accounts::change_password(AccountId id, std::string_view old_password,
   const std::string hash = hash_new_password(new_password);
   if (hash.empty())
     return counted_status(error(DbErrorCode::OutOfMemory, "password hashing ran out of memory"));
-  if (DbStatus s = store_.set_password_hash(id, hash); !s.ok()) return counted_status(s);
-  return counted_status(store_.delete_sessions_of(id));
+  // A new password with the old sessions still alive must never be left behind.
+  return counted_status(atomically(store_, [&]() -> DbStatus {
+    if (DbStatus s = store_.set_password_hash(id, hash); !s.ok()) return s;
+    return store_.delete_sessions_of(id);
+  }));
 }
 
 DbStatus Accounts::set_banned(AccountId id, bool banned) {
-  if (DbResult<Account> account = store_.account(id); !account.ok())
-    return counted_status(account.error());
-  if (DbStatus s = store_.set_banned(id, banned); !s.ok()) return counted_status(s);
-  if (banned) return counted_status(store_.delete_sessions_of(id));
-  return {};
+  // A ban with the account's sessions still alive must never be left behind.
+  return counted_status(atomically(store_, [&]() -> DbStatus {
+    if (DbStatus s = store_.set_banned(id, banned); !s.ok() || !banned) return s;
+    return store_.delete_sessions_of(id);
+  }));
 }
 
 DbResult<PlayerStats> Accounts::player_stats(AccountId id) {

@@ -92,6 +92,7 @@ class SqliteStore final : public Store {
 
   DbStatus prepare_statements();
 
+  DbStatus transaction(const std::function<DbStatus()>& work) override;
   DbResult<AccountId> insert_account(std::string_view username, std::string_view username_key,
                                      std::string_view password_hash, UnixMillis now) override;
   DbResult<std::optional<AccountCredentials>> find_account_by_key(
@@ -136,7 +137,8 @@ class SqliteStore final : public Store {
   DbStatus write_match(const MatchRecord& match, MatchId& id);
 
   std::string path_;
-  sqlite::Connection db_;  // declared before the statements: closed after they are finalized
+  bool in_transaction_ = false;  ///< inside transaction(): a nested one joins it
+  sqlite::Connection db_;        // declared before the statements: closed after they are finalized
 
   sqlite::Statement insert_account_, find_account_by_key_, account_, set_password_hash_,
       set_banned_, set_last_login_;
@@ -209,6 +211,24 @@ DbStatus SqliteStore::prepare_statements() {
       if (const int rc = statement->prepare(db_.get(), sql); rc != SQLITE_OK)
         return failure(rc, std::string("preparing \"") + sql + "\"");
   }
+  return {};
+}
+
+DbStatus SqliteStore::transaction(const std::function<DbStatus()>& work) {
+  if (in_transaction_) return work();
+  sqlite::Transaction transaction(db_.get());
+  if (const int rc = transaction.begin(); rc != SQLITE_OK)
+    return failure(rc, "starting a transaction");
+  struct Inside {
+    bool& flag;
+    ~Inside() { flag = false; }
+  };
+  in_transaction_ = true;
+  const Inside inside{in_transaction_};
+  const DbStatus status = work();
+  if (!status.ok()) return status;  // rolled back by ~Transaction
+  if (const int rc = transaction.commit(); rc != SQLITE_OK)
+    return failure(rc, "committing a transaction");
   return {};
 }
 

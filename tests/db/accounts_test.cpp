@@ -221,6 +221,41 @@ TEST_F(AccountsTest, ChangePassword) {
                          DbErrorCode::UnknownAccount));
 }
 
+// --- compound writes fail whole: the second write fails, and the first is undone ---
+
+TEST_F(AccountsTest, APasswordChangeFailingHalfWayKeepsTheOldPasswordAndSessions) {
+  const AccountId id = register_ok("kate");
+  const LoginResult login = must(accounts().login("kate", "correct horse", "", kT0), "login");
+  inject_failure(path_, "BEFORE DELETE ON sessions");  // after the new hash is written
+  EXPECT_TRUE(fails_with(accounts().change_password(id, "correct horse", "battery staple"),
+                         DbErrorCode::Storage));
+  EXPECT_TRUE(accounts().check_session(login.token, kT0 + 1).ok());
+  remove_failure(path_);
+  EXPECT_TRUE(accounts().login("kate", "correct horse", "", kT0 + 2).ok());
+  EXPECT_TRUE(fails_with(accounts().login("kate", "battery staple", "", kT0 + 3),
+                         DbErrorCode::WrongCredentials));
+}
+
+TEST_F(AccountsTest, ABanFailingHalfWayLeavesTheAccountAsItWas) {
+  const AccountId id = register_ok("liam");
+  const LoginResult login = must(accounts().login("liam", "correct horse", "", kT0), "login");
+  inject_failure(path_, "BEFORE DELETE ON sessions");  // after the banned flag is written
+  EXPECT_TRUE(fails_with(accounts().set_banned(id, true), DbErrorCode::Storage));
+  EXPECT_FALSE(must(store_->account(id), "account").banned);
+  EXPECT_TRUE(accounts().check_session(login.token, kT0 + 1).ok());
+}
+
+TEST_F(AccountsTest, ALoginFailingHalfWayLeavesNoSessionAndNoUpgradedHash) {
+  register_ok("mia");  // Minimum cost: the login below upgrades the hash first
+  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  open(AccountsOptions{});
+  // The hash upgrade and the session are written; the login time is the write that fails.
+  inject_failure(path_, "BEFORE UPDATE OF last_login_ms ON accounts");
+  EXPECT_TRUE(fails_with(accounts().login("mia", "correct horse", "", kT0), DbErrorCode::Storage));
+  EXPECT_EQ(query_one(path_, "SELECT COUNT(*) FROM sessions"), "0");
+  EXPECT_EQ(query_one(path_, "SELECT password_hash FROM accounts"), hash);
+}
+
 TEST_F(AccountsTest, FailedLoginsPerAccountAreRateLimited) {
   AccountsOptions o = fast_options();
   o.per_account = {3, 10'000};

@@ -334,15 +334,8 @@ TEST_F(SqliteStoreTest, InvalidMatchesWriteNothing) {
 TEST_F(SqliteStoreTest, FailureHalfWayRollsBackTheWholeMatch) {
   const AccountId a = add("a"), b = add("b"), c = add("c");
   must(store_->record_match(match_of({result(a, 5), result(b, 3)})), "first match");
-  {
-    // Make the third player's stats update fail, after the match and its players are written.
-    sqlite::Connection raw;
-    ASSERT_EQ(sqlite::open(path_, SQLITE_OPEN_READWRITE, raw), SQLITE_OK);
-    const std::string trigger =
-        "CREATE TRIGGER fail_c BEFORE INSERT ON player_stats WHEN NEW.account_id = " +
-        std::to_string(c) + " BEGIN SELECT RAISE(ABORT, 'injected failure'); END";
-    ASSERT_EQ(sqlite::exec(raw.get(), trigger.c_str()), SQLITE_OK) << sqlite3_errmsg(raw.get());
-  }
+  // Make the third player's stats update fail, after the match and its players are written.
+  inject_failure(path_, "BEFORE INSERT ON player_stats WHEN NEW.account_id = " + std::to_string(c));
   const auto failed = store_->record_match(match_of({result(a, 1), result(b, 2), result(c, 3)}));
   ASSERT_TRUE(fails_with(failed, DbErrorCode::Storage));
   EXPECT_NE(failed.error().message.find("injected failure"), std::string::npos)

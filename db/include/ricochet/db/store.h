@@ -11,10 +11,12 @@
 /// above it in Accounts (accounts.h), the same for every backend.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "ricochet/db/records.h"
@@ -25,6 +27,13 @@ namespace ricochet::db {
 class Store {
  public:
   virtual ~Store() = default;
+
+  /// Runs `work` as one unit: the store calls it makes are committed together when it succeeds,
+  /// and none of them is when it fails (or the commit does). The write lock is taken before
+  /// `work` starts (SQLite: BEGIN IMMEDIATE), so what it reads cannot change under it and it
+  /// never fails half-way for another writer's lock. A transaction inside `work` joins this one.
+  /// Busy when the lock is not had within the busy timeout.
+  virtual DbStatus transaction(const std::function<DbStatus()>& work) = 0;
 
   // --- accounts ---
   /// DuplicateUsername when username_key (the lowercased name) is taken.
@@ -65,6 +74,20 @@ class Store {
   virtual DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind,
                                                             std::int64_t min_matches) = 0;
 };
+
+/// store.transaction(work) for a `work` that returns a DbResult<T> or a DbStatus: its own
+/// result when it ran and the commit succeeded, otherwise the error that stopped it.
+template <class Work>
+std::invoke_result_t<Work&> atomically(Store& store, Work work) {
+  std::optional<std::invoke_result_t<Work&>> result;
+  const DbStatus status = store.transaction([&]() -> DbStatus {
+    result.emplace(work());
+    if (!result->ok()) return result->error();
+    return {};
+  });
+  if (!status.ok()) return status.error();
+  return std::move(*result);
+}
 
 struct SqliteOptions {
   std::string path;            ///< the database file; created with its directory's permissions
