@@ -48,7 +48,10 @@ std::string printable(std::string_view s) {
 }  // namespace
 
 Accounts::Accounts(Store& store, AccountsOptions options)
-    : store_(store), options_(options), dummy_hash_(hash_password(random_token(), options.cost)) {}
+    : store_(store),
+      options_(options),
+      refusals_(options_.on_refusal),
+      dummy_hash_(hash_password(random_token(), options.cost)) {}
 
 std::string Accounts::check_username(std::string_view username) {
   if (username.size() < kMinUsername || username.size() > kMaxUsername) {
@@ -64,19 +67,6 @@ std::string Accounts::check_username(std::string_view username) {
     }
   }
   return {};
-}
-
-template <class T>
-T Accounts::counted(T result) {
-  if (!result.ok()) {
-    ++counters_.errors[static_cast<std::size_t>(result.error().code)];
-    if (options_.on_refusal) options_.on_refusal(result.error());
-  }
-  return result;
-}
-
-DbStatus Accounts::counted_status(DbStatus status) {
-  return counted(std::move(status));
 }
 
 bool Accounts::verify_password(const std::string& hash, std::string_view password) {
@@ -320,22 +310,6 @@ DbStatus Accounts::set_banned(AccountId id, bool banned) {
     if (DbStatus s = store_.set_banned(id, banned); !s.ok() || !banned) return s;
     return store_.delete_sessions_of(id);
   }));
-}
-
-DbResult<PlayerStats> Accounts::player_stats(AccountId id) {
-  return counted(store_.player_stats(id));
-}
-
-DbResult<std::vector<LeaderboardEntry>> Accounts::leaderboard(LeaderboardKind kind, int limit) {
-  return counted(store_.leaderboard(kind, limit, options_.min_matches_for_win_rate));
-}
-
-DbResult<std::optional<LeaderboardEntry>> Accounts::rank_of(AccountId id, LeaderboardKind kind) {
-  return counted(store_.rank_of(id, kind, options_.min_matches_for_win_rate));
-}
-
-DbResult<MatchId> Accounts::record_match(const MatchRecord& match) {
-  return counted(store_.record_match(match));
 }
 
 }  // namespace ricochet::db

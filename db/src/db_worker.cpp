@@ -9,6 +9,8 @@ namespace ricochet::db {
 DbWorker::DbWorker(std::unique_ptr<Store> store, DbWorkerOptions options)
     : store_(std::move(store)),
       accounts_(*store_, options.accounts),
+      matches_(*store_, options.matches),
+      services_{accounts_, matches_},
       max_queued_(options.max_queued),
       thread_([this] { run(); }) {
   for (int i = 0; i < std::max(1, options.password_threads); ++i)
@@ -55,7 +57,7 @@ bool DbWorker::enqueue_cpu(CpuTask task) {
 void DbWorker::run() {
   Task task;
   while (pop(queue_, wake_, task)) {
-    task(&accounts_);
+    task(&services_);
     std::lock_guard lock(mutex_);
     ++completed_;
   }
@@ -70,19 +72,19 @@ void DbWorker::login(std::string username, std::string password, std::string add
                      UnixMillis now, Post post, std::function<void(DbResult<LoginResult>)> done) {
   const detail::Delivery<DbResult<LoginResult>> deliver(std::move(post), std::move(done));
   Task lookup = [this, username = std::move(username), password = std::move(password),
-                 address = std::move(address), now, deliver](Accounts* accounts) mutable {
-    if (!accounts) return deliver.stopped();
+                 address = std::move(address), now, deliver](DbServices* db) mutable {
+    if (!db) return deliver.stopped();
     DbResult<Accounts::LoginAttempt> attempt =
-        accounts->begin_login(username, password.size(), address, now);
+        db->accounts.begin_login(username, password.size(), address, now);
     if (!attempt.ok()) return deliver(attempt.error());
     auto shared = std::make_shared<Accounts::LoginAttempt>(std::move(attempt).value());
     CpuTask check = [this, shared, password = std::move(password), now,
                      deliver](bool stopped) mutable {
       if (stopped) return deliver.stopped();
       const bool ok = Accounts::password_verifies(*shared, password);
-      Task finish = [shared, ok, password = std::move(password), now, deliver](Accounts* accounts) {
-        if (!accounts) return deliver.stopped();
-        deliver(accounts->finish_login(*shared, ok, password, now));
+      Task finish = [shared, ok, password = std::move(password), now, deliver](DbServices* db) {
+        if (!db) return deliver.stopped();
+        deliver(db->accounts.finish_login(*shared, ok, password, now));
       };
       if (!enqueue(std::move(finish))) deliver.queue_full();
     };
@@ -95,8 +97,9 @@ void DbWorker::register_account(std::string username, std::string password, Unix
                                 Post post, std::function<void(DbResult<AccountId>)> done) {
   const detail::Delivery<DbResult<AccountId>> deliver(std::move(post), std::move(done));
   Task check = [this, username = std::move(username), password = std::move(password), now,
-                deliver](Accounts* accounts) mutable {
-    if (!accounts) return deliver.stopped();
+                deliver](DbServices* db) mutable {
+    if (!db) return deliver.stopped();
+    Accounts* accounts = &db->accounts;
     if (DbStatus s = accounts->check_registration(username, password); !s.ok())
       return deliver(s.error());
     CpuTask hash = [this, accounts, username = std::move(username), password = std::move(password),
@@ -104,9 +107,9 @@ void DbWorker::register_account(std::string username, std::string password, Unix
       if (stopped) return deliver.stopped();
       std::string hashed = accounts->hash_new_password(password);
       Task store = [username = std::move(username), hashed = std::move(hashed), now,
-                    deliver](Accounts* accounts) {
-        if (!accounts) return deliver.stopped();
-        deliver(accounts->finish_registration(username, hashed, now));
+                    deliver](DbServices* db) {
+        if (!db) return deliver.stopped();
+        deliver(db->accounts.finish_registration(username, hashed, now));
       };
       if (!enqueue(std::move(store))) deliver.queue_full();
     };

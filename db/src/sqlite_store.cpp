@@ -8,12 +8,9 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
-#include <limits>
 
 #include "leaderboard_sql.h"
 #include "migrations.h"
-#include "ricochet/db/rating.h"
 #include "ricochet/db/store.h"
 #include "sqlite_handle.h"
 
@@ -22,67 +19,12 @@ namespace ricochet::db {
 namespace {
 
 constexpr std::size_t kTokenHashBytes = 32;  ///< SHA-256
-constexpr std::size_t kMaxNameBytes = 64;    ///< map and mode names
-constexpr std::int32_t kMaxTickRate = 1000;  ///< Hz
 
 constexpr std::array kBoards = {LeaderboardKind::Rating, LeaderboardKind::Kills,
                                 LeaderboardKind::WinRate};
 
 std::size_t board_index(LeaderboardKind kind) {
   return static_cast<std::size_t>(kind);
-}
-
-// --- match validation (before any write) ---
-
-std::string check_name(const char* field, const std::string& value) {
-  if (value.empty() || value.size() > kMaxNameBytes)
-    return std::string("match ") + field + " must be 1.." + std::to_string(kMaxNameBytes) +
-           " bytes, got " + std::to_string(value.size());
-  return {};
-}
-
-std::string check_player(std::size_t index, const PlayerResult& p) {
-  const std::string who =
-      "player " + std::to_string(index) + " (account " + std::to_string(p.account) + "): ";
-  const std::pair<const char*, std::int32_t> counters[] = {{"kills", p.kills},
-                                                           {"deaths", p.deaths},
-                                                           {"score", p.score},
-                                                           {"shots", p.shots},
-                                                           {"hits", p.hits}};
-  for (const auto& [name, value] : counters)
-    if (value < 0) return who + name + " must be >= 0, got " + std::to_string(value);
-  const std::pair<const char*, double> amounts[] = {{"damage_dealt", p.damage_dealt},
-                                                    {"damage_taken", p.damage_taken},
-                                                    {"seconds_played", p.seconds_played}};
-  for (const auto& [name, value] : amounts)
-    if (!std::isfinite(value) || value < 0)
-      return who + name + " must be a finite number >= 0, got " + std::to_string(value);
-  return {};
-}
-
-/// Empty when the record can be written; otherwise what is wrong with it.
-std::string check_match(const MatchRecord& match) {
-  if (match.players.empty()) return "a match needs at least one player";
-  if (auto e = check_name("map", match.map); !e.empty()) return e;
-  if (auto e = check_name("mode", match.mode); !e.empty()) return e;
-  if (match.ended_ms < match.started_ms)
-    return "match ended_ms (" + std::to_string(match.ended_ms) + ") is before started_ms (" +
-           std::to_string(match.started_ms) + ")";
-  if (match.tick_rate < 1 || match.tick_rate > kMaxTickRate)
-    return "match tick_rate must be 1.." + std::to_string(kMaxTickRate) + " Hz, got " +
-           std::to_string(match.tick_rate);
-  for (std::size_t i = 0; i < match.players.size(); ++i)
-    if (auto e = check_player(i, match.players[i]); !e.empty()) return e;
-  std::vector<AccountId> ids;
-  for (const PlayerResult& p : match.players) ids.push_back(p.account);
-  std::sort(ids.begin(), ids.end());
-  if (auto twice = std::adjacent_find(ids.begin(), ids.end()); twice != ids.end())
-    return "account " + std::to_string(*twice) + " is listed twice in the match";
-  return {};
-}
-
-DbError invalid_match(std::string message) {
-  return DbError{DbErrorCode::InvalidMatch, std::move(message)};
 }
 
 class SqliteStore final : public Store {
@@ -109,13 +51,17 @@ class SqliteStore final : public Store {
   DbStatus delete_sessions_of(AccountId account) override;
   DbResult<std::int64_t> delete_expired_sessions(UnixMillis now) override;
 
-  DbResult<MatchId> record_match(const MatchRecord& match) override;
+  DbResult<std::optional<double>> rating_of(AccountId id) override;
+  DbResult<MatchId> insert_match(const MatchRecord& match,
+                                 const std::vector<PlayerOutcome>& outcomes) override;
   DbResult<std::int64_t> match_count() override;
   DbResult<PlayerStats> player_stats(AccountId id) override;
   DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit,
                                                       std::int64_t min_matches) override;
-  DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind,
-                                                    std::int64_t min_matches) override;
+  DbResult<std::optional<LeaderboardEntry>> board_entry(AccountId id,
+                                                        LeaderboardKind kind) override;
+  DbResult<std::int64_t> count_better(LeaderboardKind kind, double value,
+                                      std::int64_t min_matches) override;
 
  private:
   DbError failure(int rc, std::string_view what) const {
@@ -131,10 +77,8 @@ class SqliteStore final : public Store {
   }
   /// Runs an UPDATE of one account by id; UnknownAccount when no row changed.
   DbStatus update_account(sqlite::Query& query, AccountId id, std::string_view what);
-  /// The rating of each player, in order, inside the match's transaction; InvalidMatch naming
-  /// the first account that does not exist.
-  DbResult<std::vector<double>> current_ratings(const MatchRecord& match);
-  DbStatus write_match(const MatchRecord& match, MatchId& id);
+  DbResult<MatchId> write_match(const MatchRecord& match,
+                                const std::vector<PlayerOutcome>& outcomes);
 
   std::string path_;
   bool in_transaction_ = false;  ///< inside transaction(): a nested one joins it
@@ -367,31 +311,21 @@ DbResult<std::int64_t> SqliteStore::delete_expired_sessions(UnixMillis now) {
 
 // --- matches and stats ---
 
-DbResult<std::vector<double>> SqliteStore::current_ratings(const MatchRecord& match) {
-  std::vector<double> ratings;
-  for (const PlayerResult& p : match.players) {
-    sqlite::Query q(rating_of_);
-    q.bind_int(p.account);
-    const int rc = q.step();
-    if (rc == SQLITE_DONE)
-      return invalid_match("account " + std::to_string(p.account) + " does not exist");
-    if (rc != SQLITE_ROW) return failure(rc, "reading a player's rating");
-    ratings.push_back(q.is_null(0) ? kInitialRating : q.real(0));
-    if (!q.column_error().empty()) return bad_row(q, "reading a player's rating");
-  }
-  return ratings;
+DbResult<std::optional<double>> SqliteStore::rating_of(AccountId id) {
+  sqlite::Query q(rating_of_);
+  q.bind_int(id);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return unknown_account(id);
+  if (rc != SQLITE_ROW) return failure(rc, "reading a player's rating");
+  std::optional<double> rating;
+  if (!q.is_null(0)) rating = q.real(0);
+  if (!q.column_error().empty()) return bad_row(q, "reading a player's rating");
+  return rating;
 }
 
-DbStatus SqliteStore::write_match(const MatchRecord& match, MatchId& id) {
-  auto before = current_ratings(match);
-  if (!before) return before.error();
-  std::vector<RatedScore> rated;
-  for (std::size_t i = 0; i < match.players.size(); ++i)
-    rated.push_back({before.value()[i], static_cast<double>(match.players[i].score)});
-  const std::vector<double> after = updated_ratings(rated);
-  std::int32_t top_score = std::numeric_limits<std::int32_t>::min();
-  for (const PlayerResult& p : match.players) top_score = std::max(top_score, p.score);
-
+DbResult<MatchId> SqliteStore::write_match(const MatchRecord& match,
+                                           const std::vector<PlayerOutcome>& outcomes) {
+  MatchId id = 0;
   {
     sqlite::Query q(insert_match_);
     q.bind_text(match.map).bind_text(match.mode).bind_int(match.started_ms);
@@ -404,32 +338,30 @@ DbStatus SqliteStore::write_match(const MatchRecord& match, MatchId& id) {
     sqlite::Query q(insert_match_player_);
     q.bind_int(id).bind_int(p.account).bind_int(p.kills).bind_int(p.deaths).bind_int(p.score);
     q.bind_int(p.shots).bind_int(p.hits).bind_real(p.damage_dealt).bind_real(p.damage_taken);
-    q.bind_real(p.seconds_played).bind_real(before.value()[i]).bind_real(after[i]);
+    q.bind_real(p.seconds_played).bind_real(outcomes[i].rating_before);
+    q.bind_real(outcomes[i].rating_after);
     if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "inserting a match player");
   }
   for (std::size_t i = 0; i < match.players.size(); ++i) {
     const PlayerResult& p = match.players[i];
     sqlite::Query q(upsert_stats_);
-    q.bind_int(p.account).bind_int(p.score == top_score ? 1 : 0).bind_int(p.kills);
+    q.bind_int(p.account).bind_int(outcomes[i].won ? 1 : 0).bind_int(p.kills);
     q.bind_int(p.deaths).bind_int(p.score).bind_int(p.shots).bind_int(p.hits);
     q.bind_real(p.damage_dealt).bind_real(p.damage_taken).bind_real(p.seconds_played);
-    q.bind_real(after[i]);
+    q.bind_real(outcomes[i].rating_after);
     if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "updating a player's stats");
   }
-  return {};
+  return id;
 }
 
-DbResult<MatchId> SqliteStore::record_match(const MatchRecord& match) {
-  if (std::string problem = check_match(match); !problem.empty())
-    return invalid_match(std::move(problem));
-  sqlite::Transaction transaction(db_.get());
-  if (const int rc = transaction.begin(); rc != SQLITE_OK)
-    return failure(rc, "starting the match transaction");
-  MatchId id = 0;
-  if (DbStatus written = write_match(match, id); !written) return written.error();
-  if (const int rc = transaction.commit(); rc != SQLITE_OK)
-    return failure(rc, "committing a match");
-  return id;
+DbResult<MatchId> SqliteStore::insert_match(const MatchRecord& match,
+                                            const std::vector<PlayerOutcome>& outcomes) {
+  if (outcomes.size() != match.players.size()) {
+    return DbError{DbErrorCode::InvalidMatch, "a match of " + std::to_string(match.players.size()) +
+                                                  " players needs as many outcomes, got " +
+                                                  std::to_string(outcomes.size())};
+  }
+  return atomically(*this, [&] { return write_match(match, outcomes); });
 }
 
 DbResult<std::int64_t> SqliteStore::match_count() {
@@ -479,7 +411,7 @@ DbResult<std::vector<LeaderboardEntry>> SqliteStore::leaderboard(LeaderboardKind
   if (limit <= 0) return entries;  // SQLite reads a negative LIMIT as "no limit"
   sqlite::Query q(top_[board_index(kind)]);
   q.bind_int(limit);
-  if (kind == LeaderboardKind::WinRate) q.bind_int(std::max<std::int64_t>(min_matches, 1));
+  if (kind == LeaderboardKind::WinRate) q.bind_int(min_matches);
   int rc;
   while ((rc = q.step()) == SQLITE_ROW) {
     LeaderboardEntry e;
@@ -488,44 +420,41 @@ DbResult<std::vector<LeaderboardEntry>> SqliteStore::leaderboard(LeaderboardKind
     e.value = board_value(q, 2, kind);
     e.matches = q.integer(3);
     if (!q.column_error().empty()) return bad_row(q, "reading a leaderboard");
-    // Rows come best first, so an entry ranks after everything above it unless it ties.
-    const bool ties = !entries.empty() && entries.back().value == e.value;
-    e.rank = ties ? entries.back().rank : static_cast<std::int64_t>(entries.size()) + 1;
     entries.push_back(std::move(e));
   }
   if (rc != SQLITE_DONE) return failure(rc, "reading a leaderboard");
   return entries;
 }
 
-DbResult<std::optional<LeaderboardEntry>> SqliteStore::rank_of(AccountId id, LeaderboardKind kind,
-                                                               std::int64_t min_matches) {
-  const std::int64_t needed =
-      kind == LeaderboardKind::WinRate ? std::max<std::int64_t>(min_matches, 1) : 1;
+DbResult<std::optional<LeaderboardEntry>> SqliteStore::board_entry(AccountId id,
+                                                                   LeaderboardKind kind) {
+  sqlite::Query q(entry_of_[board_index(kind)]);
+  q.bind_int(id);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return unknown_account(id);
+  if (rc != SQLITE_ROW) return failure(rc, "reading a leaderboard entry");
+  if (q.is_null(1)) return std::optional<LeaderboardEntry>();  // never played
   LeaderboardEntry e;
   e.account = id;
-  {
-    sqlite::Query q(entry_of_[board_index(kind)]);
-    q.bind_int(id);
-    const int rc = q.step();
-    if (rc == SQLITE_DONE) return unknown_account(id);
-    if (rc != SQLITE_ROW) return failure(rc, "reading a leaderboard entry");
-    if (q.is_null(1)) return std::optional<LeaderboardEntry>();  // never played
-    e.username = q.text(0);
-    e.matches = q.integer(1);
-    e.value = board_value(q, 2, kind);
-    if (!q.column_error().empty()) return bad_row(q, "reading a leaderboard entry");
-  }
-  if (e.matches < needed) return std::optional<LeaderboardEntry>();
+  e.username = q.text(0);
+  e.matches = q.integer(1);
+  e.value = board_value(q, 2, kind);
+  if (!q.column_error().empty()) return bad_row(q, "reading a leaderboard entry");
+  return std::optional<LeaderboardEntry>(std::move(e));
+}
+
+DbResult<std::int64_t> SqliteStore::count_better(LeaderboardKind kind, double value,
+                                                 std::int64_t min_matches) {
   sqlite::Query q(count_better_[board_index(kind)]);
   if (kind == LeaderboardKind::Kills)
-    q.bind_int(static_cast<std::int64_t>(e.value));
+    q.bind_int(static_cast<std::int64_t>(value));
   else
-    q.bind_real(e.value);
-  if (kind == LeaderboardKind::WinRate) q.bind_int(needed);
+    q.bind_real(value);
+  if (kind == LeaderboardKind::WinRate) q.bind_int(min_matches);
   if (const int rc = q.step(); rc != SQLITE_ROW) return failure(rc, "ranking an account");
-  e.rank = q.integer(0) + 1;
+  const std::int64_t better = q.integer(0);
   if (!q.column_error().empty()) return bad_row(q, "ranking an account");
-  return std::optional<LeaderboardEntry>(std::move(e));
+  return better;
 }
 
 // --- opening ---

@@ -47,9 +47,7 @@ class AccountsTest : public ::testing::Test {
   AccountId register_ok(const std::string& name, const std::string& password = "correct horse") {
     return must(accounts().register_account(name, password, kT0), "register_account");
   }
-  std::uint64_t errors(DbErrorCode code) const {
-    return accounts_->counters().errors[static_cast<std::size_t>(code)];
-  }
+  std::uint64_t errors(DbErrorCode code) const { return accounts_->refusals().count(code); }
 
   TempDir dir_;
   std::string path_ = dir_.file("ricochet.db");

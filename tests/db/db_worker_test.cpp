@@ -84,7 +84,7 @@ class BlockingJob {
   void submit(DbWorker& worker, Post post, Done done) {
     std::shared_future<void> released = release_.get_future().share();
     worker.submit(
-        [this, released](Accounts&) {
+        [this, released](DbServices&) {
           running_ = true;
           released.wait();
           return DbStatus();
@@ -118,9 +118,9 @@ TEST(DbWorker, JobsRunOnTheDbThreadAndCompleteOnTheCallers) {
   std::optional<DbResult<AccountId>> result;
   std::thread::id completion_thread;
   worker.submit(
-      [&](Accounts& a) {
+      [&](DbServices& db) {
         job_thread = std::this_thread::get_id();
-        return a.register_account("alice", "correct horse", kT0);
+        return db.accounts.register_account("alice", "correct horse", kT0);
       },
       caller.post(),
       [&](DbResult<AccountId> r) {
@@ -140,8 +140,8 @@ TEST(DbWorker, CompletionsArriveInSubmissionOrder) {
   std::vector<int> order;
   for (int i = 0; i < 50; ++i) {
     worker.submit(
-        [i](Accounts& a) {
-          return a.register_account("user" + std::to_string(i), "correct horse", kT0);
+        [i](DbServices& db) {
+          return db.accounts.register_account("user" + std::to_string(i), "correct horse", kT0);
         },
         caller.post(),
         [&order, i](DbResult<AccountId> r) {
@@ -162,8 +162,9 @@ TEST(DbWorker, ALockedDatabaseIsLatencyNotABlockedCaller) {
 
   CallerQueue caller;
   std::optional<DbResult<AccountId>> result;
-  worker.submit([](Accounts& a) { return a.register_account("bob", "correct horse", kT0); },
-                caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
+  worker.submit(
+      [](DbServices& db) { return db.accounts.register_account("bob", "correct horse", kT0); },
+      caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
   // submit() returned although the database cannot be written; the caller keeps ticking.
   int ticks = 0;
   for (; ticks < 50; ++ticks) {
@@ -184,8 +185,9 @@ TEST(DbWorker, ALockHeldPastTheBusyTimeoutIsBusy) {
   OtherWriter other(path);
   CallerQueue caller;
   std::optional<DbResult<AccountId>> result;
-  worker.submit([](Accounts& a) { return a.register_account("carol", "correct horse", kT0); },
-                caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
+  worker.submit(
+      [](DbServices& db) { return db.accounts.register_account("carol", "correct horse", kT0); },
+      caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
   ASSERT_TRUE(caller.drain_until([&] { return result.has_value(); }));
   EXPECT_TRUE(fails_with(*result, DbErrorCode::Busy));
 }
@@ -205,9 +207,9 @@ TEST(DbWorker, AFullQueueAnswersQueueFullAtOnce) {
   // Job 1 holds the DB thread; job 2 waits in the queue; job 3 finds the queue full.
   BlockingJob blocking;
   blocking.submit(worker, caller.post(), record);
-  worker.submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  worker.submit([](DbServices&) { return DbStatus(); }, caller.post(), record);
   EXPECT_EQ(worker.queued(), 1u);
-  worker.submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  worker.submit([](DbServices&) { return DbStatus(); }, caller.post(), record);
   EXPECT_EQ(worker.queued(), 1u);
   EXPECT_EQ(caller.drain(), 1);  // the refusal is already there
   ASSERT_EQ(codes.size(), 1u);
@@ -226,12 +228,12 @@ TEST(DbWorker, StopCompletesQueuedJobsWithStopped) {
   BlockingJob blocking;
   blocking.submit(*worker, caller.post(), record);
   for (int i = 0; i < 3; ++i)
-    worker->submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+    worker->submit([](DbServices&) { return DbStatus(); }, caller.post(), record);
   std::thread stopper([&] { worker->stop(); });
   std::this_thread::sleep_for(20ms);
   blocking.release();
   stopper.join();
-  worker->submit([](Accounts&) { return DbStatus(); }, caller.post(), record);
+  worker->submit([](DbServices&) { return DbStatus(); }, caller.post(), record);
   caller.drain();
   ASSERT_EQ(results.size(), 5u);
   EXPECT_TRUE(results[0].ok());  // the running job finished
@@ -264,9 +266,9 @@ TEST(DbWorker, RegisterAndLoginHashOnThePasswordThread) {
   EXPECT_TRUE(fails_with(*bad_name, DbErrorCode::InvalidUsername));
   // The session is in the store the DB thread uses.
   std::optional<DbResult<SessionInfo>> session;
-  worker.submit(
-      [token = login->value().token](Accounts& a) { return a.check_session(token, kT0 + 3); },
-      caller.post(), [&](DbResult<SessionInfo> r) { session = std::move(r); });
+  worker.submit([token = login->value().token](
+                    DbServices& db) { return db.accounts.check_session(token, kT0 + 3); },
+                caller.post(), [&](DbResult<SessionInfo> r) { session = std::move(r); });
   ASSERT_TRUE(caller.drain_until([&] { return session.has_value(); }));
   EXPECT_TRUE(session->ok());
 }
@@ -289,7 +291,7 @@ TEST(DbWorker, ALoginBurstDoesNotHoldUpOtherDatabaseWork) {
                    order.push_back("login");
                  });
   }
-  worker.submit([](Accounts& a) { return a.player_stats(1); }, caller.post(),
+  worker.submit([](DbServices& db) { return db.matches.player_stats(1); }, caller.post(),
                 [&order](DbResult<PlayerStats> r) {
                   EXPECT_TRUE(r.ok());
                   order.push_back("stats");

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "ricochet/db/records.h"
+#include "ricochet/db/refusals.h"
 #include "ricochet/db/result.h"
 #include "ricochet/db/store.h"
 
@@ -46,11 +47,7 @@ struct AccountsOptions {
   UnixMillis session_lifetime_ms = 24 * 3600 * 1000LL;
   RateLimit per_account{5, 60'000};
   RateLimit per_address{20, 60'000};
-  std::int64_t min_matches_for_win_rate = 10;
-  /// Called with every refusal (bad name, wrong password, rate limit, storage failure...) after
-  /// it is counted, so the server can log the reason. Runs on the thread calling Accounts (the
-  /// DB thread under DbWorker). Never given a password or a token.
-  std::function<void(const DbError&)> on_refusal;
+  OnRefusal on_refusal;  ///< see refusals.h
 };
 
 struct LoginResult {
@@ -65,9 +62,8 @@ struct SessionInfo {
   UnixMillis expires_ms = 0;
 };
 
-/// What was refused and why, for metrics: one counter per error code.
+/// What succeeded, for metrics (what was refused is in Accounts::refusals()).
 struct AccountsCounters {
-  std::array<std::uint64_t, kDbErrorCodeCount> errors{};
   std::uint64_t registrations = 0;
   std::uint64_t logins = 0;
   std::uint64_t password_checks = 0;  ///< Argon2id verifications, real or dummy
@@ -120,21 +116,18 @@ class Accounts {
   /// Banning revokes every session of the account; unbanning lets it log in again.
   DbStatus set_banned(AccountId id, bool banned);
 
-  /// Stats and boards, with the configured win-rate minimum.
-  DbResult<PlayerStats> player_stats(AccountId id);
-  DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit);
-  DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind);
-  DbResult<MatchId> record_match(const MatchRecord& match);
-
   const AccountsCounters& counters() const { return counters_; }
+  const Refusals& refusals() const { return refusals_; }
 
   /// Empty when the name is acceptable; otherwise what is wrong with it.
   static std::string check_username(std::string_view username);
 
  private:
   template <class T>
-  T counted(T result);
-  DbStatus counted_status(DbStatus status);
+  T counted(T result) {
+    return refusals_(std::move(result));
+  }
+  DbStatus counted_status(DbStatus status) { return refusals_(std::move(status)); }
   bool over_limit(const std::string& key, const RateLimit& limit, UnixMillis now);
   void note_failure(const std::string& key, UnixMillis now);
   /// Drops the failure noted at `when` (or, with `all`, every failure) under `key`.
@@ -144,6 +137,7 @@ class Accounts {
   Store& store_;
   AccountsOptions options_;
   AccountsCounters counters_;
+  Refusals refusals_;
   std::string dummy_hash_;  ///< verified against when the username is unknown
   /// Failure times per "account:<key>" and "address:<ip>", oldest first, pruned as they age.
   std::map<std::string, std::vector<UnixMillis>> failures_;

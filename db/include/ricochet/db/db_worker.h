@@ -1,7 +1,7 @@
 #pragma once
 /// The DB thread: every database job runs here, in submission order, never on the game thread.
 ///
-///   game thread ── submit(job, post, done) ──▶ queue ──▶ DB thread runs job(accounts)
+///   game thread ── submit(job, post, done) ──▶ queue ──▶ DB thread runs job(services)
 ///   game thread ◀── post(done(result)) ─────────────────┘
 ///
 /// `post` is how a result gets back to the caller: it receives a completion and must run it on
@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "ricochet/db/accounts.h"
+#include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
 
 namespace ricochet::db {
@@ -64,8 +65,15 @@ class Delivery {
 
 }  // namespace detail
 
+/// What a job on the DB thread works with: the rules over the worker's store.
+struct DbServices {
+  Accounts& accounts;
+  Matches& matches;
+};
+
 struct DbWorkerOptions {
   AccountsOptions accounts;
+  MatchesOptions matches;
   std::size_t max_queued = 10'000;  ///< per queue (DB jobs, password checks)
   int password_threads = 1;         ///< each Argon2id interactive hash holds 64 MiB while it runs
 };
@@ -79,7 +87,7 @@ class DbWorker {
   DbWorker(const DbWorker&) = delete;
   DbWorker& operator=(const DbWorker&) = delete;
 
-  /// Queues job(Accounts&) -> R for the DB thread, then posts done(R) through `post`. R is a
+  /// Queues job(DbServices&) -> R for the DB thread, then posts done(R) through `post`. R is a
   /// DbResult<T> or DbStatus. Never blocks on the database; thread-safe.
   template <class Job, class Done>
   void submit(Job job, Post post, Done done);
@@ -98,7 +106,7 @@ class DbWorker {
   std::size_t completed() const;
 
  private:
-  using Task = std::function<void(Accounts*)>;  ///< nullptr: the worker stopped
+  using Task = std::function<void(DbServices*)>;  ///< nullptr: the worker stopped
   using CpuTask = std::function<void(bool stopped)>;
   /// Queues a task, or runs it at once as stopped; false when the queue is full.
   template <class T, class Stopped>
@@ -113,6 +121,8 @@ class DbWorker {
 
   std::unique_ptr<Store> store_;
   Accounts accounts_;
+  Matches matches_;
+  DbServices services_;
   std::size_t max_queued_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
@@ -127,11 +137,11 @@ class DbWorker {
 
 template <class Job, class Done>
 void DbWorker::submit(Job job, Post post, Done done) {
-  using R = std::invoke_result_t<Job&, Accounts&>;
+  using R = std::invoke_result_t<Job&, DbServices&>;
   const detail::Delivery<R> deliver(std::move(post), std::move(done));
-  Task task = [job = std::move(job), deliver](Accounts* accounts) mutable {
-    if (!accounts) return deliver.stopped();
-    deliver(job(*accounts));
+  Task task = [job = std::move(job), deliver](DbServices* services) mutable {
+    if (!services) return deliver.stopped();
+    deliver(job(*services));
   };
   if (!enqueue(std::move(task))) deliver.queue_full();
 }
