@@ -51,6 +51,12 @@ class SqliteStore final : public Store {
   DbStatus delete_sessions_of(AccountId account) override;
   DbResult<std::int64_t> delete_expired_sessions(UnixMillis now) override;
 
+  DbResult<std::int64_t> insert_login_failure(std::string_view key, UnixMillis at_ms) override;
+  DbResult<std::int64_t> count_login_failures(std::string_view key, UnixMillis after_ms) override;
+  DbStatus delete_login_failure(std::int64_t id) override;
+  DbStatus delete_login_failures_of(std::string_view key) override;
+  DbStatus delete_login_failures_until(UnixMillis at_ms) override;
+
   DbResult<std::optional<double>> rating_of(AccountId id) override;
   DbResult<MatchId> insert_match(const MatchRecord& match,
                                  const std::vector<PlayerOutcome>& outcomes) override;
@@ -75,6 +81,11 @@ class SqliteStore final : public Store {
   DbError unknown_account(AccountId id) const {
     return DbError{DbErrorCode::UnknownAccount, "no account with id " + std::to_string(id)};
   }
+  /// Runs a statement that returns no rows.
+  DbStatus run(sqlite::Query& query, std::string_view what) {
+    if (const int rc = query.step(); rc != SQLITE_DONE) return failure(rc, what);
+    return {};
+  }
   /// Runs an UPDATE of one account by id; UnknownAccount when no row changed.
   DbStatus update_account(sqlite::Query& query, AccountId id, std::string_view what);
   DbResult<MatchId> write_match(const MatchRecord& match,
@@ -88,6 +99,8 @@ class SqliteStore final : public Store {
       set_banned_, set_last_login_;
   sqlite::Statement insert_session_, find_session_, delete_session_, delete_sessions_of_,
       delete_expired_sessions_;
+  sqlite::Statement insert_login_failure_, count_login_failures_, delete_login_failure_,
+      delete_login_failures_of_, delete_login_failures_until_;
   sqlite::Statement rating_of_, insert_match_, insert_match_player_, upsert_stats_, match_count_,
       player_stats_;
   std::array<sqlite::Statement, kBoards.size()> top_, entry_of_, count_better_;
@@ -114,6 +127,11 @@ DbStatus SqliteStore::prepare_statements() {
       {&delete_session_, "DELETE FROM sessions WHERE token_hash = ?1"},
       {&delete_sessions_of_, "DELETE FROM sessions WHERE account_id = ?1"},
       {&delete_expired_sessions_, "DELETE FROM sessions WHERE expires_ms < ?1"},
+      {&insert_login_failure_, "INSERT INTO login_failures (key, at_ms) VALUES (?1, ?2)"},
+      {&count_login_failures_, "SELECT COUNT(*) FROM login_failures WHERE key = ?1 AND at_ms > ?2"},
+      {&delete_login_failure_, "DELETE FROM login_failures WHERE id = ?1"},
+      {&delete_login_failures_of_, "DELETE FROM login_failures WHERE key = ?1"},
+      {&delete_login_failures_until_, "DELETE FROM login_failures WHERE at_ms <= ?1"},
       {&rating_of_,
        "SELECT s.rating FROM accounts AS a LEFT JOIN player_stats AS s ON s.account_id = a.id"
        " WHERE a.id = ?1"},
@@ -307,6 +325,43 @@ DbResult<std::int64_t> SqliteStore::delete_expired_sessions(UnixMillis now) {
   q.bind_int(now);
   if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "deleting expired sessions");
   return static_cast<std::int64_t>(sqlite3_changes64(db_.get()));
+}
+
+// --- failed logins ---
+
+DbResult<std::int64_t> SqliteStore::insert_login_failure(std::string_view key, UnixMillis at_ms) {
+  sqlite::Query q(insert_login_failure_);
+  q.bind_text(key).bind_int(at_ms);
+  if (DbStatus s = run(q, "noting a failed login"); !s.ok()) return s.error();
+  return sqlite3_last_insert_rowid(db_.get());
+}
+
+DbResult<std::int64_t> SqliteStore::count_login_failures(std::string_view key,
+                                                         UnixMillis after_ms) {
+  sqlite::Query q(count_login_failures_);
+  q.bind_text(key).bind_int(after_ms);
+  if (const int rc = q.step(); rc != SQLITE_ROW) return failure(rc, "counting failed logins");
+  const std::int64_t count = q.integer(0);
+  if (!q.column_error().empty()) return bad_row(q, "counting failed logins");
+  return count;
+}
+
+DbStatus SqliteStore::delete_login_failure(std::int64_t id) {
+  sqlite::Query q(delete_login_failure_);
+  q.bind_int(id);
+  return run(q, "forgetting a failed login");
+}
+
+DbStatus SqliteStore::delete_login_failures_of(std::string_view key) {
+  sqlite::Query q(delete_login_failures_of_);
+  q.bind_text(key);
+  return run(q, "forgetting the failed logins of a key");
+}
+
+DbStatus SqliteStore::delete_login_failures_until(UnixMillis at_ms) {
+  sqlite::Query q(delete_login_failures_until_);
+  q.bind_int(at_ms);
+  return run(q, "dropping old failed logins");
 }
 
 // --- matches and stats ---

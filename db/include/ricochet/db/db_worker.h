@@ -11,8 +11,9 @@
 /// new job is refused at once with QueueFull (back-pressure instead of unbounded memory). Jobs
 /// still queued at stop() complete with Stopped.
 ///
-/// Argon2id is deliberately slow (~100 ms per hash at interactive cost), so login() and
-/// register_account() run it on separate password threads between two short DB-thread steps:
+/// Argon2id is deliberately slow (~100 ms per hash at interactive cost), so login(),
+/// register_account() and change_password() run it on separate password threads between two
+/// short DB-thread steps (accounts.h):
 ///
 ///   DB thread: lookup, rate limits ─▶ password thread: Argon2id ─▶ DB thread: session, counters
 ///
@@ -98,6 +99,9 @@ class DbWorker {
   /// Accounts::register_account with the hashing on a password thread.
   void register_account(std::string username, std::string password, UnixMillis now, Post post,
                         std::function<void(DbResult<AccountId>)> done);
+  /// Accounts::change_password with both Argon2id runs on a password thread.
+  void change_password(AccountId id, std::string old_password, std::string new_password, Post post,
+                       std::function<void(DbStatus)> done);
 
   /// Lets the running jobs finish, completes the queued ones with Stopped, joins the threads.
   void stop();
@@ -114,6 +118,11 @@ class DbWorker {
   /// Waits for a task; false when the worker stops.
   template <class T>
   bool pop(std::deque<T>& queue, std::condition_variable& wake, T& task);
+  /// One job in three steps: begin(DbServices&) -> DbResult<S> or DbStatus on the DB thread,
+  /// then work(S&) -> W on a password thread, then finish(DbServices&, S&, W&) -> R back on the
+  /// DB thread, delivered. Defined in db_worker.cpp, the only place that uses it.
+  template <class R, class Begin, class Work, class Finish>
+  void in_three_steps(detail::Delivery<R> deliver, Begin begin, Work work, Finish finish);
   bool enqueue(Task task);
   bool enqueue_cpu(CpuTask task);
   void run();

@@ -58,6 +58,18 @@ class Store {
   /// Removes sessions that expired before `now`; returns how many.
   virtual DbResult<std::int64_t> delete_expired_sessions(UnixMillis now) = 0;
 
+  // --- failed logins, by key ("account:<name>", "address:<ip>"), for rate limits that every
+  // server process on the database shares ---
+  /// Notes one failure under `key` at `at_ms`; returns its id.
+  virtual DbResult<std::int64_t> insert_login_failure(std::string_view key, UnixMillis at_ms) = 0;
+  /// How many failures under `key` were noted after `after_ms`.
+  virtual DbResult<std::int64_t> count_login_failures(std::string_view key,
+                                                      UnixMillis after_ms) = 0;
+  virtual DbStatus delete_login_failure(std::int64_t id) = 0;
+  virtual DbStatus delete_login_failures_of(std::string_view key) = 0;
+  /// Removes every failure noted at or before `at_ms`.
+  virtual DbStatus delete_login_failures_until(UnixMillis at_ms) = 0;
+
   // --- matches, stats, leaderboards ---
   /// The account's current rating; nullopt when it never played; UnknownAccount if none.
   virtual DbResult<std::optional<double>> rating_of(AccountId id) = 0;
