@@ -308,16 +308,13 @@ DbStatus SqliteStore::delete_session(std::string_view token_hash) {
   if (token_hash.size() != kTokenHashBytes) return {};  // no such session can exist
   sqlite::Query q(delete_session_);
   q.bind_blob(token_hash);
-  if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "deleting a session");
-  return {};
+  return run(q, "deleting a session");
 }
 
 DbStatus SqliteStore::delete_sessions_of(AccountId account) {
   sqlite::Query q(delete_sessions_of_);
   q.bind_int(account);
-  if (const int rc = q.step(); rc != SQLITE_DONE)
-    return failure(rc, "deleting the sessions of an account");
-  return {};
+  return run(q, "deleting the sessions of an account");
 }
 
 DbResult<std::int64_t> SqliteStore::delete_expired_sessions(UnixMillis now) {
