@@ -3,12 +3,15 @@
 #include "ricochet/db/db_worker.h"
 
 #include <algorithm>
+#include <variant>
 
 namespace ricochet::db {
 
 DbWorker::DbWorker(std::unique_ptr<Store> store, DbWorkerOptions options)
     : store_(std::move(store)),
       accounts_(*store_, options.accounts),
+      matches_(*store_, options.matches),
+      services_{accounts_, matches_},
       max_queued_(options.max_queued),
       thread_([this] { run(); }) {
   for (int i = 0; i < std::max(1, options.password_threads); ++i)
@@ -55,7 +58,7 @@ bool DbWorker::enqueue_cpu(CpuTask task) {
 void DbWorker::run() {
   Task task;
   while (pop(queue_, wake_, task)) {
-    task(&accounts_);
+    task(&services_);
     std::lock_guard lock(mutex_);
     ++completed_;
   }
@@ -66,53 +69,90 @@ void DbWorker::run_cpu() {
   while (pop(cpu_queue_, cpu_wake_, task)) task(false);
 }
 
+namespace {
+
+/// What the first step of a job hands to the second: a DbResult's value, or nothing.
+template <class T>
+T state_of(DbResult<T>&& started) {
+  return std::move(started).value();
+}
+std::monostate state_of(DbStatus&&) {
+  return {};
+}
+
+}  // namespace
+
+template <class R, class Begin, class Work, class Finish>
+void DbWorker::in_three_steps(detail::Delivery<R> deliver, Begin begin, Work work, Finish finish) {
+  Task first = [this, deliver, begin = std::move(begin), work = std::move(work),
+                finish = std::move(finish)](DbServices* db) mutable {
+    if (!db) return deliver.stopped();
+    auto started = begin(*db);
+    if (!started.ok()) return deliver(started.error());
+    auto state =
+        std::make_shared<decltype(state_of(std::move(started)))>(state_of(std::move(started)));
+    CpuTask second = [this, deliver, state, work = std::move(work),
+                      finish = std::move(finish)](bool stopped) mutable {
+      if (stopped) return deliver.stopped();
+      auto worked = std::make_shared<decltype(work(*state))>(work(*state));
+      Task third = [deliver, state, worked, finish = std::move(finish)](DbServices* db) mutable {
+        if (!db) return deliver.stopped();
+        deliver(finish(*db, *state, *worked));
+      };
+      if (!enqueue(std::move(third))) deliver.queue_full();
+    };
+    if (!enqueue_cpu(std::move(second))) deliver.queue_full();
+  };
+  if (!enqueue(std::move(first))) deliver.queue_full();
+}
+
 void DbWorker::login(std::string username, std::string password, std::string address,
                      UnixMillis now, Post post, std::function<void(DbResult<LoginResult>)> done) {
-  const detail::Delivery<DbResult<LoginResult>> deliver(std::move(post), std::move(done));
-  Task lookup = [this, username = std::move(username), password = std::move(password),
-                 address = std::move(address), now, deliver](Accounts* accounts) mutable {
-    if (!accounts) return deliver.stopped();
-    DbResult<Accounts::LoginAttempt> attempt =
-        accounts->begin_login(username, password.size(), address, now);
-    if (!attempt.ok()) return deliver(attempt.error());
-    auto shared = std::make_shared<Accounts::LoginAttempt>(std::move(attempt).value());
-    CpuTask check = [this, shared, password = std::move(password), now,
-                     deliver](bool stopped) mutable {
-      if (stopped) return deliver.stopped();
-      const bool ok = Accounts::password_verifies(*shared, password);
-      Task finish = [shared, ok, password = std::move(password), now, deliver](Accounts* accounts) {
-        if (!accounts) return deliver.stopped();
-        deliver(accounts->finish_login(*shared, ok, password, now));
-      };
-      if (!enqueue(std::move(finish))) deliver.queue_full();
-    };
-    if (!enqueue_cpu(std::move(check))) deliver.queue_full();
-  };
-  if (!enqueue(std::move(lookup))) deliver.queue_full();
+  const std::size_t password_bytes = password.size();
+  in_three_steps(
+      detail::Delivery<DbResult<LoginResult>>(std::move(post), std::move(done)),
+      [username = std::move(username), password_bytes, address = std::move(address),
+       now](DbServices& db) {
+        return db.accounts.begin_login(username, password_bytes, address, now);
+      },
+      [accounts = &accounts_, password = std::move(password)](Accounts::LoginAttempt& attempt) {
+        return accounts->check_password(attempt, password);
+      },
+      [now](DbServices& db, Accounts::LoginAttempt& attempt, Accounts::PasswordCheck& check) {
+        return db.accounts.finish_login(attempt, check, now);
+      });
 }
 
 void DbWorker::register_account(std::string username, std::string password, UnixMillis now,
                                 Post post, std::function<void(DbResult<AccountId>)> done) {
-  const detail::Delivery<DbResult<AccountId>> deliver(std::move(post), std::move(done));
-  Task check = [this, username = std::move(username), password = std::move(password), now,
-                deliver](Accounts* accounts) mutable {
-    if (!accounts) return deliver.stopped();
-    if (DbStatus s = accounts->check_registration(username, password); !s.ok())
-      return deliver(s.error());
-    CpuTask hash = [this, accounts, username = std::move(username), password = std::move(password),
-                    now, deliver](bool stopped) mutable {
-      if (stopped) return deliver.stopped();
-      std::string hashed = accounts->hash_new_password(password);
-      Task store = [username = std::move(username), hashed = std::move(hashed), now,
-                    deliver](Accounts* accounts) {
-        if (!accounts) return deliver.stopped();
-        deliver(accounts->finish_registration(username, hashed, now));
-      };
-      if (!enqueue(std::move(store))) deliver.queue_full();
-    };
-    if (!enqueue_cpu(std::move(hash))) deliver.queue_full();
-  };
-  if (!enqueue(std::move(check))) deliver.queue_full();
+  auto name = std::make_shared<const std::string>(std::move(username));
+  auto secret = std::make_shared<const std::string>(std::move(password));
+  in_three_steps(
+      detail::Delivery<DbResult<AccountId>>(std::move(post), std::move(done)),
+      [name, secret](DbServices& db) { return db.accounts.check_registration(*name, *secret); },
+      [accounts = &accounts_, secret](std::monostate&) {
+        return accounts->hash_new_password(*secret);
+      },
+      [name, now](DbServices& db, std::monostate&, DbResult<std::string>& hash) {
+        return db.accounts.finish_registration(*name, hash, now);
+      });
+}
+
+void DbWorker::change_password(AccountId id, std::string old_password, std::string new_password,
+                               Post post, std::function<void(DbStatus)> done) {
+  auto new_secret = std::make_shared<const std::string>(std::move(new_password));
+  in_three_steps(
+      detail::Delivery<DbStatus>(std::move(post), std::move(done)),
+      [id, new_secret](DbServices& db) {
+        return db.accounts.begin_password_change(id, *new_secret);
+      },
+      [accounts = &accounts_, old_secret = std::move(old_password),
+       new_secret](Accounts::PasswordChange& change) {
+        return accounts->hash_password_change(change, old_secret, *new_secret);
+      },
+      [](DbServices& db, Accounts::PasswordChange& change, DbResult<std::string>& hash) {
+        return db.accounts.finish_password_change(change, hash);
+      });
 }
 
 void DbWorker::stop() {

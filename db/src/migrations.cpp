@@ -94,8 +94,22 @@ CREATE INDEX player_stats_by_win_rate
   ON player_stats((CAST(wins AS REAL) / matches) DESC, account_id, matches);
 )sql";
 
+// Version 2. Failed logins, so that the rate limits hold across every server process sharing
+// the database. A key is "account:<username key>" or "address:<client address>". Counting a
+// key's recent failures is a range search on (key, at_ms); dropping the old ones on at_ms.
+constexpr const char* kSchemaV2 = R"sql(
+CREATE TABLE login_failures (
+  id INTEGER PRIMARY KEY,
+  key TEXT NOT NULL,
+  at_ms INTEGER NOT NULL
+) STRICT;
+CREATE INDEX login_failures_by_key ON login_failures(key, at_ms);
+CREATE INDEX login_failures_by_time ON login_failures(at_ms);
+)sql";
+
 constexpr std::array kMigrations = {
     Migration{1, "accounts, sessions, matches, player stats and leaderboard indexes", kSchemaV1},
+    Migration{2, "failed logins for rate limits shared by every server process", kSchemaV2},
 };
 
 DbResult<int> read_user_version(sqlite3* db, const std::string& path) {

@@ -5,6 +5,7 @@
 #include <sodium.h>
 
 #include <array>
+#include <atomic>
 #include <stdexcept>
 
 namespace ricochet::db {
@@ -33,22 +34,32 @@ Limits limits_of(PasswordCost cost) {
   return {crypto_pwhash_OPSLIMIT_INTERACTIVE, crypto_pwhash_MEMLIMIT_INTERACTIVE};
 }
 
+std::atomic<std::uint64_t> g_verifications{0};
+
 }  // namespace
 
-std::string hash_password(std::string_view password, PasswordCost cost) {
+DbResult<std::string> hash_password(std::string_view password, PasswordCost cost) {
   ensure_sodium();
   const Limits limits = limits_of(cost);
   std::array<char, crypto_pwhash_STRBYTES> out{};
   if (crypto_pwhash_str_alg(out.data(), password.data(), password.size(), limits.ops, limits.memory,
                             crypto_pwhash_ALG_ARGON2ID13) != 0) {
-    return {};
+    return DbError{
+        DbErrorCode::OutOfMemory,
+        "hashing a password could not allocate the " + std::to_string(limits.memory / 1024) +
+            " KiB Argon2id needs; lower DbWorkerOptions::password_threads or free memory"};
   }
   return std::string(out.data());
 }
 
 bool password_matches(const std::string& hash, std::string_view password) {
   ensure_sodium();
+  g_verifications.fetch_add(1, std::memory_order_relaxed);
   return crypto_pwhash_str_verify(hash.c_str(), password.data(), password.size()) == 0;
+}
+
+std::uint64_t password_verifications() {
+  return g_verifications.load(std::memory_order_relaxed);
 }
 
 bool needs_rehash(const std::string& hash, PasswordCost cost) {

@@ -38,8 +38,12 @@ const char* to_string(DbErrorCode code) {
       return "cannot_open";
     case DbErrorCode::Busy:
       return "busy";
+    case DbErrorCode::QueueFull:
+      return "queue_full";
     case DbErrorCode::Storage:
       return "storage";
+    case DbErrorCode::OutOfMemory:
+      return "out_of_memory";
     case DbErrorCode::Stopped:
       return "stopped";
   }

@@ -46,6 +46,8 @@ inline DbErrorCode error_code_of(int rc) {
       return DbErrorCode::CorruptDatabase;
     case SQLITE_CANTOPEN:
       return DbErrorCode::CannotOpen;
+    case SQLITE_NOMEM:
+      return DbErrorCode::OutOfMemory;
     default:
       return DbErrorCode::Storage;
   }

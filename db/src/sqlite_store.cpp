@@ -8,12 +8,9 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
-#include <limits>
 
 #include "leaderboard_sql.h"
 #include "migrations.h"
-#include "ricochet/db/rating.h"
 #include "ricochet/db/store.h"
 #include "sqlite_handle.h"
 
@@ -22,67 +19,12 @@ namespace ricochet::db {
 namespace {
 
 constexpr std::size_t kTokenHashBytes = 32;  ///< SHA-256
-constexpr std::size_t kMaxNameBytes = 64;    ///< map and mode names
-constexpr std::int32_t kMaxTickRate = 1000;  ///< Hz
 
 constexpr std::array kBoards = {LeaderboardKind::Rating, LeaderboardKind::Kills,
                                 LeaderboardKind::WinRate};
 
 std::size_t board_index(LeaderboardKind kind) {
   return static_cast<std::size_t>(kind);
-}
-
-// --- match validation (before any write) ---
-
-std::string check_name(const char* field, const std::string& value) {
-  if (value.empty() || value.size() > kMaxNameBytes)
-    return std::string("match ") + field + " must be 1.." + std::to_string(kMaxNameBytes) +
-           " bytes, got " + std::to_string(value.size());
-  return {};
-}
-
-std::string check_player(std::size_t index, const PlayerResult& p) {
-  const std::string who =
-      "player " + std::to_string(index) + " (account " + std::to_string(p.account) + "): ";
-  const std::pair<const char*, std::int32_t> counters[] = {{"kills", p.kills},
-                                                           {"deaths", p.deaths},
-                                                           {"score", p.score},
-                                                           {"shots", p.shots},
-                                                           {"hits", p.hits}};
-  for (const auto& [name, value] : counters)
-    if (value < 0) return who + name + " must be >= 0, got " + std::to_string(value);
-  const std::pair<const char*, double> amounts[] = {{"damage_dealt", p.damage_dealt},
-                                                    {"damage_taken", p.damage_taken},
-                                                    {"seconds_played", p.seconds_played}};
-  for (const auto& [name, value] : amounts)
-    if (!std::isfinite(value) || value < 0)
-      return who + name + " must be a finite number >= 0, got " + std::to_string(value);
-  return {};
-}
-
-/// Empty when the record can be written; otherwise what is wrong with it.
-std::string check_match(const MatchRecord& match) {
-  if (match.players.empty()) return "a match needs at least one player";
-  if (auto e = check_name("map", match.map); !e.empty()) return e;
-  if (auto e = check_name("mode", match.mode); !e.empty()) return e;
-  if (match.ended_ms < match.started_ms)
-    return "match ended_ms (" + std::to_string(match.ended_ms) + ") is before started_ms (" +
-           std::to_string(match.started_ms) + ")";
-  if (match.tick_rate < 1 || match.tick_rate > kMaxTickRate)
-    return "match tick_rate must be 1.." + std::to_string(kMaxTickRate) + " Hz, got " +
-           std::to_string(match.tick_rate);
-  for (std::size_t i = 0; i < match.players.size(); ++i)
-    if (auto e = check_player(i, match.players[i]); !e.empty()) return e;
-  std::vector<AccountId> ids;
-  for (const PlayerResult& p : match.players) ids.push_back(p.account);
-  std::sort(ids.begin(), ids.end());
-  if (auto twice = std::adjacent_find(ids.begin(), ids.end()); twice != ids.end())
-    return "account " + std::to_string(*twice) + " is listed twice in the match";
-  return {};
-}
-
-DbError invalid_match(std::string message) {
-  return DbError{DbErrorCode::InvalidMatch, std::move(message)};
 }
 
 class SqliteStore final : public Store {
@@ -92,6 +34,7 @@ class SqliteStore final : public Store {
 
   DbStatus prepare_statements();
 
+  DbStatus transaction(const std::function<DbStatus()>& work) override;
   DbResult<AccountId> insert_account(std::string_view username, std::string_view username_key,
                                      std::string_view password_hash, UnixMillis now) override;
   DbResult<std::optional<AccountCredentials>> find_account_by_key(
@@ -108,13 +51,23 @@ class SqliteStore final : public Store {
   DbStatus delete_sessions_of(AccountId account) override;
   DbResult<std::int64_t> delete_expired_sessions(UnixMillis now) override;
 
-  DbResult<MatchId> record_match(const MatchRecord& match) override;
+  DbResult<std::int64_t> insert_login_failure(std::string_view key, UnixMillis at_ms) override;
+  DbResult<std::int64_t> count_login_failures(std::string_view key, UnixMillis after_ms) override;
+  DbStatus delete_login_failure(std::int64_t id) override;
+  DbStatus delete_login_failures_of(std::string_view key) override;
+  DbStatus delete_login_failures_until(UnixMillis at_ms) override;
+
+  DbResult<std::optional<double>> rating_of(AccountId id) override;
+  DbResult<MatchId> insert_match(const MatchRecord& match,
+                                 const std::vector<PlayerOutcome>& outcomes) override;
   DbResult<std::int64_t> match_count() override;
   DbResult<PlayerStats> player_stats(AccountId id) override;
   DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit,
                                                       std::int64_t min_matches) override;
-  DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind,
-                                                    std::int64_t min_matches) override;
+  DbResult<std::optional<LeaderboardEntry>> board_entry(AccountId id,
+                                                        LeaderboardKind kind) override;
+  DbResult<std::int64_t> count_better(LeaderboardKind kind, double value,
+                                      std::int64_t min_matches) override;
 
  private:
   DbError failure(int rc, std::string_view what) const {
@@ -128,20 +81,26 @@ class SqliteStore final : public Store {
   DbError unknown_account(AccountId id) const {
     return DbError{DbErrorCode::UnknownAccount, "no account with id " + std::to_string(id)};
   }
+  /// Runs a statement that returns no rows.
+  DbStatus run(sqlite::Query& query, std::string_view what) {
+    if (const int rc = query.step(); rc != SQLITE_DONE) return failure(rc, what);
+    return {};
+  }
   /// Runs an UPDATE of one account by id; UnknownAccount when no row changed.
   DbStatus update_account(sqlite::Query& query, AccountId id, std::string_view what);
-  /// The rating of each player, in order, inside the match's transaction; InvalidMatch naming
-  /// the first account that does not exist.
-  DbResult<std::vector<double>> current_ratings(const MatchRecord& match);
-  DbStatus write_match(const MatchRecord& match, MatchId& id);
+  DbResult<MatchId> write_match(const MatchRecord& match,
+                                const std::vector<PlayerOutcome>& outcomes);
 
   std::string path_;
-  sqlite::Connection db_;  // declared before the statements: closed after they are finalized
+  bool in_transaction_ = false;  ///< inside transaction(): a nested one joins it
+  sqlite::Connection db_;        // declared before the statements: closed after they are finalized
 
   sqlite::Statement insert_account_, find_account_by_key_, account_, set_password_hash_,
       set_banned_, set_last_login_;
   sqlite::Statement insert_session_, find_session_, delete_session_, delete_sessions_of_,
       delete_expired_sessions_;
+  sqlite::Statement insert_login_failure_, count_login_failures_, delete_login_failure_,
+      delete_login_failures_of_, delete_login_failures_until_;
   sqlite::Statement rating_of_, insert_match_, insert_match_player_, upsert_stats_, match_count_,
       player_stats_;
   std::array<sqlite::Statement, kBoards.size()> top_, entry_of_, count_better_;
@@ -168,6 +127,11 @@ DbStatus SqliteStore::prepare_statements() {
       {&delete_session_, "DELETE FROM sessions WHERE token_hash = ?1"},
       {&delete_sessions_of_, "DELETE FROM sessions WHERE account_id = ?1"},
       {&delete_expired_sessions_, "DELETE FROM sessions WHERE expires_ms < ?1"},
+      {&insert_login_failure_, "INSERT INTO login_failures (key, at_ms) VALUES (?1, ?2)"},
+      {&count_login_failures_, "SELECT COUNT(*) FROM login_failures WHERE key = ?1 AND at_ms > ?2"},
+      {&delete_login_failure_, "DELETE FROM login_failures WHERE id = ?1"},
+      {&delete_login_failures_of_, "DELETE FROM login_failures WHERE key = ?1"},
+      {&delete_login_failures_until_, "DELETE FROM login_failures WHERE at_ms <= ?1"},
       {&rating_of_,
        "SELECT s.rating FROM accounts AS a LEFT JOIN player_stats AS s ON s.account_id = a.id"
        " WHERE a.id = ?1"},
@@ -209,6 +173,24 @@ DbStatus SqliteStore::prepare_statements() {
       if (const int rc = statement->prepare(db_.get(), sql); rc != SQLITE_OK)
         return failure(rc, std::string("preparing \"") + sql + "\"");
   }
+  return {};
+}
+
+DbStatus SqliteStore::transaction(const std::function<DbStatus()>& work) {
+  if (in_transaction_) return work();
+  sqlite::Transaction transaction(db_.get());
+  if (const int rc = transaction.begin(); rc != SQLITE_OK)
+    return failure(rc, "starting a transaction");
+  struct Inside {
+    bool& flag;
+    ~Inside() { flag = false; }
+  };
+  in_transaction_ = true;
+  const Inside inside{in_transaction_};
+  const DbStatus status = work();
+  if (!status.ok()) return status;  // rolled back by ~Transaction
+  if (const int rc = transaction.commit(); rc != SQLITE_OK)
+    return failure(rc, "committing a transaction");
   return {};
 }
 
@@ -326,16 +308,13 @@ DbStatus SqliteStore::delete_session(std::string_view token_hash) {
   if (token_hash.size() != kTokenHashBytes) return {};  // no such session can exist
   sqlite::Query q(delete_session_);
   q.bind_blob(token_hash);
-  if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "deleting a session");
-  return {};
+  return run(q, "deleting a session");
 }
 
 DbStatus SqliteStore::delete_sessions_of(AccountId account) {
   sqlite::Query q(delete_sessions_of_);
   q.bind_int(account);
-  if (const int rc = q.step(); rc != SQLITE_DONE)
-    return failure(rc, "deleting the sessions of an account");
-  return {};
+  return run(q, "deleting the sessions of an account");
 }
 
 DbResult<std::int64_t> SqliteStore::delete_expired_sessions(UnixMillis now) {
@@ -345,33 +324,60 @@ DbResult<std::int64_t> SqliteStore::delete_expired_sessions(UnixMillis now) {
   return static_cast<std::int64_t>(sqlite3_changes64(db_.get()));
 }
 
-// --- matches and stats ---
+// --- failed logins ---
 
-DbResult<std::vector<double>> SqliteStore::current_ratings(const MatchRecord& match) {
-  std::vector<double> ratings;
-  for (const PlayerResult& p : match.players) {
-    sqlite::Query q(rating_of_);
-    q.bind_int(p.account);
-    const int rc = q.step();
-    if (rc == SQLITE_DONE)
-      return invalid_match("account " + std::to_string(p.account) + " does not exist");
-    if (rc != SQLITE_ROW) return failure(rc, "reading a player's rating");
-    ratings.push_back(q.is_null(0) ? kInitialRating : q.real(0));
-    if (!q.column_error().empty()) return bad_row(q, "reading a player's rating");
-  }
-  return ratings;
+DbResult<std::int64_t> SqliteStore::insert_login_failure(std::string_view key, UnixMillis at_ms) {
+  sqlite::Query q(insert_login_failure_);
+  q.bind_text(key).bind_int(at_ms);
+  if (DbStatus s = run(q, "noting a failed login"); !s.ok()) return s.error();
+  return sqlite3_last_insert_rowid(db_.get());
 }
 
-DbStatus SqliteStore::write_match(const MatchRecord& match, MatchId& id) {
-  auto before = current_ratings(match);
-  if (!before) return before.error();
-  std::vector<RatedScore> rated;
-  for (std::size_t i = 0; i < match.players.size(); ++i)
-    rated.push_back({before.value()[i], static_cast<double>(match.players[i].score)});
-  const std::vector<double> after = updated_ratings(rated);
-  std::int32_t top_score = std::numeric_limits<std::int32_t>::min();
-  for (const PlayerResult& p : match.players) top_score = std::max(top_score, p.score);
+DbResult<std::int64_t> SqliteStore::count_login_failures(std::string_view key,
+                                                         UnixMillis after_ms) {
+  sqlite::Query q(count_login_failures_);
+  q.bind_text(key).bind_int(after_ms);
+  if (const int rc = q.step(); rc != SQLITE_ROW) return failure(rc, "counting failed logins");
+  const std::int64_t count = q.integer(0);
+  if (!q.column_error().empty()) return bad_row(q, "counting failed logins");
+  return count;
+}
 
+DbStatus SqliteStore::delete_login_failure(std::int64_t id) {
+  sqlite::Query q(delete_login_failure_);
+  q.bind_int(id);
+  return run(q, "forgetting a failed login");
+}
+
+DbStatus SqliteStore::delete_login_failures_of(std::string_view key) {
+  sqlite::Query q(delete_login_failures_of_);
+  q.bind_text(key);
+  return run(q, "forgetting the failed logins of a key");
+}
+
+DbStatus SqliteStore::delete_login_failures_until(UnixMillis at_ms) {
+  sqlite::Query q(delete_login_failures_until_);
+  q.bind_int(at_ms);
+  return run(q, "dropping old failed logins");
+}
+
+// --- matches and stats ---
+
+DbResult<std::optional<double>> SqliteStore::rating_of(AccountId id) {
+  sqlite::Query q(rating_of_);
+  q.bind_int(id);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return unknown_account(id);
+  if (rc != SQLITE_ROW) return failure(rc, "reading a player's rating");
+  std::optional<double> rating;
+  if (!q.is_null(0)) rating = q.real(0);
+  if (!q.column_error().empty()) return bad_row(q, "reading a player's rating");
+  return rating;
+}
+
+DbResult<MatchId> SqliteStore::write_match(const MatchRecord& match,
+                                           const std::vector<PlayerOutcome>& outcomes) {
+  MatchId id = 0;
   {
     sqlite::Query q(insert_match_);
     q.bind_text(match.map).bind_text(match.mode).bind_int(match.started_ms);
@@ -384,32 +390,30 @@ DbStatus SqliteStore::write_match(const MatchRecord& match, MatchId& id) {
     sqlite::Query q(insert_match_player_);
     q.bind_int(id).bind_int(p.account).bind_int(p.kills).bind_int(p.deaths).bind_int(p.score);
     q.bind_int(p.shots).bind_int(p.hits).bind_real(p.damage_dealt).bind_real(p.damage_taken);
-    q.bind_real(p.seconds_played).bind_real(before.value()[i]).bind_real(after[i]);
+    q.bind_real(p.seconds_played).bind_real(outcomes[i].rating_before);
+    q.bind_real(outcomes[i].rating_after);
     if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "inserting a match player");
   }
   for (std::size_t i = 0; i < match.players.size(); ++i) {
     const PlayerResult& p = match.players[i];
     sqlite::Query q(upsert_stats_);
-    q.bind_int(p.account).bind_int(p.score == top_score ? 1 : 0).bind_int(p.kills);
+    q.bind_int(p.account).bind_int(outcomes[i].won ? 1 : 0).bind_int(p.kills);
     q.bind_int(p.deaths).bind_int(p.score).bind_int(p.shots).bind_int(p.hits);
     q.bind_real(p.damage_dealt).bind_real(p.damage_taken).bind_real(p.seconds_played);
-    q.bind_real(after[i]);
+    q.bind_real(outcomes[i].rating_after);
     if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "updating a player's stats");
   }
-  return {};
+  return id;
 }
 
-DbResult<MatchId> SqliteStore::record_match(const MatchRecord& match) {
-  if (std::string problem = check_match(match); !problem.empty())
-    return invalid_match(std::move(problem));
-  sqlite::Transaction transaction(db_.get());
-  if (const int rc = transaction.begin(); rc != SQLITE_OK)
-    return failure(rc, "starting the match transaction");
-  MatchId id = 0;
-  if (DbStatus written = write_match(match, id); !written) return written.error();
-  if (const int rc = transaction.commit(); rc != SQLITE_OK)
-    return failure(rc, "committing a match");
-  return id;
+DbResult<MatchId> SqliteStore::insert_match(const MatchRecord& match,
+                                            const std::vector<PlayerOutcome>& outcomes) {
+  if (outcomes.size() != match.players.size()) {
+    return DbError{DbErrorCode::InvalidMatch, "a match of " + std::to_string(match.players.size()) +
+                                                  " players needs as many outcomes, got " +
+                                                  std::to_string(outcomes.size())};
+  }
+  return atomically(*this, [&] { return write_match(match, outcomes); });
 }
 
 DbResult<std::int64_t> SqliteStore::match_count() {
@@ -459,7 +463,7 @@ DbResult<std::vector<LeaderboardEntry>> SqliteStore::leaderboard(LeaderboardKind
   if (limit <= 0) return entries;  // SQLite reads a negative LIMIT as "no limit"
   sqlite::Query q(top_[board_index(kind)]);
   q.bind_int(limit);
-  if (kind == LeaderboardKind::WinRate) q.bind_int(std::max<std::int64_t>(min_matches, 1));
+  if (kind == LeaderboardKind::WinRate) q.bind_int(min_matches);
   int rc;
   while ((rc = q.step()) == SQLITE_ROW) {
     LeaderboardEntry e;
@@ -468,44 +472,41 @@ DbResult<std::vector<LeaderboardEntry>> SqliteStore::leaderboard(LeaderboardKind
     e.value = board_value(q, 2, kind);
     e.matches = q.integer(3);
     if (!q.column_error().empty()) return bad_row(q, "reading a leaderboard");
-    // Rows come best first, so an entry ranks after everything above it unless it ties.
-    const bool ties = !entries.empty() && entries.back().value == e.value;
-    e.rank = ties ? entries.back().rank : static_cast<std::int64_t>(entries.size()) + 1;
     entries.push_back(std::move(e));
   }
   if (rc != SQLITE_DONE) return failure(rc, "reading a leaderboard");
   return entries;
 }
 
-DbResult<std::optional<LeaderboardEntry>> SqliteStore::rank_of(AccountId id, LeaderboardKind kind,
-                                                               std::int64_t min_matches) {
-  const std::int64_t needed =
-      kind == LeaderboardKind::WinRate ? std::max<std::int64_t>(min_matches, 1) : 1;
+DbResult<std::optional<LeaderboardEntry>> SqliteStore::board_entry(AccountId id,
+                                                                   LeaderboardKind kind) {
+  sqlite::Query q(entry_of_[board_index(kind)]);
+  q.bind_int(id);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return unknown_account(id);
+  if (rc != SQLITE_ROW) return failure(rc, "reading a leaderboard entry");
+  if (q.is_null(1)) return std::optional<LeaderboardEntry>();  // never played
   LeaderboardEntry e;
   e.account = id;
-  {
-    sqlite::Query q(entry_of_[board_index(kind)]);
-    q.bind_int(id);
-    const int rc = q.step();
-    if (rc == SQLITE_DONE) return unknown_account(id);
-    if (rc != SQLITE_ROW) return failure(rc, "reading a leaderboard entry");
-    if (q.is_null(1)) return std::optional<LeaderboardEntry>();  // never played
-    e.username = q.text(0);
-    e.matches = q.integer(1);
-    e.value = board_value(q, 2, kind);
-    if (!q.column_error().empty()) return bad_row(q, "reading a leaderboard entry");
-  }
-  if (e.matches < needed) return std::optional<LeaderboardEntry>();
+  e.username = q.text(0);
+  e.matches = q.integer(1);
+  e.value = board_value(q, 2, kind);
+  if (!q.column_error().empty()) return bad_row(q, "reading a leaderboard entry");
+  return std::optional<LeaderboardEntry>(std::move(e));
+}
+
+DbResult<std::int64_t> SqliteStore::count_better(LeaderboardKind kind, double value,
+                                                 std::int64_t min_matches) {
   sqlite::Query q(count_better_[board_index(kind)]);
   if (kind == LeaderboardKind::Kills)
-    q.bind_int(static_cast<std::int64_t>(e.value));
+    q.bind_int(static_cast<std::int64_t>(value));
   else
-    q.bind_real(e.value);
-  if (kind == LeaderboardKind::WinRate) q.bind_int(needed);
+    q.bind_real(value);
+  if (kind == LeaderboardKind::WinRate) q.bind_int(min_matches);
   if (const int rc = q.step(); rc != SQLITE_ROW) return failure(rc, "ranking an account");
-  e.rank = q.integer(0) + 1;
+  const std::int64_t better = q.integer(0);
   if (!q.column_error().empty()) return bad_row(q, "ranking an account");
-  return std::optional<LeaderboardEntry>(std::move(e));
+  return better;
 }
 
 // --- opening ---

@@ -6,6 +6,7 @@
 #include <sqlite3.h>
 
 #include "db_test_util.h"
+#include "password.h"
 
 namespace ricochet::db::test {
 namespace {
@@ -19,12 +20,12 @@ AccountsOptions fast_options() {
 }
 
 /// One text or blob value from the database file through a separate raw connection.
-std::string query_one(const std::string& path, const char* sql) {
+std::string query_one(const std::string& path, const std::string& sql) {
   sqlite3* raw = nullptr;
   std::string out;
   if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
     sqlite3_stmt* stmt = nullptr;
-    if (sqlite3_prepare_v2(raw, sql, -1, &stmt, nullptr) == SQLITE_OK &&
+    if (sqlite3_prepare_v2(raw, sql.c_str(), -1, &stmt, nullptr) == SQLITE_OK &&
         sqlite3_step(stmt) == SQLITE_ROW) {
       const auto* bytes = static_cast<const char*>(sqlite3_column_blob(stmt, 0));
       out.assign(bytes ? bytes : "", static_cast<std::size_t>(sqlite3_column_bytes(stmt, 0)));
@@ -47,9 +48,7 @@ class AccountsTest : public ::testing::Test {
   AccountId register_ok(const std::string& name, const std::string& password = "correct horse") {
     return must(accounts().register_account(name, password, kT0), "register_account");
   }
-  std::uint64_t errors(DbErrorCode code) const {
-    return accounts_->counters().errors[static_cast<std::size_t>(code)];
-  }
+  std::uint64_t errors(DbErrorCode code) const { return accounts_->refusals().count(code); }
 
   TempDir dir_;
   std::string path_ = dir_.file("ricochet.db");
@@ -145,7 +144,7 @@ TEST_F(AccountsTest, PasswordRules) {
 
 TEST_F(AccountsTest, WrongPasswordAndUnknownNameLookTheSameAndCostTheSame) {
   register_ok("frank");
-  const std::uint64_t checks = accounts().counters().password_checks;
+  const std::uint64_t checks = password_verifications();
   const auto wrong = accounts().login("frank", "wrong horse", "", kT0);
   const auto unknown = accounts().login("nobody", "wrong horse", "", kT0);
   const auto invalid = accounts().login("x", "wrong horse", "", kT0);
@@ -154,7 +153,7 @@ TEST_F(AccountsTest, WrongPasswordAndUnknownNameLookTheSameAndCostTheSame) {
     EXPECT_EQ(r->error().message, "wrong username or password");
   }
   // Each attempt ran exactly one Argon2id verification (a dummy one for unknown names).
-  EXPECT_EQ(accounts().counters().password_checks - checks, 3u);
+  EXPECT_EQ(password_verifications() - checks, 3u);
 }
 
 TEST_F(AccountsTest, BannedAccountsCannotLogInAndLoseTheirSessions) {
@@ -221,6 +220,41 @@ TEST_F(AccountsTest, ChangePassword) {
                          DbErrorCode::UnknownAccount));
 }
 
+// --- compound writes fail whole: the second write fails, and the first is undone ---
+
+TEST_F(AccountsTest, APasswordChangeFailingHalfWayKeepsTheOldPasswordAndSessions) {
+  const AccountId id = register_ok("kate");
+  const LoginResult login = must(accounts().login("kate", "correct horse", "", kT0), "login");
+  inject_failure(path_, "BEFORE DELETE ON sessions");  // after the new hash is written
+  EXPECT_TRUE(fails_with(accounts().change_password(id, "correct horse", "battery staple"),
+                         DbErrorCode::Storage));
+  EXPECT_TRUE(accounts().check_session(login.token, kT0 + 1).ok());
+  remove_failure(path_);
+  EXPECT_TRUE(accounts().login("kate", "correct horse", "", kT0 + 2).ok());
+  EXPECT_TRUE(fails_with(accounts().login("kate", "battery staple", "", kT0 + 3),
+                         DbErrorCode::WrongCredentials));
+}
+
+TEST_F(AccountsTest, ABanFailingHalfWayLeavesTheAccountAsItWas) {
+  const AccountId id = register_ok("liam");
+  const LoginResult login = must(accounts().login("liam", "correct horse", "", kT0), "login");
+  inject_failure(path_, "BEFORE DELETE ON sessions");  // after the banned flag is written
+  EXPECT_TRUE(fails_with(accounts().set_banned(id, true), DbErrorCode::Storage));
+  EXPECT_FALSE(must(store_->account(id), "account").banned);
+  EXPECT_TRUE(accounts().check_session(login.token, kT0 + 1).ok());
+}
+
+TEST_F(AccountsTest, ALoginFailingHalfWayLeavesNoSessionAndNoUpgradedHash) {
+  register_ok("mia");  // Minimum cost: the login below upgrades the hash first
+  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  open(AccountsOptions{});
+  // The hash upgrade and the session are written; the login time is the write that fails.
+  inject_failure(path_, "BEFORE UPDATE OF last_login_ms ON accounts");
+  EXPECT_TRUE(fails_with(accounts().login("mia", "correct horse", "", kT0), DbErrorCode::Storage));
+  EXPECT_EQ(query_one(path_, "SELECT COUNT(*) FROM sessions"), "0");
+  EXPECT_EQ(query_one(path_, "SELECT password_hash FROM accounts"), hash);
+}
+
 TEST_F(AccountsTest, FailedLoginsPerAccountAreRateLimited) {
   AccountsOptions o = fast_options();
   o.per_account = {3, 10'000};
@@ -230,11 +264,11 @@ TEST_F(AccountsTest, FailedLoginsPerAccountAreRateLimited) {
     EXPECT_TRUE(fails_with(accounts().login("mallory", "guess", "", kT0 + i),
                            DbErrorCode::WrongCredentials));
   }
-  const std::uint64_t checks = accounts().counters().password_checks;
+  const std::uint64_t checks = password_verifications();
   // Now even the right password is refused, and no hash is computed for it.
   EXPECT_TRUE(fails_with(accounts().login("MALLORY", "correct horse", "", kT0 + 5),
                          DbErrorCode::RateLimited));
-  EXPECT_EQ(accounts().counters().password_checks, checks);
+  EXPECT_EQ(password_verifications(), checks);
   // Once the oldest failure leaves the 10 s window, one more attempt is allowed.
   EXPECT_TRUE(accounts().login("mallory", "correct horse", "", kT0 + 10'001).ok());
   // A success clears the account's failures.
@@ -258,6 +292,45 @@ TEST_F(AccountsTest, FailedLoginsPerAddressAreRateLimited) {
   EXPECT_TRUE(accounts().login("oscar", "correct horse", "10.1.1.1", kT0 + 60'001).ok());
   EXPECT_EQ(errors(DbErrorCode::RateLimited), 1u);
   EXPECT_EQ(errors(DbErrorCode::WrongCredentials), 4u);
+}
+
+TEST_F(AccountsTest, ServerProcessesSharingADatabaseShareTheRateLimit) {
+  AccountsOptions o = fast_options();
+  o.per_account = {3, 10'000};
+  o.per_address = {5, 10'000};
+  open(o);
+  register_ok("nina");
+  // A second server process: its own store (connection) and Accounts on the same file.
+  std::unique_ptr<Store> other_store = must(open_sqlite_store({.path = path_}), "second store");
+  Accounts other(*other_store, o);
+  EXPECT_TRUE(fails_with(accounts().login("nina", "guess 1", "10.3.3.3", kT0),
+                         DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(fails_with(other.login("nina", "guess 2", "10.3.3.3", kT0 + 1),
+                         DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(fails_with(accounts().login("NINA", "guess 3", "10.4.4.4", kT0 + 2),
+                         DbErrorCode::WrongCredentials));
+  // Three failures between the two: both refuse the account now, even the right password.
+  EXPECT_TRUE(fails_with(other.login("nina", "correct horse", "10.5.5.5", kT0 + 3),
+                         DbErrorCode::RateLimited));
+  EXPECT_TRUE(fails_with(accounts().login("nina", "correct horse", "10.5.5.5", kT0 + 3),
+                         DbErrorCode::RateLimited));
+  // The address limit is shared too: 10.3.3.3 has 2 failures noted, 3 more fill it.
+  for (int i = 0; i < 3; ++i) {
+    Accounts& either = i % 2 == 0 ? accounts() : other;
+    EXPECT_TRUE(fails_with(either.login("user" + std::to_string(i), "guess", "10.3.3.3", kT0 + 4),
+                           DbErrorCode::WrongCredentials));
+  }
+  EXPECT_TRUE(
+      fails_with(other.login("someone", "guess", "10.3.3.3", kT0 + 5), DbErrorCode::RateLimited));
+  // A success through one clears the account's failures for both.
+  EXPECT_TRUE(other.login("nina", "correct horse", "", kT0 + 10'001).ok());
+  EXPECT_TRUE(fails_with(accounts().login("nina", "guess 4", "", kT0 + 10'002),
+                         DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(accounts().login("nina", "correct horse", "", kT0 + 10'003).ok());
+  // Failures older than both windows are dropped from the file as logins go on.
+  EXPECT_EQ(query_one(path_, "SELECT COUNT(*) FROM login_failures WHERE at_ms <= " +
+                                 std::to_string(kT0 + 3)),
+            "0");
 }
 
 TEST_F(AccountsTest, EveryRefusalIsReportedForLoggingWithoutSecrets) {

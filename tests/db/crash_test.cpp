@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "db_test_util.h"
+#include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
 #include "sqlite_handle.h"
 
@@ -40,6 +41,7 @@ SqliteOptions options_for(const std::string& path, bool synchronous_full) {
   if (getppid() != parent) _exit(5);
   auto store = open_sqlite_store(options);
   if (!store) _exit(2);
+  Matches matches(*store.value());
   std::uint32_t seed = static_cast<std::uint32_t>(getpid());
   const auto next = [&seed](std::uint32_t n) {
     seed = seed * 1664525u + 1013904223u;
@@ -65,7 +67,7 @@ SqliteOptions options_for(const std::string& path, bool synchronous_full) {
       p.seconds_played = 120;
       match.players.push_back(p);
     }
-    if (!store.value()->record_match(match)) _exit(3);
+    if (!matches.record_match(match)) _exit(3);
   }
   _exit(4);
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "ricochet/db/result.h"
+#include "sqlite_handle.h"
 
 namespace ricochet::db::test {
 
@@ -62,6 +63,27 @@ template <class T>
 T must(DbResult<T> r, const char* what) {
   if (!r.ok()) throw std::runtime_error(std::string(what) + ": " + describe(r.error()));
   return std::move(r).value();
+}
+
+/// Makes every write matching `when` fail (a trigger that RAISEs 'injected failure'), through a
+/// raw connection to the file, so that a compound write can be failed half-way. `when` is a
+/// trigger event such as "BEFORE DELETE ON sessions".
+inline void inject_failure(const std::string& path, const std::string& when) {
+  sqlite::Connection raw;
+  if (sqlite::open(path, SQLITE_OPEN_READWRITE, raw) != SQLITE_OK)
+    throw std::runtime_error("cannot open " + path + " to inject a failure");
+  const std::string trigger = "CREATE TRIGGER injected_failure " + when +
+                              " BEGIN SELECT RAISE(ABORT, 'injected failure'); END";
+  if (sqlite::exec(raw.get(), trigger.c_str()) != SQLITE_OK)
+    throw std::runtime_error(trigger + ": " + sqlite3_errmsg(raw.get()));
+}
+
+/// Drops the trigger of inject_failure.
+inline void remove_failure(const std::string& path) {
+  sqlite::Connection raw;
+  if (sqlite::open(path, SQLITE_OPEN_READWRITE, raw) != SQLITE_OK ||
+      sqlite::exec(raw.get(), "DROP TRIGGER injected_failure") != SQLITE_OK)
+    throw std::runtime_error("cannot drop the injected failure in " + path);
 }
 
 #define RICOCHET_DB_ASSERT_OK(expr)                                                \

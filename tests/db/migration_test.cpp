@@ -79,6 +79,32 @@ TEST(MigrationTest, NewFileEndsAtTheCurrentVersion) {
             5);
 }
 
+TEST(MigrationTest, AVersion1FileGainsTheLoginFailuresAndKeepsItsData) {
+  TempDir dir;
+  const std::string path = dir.file("v1.db");
+  {
+    // A file as the version-1 binary left it, with one account.
+    sqlite::Connection raw;
+    ASSERT_EQ(sqlite::open(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, raw), SQLITE_OK);
+    ASSERT_EQ(sqlite::exec(raw.get(), sqlite_migrations()[0].sql), SQLITE_OK)
+        << sqlite3_errmsg(raw.get());
+    ASSERT_EQ(sqlite::exec(raw.get(),
+                           "INSERT INTO accounts (username, username_key, password_hash,"
+                           " created_ms) VALUES ('Old', 'old', 'h', 7); PRAGMA user_version = 1"),
+              SQLITE_OK)
+        << sqlite3_errmsg(raw.get());
+  }
+  auto store = must(open_store(path), "open a version-1 file");
+  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), 2);
+  const auto old = must(store->find_account_by_key("old"), "the old account");
+  ASSERT_TRUE(old.has_value());
+  EXPECT_EQ(old->account.created_ms, 7);
+  const std::int64_t id = must(store->insert_login_failure("account:old", 100), "insert");
+  EXPECT_EQ(must(store->count_login_failures("account:old", 99), "count"), 1);
+  RICOCHET_DB_EXPECT_OK(store->delete_login_failure(id));
+  EXPECT_EQ(must(store->count_login_failures("account:old", 0), "count after delete"), 0);
+}
+
 TEST(MigrationTest, ReopeningIsIdempotent) {
   TempDir dir;
   const std::string path = dir.file("again.db");

@@ -1,11 +1,10 @@
-// Elo over free-for-all matches (rating.h): the two-player case is textbook Elo, changes sum to
-// zero, and favourites gain less for a win than underdogs.
+// Elo over free-for-all matches (rating.h), against ratings computed by hand: the two-player
+// case is textbook Elo, favourites gain less for a win than underdogs, and a free-for-all is
+// pairwise duels at K / (N - 1).
 
 #include "ricochet/db/rating.h"
 
 #include <gtest/gtest.h>
-
-#include <numeric>
 
 namespace ricochet::db {
 namespace {
@@ -32,17 +31,16 @@ TEST(Rating, TextbookExpectationFor400PointGap) {
   EXPECT_NEAR(upset[1] - 1500, 32 * (1 / 1.1), 1e-9);
 }
 
-TEST(Rating, FreeForAllConservesRatingAndOrdersByScore) {
-  const std::vector<RatedScore> players = {{1500, 30}, {1600, 20}, {1400, 10}, {1550, 0}};
-  const std::vector<double> next = updated_ratings(players);
-  double before = 0, after = 0;
-  for (std::size_t i = 0; i < players.size(); ++i) before += players[i].rating, after += next[i];
-  EXPECT_NEAR(after, before, 1e-9);
-  EXPECT_GT(next[0], 1500);  // top score gains
-  EXPECT_LT(next[3], 1550);  // last loses
-  // One match is worth at most K for a player however many play.
-  for (std::size_t i = 0; i < players.size(); ++i)
-    EXPECT_LE(std::abs(next[i] - players[i].rating), kEloK);
+TEST(Rating, FreeForAllIsPairwiseDuelsWithKOverNMinusOne) {
+  // By hand: K / (N - 1) = 32 / 3 per duel. The 1500 player beat all three, expected
+  // 1 / (1 + 10^(100/400)) = 0.359935 against 1600, 0.640065 against 1400 and
+  // 1 / (1 + 10^(50/400)) = 0.428537 against 1550: 1500 + 32/3 * (3 - 1.428537) = 1516.762273.
+  const std::vector<double> next = updated_ratings({{1500, 30}, {1600, 20}, {1400, 10}, {1550, 0}});
+  ASSERT_EQ(next.size(), 4u);
+  EXPECT_NEAR(next[0], 1516.762273, 1e-6);
+  EXPECT_NEAR(next[1], 1600.306400, 1e-6);
+  EXPECT_NEAR(next[2], 1401.100767, 1e-6);
+  EXPECT_NEAR(next[3], 1531.830560, 1e-6);
 }
 
 TEST(Rating, ASoloMatchChangesNothing) {

@@ -1,6 +1,7 @@
-// The SQLite store through the Store interface, on real files: accounts, sessions, matches with
-// stats and Elo ratings, leaderboards and ranks, atomicity of record_match, persistence across
-// reopening, lock timeouts, and the query plans of the leaderboard queries. A second, raw SQLite
+// The SQLite store through the Store interface, on real files: accounts, sessions, transactions,
+// matches with their stats as the match rules hand them over (the rules are tested in
+// matches_test.cpp), persistence across reopening, lock timeouts, and the query plans of the
+// leaderboard queries. A second, raw SQLite
 // connection looks at what was actually written.
 
 #include <algorithm>
@@ -8,11 +9,11 @@
 #include <limits>
 #include <map>
 
-#include "db_test_util.h"
 #include "leaderboard_sql.h"
 #include "ricochet/db/rating.h"
 #include "ricochet/db/store.h"
 #include "sqlite_handle.h"
+#include "store_fixture.h"
 
 namespace ricochet::db::test {
 namespace {
@@ -24,66 +25,7 @@ std::string token_hash(char seed) {
   return hash;
 }
 
-PlayerResult result(AccountId account, std::int32_t score, std::int32_t kills = 0) {
-  PlayerResult p;
-  p.account = account;
-  p.score = score;
-  p.kills = kills;
-  p.deaths = 1;
-  p.shots = 10;
-  p.hits = 4;
-  p.damage_dealt = 120.5;
-  p.damage_taken = 80.25;
-  p.seconds_played = 300;
-  return p;
-}
-
-MatchRecord match_of(std::vector<PlayerResult> players) {
-  MatchRecord m;
-  m.map = "foundry";
-  m.mode = "ffa";
-  m.started_ms = 1'000'000;
-  m.ended_ms = 1'300'000;
-  m.tick_rate = 60;
-  m.players = std::move(players);
-  return m;
-}
-
-class SqliteStoreTest : public ::testing::Test {
- protected:
-  SqliteStoreTest() : path_(dir_.file("ricochet.db")) { reopen(); }
-
-  void reopen() {
-    store_.reset();
-    SqliteOptions options;
-    options.path = path_;
-    store_ = must(open_sqlite_store(options), "open_sqlite_store");
-  }
-
-  AccountId add(const std::string& name) {
-    std::string key = name;
-    std::transform(key.begin(), key.end(), key.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return must(store_->insert_account(name, key, "hash-of-" + name, 1000), "insert_account");
-  }
-
-  /// The first column of the first row of `sql`, through a separate raw connection.
-  std::int64_t raw_integer(const std::string& sql) {
-    sqlite::Connection raw;
-    EXPECT_EQ(sqlite::open(path_, SQLITE_OPEN_READONLY, raw), SQLITE_OK);
-    std::int64_t value = -1;
-    EXPECT_EQ(sqlite::single_integer(raw.get(), sql, value), SQLITE_OK)
-        << sql << ": " << sqlite3_errmsg(raw.get());
-    return value;
-  }
-  std::int64_t rows(const std::string& table) {
-    return raw_integer("SELECT COUNT(*) FROM " + table);
-  }
-
-  TempDir dir_;
-  std::string path_;
-  std::unique_ptr<Store> store_;
-};
+using SqliteStoreTest = StoreTest;
 
 // --- accounts ---
 
@@ -194,21 +136,54 @@ TEST_F(SqliteStoreTest, DeletesExpiredSessions) {
   EXPECT_EQ(rows("sessions"), 0);
 }
 
-// --- matches and stats ---
+// --- transactions ---
 
-TEST_F(SqliteStoreTest, RecordMatchWritesMatchPlayersStatsAndRatings) {
+TEST_F(SqliteStoreTest, ATransactionCommitsAllOrNothing) {
+  const AccountId a = add("alice");
+  const AccountId b = add("bob");
+  const DbStatus failed = store_->transaction([&]() -> DbStatus {
+    RICOCHET_DB_EXPECT_OK(store_->set_banned(a, true));
+    // A transaction inside joins this one, and is undone with it.
+    RICOCHET_DB_EXPECT_OK(store_->transaction([&] { return store_->set_banned(b, true); }));
+    return store_->set_banned(a + b, true);  // no such account
+  });
+  EXPECT_TRUE(fails_with(failed, DbErrorCode::UnknownAccount));
+  EXPECT_EQ(raw_integer("SELECT COUNT(*) FROM accounts WHERE banned = 1"), 0);
+  RICOCHET_DB_ASSERT_OK(store_->transaction([&]() -> DbStatus {
+    if (DbStatus s = store_->set_banned(a, true); !s.ok()) return s;
+    return store_->set_banned(b, true);
+  }));
+  EXPECT_EQ(raw_integer("SELECT COUNT(*) FROM accounts WHERE banned = 1"), 2);
+  // atomically() hands back the work's own result, or its error.
+  EXPECT_EQ(must(atomically(*store_, [&] { return store_->account(b); }), "atomically").id, b);
+  EXPECT_TRUE(fails_with(atomically(*store_, [&] { return store_->account(a + b); }),
+                         DbErrorCode::UnknownAccount));
+}
+
+// --- matches and stats, as the match rules hand them over ---
+
+TEST_F(SqliteStoreTest, InsertMatchWritesTheMatchItsPlayersAndTheirTotals) {
   const AccountId winner = add("alice");
   const AccountId loser = add("bob");
-  const MatchId id =
-      must(store_->record_match(match_of({result(winner, 10, 3), result(loser, 5, 1)})), "record");
+  EXPECT_FALSE(must(store_->rating_of(winner), "rating before any match").has_value());
+  EXPECT_TRUE(fails_with(store_->rating_of(loser + 1), DbErrorCode::UnknownAccount));
+  const MatchRecord match = match_of({result(winner, 10, 3), result(loser, 5, 1)});
+  const MatchId id = must(
+      store_->insert_match(match, {{1500, 1531.25, true}, {1500, 1470.5, false}}), "insert_match");
   EXPECT_EQ(must(store_->match_count(), "count"), 1);
   EXPECT_EQ(raw_integer("SELECT COUNT(*) FROM matches WHERE id = " + std::to_string(id) +
                         " AND map = 'foundry' AND mode = 'ffa' AND started_ms = 1000000"
                         " AND ended_ms = 1300000 AND tick_rate = 60"),
             1);
-  EXPECT_EQ(rows("match_players"), 2);
+  EXPECT_EQ(raw_integer(
+                "SELECT COUNT(*) FROM match_players WHERE account_id = " + std::to_string(winner) +
+                " AND rating_before = 1500 AND rating_after = 1531.25 AND kills = 3"),
+            1);
+  EXPECT_EQ(
+      raw_integer("SELECT COUNT(*) FROM match_players WHERE account_id = " + std::to_string(loser) +
+                  " AND rating_before = 1500 AND rating_after = 1470.5"),
+      1);
 
-  // Elo between equals: expected 0.5 each, K = 32, so the winner gains 16 and the loser loses 16.
   const PlayerStats w = must(store_->player_stats(winner), "winner stats");
   EXPECT_EQ(w.username, "alice");
   EXPECT_EQ(w.matches, 1);
@@ -221,55 +196,26 @@ TEST_F(SqliteStoreTest, RecordMatchWritesMatchPlayersStatsAndRatings) {
   EXPECT_DOUBLE_EQ(w.damage_dealt, 120.5);
   EXPECT_DOUBLE_EQ(w.damage_taken, 80.25);
   EXPECT_DOUBLE_EQ(w.seconds_played, 300);
-  EXPECT_DOUBLE_EQ(w.rating, 1516);
-  const PlayerStats l = must(store_->player_stats(loser), "loser stats");
-  EXPECT_EQ(l.matches, 1);
-  EXPECT_EQ(l.wins, 0);
-  EXPECT_DOUBLE_EQ(l.rating, 1484);
+  EXPECT_DOUBLE_EQ(w.rating, 1531.25);
+  EXPECT_EQ(must(store_->player_stats(loser), "loser stats").wins, 0);
+  EXPECT_EQ(must(store_->rating_of(loser), "rating after"), 1470.5);
 
-  EXPECT_EQ(raw_integer(
-                "SELECT COUNT(*) FROM match_players WHERE account_id = " + std::to_string(winner) +
-                " AND rating_before = 1500 AND rating_after = 1516 AND kills = 3"),
-            1);
-  EXPECT_EQ(
-      raw_integer("SELECT COUNT(*) FROM match_players WHERE account_id = " + std::to_string(loser) +
-                  " AND rating_before = 1500 AND rating_after = 1484"),
-      1);
-}
+  // A second match adds to the totals and replaces the rating.
+  must(store_->insert_match(match_of({result(winner, 1, 4), result(loser, 9, 6)}),
+                            {{1531.25, 1520, false}, {1470.5, 1481.75, true}}),
+       "second match");
+  const PlayerStats w2 = must(store_->player_stats(winner), "winner after two");
+  EXPECT_EQ(w2.matches, 2);
+  EXPECT_EQ(w2.wins, 1);
+  EXPECT_EQ(w2.kills, 7);
+  EXPECT_EQ(w2.score, 11);
+  EXPECT_DOUBLE_EQ(w2.damage_dealt, 241);
+  EXPECT_DOUBLE_EQ(w2.seconds_played, 600);
+  EXPECT_DOUBLE_EQ(w2.rating, 1520);
+  EXPECT_EQ(must(store_->player_stats(loser), "loser after two").wins, 1);
 
-TEST_F(SqliteStoreTest, TiedTopScoresAllWin) {
-  const AccountId a = add("a"), b = add("b"), c = add("c");
-  must(store_->record_match(match_of({result(a, 7), result(b, 7), result(c, 3)})), "record");
-  const PlayerStats sa = must(store_->player_stats(a), "a");
-  const PlayerStats sb = must(store_->player_stats(b), "b");
-  const PlayerStats sc = must(store_->player_stats(c), "c");
-  EXPECT_EQ(sa.wins, 1);
-  EXPECT_EQ(sb.wins, 1);
-  EXPECT_EQ(sc.wins, 0);
-  // a and b drew each other and both beat c: +8 each (K / (N - 1) = 16 per duel), c -16.
-  EXPECT_DOUBLE_EQ(sa.rating, 1508);
-  EXPECT_DOUBLE_EQ(sb.rating, 1508);
-  EXPECT_DOUBLE_EQ(sc.rating, 1484);
-}
-
-TEST_F(SqliteStoreTest, StatsAccumulateAndRatingsCarryOver) {
-  const AccountId a = add("a"), b = add("b");
-  must(store_->record_match(match_of({result(a, 10, 2), result(b, 5, 1)})), "first");
-  must(store_->record_match(match_of({result(a, 1, 4), result(b, 9, 6)})), "second");
-  const std::vector<double> expected = updated_ratings({{1516, 1}, {1484, 9}});
-  const PlayerStats sa = must(store_->player_stats(a), "a");
-  const PlayerStats sb = must(store_->player_stats(b), "b");
-  EXPECT_EQ(sa.matches, 2);
-  EXPECT_EQ(sa.wins, 1);
-  EXPECT_EQ(sa.kills, 6);
-  EXPECT_EQ(sa.score, 11);
-  EXPECT_DOUBLE_EQ(sa.damage_dealt, 241);
-  EXPECT_DOUBLE_EQ(sa.seconds_played, 600);
-  EXPECT_EQ(sb.wins, 1);
-  EXPECT_EQ(sb.kills, 7);
-  EXPECT_DOUBLE_EQ(sa.rating, expected[0]);
-  EXPECT_DOUBLE_EQ(sb.rating, expected[1]);
-  EXPECT_DOUBLE_EQ(sa.rating + sb.rating, 3000);  // Elo conserves the total
+  EXPECT_TRUE(
+      fails_with(store_->insert_match(match, {{1500, 1500, true}}), DbErrorCode::InvalidMatch));
   EXPECT_EQ(must(store_->match_count(), "count"), 2);
 }
 
@@ -286,64 +232,14 @@ TEST_F(SqliteStoreTest, PlayerStatsOfAnAccountThatNeverPlayed) {
   EXPECT_TRUE(fails_with(store_->player_stats(id + 1), DbErrorCode::UnknownAccount));
 }
 
-TEST_F(SqliteStoreTest, InvalidMatchesWriteNothing) {
-  const AccountId a = add("a"), b = add("b");
-  const AccountId unknown = b + 1000;
-  const auto with = [&](auto change) {
-    MatchRecord m = match_of({result(a, 5), result(b, 3)});
-    change(m);
-    return m;
-  };
-  const std::vector<std::pair<std::string, MatchRecord>> cases = {
-      {"unknown account", with([&](MatchRecord& m) { m.players.push_back(result(unknown, 1)); })},
-      {"listed twice", with([&](MatchRecord& m) { m.players.push_back(result(a, 1)); })},
-      {"no players", with([](MatchRecord& m) { m.players.clear(); })},
-      {"empty map", with([](MatchRecord& m) { m.map.clear(); })},
-      {"long mode", with([](MatchRecord& m) { m.mode = std::string(65, 'm'); })},
-      {"ends before start", with([](MatchRecord& m) { m.ended_ms = m.started_ms - 1; })},
-      {"tick rate 0", with([](MatchRecord& m) { m.tick_rate = 0; })},
-      {"tick rate 1001", with([](MatchRecord& m) { m.tick_rate = 1001; })},
-      {"negative kills", with([](MatchRecord& m) { m.players[1].kills = -1; })},
-      {"negative hits", with([](MatchRecord& m) { m.players[0].hits = -3; })},
-      {"NaN damage", with([](MatchRecord& m) {
-         m.players[0].damage_dealt = std::numeric_limits<double>::quiet_NaN();
-       })},
-      {"infinite time", with([](MatchRecord& m) {
-         m.players[1].seconds_played = std::numeric_limits<double>::infinity();
-       })},
-      {"negative damage", with([](MatchRecord& m) { m.players[1].damage_taken = -0.5; })},
-  };
-  for (const auto& [name, match] : cases) {
-    SCOPED_TRACE(name);
-    EXPECT_TRUE(fails_with(store_->record_match(match), DbErrorCode::InvalidMatch));
-  }
-  const auto unknown_error = store_->record_match(cases[0].second).error().message;
-  EXPECT_NE(unknown_error.find(std::to_string(unknown)), std::string::npos) << unknown_error;
-  const auto twice_error = store_->record_match(cases[1].second).error().message;
-  EXPECT_NE(twice_error.find("account " + std::to_string(a)), std::string::npos) << twice_error;
-
-  EXPECT_EQ(rows("matches"), 0);
-  EXPECT_EQ(rows("match_players"), 0);
-  EXPECT_EQ(rows("player_stats"), 0);
-  EXPECT_EQ(must(store_->player_stats(a), "a").rating, kInitialRating);
-  // The store still works after the refusals.
-  must(store_->record_match(match_of({result(a, 5), result(b, 3)})), "valid match");
-  EXPECT_EQ(rows("match_players"), 2);
-}
-
-TEST_F(SqliteStoreTest, FailureHalfWayRollsBackTheWholeMatch) {
+TEST_F(SqliteStoreTest, AnInsertMatchFailingHalfWayWritesNothing) {
   const AccountId a = add("a"), b = add("b"), c = add("c");
-  must(store_->record_match(match_of({result(a, 5), result(b, 3)})), "first match");
-  {
-    // Make the third player's stats update fail, after the match and its players are written.
-    sqlite::Connection raw;
-    ASSERT_EQ(sqlite::open(path_, SQLITE_OPEN_READWRITE, raw), SQLITE_OK);
-    const std::string trigger =
-        "CREATE TRIGGER fail_c BEFORE INSERT ON player_stats WHEN NEW.account_id = " +
-        std::to_string(c) + " BEGIN SELECT RAISE(ABORT, 'injected failure'); END";
-    ASSERT_EQ(sqlite::exec(raw.get(), trigger.c_str()), SQLITE_OK) << sqlite3_errmsg(raw.get());
-  }
-  const auto failed = store_->record_match(match_of({result(a, 1), result(b, 2), result(c, 3)}));
+  const std::vector<PlayerOutcome> two = {{1500, 1516, true}, {1500, 1484, false}};
+  must(store_->insert_match(match_of({result(a, 5), result(b, 3)}), two), "first match");
+  // The third player's stats fail, after the match and its players are written.
+  inject_failure(path_, "BEFORE INSERT ON player_stats WHEN NEW.account_id = " + std::to_string(c));
+  const auto failed = store_->insert_match(match_of({result(a, 1), result(b, 2), result(c, 3)}),
+                                           {{1516, 1, false}, {1484, 2, false}, {1500, 3, true}});
   ASSERT_TRUE(fails_with(failed, DbErrorCode::Storage));
   EXPECT_NE(failed.error().message.find("injected failure"), std::string::npos)
       << failed.error().message;
@@ -367,7 +263,8 @@ TEST_F(SqliteStoreTest, WriteLockHeldElsewhereIsBusy) {
   ASSERT_EQ(sqlite::exec(other.get(), "BEGIN IMMEDIATE"), SQLITE_OK);
   const auto blocked = store_->insert_account("b", "b", "h", 1);
   EXPECT_TRUE(fails_with(blocked, DbErrorCode::Busy));
-  EXPECT_TRUE(fails_with(store_->record_match(match_of({result(a, 1)})), DbErrorCode::Busy));
+  EXPECT_TRUE(fails_with(store_->insert_match(match_of({result(a, 1)}), {{1500, 1500, true}}),
+                         DbErrorCode::Busy));
   EXPECT_TRUE(must(store_->account(a), "reads go on under WAL").id == a);
   ASSERT_EQ(sqlite::exec(other.get(), "COMMIT"), SQLITE_OK);
   must(store_->insert_account("b", "b", "h", 1), "after the lock is released");
@@ -376,7 +273,9 @@ TEST_F(SqliteStoreTest, WriteLockHeldElsewhereIsBusy) {
 TEST_F(SqliteStoreTest, DataSurvivesCloseAndReopen) {
   const AccountId a = add("alice"), b = add("bob");
   RICOCHET_DB_ASSERT_OK(store_->insert_session(token_hash(7), a, 10, 20));
-  must(store_->record_match(match_of({result(a, 10), result(b, 5)})), "record");
+  must(store_->insert_match(match_of({result(a, 10), result(b, 5)}),
+                            {{1500, 1516, true}, {1500, 1484, false}}),
+       "insert_match");
   reopen();
   EXPECT_EQ(must(store_->account(b), "bob").username, "bob");
   EXPECT_TRUE(must(store_->find_session(token_hash(7)), "session").has_value());
@@ -386,149 +285,6 @@ TEST_F(SqliteStoreTest, DataSurvivesCloseAndReopen) {
       fails_with(store_->insert_account("Alice", "alice", "h", 0), DbErrorCode::DuplicateUsername));
 }
 
-// --- leaderboards ---
-
-class LeaderboardTest : public SqliteStoreTest {
- protected:
-  void duel(AccountId winner, AccountId loser, std::int32_t winner_kills = 0) {
-    must(store_->record_match(match_of({result(winner, 10, winner_kills), result(loser, 5)})),
-         "duel");
-  }
-  void draw(AccountId x, AccountId y) {
-    must(store_->record_match(match_of({result(x, 5), result(y, 5)})), "draw");
-  }
-  std::vector<LeaderboardEntry> board(LeaderboardKind kind, int limit = 100, int min_matches = 1) {
-    return must(store_->leaderboard(kind, limit, min_matches), "leaderboard");
-  }
-};
-
-TEST_F(LeaderboardTest, RatingBoardIsBestFirstAndTiesShareRank) {
-  const AccountId a = add("a"), b = add("b"), c = add("c"), d = add("d"), idle = add("idle");
-  duel(c, d);  // c 1516, d 1484
-  duel(a, b);  // a 1516, b 1484
-  const auto entries = board(LeaderboardKind::Rating);
-  ASSERT_EQ(entries.size(), 4u);  // idle never played
-  const std::vector<std::pair<AccountId, std::int64_t>> expected = {{a, 1}, {c, 1}, {b, 3}, {d, 3}};
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    SCOPED_TRACE(i);
-    EXPECT_EQ(entries[i].account, expected[i].first);
-    EXPECT_EQ(entries[i].rank, expected[i].second);
-    EXPECT_EQ(entries[i].matches, 1);
-  }
-  EXPECT_EQ(entries[0].username, "a");
-  EXPECT_DOUBLE_EQ(entries[0].value, 1516);
-  EXPECT_DOUBLE_EQ(entries[3].value, 1484);
-  EXPECT_EQ(board(LeaderboardKind::Rating, 3).size(), 3u);
-  EXPECT_TRUE(board(LeaderboardKind::Rating, 0).empty());
-  EXPECT_TRUE(board(LeaderboardKind::Rating, -1).empty());
-
-  const auto rank_d = must(store_->rank_of(d, LeaderboardKind::Rating, 1), "rank d");
-  ASSERT_TRUE(rank_d.has_value());
-  EXPECT_EQ(rank_d->rank, 3);
-  EXPECT_EQ(rank_d->username, "d");
-  EXPECT_DOUBLE_EQ(rank_d->value, 1484);
-  EXPECT_FALSE(must(store_->rank_of(idle, LeaderboardKind::Rating, 1), "idle").has_value());
-  EXPECT_TRUE(fails_with(store_->rank_of(idle + 1, LeaderboardKind::Rating, 1),
-                         DbErrorCode::UnknownAccount));
-}
-
-TEST_F(LeaderboardTest, KillsBoard) {
-  const AccountId a = add("a"), b = add("b"), c = add("c"), idle = add("idle");
-  duel(a, b, 4);
-  duel(c, b, 9);
-  duel(b, a, 0);  // b's kills stay 0
-  must(store_->record_match(match_of({result(b, 1, 4), result(c, 0, 0)})), "b gets 4 kills");
-  const auto entries = board(LeaderboardKind::Kills);
-  ASSERT_EQ(entries.size(), 3u);
-  EXPECT_EQ(entries[0].account, c);
-  EXPECT_EQ(entries[0].value, 9);
-  EXPECT_EQ(entries[0].rank, 1);
-  EXPECT_EQ(entries[1].account, a);
-  EXPECT_EQ(entries[1].rank, 2);
-  EXPECT_EQ(entries[2].account, b);
-  EXPECT_EQ(entries[2].rank, 2);  // 4 kills each
-  EXPECT_EQ(entries[2].matches, 4);
-  EXPECT_EQ(must(store_->rank_of(b, LeaderboardKind::Kills, 1), "b")->rank, 2);
-  EXPECT_FALSE(must(store_->rank_of(idle, LeaderboardKind::Kills, 1), "idle").has_value());
-}
-
-TEST_F(LeaderboardTest, WinRateHonoursMinimumMatches) {
-  const AccountId p1 = add("p1"), p2 = add("p2"), p3 = add("p3"), p4 = add("p4"), p5 = add("p5"),
-                  p6 = add("p6");
-  duel(p1, p2);
-  duel(p2, p1);  // p1 and p2: 1 of 2
-  duel(p3, p4);
-  draw(p3, p4);  // p3 2 of 2, p4 1 of 2 (a draw at the top score is a win)
-  duel(p5, p6);  // p5 1 of 1, p6 0 of 1
-
-  auto entries = board(LeaderboardKind::WinRate, 100, 1);
-  std::vector<std::pair<AccountId, std::int64_t>> got;
-  for (const auto& e : entries) got.emplace_back(e.account, e.rank);
-  EXPECT_EQ(got, (std::vector<std::pair<AccountId, std::int64_t>>{
-                     {p3, 1}, {p5, 1}, {p1, 3}, {p2, 3}, {p4, 3}, {p6, 6}}));
-  EXPECT_DOUBLE_EQ(entries[2].value, 0.5);
-  EXPECT_EQ(entries[5].value, 0);
-
-  entries = board(LeaderboardKind::WinRate, 100, 2);
-  got.clear();
-  for (const auto& e : entries) got.emplace_back(e.account, e.rank);
-  EXPECT_EQ(got,
-            (std::vector<std::pair<AccountId, std::int64_t>>{{p3, 1}, {p1, 2}, {p2, 2}, {p4, 2}}));
-  EXPECT_TRUE(board(LeaderboardKind::WinRate, 100, 3).empty());
-  EXPECT_EQ(board(LeaderboardKind::WinRate, 100, 0).size(), 6u);  // at least one match anyway
-
-  EXPECT_FALSE(must(store_->rank_of(p5, LeaderboardKind::WinRate, 2), "p5 min 2").has_value());
-  EXPECT_EQ(must(store_->rank_of(p5, LeaderboardKind::WinRate, 1), "p5 min 1")->rank, 1);
-  EXPECT_EQ(must(store_->rank_of(p4, LeaderboardKind::WinRate, 2), "p4 min 2")->rank, 2);
-  EXPECT_EQ(must(store_->rank_of(p6, LeaderboardKind::WinRate, 1), "p6 min 1")->rank, 6);
-  EXPECT_DOUBLE_EQ(must(store_->rank_of(p1, LeaderboardKind::WinRate, 2), "p1")->value, 0.5);
-}
-
-TEST_F(LeaderboardTest, RankOfAgreesWithTheBoard) {
-  std::vector<AccountId> ids;
-  for (int i = 0; i < 30; ++i) ids.push_back(add("player" + std::to_string(i)));
-  std::uint32_t seed = 12345;
-  const auto next = [&seed](std::uint32_t n) {
-    seed = seed * 1664525u + 1013904223u;
-    return (seed >> 8) % n;
-  };
-  for (int m = 0; m < 60; ++m) {
-    std::vector<AccountId> shuffled = ids;
-    for (std::size_t i = shuffled.size(); i > 1; --i) std::swap(shuffled[i - 1], shuffled[next(i)]);
-    std::vector<PlayerResult> players;
-    const std::size_t n = 2 + next(5);
-    for (std::size_t i = 0; i < n; ++i)
-      players.push_back(result(shuffled[i], static_cast<std::int32_t>(next(4)),
-                               static_cast<std::int32_t>(next(6))));
-    must(store_->record_match(match_of(players)), "random match");
-  }
-  for (LeaderboardKind kind :
-       {LeaderboardKind::Rating, LeaderboardKind::Kills, LeaderboardKind::WinRate}) {
-    for (int min_matches : {1, 4}) {
-      const auto entries = board(kind, 1000, min_matches);
-      for (std::size_t i = 0; i < entries.size(); ++i) {
-        const LeaderboardEntry& e = entries[i];
-        SCOPED_TRACE("kind " + std::to_string(static_cast<int>(kind)) + " min " +
-                     std::to_string(min_matches) + " entry " + std::to_string(i));
-        if (i > 0) {
-          EXPECT_GE(entries[i - 1].value, e.value);
-          if (entries[i - 1].value == e.value) {
-            EXPECT_LT(entries[i - 1].account, e.account);
-          }
-        }
-        EXPECT_GE(e.matches, kind == LeaderboardKind::WinRate ? min_matches : 1);
-        const auto ranked = must(store_->rank_of(e.account, kind, min_matches), "rank_of");
-        ASSERT_TRUE(ranked.has_value());
-        EXPECT_EQ(ranked->rank, e.rank);
-        EXPECT_EQ(ranked->value, e.value);
-        EXPECT_EQ(ranked->matches, e.matches);
-        EXPECT_EQ(ranked->username, e.username);
-      }
-    }
-  }
-}
-
-/// The query plan of `sql`, one detail line per row.
 std::vector<std::string> query_plan(sqlite3* db, const std::string& sql) {
   sqlite::Statement explain;
   EXPECT_EQ(explain.prepare(db, "EXPLAIN QUERY PLAN " + sql), SQLITE_OK) << sqlite3_errmsg(db);

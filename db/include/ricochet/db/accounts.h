@@ -5,22 +5,26 @@
 ///             stored as crypto_pwhash_str (Argon2id, interactive limits by default)
 ///   login     checks the password (against a dummy hash when the name is unknown, so the time
 ///             taken does not tell whether an account exists), refuses banned accounts, counts
-///             failures per account and per address (RateLimited past the limit), and returns a
-///             random 256-bit token; the store keeps only its SHA-256, with an expiry
-///   session   check, revoke; banning an account revokes all its sessions
+///             failures per account and per address in the store (RateLimited past the limit,
+///             shared by every server process on the database), and returns a random 256-bit
+///             token; the store keeps only its SHA-256, with an expiry
+///   session   check, revoke; banning an account or changing its password revokes all its
+///             sessions in the same transaction
+///
+/// Register, login and change_password each run in three steps, so that a caller can run the
+/// Argon2id work (~100 ms) on another thread: begin (DB) → hash or check (any thread, touches
+/// no state) → finish (DB). The one-call forms run the three in a row.
 ///
 /// Time is a parameter (Unix ms) of every call, so expiry and rate limits are testable.
 
-#include <array>
+#include <cstddef>
 #include <cstdint>
-#include <functional>
-#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
-#include <vector>
 
 #include "ricochet/db/records.h"
+#include "ricochet/db/refusals.h"
 #include "ricochet/db/result.h"
 #include "ricochet/db/store.h"
 
@@ -46,11 +50,7 @@ struct AccountsOptions {
   UnixMillis session_lifetime_ms = 24 * 3600 * 1000LL;
   RateLimit per_account{5, 60'000};
   RateLimit per_address{20, 60'000};
-  std::int64_t min_matches_for_win_rate = 10;
-  /// Called with every refusal (bad name, wrong password, rate limit, storage failure...) after
-  /// it is counted, so the server can log the reason. Runs on the thread calling Accounts (the
-  /// DB thread under DbWorker). Never given a password or a token.
-  std::function<void(const DbError&)> on_refusal;
+  OnRefusal on_refusal;  ///< see refusals.h
 };
 
 struct LoginResult {
@@ -65,12 +65,10 @@ struct SessionInfo {
   UnixMillis expires_ms = 0;
 };
 
-/// What was refused and why, for metrics: one counter per error code.
+/// What succeeded, for metrics (what was refused is in Accounts::refusals()).
 struct AccountsCounters {
-  std::array<std::uint64_t, kDbErrorCodeCount> errors{};
   std::uint64_t registrations = 0;
   std::uint64_t logins = 0;
-  std::uint64_t password_checks = 0;  ///< Argon2id verifications, real or dummy
   std::uint64_t session_checks = 0;
 };
 
@@ -85,34 +83,6 @@ class Accounts {
   DbResult<LoginResult> login(std::string_view username, std::string_view password,
                               std::string_view address, UnixMillis now);
   DbResult<SessionInfo> check_session(std::string_view token, UnixMillis now);
-
-  // --- register and login in steps, for a caller that runs Argon2id on another thread ---
-  // (DbWorker does: the DB thread then never spends ~100 ms per login hashing.)
-
-  /// The name and password rules of register_account, without hashing or storing.
-  DbStatus check_registration(std::string_view username, std::string_view password);
-  /// Argon2id at the configured cost. Reads only immutable options: any thread may call it.
-  /// Empty when libsodium could not allocate the memory.
-  std::string hash_new_password(std::string_view password) const;
-  DbResult<AccountId> finish_registration(std::string_view username, const std::string& hash,
-                                          UnixMillis now);
-
-  /// A login between its lookup and its password check.
-  struct LoginAttempt {
-    std::string username;  ///< as given
-    std::string address;
-    std::optional<AccountCredentials> found;  ///< nullopt: unknown (or invalid) name
-    std::string hash;  ///< what the password is checked against: the account's, or a dummy
-    UnixMillis started_ms = 0;
-  };
-  /// Rate limits and the account lookup; no hashing.
-  DbResult<LoginAttempt> begin_login(std::string_view username, std::size_t password_bytes,
-                                     std::string_view address, UnixMillis now);
-  /// The Argon2id check. Touches no state: any thread may call it.
-  static bool password_verifies(const LoginAttempt& attempt, std::string_view password);
-  /// Counts the check, records failures, refuses banned accounts, issues the session.
-  DbResult<LoginResult> finish_login(const LoginAttempt& attempt, bool password_ok,
-                                     std::string_view password, UnixMillis now);
   DbStatus revoke_session(std::string_view token);
   /// Checks the old password first (WrongCredentials); revokes every session of the account.
   DbStatus change_password(AccountId id, std::string_view old_password,
@@ -120,33 +90,58 @@ class Accounts {
   /// Banning revokes every session of the account; unbanning lets it log in again.
   DbStatus set_banned(AccountId id, bool banned);
 
-  /// Stats and boards, with the configured win-rate minimum.
-  DbResult<PlayerStats> player_stats(AccountId id);
-  DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit);
-  DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind);
-  DbResult<MatchId> record_match(const MatchRecord& match);
+  // --- register: check (DB) → hash_new_password (any thread) → finish_registration (DB) ---
+  DbStatus check_registration(std::string_view username, std::string_view password);
+  /// Argon2id at the configured cost; OutOfMemory when libsodium could not allocate it.
+  DbResult<std::string> hash_new_password(std::string_view password) const;
+  DbResult<AccountId> finish_registration(std::string_view username,
+                                          const DbResult<std::string>& hash, UnixMillis now);
+
+  // --- login: begin_login (DB) → check_password (any thread) → finish_login (DB) ---
+  struct LoginAttempt {
+    std::string username;                     ///< as given
+    std::optional<AccountCredentials> found;  ///< nullopt: unknown (or invalid) name
+    std::string hash;  ///< what the password is checked against: the account's, or a dummy
+    std::optional<std::int64_t> address_failure;  ///< noted by begin_login, forgiven on success
+  };
+  struct PasswordCheck {
+    bool matches = false;
+    std::string upgraded_hash;  ///< the password at the configured cost, when the stored hash
+                                ///< was made with other limits; empty otherwise
+  };
+  /// Rate limits (noting the attempt as failed until it succeeds) and the account lookup.
+  DbResult<LoginAttempt> begin_login(std::string_view username, std::size_t password_bytes,
+                                     std::string_view address, UnixMillis now);
+  PasswordCheck check_password(const LoginAttempt& attempt, std::string_view password) const;
+  /// Refuses banned accounts; writes the upgraded hash, the session and the login time at once.
+  DbResult<LoginResult> finish_login(const LoginAttempt& attempt, const PasswordCheck& check,
+                                     UnixMillis now);
+
+  // --- password change: begin (DB) → hash_password_change (any thread) → finish (DB) ---
+  struct PasswordChange {
+    AccountId account = 0;
+    std::string old_hash;  ///< the stored hash the old password is checked against
+  };
+  /// The new password's rules and the account lookup.
+  DbResult<PasswordChange> begin_password_change(AccountId id, std::string_view new_password);
+  /// The new password's hash, or WrongCredentials when the old one does not match.
+  DbResult<std::string> hash_password_change(const PasswordChange& change,
+                                             std::string_view old_password,
+                                             std::string_view new_password) const;
+  /// Writes the new hash and revokes every session at once; WrongCredentials when the password
+  /// was changed by someone else since begin_password_change.
+  DbStatus finish_password_change(const PasswordChange& change,
+                                  const DbResult<std::string>& new_hash);
 
   const AccountsCounters& counters() const { return counters_; }
-
-  /// Empty when the name is acceptable; otherwise what is wrong with it.
-  static std::string check_username(std::string_view username);
+  const Refusals& refusals() const { return refusals_; }
 
  private:
-  template <class T>
-  T counted(T result);
-  DbStatus counted_status(DbStatus status);
-  bool over_limit(const std::string& key, const RateLimit& limit, UnixMillis now);
-  void note_failure(const std::string& key, UnixMillis now);
-  /// Drops the failure noted at `when` (or, with `all`, every failure) under `key`.
-  void forget_failure(const std::string& key, UnixMillis when, bool all);
-  bool verify_password(const std::string& hash, std::string_view password);
-
   Store& store_;
   AccountsOptions options_;
   AccountsCounters counters_;
+  Refusals refusals_;
   std::string dummy_hash_;  ///< verified against when the username is unknown
-  /// Failure times per "account:<key>" and "address:<ip>", oldest first, pruned as they age.
-  std::map<std::string, std::vector<UnixMillis>> failures_;
 };
 
 }  // namespace ricochet::db

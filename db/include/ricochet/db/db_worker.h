@@ -1,18 +1,19 @@
 #pragma once
 /// The DB thread: every database job runs here, in submission order, never on the game thread.
 ///
-///   game thread ── submit(job, post, done) ──▶ queue ──▶ DB thread runs job(accounts)
+///   game thread ── submit(job, post, done) ──▶ queue ──▶ DB thread runs job(services)
 ///   game thread ◀── post(done(result)) ─────────────────┘
 ///
 /// `post` is how a result gets back to the caller: it receives a completion and must run it on
 /// the caller's executor (the server passes `asio::post(io_context, ...)`; tests pass a queue
 /// they drain). The game tick therefore never waits for the disk: a slow or locked database
 /// shows as latency on logins, never as a late tick. When more than `max_queued` jobs wait, a
-/// new job is refused at once with Busy (back-pressure instead of unbounded memory). Jobs still
-/// queued at stop() complete with Stopped.
+/// new job is refused at once with QueueFull (back-pressure instead of unbounded memory). Jobs
+/// still queued at stop() complete with Stopped.
 ///
-/// Argon2id is deliberately slow (~100 ms per hash at interactive cost), so login() and
-/// register_account() run it on separate password threads between two short DB-thread steps:
+/// Argon2id is deliberately slow (~100 ms per hash at interactive cost), so login(),
+/// register_account() and change_password() run it on separate password threads between two
+/// short DB-thread steps (accounts.h):
 ///
 ///   DB thread: lookup, rate limits ─▶ password thread: Argon2id ─▶ DB thread: session, counters
 ///
@@ -31,6 +32,7 @@
 #include <vector>
 
 #include "ricochet/db/accounts.h"
+#include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
 
 namespace ricochet::db {
@@ -54,7 +56,7 @@ class Delivery {
   }
   void stopped() const { (*this)(R(DbError{DbErrorCode::Stopped, "the DB worker stopped"})); }
   void queue_full() const {
-    (*this)(R(DbError{DbErrorCode::Busy, "the DB queue is full; retry later"}));
+    (*this)(R(DbError{DbErrorCode::QueueFull, "the DB queue is full; retry later"}));
   }
 
  private:
@@ -64,8 +66,15 @@ class Delivery {
 
 }  // namespace detail
 
+/// What a job on the DB thread works with: the rules over the worker's store.
+struct DbServices {
+  Accounts& accounts;
+  Matches& matches;
+};
+
 struct DbWorkerOptions {
   AccountsOptions accounts;
+  MatchesOptions matches;
   std::size_t max_queued = 10'000;  ///< per queue (DB jobs, password checks)
   int password_threads = 1;         ///< each Argon2id interactive hash holds 64 MiB while it runs
 };
@@ -79,7 +88,7 @@ class DbWorker {
   DbWorker(const DbWorker&) = delete;
   DbWorker& operator=(const DbWorker&) = delete;
 
-  /// Queues job(Accounts&) -> R for the DB thread, then posts done(R) through `post`. R is a
+  /// Queues job(DbServices&) -> R for the DB thread, then posts done(R) through `post`. R is a
   /// DbResult<T> or DbStatus. Never blocks on the database; thread-safe.
   template <class Job, class Done>
   void submit(Job job, Post post, Done done);
@@ -90,6 +99,9 @@ class DbWorker {
   /// Accounts::register_account with the hashing on a password thread.
   void register_account(std::string username, std::string password, UnixMillis now, Post post,
                         std::function<void(DbResult<AccountId>)> done);
+  /// Accounts::change_password with both Argon2id runs on a password thread.
+  void change_password(AccountId id, std::string old_password, std::string new_password, Post post,
+                       std::function<void(DbStatus)> done);
 
   /// Lets the running jobs finish, completes the queued ones with Stopped, joins the threads.
   void stop();
@@ -98,7 +110,7 @@ class DbWorker {
   std::size_t completed() const;
 
  private:
-  using Task = std::function<void(Accounts*)>;  ///< nullptr: the worker stopped
+  using Task = std::function<void(DbServices*)>;  ///< nullptr: the worker stopped
   using CpuTask = std::function<void(bool stopped)>;
   /// Queues a task, or runs it at once as stopped; false when the queue is full.
   template <class T, class Stopped>
@@ -106,6 +118,11 @@ class DbWorker {
   /// Waits for a task; false when the worker stops.
   template <class T>
   bool pop(std::deque<T>& queue, std::condition_variable& wake, T& task);
+  /// One job in three steps: begin(DbServices&) -> DbResult<S> or DbStatus on the DB thread,
+  /// then work(S&) -> W on a password thread, then finish(DbServices&, S&, W&) -> R back on the
+  /// DB thread, delivered. Defined in db_worker.cpp, the only place that uses it.
+  template <class R, class Begin, class Work, class Finish>
+  void in_three_steps(detail::Delivery<R> deliver, Begin begin, Work work, Finish finish);
   bool enqueue(Task task);
   bool enqueue_cpu(CpuTask task);
   void run();
@@ -113,6 +130,8 @@ class DbWorker {
 
   std::unique_ptr<Store> store_;
   Accounts accounts_;
+  Matches matches_;
+  DbServices services_;
   std::size_t max_queued_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
@@ -127,11 +146,11 @@ class DbWorker {
 
 template <class Job, class Done>
 void DbWorker::submit(Job job, Post post, Done done) {
-  using R = std::invoke_result_t<Job&, Accounts&>;
+  using R = std::invoke_result_t<Job&, DbServices&>;
   const detail::Delivery<R> deliver(std::move(post), std::move(done));
-  Task task = [job = std::move(job), deliver](Accounts* accounts) mutable {
-    if (!accounts) return deliver.stopped();
-    deliver(job(*accounts));
+  Task task = [job = std::move(job), deliver](DbServices* services) mutable {
+    if (!services) return deliver.stopped();
+    deliver(job(*services));
   };
   if (!enqueue(std::move(task))) deliver.queue_full();
 }

@@ -47,6 +47,13 @@ struct PlayerResult {
   double seconds_played = 0;
 };
 
+/// What a match did to one player, decided by the match rules (matches.h) and kept by the store.
+struct PlayerOutcome {
+  double rating_before = 0;  ///< Elo
+  double rating_after = 0;   ///< Elo
+  bool won = false;          ///< had the top score (ties all win)
+};
+
 /// A finished match, written in one transaction with every player's result.
 struct MatchRecord {
   std::string map;
@@ -81,7 +88,7 @@ enum class LeaderboardKind {
 };
 
 struct LeaderboardEntry {
-  std::int64_t rank = 0;  ///< 1-based; equal values share the better rank
+  std::int64_t rank = 0;  ///< 1-based; equal values share the better rank (0 from a Store)
   AccountId account = 0;
   std::string username;
   double value = 0;  ///< rating, kills or win rate

@@ -25,7 +25,9 @@ enum class DbErrorCode {
   CorruptDatabase,  ///< not a database, or integrity check failed
   CannotOpen,       ///< the file cannot be opened or created
   Busy,             ///< locked by another process for longer than the busy timeout
-  Storage,          ///< any other SQLite failure (disk full, I/O error)
+  QueueFull,        ///< the DB worker already holds DbWorkerOptions::max_queued jobs
+  Storage,          ///< any other storage failure (disk full, I/O error, a constraint)
+  OutOfMemory,      ///< the memory for a password hash (64 MiB for Argon2id) or SQLite ran out
   Stopped,          ///< the DB worker was stopped before the job ran
 };
 

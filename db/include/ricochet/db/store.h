@@ -6,15 +6,18 @@
 /// call is synchronous and may block on the disk: the game thread never calls a Store directly,
 /// it goes through DbWorker (db_worker.h). One Store is used by one thread at a time.
 ///
-/// The store validates what it must keep consistent (foreign keys, uniqueness, one transaction
-/// per match); the account rules (name syntax, password hashing, sessions, rate limits) live
-/// above it in Accounts (accounts.h), the same for every backend.
+/// A store only stores: it keeps what it must consistent (foreign keys, uniqueness,
+/// transactions) and decides nothing. The rules live above it, the same for every backend: the
+/// account rules (name syntax, password hashing, sessions, rate limits) in Accounts
+/// (accounts.h), the match rules (validation, winners, Elo, ranks) in Matches (matches.h).
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "ricochet/db/records.h"
@@ -25,6 +28,13 @@ namespace ricochet::db {
 class Store {
  public:
   virtual ~Store() = default;
+
+  /// Runs `work` as one unit: the store calls it makes are committed together when it succeeds,
+  /// and none of them is when it fails (or the commit does). The write lock is taken before
+  /// `work` starts (SQLite: BEGIN IMMEDIATE), so what it reads cannot change under it and it
+  /// never fails half-way for another writer's lock. A transaction inside `work` joins this one.
+  /// Busy when the lock is not had within the busy timeout.
+  virtual DbStatus transaction(const std::function<DbStatus()>& work) = 0;
 
   // --- accounts ---
   /// DuplicateUsername when username_key (the lowercased name) is taken.
@@ -48,23 +58,57 @@ class Store {
   /// Removes sessions that expired before `now`; returns how many.
   virtual DbResult<std::int64_t> delete_expired_sessions(UnixMillis now) = 0;
 
+  // --- failed logins, by key ("account:<name>", "address:<ip>"), for rate limits that every
+  // server process on the database shares ---
+  /// Notes one failure under `key` at `at_ms`; returns its id.
+  virtual DbResult<std::int64_t> insert_login_failure(std::string_view key, UnixMillis at_ms) = 0;
+  /// How many failures under `key` were noted after `after_ms`.
+  virtual DbResult<std::int64_t> count_login_failures(std::string_view key,
+                                                      UnixMillis after_ms) = 0;
+  virtual DbStatus delete_login_failure(std::int64_t id) = 0;
+  virtual DbStatus delete_login_failures_of(std::string_view key) = 0;
+  /// Removes every failure noted at or before `at_ms`.
+  virtual DbStatus delete_login_failures_until(UnixMillis at_ms) = 0;
+
   // --- matches, stats, leaderboards ---
-  /// Writes the match, every player's result, their lifetime stats and new ratings (rating.h)
-  /// in one transaction: after a crash either all of it is there or none. InvalidMatch when a
-  /// player is listed twice or unknown.
-  virtual DbResult<MatchId> record_match(const MatchRecord& match) = 0;
+  /// The account's current rating; nullopt when it never played; UnknownAccount if none.
+  virtual DbResult<std::optional<double>> rating_of(AccountId id) = 0;
+  /// Writes the match, every player's result and outcome (outcomes[i] is players[i]'s), and
+  /// adds them to the players' lifetime stats with their new ratings, in one transaction: after
+  /// a crash either all of it is there or none.
+  virtual DbResult<MatchId> insert_match(const MatchRecord& match,
+                                         const std::vector<PlayerOutcome>& outcomes) = 0;
   virtual DbResult<std::int64_t> match_count() = 0;
   /// Zeros and the initial rating for an account that never played; UnknownAccount if none.
   virtual DbResult<PlayerStats> player_stats(AccountId id) = 0;
-  /// The first `limit` entries, best first (ties by account id). WinRate lists only accounts
-  /// with at least `min_matches` matches.
+  /// The first `limit` entries of the board, best first (ties by account id), unranked. Every
+  /// account that played is on the Rating and Kills boards; WinRate lists only those with at
+  /// least `min_matches` matches.
   virtual DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit,
                                                               std::int64_t min_matches) = 0;
-  /// The account's entry on that board (rank 1 is best); nullopt when it is not on it (no
-  /// matches, or too few for WinRate).
-  virtual DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind,
-                                                            std::int64_t min_matches) = 0;
+  /// The account's username, matches and value on that board, unranked; nullopt when it never
+  /// played; UnknownAccount if none.
+  virtual DbResult<std::optional<LeaderboardEntry>> board_entry(AccountId id,
+                                                                LeaderboardKind kind) = 0;
+  /// How many entries of the board (WinRate: with at least `min_matches` matches) have a value
+  /// above `value`.
+  virtual DbResult<std::int64_t> count_better(LeaderboardKind kind, double value,
+                                              std::int64_t min_matches) = 0;
 };
+
+/// store.transaction(work) for a `work` that returns a DbResult<T> or a DbStatus: its own
+/// result when it ran and the commit succeeded, otherwise the error that stopped it.
+template <class Work>
+std::invoke_result_t<Work&> atomically(Store& store, Work work) {
+  std::optional<std::invoke_result_t<Work&>> result;
+  const DbStatus status = store.transaction([&]() -> DbStatus {
+    result.emplace(work());
+    if (!result->ok()) return result->error();
+    return {};
+  });
+  if (!status.ok()) return status.error();
+  return std::move(*result);
+}
 
 struct SqliteOptions {
   std::string path;            ///< the database file; created with its directory's permissions

@@ -1,0 +1,53 @@
+#pragma once
+/// Match rules over any Store: what a valid match record is, who won, the Elo update, lifetime
+/// stats, and the leaderboards with their ranks.
+///
+///   record_match  refuses a record with missing or out-of-range fields or an unknown or
+///                 repeated player (InvalidMatch); otherwise, in one transaction, reads each
+///                 player's rating, computes the new ones (rating.h) and the winners (everyone
+///                 with the top score: ties all win) and has the store write it all
+///   leaderboard   best first; equal values share the better rank
+///   rank_of       one account's place on a board: 1 + how many entries are strictly better
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "ricochet/db/records.h"
+#include "ricochet/db/refusals.h"
+#include "ricochet/db/result.h"
+#include "ricochet/db/store.h"
+
+namespace ricochet::db {
+
+struct MatchesOptions {
+  /// Matches an account needs before it appears on the win-rate board (at least 1).
+  std::int64_t min_matches_for_win_rate = 10;
+  OnRefusal on_refusal;  ///< see refusals.h
+};
+
+class Matches {
+ public:
+  /// The store must outlive this object.
+  explicit Matches(Store& store, MatchesOptions options = {});
+
+  DbResult<MatchId> record_match(const MatchRecord& match);
+  /// Zeros and the initial rating for an account that never played; UnknownAccount if none.
+  DbResult<PlayerStats> player_stats(AccountId id);
+  /// The first `limit` entries, best first (ties by account id).
+  DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit);
+  /// nullopt when the account is not on the board (no matches, or too few for WinRate).
+  DbResult<std::optional<LeaderboardEntry>> rank_of(AccountId id, LeaderboardKind kind);
+
+  const Refusals& refusals() const { return refusals_; }
+
+ private:
+  /// The matches an entry of `kind` needs.
+  std::int64_t matches_needed(LeaderboardKind kind) const;
+
+  Store& store_;
+  MatchesOptions options_;
+  Refusals refusals_;
+};
+
+}  // namespace ricochet::db
