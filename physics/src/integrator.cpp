@@ -115,8 +115,12 @@ void WorldImpl::integrate_velocities(Real h) {
   for (std::size_t k = 0; k < scratch.awake_list.size(); ++k) {
     const std::uint32_t slot = scratch.awake_list[k];
     scratch.solver.acceleration[k].setZero();
-    if (!state.bodies.simulated(slot)) continue;  // kinematic, or frozen this step
     Motion& m = scratch.solver.bodies[k];
+    if (!state.bodies.simulated(slot)) {  // kinematic, or frozen this step
+      // A kinematic body keeps its velocity, within the same speed limits.
+      if (!state.bodies.has(slot, kFlagFrozen)) clamp_or_freeze(slot, m);
+      continue;
+    }
     const Vec3 x0 = state.bodies.position[slot];
     const Vec3 v0 = m.linear_velocity;
     if (rk4 && moves_exactly(slot)) {

@@ -271,7 +271,8 @@ bool read_config(Reader& in, const WorldDef& def, WorldState& next,
     if (!in.count(index_count, 3 * kMaxMeshTriangles, 4, "mesh index count")) return false;
     if (index_count % 3 != 0) return in.fail("mesh index count", "not a multiple of 3");
     if ((shape.type == ShapeType::Mesh) != (index_count > 0))
-      return in.fail("mesh index count", "0 for a mesh, or triangles on a plane or box");
+      return in.fail("shape type / mesh index count",
+                     "a mesh without triangles, or triangles on a plane or box");
     shape.indices.resize(index_count);
     for (std::uint32_t& i : shape.indices) {
       if (!in.pod(i, "mesh index")) return false;
@@ -296,14 +297,16 @@ bool read_config(Reader& in, const WorldDef& def, WorldState& next,
         !in.pod(f.mask, "force mask")) {
       return false;
     }
-    if (f.stiffness <= 0 || f.rest_length < 0 || f.damping < 0 || f.min_distance < 0)
-      return in.fail("force parameters", "out of range");
+    if (f.stiffness <= 0) return in.fail("force stiffness", "not > 0");
+    if (f.rest_length < 0) return in.fail("force rest length", "negative");
+    if (f.damping < 0) return in.fail("force damping", "negative");
+    if (f.min_distance < 0) return in.fail("force min distance", "negative");
     if (f.kind == ForceKind::Spring &&
         (f.body >= slots || !b.alive(f.body) || b.has(f.body, kFlagKinematic))) {
-      return in.fail("force body", "names a missing or kinematic body");
+      return in.fail("force kind / force body", "a spring on a missing or kinematic body");
     }
     if (f.kind == ForceKind::Attractor && f.min_distance <= 0)
-      return in.fail("force min distance", "not > 0 for an attractor");
+      return in.fail("force kind / force min distance", "min distance not > 0 for an attractor");
   }
   next.statics.assign(std::move(shape_pool), std::move(shapes));
   next.forces.assign(std::move(force_pool), std::move(fields));
@@ -502,6 +505,20 @@ void commit_dynamic(RestoreScratch& in, WorldState& s) {
   s.gravity = in.gravity;
 }
 
+// A new field in one of these must be written by write_config or write_dynamic and read back by
+// read_config or read_dynamic (or be derived there); then update the size here. The save image
+// is then complete, and state_hash, which hashes the image, covers the new field too.
+static_assert(sizeof(WorldState) == sizeof(BodyStore) + sizeof(StaticGeometry) +
+                                        sizeof(ForceFields) + sizeof(ProjectileStore) + 8 +
+                                        sizeof(Vec3) + 3 * sizeof(std::vector<int>) +
+                                        (sizeof(Vec3) % 8 == 0 ? 0 : 8 - sizeof(Vec3) % 8));
+static_assert(sizeof(BodyStore) == sizeof(SlotPool) + 14 * sizeof(std::vector<int>));
+static_assert(sizeof(ProjectileStore) == sizeof(SlotPool) + 7 * sizeof(std::vector<int>));
+static_assert(sizeof(SlotPool) == 2 * sizeof(std::vector<int>) + 8);
+// Shapes and fields, plus lists and a hierarchy rebuilt from them by assign().
+static_assert(sizeof(StaticGeometry) == sizeof(SlotPool) + 4 * sizeof(std::vector<int>));
+static_assert(sizeof(ForceFields) == sizeof(SlotPool) + 3 * sizeof(std::vector<int>));
+
 }  // namespace
 
 std::uint64_t WorldImpl::config_fingerprint() const {
@@ -544,20 +561,21 @@ Status WorldImpl::restore(std::span<const std::uint8_t> bytes) {
   bool with_config = false;
   std::uint64_t print = 0;
   if (!in.pod(magic, "magic") || magic != kMagic)
-    return corrupt("not a Ricochet physics state (bad magic)");
+    return corrupt("magic: not a Ricochet physics state");
   if (!in.pod(version, "version") || version != kVersion) {
-    return corrupt("state version " + std::to_string(version) + ", this build reads " +
+    return corrupt("version: state version " + std::to_string(version) + ", this build reads " +
                    std::to_string(kVersion));
   }
   if (!in.pod(real_size, "real size") || real_size != sizeof(Real)) {
-    return corrupt("state saved with " + std::to_string(real_size * 8) +
+    return corrupt("real size: state saved with " + std::to_string(real_size * 8) +
                    "-bit reals, this build uses " + std::to_string(sizeof(Real) * 8));
   }
   if (!in.flag(with_config, "has config") || !in.pod(print, "fingerprint") ||
       !in.pod(config_bytes, "config bytes")) {
     return corrupt(in.error);
   }
-  if (!with_config && config_bytes != 0) return corrupt("config bytes: not 0 without config");
+  if (!with_config && config_bytes != 0)
+    return corrupt("has config: 0, but config bytes is " + std::to_string(config_bytes));
 
   if (print == config_fingerprint()) {  // same configuration: restore in place
     if (!in.skip(config_bytes) || !read_dynamic(in, def, state, restore_scratch))
