@@ -386,58 +386,6 @@ void WorldImpl::solve_contacts(Real h, bool use_bias) {
   }
 }
 
-/// Restitution that keeps energy across the impact's phase inside the step. The stored velocity
-/// of a semi-implicit body is the mean over the step it just took, ½·a·h off its true value, and
-/// the impact happens somewhere inside the step; reflecting the stored approach speed loses up to
-/// 2·a·h per bounce. Per contact with relative normal velocity v, relative normal acceleration a
-/// (constant over the step), gap d at prepare and d' at the end:
-///   true approach at the step start  w  = v + s·½·a·h   (s = +1 semi-implicit, -1 explicit)
-///   approach at the moment of touch  wc = -√(w² - 2·a·d)            (constant-acceleration fall)
-///   departure at the touch           wo = e·|wc|, and at the end √(wo² + 2·a·d')
-///   stored departure velocity        v' = √(wo² + 2·a·d') - s·½·a·h
-/// so ½·w² + a·gap, which semi-implicit Euler conserves exactly under constant acceleration, is
-/// scaled by e² and nothing else.
-void WorldImpl::apply_restitution(Real h) {
-  if (!def.enable_restitution) return;
-  SolverScratch& s = scratch.solver;
-  const Real threshold = def.restitution_threshold;
-  const Real half_h = (def.integrator == Integrator::ExplicitEuler ? Real(-0.5) : Real(0.5)) * h;
-  const auto acceleration = [&](std::uint32_t body) -> Vec3 {
-    return body < s.acceleration.size() ? s.acceleration[body] : Vec3::Zero().eval();
-  };
-  for (std::size_t k = 0; k < s.blocks.size(); ++k) {
-    ContactBlock& c = s.blocks[k];
-    ContactBlockExtra& e = s.extra[k];
-    for (int l = 0; l < kLanes; ++l) {
-      if (e.contact[l] == kUnusedLane || e.restitution[l] == 0 ||
-          e.relative_velocity[l] > -threshold || c.max_normal_impulse[l] == 0) {
-        continue;
-      }
-      const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
-      Motion& A = s.bodies[c.a[l]];
-      Motion& B = s.bodies[c.b[l]];
-      const Real a = n.dot(acceleration(c.b[l]) - acceleration(c.a[l]));
-      const Real w = e.relative_velocity[l] + half_h * a;
-      const Real gap = std::max(c.separation[l], Real(0));
-      const Real touch = std::sqrt(std::max(w * w - 2 * a * gap, Real(0)));
-      const Real end_gap = std::max(
-          c.separation[l] + n.dot(s.delta_position[c.b[l]] - s.delta_position[c.a[l]]), Real(0));
-      const Real departure = e.restitution[l] * touch;
-      const Real target =
-          std::sqrt(std::max(departure * departure + 2 * a * end_gap, Real(0))) - half_h * a;
-      const Real vn = n.dot(B.linear_velocity - A.linear_velocity);
-      const Real impulse = c.normal_mass[l] * (target - vn);
-      const Real accumulated = std::max(c.normal_impulse[l] + impulse, Real(0));
-      const Real applied = accumulated - c.normal_impulse[l];
-      c.normal_impulse[l] = accumulated;
-      c.max_normal_impulse[l] = std::max(c.max_normal_impulse[l], accumulated);
-      e.total_normal_impulse[l] += applied;
-      A.linear_velocity -= (A.inverse_mass * applied) * n;
-      B.linear_velocity += (B.inverse_mass * applied) * n;
-    }
-  }
-}
-
 void WorldImpl::store_impulses() {
   SolverScratch& s = scratch.solver;
   const std::size_t pair_count = state.pair_contacts.size();

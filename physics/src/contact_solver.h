@@ -81,6 +81,15 @@ struct SolverScratch {
   std::vector<std::uint32_t> support_level;  ///< per solver body; the dummy (statics) is 0
   std::vector<std::uint32_t> support_key;    ///< per contact: level of its supporting side
   std::vector<std::uint32_t> support_order;  ///< supported contacts, ground up
+  // Restitution (restitution.cpp), per solver body or per lane (block · kLanes + lane).
+  std::vector<std::uint32_t> restitution_start, restitution_adjacent;  ///< contacts per body
+  std::vector<Vec3> collision_velocity;  ///< m/s, per body, while collisions are replayed
+  std::vector<Real> collision_impulse;   ///< N·s, per contact; < 0: did not collide
+  std::vector<std::uint32_t> restitution_queue;
+  std::vector<std::uint8_t> restitution_queued;
+  std::vector<Real> restitution_target;   ///< m/s, relative normal velocity to keep
+  std::vector<Real> restitution_lower;    ///< N·s, least impulse the clean-up may add
+  std::vector<Real> restitution_applied;  ///< N·s added by the restitution pass
   ContactModel model = ContactModel::Spin;
   bool has_rolling = false;  ///< model == SpinRolling
   bool needs_shock = false;  ///< some contact joins masses more than shock_mass_ratio apart
