@@ -10,12 +10,10 @@
 /// Spheres touch on the line between centres, so the normal impulse has no torque.
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstring>
 #include <numbers>
-#include <type_traits>
 
+#include "contact_simd.h"
 #include "math_util.h"
 #include "world_impl.h"
 
@@ -23,14 +21,7 @@ namespace ricochet::physics {
 
 namespace {
 
-#if defined(__x86_64__) || defined(__i386__)
-#define RICOCHET_X86 1
-#else
-#define RICOCHET_X86 0
-#endif
-
-constexpr int kColors = 24;
-constexpr std::uint32_t kUnusedLane = ~0u;
+using namespace simd;
 
 /// Box2D v3 soft constraint coefficients for a contact spring of `hertz` with damping `zeta`.
 struct Softness {
@@ -56,239 +47,6 @@ struct PassParams {
   Real max_correction_speed;
   Softness soft;
 };
-
-// ---------------------------------------------------------------------------------------------
-// Every function that takes or returns a vector is always_inline: the AVX2 kernel must never call
-// a baseline-ISA function with a 32-byte vector argument (the two pass it differently), and at
-// -O0 nothing else inlines.
-//
-// Vectors. A kernel pass works on V, either a whole block (Wide: one AVX register) or, on the
-// baseline float path, half a block at a time (Quad: four floats, one SSE2/NEON register).
-// Contacts of one block share no moving body, so solving its halves one after the other gives
-// the same bits as solving it whole.
-
-using Quad = Real __attribute__((vector_size(4 * sizeof(Real))));
-/// A whole block's lanes as a computation type (Lanes is the storage type: the same vector,
-/// aligned for the AVX2 path, but an attribute a template argument cannot carry).
-using Wide = Real __attribute__((vector_size(sizeof(Lanes))));
-
-template <class V>
-constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(Real));
-
-/// Integer lane indices for __builtin_shuffle on V.
-using IndexReal = std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t>;
-template <class V>
-struct ShuffleOf;
-template <>
-struct ShuffleOf<Wide> {
-  using type = IndexReal __attribute__((vector_size(sizeof(Wide))));
-};
-#if !defined(RICOCHET_DOUBLE)
-template <>
-struct ShuffleOf<Quad> {
-  using type = IndexReal __attribute__((vector_size(sizeof(Quad))));
-};
-#endif
-
-template <class V>
-[[gnu::always_inline]] inline V splat(Real x) {
-  return V{} + x;
-}
-template <class V>
-[[gnu::always_inline]] inline V max_v(V a, V b) {
-  return a > b ? a : b;
-}
-template <class V>
-[[gnu::always_inline]] inline V min_v(V a, V b) {
-  return a < b ? a : b;
-}
-template <class V>
-[[gnu::always_inline]] inline V sqrt_v(V x) {
-  V r;
-  for (int l = 0; l < kWidth<V>; ++l) r[l] = std::sqrt(x[l]);  // vectorised: sqrtps
-  return r;
-}
-
-/// Factor that brings a vector of squared length len2 inside a circle of radius limit (>= 0).
-template <class V>
-[[gnu::always_inline]] inline V circle_clamp_scale(V len2, V limit) {
-  const auto outside = len2 > limit * limit;  // implies len2 > 0
-  const V safe_len2 = outside ? len2 : splat<V>(1);
-  return outside ? limit / sqrt_v(safe_len2) : splat<V>(1);
-}
-
-template <class V>
-[[gnu::always_inline]] inline V load(const Real* p) {
-  V v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-template <class V>
-[[gnu::always_inline]] inline void store(Real* p, V v) {
-  std::memcpy(p, &v, sizeof v);
-}
-
-/// Lanes first .. first + width of a block field.
-template <class V>
-[[gnu::always_inline]] inline V get(const Lanes& field, int first) {
-  return load<V>(reinterpret_cast<const Real*>(&field) + first);
-}
-template <class V>
-[[gnu::always_inline]] inline void put(Lanes& field, int first, V v) {
-  store(reinterpret_cast<Real*>(&field) + first, v);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Gather and scatter: a Motion is eight Reals (v, 1/m, w, 1/I); W bodies' Motions are transposed
-// into eight vectors of W lanes and back.
-
-static_assert(sizeof(Motion) == 8 * sizeof(Real), "Motion must be v|m|w|i");
-
-template <class V>
-struct BodyVectors {
-  V vx, vy, vz, m, wx, wy, wz, i;
-};
-
-/// 4×4 transpose. Its own inverse.
-template <class V>
-[[gnu::always_inline]] inline void transpose4(V* r) {
-  using S = typename ShuffleOf<V>::type;
-  const V t0 = __builtin_shuffle(r[0], r[1], S{0, 4, 1, 5});
-  const V t1 = __builtin_shuffle(r[2], r[3], S{0, 4, 1, 5});
-  const V t2 = __builtin_shuffle(r[0], r[1], S{2, 6, 3, 7});
-  const V t3 = __builtin_shuffle(r[2], r[3], S{2, 6, 3, 7});
-  r[0] = __builtin_shuffle(t0, t1, S{0, 1, 4, 5});
-  r[1] = __builtin_shuffle(t0, t1, S{2, 3, 6, 7});
-  r[2] = __builtin_shuffle(t2, t3, S{0, 1, 4, 5});
-  r[3] = __builtin_shuffle(t2, t3, S{2, 3, 6, 7});
-}
-
-/// 8×8 transpose in three stages that map onto AVX's unpack, shuffle and 128-bit permute.
-/// Its own inverse.
-template <class V>
-[[gnu::always_inline]] inline void transpose8(V* r) {
-  using S = typename ShuffleOf<V>::type;
-  V t[8], u[8];
-  for (int k = 0; k < 8; k += 2) {  // interleave row scratch.pairs within each 128-bit half
-    t[k] = __builtin_shuffle(r[k], r[k + 1], S{0, 8, 1, 9, 4, 12, 5, 13});
-    t[k + 1] = __builtin_shuffle(r[k], r[k + 1], S{2, 10, 3, 11, 6, 14, 7, 15});
-  }
-  for (int k = 0; k < 8; k += 4) {  // scratch.pairs of scratch.pairs
-    u[k] = __builtin_shuffle(t[k], t[k + 2], S{0, 1, 8, 9, 4, 5, 12, 13});
-    u[k + 1] = __builtin_shuffle(t[k], t[k + 2], S{2, 3, 10, 11, 6, 7, 14, 15});
-    u[k + 2] = __builtin_shuffle(t[k + 1], t[k + 3], S{0, 1, 8, 9, 4, 5, 12, 13});
-    u[k + 3] = __builtin_shuffle(t[k + 1], t[k + 3], S{2, 3, 10, 11, 6, 7, 14, 15});
-  }
-  for (int k = 0; k < 4; ++k) {  // low halves give columns 0-3, high halves columns 4-7
-    r[k] = __builtin_shuffle(u[k], u[k + 4], S{0, 1, 2, 3, 8, 9, 10, 11});
-    r[k + 4] = __builtin_shuffle(u[k], u[k + 4], S{4, 5, 6, 7, 12, 13, 14, 15});
-  }
-}
-
-/// Rows in, lanes out (and back). Eight-wide: rows are bodies, one 8×8 transpose. Four-wide:
-/// rows 0-3 are the bodies' v|m halves and rows 4-7 their w|i halves, two 4×4 transposes.
-template <class V>
-[[gnu::always_inline]] inline void transpose_motions(V* r) {
-  if constexpr (kWidth<V> == 8) {
-    transpose8(r);
-  } else {
-    static_assert(kWidth<V> == 4);
-    transpose4(r);
-    transpose4(r + 4);
-  }
-}
-
-template <class V>
-[[gnu::always_inline]] inline BodyVectors<V> gather(const Motion* bodies,
-                                                    const std::uint32_t* index) {
-  constexpr int W = kWidth<V>;
-  V r[8];
-  for (int l = 0; l < W; ++l) {
-    const Real* motion = bodies[index[l]].linear_velocity.data();
-    for (int part = 0; part < 8 / W; ++part) r[l + part * W] = load<V>(motion + part * W);
-  }
-  transpose_motions(r);
-  return {r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]};
-}
-
-/// Writes velocities back (the inverse masses ride along unchanged).
-template <class V>
-[[gnu::always_inline]] inline void scatter(Motion* bodies, const std::uint32_t* index,
-                                           const BodyVectors<V>& b) {
-  constexpr int W = kWidth<V>;
-  V r[8] = {b.vx, b.vy, b.vz, b.m, b.wx, b.wy, b.wz, b.i};
-  transpose_motions(r);
-  for (int l = 0; l < W; ++l) {
-    Real* motion = bodies[index[l]].linear_velocity.data();
-    for (int part = 0; part < 8 / W; ++part) store(motion + part * W, r[l + part * W]);
-  }
-}
-
-/// Linear part only (v, 1/m): for contact models without spin, half the memory traffic.
-/// Eight-wide: body k in the low half and body k + 4 in the high half of row k, then a 4×4
-/// transpose within each half (the first two stages of transpose8).
-template <class V>
-[[gnu::always_inline]] inline void transpose_linear(V* r) {
-  if constexpr (kWidth<V> == 8) {
-    using S = typename ShuffleOf<V>::type;
-    const V t0 = __builtin_shuffle(r[0], r[1], S{0, 8, 1, 9, 4, 12, 5, 13});
-    const V t1 = __builtin_shuffle(r[0], r[1], S{2, 10, 3, 11, 6, 14, 7, 15});
-    const V t2 = __builtin_shuffle(r[2], r[3], S{0, 8, 1, 9, 4, 12, 5, 13});
-    const V t3 = __builtin_shuffle(r[2], r[3], S{2, 10, 3, 11, 6, 14, 7, 15});
-    r[0] = __builtin_shuffle(t0, t2, S{0, 1, 8, 9, 4, 5, 12, 13});
-    r[1] = __builtin_shuffle(t0, t2, S{2, 3, 10, 11, 6, 7, 14, 15});
-    r[2] = __builtin_shuffle(t1, t3, S{0, 1, 8, 9, 4, 5, 12, 13});
-    r[3] = __builtin_shuffle(t1, t3, S{2, 3, 10, 11, 6, 7, 14, 15});
-  } else {
-    transpose4(r);
-  }
-}
-
-template <class V>
-[[gnu::always_inline]] inline BodyVectors<V> gather_linear(const Motion* bodies,
-                                                           const std::uint32_t* index) {
-  V r[4];
-  for (int k = 0; k < 4; ++k) {
-    const Real* low = bodies[index[k]].linear_velocity.data();
-    if constexpr (kWidth<V> == 8) {
-      const Real* high = bodies[index[k + 4]].linear_velocity.data();
-      r[k] = __builtin_shufflevector(load<Quad>(low), load<Quad>(high), 0, 1, 2, 3, 4, 5, 6, 7);
-    } else {
-      r[k] = load<V>(low);
-    }
-  }
-  transpose_linear(r);
-  return {r[0], r[1], r[2], r[3], V{}, V{}, V{}, V{}};
-}
-
-template <class V>
-[[gnu::always_inline]] inline void scatter_linear(Motion* bodies, const std::uint32_t* index,
-                                                  const BodyVectors<V>& b) {
-  V r[4] = {b.vx, b.vy, b.vz, b.m};
-  transpose_linear(r);
-  for (int k = 0; k < 4; ++k) {
-    Real* low = bodies[index[k]].linear_velocity.data();
-    if constexpr (kWidth<V> == 8) {
-      store(low, __builtin_shufflevector(r[k], r[k], 0, 1, 2, 3));
-      store(bodies[index[k + 4]].linear_velocity.data(),
-            __builtin_shufflevector(r[k], r[k], 4, 5, 6, 7));
-    } else {
-      store(low, r[k]);
-    }
-  }
-}
-
-/// Normal component of a per-body vector difference (b - a), lane-wise.
-template <class V>
-[[gnu::always_inline]] inline V normal_difference(const Vec3* v, const std::uint32_t* a,
-                                                  const std::uint32_t* b, V nx, V ny, V nz) {
-  V d;
-  for (int l = 0; l < kWidth<V>; ++l) {
-    const Vec3 diff = v[b[l]] - v[a[l]];
-    d[l] = diff.x() * nx[l] + diff.y() * ny[l] + diff.z() * nz[l];
-  }
-  return d;
-}
 
 // ---------------------------------------------------------------------------------------------
 // The kernel.
@@ -519,66 +277,19 @@ void WorldImpl::prepare_bodies() {
 
 void WorldImpl::prepare_contacts() {
   SolverScratch& s = scratch.solver;
-  const std::uint32_t awake = static_cast<std::uint32_t>(scratch.awake_list.size());
-  const std::uint32_t dummy = awake;
+  const std::uint32_t dummy = static_cast<std::uint32_t>(scratch.awake_list.size());
   const bool spin = def.enable_rotation && def.enable_friction;
 
-  // Greedy colouring: a contact takes the first colour where neither of its moving bodies is used.
   const std::size_t pair_count = state.pair_contacts.size();
   const std::size_t total = pair_count + state.static_contacts.size();
   const auto contact_at = [&](std::size_t i) -> Contact& {
     return i < pair_count ? state.pair_contacts[i] : state.static_contacts[i - pair_count];
   };
-  // used_colors[k]: bit c set when body k already has a contact of colour c (the dummy never does).
-  std::vector<std::uint32_t>& used_colors = s.used_colors;
-  used_colors.assign(awake + 1, 0);
-  s.color_of.resize(total);
-  std::vector<std::uint32_t> color_count(kColors + 1, 0);
-  for (std::size_t i = 0; i < total; ++i) {
-    const Contact& c = contact_at(i);
-    const std::uint32_t a = s.index_of[c.a];
-    const std::uint32_t b = i < pair_count ? s.index_of[c.b] : dummy;
-    const std::uint32_t free_colors = ~(used_colors[a] | used_colors[b]) & ((1u << kColors) - 1);
-    const std::uint32_t color =
-        free_colors != 0 ? static_cast<std::uint32_t>(std::countr_zero(free_colors)) : kColors;
-    if (color < kColors) {
-      if (a != dummy) used_colors[a] |= 1u << color;
-      if (b != dummy) used_colors[b] |= 1u << color;
-    }
-    s.color_of[i] = color;
-    ++color_count[color];
-  }
-  std::size_t block_count = total > 0 ? color_count[kColors] : 0;
-  for (int k = 0; k < kColors; ++k) block_count += (color_count[k] + kLanes - 1) / kLanes;
-  s.blocks.assign(block_count, ContactBlock{});
-  s.extra.assign(block_count, ContactBlockExtra{});
-  s.lane_of_contact.resize(total);
-  s.rolling.assign(s.has_rolling ? block_count : 0, RollingBlock{});
-
-  // Block ranges per colour; overflow contacts get a block each.
-  std::vector<std::uint32_t> next_block(kColors + 1), next_lane(kColors + 1, 0);
-  std::uint32_t first = 0;
-  for (int k = 0; k <= kColors; ++k) {
-    next_block[k] = first;
-    first += k < kColors ? (color_count[k] + kLanes - 1) / kLanes : color_count[k];
-  }
-  for (std::size_t b = 0; b < block_count; ++b) {
-    for (int l = 0; l < kLanes; ++l) {
-      s.blocks[b].a[l] = s.blocks[b].b[l] = dummy;
-      s.extra[b].contact[l] = kUnusedLane;
-    }
-  }
+  color_contacts(s, state.pair_contacts, state.static_contacts);
   for (std::size_t i = 0; i < total; ++i) {
     Contact& c = contact_at(i);
-    const std::uint32_t color = s.color_of[i];
-    const std::uint32_t block = next_block[color];
-    const int lane = static_cast<int>(next_lane[color]);
-    if (color == kColors || lane + 1 == kLanes) {
-      ++next_block[color];
-      next_lane[color] = 0;
-    } else {
-      ++next_lane[color];
-    }
+    const std::uint32_t block = s.lane_of_contact[i] / kLanes;
+    const int lane = static_cast<int>(s.lane_of_contact[i] % kLanes);
     ContactBlock& blk = s.blocks[block];
     ContactBlockExtra& extra = s.extra[block];
     const std::uint32_t a = s.index_of[c.a];
@@ -617,7 +328,6 @@ void WorldImpl::prepare_contacts() {
       r.z[lane] = c.rolling_impulse.z();
     }
     extra.contact[lane] = static_cast<std::uint32_t>(i);
-    s.lane_of_contact[i] = block * kLanes + static_cast<std::uint32_t>(lane);
     extra.relative_velocity[lane] = c.normal.dot(B.linear_velocity - A.linear_velocity);
     extra.restitution[lane] = def.enable_restitution ? c.restitution : Real(0);
   }
@@ -673,58 +383,6 @@ void WorldImpl::solve_contacts(Real h, bool use_bias) {
       if (use_bias)
         return solve_blocks_dispatch<PositionCorrection::SoftStep, true>(s, track_delta, p);
       return solve_blocks_dispatch<PositionCorrection::SoftStep, false>(s, track_delta, p);
-  }
-}
-
-/// Restitution that keeps energy across the impact's phase inside the step. The stored velocity
-/// of a semi-implicit body is the mean over the step it just took, ½·a·h off its true value, and
-/// the impact happens somewhere inside the step; reflecting the stored approach speed loses up to
-/// 2·a·h per bounce. Per contact with relative normal velocity v, relative normal acceleration a
-/// (constant over the step), gap d at prepare and d' at the end:
-///   true approach at the step start  w  = v + s·½·a·h   (s = +1 semi-implicit, -1 explicit)
-///   approach at the moment of touch  wc = -√(w² - 2·a·d)            (constant-acceleration fall)
-///   departure at the touch           wo = e·|wc|, and at the end √(wo² + 2·a·d')
-///   stored departure velocity        v' = √(wo² + 2·a·d') - s·½·a·h
-/// so ½·w² + a·gap, which semi-implicit Euler conserves exactly under constant acceleration, is
-/// scaled by e² and nothing else.
-void WorldImpl::apply_restitution(Real h) {
-  if (!def.enable_restitution) return;
-  SolverScratch& s = scratch.solver;
-  const Real threshold = def.restitution_threshold;
-  const Real half_h = (def.integrator == Integrator::ExplicitEuler ? Real(-0.5) : Real(0.5)) * h;
-  const auto acceleration = [&](std::uint32_t body) -> Vec3 {
-    return body < s.acceleration.size() ? s.acceleration[body] : Vec3::Zero().eval();
-  };
-  for (std::size_t k = 0; k < s.blocks.size(); ++k) {
-    ContactBlock& c = s.blocks[k];
-    ContactBlockExtra& e = s.extra[k];
-    for (int l = 0; l < kLanes; ++l) {
-      if (e.contact[l] == kUnusedLane || e.restitution[l] == 0 ||
-          e.relative_velocity[l] > -threshold || c.max_normal_impulse[l] == 0) {
-        continue;
-      }
-      const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
-      Motion& A = s.bodies[c.a[l]];
-      Motion& B = s.bodies[c.b[l]];
-      const Real a = n.dot(acceleration(c.b[l]) - acceleration(c.a[l]));
-      const Real w = e.relative_velocity[l] + half_h * a;
-      const Real gap = std::max(c.separation[l], Real(0));
-      const Real touch = std::sqrt(std::max(w * w - 2 * a * gap, Real(0)));
-      const Real end_gap = std::max(
-          c.separation[l] + n.dot(s.delta_position[c.b[l]] - s.delta_position[c.a[l]]), Real(0));
-      const Real departure = e.restitution[l] * touch;
-      const Real target =
-          std::sqrt(std::max(departure * departure + 2 * a * end_gap, Real(0))) - half_h * a;
-      const Real vn = n.dot(B.linear_velocity - A.linear_velocity);
-      const Real impulse = c.normal_mass[l] * (target - vn);
-      const Real accumulated = std::max(c.normal_impulse[l] + impulse, Real(0));
-      const Real applied = accumulated - c.normal_impulse[l];
-      c.normal_impulse[l] = accumulated;
-      c.max_normal_impulse[l] = std::max(c.max_normal_impulse[l], accumulated);
-      e.total_normal_impulse[l] += applied;
-      A.linear_velocity -= (A.inverse_mass * applied) * n;
-      B.linear_velocity += (B.inverse_mass * applied) * n;
-    }
   }
 }
 

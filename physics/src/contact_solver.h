@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "body_store.h"
+#include "contact.h"
 
 namespace ricochet::physics {
 
@@ -20,6 +21,8 @@ constexpr int kLanes = 32 / static_cast<int>(sizeof(Real));
 /// two SSE2 (or NEON) registers on the baseline path. Aligned to 32 explicitly: the baseline
 /// ABI would align it to 16 only, and the AVX2 path reads it with aligned loads.
 using Lanes = Real __attribute__((vector_size(kLanes * sizeof(Real)), aligned(32)));
+/// ContactBlockExtra::contact of a lane that holds no contact.
+constexpr std::uint32_t kUnusedLane = ~0u;
 
 /// Hot contact data for kLanes contacts.
 struct ContactBlock {
@@ -69,6 +72,7 @@ struct SolverScratch {
   std::vector<ContactBlock> blocks;
   std::vector<RollingBlock> rolling;
   std::vector<ContactBlockExtra> extra;
+  // Colouring (contact_coloring.cpp).
   std::vector<std::uint32_t> used_colors;      ///< per solver body: colours it already has
   std::vector<std::uint32_t> color_of;         ///< per contact
   std::vector<std::uint32_t> lane_of_contact;  ///< per contact: block · kLanes + lane
@@ -77,10 +81,26 @@ struct SolverScratch {
   std::vector<std::uint32_t> support_level;  ///< per solver body; the dummy (statics) is 0
   std::vector<std::uint32_t> support_key;    ///< per contact: level of its supporting side
   std::vector<std::uint32_t> support_order;  ///< supported contacts, ground up
+  // Restitution (restitution.cpp), per solver body or per lane (block · kLanes + lane).
+  std::vector<std::uint32_t> restitution_start, restitution_adjacent;  ///< contacts per body
+  std::vector<Vec3> collision_velocity;  ///< m/s, per body, while collisions are replayed
+  std::vector<Real> collision_impulse;   ///< N·s, per contact; < 0: did not collide
+  std::vector<std::uint32_t> restitution_queue;
+  std::vector<std::uint8_t> restitution_queued;
+  std::vector<Real> restitution_target;   ///< m/s, relative normal velocity to keep
+  std::vector<Real> restitution_lower;    ///< N·s, least impulse the clean-up may add
+  std::vector<Real> restitution_applied;  ///< N·s added by the restitution pass
   ContactModel model = ContactModel::Spin;
   bool has_rolling = false;  ///< model == SpinRolling
   bool needs_shock = false;  ///< some contact joins masses more than shock_mass_ratio apart
   bool wide = false;         ///< solve with AVX2 instructions (bit-identical to the baseline path)
 };
+
+/// Colours the contacts (pair contacts, then static contacts, indexed in that order) and lays
+/// them out: sizes blocks, extra and rolling, points every lane at the dummy body and marks it
+/// unused, and fills color_of and lane_of_contact. Reads bodies (for the dummy), index_of and
+/// has_rolling, which prepare_bodies has set.
+void color_contacts(SolverScratch& s, const std::vector<Contact>& pairs,
+                    const std::vector<Contact>& statics);
 
 }  // namespace ricochet::physics
