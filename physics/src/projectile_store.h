@@ -2,6 +2,7 @@
 /// Projectiles in structure-of-arrays slots with generations, like BodyStore.
 
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "ricochet/physics/projectile.h"
@@ -38,6 +39,18 @@ struct ProjectileStore {
   }
 
   void destroy(std::uint32_t slot) { slots.release(slot); }
+
+  /// Whether slots a and b have the same radius, gravity scale and filter (bit for bit).
+  bool same_shape(std::uint32_t a, std::uint32_t b) const {
+    return std::memcmp(&radius[a], &radius[b], sizeof(Real)) == 0 &&
+           std::memcmp(&gravity_scale[a], &gravity_scale[b], sizeof(Real)) == 0 &&
+           filter[a].layer == filter[b].layer && filter[a].mask == filter[b].mask;
+  }
+  void copy_shape(std::uint32_t to, std::uint32_t from) {
+    radius[to] = radius[from];
+    gravity_scale[to] = gravity_scale[from];
+    filter[to] = filter[from];
+  }
 
   /// Grows (or shrinks) every per-slot array but the pool's to `count` slots.
   void resize(std::uint32_t count) {

@@ -21,11 +21,14 @@
 ///            per live body: flags u16 (kStateFlags), position, orientation (w x y z), linear
 ///              velocity, angular velocity, sleep time
 ///            loads: count u32 | per body with a force or torque: slot u32, force, torque
-///            pair contacts, static contacts: count u32 | key u64, normal impulse, friction
-///              impulse, rolling impulse, touching u8
+///            pair contacts, static contacts: count u32 | key u64, contact bits u8 (touching,
+///              has friction impulse, has rolling impulse), normal impulse, [friction impulse],
+///              [rolling impulse]; only contacts that touch or carry an impulse (the others
+///              change nothing in the next step)
 ///            sensor overlaps: count u32 | keys u64, ascending
-///            projectile pool | per live projectile: position, velocity, radius, gravity scale,
-///              filter, ignore (index u32, generation u32), user data u64
+///            projectile pool | per live projectile: position, velocity, shape bit u8 (1: the
+///              radius, gravity scale and filter of the previous live projectile), [radius,
+///              gravity scale, filter], ignore (index u32, generation u32), user data u64
 ///   pool     slot count u32 | generation u32 per slot | free count u32 | free slots u32
 
 #include <algorithm>
@@ -315,11 +318,33 @@ bool read_config(Reader& in, const WorldDef& def, WorldState& next,
 
 // --- dynamic section ---
 
+enum ContactBits : std::uint8_t {
+  kContactTouching = 1 << 0,
+  kContactFriction = 1 << 1,  ///< a friction impulse follows
+  kContactRolling = 1 << 2,   ///< a rolling impulse follows
+};
+
+/// A contact the next step would treat like no contact at all: not touching, no impulse.
+bool inert(const Contact& c) {
+  return !c.touching && c.normal_impulse == 0 && c.friction_impulse == Vec3::Zero() &&
+         c.rolling_impulse == Vec3::Zero();
+}
+
 void write_contacts(Writer& out, const std::vector<Contact>& contacts) {
-  out.pod(static_cast<std::uint32_t>(contacts.size()));
+  const auto kept =
+      std::count_if(contacts.begin(), contacts.end(), [](const Contact& c) { return !inert(c); });
+  out.pod(static_cast<std::uint32_t>(kept));
   for (const Contact& c : contacts) {
-    out.pod(c.key), out.pod(c.normal_impulse), out.vec(c.friction_impulse);
-    out.vec(c.rolling_impulse), out.u8(c.touching);
+    if (inert(c)) continue;
+    const bool friction = c.friction_impulse != Vec3::Zero();
+    const bool rolling = c.rolling_impulse != Vec3::Zero();
+    out.pod(c.key);
+    out.pod(static_cast<std::uint8_t>((c.touching ? kContactTouching : 0) |
+                                      (friction ? kContactFriction : 0) |
+                                      (rolling ? kContactRolling : 0)));
+    out.pod(c.normal_impulse);
+    if (friction) out.vec(c.friction_impulse);
+    if (rolling) out.vec(c.rolling_impulse);
   }
 }
 
@@ -346,11 +371,18 @@ void write_dynamic(Writer& out, const WorldState& s) {
   for (const std::uint64_t key : s.sensor_overlaps) out.pod(key);
   const ProjectileStore& p = s.projectiles;
   out.pool(p.slots);
+  std::uint32_t previous = ~0u;
   for (std::uint32_t k = 0; k < p.slot_count(); ++k) {
     if (!p.alive(k)) continue;
-    out.vec(p.position[k]), out.vec(p.velocity[k]), out.pod(p.radius[k]);
-    out.pod(p.gravity_scale[k]), out.pod(p.filter[k].layer), out.pod(p.filter[k].mask);
+    out.vec(p.position[k]), out.vec(p.velocity[k]);
+    const bool same_shape = previous != ~0u && p.same_shape(k, previous);
+    out.u8(same_shape);
+    if (!same_shape) {
+      out.pod(p.radius[k]), out.pod(p.gravity_scale[k]);
+      out.pod(p.filter[k].layer), out.pod(p.filter[k].mask);
+    }
     out.pod(p.ignore[k].index), out.pod(p.ignore[k].generation), out.pod(p.user_data[k]);
+    previous = k;
   }
 }
 
@@ -360,15 +392,18 @@ bool read_contacts(Reader& in, const BodyStore& b, const StaticGeometry& statics
                    std::vector<Contact>& contacts) {
   const char* field = pairs ? "pair contact" : "static contact";
   std::uint32_t n = 0;
-  if (!in.count(n, 1u << 28, 8 + 7 * sizeof(Real) + 1, field)) return false;
+  if (!in.count(n, 1u << 28, 8 + 1 + sizeof(Real), field)) return false;
   contacts.resize(n);
   for (Contact& c : contacts) {
     c = Contact{};
-    if (!in.pod(c.key, field) || !in.real(c.normal_impulse, field) ||
-        !in.vec(c.friction_impulse, field) || !in.vec(c.rolling_impulse, field) ||
-        !in.flag(c.touching, field)) {
+    std::uint8_t bits = 0;
+    if (!in.pod(c.key, field) || !in.pod(bits, field) || !in.real(c.normal_impulse, field))
       return false;
-    }
+    if ((bits & ~(kContactTouching | kContactFriction | kContactRolling)) != 0)
+      return in.fail(field, "unknown contact bits");
+    c.touching = (bits & kContactTouching) != 0;
+    if ((bits & kContactFriction) != 0 && !in.vec(c.friction_impulse, field)) return false;
+    if ((bits & kContactRolling) != 0 && !in.vec(c.rolling_impulse, field)) return false;
     if (c.normal_impulse < 0) return in.fail(field, "negative normal impulse");
     if (pairs) {
       if ((c.key >> 63) != 0) return in.fail(field, "static key among pair contacts");
@@ -467,15 +502,27 @@ bool read_dynamic(Reader& in, const WorldDef& def, const WorldState& config, Res
     return false;
   }
   p.resize(p.slot_count());
+  std::uint32_t previous_live = ~0u;
   for (std::uint32_t k = 0; k < p.slot_count(); ++k) {
     if (!p.alive(k)) continue;
+    bool same_shape = false;
     if (!in.vec(p.position[k], "projectile position") ||
         !in.vec(p.velocity[k], "projectile velocity") ||
-        !in.real(p.radius[k], "projectile radius") ||
-        !in.real(p.gravity_scale[k], "projectile gravity scale") ||
-        !in.pod(p.filter[k].layer, "projectile filter") ||
-        !in.pod(p.filter[k].mask, "projectile filter") ||
-        !in.pod(p.ignore[k].index, "projectile ignore") ||
+        !in.flag(same_shape, "projectile shape bit")) {
+      return false;
+    }
+    if (same_shape) {
+      if (previous_live == ~0u)
+        return in.fail("projectile shape bit", "set on the first live projectile");
+      p.copy_shape(k, previous_live);
+    } else if (!in.real(p.radius[k], "projectile radius") ||
+               !in.real(p.gravity_scale[k], "projectile gravity scale") ||
+               !in.pod(p.filter[k].layer, "projectile filter") ||
+               !in.pod(p.filter[k].mask, "projectile filter")) {
+      return false;
+    }
+    previous_live = k;
+    if (!in.pod(p.ignore[k].index, "projectile ignore") ||
         !in.pod(p.ignore[k].generation, "projectile ignore") ||
         !in.pod(p.user_data[k], "projectile user data")) {
       return false;

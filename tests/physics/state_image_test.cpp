@@ -136,8 +136,8 @@ class ImageMap {
       const std::uint32_t n = take(Kind::U32, Role::Count, list);
       for (std::uint32_t c = 0; c < n; ++c) {
         take(Kind::U64, pairs ? Role::PairKey : Role::StaticKey, list);
-        reals(7, list);
-        take(Kind::U8, Role::Value, list);
+        const auto bits = take(Kind::U8, Role::Count, list);  // which impulses follow
+        reals(1 + ((bits & 2) ? 3 : 0) + ((bits & 4) ? 3 : 0), list);
       }
     }
     const std::uint32_t overlaps = take(Kind::U32, Role::Count, "sensor overlap");
@@ -146,10 +146,12 @@ class ImageMap {
       if (!live) continue;
       reals(3, "projectile position");
       reals(3, "projectile velocity");
-      reals(1, "projectile radius");
-      reals(1, "projectile gravity scale");
-      take(Kind::U32, Role::Value, "projectile filter");
-      take(Kind::U32, Role::Value, "projectile filter");
+      if (take(Kind::U8, Role::Count, "projectile shape bit") == 0) {
+        reals(1, "projectile radius");
+        reals(1, "projectile gravity scale");
+        take(Kind::U32, Role::Value, "projectile filter");
+        take(Kind::U32, Role::Value, "projectile filter");
+      }
       take(Kind::U32, Role::Value, "projectile ignore");
       take(Kind::U32, Role::Value, "projectile ignore");
       take(Kind::U64, Role::Value, "projectile user data");
@@ -234,6 +236,10 @@ World rich_world() {
   shot.velocity = Vec3(2, 0, 0);
   shot.gravity_scale = 0;
   shot.radius = Real(0.02);
+  unwrap(world.create_projectile(shot), "create_projectile");
+  shot.position.y() += 1;
+  unwrap(world.create_projectile(shot), "create_projectile");  // same shape: one bit
+  shot.radius = Real(0.05);
   unwrap(world.create_projectile(shot), "create_projectile");
   const ProjectileId spent = unwrap(world.create_projectile(shot), "create_projectile");
   RICOCHET_EXPECT_OK(world.destroy_projectile(spent));
@@ -463,9 +469,10 @@ TEST(StateImage, ADynamicImageIsSmallAndRewindsExactly) {
   EXPECT_EQ(world.state_hash(), at_save);
   ASSERT_TRUE(run(world, 30));
   EXPECT_EQ(world.state_hash(), later) << "replay after an in-place rewind diverged";
-  // 5 live bodies, 1 projectile: the per-body part is 2 + 16 reals; header, contacts and
-  // loads add the rest.
-  EXPECT_LT(image.size(), 5 * (2 + 16 * kReal) + 1 * (8 * kReal + 28) + 400);
+  // 5 live bodies at 2 bytes + 16 reals, 3 projectiles at 6 reals + 1 + 16 (+ 2 reals and 8 for
+  // the two that do not share a shape), pools, header, loads and contacts (at most 17 + 7 reals
+  // each, touching ones only) add the rest.
+  EXPECT_LT(image.size(), 5 * (2 + 16 * kReal) + 3 * (6 * kReal + 17) + 2 * (2 * kReal + 8) + 600);
 }
 
 }  // namespace
