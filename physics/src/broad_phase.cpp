@@ -10,6 +10,7 @@
 #include <bit>
 #include <cmath>
 
+#include "scratch_vector.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
@@ -66,10 +67,10 @@ void BodyGrid::build(Real cell) {
   }
   for (std::uint32_t i = 0; i < count; ++i)
     key_of[i] = key(unsorted[i].x, unsorted[i].y, unsorted[i].z);
-  cell_start.assign(keys + 1, 0);
+  assign_reusing(cell_start, keys + 1, 0);
   for (std::uint32_t i = 0; i < count; ++i) ++cell_start[key_of[i] + 1];
   for (std::uint32_t k = 0; k < keys; ++k) cell_start[k + 1] += cell_start[k];
-  cursor.assign(cell_start.begin(), cell_start.end() - 1);
+  assign_reusing(cursor, cell_start.begin(), cell_start.end() - 1);
   entries.resize(count);
   for (std::uint32_t i = 0; i < count; ++i) entries[cursor[key_of[i]]++] = unsorted[i];
 }

@@ -10,6 +10,7 @@
 #include <bit>
 
 #include "contact_solver.h"
+#include "scratch_vector.h"
 
 namespace ricochet::physics {
 
@@ -27,7 +28,7 @@ void color_contacts(SolverScratch& s, const std::vector<Contact>& pairs,
   };
   // used_colors[k]: bit c set when body k already has a contact of colour c (the dummy never does).
   std::vector<std::uint32_t>& used_colors = s.used_colors;
-  used_colors.assign(dummy + 1, 0);
+  assign_reusing(used_colors, dummy + 1, 0);
   s.color_of.resize(total);
   std::array<std::uint32_t, kColors + 1> color_count{};  // the last counts the overflow
   for (std::size_t i = 0; i < total; ++i) {
@@ -46,10 +47,10 @@ void color_contacts(SolverScratch& s, const std::vector<Contact>& pairs,
   }
   std::size_t block_count = total > 0 ? color_count[kColors] : 0;
   for (int k = 0; k < kColors; ++k) block_count += (color_count[k] + kLanes - 1) / kLanes;
-  s.blocks.assign(block_count, ContactBlock{});
-  s.extra.assign(block_count, ContactBlockExtra{});
+  assign_reusing(s.blocks, block_count, ContactBlock{});
+  assign_reusing(s.extra, block_count, ContactBlockExtra{});
   s.lane_of_contact.resize(total);
-  s.rolling.assign(s.has_rolling ? block_count : 0, RollingBlock{});
+  assign_reusing(s.rolling, s.has_rolling ? block_count : 0, RollingBlock{});
   for (std::size_t b = 0; b < block_count; ++b) {
     for (int l = 0; l < kLanes; ++l) {
       s.blocks[b].a[l] = s.blocks[b].b[l] = dummy;

@@ -15,6 +15,7 @@
 
 #include "contact_simd.h"
 #include "math_util.h"
+#include "scratch_vector.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
@@ -247,7 +248,7 @@ void WorldImpl::prepare_bodies() {
   SolverScratch& s = scratch.solver;
   const std::uint32_t awake = static_cast<std::uint32_t>(scratch.awake_list.size());
   const std::uint32_t dummy = awake;
-  s.index_of.assign(state.bodies.slot_count(), dummy);
+  assign_reusing(s.index_of, state.bodies.slot_count(), dummy);
   s.bodies.resize(awake + 1);
   bool any_rolling = false;
   for (std::uint32_t k = 0; k < awake; ++k) {
@@ -270,9 +271,9 @@ void WorldImpl::prepare_bodies() {
 #if RICOCHET_X86
   s.wide = def.wide_simd && __builtin_cpu_supports("avx2");
 #endif
-  s.delta_position.assign(awake + 1, Vec3::Zero());
+  assign_reusing(s.delta_position, awake + 1, Vec3::Zero());
   if (def.position_correction == PositionCorrection::SplitImpulse)
-    s.pseudo_velocity.assign(awake + 1, Vec3::Zero());
+    assign_reusing(s.pseudo_velocity, awake + 1, Vec3::Zero());
 }
 
 void WorldImpl::prepare_contacts() {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scratch_vector.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
@@ -21,9 +22,9 @@ void WorldImpl::solve_continuous() {
       fast.push_back(s);
   }
   if (fast.empty()) return;
-  scratch.time_of_impact.assign(fast.size(), Real(1));
+  assign_reusing(scratch.time_of_impact, fast.size(), Real(1));
   std::vector<std::uint8_t>& sweeping = scratch.fast_sweeping;
-  sweeping.assign(fast.size(), 0);
+  assign_reusing(sweeping, fast.size(), 0);
 
   const auto start_of = [&](std::uint32_t s) -> const Vec3& { return scratch.start_position[s]; };
   for (std::size_t k = 0; k < fast.size(); ++k) {
@@ -84,7 +85,7 @@ Real WorldImpl::sort_body_move_boxes() {
 /// sweeping side takes the pair's time of impact.
 void WorldImpl::sweep_bodies_against_bodies() {
   const std::vector<std::uint32_t>& fast = scratch.fast_bodies;
-  scratch.fast_index.assign(state.bodies.slot_count(), StepScratch::kNotFast);
+  assign_reusing(scratch.fast_index, state.bodies.slot_count(), StepScratch::kNotFast);
   for (std::uint32_t k = 0; k < fast.size(); ++k) scratch.fast_index[fast[k]] = k;
   sort_body_move_boxes();
   const std::vector<StepScratch::SweptBox>& boxes = scratch.swept_boxes;

@@ -29,7 +29,8 @@ void WorldImpl::report_events() {
     events.pending_end_events.clear();
     return;
   }
-  events.end_events = std::move(events.pending_end_events);
+  // Copied, not moved: both buffers keep their capacity.
+  events.end_events.assign(events.pending_end_events.begin(), events.pending_end_events.end());
   events.pending_end_events.clear();
 
   const auto other_of = [&](const Contact& c, bool pair) {

@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "math_util.h"
+#include "scratch_vector.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
@@ -109,7 +110,7 @@ void WorldImpl::integrate_velocities(Real h) {
   const bool rk4 = def.integrator == Integrator::Rk4;
   scratch.solver.acceleration.resize(scratch.awake_list.size());
   if (rk4) {
-    scratch.solver.free_flight.assign(scratch.awake_list.size(), 0);
+    assign_reusing(scratch.solver.free_flight, scratch.awake_list.size(), 0);
     scratch.solver.free_flight_move.resize(scratch.awake_list.size());
   }
   for (std::size_t k = 0; k < scratch.awake_list.size(); ++k) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "scratch_vector.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
@@ -42,7 +43,7 @@ void WorldImpl::wake_touching_islands() {
   for (std::uint32_t s = 0; s < slots; ++s) scratch.island_parent[s] = s;
   constexpr std::uint16_t kNotLinking = kFlagKinematic | kFlagFrozen;
   std::vector<std::uint8_t>& root_awake = scratch.island_scratch;
-  root_awake.assign(slots, 0);
+  assign_reusing(root_awake, slots, 0);
   for (const BodyPair& pair : scratch.pairs) {
     const std::uint16_t fa = state.bodies.flags[pair.a], fb = state.bodies.flags[pair.b];
     if (((fa | fb) & kNotLinking) == 0) {
@@ -95,7 +96,7 @@ void WorldImpl::update_sleep(Real step_dt) {
   // An island sleeps when its slowest-to-settle body has been slow long enough.
   const std::uint32_t slots = state.bodies.slot_count();
   std::vector<Real>& island_min_time = scratch.island_sleep_time;
-  island_min_time.assign(slots, std::numeric_limits<Real>::max());
+  assign_reusing(island_min_time, slots, std::numeric_limits<Real>::max());
   for (const std::uint32_t s : scratch.awake_list) {
     if (!state.bodies.simulated(s)) continue;
     Real& t = island_min_time[find_root(scratch.island_parent, s)];

@@ -8,6 +8,7 @@
 #include <bit>
 #include <cmath>
 
+#include "scratch_vector.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
@@ -16,7 +17,7 @@ void ContactCache::build(const std::vector<Contact>& pairs, const std::vector<Co
   const std::size_t count = pairs.size() + statics.size();
   std::size_t capacity = 16;
   while (capacity < 2 * count) capacity <<= 1;
-  keys_.assign(capacity, kEmpty);
+  assign_reusing(keys_, capacity, kEmpty);
   values_.resize(capacity);
   mask_ = capacity - 1;
   shift_ = 64 - static_cast<unsigned>(std::countr_zero(capacity));
@@ -81,7 +82,7 @@ void WorldImpl::update_contacts() {
   scratch.cache.build(scratch.previous_pair_contacts, scratch.previous_static_contacts);
   const std::size_t previous_count =
       scratch.previous_pair_contacts.size() + scratch.previous_static_contacts.size();
-  scratch.previous_matched.assign(previous_count, 0);
+  assign_reusing(scratch.previous_matched, previous_count, 0);
   state.pair_contacts.clear();
   state.static_contacts.clear();
 

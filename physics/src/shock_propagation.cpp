@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "scratch_vector.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
@@ -32,7 +33,7 @@ void WorldImpl::order_contacts_by_support() {
   // Pair-contact adjacency (compressed rows) over solver bodies.
   std::vector<std::uint32_t>& start = s.adjacency_start;
   std::vector<std::uint32_t>& neighbours = s.adjacency;
-  start.assign(body_count + 1, 0);
+  assign_reusing(start, body_count + 1, 0);
   for (std::size_t i = 0; i < pair_count; ++i) {
     const Contact& c = state.pair_contacts[i];
     ++start[s.index_of[c.a] + 1];
@@ -40,7 +41,7 @@ void WorldImpl::order_contacts_by_support() {
   }
   for (std::uint32_t k = 0; k < body_count; ++k) start[k + 1] += start[k];
   neighbours.resize(start[body_count]);
-  s.cursor.assign(start.begin(), start.end() - 1);
+  assign_reusing(s.cursor, start.begin(), start.end() - 1);
   for (std::size_t i = 0; i < pair_count; ++i) {
     const std::uint32_t a = s.index_of[state.pair_contacts[i].a],
                         b = s.index_of[state.pair_contacts[i].b];
@@ -50,7 +51,7 @@ void WorldImpl::order_contacts_by_support() {
 
   // Breadth-first levels from the bodies touching static geometry.
   std::vector<std::uint32_t>& level = s.support_level;
-  level.assign(body_count, kNoLevel);
+  assign_reusing(level, body_count, kNoLevel);
   level[dummy] = 0;
   std::vector<std::uint32_t>& queue = s.cursor;  // the fill cursors are spent: reuse the buffer
   queue.clear();
@@ -88,7 +89,7 @@ void WorldImpl::order_contacts_by_support() {
     key[i] = std::min(support, unsupported);
   }
   std::vector<std::uint32_t>& first = s.adjacency_start;  // reused
-  first.assign(unsupported + 2, 0);
+  assign_reusing(first, unsupported + 2, 0);
   for (const std::uint32_t k : key) ++first[k + 1];
   for (std::uint32_t l = 0; l <= unsupported; ++l) first[l + 1] += first[l];
   std::vector<std::uint32_t>& order = s.support_order;
