@@ -11,6 +11,8 @@ packages=(
   libgtest-dev       # unit and integration tests
   libcli11-dev       # command-line parsing for the tools (beats a hand-written parser)
   gnuplot-nox        # plots of the physics study (tools/physics-study)
+  clang              # the libFuzzer targets (tests/fuzz, tools/fuzz.sh)
+  libclang-rt-14-dev # their fuzzer and sanitizer runtimes
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
 if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then
