@@ -163,12 +163,19 @@ TEST(BodyMoveEvents, BodiesAtRestReportNothingUntilMoved) {
   EXPECT_TRUE(world.body_move_events().empty());
 }
 
-TEST(BodyMoveEvents, FellAsleepOnceThenSilentThenWoke) {
+/// A world with sleeping on and a ball resting on the floor.
+World resting_ball_world(BodyId& ball) {
   WorldDef def;
   def.enable_sleep = true;
   World world = make_world(def);
   add_floor(world);
-  const BodyId ball = add_sphere(world, Vec3(0, Real(0.5), 0));
+  ball = add_sphere(world, Vec3(0, Real(0.5), 0));
+  return world;
+}
+
+TEST(BodyMoveEvents, FellAsleepOnceThenSilentThenWoke) {
+  BodyId ball;
+  World world = resting_ball_world(ball);
   int asleep_events = 0, steps = 0;
   for (; steps < 200 && !state_of(world, ball).sleeping; ++steps) {
     ASSERT_TRUE(run(world, 1));
@@ -192,11 +199,8 @@ TEST(BodyMoveEvents, FellAsleepOnceThenSilentThenWoke) {
 }
 
 TEST(BodyMoveEvents, ReusedSlotStartsFresh) {
-  WorldDef def;
-  def.enable_sleep = true;
-  World world = make_world(def);
-  add_floor(world);
-  const BodyId ball = add_sphere(world, Vec3(0, Real(0.5), 0));
+  BodyId ball;
+  World world = resting_ball_world(ball);
   for (int i = 0; i < 200 && !state_of(world, ball).sleeping; ++i) ASSERT_TRUE(run(world, 1));
   ASSERT_TRUE(state_of(world, ball).sleeping);
   RICOCHET_ASSERT_OK(world.wake(ball));  // marks it woken, then it is gone
