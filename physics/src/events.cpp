@@ -34,21 +34,21 @@ void WorldImpl::report_events() {
   events.pending_end_events.clear();
 
   const auto other_of = [&](const Contact& c, bool pair) {
-    return pair ? ContactTarget{state.bodies.id_of(c.b), {}}
-                : ContactTarget{{}, state.statics.id_of(c.b)};
+    return pair ? body_target(c.b) : shape_target(c.b);
   };
   for (int list = 0; list < 2; ++list) {
     const bool pair = list == 0;
     for (const Contact& c : pair ? state.pair_contacts : state.static_contacts) {
       if (!c.touching) continue;
       const BodyId body = state.bodies.id_of(c.a);
+      const std::uint64_t user_data = state.bodies.user_data[c.a];
       if (!c.previously_touching) {
-        events.begin_events.push_back(
-            {body, other_of(c, pair), c.point, c.normal, std::max(Real(0), -c.relative_velocity)});
+        events.begin_events.push_back({body, other_of(c, pair), c.point, c.normal,
+                                       std::max(Real(0), -c.relative_velocity), user_data});
       }
       if (c.total_normal_impulse > 0) {
         events.impulse_events.push_back(
-            {body, other_of(c, pair), c.point, c.normal, c.total_normal_impulse});
+            {body, other_of(c, pair), c.point, c.normal, c.total_normal_impulse, user_data});
       }
     }
   }
@@ -59,20 +59,22 @@ void WorldImpl::report_events() {
     const Contact& old = pair ? scratch.previous_pair_contacts[i]
                               : scratch.previous_static_contacts[i - previous_pairs];
     if (old.touching && !scratch.previous_matched[i] && state.bodies.alive(old.a)) {
-      events.end_events.push_back({state.bodies.id_of(old.a), other_of(old, pair)});
+      events.end_events.push_back(
+          {state.bodies.id_of(old.a), other_of(old, pair), state.bodies.user_data[old.a]});
     }
   }
   for (auto* list : {&state.pair_contacts, &state.static_contacts}) {
     const bool pair = list == &state.pair_contacts;
     for (const Contact& c : *list) {
       if (c.previously_touching && !c.touching)
-        events.end_events.push_back({state.bodies.id_of(c.a), other_of(c, pair)});
+        events.end_events.push_back(
+            {state.bodies.id_of(c.a), other_of(c, pair), state.bodies.user_data[c.a]});
     }
   }
   // Sensor begin/end from the sorted key sets.
   const auto sensor_event_target = [&](std::uint64_t key, BodyId& body, ContactTarget& other) {
     body = state.bodies.id_of(static_cast<std::uint32_t>(key >> 32));
-    other = ContactTarget{state.bodies.id_of(static_cast<std::uint32_t>(key)), {}};
+    other = body_target(static_cast<std::uint32_t>(key));
   };
   std::vector<std::uint64_t>& diff = scratch.sensor_difference;
   diff.clear();
@@ -82,6 +84,7 @@ void WorldImpl::report_events() {
   for (const std::uint64_t key : diff) {
     ContactBeginEvent e{};
     sensor_event_target(key, e.body, e.other);
+    e.user_data = state.bodies.user_data[e.body.index];
     const Vec3 d = state.bodies.position[e.other.body.index] - state.bodies.position[e.body.index];
     e.normal = d.norm() > 0 ? Vec3(d.normalized()) : fallback_normal();
     e.point = state.bodies.position[e.body.index] + e.normal * state.bodies.radius[e.body.index];
@@ -95,8 +98,10 @@ void WorldImpl::report_events() {
   for (const std::uint64_t key : diff) {
     ContactEndEvent e{};
     sensor_event_target(key, e.body, e.other);
-    if (state.bodies.alive(e.body.index) && state.bodies.alive(e.other.body.index))
+    if (state.bodies.alive(e.body.index) && state.bodies.alive(e.other.body.index)) {
+      e.user_data = state.bodies.user_data[e.body.index];
       events.end_events.push_back(e);
+    }
   }
 }
 

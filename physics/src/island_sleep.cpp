@@ -32,6 +32,7 @@ void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b)
 }  // namespace
 
 void WorldImpl::wake_body(std::uint32_t slot) {
+  if (state.bodies.has(slot, kFlagSleeping)) mark_for_move_event(slot, kMoveMarkWoke);
   state.bodies.flags[slot] &= static_cast<std::uint16_t>(~kFlagSleeping);
   state.bodies.sleep_time[slot] = 0;
 }

@@ -119,7 +119,7 @@ void WorldImpl::sweep_projectiles_against_statics() {
     const Real r = p.radius[sweep.slot];
     const auto keep = [&](std::uint32_t shape, const SweepHit& hit) {
       sweep.hit = hit;
-      sweep.target = ContactTarget{{}, state.statics.id_of(shape)};
+      sweep.target = shape_target(shape);
     };
     for (const std::uint32_t slot : state.statics.plane_slots()) {
       const StaticShape& plane = state.statics.shape(slot);
@@ -175,7 +175,7 @@ void WorldImpl::sweep_projectiles_against_bodies() {
       if (sweep_sphere_point(sweep.from - scratch.start_position[body], sweep.move - body_move,
                              radius + state.bodies.radius[body], Vec3::Zero(), hit)) {
         sweep.hit = hit;
-        sweep.target = ContactTarget{state.bodies.id_of(body), {}};
+        sweep.target = body_target(body);
       }
     }
   }

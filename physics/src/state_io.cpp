@@ -653,7 +653,16 @@ Status WorldImpl::restore(std::span<const std::uint8_t> bytes) {
     ++config_version;
   }
   def.gravity = state.gravity;
-  events = StepEvents{};
+  // Last step's events belong to the abandoned timeline; every body is where the image puts it,
+  // so the next step reports each as moved (snapshot building resends them all).
+  events.clear_step();
+  events.pending_end_events.clear();
+  for (const std::uint32_t s : events.marked_slots) events.move_marks[s] = 0;
+  events.marked_slots.clear();
+  for (std::uint32_t s = 0; s < state.bodies.slot_count(); ++s) {
+    if (state.bodies.alive(s)) mark_for_move_event(s, kMoveMarkMoved);
+  }
+  query_grid.mark_stale();
   return {};
 }
 

@@ -62,6 +62,11 @@ class StaticGeometry {
   /// o..o+d touches.
   template <class Visit>
   void query_segment(const Vec3& o, const Vec3& d, Real inflate, Visit&& visit) const;
+  /// As query_segment for a closest-hit cast, nearer boxes first: visit(primitive_index) returns
+  /// the fraction of d past which nothing is wanted any more (the closest hit so far, or 1), and
+  /// boxes the segment enters after it are skipped.
+  template <class Visit>
+  void query_segment_nearest(const Vec3& o, const Vec3& d, Real inflate, Visit&& visit) const;
 
   const StaticPrimitive& primitive(std::uint32_t i) const { return primitives_[i]; }
   ClosestFeature closest_feature(std::uint32_t primitive, const Vec3& point) const;
@@ -129,6 +134,68 @@ void StaticGeometry::query_segment(const Vec3& o, const Vec3& d, Real inflate,
     } else if (top + 2 <= 64) {
       stack[top++] = node.first + 1;
       stack[top++] = node.first;
+    }
+  }
+}
+
+template <class Visit>
+void StaticGeometry::query_segment_nearest(const Vec3& o, const Vec3& d, Real inflate,
+                                           Visit&& visit) const {
+  if (nodes_.empty()) return;
+  struct Pending {
+    std::uint32_t node;
+    Real t_enter;
+  };
+  Pending stack[64];
+  int top = 0;
+  // The slab test of segment_overlaps_aabb with the division hoisted out of the walk.
+  Real inverse[3];
+  bool parallel[3];
+  for (int k = 0; k < 3; ++k) {
+    parallel[k] = std::abs(d[k]) < Real(1e-30);
+    inverse[k] = parallel[k] ? Real(0) : 1 / d[k];
+  }
+  const auto enter = [&](std::uint32_t node, Real& t) {
+    const Aabb& box = nodes_[node].box;
+    Real t0 = 0, t1 = 1;
+    for (int k = 0; k < 3; ++k) {
+      const Real lo = box.min[k] - inflate, hi = box.max[k] + inflate;
+      if (parallel[k]) {
+        if (o[k] < lo || o[k] > hi) return false;
+        continue;
+      }
+      Real ta = (lo - o[k]) * inverse[k], tb = (hi - o[k]) * inverse[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    t = t0;
+    return t0 <= t1;
+  };
+  Real t_root, t_max = 1;
+  if (!enter(0, t_root)) return;
+  stack[top++] = {0, t_root};
+  while (top > 0) {
+    const Pending pending = stack[--top];
+    if (pending.t_enter > t_max) continue;
+    const Node& node = nodes_[pending.node];
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+        t_max = std::min(t_max, visit(i));
+      continue;
+    }
+    Real t_left = 0, t_right = 0;
+    const bool left = enter(node.first, t_left) && t_left <= t_max;
+    const bool right = enter(node.first + 1, t_right) && t_right <= t_max;
+    if (top + 2 > 64) continue;
+    if (left && right) {  // the nearer child on top
+      const bool left_first = t_left <= t_right;
+      stack[top++] = left_first ? Pending{node.first + 1, t_right} : Pending{node.first, t_left};
+      stack[top++] = left_first ? Pending{node.first, t_left} : Pending{node.first + 1, t_right};
+    } else if (left) {
+      stack[top++] = {node.first, t_left};
+    } else if (right) {
+      stack[top++] = {node.first + 1, t_right};
     }
   }
 }

@@ -113,6 +113,7 @@ Result<BodyId> World::create_body(const BodyDef& def) {
   const std::uint32_t slot = b.create(def);
   impl_->mark_velocity_as_given(slot);
   impl_->configuration_changed();
+  impl_->mark_for_move_event(slot, WorldImpl::kMoveMarkCreated);
   return b.id_of(slot);
 }
 
@@ -122,6 +123,7 @@ Status World::destroy_body(BodyId id) {
   impl_->state.forces.remove_springs_of(id.index);
   impl_->state.bodies.destroy(id.index);
   impl_->configuration_changed();
+  impl_->query_grid.mark_stale();
   return {};
 }
 
@@ -131,9 +133,8 @@ void WorldImpl::remove_contacts_of(std::uint32_t slot) {
     std::erase_if(list, [&](const Contact& c) {
       if (c.a != slot && !(pair && c.b == slot)) return false;
       if (c.touching && def.contact_events) {
-        ContactTarget other = pair ? ContactTarget{state.bodies.id_of(c.a == slot ? c.b : c.a), {}}
-                                   : ContactTarget{{}, state.statics.id_of(c.b)};
-        events.pending_end_events.push_back({id, other});
+        ContactTarget other = pair ? body_target(c.a == slot ? c.b : c.a) : shape_target(c.b);
+        events.pending_end_events.push_back({id, other, state.bodies.user_data[slot]});
       }
       return true;
     });
@@ -170,6 +171,7 @@ Status World::set_transform(BodyId id, const Vec3& position, const Quat& orienta
   impl_->state.bodies.position[id.index] = position;
   impl_->state.bodies.orientation[id.index] = orientation.normalized();
   impl_->wake_body(id.index);
+  impl_->mark_for_move_event(id.index, WorldImpl::kMoveMarkMoved);
   return {};
 }
 
@@ -336,8 +338,10 @@ Status World::remove_shape(ShapeId id) {
   WorldImpl& w = *impl_;
   std::erase_if(w.state.static_contacts, [&](const Contact& c) {
     if (c.b != id.index) return false;
-    if (c.touching && w.def.contact_events)
-      w.events.pending_end_events.push_back({w.state.bodies.id_of(c.a), {{}, id}});
+    if (c.touching && w.def.contact_events) {
+      w.events.pending_end_events.push_back(
+          {w.state.bodies.id_of(c.a), w.shape_target(id.index), w.state.bodies.user_data[c.a]});
+    }
     return true;
   });
   w.wake_all();  // whatever rested on it must fall
@@ -457,8 +461,10 @@ Status WorldImpl::step(Real step_dt) {
   update_sleep(step_dt);
   timer.lap(profile.sleep_ms);
   report_events();
+  report_body_moves();
   timer.lap(profile.events_ms);
   end_step();
+  query_grid.mark_stale();
 
   profile.total_ms = timer.total_ms();
   profile.bodies_awake = static_cast<int>(scratch.awake_list.size());

@@ -5,7 +5,8 @@
 ///   narrow_phase.cpp   update_contacts
 ///   contact_solver.cpp solve (prepare, warm start, iterate, integrate, relax, restitution)
 ///   continuous.cpp     solve_continuous
-///   queries.cpp        ray and sphere casts, overlaps
+///   queries.cpp        ray and sphere casts, overlaps (through query_grid.h)
+///   body_reads.cpp     live_bodies, read_bodies, body move events
 ///   state_io.cpp       state_hash, save_state, restore_state
 ///   events.cpp         report_events
 ///
@@ -24,6 +25,7 @@
 #include "force_fields.h"
 #include "profile_timer.h"
 #include "projectile_store.h"
+#include "query_grid.h"
 #include "ricochet/physics/world.h"
 #include "static_geometry.h"
 
@@ -129,6 +131,10 @@ struct StepEvents {
   std::vector<ContactImpulseEvent> impulse_events;
   std::vector<NonFiniteEvent> nonfinite_events;
   std::vector<ContactEndEvent> pending_end_events;  ///< from destroy/remove between steps
+  std::vector<BodyMoveEvent> body_moves;
+  /// Per slot: why the next step must report the body (kMoveMark*), whether or not it moves.
+  std::vector<std::uint8_t> move_marks;
+  std::vector<std::uint32_t> marked_slots;  ///< slots with a move mark set
 
   void clear_step() {
     begin_events.clear();
@@ -136,6 +142,7 @@ struct StepEvents {
     impulse_events.clear();
     nonfinite_events.clear();
     projectile_hits.clear();
+    body_moves.clear();
   }
 };
 
@@ -211,6 +218,25 @@ class WorldImpl {
   void propagate_shock(Real inverse_h, bool use_bias);
   void reset_impulses();
   void store_impulses();
+
+  // --- what a server reads between steps (queries.cpp, body_reads.cpp) ---
+  ContactTarget body_target(std::uint32_t slot) const {
+    return {state.bodies.id_of(slot), {}, state.bodies.user_data[slot]};
+  }
+  ContactTarget shape_target(std::uint32_t slot) const {
+    return {{}, state.statics.id_of(slot), 0};
+  }
+  static constexpr std::uint8_t kMoveMarkMoved = 1;    ///< set_transform or create_body
+  static constexpr std::uint8_t kMoveMarkWoke = 2;     ///< woken from sleep
+  static constexpr std::uint8_t kMoveMarkCreated = 4;  ///< create_body: marked Moved only
+  /// A body was moved, created or woken outside the integrator: the next step reports it.
+  void mark_for_move_event(std::uint32_t slot, std::uint8_t why);
+  /// Fills events.body_moves from the awake bodies after the step, then clears the marks.
+  void report_body_moves();
+  /// Rebuilt lazily by the first query after a step or a body's move, creation or destruction.
+  mutable QueryGrid query_grid;
+  mutable std::vector<std::uint32_t> query_stamp;  ///< per slot: last query that tested it
+  mutable std::uint32_t query_counter = 0;
 
   WorldDef def;  ///< as created; def.gravity follows state.gravity
   WorldState state;

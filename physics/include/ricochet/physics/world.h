@@ -32,6 +32,16 @@ enum class StateParts : std::uint8_t {
   Dynamic,
 };
 
+/// Where World::read_bodies writes, one element per id. A span left empty is not read; a
+/// non-empty one must hold exactly as many elements as there are ids.
+struct BodyReadout {
+  std::span<Vec3> positions = {};           ///< m, centre
+  std::span<Quat> orientations = {};        ///< unit
+  std::span<Vec3> linear_velocities = {};   ///< m/s
+  std::span<Vec3> angular_velocities = {};  ///< rad/s
+  std::span<std::uint64_t> user_data = {};  ///< BodyDef::user_data
+};
+
 class World {
  public:
   /// Fails with InvalidArgument and the first wrong field when def.validate() is not empty.
@@ -110,6 +120,29 @@ class World {
   /// Everything a sphere at center overlaps.
   std::vector<ContactTarget> overlap_sphere(const Vec3& center, Real radius,
                                             const QueryFilter& filter) const;
+
+  // --- what a server reads each tick (body_reads.cpp, queries.cpp) ---
+  /// Writes the live bodies' ids to out in slot order, as many as fit, and returns how many bodies
+  /// are live (body_count()): a span of that size gets them all.
+  std::uint32_t live_bodies(std::span<BodyId> out) const;
+  /// Reads the state of many bodies in one call: element i of each non-empty span of out gets
+  /// body ids[i]. Fails with InvalidArgument when a non-empty span's size differs from
+  /// ids.size(), and with InvalidHandle naming the first null or stale id; on failure nothing is
+  /// written.
+  Status read_bodies(std::span<const BodyId> ids, const BodyReadout& out) const;
+  /// Bodies that moved, woke or fell asleep in the last step (BodyMoveEvent), in slot order.
+  std::span<const BodyMoveEvent> body_move_events() const;
+  /// Lag compensation: ray_cast_closest against what filter selects in the world (set
+  /// filter.bodies = false to leave the live bodies out) plus the caller's spheres, e.g. the
+  /// players where the shooter saw them. No body is moved or woken, state_hash() is unchanged. A
+  /// proxy whose body is filter.ignore is skipped; on a tie the world's object wins.
+  bool ray_cast_spheres(const Vec3& origin, const Vec3& direction, Real max_distance,
+                        const QueryFilter& filter, std::span<const SphereProxy> spheres,
+                        RayHit& hit) const;
+  /// As ray_cast_spheres, for a sphere of radius m swept along the ray (sphere_cast).
+  bool sphere_cast_spheres(const Vec3& origin, Real radius, const Vec3& direction,
+                           Real max_distance, const QueryFilter& filter,
+                           std::span<const SphereProxy> spheres, RayHit& hit) const;
 
   // --- determinism and rollback ---
   /// 64-bit FNV-1a of the StateParts::Dynamic image: the dynamic state and the configuration's
