@@ -54,7 +54,9 @@ void BodyGrid::build(Real cell) {
   for (int k = 0; k < 3; ++k) {
     min_cell[k] = lo[k];
     extent[k] = std::int64_t{hi[k]} - lo[k] + 1;
-    cells = std::min<std::int64_t>(cells * extent[k], std::int64_t{1} << 40);
+    // Saturating: extents reach 2^32 when bodies are far apart, so the product could overflow.
+    constexpr std::int64_t kCap = std::int64_t{1} << 40;
+    cells = extent[k] > kCap / cells ? kCap : std::min(cells * extent[k], kCap);
   }
   dense = cells <= 4 * std::int64_t{count} + 4096;
   std::uint32_t keys;

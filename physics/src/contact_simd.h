@@ -35,7 +35,7 @@ using Wide = Real __attribute__((vector_size(sizeof(Lanes))));
 template <class V>
 constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(Real));
 
-/// Integer lane indices for __builtin_shuffle on V.
+/// Integer lane indices for GCC's __builtin_shuffle on V.
 using IndexReal = std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t>;
 template <class V>
 struct ShuffleOf;
@@ -49,6 +49,17 @@ struct ShuffleOf<Quad> {
   using type = IndexReal __attribute__((vector_size(sizeof(Quad))));
 };
 #endif
+
+/// Lane i of the result is lane I[i] of a:b (a's lanes first). GCC spells it with a mask vector,
+/// Clang with constant arguments; a shuffle only moves bits, so both give the same results.
+template <int... I, class V>
+[[gnu::always_inline]] inline V shuffle(V a, V b) {
+#if defined(__clang__)
+  return __builtin_shufflevector(a, b, I...);
+#else
+  return __builtin_shuffle(a, b, typename ShuffleOf<V>::type{I...});
+#endif
+}
 
 template <class V>
 [[gnu::always_inline]] inline V splat(Real x) {
@@ -112,36 +123,34 @@ struct BodyVectors {
 /// 4×4 transpose. Its own inverse.
 template <class V>
 [[gnu::always_inline]] inline void transpose4(V* r) {
-  using S = typename ShuffleOf<V>::type;
-  const V t0 = __builtin_shuffle(r[0], r[1], S{0, 4, 1, 5});
-  const V t1 = __builtin_shuffle(r[2], r[3], S{0, 4, 1, 5});
-  const V t2 = __builtin_shuffle(r[0], r[1], S{2, 6, 3, 7});
-  const V t3 = __builtin_shuffle(r[2], r[3], S{2, 6, 3, 7});
-  r[0] = __builtin_shuffle(t0, t1, S{0, 1, 4, 5});
-  r[1] = __builtin_shuffle(t0, t1, S{2, 3, 6, 7});
-  r[2] = __builtin_shuffle(t2, t3, S{0, 1, 4, 5});
-  r[3] = __builtin_shuffle(t2, t3, S{2, 3, 6, 7});
+  const V t0 = shuffle<0, 4, 1, 5>(r[0], r[1]);
+  const V t1 = shuffle<0, 4, 1, 5>(r[2], r[3]);
+  const V t2 = shuffle<2, 6, 3, 7>(r[0], r[1]);
+  const V t3 = shuffle<2, 6, 3, 7>(r[2], r[3]);
+  r[0] = shuffle<0, 1, 4, 5>(t0, t1);
+  r[1] = shuffle<2, 3, 6, 7>(t0, t1);
+  r[2] = shuffle<0, 1, 4, 5>(t2, t3);
+  r[3] = shuffle<2, 3, 6, 7>(t2, t3);
 }
 
 /// 8×8 transpose in three stages that map onto AVX's unpack, shuffle and 128-bit permute.
 /// Its own inverse.
 template <class V>
 [[gnu::always_inline]] inline void transpose8(V* r) {
-  using S = typename ShuffleOf<V>::type;
   V t[8], u[8];
   for (int k = 0; k < 8; k += 2) {  // interleave row pairs within each 128-bit half
-    t[k] = __builtin_shuffle(r[k], r[k + 1], S{0, 8, 1, 9, 4, 12, 5, 13});
-    t[k + 1] = __builtin_shuffle(r[k], r[k + 1], S{2, 10, 3, 11, 6, 14, 7, 15});
+    t[k] = shuffle<0, 8, 1, 9, 4, 12, 5, 13>(r[k], r[k + 1]);
+    t[k + 1] = shuffle<2, 10, 3, 11, 6, 14, 7, 15>(r[k], r[k + 1]);
   }
   for (int k = 0; k < 8; k += 4) {  // pairs of pairs
-    u[k] = __builtin_shuffle(t[k], t[k + 2], S{0, 1, 8, 9, 4, 5, 12, 13});
-    u[k + 1] = __builtin_shuffle(t[k], t[k + 2], S{2, 3, 10, 11, 6, 7, 14, 15});
-    u[k + 2] = __builtin_shuffle(t[k + 1], t[k + 3], S{0, 1, 8, 9, 4, 5, 12, 13});
-    u[k + 3] = __builtin_shuffle(t[k + 1], t[k + 3], S{2, 3, 10, 11, 6, 7, 14, 15});
+    u[k] = shuffle<0, 1, 8, 9, 4, 5, 12, 13>(t[k], t[k + 2]);
+    u[k + 1] = shuffle<2, 3, 10, 11, 6, 7, 14, 15>(t[k], t[k + 2]);
+    u[k + 2] = shuffle<0, 1, 8, 9, 4, 5, 12, 13>(t[k + 1], t[k + 3]);
+    u[k + 3] = shuffle<2, 3, 10, 11, 6, 7, 14, 15>(t[k + 1], t[k + 3]);
   }
   for (int k = 0; k < 4; ++k) {  // low halves give columns 0-3, high halves columns 4-7
-    r[k] = __builtin_shuffle(u[k], u[k + 4], S{0, 1, 2, 3, 8, 9, 10, 11});
-    r[k + 4] = __builtin_shuffle(u[k], u[k + 4], S{4, 5, 6, 7, 12, 13, 14, 15});
+    r[k] = shuffle<0, 1, 2, 3, 8, 9, 10, 11>(u[k], u[k + 4]);
+    r[k + 4] = shuffle<4, 5, 6, 7, 12, 13, 14, 15>(u[k], u[k + 4]);
   }
 }
 
@@ -190,15 +199,14 @@ template <class V>
 template <class V>
 [[gnu::always_inline]] inline void transpose_linear(V* r) {
   if constexpr (kWidth<V> == 8) {
-    using S = typename ShuffleOf<V>::type;
-    const V t0 = __builtin_shuffle(r[0], r[1], S{0, 8, 1, 9, 4, 12, 5, 13});
-    const V t1 = __builtin_shuffle(r[0], r[1], S{2, 10, 3, 11, 6, 14, 7, 15});
-    const V t2 = __builtin_shuffle(r[2], r[3], S{0, 8, 1, 9, 4, 12, 5, 13});
-    const V t3 = __builtin_shuffle(r[2], r[3], S{2, 10, 3, 11, 6, 14, 7, 15});
-    r[0] = __builtin_shuffle(t0, t2, S{0, 1, 8, 9, 4, 5, 12, 13});
-    r[1] = __builtin_shuffle(t0, t2, S{2, 3, 10, 11, 6, 7, 14, 15});
-    r[2] = __builtin_shuffle(t1, t3, S{0, 1, 8, 9, 4, 5, 12, 13});
-    r[3] = __builtin_shuffle(t1, t3, S{2, 3, 10, 11, 6, 7, 14, 15});
+    const V t0 = shuffle<0, 8, 1, 9, 4, 12, 5, 13>(r[0], r[1]);
+    const V t1 = shuffle<2, 10, 3, 11, 6, 14, 7, 15>(r[0], r[1]);
+    const V t2 = shuffle<0, 8, 1, 9, 4, 12, 5, 13>(r[2], r[3]);
+    const V t3 = shuffle<2, 10, 3, 11, 6, 14, 7, 15>(r[2], r[3]);
+    r[0] = shuffle<0, 1, 8, 9, 4, 5, 12, 13>(t0, t2);
+    r[1] = shuffle<2, 3, 10, 11, 6, 7, 14, 15>(t0, t2);
+    r[2] = shuffle<0, 1, 8, 9, 4, 5, 12, 13>(t1, t3);
+    r[3] = shuffle<2, 3, 10, 11, 6, 7, 14, 15>(t1, t3);
   } else {
     transpose4(r);
   }

@@ -86,6 +86,10 @@ void WorldImpl::step_projectiles() {
     sweep.slot = s;
     sweep.from = p.position[s];
     sweep.move = p.velocity[s] * h + a * (Real(0.5) * h * h);
+    if (!is_finite(sweep.from + sweep.move) || !is_finite(p.velocity[s] + a * h)) {
+      p.destroy(s);  // flown out of the finite range (an absurd gravity scale): gone
+      continue;
+    }
     sweeps.push_back(sweep);
   }
   sweep_projectiles_against_statics();
@@ -96,6 +100,11 @@ void WorldImpl::step_projectiles() {
     if (sweep.hit.t >= 1) {
       p.position[s] = sweep.from + sweep.move;
       p.velocity[s] += a * h;
+      // Falling speeds up without bound; the same limit as bodies keeps it within what a save
+      // image accepts.
+      const Real speed2 = p.velocity[s].squaredNorm();
+      if (speed2 > def.max_linear_speed * def.max_linear_speed)
+        p.velocity[s] *= def.max_linear_speed / std::sqrt(speed2);
       continue;
     }
     const Real t = sweep.hit.t;

@@ -271,8 +271,10 @@ void WorldImpl::apply_restitution(Real h) {
     const ContactRef c = contact_ref(s, i);
     const int l = c.lane;
     c.extra->total_normal_impulse[l] += applied[i];
-    Real& warm = c.block->normal_impulse[l];
-    warm = collision[i] >= 0 ? Real(0) : std::max(warm + applied[i], Real(0));
+    // A vector lane, not an lvalue to bind a reference to (Clang refuses): read, then write.
+    const Real warm =
+        collision[i] >= 0 ? Real(0) : std::max(c.block->normal_impulse[l] + applied[i], Real(0));
+    c.block->normal_impulse[l] = warm;
     c.block->max_normal_impulse[l] =
         std::max({c.block->max_normal_impulse[l], warm, std::max(collision[i], Real(0))});
   }

@@ -111,5 +111,16 @@ TEST(ExtremeFarOrigin, OneKilometreFromOriginStaysWithinItsDocumentedError) {
   EXPECT_LT(deviation_at(1e3), bound);
 }
 
+// Found by the restore_state fuzzer (UBSan: signed overflow counting the broadphase's cells):
+// bodies 10^8 m apart on every axis.
+TEST(ExtremeFarOrigin, BodiesFarApartOnEveryAxisStepCleanly) {
+  World world = make_world(WorldDef{});
+  const BodyId a = add_sphere(world, Vec3(-1e8, -1e8, -1e8));
+  const BodyId b = add_sphere(world, Vec3(1e8, 1e8, 1e8));
+  ASSERT_TRUE(run(world, 2));
+  EXPECT_TRUE(is_finite(state_of(world, a)));
+  EXPECT_TRUE(is_finite(state_of(world, b)));
+}
+
 }  // namespace
 }  // namespace ricochet::physics::test

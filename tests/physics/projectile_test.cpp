@@ -206,5 +206,37 @@ TEST(Projectile, SaveRestoreReplaysProjectilesBitExactly) {
   EXPECT_TRUE(world.is_valid(body));
 }
 
+// Found by the restore_state fuzzer: falling sped a projectile past max_linear_speed, and the
+// world's own save image was then refused.
+TEST(Projectile, FallingSpeedIsCappedAtMaxLinearSpeed) {
+  World world = make_world(WorldDef{});
+  ProjectileDef def;
+  def.position = Vec3(0, 1000, 0);
+  def.velocity = Vec3(0, -9990, 0);
+  def.gravity_scale = 100;
+  const ProjectileId id = unwrap(world.create_projectile(def), "create_projectile");
+  ASSERT_TRUE(run(world, 60));
+  ASSERT_TRUE(world.is_valid(id));
+  const Real speed = unwrap(world.projectile_state(id), "projectile_state").velocity.norm();
+  EXPECT_LE(speed, world.definition().max_linear_speed * Real(1 + 1e-6));
+  EXPECT_GT(speed, world.definition().max_linear_speed * Real(0.999));
+  World copy = make_world(WorldDef{});
+  RICOCHET_EXPECT_OK(copy.restore_state(world.save_state()));
+}
+
+// Found by the fuzzer: a finite but absurd gravity scale flew a projectile to infinity.
+TEST(Projectile, OneThatLeavesTheFiniteRangeIsRemoved) {
+  World world = make_world(WorldDef{});
+  ProjectileDef def;
+  def.position = Vec3(0, 1, 0);
+  def.gravity_scale = Real(1e38);
+  const ProjectileId id = unwrap(world.create_projectile(def), "create_projectile");
+  ASSERT_TRUE(run(world, 1));
+  EXPECT_FALSE(world.is_valid(id));
+  EXPECT_EQ(world.projectile_count(), 0u);
+  World copy = make_world(WorldDef{});
+  RICOCHET_EXPECT_OK(copy.restore_state(world.save_state()));
+}
+
 }  // namespace
 }  // namespace ricochet::physics::test
