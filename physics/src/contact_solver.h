@@ -61,6 +61,32 @@ enum class ContactModel : std::uint8_t {
   SpinRolling,  ///< and rolling resistance (some body has it)
 };
 
+/// The collision pass's working set (restitution.cpp). It touches only the impact region: the
+/// contacts it queues and the bodies whose collision velocity it reads. Contacts are named by
+/// where they are, block · kLanes + lane. record_of and velocity_of are ~0 everywhere between
+/// steps; the pass resets the entries it set.
+struct RestitutionScratch {
+  /// A contact of the impact region.
+  struct Record {
+    std::uint32_t where;
+    bool queued;
+    Real collision;  ///< N·s, summed collision impulse; < 0: did not collide
+    Real target;     ///< m/s, relative normal velocity the clean-up keeps; NaN: not yet taken
+    Real lower;      ///< N·s, least impulse the clean-up may add
+    Real applied;    ///< N·s, added by the pass
+  };
+  /// Per solver body, its touched contacts in lane order as a list through next: an entry is
+  /// where · 2 + side (0: the body is a, 1: b); ~0 ends it.
+  std::vector<std::uint32_t> first, next;
+  std::vector<std::uint32_t> record_of;  ///< per contact: index into records
+  std::vector<Record> records;
+  std::vector<std::uint32_t> velocity_of;    ///< per solver body: index into velocity
+  std::vector<Vec3> velocity;                ///< m/s, collision velocities of the region's bodies
+  std::vector<std::uint32_t> velocity_body;  ///< solver body of each velocity
+  std::vector<std::uint32_t> queue;
+  std::vector<std::uint32_t> collided;  ///< contacts that collided, in lane order once sorted
+};
+
 struct SolverScratch {
   std::vector<Motion> bodies;             ///< awake bodies in awake_list order, then the dummy
   std::vector<std::uint32_t> index_of;    ///< per slot: solver body index (dummy if not awake)
@@ -81,15 +107,7 @@ struct SolverScratch {
   std::vector<std::uint32_t> support_level;  ///< per solver body; the dummy (statics) is 0
   std::vector<std::uint32_t> support_key;    ///< per contact: level of its supporting side
   std::vector<std::uint32_t> support_order;  ///< supported contacts, ground up
-  // Restitution (restitution.cpp), per solver body or per lane (block · kLanes + lane).
-  std::vector<std::uint32_t> restitution_start, restitution_adjacent;  ///< contacts per body
-  std::vector<Vec3> collision_velocity;  ///< m/s, per body, while collisions are replayed
-  std::vector<Real> collision_impulse;   ///< N·s, per contact; < 0: did not collide
-  std::vector<std::uint32_t> restitution_queue;
-  std::vector<std::uint8_t> restitution_queued;
-  std::vector<Real> restitution_target;   ///< m/s, relative normal velocity to keep
-  std::vector<Real> restitution_lower;    ///< N·s, least impulse the clean-up may add
-  std::vector<Real> restitution_applied;  ///< N·s added by the restitution pass
+  RestitutionScratch restitution;
   ContactModel model = ContactModel::Spin;
   bool has_rolling = false;  ///< model == SpinRolling
   bool needs_shock = false;  ///< some contact joins masses more than shock_mass_ratio apart

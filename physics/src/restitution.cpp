@@ -21,7 +21,9 @@
 ///      the impact.
 ///
 /// A step without a fast approach changes nothing, so resting contacts and stacks behave as
-/// without restitution.
+/// without restitution. The pass costs one read of every contact lane to find the fast
+/// approaches and, when there are some, one more to list each body's touched contacts; all else
+/// is proportional to the impact region (the contacts queued and the bodies they move).
 
 #include <algorithm>
 #include <cmath>
@@ -41,14 +43,17 @@ struct ContactRef {
   std::uint32_t a() const { return block->a[lane]; }
   std::uint32_t b() const { return block->b[lane]; }
   Vec3 normal() const { return Vec3(block->nx[lane], block->ny[lane], block->nz[lane]); }
+  /// Can bounce: e > 0 and touched this step. An unused lane has restitution 0 and no impulse.
+  bool bounces() const {
+    return extra->restitution[lane] != 0 && block->max_normal_impulse[lane] > 0;
+  }
 };
 
-/// Contacts are named by where they are, block · kLanes + lane, so that the passes over all of
-/// them read the blocks in order. An unused lane has restitution 0, no impulse and the dummy on
-/// both sides, so every test below skips it.
 ContactRef contact_ref(SolverScratch& s, std::uint32_t where) {
   return {&s.blocks[where / kLanes], &s.extra[where / kLanes], static_cast<int>(where % kLanes)};
 }
+
+constexpr std::uint32_t kNone = ~0u;
 
 /// Departure velocity that keeps energy across the impact's phase inside the step. The stored
 /// velocity of a semi-implicit body is the mean over the step it just took, ½·a·h off its true
@@ -68,214 +73,277 @@ Real departure_speed(Real v, Real a, Real half_h, Real gap, Real end_gap, Real e
   return std::sqrt(std::max(departure * departure + 2 * a * end_gap, Real(0))) - half_h * a;
 }
 
+/// One step's collision pass over the impact region (steps 1 to 4 above).
+class CollisionPass {
+ public:
+  CollisionPass(SolverScratch& s, Real threshold, Real h, Real half_h)
+      : s_(s), r_(s.restitution), threshold_(threshold), h_(h), half_h_(half_h) {}
+
+  /// Queues the contacts that approached faster than the threshold (in lane order); false if
+  /// there are none.
+  bool queue_fast_approaches() {
+    r_.queue.clear();
+    for (std::size_t k = 0; k < s_.blocks.size(); ++k) {
+      const ContactBlock& c = s_.blocks[k];
+      const ContactBlockExtra& e = s_.extra[k];
+      for (int l = 0; l < kLanes; ++l) {
+        if (e.relative_velocity[l] <= -threshold_ && e.restitution[l] != 0 &&
+            c.max_normal_impulse[l] > 0) {
+          r_.queue.push_back(static_cast<std::uint32_t>(k) * kLanes +
+                             static_cast<std::uint32_t>(l));
+        }
+      }
+    }
+    return !r_.queue.empty();
+  }
+
+  /// Lists every body's touched contacts in lane order (the only ones any step below reads),
+  /// and marks the queued contacts.
+  void link_contacts() {
+    const std::uint32_t total = static_cast<std::uint32_t>(s_.blocks.size()) * kLanes;
+    r_.first.assign(s_.bodies.size(), kNone);
+    r_.next.resize(2 * static_cast<std::size_t>(total));
+    r_.record_of.resize(total, kNone);
+    r_.velocity_of.resize(s_.bodies.size(), kNone);
+    for (std::uint32_t where = total; where-- > 0;) {  // backwards: each list comes out in order
+      const ContactBlock& c = s_.blocks[where / kLanes];
+      const int l = static_cast<int>(where % kLanes);
+      if (c.max_normal_impulse[l] == 0) continue;
+      r_.next[2 * where] = r_.first[c.a[l]];
+      r_.first[c.a[l]] = 2 * where;
+      r_.next[2 * where + 1] = r_.first[c.b[l]];
+      r_.first[c.b[l]] = 2 * where + 1;
+    }
+    for (const std::uint32_t where : r_.queue) record(where).queued = true;
+  }
+
+  /// 1, 2. Collisions in sequence, first in, first out.
+  void replay_collisions() {
+    r_.collided.clear();
+    const std::size_t total = s_.blocks.size() * kLanes;
+    // Every collision moves energy on or loses it, so this ends; the cap is for float rounding.
+    const std::size_t max_collisions = 16 * total + 16;
+    std::size_t collisions = 0;
+    for (std::size_t head = 0; head < r_.queue.size() && collisions < max_collisions; ++head) {
+      const std::uint32_t i = r_.queue[head];
+      const std::uint32_t record_index = r_.record_of[i];
+      r_.records[record_index].queued = false;
+      const ContactRef c = contact_ref(s_, i);
+      const Vec3 n = c.normal();
+      const std::uint32_t a = c.a(), b = c.b();
+      const std::uint32_t xa = collision_velocity(a), xb = collision_velocity(b);
+      const Real vn = n.dot(r_.velocity[xb] - r_.velocity[xa]);
+      const Real collision = r_.records[record_index].collision;
+      const bool first = collision < 0;
+      const Real accel = n.dot(acceleration(b) - acceleration(a));
+      Real v = 0;  // approach at step start
+      if (first && c.bounces() && c.extra->relative_velocity[c.lane] <= -threshold_) {
+        v = c.extra->relative_velocity[c.lane];
+      } else if (vn <= -threshold_) {
+        v = vn - accel * h_;
+      } else {
+        continue;
+      }
+      const Real gap = first ? std::max(c.block->separation[c.lane], Real(0)) : Real(0);
+      const Real end_gap =
+          std::max(c.block->separation[c.lane] + n.dot(s_.delta_position[b] - s_.delta_position[a]),
+                   Real(0));
+      const Real target =
+          departure_speed(v, accel, half_h_, gap, end_gap, c.extra->restitution[c.lane]);
+      const Real impulse = std::max(c.block->normal_mass[c.lane] * (target - vn), Real(0));
+      r_.records[record_index].collision = std::max(collision, Real(0)) + impulse;
+      if (first) r_.collided.push_back(i);
+      ++collisions;
+      if (impulse == 0) continue;
+      r_.velocity[xa] -= (s_.bodies[a].inverse_mass * impulse) * n;
+      r_.velocity[xb] += (s_.bodies[b].inverse_mass * impulse) * n;
+      queue_bouncing_neighbours(a);
+      queue_bouncing_neighbours(b);
+    }
+    std::sort(r_.collided.begin(), r_.collided.end());
+  }
+
+  /// 4 (targets first), then 3. Every touched contact around a body that step 3 or 4 moves is
+  /// solved again, towards the relative velocity it had before: a contact that collided towards
+  /// not approaching, with no less than its collision impulse; any other with no less than none.
+  void replace_impulses() {
+    r_.queue.clear();
+    for (Record& record : r_.records) record.queued = false;
+    for (const std::uint32_t i : r_.collided) {
+      const ContactRef c = contact_ref(s_, i);
+      take_targets_around(c.a());
+      take_targets_around(c.b());
+    }
+    for (const std::uint32_t i : r_.collided) {
+      const ContactRef c = contact_ref(s_, i);
+      Record& record = r_.records[r_.record_of[i]];
+      const Real delta = record.collision - c.extra->total_normal_impulse[c.lane];
+      record.applied = delta;
+      s_.bodies[c.a()].linear_velocity -= (s_.bodies[c.a()].inverse_mass * delta) * c.normal();
+      s_.bodies[c.b()].linear_velocity += (s_.bodies[c.b()].inverse_mass * delta) * c.normal();
+    }
+  }
+
+  /// 4. Inelastic clean-up around them, Gauss–Seidel over a first-in, first-out work list.
+  /// A cap on the clean-up: twice the contacts around the collisions (a wave that spreads into a
+  /// pile further is left to the next step, which treats what remains of it as inelastic).
+  void clean_up() {
+    const Real tolerance = Real(1e-3) * std::max(threshold_, Real(1e-3));  // m/s
+    const std::size_t max_solves = r_.queue.size();
+    std::size_t solves = 0;
+    for (std::size_t head = 0; head < r_.queue.size() && solves < max_solves; ++head, ++solves) {
+      const std::uint32_t i = r_.queue[head];
+      r_.records[r_.record_of[i]].queued = false;
+      const ContactRef c = contact_ref(s_, i);
+      const Vec3 n = c.normal();
+      const std::uint32_t a = c.a(), b = c.b();
+      const Real vn = n.dot(s_.bodies[b].linear_velocity - s_.bodies[a].linear_velocity);
+      const Record before = r_.records[r_.record_of[i]];
+      if (std::abs(before.target - vn) <= tolerance) continue;
+      const Real next = std::max(
+          before.applied + c.block->normal_mass[c.lane] * (before.target - vn), before.lower);
+      const Real delta = next - before.applied;
+      if (delta == 0) continue;
+      take_targets_around(a);  // before the change: what the solve left there
+      take_targets_around(b);
+      r_.records[r_.record_of[i]].applied = next;
+      s_.bodies[a].linear_velocity -= (s_.bodies[a].inverse_mass * delta) * n;
+      s_.bodies[b].linear_velocity += (s_.bodies[b].inverse_mass * delta) * n;
+      for (const std::uint32_t body : {a, b}) {
+        if (!moves(body)) continue;
+        for (std::uint32_t e = r_.first[body]; e != kNone; e = r_.next[e]) {
+          const std::uint32_t j = e / 2;
+          const std::uint32_t index = r_.record_of[j];
+          if (index == kNone || j == i) continue;  // no record: no target taken
+          Record& neighbour = r_.records[index];
+          if (neighbour.queued || std::isnan(neighbour.target)) continue;
+          neighbour.queued = true;
+          r_.queue.push_back(j);
+        }
+      }
+    }
+  }
+
+  /// Bookkeeping: totals and the largest impulse for events; warm starting. A contact that
+  /// collided leaves separating, so it warm-starts the next step with nothing: its collision
+  /// impulse carried over would have to be taken back by the next solve, which a chain does
+  /// only approximately. Then every entry of the region's maps is cleared for the next step.
+  void finish() {
+    for (const Record& record : r_.records) {
+      r_.record_of[record.where] = kNone;
+      if (record.applied == 0 && record.collision < 0) continue;
+      const ContactRef c = contact_ref(s_, record.where);
+      const int l = c.lane;
+      c.extra->total_normal_impulse[l] += record.applied;
+      Real& warm = c.block->normal_impulse[l];
+      warm = record.collision >= 0 ? Real(0) : std::max(warm + record.applied, Real(0));
+      c.block->max_normal_impulse[l] =
+          std::max({c.block->max_normal_impulse[l], warm, std::max(record.collision, Real(0))});
+    }
+    r_.records.clear();
+    for (const std::uint32_t body : r_.velocity_body) r_.velocity_of[body] = kNone;
+    r_.velocity_body.clear();
+    r_.velocity.clear();
+  }
+
+ private:
+  using Record = RestitutionScratch::Record;
+
+  bool moves(std::uint32_t body) const { return s_.bodies[body].inverse_mass > 0; }
+  Vec3 acceleration(std::uint32_t body) const {
+    return body < s_.acceleration.size() ? s_.acceleration[body] : Vec3::Zero().eval();
+  }
+
+  /// The contact's record, made on first use.
+  Record& record(std::uint32_t where) {
+    std::uint32_t& index = r_.record_of[where];
+    if (index == kNone) {
+      index = static_cast<std::uint32_t>(r_.records.size());
+      r_.records.push_back(
+          {where, false, Real(-1), std::numeric_limits<Real>::quiet_NaN(), Real(0), Real(0)});
+    }
+    return r_.records[index];
+  }
+
+  /// Index of the body's collision velocity, made on first use (step 1): its velocity without
+  /// the step's normal impulses of the contacts that can bounce. A body that does not move
+  /// keeps its velocity (its impulses are multiplied by an inverse mass of 0).
+  std::uint32_t collision_velocity(std::uint32_t body) {
+    std::uint32_t& index = r_.velocity_of[body];
+    if (index != kNone) return index;
+    index = static_cast<std::uint32_t>(r_.velocity.size());
+    Vec3 x = s_.bodies[body].linear_velocity;
+    if (moves(body)) {
+      const Real inverse_mass = s_.bodies[body].inverse_mass;
+      for (std::uint32_t e = r_.first[body]; e != kNone; e = r_.next[e]) {
+        const ContactRef c = contact_ref(s_, e / 2);
+        if (!c.bounces()) continue;
+        const Real p = c.extra->total_normal_impulse[c.lane];
+        if (e % 2 == 0) {
+          x += (inverse_mass * p) * c.normal();
+        } else {
+          x -= (inverse_mass * p) * c.normal();
+        }
+      }
+    }
+    r_.velocity.push_back(x);
+    r_.velocity_body.push_back(body);
+    return index;
+  }
+
+  void queue_bouncing_neighbours(std::uint32_t body) {
+    if (!moves(body)) return;
+    for (std::uint32_t e = r_.first[body]; e != kNone; e = r_.next[e]) {
+      const std::uint32_t j = e / 2;
+      if (!contact_ref(s_, j).bounces()) continue;
+      Record& next = record(j);
+      if (next.queued) continue;
+      next.queued = true;
+      r_.queue.push_back(j);
+    }
+  }
+
+  void take_targets_around(std::uint32_t body) {
+    if (!moves(body)) return;
+    for (std::uint32_t e = r_.first[body]; e != kNone; e = r_.next[e]) {
+      const std::uint32_t j = e / 2;
+      const std::uint32_t index = r_.record_of[j];
+      if (index != kNone && !std::isnan(r_.records[index].target)) continue;
+      const ContactRef c = contact_ref(s_, j);  // touched: listed only if max impulse != 0
+      Record& record = this->record(j);
+      const Real total_impulse = c.extra->total_normal_impulse[c.lane];
+      if (record.collision >= 0) {
+        record.target = 0;
+        record.lower = record.collision - total_impulse;
+      } else {
+        record.target =
+            c.normal().dot(s_.bodies[c.b()].linear_velocity - s_.bodies[c.a()].linear_velocity);
+        record.lower = -total_impulse;
+      }
+      record.queued = true;
+      r_.queue.push_back(j);
+    }
+  }
+
+  SolverScratch& s_;
+  RestitutionScratch& r_;
+  Real threshold_;
+  Real h_;
+  Real half_h_;
+};
+
 }  // namespace
 
 void WorldImpl::apply_restitution(Real h) {
   if (!def.enable_restitution) return;
-  SolverScratch& s = scratch.solver;
-  const Real threshold = def.restitution_threshold;
-  const std::uint32_t total = static_cast<std::uint32_t>(s.blocks.size()) * kLanes;
-  const auto bounces = [&](const ContactRef& c) {
-    return c.extra->restitution[c.lane] != 0 && c.block->max_normal_impulse[c.lane] > 0;
-  };
-  const auto is_seed = [&](const ContactRef& c) {
-    return bounces(c) && c.extra->relative_velocity[c.lane] <= -threshold;
-  };
-  std::uint32_t seeds = 0;
-  for (std::uint32_t i = 0; i < total; ++i) seeds += is_seed(contact_ref(s, i)) ? 1 : 0;
-  if (seeds == 0) return;
-
-  const std::uint32_t body_count = static_cast<std::uint32_t>(s.bodies.size());  // with dummy
   const Real half_h = (def.integrator == Integrator::ExplicitEuler ? Real(-0.5) : Real(0.5)) * h;
-  const auto acceleration = [&](std::uint32_t body) -> Vec3 {
-    return body < s.acceleration.size() ? s.acceleration[body] : Vec3::Zero().eval();
-  };
-  const auto moves = [&](std::uint32_t body) { return s.bodies[body].inverse_mass > 0; };
-
-  // Contacts per solver body (compressed rows); the dummy's static contacts are never needed.
-  std::vector<std::uint32_t>& start = s.restitution_start;
-  std::vector<std::uint32_t>& adjacent = s.restitution_adjacent;
-  start.assign(body_count + 1, 0);
-  for (std::uint32_t i = 0; i < total; ++i) {
-    const ContactRef c = contact_ref(s, i);
-    if (moves(c.a())) ++start[c.a() + 1];
-    if (moves(c.b())) ++start[c.b() + 1];
-  }
-  for (std::uint32_t k = 0; k < body_count; ++k) start[k + 1] += start[k];
-  adjacent.resize(start[body_count]);
-  s.cursor.assign(start.begin(), start.end() - 1);
-  for (std::uint32_t i = 0; i < total; ++i) {
-    const ContactRef c = contact_ref(s, i);
-    if (moves(c.a())) adjacent[s.cursor[c.a()]++] = i;
-    if (moves(c.b())) adjacent[s.cursor[c.b()]++] = i;
-  }
-  std::vector<std::uint32_t>& queue = s.restitution_queue;
-  std::vector<std::uint8_t>& queued = s.restitution_queued;
-  queued.assign(total, 0);
-  queue.clear();
-  const auto enqueue_neighbours = [&](std::uint32_t body, auto&& wanted) {
-    if (!moves(body)) return;
-    for (std::uint32_t e = start[body]; e < start[body + 1]; ++e) {
-      const std::uint32_t j = adjacent[e];
-      if (!queued[j] && wanted(contact_ref(s, j))) {
-        queued[j] = 1;
-        queue.push_back(j);
-      }
-    }
-  };
-
-  // 1. Collision velocities.
-  std::vector<Vec3>& x = s.collision_velocity;
-  x.resize(body_count);
-  for (std::uint32_t k = 0; k < body_count; ++k) x[k] = s.bodies[k].linear_velocity;
-  for (std::uint32_t i = 0; i < total; ++i) {
-    const ContactRef c = contact_ref(s, i);
-    if (!bounces(c)) continue;
-    const Real p = c.extra->total_normal_impulse[c.lane];
-    x[c.a()] += (s.bodies[c.a()].inverse_mass * p) * c.normal();
-    x[c.b()] -= (s.bodies[c.b()].inverse_mass * p) * c.normal();
-  }
-
-  // 2. Collisions, in sequence.
-  std::vector<Real>& collision = s.collision_impulse;  // per contact, N·s; < 0: never collided
-  collision.assign(total, Real(-1));
-  for (std::uint32_t i = 0; i < total; ++i) {
-    if (is_seed(contact_ref(s, i))) {
-      queued[i] = 1;
-      queue.push_back(i);
-    }
-  }
-  // Every collision moves energy on or loses it, so this ends; the cap is for float rounding.
-  const std::size_t max_collisions = 16 * static_cast<std::size_t>(total) + 16;
-  std::size_t collisions = 0;
-  for (std::size_t head = 0; head < queue.size() && collisions < max_collisions; ++head) {
-    const std::uint32_t i = queue[head];
-    queued[i] = 0;
-    const ContactRef c = contact_ref(s, i);
-    const Vec3 n = c.normal();
-    const std::uint32_t a = c.a(), b = c.b();
-    const Real vn = n.dot(x[b] - x[a]);
-    const bool first = collision[i] < 0;
-    const Real accel = n.dot(acceleration(b) - acceleration(a));
-    Real v = 0;  // approach at step start
-    if (first && is_seed(c)) {
-      v = c.extra->relative_velocity[c.lane];
-    } else if (vn <= -threshold) {
-      v = vn - accel * h;
-    } else {
-      continue;
-    }
-    const Real gap = first ? std::max(c.block->separation[c.lane], Real(0)) : Real(0);
-    const Real end_gap = std::max(
-        c.block->separation[c.lane] + n.dot(s.delta_position[b] - s.delta_position[a]), Real(0));
-    const Real target =
-        departure_speed(v, accel, half_h, gap, end_gap, c.extra->restitution[c.lane]);
-    const Real impulse = std::max(c.block->normal_mass[c.lane] * (target - vn), Real(0));
-    collision[i] = std::max(collision[i], Real(0)) + impulse;
-    ++collisions;
-    if (impulse == 0) continue;
-    x[a] -= (s.bodies[a].inverse_mass * impulse) * n;
-    x[b] += (s.bodies[b].inverse_mass * impulse) * n;
-    const auto can_collide = [&](const ContactRef& next) { return bounces(next); };
-    enqueue_neighbours(a, can_collide);
-    enqueue_neighbours(b, can_collide);
-  }
-
-  // 4 (targets first). Every touched contact around a body that step 3 or 4 moves is solved
-  // again, towards the relative velocity it had before: a contact that collided towards not
-  // approaching, with no less than its collision impulse; any other with no less than none.
-  queue.clear();
-  std::fill(queued.begin(), queued.end(), 0);
-  std::vector<Real>& target = s.restitution_target;  // m/s, per contact; NaN: not yet taken
-  std::vector<Real>& lower = s.restitution_lower;    // N·s, least impulse this pass may add
-  target.assign(total, std::numeric_limits<Real>::quiet_NaN());
-  lower.resize(total);
-  std::vector<Real>& applied = s.restitution_applied;  // N·s, added by this pass per contact
-  applied.assign(total, 0);
-  const auto take_targets_around = [&](std::uint32_t body) {
-    if (!moves(body)) return;
-    for (std::uint32_t e = start[body]; e < start[body + 1]; ++e) {
-      const std::uint32_t j = adjacent[e];
-      const ContactRef c = contact_ref(s, j);
-      if (!std::isnan(target[j]) || c.block->max_normal_impulse[c.lane] == 0) continue;
-      const Real total_impulse = c.extra->total_normal_impulse[c.lane];
-      if (collision[j] >= 0) {
-        target[j] = 0;
-        lower[j] = collision[j] - total_impulse;
-      } else {
-        target[j] =
-            c.normal().dot(s.bodies[c.b()].linear_velocity - s.bodies[c.a()].linear_velocity);
-        lower[j] = -total_impulse;
-      }
-      queued[j] = 1;
-      queue.push_back(j);
-    }
-  };
-  for (std::uint32_t i = 0; i < total; ++i) {
-    if (collision[i] < 0) continue;
-    const ContactRef c = contact_ref(s, i);
-    take_targets_around(c.a());
-    take_targets_around(c.b());
-  }
-
-  // 3. Collision impulses replace the solve's.
-  for (std::uint32_t i = 0; i < total; ++i) {
-    if (collision[i] < 0) continue;
-    const ContactRef c = contact_ref(s, i);
-    const Real delta = collision[i] - c.extra->total_normal_impulse[c.lane];
-    applied[i] = delta;
-    s.bodies[c.a()].linear_velocity -= (s.bodies[c.a()].inverse_mass * delta) * c.normal();
-    s.bodies[c.b()].linear_velocity += (s.bodies[c.b()].inverse_mass * delta) * c.normal();
-  }
-
-  // 4. Inelastic clean-up around them, Gauss–Seidel over a first-in, first-out work list.
-  // A cap on the clean-up: twice the contacts around the collisions (a wave that spreads into a
-  // pile further is left to the next step, which treats what remains of it as inelastic).
-  const Real tolerance = Real(1e-3) * std::max(threshold, Real(1e-3));  // m/s
-  const std::size_t max_solves = queue.size();
-  std::size_t solves = 0;
-  for (std::size_t head = 0; head < queue.size() && solves < max_solves; ++head, ++solves) {
-    const std::uint32_t i = queue[head];
-    queued[i] = 0;
-    const ContactRef c = contact_ref(s, i);
-    const Vec3 n = c.normal();
-    const std::uint32_t a = c.a(), b = c.b();
-    const Real vn = n.dot(s.bodies[b].linear_velocity - s.bodies[a].linear_velocity);
-    if (std::abs(target[i] - vn) <= tolerance) continue;
-    const Real next =
-        std::max(applied[i] + c.block->normal_mass[c.lane] * (target[i] - vn), lower[i]);
-    const Real delta = next - applied[i];
-    if (delta == 0) continue;
-    take_targets_around(a);  // before the change: what the solve left there
-    take_targets_around(b);
-    applied[i] = next;
-    s.bodies[a].linear_velocity -= (s.bodies[a].inverse_mass * delta) * n;
-    s.bodies[b].linear_velocity += (s.bodies[b].inverse_mass * delta) * n;
-    for (const std::uint32_t body : {a, b}) {
-      if (!moves(body)) continue;
-      for (std::uint32_t e = start[body]; e < start[body + 1]; ++e) {
-        const std::uint32_t j = adjacent[e];
-        if (queued[j] || j == i || std::isnan(target[j])) continue;
-        queued[j] = 1;
-        queue.push_back(j);
-      }
-    }
-  }
-
-  // Bookkeeping: totals and the largest impulse for events; warm starting. A contact that
-  // collided leaves separating, so it warm-starts the next step with nothing: its collision
-  // impulse carried over would have to be taken back by the next solve, which a chain does
-  // only approximately.
-  for (std::uint32_t i = 0; i < total; ++i) {
-    if (applied[i] == 0 && collision[i] < 0) continue;
-    const ContactRef c = contact_ref(s, i);
-    const int l = c.lane;
-    c.extra->total_normal_impulse[l] += applied[i];
-    Real& warm = c.block->normal_impulse[l];
-    warm = collision[i] >= 0 ? Real(0) : std::max(warm + applied[i], Real(0));
-    c.block->max_normal_impulse[l] =
-        std::max({c.block->max_normal_impulse[l], warm, std::max(collision[i], Real(0))});
-  }
+  CollisionPass pass(scratch.solver, def.restitution_threshold, h, half_h);
+  if (!pass.queue_fast_approaches()) return;
+  pass.link_contacts();
+  pass.replay_collisions();
+  pass.replace_impulses();
+  pass.clean_up();
+  pass.finish();
 }
 
 }  // namespace ricochet::physics
