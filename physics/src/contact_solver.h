@@ -61,30 +61,42 @@ enum class ContactModel : std::uint8_t {
   SpinRolling,  ///< and rolling resistance (some body has it)
 };
 
-/// The collision pass's working set (restitution.cpp). It touches only the impact region: the
-/// contacts it queues and the bodies whose collision velocity it reads. Contacts are named by
-/// where they are, block · kLanes + lane. record_of and velocity_of are ~0 everywhere between
-/// steps; the pass resets the entries it set.
+/// The collision pass's working set (restitution.cpp), filled only in steps with a fast
+/// approach: a compact copy of the step's touched contacts (max normal impulse != 0) in lane
+/// order with the pass's state beside each, one cache line per contact in float, and a flag
+/// byte per contact for the walks around a body, which read nothing else.
 struct RestitutionScratch {
-  /// A contact of the impact region.
-  struct Record {
-    std::uint32_t where;
-    bool queued;
-    Real collision;  ///< N·s, summed collision impulse; < 0: did not collide
-    Real target;     ///< m/s, relative normal velocity the clean-up keeps; NaN: not yet taken
-    Real lower;      ///< N·s, least impulse the clean-up may add
-    Real applied;    ///< N·s, added by the pass
+  struct alignas(64) Touched {  ///< one cache line in float
+    std::uint32_t a, b;         ///< solver bodies
+    std::uint32_t where;        ///< block · kLanes + lane
+    Vec3 normal;
+    Real separation;         ///< m at step start
+    Real normal_mass;        ///< kg
+    Real relative_velocity;  ///< m/s, normal, at prepare
+    Real restitution;
+    Real total_normal_impulse;  ///< N·s, of the solve
+    Real collision;             ///< N·s, summed collision impulse; < 0: did not collide
+    Real target;   ///< m/s, relative normal velocity the clean-up keeps; NaN: not yet taken
+    Real lower;    ///< N·s, least impulse the clean-up may add
+    Real applied;  ///< N·s, added by the pass
   };
-  /// Per solver body, its touched contacts in lane order as a list through next: an entry is
-  /// where · 2 + side (0: the body is a, 1: b); ~0 ends it.
-  std::vector<std::uint32_t> first, next;
-  std::vector<std::uint32_t> record_of;  ///< per contact: index into records
-  std::vector<Record> records;
-  std::vector<std::uint32_t> velocity_of;    ///< per solver body: index into velocity
-  std::vector<Vec3> velocity;                ///< m/s, collision velocities of the region's bodies
-  std::vector<std::uint32_t> velocity_body;  ///< solver body of each velocity
-  std::vector<std::uint32_t> queue;
-  std::vector<std::uint32_t> collided;  ///< contacts that collided, in lane order once sorted
+  enum Flag : std::uint8_t {
+    kBounces = 1,  ///< e > 0 and touched
+    kQueued = 2,
+    kTaken = 4,    ///< target is not NaN
+    kCleaned = 8,  ///< queued for the clean-up at some time
+    kCollided = 16,
+  };
+  std::vector<Touched> touched;  ///< the first touched_count are this step's
+  std::vector<std::uint8_t> flags;
+  std::uint32_t touched_count = 0;
+  /// Per solver body k, its touched contacts are adjacent[start[k] .. start[k + 1]), each as
+  /// index · 2 + side (0: the body is a, 1: b), in lane order.
+  std::vector<std::uint32_t> start, adjacent;
+  std::vector<Vec3> velocity;               ///< m/s, per solver body: its collision velocity
+  std::vector<std::uint8_t> targets_taken;  ///< per solver body: all its contacts have targets
+  std::vector<std::uint32_t> queue;         ///< indices into touched
+  std::vector<std::uint64_t> collided;      ///< bit per touched contact: it collided
 };
 
 struct SolverScratch {

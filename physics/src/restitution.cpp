@@ -26,6 +26,7 @@
 /// is proportional to the impact region (the contacts queued and the bodies they move).
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -34,24 +35,6 @@
 namespace ricochet::physics {
 
 namespace {
-
-/// A contact of the step as this pass sees it.
-struct ContactRef {
-  ContactBlock* block;
-  ContactBlockExtra* extra;
-  int lane;
-  std::uint32_t a() const { return block->a[lane]; }
-  std::uint32_t b() const { return block->b[lane]; }
-  Vec3 normal() const { return Vec3(block->nx[lane], block->ny[lane], block->nz[lane]); }
-  /// Can bounce: e > 0 and touched this step. An unused lane has restitution 0 and no impulse.
-  bool bounces() const {
-    return extra->restitution[lane] != 0 && block->max_normal_impulse[lane] > 0;
-  }
-};
-
-ContactRef contact_ref(SolverScratch& s, std::uint32_t where) {
-  return {&s.blocks[where / kLanes], &s.extra[where / kLanes], static_cast<int>(where % kLanes)};
-}
 
 constexpr std::uint32_t kNone = ~0u;
 
@@ -73,94 +56,130 @@ Real departure_speed(Real v, Real a, Real half_h, Real gap, Real end_gap, Real e
   return std::sqrt(std::max(departure * departure + 2 * a * end_gap, Real(0))) - half_h * a;
 }
 
-/// One step's collision pass over the impact region (steps 1 to 4 above).
+/// One step's collision pass (steps 1 to 4 above) over the touched contacts.
 class CollisionPass {
  public:
   CollisionPass(SolverScratch& s, Real threshold, Real h, Real half_h)
       : s_(s), r_(s.restitution), threshold_(threshold), h_(h), half_h_(half_h) {}
 
-  /// Queues the contacts that approached faster than the threshold (in lane order); false if
-  /// there are none.
-  bool queue_fast_approaches() {
-    r_.queue.clear();
+  /// True if some contact can bounce and approached faster than the threshold at step start.
+  bool any_fast_approach() const {
     for (std::size_t k = 0; k < s_.blocks.size(); ++k) {
       const ContactBlock& c = s_.blocks[k];
       const ContactBlockExtra& e = s_.extra[k];
+      bool fast = false;
       for (int l = 0; l < kLanes; ++l) {
-        if (e.relative_velocity[l] <= -threshold_ && e.restitution[l] != 0 &&
-            c.max_normal_impulse[l] > 0) {
-          r_.queue.push_back(static_cast<std::uint32_t>(k) * kLanes +
-                             static_cast<std::uint32_t>(l));
+        fast = fast || (e.relative_velocity[l] <= -threshold_ && e.restitution[l] != 0 &&
+                        c.max_normal_impulse[l] > 0);
+      }
+      if (fast) return true;
+    }
+    return false;
+  }
+
+  /// Copies the touched contacts in lane order and lists each body's; takes the collision
+  /// velocities (step 1) and queues the fast approaches, both in lane order.
+  void gather_contacts() {
+    const std::size_t body_count = s_.bodies.size();
+    const std::size_t lanes = s_.blocks.size() * kLanes;
+    if (r_.touched.size() < lanes) r_.touched.resize(lanes);
+    r_.flags.resize(lanes);
+    r_.start.assign(body_count + 2, 0);
+    r_.targets_taken.assign(body_count, 0);
+    r_.velocity.resize(body_count);
+    for (std::size_t k = 0; k < body_count; ++k) r_.velocity[k] = s_.bodies[k].linear_velocity;
+    r_.queue.clear();
+    std::uint32_t count = 0;
+    for (std::size_t k = 0; k < s_.blocks.size(); ++k) {
+      const ContactBlock& c = s_.blocks[k];
+      const ContactBlockExtra& e = s_.extra[k];
+      unsigned lanes_touched = 0;
+      for (int l = 0; l < kLanes; ++l)
+        lanes_touched |= static_cast<unsigned>(c.max_normal_impulse[l] != 0) << l;
+      for (; lanes_touched != 0; lanes_touched &= lanes_touched - 1, ++count) {
+        const int l = std::countr_zero(lanes_touched);
+        Touched& t = r_.touched[count];
+        t.a = c.a[l];
+        t.b = c.b[l];
+        t.where = static_cast<std::uint32_t>(k * kLanes) + static_cast<std::uint32_t>(l);
+        t.normal = Vec3(c.nx[l], c.ny[l], c.nz[l]);
+        t.separation = c.separation[l];
+        t.normal_mass = c.normal_mass[l];
+        t.relative_velocity = e.relative_velocity[l];
+        t.restitution = e.restitution[l];
+        t.total_normal_impulse = e.total_normal_impulse[l];
+        t.collision = -1;
+        t.target = std::numeric_limits<Real>::quiet_NaN();
+        t.lower = 0;
+        t.applied = 0;
+        ++r_.start[t.a + 2];
+        ++r_.start[t.b + 2];
+        const bool bounces = t.restitution != 0 && c.max_normal_impulse[l] > 0;
+        r_.flags[count] = bounces ? RestitutionScratch::kBounces : 0;
+        if (!bounces) continue;
+        const Real p = t.total_normal_impulse;
+        r_.velocity[t.a] += (s_.bodies[t.a].inverse_mass * p) * t.normal;
+        r_.velocity[t.b] -= (s_.bodies[t.b].inverse_mass * p) * t.normal;
+        if (t.relative_velocity <= -threshold_) {
+          r_.flags[count] |= RestitutionScratch::kQueued;
+          r_.queue.push_back(count);
         }
       }
     }
-    return !r_.queue.empty();
-  }
-
-  /// Lists every body's touched contacts in lane order (the only ones any step below reads),
-  /// and marks the queued contacts.
-  void link_contacts() {
-    const std::uint32_t total = static_cast<std::uint32_t>(s_.blocks.size()) * kLanes;
-    r_.first.assign(s_.bodies.size(), kNone);
-    r_.next.resize(2 * static_cast<std::size_t>(total));
-    r_.record_of.resize(total, kNone);
-    r_.velocity_of.resize(s_.bodies.size(), kNone);
-    for (std::uint32_t where = total; where-- > 0;) {  // backwards: each list comes out in order
-      const ContactBlock& c = s_.blocks[where / kLanes];
-      const int l = static_cast<int>(where % kLanes);
-      if (c.max_normal_impulse[l] == 0) continue;
-      r_.next[2 * where] = r_.first[c.a[l]];
-      r_.first[c.a[l]] = 2 * where;
-      r_.next[2 * where + 1] = r_.first[c.b[l]];
-      r_.first[c.b[l]] = 2 * where + 1;
+    r_.touched_count = count;
+    for (std::size_t k = 2; k < r_.start.size(); ++k) r_.start[k] += r_.start[k - 1];
+    r_.adjacent.resize(2 * static_cast<std::size_t>(count));
+    for (std::uint32_t i = 0; i < count; ++i) {
+      r_.adjacent[r_.start[r_.touched[i].a + 1]++] = 2 * i;
+      r_.adjacent[r_.start[r_.touched[i].b + 1]++] = 2 * i + 1;
     }
-    for (const std::uint32_t where : r_.queue) record(where).queued = true;
+    r_.collided.assign((count + 63) / 64, 0);
   }
 
-  /// 1, 2. Collisions in sequence, first in, first out.
+  /// 2. Collisions in sequence, first in, first out.
   void replay_collisions() {
-    r_.collided.clear();
-    const std::size_t total = s_.blocks.size() * kLanes;
+    const std::size_t lanes = s_.blocks.size() * kLanes;
     // Every collision moves energy on or loses it, so this ends; the cap is for float rounding.
-    const std::size_t max_collisions = 16 * total + 16;
+    const std::size_t max_collisions = 16 * lanes + 16;
+    std::vector<Vec3>& x = r_.velocity;
     std::size_t collisions = 0;
-    for (std::size_t head = 0; head < r_.queue.size() && collisions < max_collisions; ++head) {
+    std::size_t head = 0;
+    for (; head < r_.queue.size() && collisions < max_collisions; ++head) {
       const std::uint32_t i = r_.queue[head];
-      const std::uint32_t record_index = r_.record_of[i];
-      r_.records[record_index].queued = false;
-      const ContactRef c = contact_ref(s_, i);
-      const Vec3 n = c.normal();
-      const std::uint32_t a = c.a(), b = c.b();
-      const std::uint32_t xa = collision_velocity(a), xb = collision_velocity(b);
-      const Real vn = n.dot(r_.velocity[xb] - r_.velocity[xa]);
-      const Real collision = r_.records[record_index].collision;
-      const bool first = collision < 0;
+      r_.flags[i] &= ~RestitutionScratch::kQueued;
+      Touched& c = r_.touched[i];
+      const Vec3 n = c.normal;
+      const std::uint32_t a = c.a, b = c.b;
+      const Real vn = n.dot(x[b] - x[a]);
+      const bool first = c.collision < 0;
       const Real accel = n.dot(acceleration(b) - acceleration(a));
       Real v = 0;  // approach at step start
-      if (first && c.bounces() && c.extra->relative_velocity[c.lane] <= -threshold_) {
-        v = c.extra->relative_velocity[c.lane];
+      if (first && (r_.flags[i] & RestitutionScratch::kBounces) &&
+          c.relative_velocity <= -threshold_) {
+        v = c.relative_velocity;
       } else if (vn <= -threshold_) {
         v = vn - accel * h_;
       } else {
         continue;
       }
-      const Real gap = first ? std::max(c.block->separation[c.lane], Real(0)) : Real(0);
+      const Real gap = first ? std::max(c.separation, Real(0)) : Real(0);
       const Real end_gap =
-          std::max(c.block->separation[c.lane] + n.dot(s_.delta_position[b] - s_.delta_position[a]),
-                   Real(0));
-      const Real target =
-          departure_speed(v, accel, half_h_, gap, end_gap, c.extra->restitution[c.lane]);
-      const Real impulse = std::max(c.block->normal_mass[c.lane] * (target - vn), Real(0));
-      r_.records[record_index].collision = std::max(collision, Real(0)) + impulse;
-      if (first) r_.collided.push_back(i);
+          std::max(c.separation + n.dot(s_.delta_position[b] - s_.delta_position[a]), Real(0));
+      const Real target = departure_speed(v, accel, half_h_, gap, end_gap, c.restitution);
+      const Real impulse = std::max(c.normal_mass * (target - vn), Real(0));
+      c.collision = std::max(c.collision, Real(0)) + impulse;
+      if (first) {
+        r_.collided[i / 64] |= std::uint64_t(1) << (i % 64);
+        r_.flags[i] |= RestitutionScratch::kCollided;
+      }
       ++collisions;
       if (impulse == 0) continue;
-      r_.velocity[xa] -= (s_.bodies[a].inverse_mass * impulse) * n;
-      r_.velocity[xb] += (s_.bodies[b].inverse_mass * impulse) * n;
+      x[a] -= (s_.bodies[a].inverse_mass * impulse) * n;
+      x[b] += (s_.bodies[b].inverse_mass * impulse) * n;
       queue_bouncing_neighbours(a);
       queue_bouncing_neighbours(b);
     }
-    std::sort(r_.collided.begin(), r_.collided.end());
+    for (; head < r_.queue.size(); ++head) r_.flags[r_.queue[head]] &= ~RestitutionScratch::kQueued;
   }
 
   /// 4 (targets first), then 3. Every touched contact around a body that step 3 or 4 moves is
@@ -168,20 +187,16 @@ class CollisionPass {
   /// not approaching, with no less than its collision impulse; any other with no less than none.
   void replace_impulses() {
     r_.queue.clear();
-    for (Record& record : r_.records) record.queued = false;
-    for (const std::uint32_t i : r_.collided) {
-      const ContactRef c = contact_ref(s_, i);
-      take_targets_around(c.a());
-      take_targets_around(c.b());
-    }
-    for (const std::uint32_t i : r_.collided) {
-      const ContactRef c = contact_ref(s_, i);
-      Record& record = r_.records[r_.record_of[i]];
-      const Real delta = record.collision - c.extra->total_normal_impulse[c.lane];
-      record.applied = delta;
-      s_.bodies[c.a()].linear_velocity -= (s_.bodies[c.a()].inverse_mass * delta) * c.normal();
-      s_.bodies[c.b()].linear_velocity += (s_.bodies[c.b()].inverse_mass * delta) * c.normal();
-    }
+    for_each_collided([&](const Touched& c) {
+      take_targets_around(c.a);
+      take_targets_around(c.b);
+    });
+    for_each_collided([&](Touched& c) {
+      const Real delta = c.collision - c.total_normal_impulse;
+      c.applied = delta;
+      s_.bodies[c.a].linear_velocity -= (s_.bodies[c.a].inverse_mass * delta) * c.normal;
+      s_.bodies[c.b].linear_velocity += (s_.bodies[c.b].inverse_mass * delta) * c.normal;
+    });
   }
 
   /// 4. Inelastic clean-up around them, Gauss–Seidel over a first-in, first-out work list.
@@ -193,31 +208,30 @@ class CollisionPass {
     std::size_t solves = 0;
     for (std::size_t head = 0; head < r_.queue.size() && solves < max_solves; ++head, ++solves) {
       const std::uint32_t i = r_.queue[head];
-      r_.records[r_.record_of[i]].queued = false;
-      const ContactRef c = contact_ref(s_, i);
-      const Vec3 n = c.normal();
-      const std::uint32_t a = c.a(), b = c.b();
+      r_.flags[i] &= ~RestitutionScratch::kQueued;
+      Touched& c = r_.touched[i];
+      const Vec3 n = c.normal;
+      const std::uint32_t a = c.a, b = c.b;
       const Real vn = n.dot(s_.bodies[b].linear_velocity - s_.bodies[a].linear_velocity);
-      const Record before = r_.records[r_.record_of[i]];
-      if (std::abs(before.target - vn) <= tolerance) continue;
-      const Real next = std::max(
-          before.applied + c.block->normal_mass[c.lane] * (before.target - vn), before.lower);
-      const Real delta = next - before.applied;
+      if (std::abs(c.target - vn) <= tolerance) continue;
+      const Real next = std::max(c.applied + c.normal_mass * (c.target - vn), c.lower);
+      const Real delta = next - c.applied;
       if (delta == 0) continue;
       take_targets_around(a);  // before the change: what the solve left there
       take_targets_around(b);
-      r_.records[r_.record_of[i]].applied = next;
+      c.applied = next;
       s_.bodies[a].linear_velocity -= (s_.bodies[a].inverse_mass * delta) * n;
       s_.bodies[b].linear_velocity += (s_.bodies[b].inverse_mass * delta) * n;
       for (const std::uint32_t body : {a, b}) {
         if (!moves(body)) continue;
-        for (std::uint32_t e = r_.first[body]; e != kNone; e = r_.next[e]) {
-          const std::uint32_t j = e / 2;
-          const std::uint32_t index = r_.record_of[j];
-          if (index == kNone || j == i) continue;  // no record: no target taken
-          Record& neighbour = r_.records[index];
-          if (neighbour.queued || std::isnan(neighbour.target)) continue;
-          neighbour.queued = true;
+        for (std::uint32_t e = r_.start[body]; e < r_.start[body + 1]; ++e) {
+          const std::uint32_t j = r_.adjacent[e] / 2;
+          if ((r_.flags[j] & (RestitutionScratch::kQueued | RestitutionScratch::kTaken)) !=
+                  RestitutionScratch::kTaken ||
+              j == i) {
+            continue;
+          }
+          r_.flags[j] |= RestitutionScratch::kQueued;
           r_.queue.push_back(j);
         }
       }
@@ -227,102 +241,78 @@ class CollisionPass {
   /// Bookkeeping: totals and the largest impulse for events; warm starting. A contact that
   /// collided leaves separating, so it warm-starts the next step with nothing: its collision
   /// impulse carried over would have to be taken back by the next solve, which a chain does
-  /// only approximately. Then every entry of the region's maps is cleared for the next step.
+  /// only approximately.
   void finish() {
-    for (const Record& record : r_.records) {
-      r_.record_of[record.where] = kNone;
-      if (record.applied == 0 && record.collision < 0) continue;
-      const ContactRef c = contact_ref(s_, record.where);
-      const int l = c.lane;
-      c.extra->total_normal_impulse[l] += record.applied;
-      Real& warm = c.block->normal_impulse[l];
-      warm = record.collision >= 0 ? Real(0) : std::max(warm + record.applied, Real(0));
-      c.block->max_normal_impulse[l] =
-          std::max({c.block->max_normal_impulse[l], warm, std::max(record.collision, Real(0))});
+    for (std::uint32_t i = 0; i < r_.touched_count; ++i) {
+      if (!(r_.flags[i] & (RestitutionScratch::kCleaned | RestitutionScratch::kCollided))) {
+        continue;  // the pass did not change it
+      }
+      const Touched& t = r_.touched[i];
+      if (t.applied == 0 && t.collision < 0) continue;
+      ContactBlock& c = s_.blocks[t.where / kLanes];
+      const int l = static_cast<int>(t.where % kLanes);
+      s_.extra[t.where / kLanes].total_normal_impulse[l] += t.applied;
+      Real& warm = c.normal_impulse[l];
+      warm = t.collision >= 0 ? Real(0) : std::max(warm + t.applied, Real(0));
+      c.max_normal_impulse[l] =
+          std::max({c.max_normal_impulse[l], warm, std::max(t.collision, Real(0))});
     }
-    r_.records.clear();
-    for (const std::uint32_t body : r_.velocity_body) r_.velocity_of[body] = kNone;
-    r_.velocity_body.clear();
-    r_.velocity.clear();
   }
 
  private:
-  using Record = RestitutionScratch::Record;
+  using Touched = RestitutionScratch::Touched;
 
   bool moves(std::uint32_t body) const { return s_.bodies[body].inverse_mass > 0; }
   Vec3 acceleration(std::uint32_t body) const {
     return body < s_.acceleration.size() ? s_.acceleration[body] : Vec3::Zero().eval();
   }
 
-  /// The contact's record, made on first use.
-  Record& record(std::uint32_t where) {
-    std::uint32_t& index = r_.record_of[where];
-    if (index == kNone) {
-      index = static_cast<std::uint32_t>(r_.records.size());
-      r_.records.push_back(
-          {where, false, Real(-1), std::numeric_limits<Real>::quiet_NaN(), Real(0), Real(0)});
-    }
-    return r_.records[index];
-  }
-
-  /// Index of the body's collision velocity, made on first use (step 1): its velocity without
-  /// the step's normal impulses of the contacts that can bounce. A body that does not move
-  /// keeps its velocity (its impulses are multiplied by an inverse mass of 0).
-  std::uint32_t collision_velocity(std::uint32_t body) {
-    std::uint32_t& index = r_.velocity_of[body];
-    if (index != kNone) return index;
-    index = static_cast<std::uint32_t>(r_.velocity.size());
-    Vec3 x = s_.bodies[body].linear_velocity;
-    if (moves(body)) {
-      const Real inverse_mass = s_.bodies[body].inverse_mass;
-      for (std::uint32_t e = r_.first[body]; e != kNone; e = r_.next[e]) {
-        const ContactRef c = contact_ref(s_, e / 2);
-        if (!c.bounces()) continue;
-        const Real p = c.extra->total_normal_impulse[c.lane];
-        if (e % 2 == 0) {
-          x += (inverse_mass * p) * c.normal();
-        } else {
-          x -= (inverse_mass * p) * c.normal();
-        }
+  /// Calls f on each contact that collided, in lane order.
+  template <class F>
+  void for_each_collided(F&& f) {
+    for (std::size_t w = 0; w < r_.collided.size(); ++w) {
+      for (std::uint64_t bits = r_.collided[w]; bits != 0; bits &= bits - 1) {
+        f(r_.touched[w * 64 + static_cast<std::size_t>(std::countr_zero(bits))]);
       }
     }
-    r_.velocity.push_back(x);
-    r_.velocity_body.push_back(body);
-    return index;
   }
 
   void queue_bouncing_neighbours(std::uint32_t body) {
     if (!moves(body)) return;
-    for (std::uint32_t e = r_.first[body]; e != kNone; e = r_.next[e]) {
-      const std::uint32_t j = e / 2;
-      if (!contact_ref(s_, j).bounces()) continue;
-      Record& next = record(j);
-      if (next.queued) continue;
-      next.queued = true;
+    for (std::uint32_t e = r_.start[body]; e < r_.start[body + 1]; ++e) {
+      const std::uint32_t j = r_.adjacent[e] / 2;
+      if ((r_.flags[j] & (RestitutionScratch::kBounces | RestitutionScratch::kQueued)) !=
+          RestitutionScratch::kBounces) {
+        continue;
+      }
+      r_.flags[j] |= RestitutionScratch::kQueued;
       r_.queue.push_back(j);
     }
   }
 
+  /// Queues for the clean-up every touched contact of the body whose target is not yet taken,
+  /// taking it now.
   void take_targets_around(std::uint32_t body) {
-    if (!moves(body)) return;
-    for (std::uint32_t e = r_.first[body]; e != kNone; e = r_.next[e]) {
-      const std::uint32_t j = e / 2;
-      const std::uint32_t index = r_.record_of[j];
-      if (index != kNone && !std::isnan(r_.records[index].target)) continue;
-      const ContactRef c = contact_ref(s_, j);  // touched: listed only if max impulse != 0
-      Record& record = this->record(j);
-      const Real total_impulse = c.extra->total_normal_impulse[c.lane];
-      if (record.collision >= 0) {
-        record.target = 0;
-        record.lower = record.collision - total_impulse;
+    if (!moves(body) || r_.targets_taken[body]) return;
+    bool all_taken = true;
+    for (std::uint32_t e = r_.start[body]; e < r_.start[body + 1]; ++e) {
+      const std::uint32_t j = r_.adjacent[e] / 2;
+      if (r_.flags[j] & RestitutionScratch::kTaken) continue;
+      Touched& c = r_.touched[j];
+      if (c.collision >= 0) {
+        c.target = 0;
+        c.lower = c.collision - c.total_normal_impulse;
       } else {
-        record.target =
-            c.normal().dot(s_.bodies[c.b()].linear_velocity - s_.bodies[c.a()].linear_velocity);
-        record.lower = -total_impulse;
+        c.target = c.normal.dot(s_.bodies[c.b].linear_velocity - s_.bodies[c.a].linear_velocity);
+        c.lower = -c.total_normal_impulse;
       }
-      record.queued = true;
+      const bool taken = !std::isnan(c.target);
+      all_taken = all_taken && taken;
+      r_.flags[j] |= RestitutionScratch::kQueued | RestitutionScratch::kCleaned |
+                     (taken ? RestitutionScratch::kTaken : 0);
       r_.queue.push_back(j);
     }
+    r_.targets_taken[body] = all_taken;  // then a walk again would change nothing
   }
 
   SolverScratch& s_;
@@ -338,8 +328,8 @@ void WorldImpl::apply_restitution(Real h) {
   if (!def.enable_restitution) return;
   const Real half_h = (def.integrator == Integrator::ExplicitEuler ? Real(-0.5) : Real(0.5)) * h;
   CollisionPass pass(scratch.solver, def.restitution_threshold, h, half_h);
-  if (!pass.queue_fast_approaches()) return;
-  pass.link_contacts();
+  if (!pass.any_fast_approach()) return;
+  pass.gather_contacts();
   pass.replay_collisions();
   pass.replace_impulses();
   pass.clean_up();
