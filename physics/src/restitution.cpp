@@ -78,7 +78,9 @@ class CollisionPass {
   }
 
   /// Copies the touched contacts in lane order and lists each body's; takes the collision
-  /// velocities (step 1) and queues the fast approaches, both in lane order.
+  /// velocities (step 1) and queues the fast approaches, both in lane order. (Here and below the
+  /// loops work through local pointers: a store to a flag byte may alias anything, so a vector's
+  /// data pointer would be reloaded after each one.)
   void gather_contacts() {
     const std::size_t body_count = s_.bodies.size();
     const std::size_t lanes = s_.blocks.size() * kLanes;
@@ -87,8 +89,13 @@ class CollisionPass {
     r_.start.assign(body_count + 2, 0);
     r_.targets_taken.assign(body_count, 0);
     r_.velocity.resize(body_count);
-    for (std::size_t k = 0; k < body_count; ++k) r_.velocity[k] = s_.bodies[k].linear_velocity;
     r_.queue.clear();
+    const Motion* const bodies = s_.bodies.data();
+    Vec3* const x = r_.velocity.data();
+    Touched* const touched = r_.touched.data();
+    std::uint8_t* const flags = r_.flags.data();
+    std::uint32_t* const start = r_.start.data();
+    for (std::size_t k = 0; k < body_count; ++k) x[k] = bodies[k].linear_velocity;
     std::uint32_t count = 0;
     for (std::size_t k = 0; k < s_.blocks.size(); ++k) {
       const ContactBlock& c = s_.blocks[k];
@@ -98,40 +105,45 @@ class CollisionPass {
         lanes_touched |= static_cast<unsigned>(c.max_normal_impulse[l] != 0) << l;
       for (; lanes_touched != 0; lanes_touched &= lanes_touched - 1, ++count) {
         const int l = std::countr_zero(lanes_touched);
-        Touched& t = r_.touched[count];
-        t.a = c.a[l];
-        t.b = c.b[l];
+        const std::uint32_t a = c.a[l], b = c.b[l];
+        const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
+        const Real restitution = e.restitution[l];
+        const Real relative_velocity = e.relative_velocity[l];
+        const Real p = e.total_normal_impulse[l];
+        Touched& t = touched[count];
+        t.a = a;
+        t.b = b;
         t.where = static_cast<std::uint32_t>(k * kLanes) + static_cast<std::uint32_t>(l);
-        t.normal = Vec3(c.nx[l], c.ny[l], c.nz[l]);
+        t.normal = n;
         t.separation = c.separation[l];
         t.normal_mass = c.normal_mass[l];
-        t.relative_velocity = e.relative_velocity[l];
-        t.restitution = e.restitution[l];
-        t.total_normal_impulse = e.total_normal_impulse[l];
+        t.relative_velocity = relative_velocity;
+        t.restitution = restitution;
+        t.total_normal_impulse = p;
         t.collision = -1;
         t.target = std::numeric_limits<Real>::quiet_NaN();
         t.lower = 0;
         t.applied = 0;
-        ++r_.start[t.a + 2];
-        ++r_.start[t.b + 2];
-        const bool bounces = t.restitution != 0 && c.max_normal_impulse[l] > 0;
-        r_.flags[count] = bounces ? RestitutionScratch::kBounces : 0;
+        ++start[a + 2];
+        ++start[b + 2];
+        const bool bounces = restitution != 0 && c.max_normal_impulse[l] > 0;
+        flags[count] = bounces ? RestitutionScratch::kBounces : 0;
         if (!bounces) continue;
-        const Real p = t.total_normal_impulse;
-        r_.velocity[t.a] += (s_.bodies[t.a].inverse_mass * p) * t.normal;
-        r_.velocity[t.b] -= (s_.bodies[t.b].inverse_mass * p) * t.normal;
-        if (t.relative_velocity <= -threshold_) {
-          r_.flags[count] |= RestitutionScratch::kQueued;
+        x[a] += (bodies[a].inverse_mass * p) * n;
+        x[b] -= (bodies[b].inverse_mass * p) * n;
+        if (relative_velocity <= -threshold_) {
+          flags[count] |= RestitutionScratch::kQueued;
           r_.queue.push_back(count);
         }
       }
     }
     r_.touched_count = count;
-    for (std::size_t k = 2; k < r_.start.size(); ++k) r_.start[k] += r_.start[k - 1];
+    for (std::size_t k = 2; k < body_count + 2; ++k) start[k] += start[k - 1];
     r_.adjacent.resize(2 * static_cast<std::size_t>(count));
+    std::uint32_t* const adjacent = r_.adjacent.data();
     for (std::uint32_t i = 0; i < count; ++i) {
-      r_.adjacent[r_.start[r_.touched[i].a + 1]++] = 2 * i;
-      r_.adjacent[r_.start[r_.touched[i].b + 1]++] = 2 * i + 1;
+      adjacent[start[touched[i].a + 1]++] = 2 * i;
+      adjacent[start[touched[i].b + 1]++] = 2 * i + 1;
     }
     r_.collided.assign((count + 63) / 64, 0);
   }
@@ -141,50 +153,48 @@ class CollisionPass {
     const std::size_t lanes = s_.blocks.size() * kLanes;
     // Every collision moves energy on or loses it, so this ends; the cap is for float rounding.
     const std::size_t max_collisions = 16 * lanes + 16;
-    std::vector<Vec3>& x = r_.velocity;
+    const Motion* const bodies = s_.bodies.data();
+    const Vec3* const delta_position = s_.delta_position.data();
+    Vec3* const x = r_.velocity.data();
+    Touched* const touched = r_.touched.data();
+    std::uint8_t* const flags = r_.flags.data();
     std::size_t collisions = 0;
-    std::size_t head = 0;
-    for (; head < r_.queue.size() && collisions < max_collisions; ++head) {
+    for (std::size_t head = 0; head < r_.queue.size() && collisions < max_collisions; ++head) {
       const std::uint32_t i = r_.queue[head];
-      r_.flags[i] &= ~RestitutionScratch::kQueued;
-      Touched& c = r_.touched[i];
+      flags[i] &= ~RestitutionScratch::kQueued;
+      Touched& c = touched[i];
       const Vec3 n = c.normal;
       const std::uint32_t a = c.a, b = c.b;
       const Real vn = n.dot(x[b] - x[a]);
       const bool first = c.collision < 0;
+      const bool seed =
+          first && (flags[i] & RestitutionScratch::kBounces) && c.relative_velocity <= -threshold_;
+      if (!seed && !(vn <= -threshold_)) continue;
       const Real accel = n.dot(acceleration(b) - acceleration(a));
-      Real v = 0;  // approach at step start
-      if (first && (r_.flags[i] & RestitutionScratch::kBounces) &&
-          c.relative_velocity <= -threshold_) {
-        v = c.relative_velocity;
-      } else if (vn <= -threshold_) {
-        v = vn - accel * h_;
-      } else {
-        continue;
-      }
+      const Real v = seed ? c.relative_velocity : vn - accel * h_;  // approach at step start
       const Real gap = first ? std::max(c.separation, Real(0)) : Real(0);
       const Real end_gap =
-          std::max(c.separation + n.dot(s_.delta_position[b] - s_.delta_position[a]), Real(0));
+          std::max(c.separation + n.dot(delta_position[b] - delta_position[a]), Real(0));
       const Real target = departure_speed(v, accel, half_h_, gap, end_gap, c.restitution);
       const Real impulse = std::max(c.normal_mass * (target - vn), Real(0));
       c.collision = std::max(c.collision, Real(0)) + impulse;
       if (first) {
         r_.collided[i / 64] |= std::uint64_t(1) << (i % 64);
-        r_.flags[i] |= RestitutionScratch::kCollided;
+        flags[i] |= RestitutionScratch::kCollided;
       }
       ++collisions;
       if (impulse == 0) continue;
-      x[a] -= (s_.bodies[a].inverse_mass * impulse) * n;
-      x[b] += (s_.bodies[b].inverse_mass * impulse) * n;
+      x[a] -= (bodies[a].inverse_mass * impulse) * n;
+      x[b] += (bodies[b].inverse_mass * impulse) * n;
       queue_bouncing_neighbours(a);
       queue_bouncing_neighbours(b);
     }
-    for (; head < r_.queue.size(); ++head) r_.flags[r_.queue[head]] &= ~RestitutionScratch::kQueued;
   }
 
-  /// 4 (targets first), then 3. Every touched contact around a body that step 3 or 4 moves is
-  /// solved again, towards the relative velocity it had before: a contact that collided towards
-  /// not approaching, with no less than its collision impulse; any other with no less than none.
+  /// 4 (targets first), then 3. Every touched contact around a body of a contact that collided
+  /// is queued for the clean-up with the relative velocity to keep, taken before step 3 moves
+  /// anything: a contact that collided towards not approaching, with no less than its collision
+  /// impulse; any other towards what the solve left it with, with no less than none.
   void replace_impulses() {
     r_.queue.clear();
     for_each_collided([&](const Touched& c) {
@@ -199,16 +209,12 @@ class CollisionPass {
     });
   }
 
-  /// 4. Inelastic clean-up around them, Gauss–Seidel over a first-in, first-out work list.
-  /// A cap on the clean-up: twice the contacts around the collisions (a wave that spreads into a
-  /// pile further is left to the next step, which treats what remains of it as inelastic).
+  /// 4. Inelastic clean-up around them: one Gauss–Seidel pass over the contacts queued by
+  /// replace_impulses, in that order. (A contact whose bodies this moves is not solved again:
+  /// what remains is left to the next step, which treats it as inelastic.)
   void clean_up() {
     const Real tolerance = Real(1e-3) * std::max(threshold_, Real(1e-3));  // m/s
-    const std::size_t max_solves = r_.queue.size();
-    std::size_t solves = 0;
-    for (std::size_t head = 0; head < r_.queue.size() && solves < max_solves; ++head, ++solves) {
-      const std::uint32_t i = r_.queue[head];
-      r_.flags[i] &= ~RestitutionScratch::kQueued;
+    for (const std::uint32_t i : r_.queue) {
       Touched& c = r_.touched[i];
       const Vec3 n = c.normal;
       const std::uint32_t a = c.a, b = c.b;
@@ -217,24 +223,9 @@ class CollisionPass {
       const Real next = std::max(c.applied + c.normal_mass * (c.target - vn), c.lower);
       const Real delta = next - c.applied;
       if (delta == 0) continue;
-      take_targets_around(a);  // before the change: what the solve left there
-      take_targets_around(b);
       c.applied = next;
       s_.bodies[a].linear_velocity -= (s_.bodies[a].inverse_mass * delta) * n;
       s_.bodies[b].linear_velocity += (s_.bodies[b].inverse_mass * delta) * n;
-      for (const std::uint32_t body : {a, b}) {
-        if (!moves(body)) continue;
-        for (std::uint32_t e = r_.start[body]; e < r_.start[body + 1]; ++e) {
-          const std::uint32_t j = r_.adjacent[e] / 2;
-          if ((r_.flags[j] & (RestitutionScratch::kQueued | RestitutionScratch::kTaken)) !=
-                  RestitutionScratch::kTaken ||
-              j == i) {
-            continue;
-          }
-          r_.flags[j] |= RestitutionScratch::kQueued;
-          r_.queue.push_back(j);
-        }
-      }
     }
   }
 
@@ -279,13 +270,16 @@ class CollisionPass {
 
   void queue_bouncing_neighbours(std::uint32_t body) {
     if (!moves(body)) return;
-    for (std::uint32_t e = r_.start[body]; e < r_.start[body + 1]; ++e) {
-      const std::uint32_t j = r_.adjacent[e] / 2;
-      if ((r_.flags[j] & (RestitutionScratch::kBounces | RestitutionScratch::kQueued)) !=
+    std::uint8_t* const flags = r_.flags.data();
+    const std::uint32_t* const adjacent = r_.adjacent.data();
+    const std::uint32_t end = r_.start[body + 1];
+    for (std::uint32_t e = r_.start[body]; e < end; ++e) {
+      const std::uint32_t j = adjacent[e] / 2;
+      if ((flags[j] & (RestitutionScratch::kBounces | RestitutionScratch::kQueued)) !=
           RestitutionScratch::kBounces) {
         continue;
       }
-      r_.flags[j] |= RestitutionScratch::kQueued;
+      flags[j] |= RestitutionScratch::kQueued;
       r_.queue.push_back(j);
     }
   }
@@ -294,22 +288,26 @@ class CollisionPass {
   /// taking it now.
   void take_targets_around(std::uint32_t body) {
     if (!moves(body) || r_.targets_taken[body]) return;
+    const Motion* const bodies = s_.bodies.data();
+    Touched* const touched = r_.touched.data();
+    std::uint8_t* const flags = r_.flags.data();
+    const std::uint32_t* const adjacent = r_.adjacent.data();
+    const std::uint32_t end = r_.start[body + 1];
     bool all_taken = true;
-    for (std::uint32_t e = r_.start[body]; e < r_.start[body + 1]; ++e) {
-      const std::uint32_t j = r_.adjacent[e] / 2;
-      if (r_.flags[j] & RestitutionScratch::kTaken) continue;
-      Touched& c = r_.touched[j];
+    for (std::uint32_t e = r_.start[body]; e < end; ++e) {
+      const std::uint32_t j = adjacent[e] / 2;
+      if (flags[j] & RestitutionScratch::kTaken) continue;
+      Touched& c = touched[j];
       if (c.collision >= 0) {
         c.target = 0;
         c.lower = c.collision - c.total_normal_impulse;
       } else {
-        c.target = c.normal.dot(s_.bodies[c.b].linear_velocity - s_.bodies[c.a].linear_velocity);
+        c.target = c.normal.dot(bodies[c.b].linear_velocity - bodies[c.a].linear_velocity);
         c.lower = -c.total_normal_impulse;
       }
       const bool taken = !std::isnan(c.target);
       all_taken = all_taken && taken;
-      r_.flags[j] |= RestitutionScratch::kQueued | RestitutionScratch::kCleaned |
-                     (taken ? RestitutionScratch::kTaken : 0);
+      flags[j] |= RestitutionScratch::kCleaned | (taken ? RestitutionScratch::kTaken : 0);
       r_.queue.push_back(j);
     }
     r_.targets_taken[body] = all_taken;  // then a walk again would change nothing
