@@ -63,31 +63,36 @@ enum class ContactModel : std::uint8_t {
 
 /// The collision pass's working set (restitution.cpp), filled only in steps with a fast
 /// approach: a compact copy of the step's touched contacts (max normal impulse != 0) in lane
-/// order with the pass's state beside each, one cache line per contact in float, and a flag
-/// byte per contact for the walks around a body, which read nothing else.
+/// order, split in what every visit reads (Touched: bodies and normal, 20 bytes in float) and
+/// the rest with the pass's state (TouchedState), plus a flag byte per contact for the walks
+/// around a body, which read nothing else.
 struct RestitutionScratch {
-  struct alignas(64) Touched {  ///< one cache line in float
-    std::uint32_t a, b;         ///< solver bodies
-    std::uint32_t where;        ///< block · kLanes + lane
+  struct Touched {
+    std::uint32_t a, b;  ///< solver bodies
     Vec3 normal;
+  };
+  struct TouchedState {
+    std::uint32_t where;     ///< block · kLanes + lane
     Real separation;         ///< m at step start
     Real normal_mass;        ///< kg
     Real relative_velocity;  ///< m/s, normal, at prepare
     Real restitution;
     Real total_normal_impulse;  ///< N·s, of the solve
     Real collision;             ///< N·s, summed collision impulse; < 0: did not collide
-    Real target;   ///< m/s, relative normal velocity the clean-up keeps; NaN: not yet taken
-    Real lower;    ///< N·s, least impulse the clean-up may add
-    Real applied;  ///< N·s, added by the pass
+    Real target;                ///< m/s, relative normal velocity the clean-up keeps (once kTaken)
+    Real lower;                 ///< N·s, least impulse the clean-up may add (once taken)
+    Real applied;               ///< N·s, added by the pass
   };
   enum Flag : std::uint8_t {
     kBounces = 1,  ///< e > 0 and touched
-    kQueued = 2,
-    kTaken = 4,    ///< target is not NaN
-    kCleaned = 8,  ///< queued for the clean-up at some time
-    kCollided = 16,
+    kFast = 2,     ///< bounces and approached faster than the threshold at step start
+    kQueued = 4,
+    kCollided = 8,
+    kTaken = 16,    ///< has a target that is not NaN
+    kCleaned = 32,  ///< queued for the clean-up
   };
   std::vector<Touched> touched;  ///< the first touched_count are this step's
+  std::vector<TouchedState> state;
   std::vector<std::uint8_t> flags;
   std::uint32_t touched_count = 0;
   /// Per solver body k, its touched contacts are adjacent[start[k] .. start[k + 1]), each as

@@ -56,7 +56,9 @@ Real departure_speed(Real v, Real a, Real half_h, Real gap, Real end_gap, Real e
   return std::sqrt(std::max(departure * departure + 2 * a * end_gap, Real(0))) - half_h * a;
 }
 
-/// One step's collision pass (steps 1 to 4 above) over the touched contacts.
+/// One step's collision pass (steps 1 to 4 above) over the touched contacts. The loops work
+/// through local pointers: a store to a flag byte may alias anything, so a vector's data pointer
+/// would be reloaded after each one.
 class CollisionPass {
  public:
   CollisionPass(SolverScratch& s, Real threshold, Real h, Real half_h)
@@ -78,14 +80,15 @@ class CollisionPass {
   }
 
   /// Copies the touched contacts in lane order and lists each body's; takes the collision
-  /// velocities (step 1) and queues the fast approaches, both in lane order. (Here and below the
-  /// loops work through local pointers: a store to a flag byte may alias anything, so a vector's
-  /// data pointer would be reloaded after each one.)
+  /// velocities (step 1) and queues the fast approaches, both in lane order.
   void gather_contacts() {
     const std::size_t body_count = s_.bodies.size();
     const std::size_t lanes = s_.blocks.size() * kLanes;
-    if (r_.touched.size() < lanes) r_.touched.resize(lanes);
-    r_.flags.resize(lanes);
+    if (r_.touched.size() < lanes) {
+      r_.touched.resize(lanes);
+      r_.state.resize(lanes);
+      r_.flags.resize(lanes);
+    }
     r_.start.assign(body_count + 2, 0);
     r_.targets_taken.assign(body_count, 0);
     r_.velocity.resize(body_count);
@@ -93,6 +96,7 @@ class CollisionPass {
     const Motion* const bodies = s_.bodies.data();
     Vec3* const x = r_.velocity.data();
     Touched* const touched = r_.touched.data();
+    TouchedState* const state = r_.state.data();
     std::uint8_t* const flags = r_.flags.data();
     std::uint32_t* const start = r_.start.data();
     for (std::size_t k = 0; k < body_count; ++k) x[k] = bodies[k].linear_velocity;
@@ -110,19 +114,15 @@ class CollisionPass {
         const Real restitution = e.restitution[l];
         const Real relative_velocity = e.relative_velocity[l];
         const Real p = e.total_normal_impulse[l];
-        Touched& t = touched[count];
-        t.a = a;
-        t.b = b;
+        touched[count] = {a, b, n};
+        TouchedState& t = state[count];
         t.where = static_cast<std::uint32_t>(k * kLanes) + static_cast<std::uint32_t>(l);
-        t.normal = n;
         t.separation = c.separation[l];
         t.normal_mass = c.normal_mass[l];
         t.relative_velocity = relative_velocity;
         t.restitution = restitution;
         t.total_normal_impulse = p;
         t.collision = -1;
-        t.target = std::numeric_limits<Real>::quiet_NaN();
-        t.lower = 0;
         t.applied = 0;
         ++start[a + 2];
         ++start[b + 2];
@@ -132,7 +132,7 @@ class CollisionPass {
         x[a] += (bodies[a].inverse_mass * p) * n;
         x[b] -= (bodies[b].inverse_mass * p) * n;
         if (relative_velocity <= -threshold_) {
-          flags[count] |= RestitutionScratch::kQueued;
+          flags[count] |= RestitutionScratch::kFast | RestitutionScratch::kQueued;
           r_.queue.push_back(count);
         }
       }
@@ -156,20 +156,21 @@ class CollisionPass {
     const Motion* const bodies = s_.bodies.data();
     const Vec3* const delta_position = s_.delta_position.data();
     Vec3* const x = r_.velocity.data();
-    Touched* const touched = r_.touched.data();
+    const Touched* const touched = r_.touched.data();
+    TouchedState* const state = r_.state.data();
     std::uint8_t* const flags = r_.flags.data();
     std::size_t collisions = 0;
     for (std::size_t head = 0; head < r_.queue.size() && collisions < max_collisions; ++head) {
       const std::uint32_t i = r_.queue[head];
       flags[i] &= ~RestitutionScratch::kQueued;
-      Touched& c = touched[i];
-      const Vec3 n = c.normal;
-      const std::uint32_t a = c.a, b = c.b;
+      const Vec3 n = touched[i].normal;
+      const std::uint32_t a = touched[i].a, b = touched[i].b;
       const Real vn = n.dot(x[b] - x[a]);
-      const bool first = c.collision < 0;
-      const bool seed =
-          first && (flags[i] & RestitutionScratch::kBounces) && c.relative_velocity <= -threshold_;
+      // Not collided yet (its collision impulse is then < 0) and fast at step start.
+      const bool first = !(flags[i] & RestitutionScratch::kCollided);
+      const bool seed = first && (flags[i] & RestitutionScratch::kFast);
       if (!seed && !(vn <= -threshold_)) continue;
+      TouchedState& c = state[i];
       const Real accel = n.dot(acceleration(b) - acceleration(a));
       const Real v = seed ? c.relative_velocity : vn - accel * h_;  // approach at step start
       const Real gap = first ? std::max(c.separation, Real(0)) : Real(0);
@@ -197,15 +198,18 @@ class CollisionPass {
   /// impulse; any other towards what the solve left it with, with no less than none.
   void replace_impulses() {
     r_.queue.clear();
-    for_each_collided([&](const Touched& c) {
-      take_targets_around(c.a);
-      take_targets_around(c.b);
+    for_each_collided([&](std::uint32_t i) {
+      take_targets_around(r_.touched[i].a);
+      take_targets_around(r_.touched[i].b);
     });
-    for_each_collided([&](Touched& c) {
-      const Real delta = c.collision - c.total_normal_impulse;
-      c.applied = delta;
-      s_.bodies[c.a].linear_velocity -= (s_.bodies[c.a].inverse_mass * delta) * c.normal;
-      s_.bodies[c.b].linear_velocity += (s_.bodies[c.b].inverse_mass * delta) * c.normal;
+    Motion* const bodies = s_.bodies.data();
+    for_each_collided([&](std::uint32_t i) {
+      const Touched& c = r_.touched[i];
+      TouchedState& t = r_.state[i];
+      const Real delta = t.collision - t.total_normal_impulse;
+      t.applied = delta;
+      bodies[c.a].linear_velocity -= (bodies[c.a].inverse_mass * delta) * c.normal;
+      bodies[c.b].linear_velocity += (bodies[c.b].inverse_mass * delta) * c.normal;
     });
   }
 
@@ -214,18 +218,19 @@ class CollisionPass {
   /// what remains is left to the next step, which treats it as inelastic.)
   void clean_up() {
     const Real tolerance = Real(1e-3) * std::max(threshold_, Real(1e-3));  // m/s
+    Motion* const bodies = s_.bodies.data();
     for (const std::uint32_t i : r_.queue) {
-      Touched& c = r_.touched[i];
+      const Touched& c = r_.touched[i];
+      TouchedState& t = r_.state[i];
       const Vec3 n = c.normal;
-      const std::uint32_t a = c.a, b = c.b;
-      const Real vn = n.dot(s_.bodies[b].linear_velocity - s_.bodies[a].linear_velocity);
-      if (std::abs(c.target - vn) <= tolerance) continue;
-      const Real next = std::max(c.applied + c.normal_mass * (c.target - vn), c.lower);
-      const Real delta = next - c.applied;
+      const Real vn = n.dot(bodies[c.b].linear_velocity - bodies[c.a].linear_velocity);
+      if (std::abs(t.target - vn) <= tolerance) continue;
+      const Real next = std::max(t.applied + t.normal_mass * (t.target - vn), t.lower);
+      const Real delta = next - t.applied;
       if (delta == 0) continue;
-      c.applied = next;
-      s_.bodies[a].linear_velocity -= (s_.bodies[a].inverse_mass * delta) * n;
-      s_.bodies[b].linear_velocity += (s_.bodies[b].inverse_mass * delta) * n;
+      t.applied = next;
+      bodies[c.a].linear_velocity -= (bodies[c.a].inverse_mass * delta) * n;
+      bodies[c.b].linear_velocity += (bodies[c.b].inverse_mass * delta) * n;
     }
   }
 
@@ -238,7 +243,7 @@ class CollisionPass {
       if (!(r_.flags[i] & (RestitutionScratch::kCleaned | RestitutionScratch::kCollided))) {
         continue;  // the pass did not change it
       }
-      const Touched& t = r_.touched[i];
+      const TouchedState& t = r_.state[i];
       if (t.applied == 0 && t.collision < 0) continue;
       ContactBlock& c = s_.blocks[t.where / kLanes];
       const int l = static_cast<int>(t.where % kLanes);
@@ -252,19 +257,19 @@ class CollisionPass {
 
  private:
   using Touched = RestitutionScratch::Touched;
+  using TouchedState = RestitutionScratch::TouchedState;
 
   bool moves(std::uint32_t body) const { return s_.bodies[body].inverse_mass > 0; }
   Vec3 acceleration(std::uint32_t body) const {
     return body < s_.acceleration.size() ? s_.acceleration[body] : Vec3::Zero().eval();
   }
 
-  /// Calls f on each contact that collided, in lane order.
+  /// Calls f with the index of each contact that collided, in lane order.
   template <class F>
   void for_each_collided(F&& f) {
     for (std::size_t w = 0; w < r_.collided.size(); ++w) {
-      for (std::uint64_t bits = r_.collided[w]; bits != 0; bits &= bits - 1) {
-        f(r_.touched[w * 64 + static_cast<std::size_t>(std::countr_zero(bits))]);
-      }
+      for (std::uint64_t bits = r_.collided[w]; bits != 0; bits &= bits - 1)
+        f(static_cast<std::uint32_t>(w * 64) + static_cast<std::uint32_t>(std::countr_zero(bits)));
     }
   }
 
@@ -289,7 +294,8 @@ class CollisionPass {
   void take_targets_around(std::uint32_t body) {
     if (!moves(body) || r_.targets_taken[body]) return;
     const Motion* const bodies = s_.bodies.data();
-    Touched* const touched = r_.touched.data();
+    const Touched* const touched = r_.touched.data();
+    TouchedState* const state = r_.state.data();
     std::uint8_t* const flags = r_.flags.data();
     const std::uint32_t* const adjacent = r_.adjacent.data();
     const std::uint32_t end = r_.start[body + 1];
@@ -297,15 +303,16 @@ class CollisionPass {
     for (std::uint32_t e = r_.start[body]; e < end; ++e) {
       const std::uint32_t j = adjacent[e] / 2;
       if (flags[j] & RestitutionScratch::kTaken) continue;
-      Touched& c = touched[j];
-      if (c.collision >= 0) {
-        c.target = 0;
-        c.lower = c.collision - c.total_normal_impulse;
+      const Touched& c = touched[j];
+      TouchedState& t = state[j];
+      if (t.collision >= 0) {
+        t.target = 0;
+        t.lower = t.collision - t.total_normal_impulse;
       } else {
-        c.target = c.normal.dot(bodies[c.b].linear_velocity - bodies[c.a].linear_velocity);
-        c.lower = -c.total_normal_impulse;
+        t.target = c.normal.dot(bodies[c.b].linear_velocity - bodies[c.a].linear_velocity);
+        t.lower = -t.total_normal_impulse;
       }
-      const bool taken = !std::isnan(c.target);
+      const bool taken = !std::isnan(t.target);
       all_taken = all_taken && taken;
       flags[j] |= RestitutionScratch::kCleaned | (taken ? RestitutionScratch::kTaken : 0);
       r_.queue.push_back(j);
