@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "world_impl.h"
@@ -104,9 +105,11 @@ class CollisionPass {
     for (std::size_t k = 0; k < s_.blocks.size(); ++k) {
       const ContactBlock& c = s_.blocks[k];
       const ContactBlockExtra& e = s_.extra[k];
+      Real max_impulse[kLanes];
+      std::memcpy(max_impulse, &c.max_normal_impulse, sizeof max_impulse);
       unsigned lanes_touched = 0;
       for (int l = 0; l < kLanes; ++l)
-        lanes_touched |= static_cast<unsigned>(c.max_normal_impulse[l] != 0) << l;
+        lanes_touched |= static_cast<unsigned>(max_impulse[l] != 0) << l;
       for (; lanes_touched != 0; lanes_touched &= lanes_touched - 1, ++count) {
         const int l = std::countr_zero(lanes_touched);
         const std::uint32_t a = c.a[l], b = c.b[l];
