@@ -61,6 +61,49 @@ enum class ContactModel : std::uint8_t {
   SpinRolling,  ///< and rolling resistance (some body has it)
 };
 
+/// The collision pass's working set (restitution.cpp), filled only in steps with a fast
+/// approach: a compact copy of the step's touched contacts (max normal impulse != 0) in lane
+/// order, split in what every visit reads (Touched: bodies and normal, 20 bytes in float) and
+/// the rest with the pass's state (TouchedState), plus a flag byte per contact for the walks
+/// around a body, which read nothing else.
+struct RestitutionScratch {
+  struct Touched {
+    std::uint32_t a, b;  ///< solver bodies
+    Vec3 normal;
+  };
+  struct TouchedState {
+    std::uint32_t where;     ///< block · kLanes + lane
+    Real separation;         ///< m at step start
+    Real normal_mass;        ///< kg
+    Real relative_velocity;  ///< m/s, normal, at prepare
+    Real restitution;
+    Real total_normal_impulse;  ///< N·s, of the solve
+    Real collision;             ///< N·s, summed collision impulse; < 0: did not collide
+    Real target;                ///< m/s, relative normal velocity the clean-up keeps (once kTaken)
+    Real lower;                 ///< N·s, least impulse the clean-up may add (once taken)
+    Real applied;               ///< N·s, added by the pass
+  };
+  enum Flag : std::uint8_t {
+    kBounces = 1,  ///< e > 0 and touched
+    kFast = 2,     ///< bounces and approached faster than the threshold at step start
+    kQueued = 4,
+    kCollided = 8,
+    kTaken = 16,    ///< has a target that is not NaN
+    kCleaned = 32,  ///< queued for the clean-up
+  };
+  std::vector<Touched> touched;  ///< the first touched_count are this step's
+  std::vector<TouchedState> state;
+  std::vector<std::uint8_t> flags;
+  std::uint32_t touched_count = 0;
+  /// Per solver body k, its touched contacts are adjacent[start[k] .. start[k + 1]), each as
+  /// index · 2 + side (0: the body is a, 1: b), in lane order.
+  std::vector<std::uint32_t> start, adjacent;
+  std::vector<Vec3> velocity;               ///< m/s, per solver body: its collision velocity
+  std::vector<std::uint8_t> targets_taken;  ///< per solver body: all its contacts have targets
+  std::vector<std::uint32_t> queue;         ///< indices into touched
+  std::vector<std::uint64_t> collided;      ///< bit per touched contact: it collided
+};
+
 struct SolverScratch {
   std::vector<Motion> bodies;             ///< awake bodies in awake_list order, then the dummy
   std::vector<std::uint32_t> index_of;    ///< per slot: solver body index (dummy if not awake)
@@ -81,15 +124,7 @@ struct SolverScratch {
   std::vector<std::uint32_t> support_level;  ///< per solver body; the dummy (statics) is 0
   std::vector<std::uint32_t> support_key;    ///< per contact: level of its supporting side
   std::vector<std::uint32_t> support_order;  ///< supported contacts, ground up
-  // Restitution (restitution.cpp), per solver body or per lane (block · kLanes + lane).
-  std::vector<std::uint32_t> restitution_start, restitution_adjacent;  ///< contacts per body
-  std::vector<Vec3> collision_velocity;  ///< m/s, per body, while collisions are replayed
-  std::vector<Real> collision_impulse;   ///< N·s, per contact; < 0: did not collide
-  std::vector<std::uint32_t> restitution_queue;
-  std::vector<std::uint8_t> restitution_queued;
-  std::vector<Real> restitution_target;   ///< m/s, relative normal velocity to keep
-  std::vector<Real> restitution_lower;    ///< N·s, least impulse the clean-up may add
-  std::vector<Real> restitution_applied;  ///< N·s added by the restitution pass
+  RestitutionScratch restitution;
   ContactModel model = ContactModel::Spin;
   bool has_rolling = false;  ///< model == SpinRolling
   bool needs_shock = false;  ///< some contact joins masses more than shock_mass_ratio apart

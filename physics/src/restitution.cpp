@@ -21,34 +21,24 @@
 ///      the impact.
 ///
 /// A step without a fast approach changes nothing, so resting contacts and stacks behave as
-/// without restitution.
+/// without restitution. The pass costs one read of every contact lane to find the fast
+/// approaches and, when there are some, one more to list each body's touched contacts; all else
+/// is proportional to the impact region (the contacts queued and the bodies they move).
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
+#include "scratch_vector.h"
 #include "world_impl.h"
 
 namespace ricochet::physics {
 
 namespace {
 
-/// A contact of the step as this pass sees it.
-struct ContactRef {
-  ContactBlock* block;
-  ContactBlockExtra* extra;
-  int lane;
-  std::uint32_t a() const { return block->a[lane]; }
-  std::uint32_t b() const { return block->b[lane]; }
-  Vec3 normal() const { return Vec3(block->nx[lane], block->ny[lane], block->nz[lane]); }
-};
-
-/// Contacts are named by where they are, block · kLanes + lane, so that the passes over all of
-/// them read the blocks in order. An unused lane has restitution 0, no impulse and the dummy on
-/// both sides, so every test below skips it.
-ContactRef contact_ref(SolverScratch& s, std::uint32_t where) {
-  return {&s.blocks[where / kLanes], &s.extra[where / kLanes], static_cast<int>(where % kLanes)};
-}
+constexpr std::uint32_t kNone = ~0u;
 
 /// Departure velocity that keeps energy across the impact's phase inside the step. The stored
 /// velocity of a semi-implicit body is the mean over the step it just took, ½·a·h off its true
@@ -68,216 +58,293 @@ Real departure_speed(Real v, Real a, Real half_h, Real gap, Real end_gap, Real e
   return std::sqrt(std::max(departure * departure + 2 * a * end_gap, Real(0))) - half_h * a;
 }
 
+/// One step's collision pass (steps 1 to 4 above) over the touched contacts. The loops work
+/// through local pointers: a store to a flag byte may alias anything, so a vector's data pointer
+/// would be reloaded after each one.
+class CollisionPass {
+ public:
+  CollisionPass(SolverScratch& s, Real threshold, Real h, Real half_h)
+      : s_(s), r_(s.restitution), threshold_(threshold), h_(h), half_h_(half_h) {}
+
+  /// True if some contact can bounce and approached faster than the threshold at step start.
+  bool any_fast_approach() const {
+    for (std::size_t k = 0; k < s_.blocks.size(); ++k) {
+      const ContactBlock& c = s_.blocks[k];
+      const ContactBlockExtra& e = s_.extra[k];
+      bool fast = false;
+      for (int l = 0; l < kLanes; ++l) {
+        fast = fast || (e.relative_velocity[l] <= -threshold_ && e.restitution[l] != 0 &&
+                        c.max_normal_impulse[l] > 0);
+      }
+      if (fast) return true;
+    }
+    return false;
+  }
+
+  /// Copies the touched contacts in lane order and lists each body's; takes the collision
+  /// velocities (step 1) and queues the fast approaches, both in lane order.
+  void gather_contacts() {
+    const std::size_t body_count = s_.bodies.size();
+    const std::size_t lanes = s_.blocks.size() * kLanes;
+    if (r_.touched.size() < lanes) {
+      r_.touched.resize(lanes);
+      r_.state.resize(lanes);
+      r_.flags.resize(lanes);
+    }
+    assign_reusing(r_.start, body_count + 2, 0);
+    assign_reusing(r_.targets_taken, body_count, 0);
+    r_.velocity.resize(body_count);
+    r_.queue.clear();
+    const Motion* const bodies = s_.bodies.data();
+    Vec3* const x = r_.velocity.data();
+    Touched* const touched = r_.touched.data();
+    TouchedState* const state = r_.state.data();
+    std::uint8_t* const flags = r_.flags.data();
+    std::uint32_t* const start = r_.start.data();
+    for (std::size_t k = 0; k < body_count; ++k) x[k] = bodies[k].linear_velocity;
+    std::uint32_t count = 0;
+    for (std::size_t k = 0; k < s_.blocks.size(); ++k) {
+      const ContactBlock& c = s_.blocks[k];
+      const ContactBlockExtra& e = s_.extra[k];
+      Real max_impulse[kLanes];
+      std::memcpy(max_impulse, &c.max_normal_impulse, sizeof max_impulse);
+      unsigned lanes_touched = 0;
+      for (int l = 0; l < kLanes; ++l)
+        lanes_touched |= static_cast<unsigned>(max_impulse[l] != 0) << l;
+      for (; lanes_touched != 0; lanes_touched &= lanes_touched - 1, ++count) {
+        const int l = std::countr_zero(lanes_touched);
+        const std::uint32_t a = c.a[l], b = c.b[l];
+        const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
+        const Real restitution = e.restitution[l];
+        const Real relative_velocity = e.relative_velocity[l];
+        const Real p = e.total_normal_impulse[l];
+        touched[count] = {a, b, n};
+        TouchedState& t = state[count];
+        t.where = static_cast<std::uint32_t>(k * kLanes) + static_cast<std::uint32_t>(l);
+        t.separation = c.separation[l];
+        t.normal_mass = c.normal_mass[l];
+        t.relative_velocity = relative_velocity;
+        t.restitution = restitution;
+        t.total_normal_impulse = p;
+        t.collision = -1;
+        t.applied = 0;
+        ++start[a + 2];
+        ++start[b + 2];
+        const bool bounces = restitution != 0 && c.max_normal_impulse[l] > 0;
+        flags[count] = bounces ? RestitutionScratch::kBounces : 0;
+        if (!bounces) continue;
+        x[a] += (bodies[a].inverse_mass * p) * n;
+        x[b] -= (bodies[b].inverse_mass * p) * n;
+        if (relative_velocity <= -threshold_) {
+          flags[count] |= RestitutionScratch::kFast | RestitutionScratch::kQueued;
+          r_.queue.push_back(count);
+        }
+      }
+    }
+    r_.touched_count = count;
+    for (std::size_t k = 2; k < body_count + 2; ++k) start[k] += start[k - 1];
+    r_.adjacent.resize(2 * static_cast<std::size_t>(count));
+    std::uint32_t* const adjacent = r_.adjacent.data();
+    for (std::uint32_t i = 0; i < count; ++i) {
+      adjacent[start[touched[i].a + 1]++] = 2 * i;
+      adjacent[start[touched[i].b + 1]++] = 2 * i + 1;
+    }
+    assign_reusing(r_.collided, (count + 63) / 64, 0);
+  }
+
+  /// 2. Collisions in sequence, first in, first out.
+  void replay_collisions() {
+    const std::size_t lanes = s_.blocks.size() * kLanes;
+    // Every collision moves energy on or loses it, so this ends; the cap is for float rounding.
+    const std::size_t max_collisions = 16 * lanes + 16;
+    const Motion* const bodies = s_.bodies.data();
+    const Vec3* const delta_position = s_.delta_position.data();
+    Vec3* const x = r_.velocity.data();
+    const Touched* const touched = r_.touched.data();
+    TouchedState* const state = r_.state.data();
+    std::uint8_t* const flags = r_.flags.data();
+    std::size_t collisions = 0;
+    for (std::size_t head = 0; head < r_.queue.size() && collisions < max_collisions; ++head) {
+      const std::uint32_t i = r_.queue[head];
+      flags[i] &= ~RestitutionScratch::kQueued;
+      const Vec3 n = touched[i].normal;
+      const std::uint32_t a = touched[i].a, b = touched[i].b;
+      const Real vn = n.dot(x[b] - x[a]);
+      // Not collided yet (its collision impulse is then < 0) and fast at step start.
+      const bool first = !(flags[i] & RestitutionScratch::kCollided);
+      const bool seed = first && (flags[i] & RestitutionScratch::kFast);
+      if (!seed && !(vn <= -threshold_)) continue;
+      TouchedState& c = state[i];
+      const Real accel = n.dot(acceleration(b) - acceleration(a));
+      const Real v = seed ? c.relative_velocity : vn - accel * h_;  // approach at step start
+      const Real gap = first ? std::max(c.separation, Real(0)) : Real(0);
+      const Real end_gap =
+          std::max(c.separation + n.dot(delta_position[b] - delta_position[a]), Real(0));
+      const Real target = departure_speed(v, accel, half_h_, gap, end_gap, c.restitution);
+      const Real impulse = std::max(c.normal_mass * (target - vn), Real(0));
+      c.collision = std::max(c.collision, Real(0)) + impulse;
+      if (first) {
+        r_.collided[i / 64] |= std::uint64_t(1) << (i % 64);
+        flags[i] |= RestitutionScratch::kCollided;
+      }
+      ++collisions;
+      if (impulse == 0) continue;
+      x[a] -= (bodies[a].inverse_mass * impulse) * n;
+      x[b] += (bodies[b].inverse_mass * impulse) * n;
+      queue_bouncing_neighbours(a);
+      queue_bouncing_neighbours(b);
+    }
+  }
+
+  /// 4 (targets first), then 3. Every touched contact around a body of a contact that collided
+  /// is queued for the clean-up with the relative velocity to keep, taken before step 3 moves
+  /// anything: a contact that collided towards not approaching, with no less than its collision
+  /// impulse; any other towards what the solve left it with, with no less than none.
+  void replace_impulses() {
+    r_.queue.clear();
+    for_each_collided([&](std::uint32_t i) {
+      take_targets_around(r_.touched[i].a);
+      take_targets_around(r_.touched[i].b);
+    });
+    Motion* const bodies = s_.bodies.data();
+    for_each_collided([&](std::uint32_t i) {
+      const Touched& c = r_.touched[i];
+      TouchedState& t = r_.state[i];
+      const Real delta = t.collision - t.total_normal_impulse;
+      t.applied = delta;
+      bodies[c.a].linear_velocity -= (bodies[c.a].inverse_mass * delta) * c.normal;
+      bodies[c.b].linear_velocity += (bodies[c.b].inverse_mass * delta) * c.normal;
+    });
+  }
+
+  /// 4. Inelastic clean-up around them: one Gauss–Seidel pass over the contacts queued by
+  /// replace_impulses, in that order. (A contact whose bodies this moves is not solved again:
+  /// what remains is left to the next step, which treats it as inelastic.)
+  void clean_up() {
+    const Real tolerance = Real(1e-3) * std::max(threshold_, Real(1e-3));  // m/s
+    Motion* const bodies = s_.bodies.data();
+    for (const std::uint32_t i : r_.queue) {
+      const Touched& c = r_.touched[i];
+      TouchedState& t = r_.state[i];
+      const Vec3 n = c.normal;
+      const Real vn = n.dot(bodies[c.b].linear_velocity - bodies[c.a].linear_velocity);
+      if (std::abs(t.target - vn) <= tolerance) continue;
+      const Real next = std::max(t.applied + t.normal_mass * (t.target - vn), t.lower);
+      const Real delta = next - t.applied;
+      if (delta == 0) continue;
+      t.applied = next;
+      bodies[c.a].linear_velocity -= (bodies[c.a].inverse_mass * delta) * n;
+      bodies[c.b].linear_velocity += (bodies[c.b].inverse_mass * delta) * n;
+    }
+  }
+
+  /// Bookkeeping: totals and the largest impulse for events; warm starting. A contact that
+  /// collided leaves separating, so it warm-starts the next step with nothing: its collision
+  /// impulse carried over would have to be taken back by the next solve, which a chain does
+  /// only approximately.
+  void finish() {
+    for (std::uint32_t i = 0; i < r_.touched_count; ++i) {
+      if (!(r_.flags[i] & (RestitutionScratch::kCleaned | RestitutionScratch::kCollided))) {
+        continue;  // the pass did not change it
+      }
+      const TouchedState& t = r_.state[i];
+      if (t.applied == 0 && t.collision < 0) continue;
+      ContactBlock& c = s_.blocks[t.where / kLanes];
+      const int l = static_cast<int>(t.where % kLanes);
+      s_.extra[t.where / kLanes].total_normal_impulse[l] += t.applied;
+      // A vector lane, not an lvalue to bind a reference to (Clang refuses): read, then write.
+      const Real warm =
+          t.collision >= 0 ? Real(0) : std::max(c.normal_impulse[l] + t.applied, Real(0));
+      c.normal_impulse[l] = warm;
+      c.max_normal_impulse[l] =
+          std::max({c.max_normal_impulse[l], warm, std::max(t.collision, Real(0))});
+    }
+  }
+
+ private:
+  using Touched = RestitutionScratch::Touched;
+  using TouchedState = RestitutionScratch::TouchedState;
+
+  bool moves(std::uint32_t body) const { return s_.bodies[body].inverse_mass > 0; }
+  Vec3 acceleration(std::uint32_t body) const {
+    return body < s_.acceleration.size() ? s_.acceleration[body] : Vec3::Zero().eval();
+  }
+
+  /// Calls f with the index of each contact that collided, in lane order.
+  template <class F>
+  void for_each_collided(F&& f) {
+    for (std::size_t w = 0; w < r_.collided.size(); ++w) {
+      for (std::uint64_t bits = r_.collided[w]; bits != 0; bits &= bits - 1)
+        f(static_cast<std::uint32_t>(w * 64) + static_cast<std::uint32_t>(std::countr_zero(bits)));
+    }
+  }
+
+  void queue_bouncing_neighbours(std::uint32_t body) {
+    if (!moves(body)) return;
+    std::uint8_t* const flags = r_.flags.data();
+    const std::uint32_t* const adjacent = r_.adjacent.data();
+    const std::uint32_t end = r_.start[body + 1];
+    for (std::uint32_t e = r_.start[body]; e < end; ++e) {
+      const std::uint32_t j = adjacent[e] / 2;
+      if ((flags[j] & (RestitutionScratch::kBounces | RestitutionScratch::kQueued)) !=
+          RestitutionScratch::kBounces) {
+        continue;
+      }
+      flags[j] |= RestitutionScratch::kQueued;
+      r_.queue.push_back(j);
+    }
+  }
+
+  /// Queues for the clean-up every touched contact of the body whose target is not yet taken,
+  /// taking it now.
+  void take_targets_around(std::uint32_t body) {
+    if (!moves(body) || r_.targets_taken[body]) return;
+    const Motion* const bodies = s_.bodies.data();
+    const Touched* const touched = r_.touched.data();
+    TouchedState* const state = r_.state.data();
+    std::uint8_t* const flags = r_.flags.data();
+    const std::uint32_t* const adjacent = r_.adjacent.data();
+    const std::uint32_t end = r_.start[body + 1];
+    bool all_taken = true;
+    for (std::uint32_t e = r_.start[body]; e < end; ++e) {
+      const std::uint32_t j = adjacent[e] / 2;
+      if (flags[j] & RestitutionScratch::kTaken) continue;
+      const Touched& c = touched[j];
+      TouchedState& t = state[j];
+      if (t.collision >= 0) {
+        t.target = 0;
+        t.lower = t.collision - t.total_normal_impulse;
+      } else {
+        t.target = c.normal.dot(bodies[c.b].linear_velocity - bodies[c.a].linear_velocity);
+        t.lower = -t.total_normal_impulse;
+      }
+      const bool taken = !std::isnan(t.target);
+      all_taken = all_taken && taken;
+      flags[j] |= RestitutionScratch::kCleaned | (taken ? RestitutionScratch::kTaken : 0);
+      r_.queue.push_back(j);
+    }
+    r_.targets_taken[body] = all_taken;  // then a walk again would change nothing
+  }
+
+  SolverScratch& s_;
+  RestitutionScratch& r_;
+  Real threshold_;
+  Real h_;
+  Real half_h_;
+};
+
 }  // namespace
 
 void WorldImpl::apply_restitution(Real h) {
   if (!def.enable_restitution) return;
-  SolverScratch& s = scratch.solver;
-  const Real threshold = def.restitution_threshold;
-  const std::uint32_t total = static_cast<std::uint32_t>(s.blocks.size()) * kLanes;
-  const auto bounces = [&](const ContactRef& c) {
-    return c.extra->restitution[c.lane] != 0 && c.block->max_normal_impulse[c.lane] > 0;
-  };
-  const auto is_seed = [&](const ContactRef& c) {
-    return bounces(c) && c.extra->relative_velocity[c.lane] <= -threshold;
-  };
-  std::uint32_t seeds = 0;
-  for (std::uint32_t i = 0; i < total; ++i) seeds += is_seed(contact_ref(s, i)) ? 1 : 0;
-  if (seeds == 0) return;
-
-  const std::uint32_t body_count = static_cast<std::uint32_t>(s.bodies.size());  // with dummy
   const Real half_h = (def.integrator == Integrator::ExplicitEuler ? Real(-0.5) : Real(0.5)) * h;
-  const auto acceleration = [&](std::uint32_t body) -> Vec3 {
-    return body < s.acceleration.size() ? s.acceleration[body] : Vec3::Zero().eval();
-  };
-  const auto moves = [&](std::uint32_t body) { return s.bodies[body].inverse_mass > 0; };
-
-  // Contacts per solver body (compressed rows); the dummy's static contacts are never needed.
-  std::vector<std::uint32_t>& start = s.restitution_start;
-  std::vector<std::uint32_t>& adjacent = s.restitution_adjacent;
-  start.assign(body_count + 1, 0);
-  for (std::uint32_t i = 0; i < total; ++i) {
-    const ContactRef c = contact_ref(s, i);
-    if (moves(c.a())) ++start[c.a() + 1];
-    if (moves(c.b())) ++start[c.b() + 1];
-  }
-  for (std::uint32_t k = 0; k < body_count; ++k) start[k + 1] += start[k];
-  adjacent.resize(start[body_count]);
-  s.cursor.assign(start.begin(), start.end() - 1);
-  for (std::uint32_t i = 0; i < total; ++i) {
-    const ContactRef c = contact_ref(s, i);
-    if (moves(c.a())) adjacent[s.cursor[c.a()]++] = i;
-    if (moves(c.b())) adjacent[s.cursor[c.b()]++] = i;
-  }
-  std::vector<std::uint32_t>& queue = s.restitution_queue;
-  std::vector<std::uint8_t>& queued = s.restitution_queued;
-  queued.assign(total, 0);
-  queue.clear();
-  const auto enqueue_neighbours = [&](std::uint32_t body, auto&& wanted) {
-    if (!moves(body)) return;
-    for (std::uint32_t e = start[body]; e < start[body + 1]; ++e) {
-      const std::uint32_t j = adjacent[e];
-      if (!queued[j] && wanted(contact_ref(s, j))) {
-        queued[j] = 1;
-        queue.push_back(j);
-      }
-    }
-  };
-
-  // 1. Collision velocities.
-  std::vector<Vec3>& x = s.collision_velocity;
-  x.resize(body_count);
-  for (std::uint32_t k = 0; k < body_count; ++k) x[k] = s.bodies[k].linear_velocity;
-  for (std::uint32_t i = 0; i < total; ++i) {
-    const ContactRef c = contact_ref(s, i);
-    if (!bounces(c)) continue;
-    const Real p = c.extra->total_normal_impulse[c.lane];
-    x[c.a()] += (s.bodies[c.a()].inverse_mass * p) * c.normal();
-    x[c.b()] -= (s.bodies[c.b()].inverse_mass * p) * c.normal();
-  }
-
-  // 2. Collisions, in sequence.
-  std::vector<Real>& collision = s.collision_impulse;  // per contact, N·s; < 0: never collided
-  collision.assign(total, Real(-1));
-  for (std::uint32_t i = 0; i < total; ++i) {
-    if (is_seed(contact_ref(s, i))) {
-      queued[i] = 1;
-      queue.push_back(i);
-    }
-  }
-  // Every collision moves energy on or loses it, so this ends; the cap is for float rounding.
-  const std::size_t max_collisions = 16 * static_cast<std::size_t>(total) + 16;
-  std::size_t collisions = 0;
-  for (std::size_t head = 0; head < queue.size() && collisions < max_collisions; ++head) {
-    const std::uint32_t i = queue[head];
-    queued[i] = 0;
-    const ContactRef c = contact_ref(s, i);
-    const Vec3 n = c.normal();
-    const std::uint32_t a = c.a(), b = c.b();
-    const Real vn = n.dot(x[b] - x[a]);
-    const bool first = collision[i] < 0;
-    const Real accel = n.dot(acceleration(b) - acceleration(a));
-    Real v = 0;  // approach at step start
-    if (first && is_seed(c)) {
-      v = c.extra->relative_velocity[c.lane];
-    } else if (vn <= -threshold) {
-      v = vn - accel * h;
-    } else {
-      continue;
-    }
-    const Real gap = first ? std::max(c.block->separation[c.lane], Real(0)) : Real(0);
-    const Real end_gap = std::max(
-        c.block->separation[c.lane] + n.dot(s.delta_position[b] - s.delta_position[a]), Real(0));
-    const Real target =
-        departure_speed(v, accel, half_h, gap, end_gap, c.extra->restitution[c.lane]);
-    const Real impulse = std::max(c.block->normal_mass[c.lane] * (target - vn), Real(0));
-    collision[i] = std::max(collision[i], Real(0)) + impulse;
-    ++collisions;
-    if (impulse == 0) continue;
-    x[a] -= (s.bodies[a].inverse_mass * impulse) * n;
-    x[b] += (s.bodies[b].inverse_mass * impulse) * n;
-    const auto can_collide = [&](const ContactRef& next) { return bounces(next); };
-    enqueue_neighbours(a, can_collide);
-    enqueue_neighbours(b, can_collide);
-  }
-
-  // 4 (targets first). Every touched contact around a body that step 3 or 4 moves is solved
-  // again, towards the relative velocity it had before: a contact that collided towards not
-  // approaching, with no less than its collision impulse; any other with no less than none.
-  queue.clear();
-  std::fill(queued.begin(), queued.end(), 0);
-  std::vector<Real>& target = s.restitution_target;  // m/s, per contact; NaN: not yet taken
-  std::vector<Real>& lower = s.restitution_lower;    // N·s, least impulse this pass may add
-  target.assign(total, std::numeric_limits<Real>::quiet_NaN());
-  lower.resize(total);
-  std::vector<Real>& applied = s.restitution_applied;  // N·s, added by this pass per contact
-  applied.assign(total, 0);
-  const auto take_targets_around = [&](std::uint32_t body) {
-    if (!moves(body)) return;
-    for (std::uint32_t e = start[body]; e < start[body + 1]; ++e) {
-      const std::uint32_t j = adjacent[e];
-      const ContactRef c = contact_ref(s, j);
-      if (!std::isnan(target[j]) || c.block->max_normal_impulse[c.lane] == 0) continue;
-      const Real total_impulse = c.extra->total_normal_impulse[c.lane];
-      if (collision[j] >= 0) {
-        target[j] = 0;
-        lower[j] = collision[j] - total_impulse;
-      } else {
-        target[j] =
-            c.normal().dot(s.bodies[c.b()].linear_velocity - s.bodies[c.a()].linear_velocity);
-        lower[j] = -total_impulse;
-      }
-      queued[j] = 1;
-      queue.push_back(j);
-    }
-  };
-  for (std::uint32_t i = 0; i < total; ++i) {
-    if (collision[i] < 0) continue;
-    const ContactRef c = contact_ref(s, i);
-    take_targets_around(c.a());
-    take_targets_around(c.b());
-  }
-
-  // 3. Collision impulses replace the solve's.
-  for (std::uint32_t i = 0; i < total; ++i) {
-    if (collision[i] < 0) continue;
-    const ContactRef c = contact_ref(s, i);
-    const Real delta = collision[i] - c.extra->total_normal_impulse[c.lane];
-    applied[i] = delta;
-    s.bodies[c.a()].linear_velocity -= (s.bodies[c.a()].inverse_mass * delta) * c.normal();
-    s.bodies[c.b()].linear_velocity += (s.bodies[c.b()].inverse_mass * delta) * c.normal();
-  }
-
-  // 4. Inelastic clean-up around them, Gauss–Seidel over a first-in, first-out work list.
-  // A cap on the clean-up: twice the contacts around the collisions (a wave that spreads into a
-  // pile further is left to the next step, which treats what remains of it as inelastic).
-  const Real tolerance = Real(1e-3) * std::max(threshold, Real(1e-3));  // m/s
-  const std::size_t max_solves = queue.size();
-  std::size_t solves = 0;
-  for (std::size_t head = 0; head < queue.size() && solves < max_solves; ++head, ++solves) {
-    const std::uint32_t i = queue[head];
-    queued[i] = 0;
-    const ContactRef c = contact_ref(s, i);
-    const Vec3 n = c.normal();
-    const std::uint32_t a = c.a(), b = c.b();
-    const Real vn = n.dot(s.bodies[b].linear_velocity - s.bodies[a].linear_velocity);
-    if (std::abs(target[i] - vn) <= tolerance) continue;
-    const Real next =
-        std::max(applied[i] + c.block->normal_mass[c.lane] * (target[i] - vn), lower[i]);
-    const Real delta = next - applied[i];
-    if (delta == 0) continue;
-    take_targets_around(a);  // before the change: what the solve left there
-    take_targets_around(b);
-    applied[i] = next;
-    s.bodies[a].linear_velocity -= (s.bodies[a].inverse_mass * delta) * n;
-    s.bodies[b].linear_velocity += (s.bodies[b].inverse_mass * delta) * n;
-    for (const std::uint32_t body : {a, b}) {
-      if (!moves(body)) continue;
-      for (std::uint32_t e = start[body]; e < start[body + 1]; ++e) {
-        const std::uint32_t j = adjacent[e];
-        if (queued[j] || j == i || std::isnan(target[j])) continue;
-        queued[j] = 1;
-        queue.push_back(j);
-      }
-    }
-  }
-
-  // Bookkeeping: totals and the largest impulse for events; warm starting. A contact that
-  // collided leaves separating, so it warm-starts the next step with nothing: its collision
-  // impulse carried over would have to be taken back by the next solve, which a chain does
-  // only approximately.
-  for (std::uint32_t i = 0; i < total; ++i) {
-    if (applied[i] == 0 && collision[i] < 0) continue;
-    const ContactRef c = contact_ref(s, i);
-    const int l = c.lane;
-    c.extra->total_normal_impulse[l] += applied[i];
-    // A vector lane, not an lvalue to bind a reference to (Clang refuses): read, then write.
-    const Real warm =
-        collision[i] >= 0 ? Real(0) : std::max(c.block->normal_impulse[l] + applied[i], Real(0));
-    c.block->normal_impulse[l] = warm;
-    c.block->max_normal_impulse[l] =
-        std::max({c.block->max_normal_impulse[l], warm, std::max(collision[i], Real(0))});
-  }
+  CollisionPass pass(scratch.solver, def.restitution_threshold, h, half_h);
+  if (!pass.any_fast_approach()) return;
+  pass.gather_contacts();
+  pass.replay_collisions();
+  pass.replace_impulses();
+  pass.clean_up();
+  pass.finish();
 }
 
 }  // namespace ricochet::physics
