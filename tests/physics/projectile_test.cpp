@@ -229,7 +229,7 @@ TEST(Projectile, OneThatLeavesTheFiniteRangeIsRemoved) {
   World world = make_world(WorldDef{});
   ProjectileDef def;
   def.position = Vec3(0, 1, 0);
-  def.gravity_scale = Real(1e38);
+  def.gravity_scale = std::numeric_limits<Real>::max();  // times g overflows
   const ProjectileId id = unwrap(world.create_projectile(def), "create_projectile");
   ASSERT_TRUE(run(world, 1));
   EXPECT_FALSE(world.is_valid(id));
