@@ -38,8 +38,6 @@ namespace ricochet::physics {
 
 namespace {
 
-constexpr std::uint32_t kNone = ~0u;
-
 /// Departure velocity that keeps energy across the impact's phase inside the step. The stored
 /// velocity of a semi-implicit body is the mean over the step it just took, ½·a·h off its true
 /// value, and the impact happens somewhere inside the step; reflecting the stored approach speed
