@@ -33,6 +33,10 @@ struct BodyGrid {
   std::vector<Entry> unsorted;        ///< this step's entries in slot order (sort input)
   std::vector<std::uint32_t> key_of;  ///< per unsorted entry: its cell or bucket
   std::vector<std::uint32_t> cursor;  ///< counting-sort write positions
+  /// The sorted entries' centres and reaches, one array per field for the packed pair test,
+  /// followed by kLanePadding zeros so a pack may be loaded past the last entry.
+  std::vector<Real> lane_x, lane_y, lane_z, lane_reach;
+  static constexpr std::uint32_t kLanePadding = 8;
 
   /// Clamped so positions far beyond any arena cannot overflow the integer cell.
   std::int32_t coordinate(Real v) const;

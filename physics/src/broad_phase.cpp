@@ -9,6 +9,11 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "scratch_vector.h"
 #include "world_impl.h"
@@ -21,6 +26,37 @@ constexpr std::int32_t kForwardNeighbours[13][3] = {
     {1, 0, 0},  {-1, 1, 0}, {0, 1, 0}, {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
     {-1, 0, 1}, {0, 0, 1},  {1, 0, 1}, {-1, 1, 1}, {0, 1, 1},   {1, 1, 1},
 };
+
+/// A pack of consecutive grid entries' values, one SSE2/NEON register (4 floats, 2 doubles).
+using Pack = Real __attribute__((vector_size(16)));
+constexpr std::uint32_t kPackWidth = sizeof(Pack) / sizeof(Real);
+static_assert(kPackWidth <= BodyGrid::kLanePadding);
+
+Pack splat(Real v) {
+  Pack p;
+  for (std::uint32_t l = 0; l < kPackWidth; ++l) p[l] = v;
+  return p;
+}
+
+Pack load(const Real* p) {
+  Pack v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+/// Bit l set when a[l] < b[l] (false for NaN, as the scalar comparison).
+unsigned lanes_below(Pack a, Pack b) {
+  const auto below = a < b;  // lanes all ones or all zeros
+#if defined(__SSE2__) && !defined(RICOCHET_DOUBLE)
+  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(below)));
+#elif defined(__SSE2__)
+  return static_cast<unsigned>(_mm_movemask_pd(reinterpret_cast<__m128d>(below)));
+#else
+  unsigned bits = 0;
+  for (std::uint32_t l = 0; l < kPackWidth; ++l) bits |= (below[l] != 0 ? 1u : 0u) << l;
+  return bits;
+#endif
+}
 
 std::uint32_t next_power_of_two(std::uint32_t v) {
   std::uint32_t p = 1;
@@ -75,6 +111,16 @@ void BodyGrid::build(Real cell) {
   assign_reusing(cursor, cell_start.begin(), cell_start.end() - 1);
   entries.resize(count);
   for (std::uint32_t i = 0; i < count; ++i) entries[cursor[key_of[i]]++] = unsorted[i];
+  for (std::vector<Real>* lane : {&lane_x, &lane_y, &lane_z, &lane_reach})
+    lane->resize(std::size_t{count} + kLanePadding);
+  for (std::uint32_t i = 0; i < count; ++i) {
+    lane_x[i] = entries[i].position.x();
+    lane_y[i] = entries[i].position.y();
+    lane_z[i] = entries[i].position.z();
+    lane_reach[i] = entries[i].reach;
+  }
+  for (std::uint32_t i = count; i < count + kLanePadding; ++i)
+    lane_x[i] = lane_y[i] = lane_z[i] = lane_reach[i] = 0;
 }
 
 [[gnu::flatten]] void WorldImpl::find_pairs() {
@@ -119,22 +165,26 @@ void BodyGrid::build(Real cell) {
     const Real reach = ei.reach + ej.reach;
     return (ej.position - ei.position).squaredNorm() < reach * reach;
   };
-  // Entry e against the consecutive entries [begin, end): the distance test runs branch-free over
-  // a chunk and collects the hits (most candidates miss, and a mispredicted branch costs more
-  // than the test), then the hits are accepted in order.
+  // Entry e against the consecutive entries [begin, end): the distance test runs branch-free on
+  // packs of consecutive entries read from the grid's per-field lanes (most candidates miss, and
+  // a mispredicted branch costs more than the test), then the hits are accepted in order. Each
+  // lane computes what within_reach does, operation for operation, so the same pairs are found.
+  const Real* const lane_x = scratch.grid.lane_x.data();
+  const Real* const lane_y = scratch.grid.lane_y.data();
+  const Real* const lane_z = scratch.grid.lane_z.data();
+  const Real* const lane_reach = scratch.grid.lane_reach.data();
   const auto scan = [&](std::uint32_t e, std::uint32_t begin, std::uint32_t end) {
-    constexpr std::uint32_t kChunk = 32;
-    std::uint32_t hits[kChunk];
     const BodyGrid::Entry& me = entries[e];
-    while (begin < end) {
-      const std::uint32_t stop = std::min(end, begin + kChunk);
-      std::uint32_t count = 0;
-      for (std::uint32_t f = begin; f < stop; ++f) {
-        hits[count] = f;
-        count += within_reach(me, entries[f]) ? 1 : 0;
-      }
-      for (std::uint32_t h = 0; h < count; ++h) accept(me, entries[hits[h]]);
-      begin = stop;
+    const Pack mx = splat(me.position.x()), my = splat(me.position.y()),
+               mz = splat(me.position.z()), mr = splat(me.reach);
+    for (std::uint32_t f = begin; f < end; f += kPackWidth) {
+      const Pack dx = load(lane_x + f) - mx, dy = load(lane_y + f) - my,
+                 dz = load(lane_z + f) - mz;
+      const Pack reach = mr + load(lane_reach + f);
+      unsigned hits = lanes_below((dx * dx + dy * dy) + dz * dz, reach * reach);
+      if (end - f < kPackWidth) hits &= (1u << (end - f)) - 1;
+      for (; hits != 0; hits &= hits - 1)
+        accept(me, entries[f + static_cast<std::uint32_t>(std::countr_zero(hits))]);
     }
   };
   if (scratch.grid.dense) {
