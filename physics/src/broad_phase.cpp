@@ -173,19 +173,28 @@ void BodyGrid::build(Real cell) {
   const Real* const lane_y = scratch.grid.lane_y.data();
   const Real* const lane_z = scratch.grid.lane_z.data();
   const Real* const lane_reach = scratch.grid.lane_reach.data();
+  // The scanning entry's centre and reach in every lane (set by aim, once per entry).
+  Pack mx, my, mz, mr;
+  const auto aim = [&](const BodyGrid::Entry& me) {
+    mx = splat(me.position.x());
+    my = splat(me.position.y());
+    mz = splat(me.position.z());
+    mr = splat(me.reach);
+  };
   const auto scan = [&](std::uint32_t e, std::uint32_t begin, std::uint32_t end) {
     const BodyGrid::Entry& me = entries[e];
-    const Pack mx = splat(me.position.x()), my = splat(me.position.y()),
-               mz = splat(me.position.z()), mr = splat(me.reach);
-    for (std::uint32_t f = begin; f < end; f += kPackWidth) {
+    // The pack at f, its lanes limited to those in mask.
+    const auto test = [&](std::uint32_t f, unsigned mask) {
       const Pack dx = load(lane_x + f) - mx, dy = load(lane_y + f) - my,
                  dz = load(lane_z + f) - mz;
       const Pack reach = mr + load(lane_reach + f);
-      unsigned hits = lanes_below((dx * dx + dy * dy) + dz * dz, reach * reach);
-      if (end - f < kPackWidth) hits &= (1u << (end - f)) - 1;
+      unsigned hits = lanes_below((dx * dx + dy * dy) + dz * dz, reach * reach) & mask;
       for (; hits != 0; hits &= hits - 1)
         accept(me, entries[f + static_cast<std::uint32_t>(std::countr_zero(hits))]);
-    }
+    };
+    std::uint32_t f = begin;
+    for (; f + kPackWidth <= end; f += kPackWidth) test(f, (1u << kPackWidth) - 1);
+    if (f < end) test(f, (1u << (end - f)) - 1);
   };
   if (scratch.grid.dense) {
     // Cells of one x-row are consecutive, so each neighbour row is one contiguous range:
@@ -198,6 +207,7 @@ void BodyGrid::build(Real cell) {
       const std::int64_t x = me.x - scratch.grid.min_cell[0], y = me.y - scratch.grid.min_cell[1],
                          z = me.z - scratch.grid.min_cell[2];
       const std::int64_t row = (z * ny + y) * nx;
+      aim(me);
       scan(e, e + 1, scratch.grid.cell_start[row + std::min(x + 1, nx - 1) + 1]);
       for (const auto& r : kRows) {
         const std::int64_t ry = y + r[0], rz = z + r[1];
