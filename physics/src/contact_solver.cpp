@@ -233,6 +233,80 @@ void solve_blocks_for_model(SolverScratch& s, const PassParams& p) {
   }
 }
 
+/// Warm start of lanes first .. first + W of block k: last step's impulses applied again, lane by
+/// lane as the scalar formulas (contacts of one block share no moving body, and unused lanes hold
+/// zeros against the dummy, so a whole block at once gives the same bits as one lane at a time).
+template <class V, bool kSpin, bool kRolling>
+[[gnu::always_inline]] inline void warm_start_lanes(SolverScratch& s, std::size_t k, int first) {
+  Motion* sb = s.bodies.data();
+  const ContactBlock& c = s.blocks[k];
+  const std::uint32_t* ia = c.a + first;
+  const std::uint32_t* ib = c.b + first;
+  BodyVectors<V> A, B;
+  if constexpr (kSpin) {
+    A = gather<V>(sb, ia);
+    B = gather<V>(sb, ib);
+  } else {
+    A = gather_linear<V>(sb, ia);
+    B = gather_linear<V>(sb, ib);
+  }
+  const V nx = get<V>(c.nx, first), ny = get<V>(c.ny, first), nz = get<V>(c.nz, first);
+  const V fx = get<V>(c.fx, first), fy = get<V>(c.fy, first), fz = get<V>(c.fz, first);
+  const V normal_impulse = get<V>(c.normal_impulse, first);
+  // linear = n·normal_impulse + f
+  const V lx = nx * normal_impulse + fx, ly = ny * normal_impulse + fy,
+          lz = nz * normal_impulse + fz;
+  A.vx = A.vx - A.m * lx, A.vy = A.vy - A.m * ly, A.vz = A.vz - A.m * lz;
+  B.vx = B.vx + B.m * lx, B.vy = B.vy + B.m * ly, B.vz = B.vz + B.m * lz;
+  if constexpr (kSpin) {
+    V rx = splat<V>(0), ry = splat<V>(0), rz = splat<V>(0);
+    if constexpr (kRolling) {
+      const RollingBlock& r = s.rolling[k];
+      rx = get<V>(r.x, first), ry = get<V>(r.y, first), rz = get<V>(r.z, first);
+    }
+    // torque_dir = n × f
+    const V tx = ny * fz - nz * fy, ty = nz * fx - nx * fz, tz = nx * fy - ny * fx;
+    const V ra = get<V>(c.ra, first), rb = get<V>(c.rb, first);
+    A.wx = A.wx - A.i * (ra * tx + rx), A.wy = A.wy - A.i * (ra * ty + ry),
+    A.wz = A.wz - A.i * (ra * tz + rz);
+    B.wx = B.wx + B.i * (rx - rb * tx), B.wy = B.wy + B.i * (ry - rb * ty),
+    B.wz = B.wz + B.i * (rz - rb * tz);
+    scatter(sb, ia, A);
+    scatter(sb, ib, B);
+  } else {
+    scatter_linear(sb, ia, A);
+    scatter_linear(sb, ib, B);
+  }
+}
+
+template <class V, bool kSpin, bool kRolling>
+[[gnu::always_inline]] inline void warm_start_blocks(SolverScratch& s) {
+  for (std::size_t k = 0; k < s.blocks.size(); ++k) {
+    for (int first = 0; first < kLanes; first += kWidth<V>)
+      warm_start_lanes<V, kSpin, kRolling>(s, k, first);
+  }
+}
+
+template <bool kSpin, bool kRolling>
+[[gnu::flatten]] void warm_start_baseline(SolverScratch& s) {
+  warm_start_blocks<BaselineVector, kSpin, kRolling>(s);
+}
+
+#if RICOCHET_X86
+template <bool kSpin, bool kRolling>
+[[gnu::flatten, gnu::target("avx2")]] void warm_start_avx2(SolverScratch& s) {
+  warm_start_blocks<Wide, kSpin, kRolling>(s);
+}
+#endif
+
+template <bool kSpin, bool kRolling>
+void warm_start_on_best_isa(SolverScratch& s) {
+#if RICOCHET_X86
+  if (s.wide) return warm_start_avx2<kSpin, kRolling>(s);
+#endif
+  warm_start_baseline<kSpin, kRolling>(s);
+}
+
 template <PositionCorrection kMethod, bool kUseBias>
 void solve_blocks_dispatch(SolverScratch& s, bool track_delta, const PassParams& p) {
   if (track_delta) {
@@ -337,27 +411,9 @@ void WorldImpl::prepare_contacts() {
 void WorldImpl::warm_start() {
   SolverScratch& s = scratch.solver;
   const bool spin = s.model == ContactModel::Spin || s.model == ContactModel::SpinRolling;
-  for (std::size_t k = 0; k < s.blocks.size(); ++k) {
-    const ContactBlock& c = s.blocks[k];
-    for (int l = 0; l < kLanes; ++l) {
-      if (s.extra[k].contact[l] == kUnusedLane) continue;
-      const Vec3 n(c.nx[l], c.ny[l], c.nz[l]);
-      const Vec3 f(c.fx[l], c.fy[l], c.fz[l]);
-      const Vec3 rolling = s.has_rolling
-                               ? Vec3(s.rolling[k].x[l], s.rolling[k].y[l], s.rolling[k].z[l])
-                               : Vec3::Zero().eval();
-      const Vec3 linear = n * c.normal_impulse[l] + f;
-      const Vec3 torque_dir = n.cross(f);
-      Motion& A = s.bodies[c.a[l]];
-      Motion& B = s.bodies[c.b[l]];
-      A.linear_velocity -= A.inverse_mass * linear;
-      B.linear_velocity += B.inverse_mass * linear;
-      if (spin) {
-        A.angular_velocity -= A.inverse_inertia * (c.ra[l] * torque_dir + rolling);
-        B.angular_velocity += B.inverse_inertia * (rolling - c.rb[l] * torque_dir);
-      }
-    }
-  }
+  if (!spin) return warm_start_on_best_isa<false, false>(s);
+  if (s.has_rolling) return warm_start_on_best_isa<true, true>(s);
+  warm_start_on_best_isa<true, false>(s);
 }
 
 void WorldImpl::reset_impulses() {
