@@ -73,8 +73,7 @@ void WorldImpl::mark_for_move_event(std::uint32_t slot, std::uint8_t why) {
 void WorldImpl::report_body_moves() {
   const BodyStore& b = state.bodies;
   const std::vector<std::uint32_t>& awake = scratch.awake_list;  // ascending
-  const auto report = [&](std::uint32_t s, bool was_awake) {
-    const std::uint8_t mark = s < events.move_marks.size() ? events.move_marks[s] : 0;
+  const auto report = [&](std::uint32_t s, bool was_awake, std::uint8_t mark) {
     const bool fell_asleep = was_awake && b.has(s, kFlagSleeping);
     const bool moved =
         (mark & kMoveMarkMoved) != 0 ||
@@ -88,13 +87,13 @@ void WorldImpl::report_body_moves() {
         {b.id_of(s), b.position[s], b.orientation[s], b.user_data[s], fell_asleep, woke});
   };
   if (events.marked_slots.empty()) {
-    for (const std::uint32_t s : awake) report(s, true);
+    for (const std::uint32_t s : awake) report(s, true, 0);  // every mark is 0
   } else {  // a body marked between steps (moved, restored) may be asleep: visit every slot
     std::size_t next = 0;
     for (std::uint32_t s = 0; s < b.slot_count(); ++s) {
       const bool was_awake = next < awake.size() && awake[next] == s;
       next += was_awake ? 1 : 0;
-      if (b.alive(s)) report(s, was_awake);
+      if (b.alive(s)) report(s, was_awake, s < events.move_marks.size() ? events.move_marks[s] : 0);
     }
   }
   for (const std::uint32_t s : events.marked_slots) events.move_marks[s] = 0;
