@@ -185,8 +185,7 @@ void BodyGrid::build(Real cell) {
     const BodyGrid::Entry& me = entries[e];
     // The pack at f, its lanes limited to those in mask.
     const auto test = [&](std::uint32_t f, unsigned mask) {
-      const Pack dx = load(lane_x + f) - mx, dy = load(lane_y + f) - my,
-                 dz = load(lane_z + f) - mz;
+      const Pack dx = load(lane_x + f) - mx, dy = load(lane_y + f) - my, dz = load(lane_z + f) - mz;
       const Pack reach = mr + load(lane_reach + f);
       unsigned hits = lanes_below((dx * dx + dy * dy) + dz * dz, reach * reach) & mask;
       for (; hits != 0; hits &= hits - 1)
