@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 #include "contact_simd.h"
 #include "math_util.h"
@@ -357,18 +358,17 @@ void WorldImpl::prepare_contacts() {
 
   const std::size_t pair_count = state.pair_contacts.size();
   const std::size_t total = pair_count + state.static_contacts.size();
-  const auto contact_at = [&](std::size_t i) -> Contact& {
-    return i < pair_count ? state.pair_contacts[i] : state.static_contacts[i - pair_count];
-  };
   color_contacts(s, state.pair_contacts, state.static_contacts);
-  for (std::size_t i = 0; i < total; ++i) {
-    Contact& c = contact_at(i);
+  // Contact i of the pair contacts (kPair) or, from pair_count on, of the static contacts.
+  const auto prepare = [&](auto pair, std::size_t i) {
+    constexpr bool kPair = decltype(pair)::value;
+    const Contact& c = kPair ? state.pair_contacts[i] : state.static_contacts[i - pair_count];
     const std::uint32_t block = s.lane_of_contact[i] / kLanes;
     const int lane = static_cast<int>(s.lane_of_contact[i] % kLanes);
     ContactBlock& blk = s.blocks[block];
     ContactBlockExtra& extra = s.extra[block];
     const std::uint32_t a = s.index_of[c.a];
-    const std::uint32_t b = i < pair_count ? s.index_of[c.b] : dummy;
+    const std::uint32_t b = kPair ? s.index_of[c.b] : dummy;
     const Motion& A = s.bodies[a];
     const Motion& B = s.bodies[b];
     blk.a[lane] = a;
@@ -405,7 +405,9 @@ void WorldImpl::prepare_contacts() {
     extra.contact[lane] = static_cast<std::uint32_t>(i);
     extra.relative_velocity[lane] = c.normal.dot(B.linear_velocity - A.linear_velocity);
     extra.restitution[lane] = def.enable_restitution ? c.restitution : Real(0);
-  }
+  };
+  for (std::size_t i = 0; i < pair_count; ++i) prepare(std::true_type{}, i);
+  for (std::size_t i = pair_count; i < total; ++i) prepare(std::false_type{}, i);
 }
 
 void WorldImpl::warm_start() {
