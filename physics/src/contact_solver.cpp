@@ -53,6 +53,26 @@ struct PassParams {
 // ---------------------------------------------------------------------------------------------
 // The kernel.
 
+/// The lanes' bodies: velocities and inverse masses, and with spin the angular part too.
+template <class V, bool kSpin>
+[[gnu::always_inline]] inline BodyVectors<V> gather_motion(const Motion* bodies,
+                                                           const std::uint32_t* index) {
+  if constexpr (kSpin) {
+    return gather<V>(bodies, index);
+  } else {
+    return gather_linear<V>(bodies, index);
+  }
+}
+template <bool kSpin, class V>
+[[gnu::always_inline]] inline void scatter_motion(Motion* bodies, const std::uint32_t* index,
+                                                  const BodyVectors<V>& v) {
+  if constexpr (kSpin) {
+    scatter(bodies, index, v);
+  } else {
+    scatter_linear(bodies, index, v);
+  }
+}
+
 /// Solves lanes first .. first + W of block k: rolling, friction, then normal (normal last: it
 /// matters most).
 template <class V, ContactModel kModel, PositionCorrection kMethod, bool kUseBias, bool kTrackDelta>
@@ -65,14 +85,7 @@ template <class V, ContactModel kModel, PositionCorrection kMethod, bool kUseBia
   ContactBlock& c = s.blocks[k];
   const std::uint32_t* ia = c.a + first;
   const std::uint32_t* ib = c.b + first;
-  BodyVectors<V> A, B;
-  if constexpr (kSpin) {
-    A = gather<V>(sb, ia);
-    B = gather<V>(sb, ib);
-  } else {
-    A = gather_linear<V>(sb, ia);
-    B = gather_linear<V>(sb, ib);
-  }
+  BodyVectors<V> A = gather_motion<V, kSpin>(sb, ia), B = gather_motion<V, kSpin>(sb, ib);
   const V nx = get<V>(c.nx, first), ny = get<V>(c.ny, first), nz = get<V>(c.nz, first);
   [[maybe_unused]] const V ra = get<V>(c.ra, first), rb = get<V>(c.rb, first);
   const V normal_impulse = get<V>(c.normal_impulse, first);
@@ -173,13 +186,8 @@ template <class V, ContactModel kModel, PositionCorrection kMethod, bool kUseBia
       }
     }
   }
-  if constexpr (kSpin) {
-    scatter(sb, ia, A);
-    scatter(sb, ib, B);
-  } else {
-    scatter_linear(sb, ia, A);
-    scatter_linear(sb, ib, B);
-  }
+  scatter_motion<kSpin>(sb, ia, A);
+  scatter_motion<kSpin>(sb, ib, B);
 }
 
 /// One pass over every block, W lanes at a time.
@@ -243,14 +251,7 @@ template <class V, bool kSpin, bool kRolling>
   const ContactBlock& c = s.blocks[k];
   const std::uint32_t* ia = c.a + first;
   const std::uint32_t* ib = c.b + first;
-  BodyVectors<V> A, B;
-  if constexpr (kSpin) {
-    A = gather<V>(sb, ia);
-    B = gather<V>(sb, ib);
-  } else {
-    A = gather_linear<V>(sb, ia);
-    B = gather_linear<V>(sb, ib);
-  }
+  BodyVectors<V> A = gather_motion<V, kSpin>(sb, ia), B = gather_motion<V, kSpin>(sb, ib);
   const V nx = get<V>(c.nx, first), ny = get<V>(c.ny, first), nz = get<V>(c.nz, first);
   const V fx = get<V>(c.fx, first), fy = get<V>(c.fy, first), fz = get<V>(c.fz, first);
   const V normal_impulse = get<V>(c.normal_impulse, first);
@@ -272,12 +273,9 @@ template <class V, bool kSpin, bool kRolling>
     A.wz = A.wz - A.i * (ra * tz + rz);
     B.wx = B.wx + B.i * (rx - rb * tx), B.wy = B.wy + B.i * (ry - rb * ty),
     B.wz = B.wz + B.i * (rz - rb * tz);
-    scatter(sb, ia, A);
-    scatter(sb, ib, B);
-  } else {
-    scatter_linear(sb, ia, A);
-    scatter_linear(sb, ib, B);
   }
+  scatter_motion<kSpin>(sb, ia, A);
+  scatter_motion<kSpin>(sb, ib, B);
 }
 
 template <class V, bool kSpin, bool kRolling>
