@@ -9,7 +9,12 @@ packages=(
   libsqlite3-dev     # the embedded database (db/)
   libsodium-dev      # Argon2id password hashing and session tokens (db/)
   libgtest-dev       # unit and integration tests
-  libcli11-dev       # command-line parsing for the tools (beats a hand-written parser)
+  libcli11-dev       # command-line parsing for the server and the tools
+  libboost1.81-dev   # Asio 1.26 and Beast (server/); never libboost-dev, which is 1.74 and conflicts
+  libprotobuf-dev protobuf-compiler  # the wire messages (proto/)
+  libssl-dev         # TLS 1.3 for the control channel (asio::ssl over OpenSSL 3)
+  libspdlog-dev      # the server's logs (text or JSON lines)
+  libtomlplusplus-dev # the server's config file
   gnuplot-nox        # plots of the physics study (tools/physics-study)
   clang              # the libFuzzer targets (tests/fuzz, tools/fuzz.sh)
   libclang-rt-14-dev # their fuzzer and sanitizer runtimes

@@ -3,7 +3,7 @@
 #   1. Release (-O2), float physics
 #   2. Debug with AddressSanitizer + UndefinedBehaviorSanitizer
 #   3. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only
-# Warnings are errors in all three. Then the restore_state fuzzer runs for 45 s (tools/fuzz.sh).
+# Warnings are errors in all three. Then every libFuzzer target runs for 30 s (tools/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tools/deps.sh
@@ -30,5 +30,5 @@ build_and_test build/release "" -DCMAKE_BUILD_TYPE=Release
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   build_and_test build/sanitize "" -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=ON
 build_and_test build/double physics -DCMAKE_BUILD_TYPE=Release -DRICOCHET_DOUBLE=ON
-./tools/fuzz.sh --seconds 45
+./tools/fuzz.sh --seconds 30
 echo "tools/test.sh: all tests passed"

@@ -2,7 +2,7 @@
 // world (fuzz_world.h) at a few moments. Run by `tools/fuzz.sh --seeds`; the output is committed
 // in tests/fuzz/corpus/restore_state/.
 //
-//   make_seeds DIR
+//   restore_state_seeds DIR
 
 #include <cstdint>
 #include <cstdio>
@@ -52,7 +52,7 @@ struct Writer {
       std::FILE* file = std::fopen(path.c_str(), "wb");
       if (!file || std::fwrite(image.data(), 1, image.size(), file) != image.size() ||
           std::fclose(file) != 0) {
-        std::fprintf(stderr, "make_seeds: cannot write %s\n", path.c_str());
+        std::fprintf(stderr, "restore_state_seeds: cannot write %s\n", path.c_str());
         std::exit(1);
       }
       std::printf("%-28s %5zu bytes, %u bodies, %d sleeping, %u projectiles\n",
@@ -67,7 +67,7 @@ struct Writer {
 
 int main(int argc, char** argv) {
   if (argc != 2) {
-    std::fprintf(stderr, "usage: make_seeds DIR\n");
+    std::fprintf(stderr, "usage: restore_state_seeds DIR\n");
     return 2;
   }
   Writer out{argv[1]};
@@ -91,9 +91,9 @@ int main(int argc, char** argv) {
   step(stack, 240);
   out.save(stack, fuzz::make_stack_world, "stack_step240");
   if (sleeping_bodies(stack) == 0) {
-    std::fprintf(stderr, "make_seeds: the stack did not fall asleep\n");
+    std::fprintf(stderr, "restore_state_seeds: the stack did not fall asleep\n");
     return 1;
   }
-  std::printf("make_seeds: wrote %d images to %s\n", out.written, out.dir.c_str());
+  std::printf("restore_state_seeds: wrote %d images to %s\n", out.written, out.dir.c_str());
   return 0;
 }
