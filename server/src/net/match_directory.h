@@ -1,0 +1,85 @@
+#pragma once
+/// What the control channel asks of the matches: list, create, join, leave, chat. Implemented by
+/// the server (server.cpp) over the matches it hosts; control sessions code against this
+/// interface only, and tests pass a fake. Thread-safe; every call returns at once (joining
+/// reserves a seat and issues a connect token; the player enters the match when its game
+/// channel connects).
+
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "ricochet/proto/token_grant.h"
+
+namespace ricochet::server {
+
+struct MatchSummary {
+  std::uint32_t id = 0;
+  std::string name;
+  std::string mode;  ///< "ffa" (free for all) today
+  std::string map;   ///< the map's name
+  int players = 0;   ///< seated: connected plus reserved plus reconnecting
+  int max_players = 0;
+};
+
+struct CreateMatchRequest {
+  std::string name;     ///< 1..32 printable characters
+  int max_players = 16; ///< 1..64
+  std::string map;      ///< empty: the default map
+};
+
+/// Everything the client needs to open the game channel.
+struct JoinGrant {
+  std::uint32_t match_id = 0;
+  std::uint16_t udp_port = 0;
+  proto::TokenGrant token;
+};
+
+enum class DirectoryErrorCode {
+  MatchNotFound,
+  MatchFull,
+  AlreadyInMatch,  ///< leave first (joining the same match again re-issues a token instead)
+  NotInMatch,
+  InvalidRequest,  ///< a field out of range; the message names it
+  TooManyMatches,
+  ShuttingDown,
+};
+inline const char* name(DirectoryErrorCode code) {
+  switch (code) {
+    case DirectoryErrorCode::MatchNotFound: return "match_not_found";
+    case DirectoryErrorCode::MatchFull: return "match_full";
+    case DirectoryErrorCode::AlreadyInMatch: return "already_in_match";
+    case DirectoryErrorCode::NotInMatch: return "not_in_match";
+    case DirectoryErrorCode::InvalidRequest: return "invalid_request";
+    case DirectoryErrorCode::TooManyMatches: return "too_many_matches";
+    case DirectoryErrorCode::ShuttingDown: return "shutting_down";
+  }
+  return "unknown";
+}
+
+struct DirectoryError {
+  DirectoryErrorCode code;
+  std::string message;  ///< what was expected and what came
+};
+
+/// A value or the reason there is none.
+template <class T>
+using DirectoryResult = std::variant<T, DirectoryError>;
+struct Done {};
+
+class MatchDirectory {
+ public:
+  virtual ~MatchDirectory() = default;
+  virtual std::vector<MatchSummary> list() const = 0;
+  virtual DirectoryResult<MatchSummary> create(const CreateMatchRequest& request) = 0;
+  /// Seats the account in the match (keeping its place if it was there within the reconnect
+  /// grace) and issues a fresh connect token.
+  virtual DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
+                                          std::uint32_t match_id) = 0;
+  virtual DirectoryResult<Done> leave(std::uint64_t account) = 0;
+  /// Echoed to every player of the account's match over the game channel's reliable messages.
+  virtual DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) = 0;
+};
+
+}  // namespace ricochet::server
