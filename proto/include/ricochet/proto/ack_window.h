@@ -1,0 +1,43 @@
+#pragma once
+/// What this end sent, so that the peer's acks (16-bit ack + 32 bits, PROTOCOL.transport.md
+/// §acks) tell which packets arrived, which reliable messages they carried, and the round trip.
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "ricochet/proto/clock.h"
+#include "ricochet/proto/packet.h"
+
+namespace ricochet::proto {
+
+class SentPacketWindow {
+ public:
+  static constexpr std::size_t kSize = 256;
+
+  /// `reliable_ids`: the reliable messages the packet carried.
+  void on_sent(std::uint64_t sequence, TimeUs now, std::vector<std::uint16_t> reliable_ids);
+  /// `next_sequence`: the sequence this end will send next (the ack refers to an earlier one).
+  /// Appends the reliable ids of packets acknowledged for the first time to `acked_ids`.
+  void on_ack(const AckHeader& ack, std::uint64_t next_sequence, TimeUs now,
+              std::vector<std::uint16_t>& acked_ids);
+  /// True once `sequence` was acknowledged (false when unknown or too old).
+  bool acked(std::uint64_t sequence) const;
+  /// Smoothed round trip from acks of packets acked for the first time, 0 before any, in µs.
+  TimeUs rtt_us() const { return rtt_us_; }
+
+ private:
+  struct Entry {
+    std::uint64_t sequence = std::numeric_limits<std::uint64_t>::max();
+    TimeUs sent_at = 0;
+    bool acked = false;
+    std::vector<std::uint16_t> reliable_ids;
+  };
+  void acknowledge(std::uint64_t sequence, TimeUs now, std::vector<std::uint16_t>& acked_ids);
+
+  std::array<Entry, kSize> entries_{};
+  TimeUs rtt_us_ = 0;
+};
+
+}  // namespace ricochet::proto

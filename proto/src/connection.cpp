@@ -1,0 +1,67 @@
+#include "connection.h"
+
+namespace ricochet::proto {
+
+Connection::Connection(std::uint64_t protocol_id, const Key& send_key, const Key& receive_key,
+                       ConnectionTiming timing, TimeUs now)
+    : protocol_id_(protocol_id),
+      send_key_(send_key),
+      receive_key_(receive_key),
+      timing_(timing),
+      sender_(timing.max_reliable_pending),
+      last_sent_(now),
+      last_received_(now) {}
+
+std::optional<DropReason> Connection::open(const EncryptedHeader& header,
+                                           std::span<const std::uint8_t> datagram,
+                                           std::vector<std::uint8_t>& body, TimeUs now) {
+  if (replay_.already_received(header.sequence)) return DropReason::Replayed;
+  if (!open_packet(datagram, protocol_id_, receive_key_, body)) return DropReason::ForgedMac;
+  replay_.mark_received(header.sequence);
+  last_received_ = now;
+  return std::nullopt;
+}
+
+std::vector<std::uint8_t> Connection::seal(PacketType type, std::span<const std::uint8_t> body,
+                                           TimeUs now) {
+  const std::uint64_t sequence = next_sequence_++;
+  sent_.on_sent(sequence, now, std::move(pending_ids_));
+  pending_ids_.clear();
+  last_sent_ = now;
+  return seal_packet(type, sequence, protocol_id_, send_key_, body);
+}
+
+std::vector<std::uint8_t> Connection::make_keep_alive(TimeUs now) {
+  return seal(PacketType::KeepAlive, write_keep_alive_body(replay_.ack_header()), now);
+}
+
+std::vector<std::uint8_t> Connection::make_payload(std::span<const std::uint8_t> unreliable,
+                                                   TimeUs now) {
+  PayloadBody body;
+  body.ack = replay_.ack_header();
+  const std::size_t budget = kMaxBodyBytes - kPayloadFixedBytes - unreliable.size();
+  body.reliable = sender_.take_due(now, timing_.reliable_resend_us, budget);
+  for (const ReliableMessage& message : body.reliable) pending_ids_.push_back(message.id);
+  body.unreliable.assign(unreliable.begin(), unreliable.end());
+  return seal(PacketType::Payload, write_payload_body(body), now);
+}
+
+std::vector<std::uint8_t> Connection::make_disconnect(DisconnectReason reason, TimeUs now) {
+  return seal(PacketType::Disconnect, write_disconnect_body({replay_.ack_header(), reason}), now);
+}
+
+void Connection::on_ack(const AckHeader& ack, TimeUs now) {
+  std::vector<std::uint16_t> acked;
+  sent_.on_ack(ack, next_sequence_, now, acked);
+  for (std::uint16_t id : acked) sender_.acknowledge(id);
+}
+
+bool Connection::on_reliable(const std::vector<ReliableMessage>& messages) {
+  bool all_in_window = true;
+  for (const ReliableMessage& message : messages) {
+    if (receiver_.receive(message) == ReliableReceiver::Outcome::OutOfWindow) all_in_window = false;
+  }
+  return all_in_window;
+}
+
+}  // namespace ricochet::proto

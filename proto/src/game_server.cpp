@@ -1,0 +1,469 @@
+#include "ricochet/proto/game_server.h"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "byte_io.h"
+#include "connection.h"
+#include "ricochet/proto/connect_token.h"
+#include "ricochet/proto/crypto.h"
+#include "ricochet/proto/packet.h"
+#include "ricochet/proto/transport_states.h"
+#include "token_bucket.h"
+
+namespace ricochet::proto {
+namespace {
+
+/// Disconnect packets are sent this many times: the last word should arrive despite loss.
+constexpr int kDisconnectCopies = 3;
+
+struct TokenMacHash {
+  std::size_t operator()(const TokenMac& mac) const noexcept {
+    std::uint64_t value;
+    std::memcpy(&value, mac.data(), sizeof value);  // a MAC is uniformly random already
+    return static_cast<std::size_t>(value);
+  }
+};
+
+/// A handshake in progress (state Challenged): the token's contents and the session that the
+/// response is decrypted with and that becomes the connection.
+struct Handshake {
+  ConnectTokenContents token;
+  TokenMac mac{};
+  TimeUs expires_at = 0;
+  ChallengeBody challenge;
+  Connection connection;
+};
+
+struct Client {
+  ClientId id = 0;
+  Address address;
+  std::uint64_t account_id = 0;
+  std::uint32_t match_id = 0;
+  Connection connection;
+  TokenBucket budget;
+};
+
+/// A token seen in a valid request: usable again only from the same address, and never after
+/// it completed a handshake. Forgotten once it has expired (it no longer opens then).
+struct UsedToken {
+  Address address;
+  TimeUs expires_at = 0;
+  bool connected = false;
+};
+
+std::vector<std::uint8_t> challenge_plaintext(const Handshake& handshake, const Address& to) {
+  std::vector<std::uint8_t> plain;
+  ByteWriter writer(plain);
+  writer.u64(handshake.token.account_id);
+  writer.u32(handshake.token.match_id);
+  writer.bytes(handshake.mac);
+  writer.bytes(to.ip);
+  writer.u16(to.port);
+  writer.u8(to.v6 ? 1 : 0);
+  return plain;
+}
+
+}  // namespace
+
+std::string GameServerConfig::validate() const {
+  auto range = [](const char* field, double value, double min, double max) -> std::string {
+    if (value >= min && value <= max) return {};
+    return std::string(field) + " must be " + std::to_string(min) + ".." + std::to_string(max) +
+           ", got " + std::to_string(value);
+  };
+  for (const std::string& problem :
+       {range("max_clients", max_clients, 1, 4096), range("max_half_open", max_half_open, 1, 65536),
+        range("max_tracked_addresses", max_tracked_addresses, 1, 1 << 20),
+        range("address_packets_per_s", address_packets_per_s, 1, 1e6),
+        range("address_burst", address_burst, 1, 1e6),
+        range("client_packets_per_s", client_packets_per_s, 1, 1e6),
+        range("client_burst", client_burst, 1, 1e6),
+        range("keep_alive_us", static_cast<double>(keep_alive_us), 1000, 1e6),
+        range("reliable_resend_us", static_cast<double>(reliable_resend_us), 1000, 5e6),
+        range("max_reliable_pending", static_cast<double>(max_reliable_pending), 1, 256)}) {
+    if (!problem.empty()) return problem;
+  }
+  return {};
+}
+
+struct GameServer::State {
+  GameServerConfig config;
+  Key challenge_key = random_key();
+  std::uint64_t challenge_sequence = 0;
+  std::uint64_t handshake_sequence = 0;
+  ClientId next_client = 1;
+  std::unordered_map<Address, Handshake, AddressHash> handshakes;
+  std::unordered_map<ClientId, Client> clients;
+  std::unordered_map<Address, ClientId, AddressHash> client_by_address;
+  std::unordered_map<std::uint64_t, ClientId> client_by_account;
+  std::unordered_map<TokenMac, UsedToken, TokenMacHash> used_tokens;
+  std::unordered_map<Address, TokenBucket, AddressHash> address_budgets;
+  std::deque<Transmit> transmits;
+  std::deque<ServerEvent> events;
+  TransportCounters counters;
+
+  void drop(DropReason reason, const Address& from) {
+    ++counters.drops[static_cast<std::size_t>(reason)];
+    if (config.log.on_drop) config.log.on_drop(reason, from);
+  }
+  void transition(const Address& address, ClientId client, ConnectionState from,
+                  ConnectionState to, std::string_view reason) {
+    if (config.log.on_transition) config.log.on_transition({address, client, from, to, reason});
+  }
+  void send(const Address& to, std::vector<std::uint8_t> bytes) {
+    ++counters.packets_out;
+    counters.bytes_out += bytes.size();
+    transmits.push_back({to, std::move(bytes)});
+  }
+  void update_gauges() {
+    counters.half_open = static_cast<std::uint32_t>(handshakes.size());
+    counters.connected = static_cast<std::uint32_t>(clients.size());
+  }
+  ConnectionTiming timing(std::uint32_t timeout_s) const {
+    return {static_cast<TimeUs>(timeout_s) * kMicrosPerSecond, config.keep_alive_us,
+            config.reliable_resend_us, config.max_reliable_pending};
+  }
+
+  /// Rate limit before any parsing: per client when the address is connected, else per address.
+  bool within_budget(const Address& from, TimeUs now) {
+    if (auto it = client_by_address.find(from); it != client_by_address.end()) {
+      if (clients.at(it->second).budget.take(now)) return true;
+      drop(DropReason::ClientRateLimited, from);
+      return false;
+    }
+    auto it = address_budgets.find(from);
+    if (it == address_budgets.end()) {
+      if (address_budgets.size() >= static_cast<std::size_t>(config.max_tracked_addresses)) {
+        drop(DropReason::AddressTableFull, from);
+        return false;
+      }
+      it = address_budgets
+               .emplace(from, TokenBucket(config.address_packets_per_s, config.address_burst, now))
+               .first;
+    }
+    if (it->second.take(now)) return true;
+    drop(DropReason::AddressRateLimited, from);
+    return false;
+  }
+
+  ConnectionState state_of(const Address& address) const {
+    if (client_by_address.contains(address)) return ConnectionState::Connected;
+    if (handshakes.contains(address)) return ConnectionState::Challenged;
+    return ConnectionState::Connecting;
+  }
+
+  void send_denied(const Address& to, const ConnectTokenContents& token) {
+    send(to, seal_packet(PacketType::ConnectionDenied, kHandshakeSequenceBit | handshake_sequence++,
+                         config.protocol_id, token.server_to_client,
+                         write_denied_body(DisconnectReason::Denied)));
+  }
+
+  void send_challenge(const Address& to, const Handshake& handshake) {
+    send(to, seal_packet(PacketType::Challenge, kHandshakeSequenceBit | handshake_sequence++,
+                         config.protocol_id, handshake.token.server_to_client,
+                         write_challenge_body(handshake.challenge)));
+  }
+
+  bool full() const { return clients.size() >= static_cast<std::size_t>(config.max_clients); }
+  /// A returning account replaces its old connection, so it never counts as one more client.
+  bool admits(std::uint64_t account_id) const {
+    return !full() || client_by_account.contains(account_id);
+  }
+
+  void on_request(const Address& from, std::span<const std::uint8_t> datagram, TimeUs now);
+  void on_handshake_packet(const Address& from, const EncryptedHeader& header,
+                           std::span<const std::uint8_t> datagram, TimeUs now);
+  void on_client_packet(Client& client, const EncryptedHeader& header,
+                        std::span<const std::uint8_t> datagram, TimeUs now);
+  void complete_handshake(const Address& from, Handshake& handshake, TimeUs now);
+  void remove_client(ClientId id, DisconnectReason reason, bool tell_client, TimeUs now);
+};
+
+void GameServer::State::on_request(const Address& from, std::span<const std::uint8_t> datagram,
+                                   TimeUs now) {
+  auto request = read_connection_request(datagram);
+  if (!request.ok()) return drop(*request.error, from);
+  if (request.value.protocol_id != config.protocol_id) return drop(DropReason::WrongProtocol, from);
+  const ConnectionState state = state_of(from);
+  if (!server_accepts(state, PacketType::ConnectionRequest)) return drop(DropReason::WrongState, from);
+  auto token = open_connect_token(config.token_key, config.protocol_id,
+                                  request.value.connect_token, now);
+  if (!token.ok()) return drop(*token.error, from);
+  const TokenMac& mac = token.value.mac;
+  if (auto used = used_tokens.find(mac);
+      used != used_tokens.end() && (used->second.address != from || used->second.connected)) {
+    return drop(DropReason::TokenReused, from);
+  }
+  auto existing = handshakes.find(from);
+  if (existing != handshakes.end() && existing->second.mac == mac) {
+    send_challenge(from, existing->second);  // the challenge was lost: same one again
+    return;
+  }
+  if (existing == handshakes.end() && handshakes.size() >= static_cast<std::size_t>(config.max_half_open)) {
+    return drop(DropReason::HalfOpenCap, from);
+  }
+  const ConnectTokenContents& contents = token.value.contents;
+  if (!admits(contents.account_id)) {
+    send_denied(from, contents);
+    return drop(DropReason::ServerFull, from);
+  }
+  if (existing != handshakes.end()) {
+    transition(from, 0, ConnectionState::Challenged, ConnectionState::Disconnected,
+               "replaced by a request with another token");
+    handshakes.erase(existing);
+  }
+  used_tokens[mac] = {from, contents.expires_at, false};
+  Handshake handshake{contents, mac,
+                      now + static_cast<TimeUs>(contents.timeout_s) * kMicrosPerSecond, {},
+                      Connection(config.protocol_id, contents.server_to_client,
+                                 contents.client_to_server, timing(contents.timeout_s), now)};
+  handshake.challenge.challenge_sequence = challenge_sequence++;
+  std::vector<std::uint8_t> sealed;
+  seal_chacha(challenge_plaintext(handshake, from), kVersionInfo,
+              handshake.challenge.challenge_sequence, challenge_key, sealed);
+  std::memcpy(handshake.challenge.challenge_token.data(), sealed.data(), kChallengeTokenBytes);
+  transition(from, 0, ConnectionState::Connecting, ConnectionState::Challenged,
+             "valid connection request");
+  send_challenge(from, handshake);
+  handshakes.emplace(from, std::move(handshake));
+  update_gauges();
+}
+
+void GameServer::State::on_handshake_packet(const Address& from, const EncryptedHeader& header,
+                                            std::span<const std::uint8_t> datagram, TimeUs now) {
+  Handshake& handshake = handshakes.find(from)->second;
+  if (!server_accepts(ConnectionState::Challenged, header.type)) {
+    return drop(DropReason::WrongState, from);
+  }
+  std::vector<std::uint8_t> body;
+  if (auto error = handshake.connection.open(header, datagram, body, now)) return drop(*error, from);
+  auto response = read_challenge_body(body);
+  if (!response.ok()) return drop(*response.error, from);
+  std::vector<std::uint8_t> plain;
+  if (!open_chacha(response.value.challenge_token, kVersionInfo,
+                   response.value.challenge_sequence, challenge_key, plain) ||
+      plain != challenge_plaintext(handshake, from)) {
+    return drop(DropReason::ChallengeInvalid, from);
+  }
+  if (!admits(handshake.token.account_id)) {
+    send_denied(from, handshake.token);
+    drop(DropReason::ServerFull, from);
+    transition(from, 0, ConnectionState::Challenged, ConnectionState::Disconnected,
+               "server full at response");
+    handshakes.erase(from);
+    update_gauges();
+    return;
+  }
+  complete_handshake(from, handshake, now);
+}
+
+void GameServer::State::complete_handshake(const Address& from, Handshake& handshake, TimeUs now) {
+  const std::uint64_t account_id = handshake.token.account_id;
+  if (auto old = client_by_account.find(account_id); old != client_by_account.end()) {
+    remove_client(old->second, DisconnectReason::Replaced, true, now);
+  }
+  used_tokens[handshake.mac].connected = true;
+  const ClientId id = next_client++;
+  Client client{id, from, account_id, handshake.token.match_id, std::move(handshake.connection),
+                TokenBucket(config.client_packets_per_s, config.client_burst, now)};
+  handshakes.erase(from);
+  address_budgets.erase(from);
+  transition(from, id, ConnectionState::Challenged, ConnectionState::Connected,
+             "valid challenge response");
+  ++counters.connections_total;
+  events.push_back(ServerConnected{id, account_id, client.match_id, from});
+  send(from, client.connection.make_keep_alive(now));
+  client_by_address[from] = id;
+  client_by_account[account_id] = id;
+  clients.emplace(id, std::move(client));
+  update_gauges();
+}
+
+void GameServer::State::on_client_packet(Client& client, const EncryptedHeader& header,
+                                         std::span<const std::uint8_t> datagram, TimeUs now) {
+  if (!server_accepts(ConnectionState::Connected, header.type)) {
+    return drop(DropReason::WrongState, client.address);
+  }
+  std::vector<std::uint8_t> body;
+  if (auto error = client.connection.open(header, datagram, body, now)) {
+    return drop(*error, client.address);
+  }
+  switch (header.type) {
+    case PacketType::Response: {
+      // Our keep-alive after the handshake was lost; the client still waits for one.
+      if (auto response = read_challenge_body(body); !response.ok()) {
+        return drop(*response.error, client.address);
+      }
+      send(client.address, client.connection.make_keep_alive(now));
+      return;
+    }
+    case PacketType::KeepAlive: {
+      auto ack = read_keep_alive_body(body);
+      if (!ack.ok()) return drop(*ack.error, client.address);
+      client.connection.on_ack(ack.value, now);
+      return;
+    }
+    case PacketType::Payload: {
+      auto payload = read_payload_body(body);
+      if (!payload.ok()) return drop(*payload.error, client.address);
+      client.connection.on_ack(payload.value.ack, now);
+      if (!client.connection.on_reliable(payload.value.reliable)) {
+        drop(DropReason::ReliableOutOfWindow, client.address);
+      }
+      std::vector<std::uint8_t> message;
+      while (client.connection.pop_reliable(message)) {
+        events.push_back(ServerReliable{client.id, std::move(message)});
+      }
+      if (!payload.value.unreliable.empty()) {
+        events.push_back(ServerUnreliable{client.id, std::move(payload.value.unreliable)});
+      }
+      return;
+    }
+    case PacketType::Disconnect: {
+      auto disconnect = read_disconnect_body(body);
+      if (!disconnect.ok()) return drop(*disconnect.error, client.address);
+      remove_client(client.id, DisconnectReason::PeerRequested, false, now);
+      return;
+    }
+    default:
+      return drop(DropReason::WrongState, client.address);
+  }
+}
+
+void GameServer::State::remove_client(ClientId id, DisconnectReason reason, bool tell_client,
+                                      TimeUs now) {
+  auto it = clients.find(id);
+  if (it == clients.end()) return;
+  Client& client = it->second;
+  if (tell_client) {
+    for (int copy = 0; copy < kDisconnectCopies; ++copy) {
+      send(client.address, client.connection.make_disconnect(reason, now));
+    }
+  }
+  ++counters.disconnects[static_cast<std::size_t>(reason)];
+  transition(client.address, id, ConnectionState::Connected, ConnectionState::Disconnected,
+             name(reason));
+  events.push_back(ServerDisconnected{id, client.account_id, reason});
+  client_by_address.erase(client.address);
+  if (auto account = client_by_account.find(client.account_id);
+      account != client_by_account.end() && account->second == id) {
+    client_by_account.erase(account);
+  }
+  clients.erase(it);
+  update_gauges();
+}
+
+GameServer::GameServer(GameServerConfig config) : state_(std::make_unique<State>()) {
+  if (std::string problem = config.validate(); !problem.empty()) {
+    throw std::invalid_argument("GameServerConfig: " + problem);
+  }
+  state_->config = std::move(config);
+}
+
+GameServer::~GameServer() = default;
+
+void GameServer::receive(const Address& from, std::span<const std::uint8_t> datagram, TimeUs now) {
+  State& s = *state_;
+  ++s.counters.packets_in;
+  s.counters.bytes_in += datagram.size();
+  if (datagram.empty()) return s.drop(DropReason::Empty, from);
+  if (datagram.size() > kMaxDatagramBytes) return s.drop(DropReason::Oversized, from);
+  if (!s.within_budget(from, now)) return;
+  if (datagram[0] == static_cast<std::uint8_t>(PacketType::ConnectionRequest)) {
+    return s.on_request(from, datagram, now);
+  }
+  auto header = read_encrypted_header(datagram);
+  if (!header.ok()) return s.drop(*header.error, from);
+  if (auto client = s.client_by_address.find(from); client != s.client_by_address.end()) {
+    return s.on_client_packet(s.clients.at(client->second), header.value, datagram, now);
+  }
+  if (s.handshakes.contains(from)) return s.on_handshake_packet(from, header.value, datagram, now);
+  s.drop(DropReason::UnknownAddress, from);
+}
+
+void GameServer::update(TimeUs now) {
+  State& s = *state_;
+  for (auto it = s.handshakes.begin(); it != s.handshakes.end();) {
+    if (now >= it->second.expires_at) {
+      s.transition(it->first, 0, ConnectionState::Challenged, ConnectionState::Disconnected,
+                   "handshake timed out");
+      it = s.handshakes.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  std::vector<ClientId> silent;
+  for (auto& [id, client] : s.clients) {
+    if (client.connection.timed_out(now)) {
+      silent.push_back(id);
+    } else if (client.connection.reliable_due(now)) {
+      s.send(client.address, client.connection.make_payload({}, now));
+    } else if (client.connection.keep_alive_due(now)) {
+      s.send(client.address, client.connection.make_keep_alive(now));
+    }
+  }
+  for (ClientId id : silent) s.remove_client(id, DisconnectReason::TimedOut, false, now);
+  std::erase_if(s.used_tokens, [&](const auto& entry) { return entry.second.expires_at <= now; });
+  for (auto it = s.address_budgets.begin(); it != s.address_budgets.end();) {
+    it = it->second.full(now) ? s.address_budgets.erase(it) : std::next(it);
+  }
+  s.counters.reliable_resends = 0;
+  for (const auto& [id, client] : s.clients) s.counters.reliable_resends += client.connection.reliable_resends();
+  s.update_gauges();
+}
+
+bool GameServer::poll_transmit(Transmit& out) {
+  if (state_->transmits.empty()) return false;
+  out = std::move(state_->transmits.front());
+  state_->transmits.pop_front();
+  return true;
+}
+
+bool GameServer::poll_event(ServerEvent& out) {
+  if (state_->events.empty()) return false;
+  out = std::move(state_->events.front());
+  state_->events.pop_front();
+  return true;
+}
+
+bool GameServer::send_unreliable(ClientId id, std::span<const std::uint8_t> payload, TimeUs now) {
+  auto it = state_->clients.find(id);
+  if (it == state_->clients.end() || payload.size() > kMaxUnreliableBytes) return false;
+  state_->send(it->second.address, it->second.connection.make_payload(payload, now));
+  return true;
+}
+
+bool GameServer::send_reliable(ClientId id, std::span<const std::uint8_t> message, TimeUs now) {
+  auto it = state_->clients.find(id);
+  if (it == state_->clients.end() || message.empty() || message.size() > kMaxReliableMessageBytes) {
+    return false;
+  }
+  if (it->second.connection.queue_reliable(message)) return true;
+  // The client has not acked max_reliable_pending messages: it is gone or hostile.
+  state_->remove_client(id, DisconnectReason::ReliableOverflow, true, now);
+  return false;
+}
+
+void GameServer::disconnect(ClientId client, DisconnectReason reason, TimeUs now) {
+  state_->remove_client(client, reason, true, now);
+}
+
+void GameServer::disconnect_all(DisconnectReason reason, TimeUs now) {
+  std::vector<ClientId> ids;
+  for (const auto& [id, client] : state_->clients) ids.push_back(id);
+  for (ClientId id : ids) state_->remove_client(id, reason, true, now);
+}
+
+bool GameServer::connected(ClientId client) const { return state_->clients.contains(client); }
+
+std::size_t GameServer::client_count() const { return state_->clients.size(); }
+
+TimeUs GameServer::rtt_us(ClientId client) const {
+  auto it = state_->clients.find(client);
+  return it == state_->clients.end() ? 0 : it->second.connection.rtt_us();
+}
+
+const TransportCounters& GameServer::counters() const { return state_->counters; }
+
+}  // namespace ricochet::proto

@@ -1,0 +1,68 @@
+#include "ricochet/proto/reliable_channel.h"
+
+#include <algorithm>
+
+namespace ricochet::proto {
+
+ReliableSender::ReliableSender(std::size_t max_pending)
+    : max_pending_(std::clamp<std::size_t>(max_pending, 1, ReliableReceiver::kWindow)) {}
+
+bool ReliableSender::push(std::span<const std::uint8_t> message) {
+  if (queue_.size() >= max_pending_) return false;
+  Pending pending;
+  pending.id = next_id_++;
+  pending.bytes.assign(message.begin(), message.end());
+  queue_.push_back(std::move(pending));
+  return true;
+}
+
+std::vector<ReliableMessage> ReliableSender::take_due(TimeUs now, TimeUs resend_us,
+                                                      std::size_t budget_bytes) {
+  std::vector<ReliableMessage> out;
+  for (Pending& pending : queue_) {
+    if (out.size() == 255) break;
+    if (pending.acked || (pending.last_sent && now - *pending.last_sent < resend_us)) continue;
+    const std::size_t cost = kReliableMessageHeaderBytes + pending.bytes.size();
+    if (cost > budget_bytes) break;  // keep order: a later message must not overtake
+    budget_bytes -= cost;
+    if (pending.last_sent) ++resends_;
+    pending.last_sent = now;
+    out.push_back({pending.id, pending.bytes});
+  }
+  return out;
+}
+
+bool ReliableSender::has_due(TimeUs now, TimeUs resend_us) const {
+  return std::any_of(queue_.begin(), queue_.end(), [&](const Pending& pending) {
+    return !pending.acked && (!pending.last_sent || now - *pending.last_sent >= resend_us);
+  });
+}
+
+void ReliableSender::acknowledge(std::uint16_t id) {
+  if (queue_.empty()) return;
+  const std::uint16_t offset = static_cast<std::uint16_t>(id - queue_.front().id);
+  if (offset >= queue_.size()) return;  // already acked and gone, or never sent
+  queue_[offset].acked = true;
+  while (!queue_.empty() && queue_.front().acked) queue_.pop_front();
+}
+
+ReliableReceiver::Outcome ReliableReceiver::receive(const ReliableMessage& message) {
+  const std::uint16_t ahead = static_cast<std::uint16_t>(message.id - next_id_);
+  if (ahead >= 0x8000) return Outcome::Duplicate;  // behind the next expected id: delivered
+  if (ahead >= kWindow) return Outcome::OutOfWindow;
+  auto& slot = window_[message.id % kWindow];
+  if (slot) return Outcome::Duplicate;
+  slot = message.bytes;
+  return Outcome::Accepted;
+}
+
+bool ReliableReceiver::pop(std::vector<std::uint8_t>& out) {
+  auto& slot = window_[next_id_ % kWindow];
+  if (!slot) return false;
+  out = std::move(*slot);
+  slot.reset();
+  ++next_id_;
+  return true;
+}
+
+}  // namespace ricochet::proto

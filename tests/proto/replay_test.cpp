@@ -1,0 +1,63 @@
+#include "ricochet/proto/replay_window.h"
+
+#include <gtest/gtest.h>
+
+#include "ricochet/proto/ack_window.h"
+
+namespace ricochet::proto {
+namespace {
+
+TEST(ReplayWindow, AcceptsEachSequenceOnceInAnyOrderWithin256) {
+  ReplayWindow window;
+  EXPECT_FALSE(window.already_received(0));
+  for (std::uint64_t sequence : {5u, 3u, 9u, 4u}) {
+    EXPECT_FALSE(window.already_received(sequence));
+    window.mark_received(sequence);
+    EXPECT_TRUE(window.already_received(sequence));
+  }
+  EXPECT_FALSE(window.already_received(6));
+  window.mark_received(1000);
+  EXPECT_TRUE(window.already_received(1000 - 256)) << "too old to tell: refused";
+  EXPECT_FALSE(window.already_received(1000 - 255));
+  EXPECT_TRUE(window.already_received(9));
+}
+
+TEST(ReplayWindow, AckHeaderNamesTheNewestAndTheBitsBehindIt) {
+  ReplayWindow window;
+  for (std::uint64_t sequence : {70000u, 69999u, 69997u, 69968u}) window.mark_received(sequence);
+  const AckHeader ack = window.ack_header();
+  EXPECT_EQ(ack.ack, static_cast<std::uint16_t>(70000));
+  EXPECT_EQ(ack.ack_bits, (1u << 0) | (1u << 2) | (1u << 31));
+}
+
+TEST(SentPacketWindow, AckAcrossThe16BitWrapAcknowledgesTheRightPackets) {
+  SentPacketWindow sent;
+  const std::uint64_t first = 65530;
+  for (std::uint64_t sequence = first; sequence < first + 10; ++sequence) {
+    sent.on_sent(sequence, 0, {static_cast<std::uint16_t>(sequence - first)});
+  }
+  std::vector<std::uint16_t> ids;
+  // Peer received 65539 (low 16 bits: 3) and 65537 (bit 1), not 65538.
+  sent.on_ack({3, 0b10}, first + 10, 1000, ids);
+  EXPECT_TRUE(sent.acked(65539));
+  EXPECT_TRUE(sent.acked(65537));
+  EXPECT_FALSE(sent.acked(65538));
+  EXPECT_EQ(ids, (std::vector<std::uint16_t>{9, 7}));
+  EXPECT_EQ(sent.rtt_us(), 1000);
+  ids.clear();
+  sent.on_ack({3, 0b10}, first + 10, 2000, ids);
+  EXPECT_TRUE(ids.empty()) << "acked once only";
+}
+
+TEST(SentPacketWindow, AckOfASequenceNeverSentIsIgnored) {
+  SentPacketWindow sent;
+  std::vector<std::uint16_t> ids;
+  sent.on_ack({0, 0xFFFFFFFF}, 0, 0, ids);
+  sent.on_sent(0, 0, {1});
+  sent.on_ack({5, 0xFFFFFFFF}, 1, 0, ids);
+  EXPECT_TRUE(ids.empty());
+  EXPECT_FALSE(sent.acked(0));
+}
+
+}  // namespace
+}  // namespace ricochet::proto
