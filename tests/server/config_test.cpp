@@ -65,6 +65,16 @@ TEST(ServerConfig, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(config.log.format, LogFormat::Text);
   EXPECT_GE(config.worker_threads(), 1);
   EXPECT_EQ(config.db_file(), "data/ricochet.db");
+  EXPECT_EQ(config.snapshot_budget_bytes(), 1066);  // 512 kbps at 60 Hz
+}
+
+TEST(ServerConfig, SnapshotBudgetFollowsBandwidthAndRate) {
+  ServerConfig config;
+  config.game.snapshot_rate_hz = 20;
+  EXPECT_EQ(config.snapshot_budget_bytes(), ServerConfig::kMaxSnapshotBytes);  // one datagram
+  config.game.bandwidth_kbps_per_client = 64;
+  EXPECT_EQ(config.snapshot_budget_bytes(), 400);
+  EXPECT_TRUE(config.validate().empty());
 }
 
 TEST(ServerConfig, NoArgumentsRunWithTheDefaults) {
@@ -115,16 +125,23 @@ TEST(ServerConfig, EveryRangeMessageNamesTheKeyTheRangeAndTheValue) {
       {{"--control-port", "65536"}, "control.port must be 0..65535, got 65536"},
       {{"--game-port", "-5"}, "game.port must be 0..65535, got -5"},
       {{"--admin-port", "70000"}, "admin.port must be 0..65535, got 70000"},
-      {{"--max-connections", "0"}, "control.max_connections must be 1..100000, got 0"},
-      {{"--max-connections-per-address", "2000"},
-       "control.max_connections_per_address must be 1..1024, got 2000"},
+      {{"--max-connections", "0"}, "control.max_connections must be 1..1000000, got 0"},
+      {{"--max-connections-per-address", "0"},
+       "control.max_connections_per_address must be 1..1000000, got 0"},
+      {{"--handshake-timeout-ms", "99"}, "control.handshake_timeout_ms must be 100..60000, got 99"},
+      {{"--frame-timeout-ms", "600001"},
+       "control.frame_timeout_ms must be 100..600000, got 600001"},
+      {{"--idle-timeout-ms", "999"}, "control.idle_timeout_ms must be 1000..3600000, got 999"},
       {{"--snapshot-rate-hz", "-1"}, "game.snapshot_rate_hz must be 0..128, got -1"},
       {{"--max-catch-up-steps", "0"}, "game.max_catch_up_steps must be 1..64, got 0"},
       {{"--max-clients", "0"}, "game.max_clients must be 1..4096, got 0"},
-      {{"--max-pending-handshakes", "0"}, "game.max_pending_handshakes must be 1..4096, got 0"},
-      {{"--max-packets-per-second-per-address", "9"},
-       "game.max_packets_per_second_per_address must be 10..100000, got 9"},
+      {{"--max-half-open", "65537"}, "game.max_half_open must be 1..65536, got 65537"},
+      {{"--address-packets-per-s", "0"}, "game.address_packets_per_s must be 1..1000000, got 0"},
+      {{"--client-packets-per-s", "0"}, "game.client_packets_per_s must be 1..1000000, got 0"},
       {{"--bandwidth-kbps", "15"}, "game.bandwidth_kbps_per_client must be 16..100000, got 15"},
+      {{"--bandwidth-kbps", "61"},
+       "game.bandwidth_kbps_per_client must be at least 62 at 60 snapshots/s (128 bytes per "
+       "snapshot), got 61"},
       {{"--matches", "257"}, "matches.count must be 0..256, got 257"},
       {{"--match-max-players", "65"}, "matches.max_players must be 1..64, got 65"},
       {{"--data-dir", ""}, "server.data_dir must be non-empty, got \"\""},
@@ -153,7 +170,7 @@ TEST(ServerConfig, EveryRangeMessageNamesTheKeyTheRangeAndTheValue) {
        "admin.port must differ from control.port (both are TCP), got "
        "7777 for both"},
       {{"--max-connections", "4"},
-       "control.max_connections_per_address must be 1..control.max_connections (4), got 8"},
+       "control.max_connections_per_address must be 1..control.max_connections (4), got 16"},
   };
   for (const auto& [args, message] : cases) {
     const ParseOutcome outcome = parse(args);
@@ -181,7 +198,7 @@ TEST(ServerConfig, UnknownKeysAndTablesAreNamed) {
             std::vector<std::string>{
                 "test.toml:2:12: unknown key 'game.tickrate' (known keys in [game]: bind, port, "
                 "tick_rate_hz, snapshot_rate_hz, max_catch_up_steps, max_clients, "
-                "max_pending_handshakes, max_packets_per_second_per_address, "
+                "max_half_open, address_packets_per_s, client_packets_per_s, "
                 "bandwidth_kbps_per_client)"});
   EXPECT_EQ(problems_of("[physics]\ngravity = 9\n"),
             std::vector<std::string>{
@@ -248,7 +265,7 @@ TEST(ServerConfig, HelpListsEveryFlagWithItsDefault) {
         "--control-port INT=7777", "--game-port INT=7778", "--admin-bind ADDRESS=127.0.0.1",
         "--admin-port INT=9100", "--log-level CHOICE=info", "--log-format CHOICE=text",
         "--shutdown-grace-s INT=10", "--tls-cert TEXT=\"\"", "--matches INT=4",
-        "--data-dir TEXT=data", "--bandwidth-kbps INT=256", "TOML game.tick_rate_hz"}) {
+        "--data-dir TEXT=data", "--bandwidth-kbps INT=512", "TOML game.tick_rate_hz"}) {
     EXPECT_NE(outcome.text.find(expected), std::string::npos) << expected << "\n" << outcome.text;
   }
 }

@@ -149,7 +149,21 @@ std::vector<std::string> ServerConfig::validate() const {
                        std::to_string(control.max_connections) + "), got " +
                        std::to_string(control.max_connections_per_address));
   }
+  const int rate = snapshot_rate_hz();
+  if (rate > 0 && game.bandwidth_kbps_per_client * 125 < kMinSnapshotBytes * rate) {
+    const int least_kbps = (kMinSnapshotBytes * rate + 124) / 125;
+    problems.push_back(
+        "game.bandwidth_kbps_per_client must be at least " + std::to_string(least_kbps) + " at " +
+        std::to_string(rate) + " snapshots/s (" + std::to_string(kMinSnapshotBytes) +
+        " bytes per snapshot), got " + std::to_string(game.bandwidth_kbps_per_client));
+  }
   return problems;
+}
+
+int ServerConfig::snapshot_budget_bytes() const {
+  const long long bytes_per_second = static_cast<long long>(game.bandwidth_kbps_per_client) * 125;
+  const long long per_snapshot = bytes_per_second / std::max(1, snapshot_rate_hz());
+  return static_cast<int>(std::min<long long>(per_snapshot, kMaxSnapshotBytes));
 }
 
 int ServerConfig::worker_threads() const {

@@ -41,25 +41,29 @@ struct TlsConfig {
   std::string key_file;  ///< PEM private key; set both or neither
 };
 
-/// [control] TLS control channel (TCP).
+/// [control] TLS control channel (TCP); maps onto ControlServerConfig and ControlLimits.
 struct ControlConfig {
   std::string bind = "0.0.0.0";  ///< IP address literal
   int port = 7777;               ///< 0: any free port
-  int max_connections = 1024;    ///< all addresses together
-  int max_connections_per_address = 8;
+  int max_connections = 4096;    ///< all addresses together
+  int max_connections_per_address = 16;
+  int handshake_timeout_ms = 5'000;  ///< accept to finished TLS handshake
+  int frame_timeout_ms = 10'000;     ///< first byte of a frame to its last (slowloris)
+  int idle_timeout_ms = 120'000;     ///< no whole frame for this long
 };
 
-/// [game] encrypted UDP game channel and the fixed tick.
+/// [game] encrypted UDP game channel (GameServerConfig) and the fixed tick (MatchConfig).
 struct GameConfig {
   std::string bind = "0.0.0.0";  ///< IP address literal
   int port = 7778;               ///< 0: any free port
   int tick_rate_hz = 60;
-  int snapshot_rate_hz = 0;         ///< 0: the tick rate; otherwise at most the tick rate
-  int max_catch_up_steps = 5;       ///< fixed steps one tick() may run after a stall
-  int max_clients = 256;            ///< connected game clients, all matches together
-  int max_pending_handshakes = 64;  ///< half-open (challenged, not yet connected) handshakes
-  int max_packets_per_second_per_address = 300;
-  int bandwidth_kbps_per_client = 256;  ///< snapshot budget per client, kilobits per second
+  int snapshot_rate_hz = 0;             ///< 0: the tick rate; otherwise at most the tick rate
+  int max_catch_up_steps = 5;           ///< fixed steps one tick() may run after a stall
+  int max_clients = 64;                 ///< connected game clients, all matches together
+  int max_half_open = 256;              ///< handshakes in progress (challenged, not yet connected)
+  int address_packets_per_s = 20;       ///< datagrams per second from an unconnected address
+  int client_packets_per_s = 250;       ///< datagrams per second from a connected client
+  int bandwidth_kbps_per_client = 512;  ///< snapshot budget per client, kilobits per second
 };
 
 /// [matches] created at start; more come through the control channel.
@@ -101,6 +105,12 @@ struct ServerConfig {
   int snapshot_rate_hz() const;
   /// db.path, under data_dir unless absolute.
   std::string db_file() const;
+  /// Bytes of one snapshot payload from the bandwidth budget at the snapshot rate, at most
+  /// kMaxSnapshotBytes (one datagram); validate() keeps it at least kMinSnapshotBytes.
+  int snapshot_budget_bytes() const;
+
+  static constexpr int kMinSnapshotBytes = 128;
+  static constexpr int kMaxSnapshotBytes = 1100;
 };
 
 /// Applies the keys of a TOML document over `config`. Returns every problem: malformed TOML
