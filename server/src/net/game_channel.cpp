@@ -44,9 +44,8 @@ udp::endpoint to_endpoint(const proto::Address& address) {
 
 }  // namespace
 
-GameChannel::GameChannel(asio::io_context& io, GameChannelConfig config, GameRouter& router)
+GameChannel::GameChannel(asio::io_context& io, GameChannelConfig config)
     : config_(std::move(config)),
-      router_(router),
       strand_(asio::make_strand(io)),
       socket_(strand_),
       update_timer_(strand_),
@@ -54,7 +53,8 @@ GameChannel::GameChannel(asio::io_context& io, GameChannelConfig config, GameRou
 
 GameChannel::~GameChannel() = default;
 
-void GameChannel::start() {
+void GameChannel::start(GameRouter& router) {
+  router_ = &router;
   const udp::endpoint endpoint(asio::ip::make_address(config_.bind), config_.port);
   socket_.open(endpoint.protocol());
   socket_.bind(endpoint);
@@ -146,7 +146,7 @@ void GameChannel::drain() {
     if (auto* connected = std::get_if<proto::ServerConnected>(&event)) {
       client_of_account_[connected->account_id] = connected->client;
       account_of_client_[connected->client] = connected->account_id;
-      router_.connected(connected->account_id, connected->match_id);
+      router_->connected(connected->account_id, connected->match_id);
     } else if (auto* gone = std::get_if<proto::ServerDisconnected>(&event)) {
       account_of_client_.erase(gone->client);
       const auto found = client_of_account_.find(gone->account_id);
@@ -154,14 +154,14 @@ void GameChannel::drain() {
       // player, so only the current connection's end is news.
       if (found != client_of_account_.end() && found->second == gone->client) {
         client_of_account_.erase(found);
-        router_.disconnected(gone->account_id, gone->reason);
+        router_->disconnected(gone->account_id, gone->reason);
       }
     } else if (auto* payload = std::get_if<proto::ServerUnreliable>(&event)) {
       const auto found = account_of_client_.find(payload->client);
-      if (found != account_of_client_.end()) router_.payload(found->second, std::move(payload->bytes));
+      if (found != account_of_client_.end()) router_->payload(found->second, std::move(payload->bytes));
     } else if (auto* message = std::get_if<proto::ServerReliable>(&event)) {
       const auto found = account_of_client_.find(message->client);
-      if (found != account_of_client_.end()) router_.reliable(found->second, std::move(message->bytes));
+      if (found != account_of_client_.end()) router_->reliable(found->second, std::move(message->bytes));
     }
   }
   proto::Transmit transmit;

@@ -49,13 +49,14 @@ struct GameChannelConfig {
 class GameChannel {
  public:
   /// Validates the transport config (std::invalid_argument). Binds nothing yet.
-  GameChannel(boost::asio::io_context& io, GameChannelConfig config, GameRouter& router);
+  GameChannel(boost::asio::io_context& io, GameChannelConfig config);
   ~GameChannel();
   GameChannel(const GameChannel&) = delete;
   GameChannel& operator=(const GameChannel&) = delete;
 
-  /// Binds and starts receiving; throws boost::system::system_error when it cannot bind.
-  void start();
+  /// Binds and starts receiving, handing events to `router` (which outlives the channel's
+  /// run); throws boost::system::system_error when it cannot bind.
+  void start(GameRouter& router);
   /// Tells every client (ServerShutdown), sends what is queued, closes the socket. Thread-safe;
   /// `done` runs on the channel's strand once the socket is closed.
   void stop(std::function<void()> done = {});
@@ -77,7 +78,7 @@ class GameChannel {
   void publish_counters();
 
   GameChannelConfig config_;
-  GameRouter& router_;
+  GameRouter* router_ = nullptr;
   boost::asio::strand<boost::asio::io_context::executor_type> strand_;
   boost::asio::ip::udp::socket socket_;
   boost::asio::steady_timer update_timer_;
