@@ -347,41 +347,30 @@ int Match::tick(proto::TimeUs now) {
   expire_disconnected(now);
   const int steps = clock_.advance(now);
   for (int step = 0; step < steps; ++step) {
-    std::int64_t at = profile_now();
-    const auto phase = [&](double& ms) {
-      ms += elapsed_ms(at);
-      at = profile_now();
-    };
-    apply_inputs();
-    phase(profile_.apply_inputs_ms);
-    move_players();
-    phase(profile_.movement_ms);
-    step_physics();
-    phase(profile_.physics_ms);
-    record_history();
-    phase(profile_.history_ms);
+    run_phase(&Match::apply_inputs, profile_.apply_inputs_ms);
+    run_phase(&Match::move_players, profile_.movement_ms);
+    run_phase(&Match::step_physics, profile_.physics_ms);
+    run_phase(&Match::record_history, profile_.history_ms);
   }
   ticks_since_snapshot_ += steps;
   if (steps > 0 && ticks_since_snapshot_ >= snapshot_interval_ticks_) {
     ticks_since_snapshot_ = 0;
     profile_.snapshot = true;
-    std::int64_t at = profile_now();
-    build_snapshots();
-    profile_.snapshots_ms = elapsed_ms(at);
-    at = profile_now();
-    send();
-    profile_.send_ms = elapsed_ms(at);
-  } else if (!pending_events_.empty()) {
-    const std::int64_t at = profile_now();
-    send();
-    profile_.send_ms = elapsed_ms(at);
+    run_phase(&Match::build_snapshots, profile_.snapshots_ms);
   }
+  run_phase(&Match::send, profile_.send_ms);
   profile_.steps = steps;
   profile_.total_ms = elapsed_ms(tick_start);
   counters_.steps += static_cast<std::uint64_t>(steps);
   counters_.overruns = clock_.overruns();
   counters_.dropped_steps = clock_.dropped_steps();
   return steps;
+}
+
+void Match::run_phase(void (Match::*phase)(), double& ms) {
+  const std::int64_t start = profile_now();
+  (this->*phase)();
+  ms += elapsed_ms(start);
 }
 
 bool Match::poll_outbox(Outgoing& out) {

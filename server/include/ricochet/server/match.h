@@ -202,6 +202,8 @@ class Match {
   void build_snapshots();
   void send();
 
+  /// Runs one phase, adding its time to `ms`.
+  void run_phase(void (Match::*phase)(), double& ms);
   Player* find(std::uint64_t account);
   const Player* find(std::uint64_t account) const;
   physics::Vec3 choose_spawn();
