@@ -327,6 +327,12 @@ TEST_F(MatchFixture, AReconnectWithinTheGraceKeepsTheEntity) {
   EXPECT_FALSE(state_of(ann).flags & kEntityDisconnected);
   ASSERT_FALSE(inboxes_[22].events.empty());
   EXPECT_TRUE(inboxes_[22].events.back().player_joined().reconnected());
+  // The one back hears of bob, then of itself.
+  ASSERT_EQ(inboxes_[11].events.size(), 2u);
+  EXPECT_EQ(inboxes_[11].events[0].player_joined().name(), "bob");
+  EXPECT_FALSE(inboxes_[11].events[0].player_joined().reconnected());
+  EXPECT_EQ(inboxes_[11].events[1].player_joined().entity_id(), ann);
+  EXPECT_TRUE(inboxes_[11].events[1].player_joined().reconnected());
   // The new client starts its sequence at 1 again and gets a full snapshot.
   ASSERT_FALSE(inboxes_[11].payloads.empty());
   EXPECT_EQ(inboxes_[11].payloads.front().snapshot().baseline_age(), 0u);

@@ -172,17 +172,13 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
     player->applied = PlayerInput{};
     player->snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
     ++counters_.players_reconnected;
+    for (const Player& other : players_) {
+      if (other.account != account) queue_present(account, other);
+    }
     joined.mutable_player_joined()->set_entity_id(player->entity_id);
     joined.mutable_player_joined()->set_name(player->name);
     joined.mutable_player_joined()->set_reconnected(true);
     broadcast(joined);
-    for (const Player& other : players_) {
-      if (other.account == account) continue;
-      wire::GameEvent present;
-      present.mutable_player_joined()->set_entity_id(other.entity_id);
-      present.mutable_player_joined()->set_name(other.name);
-      queue_event(account, present);
-    }
     return Joined{player->entity_id, true};
   }
   if (player_count() >= config_.max_players) return refuse(JoinRefusal::MatchFull);
@@ -197,12 +193,7 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
   player.inputs = InputBuffer(config_.input);
   player.snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
   // Everyone already here, to the newcomer; then the newcomer to everyone (itself included).
-  for (const Player& other : players_) {
-    wire::GameEvent present;
-    present.mutable_player_joined()->set_entity_id(other.entity_id);
-    present.mutable_player_joined()->set_name(other.name);
-    queue_event(account, present);
-  }
+  for (const Player& other : players_) queue_present(account, other);
   const Joined result{player.entity_id, false};
   joined.mutable_player_joined()->set_entity_id(player.entity_id);
   joined.mutable_player_joined()->set_name(player.name);
@@ -331,6 +322,13 @@ void Match::queue_event(std::uint64_t account, const wire::GameEvent& event) {
   out.bytes.resize(event.ByteSizeLong());
   event.SerializeToArray(out.bytes.data(), static_cast<int>(out.bytes.size()));
   pending_events_.push_back(std::move(out));
+}
+
+void Match::queue_present(std::uint64_t account, const Player& other) {
+  wire::GameEvent present;
+  present.mutable_player_joined()->set_entity_id(other.entity_id);
+  present.mutable_player_joined()->set_name(other.name);
+  queue_event(account, present);
 }
 
 void Match::broadcast(const wire::GameEvent& event) {

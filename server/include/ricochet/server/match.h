@@ -211,6 +211,8 @@ class Match {
   void expire_disconnected(proto::TimeUs now);
   void broadcast(const wire::GameEvent& event);
   void queue_event(std::uint64_t account, const wire::GameEvent& event);
+  /// Tells `account` that `other` is in the match (a PlayerJoined).
+  void queue_present(std::uint64_t account, const Player& other);
   double elapsed_ms(std::int64_t since_ns) const;
   std::int64_t profile_now() const;
 
