@@ -37,8 +37,9 @@ const char* const kSmallMaps[][2] = {
      "mesh a\r\nvertex 0 0 0\r\nvertex 1 0 0\r\nvertex 0 0 1\r\ntriangle 0 1 2\r\nend\r\n"
      "mesh b\r\nvertex 0 1 0\r\nvertex 1 1e0 0\r\nvertex 0 1 -1.5e-1\r\ntriangle 2 1 0\r\nend\r\n"
      "spawn\t1\t2\t3\t-360\r\n"},
-    {"bad_triangle", "ricochet-map 1\nname t\nbounds -1 -1 -1 1 1 1\nmesh x\nvertex 0 0 0\n"
-                     "triangle 0 0 0\nend\nspawn 0 0 0 0\n"},
+    {"bad_triangle",
+     "ricochet-map 1\nname t\nbounds -1 -1 -1 1 1 1\nmesh x\nvertex 0 0 0\n"
+     "triangle 0 0 0\nend\nspawn 0 0 0 0\n"},
 };
 
 void write(const std::string& path, const std::string& text) {
@@ -67,7 +68,8 @@ int main(int argc, char** argv) {
   text << arena.rdbuf();
   write(dir + "/arena.map", text.str());
   for (const auto& [name, map] : kSmallMaps) {
-    const bool parses = std::holds_alternative<ricochet::server::Map>(ricochet::server::parse_map(map));
+    const bool parses =
+        std::holds_alternative<ricochet::server::Map>(ricochet::server::parse_map(map));
     // Every seed but the one with a bad triangle is a valid map.
     if (parses != (std::string(name) != "bad_triangle")) {
       std::fprintf(stderr, "map_parser_seeds: seed %s parses=%d, not as intended\n", name, parses);

@@ -1,14 +1,14 @@
 // A match driven by fake time: players, untrusted payloads, the tick, snapshots, events, chat,
 // reconnects.
 
+#include "ricochet/server/match.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
-
-#include "ricochet/server/match.h"
 
 namespace ricochet::server {
 namespace {
@@ -186,19 +186,22 @@ TEST_F(MatchFixture, EveryConnectedPlayerGetsADecodableSnapshotPerTick) {
   proto::SnapshotDecoder decoder(match_.config().quantization);
   const std::vector<wire::ServerPayload>& payloads = inboxes_[11].payloads;
   ASSERT_EQ(payloads.size(), 30u);
+  std::vector<proto::QuantizedEntity> view;
   for (const wire::ServerPayload& payload : payloads) {
     EXPECT_EQ(payload.your_entity_id(), ann);
     EXPECT_EQ(payload.snapshot().tick(), payload.server_tick());
     const proto::SnapshotDecodeResult decoded = decoder.decode(payload.snapshot());
     ASSERT_TRUE(decoded.ok) << decoded.message;
-    EXPECT_EQ(decoded.entities.size(), 2u);
+    view.assign(decoded.entities.begin(), decoded.entities.end());
   }
-  // The last one is the match's state, quantised.
-  proto::SnapshotDecodeResult last = decoder.decode(payloads.back().snapshot());
-  EXPECT_FALSE(last.ok);  // already decoded: stale
-  const std::span<const proto::EntityState> states = match_.entity_states();
-  ASSERT_EQ(states.size(), 2u);
+  // The last one is the match's state now, quantised, bit for bit.
   EXPECT_EQ(payloads.back().server_tick(), match_.tick_number());
+  const std::span<const proto::EntityState> states = match_.entity_states();
+  ASSERT_EQ(view.size(), 2u);
+  ASSERT_EQ(states.size(), 2u);
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    EXPECT_EQ(view[k], proto::quantize(states[k], match_.config().quantization));
+  }
   EXPECT_EQ(inboxes_[22].payloads.size(), 30u);
   EXPECT_EQ(match_.counters().snapshots_sent, 60u);
 }
@@ -393,7 +396,7 @@ TEST_F(MatchFixture, ChatIsEchoedToEveryoneAndBadLinesAreRefused) {
   EXPECT_EQ(match_.chat(11, std::string(201, 'a')), ChatDrop::TooLong);
   EXPECT_EQ(match_.chat(11, std::string(200, 'a')), std::nullopt);
   EXPECT_EQ(match_.chat(11, "bell\a"), ChatDrop::InvalidText);
-  EXPECT_EQ(match_.chat(11, "\xC0\xAF"), ChatDrop::InvalidText);  // overlong '/'
+  EXPECT_EQ(match_.chat(11, "\xC0\xAF"), ChatDrop::InvalidText);      // overlong '/'
   EXPECT_EQ(match_.chat(11, "\xED\xA0\x80"), ChatDrop::InvalidText);  // a surrogate
   EXPECT_EQ(match_.chat(11, "cut \xE2\x82"), ChatDrop::InvalidText);
   advance(kTickUs);
@@ -416,7 +419,8 @@ TEST_F(MatchFixture, RefusesPlayersBeyondTheCapAndBadNames) {
     name += std::to_string(account);
     join(account, name);
   }
-  EXPECT_EQ(match_.connect(17, "late"), (std::variant<Joined, JoinRefusal>(JoinRefusal::MatchFull)));
+  EXPECT_EQ(match_.connect(17, "late"),
+            (std::variant<Joined, JoinRefusal>(JoinRefusal::MatchFull)));
   EXPECT_EQ(match_.connect(18, ""), (std::variant<Joined, JoinRefusal>(JoinRefusal::InvalidName)));
   EXPECT_EQ(match_.connect(18, "new\nline"),
             (std::variant<Joined, JoinRefusal>(JoinRefusal::InvalidName)));
@@ -456,9 +460,8 @@ TEST(MatchProfile, FillsEveryPhaseFromTheProfileClock) {
                           profile.history_ms, profile.snapshots_ms, profile.send_ms}) {
     EXPECT_GT(ms, 0);
   }
-  EXPECT_GE(profile.total_ms, profile.apply_inputs_ms + profile.movement_ms +
-                                  profile.physics_ms + profile.history_ms +
-                                  profile.snapshots_ms + profile.send_ms);
+  EXPECT_GE(profile.total_ms, profile.apply_inputs_ms + profile.movement_ms + profile.physics_ms +
+                                  profile.history_ms + profile.snapshots_ms + profile.send_ms);
   EXPECT_EQ(match.tick(kStart + 2 * kTickUs), 0);
   EXPECT_EQ(match.profile().steps, 0);
   EXPECT_FALSE(match.profile().snapshot);

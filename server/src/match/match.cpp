@@ -60,18 +60,24 @@ bool is_printable_utf8(std::string_view text) {
 
 const char* name(JoinRefusal reason) {
   switch (reason) {
-    case JoinRefusal::MatchFull: return "match_full";
-    case JoinRefusal::InvalidName: return "invalid_name";
+    case JoinRefusal::MatchFull:
+      return "match_full";
+    case JoinRefusal::InvalidName:
+      return "invalid_name";
   }
   return "unknown";
 }
 
 const char* name(ChatDrop reason) {
   switch (reason) {
-    case ChatDrop::NotInMatch: return "not_in_match";
-    case ChatDrop::Empty: return "empty";
-    case ChatDrop::TooLong: return "too_long";
-    case ChatDrop::InvalidText: return "invalid_text";
+    case ChatDrop::NotInMatch:
+      return "not_in_match";
+    case ChatDrop::Empty:
+      return "empty";
+    case ChatDrop::TooLong:
+      return "too_long";
+    case ChatDrop::InvalidText:
+      return "invalid_text";
   }
   return "unknown";
 }
@@ -113,7 +119,8 @@ std::variant<Match, std::string> Match::create(const MatchConfig& config, const 
   if (std::string error = spec.validate(); !error.empty()) {
     return "match quantization (with the bounds of map " + map.name + "): " + error;
   }
-  physics::Result<physics::World> world = physics::World::create(physics::profiles::arena_players());
+  physics::Result<physics::World> world =
+      physics::World::create(physics::profiles::arena_players());
   if (!world.ok()) return "physics world: " + world.error().message;
   if (const physics::Status added = add_map_to_world(map, world.value()); !added.ok()) {
     return "map " + map.name + ": " + added.error().message;
@@ -205,7 +212,8 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
 
 physics::Vec3 Match::choose_spawn() {
   // Round robin over the spawns, skipping one a player stands on (unless all are taken).
-  const physics::Real clearance = 2 * player_body_def(physics::Vec3::Zero()).radius + physics::Real(0.1);
+  const physics::Real clearance =
+      2 * player_body_def(physics::Vec3::Zero()).radius + physics::Real(0.1);
   for (std::size_t tried = 0; tried < spawns_.size(); ++tried) {
     const physics::Vec3& spawn = spawns_[(next_spawn_ + tried) % spawns_.size()];
     const bool taken = std::any_of(players_.begin(), players_.end(), [&](const Player& player) {
@@ -297,10 +305,14 @@ void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload
 std::optional<ChatDrop> Match::chat(std::uint64_t account, std::string_view text) {
   std::optional<ChatDrop> refusal;
   const Player* player = find(account);
-  if (!player || !player->connected) refusal = ChatDrop::NotInMatch;
-  else if (text.empty()) refusal = ChatDrop::Empty;
-  else if (text.size() > kMaxChatBytes) refusal = ChatDrop::TooLong;
-  else if (!is_printable_utf8(text)) refusal = ChatDrop::InvalidText;
+  if (!player || !player->connected)
+    refusal = ChatDrop::NotInMatch;
+  else if (text.empty())
+    refusal = ChatDrop::Empty;
+  else if (text.size() > kMaxChatBytes)
+    refusal = ChatDrop::TooLong;
+  else if (!is_printable_utf8(text))
+    refusal = ChatDrop::InvalidText;
   if (refusal) {
     ++counters_.chat_drops[static_cast<std::size_t>(*refusal)];
     return refusal;
@@ -381,7 +393,9 @@ bool Match::poll_outbox(Outgoing& out) {
   return true;
 }
 
-std::int64_t Match::profile_now() const { return profile_clock_ ? profile_clock_() : 0; }
+std::int64_t Match::profile_now() const {
+  return profile_clock_ ? profile_clock_() : 0;
+}
 
 double Match::elapsed_ms(std::int64_t since_ns) const {
   return static_cast<double>(profile_now() - since_ns) / 1e6;
@@ -400,7 +414,9 @@ std::optional<std::uint32_t> Match::entity_of(std::uint64_t account) const {
   return player->entity_id;
 }
 
-std::span<const proto::EntityState> Match::entity_states() const { return states_at(tick_); }
+std::span<const proto::EntityState> Match::entity_states() const {
+  return states_at(tick_);
+}
 
 std::span<const proto::EntityState> Match::states_at(std::uint32_t tick) const {
   const HistoryEntry& entry = history_[tick % history_.size()];
