@@ -424,13 +424,19 @@ TEST_F(MatchFixture, RefusesPlayersBeyondTheCapAndBadNames) {
   EXPECT_EQ(match_.connect(18, ""), (std::variant<Joined, JoinRefusal>(JoinRefusal::InvalidName)));
   EXPECT_EQ(match_.connect(18, "new\nline"),
             (std::variant<Joined, JoinRefusal>(JoinRefusal::InvalidName)));
-  // A seated player reconnecting is not refused for the cap.
+  // A seated player reconnecting (a new connection replacing its open one) is not refused for
+  // the cap, and hears of the 15 others and itself once, not also what was queued before.
   EXPECT_TRUE(std::holds_alternative<Joined>(match_.connect(16, "p16")));
+  drain();
+  EXPECT_EQ(inboxes_[16].events.size(), 0u);  // events go out with the next tick
+  advance(kTickUs);
+  EXPECT_EQ(inboxes_[16].events.size(), 16u);
+  EXPECT_TRUE(inboxes_[16].events.back().player_joined().reconnected());
   EXPECT_EQ(match_.counters().join_refusals[static_cast<std::size_t>(JoinRefusal::MatchFull)], 1u);
   // Sixteen players on sixteen spawns, a snapshot each within the budget.
   advance(kMicrosPerSecond / 2);
   EXPECT_EQ(match_.entity_states().size(), 16u);
-  EXPECT_EQ(inboxes_[1].payloads.size(), 30u);
+  EXPECT_EQ(inboxes_[1].payloads.size(), 31u);  // one tick, then half a second
 }
 
 TEST_F(MatchFixture, TheHistoryKeepsTheLastTicks) {

@@ -178,6 +178,7 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
     player->inputs.reset();
     player->applied = PlayerInput{};
     player->snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
+    drop_pending_events(account);  // meant for the old connection
     ++counters_.players_reconnected;
     for (const Player& other : players_) {
       if (other.account != account) queue_present(account, other);
@@ -237,6 +238,7 @@ void Match::disconnect(std::uint64_t account, proto::TimeUs now) {
   player->inputs.reset();  // the entity stands still while away
   player->applied = PlayerInput{};
   player->snapshots.reset();
+  drop_pending_events(account);
 }
 
 bool Match::leave(std::uint64_t account) {
@@ -260,8 +262,7 @@ void Match::remove_player(std::size_t index, wire::LeaveReason reason) {
   left.mutable_player_left()->set_reason(reason);
   const std::uint64_t account = player.account;
   players_.erase(players_.begin() + static_cast<std::ptrdiff_t>(index));
-  // Events still queued for the one who left go nowhere.
-  std::erase_if(pending_events_, [account](const Outgoing& out) { return out.account == account; });
+  drop_pending_events(account);
   broadcast(left);
 }
 
@@ -334,6 +335,10 @@ void Match::queue_event(std::uint64_t account, const wire::GameEvent& event) {
   out.bytes.resize(event.ByteSizeLong());
   event.SerializeToArray(out.bytes.data(), static_cast<int>(out.bytes.size()));
   pending_events_.push_back(std::move(out));
+}
+
+void Match::drop_pending_events(std::uint64_t account) {
+  std::erase_if(pending_events_, [account](const Outgoing& out) { return out.account == account; });
 }
 
 void Match::queue_present(std::uint64_t account, const Player& other) {

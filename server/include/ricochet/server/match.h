@@ -212,6 +212,8 @@ class Match {
   void expire_disconnected(proto::TimeUs now);
   void broadcast(const wire::GameEvent& event);
   void queue_event(std::uint64_t account, const wire::GameEvent& event);
+  /// Forgets the events queued for `account`: its connection is gone or replaced.
+  void drop_pending_events(std::uint64_t account);
   /// Tells `account` that `other` is in the match (a PlayerJoined).
   void queue_present(std::uint64_t account, const Player& other);
   double elapsed_ms(std::int64_t since_ns) const;
