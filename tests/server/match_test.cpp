@@ -451,6 +451,55 @@ TEST_F(MatchFixture, RefusesPlayersBeyondTheCapAndBadNames) {
   EXPECT_EQ(inboxes_[1].payloads.size(), 31u);  // one tick, then half a second
 }
 
+TEST(MatchCrowd, SixtyFourPlayersOnSixteenSpawnsRunAroundWithinBounds) {
+  MatchConfig config;
+  config.max_players = 64;
+  config.snapshot_rate_hz = 10;  // 64 encoders of 64 entities: keep it quick under sanitizers
+  auto created = Match::create(config, sample_map(), kStart);
+  ASSERT_TRUE(std::holds_alternative<Match>(created));
+  Match& match = std::get<Match>(created);
+  for (std::uint64_t account = 1; account <= 64; ++account) {
+    ASSERT_TRUE(std::holds_alternative<Joined>(match.connect(account, "crowd")));
+  }
+  // Spawned apart: 16 on the floor, the others one player height above each other.
+  std::vector<std::uint8_t> payload_bytes;
+  std::uint32_t sequence = 0;
+  std::size_t largest_payload = 0;
+  TimeUs now = kStart;
+  for (int tick = 0; tick < 90; ++tick) {  // 1.5 s
+    ++sequence;
+    for (std::uint64_t account = 1; account <= 64; ++account) {
+      wire::ClientPayload payload;
+      wire::Input& in = *payload.add_inputs();
+      in.set_sequence(sequence);
+      in.set_move_forward(127);
+      in.set_yaw(std::remainder(static_cast<float>(account) * 0.7f + static_cast<float>(tick / 40),
+                                6.2831853f));
+      in.set_buttons(tick % 50 == static_cast<int>(account % 50) ? std::uint32_t{kButtonJump} : 0u);
+      payload_bytes.resize(payload.ByteSizeLong());
+      payload.SerializeToArray(payload_bytes.data(), static_cast<int>(payload_bytes.size()));
+      match.receive(account, payload_bytes);
+    }
+    now += kTickUs;
+    match.tick(now);
+    Outgoing out;
+    while (match.poll_outbox(out)) {
+      if (!out.reliable) largest_payload = std::max(largest_payload, out.bytes.size());
+    }
+  }
+  EXPECT_LE(largest_payload, config.snapshot_budget_bytes);
+  const Map map = sample_map();
+  ASSERT_EQ(match.entity_states().size(), 64u);
+  for (const proto::EntityState& state : match.entity_states()) {
+    const physics::Vec3 position(state.position_m[0], state.position_m[1], state.position_m[2]);
+    EXPECT_TRUE(position.allFinite());
+    EXPECT_TRUE(map.contains(position)) << state.id << ": " << position.transpose();
+    EXPECT_LT(position.y(), 3.0) << state.id;  // everyone came down; nobody was launched
+  }
+  EXPECT_EQ(match.counters().inputs_applied, 64u * 90u);
+  EXPECT_EQ(match.counters().snapshots_sent, 64u * 15u);
+}
+
 TEST_F(MatchFixture, TheHistoryKeepsTheLastTicks) {
   join(11, "ann");
   advance(2 * kMicrosPerSecond);

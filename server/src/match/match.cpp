@@ -139,6 +139,7 @@ Match::Match(const MatchConfig& config, physics::World world, const Map& map, pr
       profile_clock_(std::move(profile_clock)),
       history_(static_cast<std::size_t>(config.history_ticks)) {
   for (const MapSpawn& spawn : map.spawns) spawns_.push_back(spawn.position_m);
+  bounds_max_y_m_ = map.bounds_max_m.y() - player_body_def(physics::Vec3::Zero()).radius;
   snapshot_interval_ticks_ = std::max(
       1, static_cast<int>(std::lround(double(config.tick.rate_hz) / config.snapshot_rate_hz)));
   ticks_since_snapshot_ = snapshot_interval_ticks_;  // the first step sends one
@@ -212,22 +213,34 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
 }
 
 physics::Vec3 Match::choose_spawn() {
-  // Round robin over the spawns, skipping one a player stands on (unless all are taken).
+  // Round robin over the spawns, skipping one a player stands on. When every spawn is taken
+  // (more players than spawns), the same points one player height up, and so on: the newcomer
+  // drops onto the floor or onto whoever is there.
   const physics::Real clearance =
       2 * player_body_def(physics::Vec3::Zero()).radius + physics::Real(0.1);
-  for (std::size_t tried = 0; tried < spawns_.size(); ++tried) {
-    const physics::Vec3& spawn = spawns_[(next_spawn_ + tried) % spawns_.size()];
-    const bool taken = std::any_of(players_.begin(), players_.end(), [&](const Player& player) {
-      return (world_.body_state(player.body).value().position - spawn).norm() < clearance;
+  const auto is_free = [&](const physics::Vec3& point) {
+    return std::none_of(players_.begin(), players_.end(), [&](const Player& player) {
+      return (world_.body_state(player.body).value().position - point).norm() < clearance;
     });
-    if (!taken) {
-      next_spawn_ = (next_spawn_ + tried + 1) % spawns_.size();
-      return spawn;
+  };
+  for (int level = 0;; ++level) {
+    const physics::Vec3 lift(0, clearance * physics::Real(level), 0);
+    bool inside = false;
+    for (std::size_t tried = 0; tried < spawns_.size(); ++tried) {
+      const std::size_t index = (next_spawn_ + tried) % spawns_.size();
+      const physics::Vec3 point = spawns_[index] + lift;
+      if (point.y() > bounds_max_y_m_) continue;
+      inside = true;
+      if (is_free(point)) {
+        next_spawn_ = (index + 1) % spawns_.size();
+        return point;
+      }
     }
+    if (!inside) break;  // above the bounds everywhere: share a spawn
   }
-  const physics::Vec3 spawn = spawns_[next_spawn_];
+  const physics::Vec3 point = spawns_[next_spawn_];
   next_spawn_ = (next_spawn_ + 1) % spawns_.size();
-  return spawn;
+  return point;
 }
 
 void Match::disconnect(std::uint64_t account, proto::TimeUs now) {

@@ -222,6 +222,7 @@ class Match {
   MatchConfig config_;
   std::string map_name_;
   std::vector<physics::Vec3> spawns_;
+  physics::Real bounds_max_y_m_ = 0;  ///< highest spawn centre that keeps a player inside
   std::size_t next_spawn_ = 0;
   physics::World world_;
   TickClock clock_;
