@@ -210,10 +210,12 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
   }
   if (changed_count > 0) {
     layout::DeltaOrders orders;
-    orders.gap = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.position = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.velocity = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.orientation = static_cast<int>(reader.read_bits(layout::kOrderBits));
+    auto read_order = [&reader] { return static_cast<int>(reader.read_bits(layout::kOrderBits)); };
+    orders.gap = read_order();
+    for (int& order : orders.velocity) order = read_order();
+    for (int& order : orders.position) order = read_order();
+    orders.orientation = read_order();
+    const std::int64_t factor = layout::prediction_factor(in.baseline_age(), spec_);
     std::uint64_t index = 0;
     for (std::uint64_t k = 0; k < changed_count; ++k) {
       const std::uint64_t gap = reader.read_exp_golomb(orders.gap);
@@ -225,12 +227,12 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
                                                                  ", got " + std::to_string(index)});
       }
       const layout::DeltaStatus status =
-          layout::read_delta(reader, orders, widths, scratch_[index]);
+          layout::read_delta(reader, orders, widths, factor, scratch_[index]);
       if (reader.failed()) return refuse(reader_refusal(reader, "a change"));
       if (status == layout::DeltaStatus::EmptyChange) {
-        return refuse({SnapshotRejection::EmptyChange,
-                       "expected a changed entity with a non-zero field mask, got 0 for id " +
-                           std::to_string(scratch_[index].id)});
+        return refuse({SnapshotRejection::EmptyChange, "expected a change to entity " +
+                                                           std::to_string(scratch_[index].id) +
+                                                           ", got its baseline state again"});
       }
       if (status == layout::DeltaStatus::OutOfRange) {
         return refuse({SnapshotRejection::ValueOutOfRange,

@@ -24,10 +24,39 @@ FieldWidths::FieldWidths(const QuantizationSpec& spec)
   orientation = bits_for_count(2 * static_cast<std::uint64_t>(orientation_limit) + 1);
 }
 
-std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current) {
+std::int64_t prediction_factor(std::uint32_t baseline_age, const QuantizationSpec& spec) {
+  return baseline_age <= kMaxPredictionAge ? baseline_age * spec.prediction_scale() : 0;
+}
+
+std::array<std::int64_t, 3> predicted_motion(const QuantizedEntity& baseline,
+                                             const std::array<std::int32_t, 3>& velocity_now,
+                                             std::int64_t factor) {
+  std::array<std::int64_t, 3> motion{};
+  for (int a = 0; a < 3; ++a) {
+    const std::int64_t sum = static_cast<std::int64_t>(baseline.velocity[a]) + velocity_now[a];
+    motion[a] = (sum * factor + (std::int64_t{1} << 16)) >> 17;
+  }
+  return motion;
+}
+
+std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
+                                              const QuantizedEntity& current, std::int64_t factor) {
+  const std::array<std::int64_t, 3> motion = predicted_motion(baseline, current.velocity, factor);
+  std::array<std::int64_t, 3> residual{};
+  for (int a = 0; a < 3; ++a) {
+    residual[a] = static_cast<std::int64_t>(current.position[a]) -
+                  static_cast<std::int64_t>(baseline.position[a]) - motion[a];
+  }
+  return residual;
+}
+
+std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current,
+                            std::int64_t factor) {
   std::uint8_t mask = 0;
-  if (baseline.position != current.position) mask |= kPositionChanged;
   if (baseline.velocity != current.velocity) mask |= kVelocityChanged;
+  if (position_residual(baseline, current, factor) != std::array<std::int64_t, 3>{}) {
+    mask |= kPositionChanged;
+  }
   if (baseline.orientation_largest != current.orientation_largest ||
       baseline.orientation != current.orientation) {
     mask |= kOrientationChanged;
@@ -95,98 +124,87 @@ bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& en
   return in_range;
 }
 
-void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths) {
-  const std::uint8_t mask = changed_fields(baseline, current);
-  out.write_bits(mask, kFieldMaskBits);
-  if (mask & kPositionChanged) {
-    for (int a = 0; a < 3; ++a) {
-      out.write_signed_exp_golomb(static_cast<std::int64_t>(current.position[a]) -
-                                      static_cast<std::int64_t>(baseline.position[a]),
-                                  orders.position);
-    }
-  }
+namespace {
+
+/// Walks the fields of a delta once, so writing and counting cannot disagree: `code(value,
+/// order)` for each Exp-Golomb field, `raw(value, bits)` for each fixed-width one.
+template <class Code, class Raw>
+void visit_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
+                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor,
+                 Code&& code, Raw&& raw) {
+  const std::uint8_t mask = changed_fields(baseline, current, factor);
+  raw(mask, kFieldMaskBits);
   if (mask & kVelocityChanged) {
     for (int a = 0; a < 3; ++a) {
-      out.write_signed_exp_golomb(
-          static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a], orders.velocity);
+      code(zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]),
+           orders.velocity[a]);
     }
+  }
+  if (mask & kPositionChanged) {
+    const std::array<std::int64_t, 3> residual = position_residual(baseline, current, factor);
+    for (int a = 0; a < 3; ++a) code(zigzag(residual[a]), orders.position[a]);
   }
   if (mask & kOrientationChanged) {
     const bool same_largest = current.orientation_largest == baseline.orientation_largest;
-    out.write_bool(same_largest);
+    raw(same_largest ? 1 : 0, 1);
     if (same_largest) {
       for (int k = 0; k < 3; ++k) {
-        out.write_signed_exp_golomb(
-            static_cast<std::int64_t>(current.orientation[k]) - baseline.orientation[k],
-            orders.orientation);
+        code(zigzag(static_cast<std::int64_t>(current.orientation[k]) - baseline.orientation[k]),
+             orders.orientation);
       }
     } else {
-      out.write_bits(current.orientation_largest, 2);
+      raw(current.orientation_largest, 2);
       for (int k = 0; k < 3; ++k) {
-        out.write_bits(
-            static_cast<std::uint64_t>(current.orientation[k] + widths.orientation_limit),
+        raw(static_cast<std::uint64_t>(current.orientation[k] + widths.orientation_limit),
             widths.orientation);
       }
     }
   }
-  if (mask & kFlagsChanged) out.write_bits(current.flags, 8);
+  if (mask & kFlagsChanged) raw(current.flags, 8);
+}
+
+}  // namespace
+
+void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
+                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor) {
+  visit_delta(
+      baseline, current, orders, widths, factor,
+      [&out](std::uint64_t value, int order) { out.write_exp_golomb(value, order); },
+      [&out](std::uint64_t value, int bits) { out.write_bits(value, bits); });
 }
 
 int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
-               const DeltaOrders& orders, const FieldWidths& widths) {
-  const std::uint8_t mask = changed_fields(baseline, current);
-  int bits = kFieldMaskBits;
-  if (mask & kPositionChanged) {
-    for (int a = 0; a < 3; ++a) {
-      bits += exp_golomb_bits(zigzag(static_cast<std::int64_t>(current.position[a]) -
-                                     static_cast<std::int64_t>(baseline.position[a])),
-                              orders.position);
-    }
-  }
-  if (mask & kVelocityChanged) {
-    for (int a = 0; a < 3; ++a) {
-      bits += exp_golomb_bits(
-          zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]),
-          orders.velocity);
-    }
-  }
-  if (mask & kOrientationChanged) {
-    bits += 1;
-    if (current.orientation_largest == baseline.orientation_largest) {
-      for (int k = 0; k < 3; ++k) {
-        bits += exp_golomb_bits(
-            zigzag(static_cast<std::int64_t>(current.orientation[k]) - baseline.orientation[k]),
-            orders.orientation);
-      }
-    } else {
-      bits += 2 + 3 * widths.orientation;
-    }
-  }
-  if (mask & kFlagsChanged) bits += 8;
+               const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor) {
+  int bits = 0;
+  visit_delta(
+      baseline, current, orders, widths, factor,
+      [&bits](std::uint64_t value, int order) { bits += exp_golomb_bits(value, order); },
+      [&bits](std::uint64_t, int width) { bits += width; });
   return bits;
 }
 
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,
-                       QuantizedEntity& entity) {
+                       std::int64_t factor, QuantizedEntity& entity) {
+  const QuantizedEntity baseline = entity;
   const auto mask = static_cast<std::uint8_t>(in.read_bits(kFieldMaskBits));
-  if (in.failed()) return DeltaStatus::Ok;  // the caller reports the truncation
-  if (mask == 0) return DeltaStatus::EmptyChange;
   bool in_range = true;
-  if (mask & kPositionChanged) {
-    for (int a = 0; a < 3; ++a) {
-      const std::int64_t value = static_cast<std::int64_t>(entity.position[a]) +
-                                 in.read_signed_exp_golomb(orders.position);
-      in_range = in_range && value >= 0 && value < widths.position_steps[a];
-      entity.position[a] = static_cast<std::uint32_t>(value);
-    }
-  }
   if (mask & kVelocityChanged) {
     for (int a = 0; a < 3; ++a) {
-      const std::int64_t value = entity.velocity[a] + in.read_signed_exp_golomb(orders.velocity);
+      const std::int64_t value = entity.velocity[a] + in.read_signed_exp_golomb(orders.velocity[a]);
       in_range = in_range && value >= -widths.velocity_limit && value <= widths.velocity_limit;
-      entity.velocity[a] = static_cast<std::int32_t>(value);
+      entity.velocity[a] = in_range ? static_cast<std::int32_t>(value) : 0;
     }
+  }
+  if (!in_range) return DeltaStatus::OutOfRange;
+  // The position follows from the velocities, then its residual if the mask says so.
+  const std::array<std::int64_t, 3> motion = predicted_motion(baseline, entity.velocity, factor);
+  const bool has_residual = (mask & kPositionChanged) != 0;
+  for (int a = 0; a < 3; ++a) {
+    const std::int64_t residual = has_residual ? in.read_signed_exp_golomb(orders.position[a]) : 0;
+    const std::int64_t value =
+        static_cast<std::int64_t>(baseline.position[a]) + motion[a] + residual;
+    in_range = in_range && value >= 0 && value < widths.position_steps[a];
+    entity.position[a] = static_cast<std::uint32_t>(value);
   }
   if (mask & kOrientationChanged) {
     if (in.read_bool()) {
@@ -208,7 +226,9 @@ DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidt
     }
   }
   if (mask & kFlagsChanged) entity.flags = static_cast<std::uint8_t>(in.read_bits(8));
-  return in_range ? DeltaStatus::Ok : DeltaStatus::OutOfRange;
+  if (!in_range) return DeltaStatus::OutOfRange;
+  if (entity == baseline) return DeltaStatus::EmptyChange;
+  return DeltaStatus::Ok;
 }
 
 }  // namespace ricochet::proto::snapshot_layout

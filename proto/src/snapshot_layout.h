@@ -13,22 +13,41 @@ namespace ricochet::proto::snapshot_layout {
 /// Bits of each Exp-Golomb order written in the stream (orders 0..31).
 inline constexpr int kOrderBits = 5;
 
-/// Bit of each field in a changed entity's 4-bit mask, first written first.
+/// Bit of each field in a changed entity's 4-bit mask, in the order the fields follow it.
 enum FieldBit : std::uint8_t {
-  kPositionChanged = 8,
-  kVelocityChanged = 4,
+  kVelocityChanged = 8,
+  kPositionChanged = 4,
   kOrientationChanged = 2,
   kFlagsChanged = 1,
 };
 inline constexpr int kFieldMaskBits = 4;
 
-/// Exp-Golomb orders of the changed entities' fields in one snapshot.
+/// Exp-Golomb orders of the changed entities' fields in one snapshot, in stream order.
 struct DeltaOrders {
   int gap = 0;
-  int position = 0;
-  int velocity = 0;
-  int orientation = 0;
+  std::array<int, 3> velocity{};  ///< per axis
+  std::array<int, 3> position{};  ///< per axis, of the residual after prediction
+  int orientation = 0;            ///< the three components
 };
+inline constexpr int kDeltaOrderCount = 8;
+
+/// Baselines older than this many ticks get no position prediction.
+inline constexpr std::uint32_t kMaxPredictionAge = 255;
+
+/// What predicts a changed entity's position in one snapshot: baseline_age * prediction_scale,
+/// or 0 past kMaxPredictionAge (PROTOCOL.snapshot.md §prediction).
+std::int64_t prediction_factor(std::uint32_t baseline_age, const QuantizationSpec& spec);
+
+/// Position steps an entity is predicted to have moved along each axis since its baseline: the
+/// mean of the baseline's and the current velocity over the baseline's age,
+/// floor(((v_baseline + v_now) * factor + 2^16) / 2^17).
+std::array<std::int64_t, 3> predicted_motion(const QuantizedEntity& baseline,
+                                             const std::array<std::int32_t, 3>& velocity_now,
+                                             std::int64_t factor);
+
+/// The position residuals after prediction, zig-zag mapped, per axis.
+std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
+                                              const QuantizedEntity& current, std::int64_t factor);
 
 /// Raw widths derived from the spec, computed once per encoder or decoder.
 struct FieldWidths {
@@ -42,8 +61,11 @@ struct FieldWidths {
   explicit FieldWidths(const QuantizationSpec& spec);
 };
 
-/// Which fields of `current` differ from `baseline` (a FieldBit mask; 0 when equal).
-std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current);
+/// Which fields a changed entity's mask marks (FieldBit): velocity, orientation and flags when
+/// they differ from `baseline`, position when it differs from the prediction. May be 0 for an
+/// entity that moved exactly as predicted.
+std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current,
+                            std::int64_t factor);
 
 /// A new entity's state, without its id.
 void write_absolute(BitWriter& out, const QuantizedEntity& entity, const FieldWidths& widths);
@@ -53,14 +75,15 @@ bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& en
 
 /// A changed entity's fields after its gap: the mask, then each changed field's delta.
 void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths);
+                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor);
 /// Bits write_delta takes (without the gap).
 int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
-               const DeltaOrders& orders, const FieldWidths& widths);
+               const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor);
 
 enum class DeltaStatus : std::uint8_t { Ok, EmptyChange, OutOfRange };
 /// Applies the delta read from `in` to `entity` (holding the baseline); the reader may fail.
+/// EmptyChange: the result equals the baseline.
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,
-                       QuantizedEntity& entity);
+                       std::int64_t factor, QuantizedEntity& entity);
 
 }  // namespace ricochet::proto::snapshot_layout
