@@ -143,7 +143,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
     const int order = static_cast<int>(reader.read_bits(layout::kOrderBits));
     std::uint64_t index = 0;
     for (std::uint64_t k = 0; k < removed_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(order);
+      const std::uint64_t gap = layout::read_code(reader, order);
       if (reader.failed()) return refuse(reader_refusal(reader, "a removal"));
       index += gap + (k == 0 ? 0 : 1);
       if (index >= baseline.size()) {
@@ -175,7 +175,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
     const int order = static_cast<int>(reader.read_bits(layout::kOrderBits));
     std::uint64_t id = 0;
     for (std::uint64_t k = 0; k < added_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(order);
+      const std::uint64_t gap = layout::read_code(reader, order);
       if (reader.failed()) return refuse(reader_refusal(reader, "an addition's id"));
       id += gap + (k == 0 ? 0 : 1);
       if (id > 0xFFFFFFFFu) {
@@ -217,8 +217,9 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
     orders.orientation = read_order();
     const std::int64_t factor = layout::prediction_factor(in.baseline_age(), spec_);
     std::uint64_t index = 0;
+    std::uint8_t previous_mask = layout::kInitialFieldMask;
     for (std::uint64_t k = 0; k < changed_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(orders.gap);
+      const std::uint64_t gap = layout::read_code(reader, orders.gap);
       if (reader.failed()) return refuse(reader_refusal(reader, "a change's gap"));
       index += gap + (k == 0 ? 0 : 1);
       if (index >= kept_count) {
@@ -227,7 +228,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
                                                                  ", got " + std::to_string(index)});
       }
       const layout::DeltaStatus status =
-          layout::read_delta(reader, orders, widths, factor, scratch_[index]);
+          layout::read_delta(reader, orders, widths, factor, previous_mask, scratch_[index]);
       if (reader.failed()) return refuse(reader_refusal(reader, "a change"));
       if (status == layout::DeltaStatus::EmptyChange) {
         return refuse({SnapshotRejection::EmptyChange, "expected a change to entity " +

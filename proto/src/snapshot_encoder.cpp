@@ -246,7 +246,7 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
     if (!removed_gaps.empty()) {
       const int order = layout::best_order(removed_gaps);
       stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
-      for (const std::uint64_t gap : removed_gaps) stream.write_exp_golomb(gap, order);
+      for (const std::uint64_t gap : removed_gaps) layout::write_code(stream, gap, order);
     }
     // New entities: id gaps, then each one's absolute state.
     std::vector<const QuantizedEntity*> added;
@@ -265,7 +265,7 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
       const int order = layout::best_order(added_gaps);
       stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
       for (std::size_t k = 0; k < added.size(); ++k) {
-        stream.write_exp_golomb(added_gaps[k], order);
+        layout::write_code(stream, added_gaps[k], order);
         layout::write_absolute(stream, *added[k], widths);
       }
     }
@@ -291,10 +291,11 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
       for (const int order : header_orders) {
         stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
       }
+      std::uint8_t previous_mask = layout::kInitialFieldMask;
       for (std::size_t k = 0; k < changed.size(); ++k) {
-        stream.write_exp_golomb(changed_gaps[k], chosen.gap);
+        layout::write_code(stream, changed_gaps[k], chosen.gap);
         layout::write_delta(stream, baseline[changed[k]->baseline_index],
-                            world[changed[k]->world_index], chosen, widths, factor);
+                            world[changed[k]->world_index], chosen, widths, factor, previous_mask);
       }
     }
     if (header + stream.bytes().size() <= budget_bytes || selected_count == 0) break;

@@ -24,6 +24,18 @@ FieldWidths::FieldWidths(const QuantizationSpec& spec)
   orientation = bits_for_count(2 * static_cast<std::uint64_t>(orientation_limit) + 1);
 }
 
+void write_code(BitWriter& out, std::uint64_t value, int order) {
+  if (order != kAllZeroOrder) out.write_exp_golomb(value, order);
+}
+
+int code_bits(std::uint64_t value, int order) {
+  return order == kAllZeroOrder ? 0 : exp_golomb_bits(value, order);
+}
+
+std::uint64_t read_code(BitReader& in, int order) {
+  return order == kAllZeroOrder ? 0 : in.read_exp_golomb(order);
+}
+
 std::int64_t prediction_factor(std::uint32_t baseline_age, const QuantizationSpec& spec) {
   return baseline_age <= kMaxPredictionAge ? baseline_age * spec.prediction_scale() : 0;
 }
@@ -131,9 +143,11 @@ namespace {
 template <class Code, class Raw>
 void visit_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
                  const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor,
-                 Code&& code, Raw&& raw) {
+                 std::uint8_t& previous_mask, Code&& code, Raw&& raw) {
   const std::uint8_t mask = changed_fields(baseline, current, factor);
-  raw(mask, kFieldMaskBits);
+  raw(mask == previous_mask ? 1 : 0, 1);
+  if (mask != previous_mask) raw(mask, kFieldMaskBits);
+  previous_mask = mask;
   if (mask & kVelocityChanged) {
     for (int a = 0; a < 3; ++a) {
       code(zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]),
@@ -166,31 +180,36 @@ void visit_delta(const QuantizedEntity& baseline, const QuantizedEntity& current
 }  // namespace
 
 void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor) {
+                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor,
+                 std::uint8_t& previous_mask) {
   visit_delta(
-      baseline, current, orders, widths, factor,
-      [&out](std::uint64_t value, int order) { out.write_exp_golomb(value, order); },
+      baseline, current, orders, widths, factor, previous_mask,
+      [&out](std::uint64_t value, int order) { write_code(out, value, order); },
       [&out](std::uint64_t value, int bits) { out.write_bits(value, bits); });
 }
 
 int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
                const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor) {
   int bits = 0;
+  std::uint8_t no_mask = 0xFF;  // never equal: the mask counts in full
   visit_delta(
-      baseline, current, orders, widths, factor,
-      [&bits](std::uint64_t value, int order) { bits += exp_golomb_bits(value, order); },
+      baseline, current, orders, widths, factor, no_mask,
+      [&bits](std::uint64_t value, int order) { bits += code_bits(value, order); },
       [&bits](std::uint64_t, int width) { bits += width; });
   return bits;
 }
 
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,
-                       std::int64_t factor, QuantizedEntity& entity) {
+                       std::int64_t factor, std::uint8_t& previous_mask, QuantizedEntity& entity) {
   const QuantizedEntity baseline = entity;
-  const auto mask = static_cast<std::uint8_t>(in.read_bits(kFieldMaskBits));
+  const bool same_mask = in.read_bool();
+  const auto mask =
+      same_mask ? previous_mask : static_cast<std::uint8_t>(in.read_bits(kFieldMaskBits));
+  previous_mask = mask;
   bool in_range = true;
   if (mask & kVelocityChanged) {
     for (int a = 0; a < 3; ++a) {
-      const std::int64_t value = entity.velocity[a] + in.read_signed_exp_golomb(orders.velocity[a]);
+      const std::int64_t value = entity.velocity[a] + unzigzag(read_code(in, orders.velocity[a]));
       in_range = in_range && value >= -widths.velocity_limit && value <= widths.velocity_limit;
       entity.velocity[a] = in_range ? static_cast<std::int32_t>(value) : 0;
     }
@@ -200,7 +219,7 @@ DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidt
   const std::array<std::int64_t, 3> motion = predicted_motion(baseline, entity.velocity, factor);
   const bool has_residual = (mask & kPositionChanged) != 0;
   for (int a = 0; a < 3; ++a) {
-    const std::int64_t residual = has_residual ? in.read_signed_exp_golomb(orders.position[a]) : 0;
+    const std::int64_t residual = has_residual ? unzigzag(read_code(in, orders.position[a])) : 0;
     const std::int64_t value =
         static_cast<std::int64_t>(baseline.position[a]) + motion[a] + residual;
     in_range = in_range && value >= 0 && value < widths.position_steps[a];
@@ -210,7 +229,7 @@ DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidt
     if (in.read_bool()) {
       for (int k = 0; k < 3; ++k) {
         const std::int64_t value =
-            entity.orientation[k] + in.read_signed_exp_golomb(orders.orientation);
+            entity.orientation[k] + unzigzag(read_code(in, orders.orientation));
         in_range =
             in_range && value >= -widths.orientation_limit && value <= widths.orientation_limit;
         entity.orientation[k] = static_cast<std::int32_t>(value);

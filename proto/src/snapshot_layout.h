@@ -12,6 +12,13 @@ namespace ricochet::proto::snapshot_layout {
 
 /// Bits of each Exp-Golomb order written in the stream (orders 0..31).
 inline constexpr int kOrderBits = 5;
+/// The order that says every value coded with it is 0 and takes no bits.
+inline constexpr int kAllZeroOrder = 31;
+
+/// An Exp-Golomb code of `order`, or nothing for kAllZeroOrder (value must then be 0).
+void write_code(BitWriter& out, std::uint64_t value, int order);
+int code_bits(std::uint64_t value, int order);
+std::uint64_t read_code(BitReader& in, int order);
 
 /// Bit of each field in a changed entity's 4-bit mask, in the order the fields follow it.
 enum FieldBit : std::uint8_t {
@@ -21,6 +28,8 @@ enum FieldBit : std::uint8_t {
   kFlagsChanged = 1,
 };
 inline constexpr int kFieldMaskBits = 4;
+/// The mask a stream's first changed entity is compared with (velocity and position).
+inline constexpr std::uint8_t kInitialFieldMask = kVelocityChanged | kPositionChanged;
 
 /// Exp-Golomb orders of the changed entities' fields in one snapshot, in stream order.
 struct DeltaOrders {
@@ -73,10 +82,12 @@ int absolute_bits(const QuantizedEntity& entity, const FieldWidths& widths);
 /// Fills every field but the id; false on a value out of range (the reader may also fail).
 bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& entity);
 
-/// A changed entity's fields after its gap: the mask, then each changed field's delta.
+/// A changed entity's fields after its gap: the mask (1 bit when it equals `previous_mask`, else
+/// 0 and 4 bits; updated), then each marked field's delta.
 void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor);
-/// Bits write_delta takes (without the gap).
+                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor,
+                 std::uint8_t& previous_mask);
+/// Bits write_delta takes (without the gap), its mask counted as 5 bits.
 int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
                const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor);
 
@@ -84,6 +95,6 @@ enum class DeltaStatus : std::uint8_t { Ok, EmptyChange, OutOfRange };
 /// Applies the delta read from `in` to `entity` (holding the baseline); the reader may fail.
 /// EmptyChange: the result equals the baseline.
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,
-                       std::int64_t factor, QuantizedEntity& entity);
+                       std::int64_t factor, std::uint8_t& previous_mask, QuantizedEntity& entity);
 
 }  // namespace ricochet::proto::snapshot_layout

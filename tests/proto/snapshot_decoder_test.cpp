@@ -72,6 +72,7 @@ TEST_F(Decoder, AcceptsAHandWrittenDeltaThatMovesOneEntity) {
   bits.write_exp_golomb(1, 0);                        // one change
   for (int k = 0; k < 8; ++k) bits.write_bits(0, 5);  // orders 0
   bits.write_exp_golomb(2, 0);                        // the third kept entity, id 9
+  bits.write_bits(0, 1);                              // a new mask:
   bits.write_bits(0b0100, 4);                         // position only
   bits.write_signed_exp_golomb(7, 0);                 // x + 7 mm
   bits.write_signed_exp_golomb(0, 0);
@@ -199,6 +200,7 @@ TEST_F(Decoder, RefusesChangesBeyondTheKeptEntities) {
   write_counts(gap, 0, 0, 1);
   for (int k = 0; k < 8; ++k) gap.write_bits(0, 5);
   gap.write_exp_golomb(3, 0);  // index 3 of three
+  gap.write_bits(0, 1);        // a new mask:
   gap.write_bits(0b0001, 4);
   gap.write_bits(1, 8);
   expect_refused(make_snapshot(11, 1, gap), SnapshotRejection::ChangedOutOfRange);
@@ -209,6 +211,7 @@ TEST_F(Decoder, RefusesAChangeThatChangesNothing) {
   write_counts(bits, 0, 0, 1);
   for (int k = 0; k < 8; ++k) bits.write_bits(0, 5);
   bits.write_exp_golomb(0, 0);
+  bits.write_bits(0, 1);  // a new mask:
   bits.write_bits(0, 4);
   expect_refused(make_snapshot(11, 1, bits), SnapshotRejection::EmptyChange);
 }
@@ -226,6 +229,7 @@ TEST_F(Decoder, RefusesValuesOutsideTheSpec) {
   write_counts(below_zero, 0, 0, 1);
   for (int k = 0; k < 8; ++k) below_zero.write_bits(0, 5);
   below_zero.write_exp_golomb(0, 0);
+  below_zero.write_bits(0, 1);  // a new mask:
   below_zero.write_bits(0b0100, 4);
   below_zero.write_signed_exp_golomb(-1, 0);  // x was 0
   below_zero.write_signed_exp_golomb(0, 0);
@@ -236,6 +240,7 @@ TEST_F(Decoder, RefusesValuesOutsideTheSpec) {
   write_counts(too_fast, 0, 0, 1);
   for (int k = 0; k < 8; ++k) too_fast.write_bits(0, 5);
   too_fast.write_exp_golomb(0, 0);
+  too_fast.write_bits(0, 1);  // a new mask:
   too_fast.write_bits(0b1000, 4);
   too_fast.write_signed_exp_golomb(spec_.velocity_limit() + 1, 0);
   too_fast.write_signed_exp_golomb(0, 0);

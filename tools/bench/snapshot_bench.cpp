@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <fstream>
 #include <functional>
@@ -41,6 +42,8 @@ struct BenchOptions {
   int rate_hz = 60;
   int ack_delay_ms = 100;
   std::size_t budget_bytes = 1100;
+  float velocity_step_mps = 0.01f;
+  int orientation_bits = 9;
 };
 
 /// One client: its encoder on the server, its decoder, the acks on their way back, and the
@@ -161,23 +164,35 @@ void read_entities(const Scene& scene, std::vector<proto::QuantizedEntity>& out)
 
 constexpr int kGrid = 30;
 constexpr rp::Real kSmallRadius = 0.5;
-constexpr rp::Real kSpacing = 1.6;      ///< m between grid centres
+constexpr rp::Real kSpacing = 1.3;      ///< m between grid centres
 constexpr rp::Real kLargeRadius = 2.5;  ///< m
 constexpr rp::Real kDriveSpeed = 4;     ///< m/s, the large sphere's peak speed
+const rp::Material kPropMaterial{.restitution = 0, .friction = 0.5f, .rolling_resistance = 0.1f};
 
 Scene spheres_scene() {
   rp::WorldDef def = rp::profiles::physics_props();
   Scene scene{"spheres901", {}, rp::World::create(def).value(), {}, {}, {}, 1};
   scene.spec.bounds = {{-32.0f, -1.0f, -32.0f}, {32.0f, 15.0f, 32.0f}};
-  (void)scene.world.add_plane({.normal = rp::Vec3::UnitY(), .offset = 0});
+  // The floor resists rolling as the spheres do (a contact uses the geometric mean of both), so
+  // a knocked sphere rolls a metre or two and rests, as Fiedler's cubes slide and stop.
+  rp::PlaneDef floor;
+  floor.material = kPropMaterial;
+  (void)scene.world.add_plane(floor);
+  for (int side = 0; side < 4; ++side) {  // walls inside the snapshot bounds
+    const rp::Real sign = side % 2 == 0 ? 1 : -1;
+    rp::PlaneDef wall;
+    wall.normal = side < 2 ? rp::Vec3(sign, 0, 0) : rp::Vec3(0, 0, sign);
+    wall.offset = -31;
+    wall.material = kPropMaterial;
+    (void)scene.world.add_plane(wall);
+  }
   const rp::Real half = (kGrid - 1) * kSpacing / 2;
   for (int x = 0; x < kGrid; ++x) {
     for (int z = 0; z < kGrid; ++z) {
       rp::BodyDef body;
       body.position = rp::Vec3(x * kSpacing - half, kSmallRadius, z * kSpacing - half);
       body.radius = kSmallRadius;
-      body.material.friction = rp::Real(0.5);
-      body.material.rolling_resistance = rp::Real(0.2);
+      body.material = kPropMaterial;
       scene.bodies.push_back(scene.world.create_body(body).value());
     }
   }
@@ -281,6 +296,13 @@ double mean(const std::vector<double>& values) {
 }
 
 std::string run(Scene scene, const BenchOptions& options) {
+  scene.spec.velocity_step_mps = options.velocity_step_mps;
+  scene.spec.orientation_bits = options.orientation_bits;
+  scene.spec.tick_s = 1.0f / static_cast<float>(options.rate_hz);
+  if (const std::string problem = scene.spec.validate(); !problem.empty()) {
+    std::fprintf(stderr, "snapshot-bench: %s\n", problem.c_str());
+    std::exit(2);
+  }
   const int ack_delay_ticks =
       static_cast<int>(std::lround(options.ack_delay_ms * options.rate_hz / 1000.0));
   std::vector<ClientLink> links;
@@ -354,6 +376,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 2000));
   app.add_option("--budget", options.budget_bytes, "bytes per snapshot")
       ->check(CLI::Range(16, 1200));
+  app.add_option("--velocity-step", options.velocity_step_mps, "velocity quantum, m/s")
+      ->check(CLI::Range(0.0001, 1.0));
+  app.add_option("--orientation-bits", options.orientation_bits,
+                 "bits per smallest-three component")
+      ->check(CLI::Range(4, 16));
   app.add_option("--scene", scene, "all, spheres901, players16 or players64")
       ->check(CLI::IsMember({"all", "spheres901", "players16", "players64"}));
   app.add_option("--out", out, "also write the JSON lines to this file (replaced)");
