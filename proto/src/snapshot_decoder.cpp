@@ -215,7 +215,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
     for (int& order : orders.velocity) order = read_order();
     for (int& order : orders.position) order = read_order();
     orders.orientation = read_order();
-    const std::int64_t factor = layout::prediction_factor(in.baseline_age(), spec_);
+    const layout::Prediction prediction = layout::make_prediction(in.baseline_age(), spec_);
     std::uint64_t index = 0;
     std::uint8_t previous_mask = layout::kInitialFieldMask;
     for (std::uint64_t k = 0; k < changed_count; ++k) {
@@ -228,7 +228,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
                                                                  ", got " + std::to_string(index)});
       }
       const layout::DeltaStatus status =
-          layout::read_delta(reader, orders, widths, factor, previous_mask, scratch_[index]);
+          layout::read_delta(reader, orders, widths, prediction, previous_mask, scratch_[index]);
       if (reader.failed()) return refuse(reader_refusal(reader, "a change"));
       if (status == layout::DeltaStatus::EmptyChange) {
         return refuse({SnapshotRejection::EmptyChange, "expected a change to entity " +

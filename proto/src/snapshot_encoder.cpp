@@ -156,7 +156,7 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   }
 
   // Orders for the whole set, to estimate each candidate's cost.
-  const std::int64_t factor = layout::prediction_factor(baseline_age, spec_);
+  const layout::Prediction prediction = layout::make_prediction(baseline_age, spec_);
   layout::DeltaOrders orders;
   {
     std::array<std::vector<std::uint64_t>, 3> position, velocity;
@@ -165,8 +165,8 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
       if (c.kind != Candidate::Kind::Changed) continue;
       const QuantizedEntity& now = world[c.world_index];
       const QuantizedEntity& then = baseline[c.baseline_index];
-      const std::uint8_t fields = layout::changed_fields(then, now, factor);
-      const std::array<std::int64_t, 3> residual = layout::position_residual(then, now, factor);
+      const std::uint8_t fields = layout::changed_fields(then, now, prediction);
+      const std::array<std::int64_t, 3> residual = layout::position_residual(then, now, prediction);
       for (int a = 0; a < 3; ++a) {
         if (fields & layout::kPositionChanged) position[a].push_back(zigzag(residual[a]));
         if (fields & layout::kVelocityChanged) {
@@ -193,7 +193,7 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   for (Candidate& c : candidates) {
     if (c.kind == Candidate::Kind::Changed) {
       c.bits = layout::delta_bits(baseline[c.baseline_index], world[c.world_index], orders, widths,
-                                  factor) +
+                                  prediction) +
                gap_estimate;
     } else if (c.kind == Candidate::Kind::Removed) {
       c.bits = 2 * bits_for_count(baseline.size() + 1) + 1;
@@ -295,7 +295,8 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
       for (std::size_t k = 0; k < changed.size(); ++k) {
         layout::write_code(stream, changed_gaps[k], chosen.gap);
         layout::write_delta(stream, baseline[changed[k]->baseline_index],
-                            world[changed[k]->world_index], chosen, widths, factor, previous_mask);
+                            world[changed[k]->world_index], chosen, widths, prediction,
+                            previous_mask);
       }
     }
     if (header + stream.bytes().size() <= budget_bytes || selected_count == 0) break;

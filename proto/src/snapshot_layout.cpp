@@ -36,24 +36,29 @@ std::uint64_t read_code(BitReader& in, int order) {
   return order == kAllZeroOrder ? 0 : in.read_exp_golomb(order);
 }
 
-std::int64_t prediction_factor(std::uint32_t baseline_age, const QuantizationSpec& spec) {
-  return baseline_age <= kMaxPredictionAge ? baseline_age * spec.prediction_scale() : 0;
+Prediction make_prediction(std::uint32_t baseline_age, const QuantizationSpec& spec) {
+  if (baseline_age == 0 || baseline_age > kMaxPredictionAge) return {};
+  const std::int64_t scale = spec.prediction_scale();
+  return {(baseline_age - std::int64_t{1}) * scale, (baseline_age + std::int64_t{1}) * scale};
 }
 
 std::array<std::int64_t, 3> predicted_motion(const QuantizedEntity& baseline,
                                              const std::array<std::int32_t, 3>& velocity_now,
-                                             std::int64_t factor) {
+                                             const Prediction& prediction) {
   std::array<std::int64_t, 3> motion{};
   for (int a = 0; a < 3; ++a) {
-    const std::int64_t sum = static_cast<std::int64_t>(baseline.velocity[a]) + velocity_now[a];
-    motion[a] = (sum * factor + (std::int64_t{1} << 16)) >> 17;
+    const std::int64_t weighted = baseline.velocity[a] * prediction.baseline_weight +
+                                  velocity_now[a] * prediction.current_weight;
+    motion[a] = (weighted + (std::int64_t{1} << 16)) >> 17;
   }
   return motion;
 }
 
 std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
-                                              const QuantizedEntity& current, std::int64_t factor) {
-  const std::array<std::int64_t, 3> motion = predicted_motion(baseline, current.velocity, factor);
+                                              const QuantizedEntity& current,
+                                              const Prediction& prediction) {
+  const std::array<std::int64_t, 3> motion =
+      predicted_motion(baseline, current.velocity, prediction);
   std::array<std::int64_t, 3> residual{};
   for (int a = 0; a < 3; ++a) {
     residual[a] = static_cast<std::int64_t>(current.position[a]) -
@@ -63,10 +68,10 @@ std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
 }
 
 std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current,
-                            std::int64_t factor) {
+                            const Prediction& prediction) {
   std::uint8_t mask = 0;
   if (baseline.velocity != current.velocity) mask |= kVelocityChanged;
-  if (position_residual(baseline, current, factor) != std::array<std::int64_t, 3>{}) {
+  if (position_residual(baseline, current, prediction) != std::array<std::int64_t, 3>{}) {
     mask |= kPositionChanged;
   }
   if (baseline.orientation_largest != current.orientation_largest ||
@@ -142,9 +147,9 @@ namespace {
 /// order)` for each Exp-Golomb field, `raw(value, bits)` for each fixed-width one.
 template <class Code, class Raw>
 void visit_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor,
+                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
                  std::uint8_t& previous_mask, Code&& code, Raw&& raw) {
-  const std::uint8_t mask = changed_fields(baseline, current, factor);
+  const std::uint8_t mask = changed_fields(baseline, current, prediction);
   raw(mask == previous_mask ? 1 : 0, 1);
   if (mask != previous_mask) raw(mask, kFieldMaskBits);
   previous_mask = mask;
@@ -155,7 +160,7 @@ void visit_delta(const QuantizedEntity& baseline, const QuantizedEntity& current
     }
   }
   if (mask & kPositionChanged) {
-    const std::array<std::int64_t, 3> residual = position_residual(baseline, current, factor);
+    const std::array<std::int64_t, 3> residual = position_residual(baseline, current, prediction);
     for (int a = 0; a < 3; ++a) code(zigzag(residual[a]), orders.position[a]);
   }
   if (mask & kOrientationChanged) {
@@ -180,27 +185,28 @@ void visit_delta(const QuantizedEntity& baseline, const QuantizedEntity& current
 }  // namespace
 
 void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor,
+                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
                  std::uint8_t& previous_mask) {
   visit_delta(
-      baseline, current, orders, widths, factor, previous_mask,
+      baseline, current, orders, widths, prediction, previous_mask,
       [&out](std::uint64_t value, int order) { write_code(out, value, order); },
       [&out](std::uint64_t value, int bits) { out.write_bits(value, bits); });
 }
 
 int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
-               const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor) {
+               const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction) {
   int bits = 0;
   std::uint8_t no_mask = 0xFF;  // never equal: the mask counts in full
   visit_delta(
-      baseline, current, orders, widths, factor, no_mask,
+      baseline, current, orders, widths, prediction, no_mask,
       [&bits](std::uint64_t value, int order) { bits += code_bits(value, order); },
       [&bits](std::uint64_t, int width) { bits += width; });
   return bits;
 }
 
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,
-                       std::int64_t factor, std::uint8_t& previous_mask, QuantizedEntity& entity) {
+                       const Prediction& prediction, std::uint8_t& previous_mask,
+                       QuantizedEntity& entity) {
   const QuantizedEntity baseline = entity;
   const bool same_mask = in.read_bool();
   const auto mask =
@@ -216,7 +222,8 @@ DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidt
   }
   if (!in_range) return DeltaStatus::OutOfRange;
   // The position follows from the velocities, then its residual if the mask says so.
-  const std::array<std::int64_t, 3> motion = predicted_motion(baseline, entity.velocity, factor);
+  const std::array<std::int64_t, 3> motion =
+      predicted_motion(baseline, entity.velocity, prediction);
   const bool has_residual = (mask & kPositionChanged) != 0;
   for (int a = 0; a < 3; ++a) {
     const std::int64_t residual = has_residual ? unzigzag(read_code(in, orders.position[a])) : 0;

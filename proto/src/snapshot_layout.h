@@ -43,20 +43,26 @@ inline constexpr int kDeltaOrderCount = 8;
 /// Baselines older than this many ticks get no position prediction.
 inline constexpr std::uint32_t kMaxPredictionAge = 255;
 
-/// What predicts a changed entity's position in one snapshot: baseline_age * prediction_scale,
-/// or 0 past kMaxPredictionAge (PROTOCOL.snapshot.md §prediction).
-std::int64_t prediction_factor(std::uint32_t baseline_age, const QuantizationSpec& spec);
+/// The weights of the baseline's and the current velocity in a changed entity's predicted
+/// motion: (age - 1) * scale and (age + 1) * scale, or both 0 past kMaxPredictionAge
+/// (PROTOCOL.snapshot.md §6). With velocity integrated before position (semi-implicit Euler),
+/// a velocity changing linearly over the age is predicted exactly.
+struct Prediction {
+  std::int64_t baseline_weight = 0;
+  std::int64_t current_weight = 0;
+};
+Prediction make_prediction(std::uint32_t baseline_age, const QuantizationSpec& spec);
 
-/// Position steps an entity is predicted to have moved along each axis since its baseline: the
-/// mean of the baseline's and the current velocity over the baseline's age,
-/// floor(((v_baseline + v_now) * factor + 2^16) / 2^17).
+/// Position steps an entity is predicted to have moved along each axis since its baseline:
+/// floor((v_baseline * baseline_weight + v_now * current_weight + 2^16) / 2^17).
 std::array<std::int64_t, 3> predicted_motion(const QuantizedEntity& baseline,
                                              const std::array<std::int32_t, 3>& velocity_now,
-                                             std::int64_t factor);
+                                             const Prediction& prediction);
 
 /// The position residuals after prediction, zig-zag mapped, per axis.
 std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
-                                              const QuantizedEntity& current, std::int64_t factor);
+                                              const QuantizedEntity& current,
+                                              const Prediction& prediction);
 
 /// Raw widths derived from the spec, computed once per encoder or decoder.
 struct FieldWidths {
@@ -74,7 +80,7 @@ struct FieldWidths {
 /// they differ from `baseline`, position when it differs from the prediction. May be 0 for an
 /// entity that moved exactly as predicted.
 std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current,
-                            std::int64_t factor);
+                            const Prediction& prediction);
 
 /// A new entity's state, without its id.
 void write_absolute(BitWriter& out, const QuantizedEntity& entity, const FieldWidths& widths);
@@ -85,16 +91,17 @@ bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& en
 /// A changed entity's fields after its gap: the mask (1 bit when it equals `previous_mask`, else
 /// 0 and 4 bits; updated), then each marked field's delta.
 void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor,
+                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
                  std::uint8_t& previous_mask);
 /// Bits write_delta takes (without the gap), its mask counted as 5 bits.
 int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
-               const DeltaOrders& orders, const FieldWidths& widths, std::int64_t factor);
+               const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction);
 
 enum class DeltaStatus : std::uint8_t { Ok, EmptyChange, OutOfRange };
 /// Applies the delta read from `in` to `entity` (holding the baseline); the reader may fail.
 /// EmptyChange: the result equals the baseline.
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,
-                       std::int64_t factor, std::uint8_t& previous_mask, QuantizedEntity& entity);
+                       const Prediction& prediction, std::uint8_t& previous_mask,
+                       QuantizedEntity& entity);
 
 }  // namespace ricochet::proto::snapshot_layout
