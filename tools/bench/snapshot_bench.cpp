@@ -3,7 +3,11 @@
 /// arriving ack_delay_ms late.
 ///
 ///   spheres901  Fiedler's cube demo with spheres: 900 spheres (0.5 m) resting in a 30 x 30 grid
-///               on a floor, one large kinematic sphere (2.5 m) driven through them.
+///               (1.3 m apart) on a floor, one large kinematic sphere (2.5 m radius) driven
+///               through them on a figure of eight at up to 4 m/s. Spheres and floor resist
+///               rolling, so a knocked sphere rolls a metre or two and rests.
+///   spheres901_dense  the same with the grid 1.05 m apart: the ball ploughs a crowd ahead of it,
+///               several times as many spheres move, and the budget binds.
 ///   players16, players64  arena_players movement: players running on scripted headings, each
 ///               client seeing every player, priority from its own position.
 ///
@@ -14,7 +18,7 @@
 /// sent complete (deferred_snapshots counts the others, where the budget left some out).
 ///
 ///   snapshot-bench [--seconds 20] [--rate 60] [--ack-delay-ms 100] [--budget 1100]
-///                  [--scene all|spheres901|players16|players64] [--out FILE]
+///                  [--scene all|spheres901|spheres901_dense|players16|players64] [--out FILE]
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -164,14 +168,15 @@ void read_entities(const Scene& scene, std::vector<proto::QuantizedEntity>& out)
 
 constexpr int kGrid = 30;
 constexpr rp::Real kSmallRadius = 0.5;
-constexpr rp::Real kSpacing = 1.3;      ///< m between grid centres
-constexpr rp::Real kLargeRadius = 2.5;  ///< m
-constexpr rp::Real kDriveSpeed = 4;     ///< m/s, the large sphere's peak speed
+constexpr rp::Real kSpacing = 1.3;        ///< m between grid centres, 0.3 m gaps
+constexpr rp::Real kDenseSpacing = 1.05;  ///< m, 5 cm gaps: the ball ploughs a crowd ahead
+constexpr rp::Real kLargeRadius = 2.5;    ///< m
+constexpr rp::Real kDriveSpeed = 4;       ///< m/s, the large sphere's peak speed
 const rp::Material kPropMaterial{.restitution = 0, .friction = 0.5f, .rolling_resistance = 0.1f};
 
-Scene spheres_scene() {
+Scene spheres_scene(const std::string& name, rp::Real spacing) {
   rp::WorldDef def = rp::profiles::physics_props();
-  Scene scene{"spheres901", {}, rp::World::create(def).value(), {}, {}, {}, 1};
+  Scene scene{name, {}, rp::World::create(def).value(), {}, {}, {}, 1};
   scene.spec.bounds = {{-32.0f, -1.0f, -32.0f}, {32.0f, 15.0f, 32.0f}};
   // The floor resists rolling as the spheres do (a contact uses the geometric mean of both), so
   // a knocked sphere rolls a metre or two and rests, as Fiedler's cubes slide and stop.
@@ -186,11 +191,11 @@ Scene spheres_scene() {
     wall.material = kPropMaterial;
     (void)scene.world.add_plane(wall);
   }
-  const rp::Real half = (kGrid - 1) * kSpacing / 2;
+  const rp::Real half = (kGrid - 1) * spacing / 2;
   for (int x = 0; x < kGrid; ++x) {
     for (int z = 0; z < kGrid; ++z) {
       rp::BodyDef body;
-      body.position = rp::Vec3(x * kSpacing - half, kSmallRadius, z * kSpacing - half);
+      body.position = rp::Vec3(x * spacing - half, kSmallRadius, z * spacing - half);
       body.radius = kSmallRadius;
       body.material = kPropMaterial;
       scene.bodies.push_back(scene.world.create_body(body).value());
@@ -381,13 +386,18 @@ int main(int argc, char** argv) {
   app.add_option("--orientation-bits", options.orientation_bits,
                  "bits per smallest-three component")
       ->check(CLI::Range(4, 16));
-  app.add_option("--scene", scene, "all, spheres901, players16 or players64")
-      ->check(CLI::IsMember({"all", "spheres901", "players16", "players64"}));
+  app.add_option("--scene", scene, "all, spheres901, spheres901_dense, players16 or players64")
+      ->check(CLI::IsMember({"all", "spheres901", "spheres901_dense", "players16", "players64"}));
   app.add_option("--out", out, "also write the JSON lines to this file (replaced)");
   CLI11_PARSE(app, argc, argv);
 
   std::vector<std::string> lines;
-  if (scene == "all" || scene == "spheres901") lines.push_back(run(spheres_scene(), options));
+  if (scene == "all" || scene == "spheres901") {
+    lines.push_back(run(spheres_scene("spheres901", kSpacing), options));
+  }
+  if (scene == "all" || scene == "spheres901_dense") {
+    lines.push_back(run(spheres_scene("spheres901_dense", kDenseSpacing), options));
+  }
   if (scene == "all" || scene == "players16") lines.push_back(run(players_scene(16), options));
   if (scene == "all" || scene == "players64") lines.push_back(run(players_scene(64), options));
   std::ofstream file;
