@@ -12,7 +12,8 @@ namespace {
 std::array<std::uint8_t, kVersionBytes + 8> token_ad(std::uint64_t protocol_id) {
   std::array<std::uint8_t, kVersionBytes + 8> ad{};
   std::copy(kVersionInfo.begin(), kVersionInfo.end(), ad.begin());
-  for (int i = 0; i < 8; ++i) ad[kVersionBytes + i] = static_cast<std::uint8_t>(protocol_id >> (8 * i));
+  for (int i = 0; i < 8; ++i)
+    ad[kVersionBytes + i] = static_cast<std::uint8_t>(protocol_id >> (8 * i));
   return ad;
 }
 

@@ -78,7 +78,8 @@ void GameClient::State::on_handshake_packet(const EncryptedHeader& header,
                                             std::span<const std::uint8_t> datagram, TimeUs now) {
   // Challenge and denied carry server-wide handshake sequences outside the session's replay
   // window; a replayed one is harmless (a second challenge is ignored, denied ends anyway).
-  if ((header.sequence & kHandshakeSequenceBit) == 0) return drop(DropReason::Malformed, info.server);
+  if ((header.sequence & kHandshakeSequenceBit) == 0)
+    return drop(DropReason::Malformed, info.server);
   std::vector<std::uint8_t> body;
   if (!open_packet(datagram, info.protocol_id, info.grant.server_to_client, body)) {
     return drop(DropReason::ForgedMac, info.server);
@@ -229,12 +230,20 @@ void GameClient::disconnect(TimeUs now) {
   s.end(DisconnectReason::Requested);
 }
 
-ConnectionState GameClient::state() const { return state_->state; }
+ConnectionState GameClient::state() const {
+  return state_->state;
+}
 
-std::optional<DisconnectReason> GameClient::disconnect_reason() const { return state_->reason; }
+std::optional<DisconnectReason> GameClient::disconnect_reason() const {
+  return state_->reason;
+}
 
-TimeUs GameClient::rtt_us() const { return state_->connection.rtt_us(); }
+TimeUs GameClient::rtt_us() const {
+  return state_->connection.rtt_us();
+}
 
-const TransportCounters& GameClient::counters() const { return state_->counters; }
+const TransportCounters& GameClient::counters() const {
+  return state_->counters;
+}
 
 }  // namespace ricochet::proto

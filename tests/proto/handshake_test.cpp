@@ -15,7 +15,9 @@ constexpr TimeUs kT0 = 100 * kMicrosPerSecond;
 TEST_F(TransportTest, HandshakeConnectsBothEndsAndEveryReplyIsSmallerThanItsCause) {
   std::vector<StateTransition> client_transitions;
   GameClientConfig client_config;
-  client_config.log.on_transition = [&](const StateTransition& t) { client_transitions.push_back(t); };
+  client_config.log.on_transition = [&](const StateTransition& t) {
+    client_transitions.push_back(t);
+  };
   GameClient client(sim::connect_info(77, 3, kT0), kT0, client_config);
 
   auto request = client_out(client);
@@ -97,7 +99,9 @@ TEST_F(TransportTest, RefusesEmptyOversizedTruncatedAndUnknownTypes) {
   server->receive(kMallory, std::vector<std::uint8_t>(kMaxDatagramBytes + 1, 0), kT0);
   EXPECT_EQ(drops(DropReason::Oversized), 1u);
   server->receive(kMallory, std::vector<std::uint8_t>(kConnectionRequestBytes - 1, 0), kT0);
-  server->receive(kMallory, std::vector<std::uint8_t>{static_cast<std::uint8_t>(PacketType::Payload), 1, 2}, kT0);
+  server->receive(kMallory,
+                  std::vector<std::uint8_t>{static_cast<std::uint8_t>(PacketType::Payload), 1, 2},
+                  kT0);
   EXPECT_EQ(drops(DropReason::Truncated), 2u);
   server->receive(kMallory, std::vector<std::uint8_t>(100, 0xEE), kT0);
   EXPECT_EQ(drops(DropReason::Malformed), 1u);
@@ -110,7 +114,8 @@ TEST_F(TransportTest, RefusesWrongVersionAndWrongProtocol) {
   request[3] ^= 0x20;
   server->receive(kMallory, request, kT0);
   EXPECT_EQ(drops(DropReason::WrongVersion), 1u);
-  server->receive(kMallory, write_connection_request(kTestProtocolId + 1, info.grant.connect_token), kT0);
+  server->receive(kMallory, write_connection_request(kTestProtocolId + 1, info.grant.connect_token),
+                  kT0);
   EXPECT_EQ(drops(DropReason::WrongProtocol), 1u);
   EXPECT_TRUE(server_out().empty());
 }
@@ -121,8 +126,10 @@ TEST_F(TransportTest, RefusesForgedExpiredAndMalformedTokens) {
   forged[40] ^= 1;
   server->receive(kMallory, write_connection_request(kTestProtocolId, forged), kT0);
   EXPECT_EQ(drops(DropReason::TokenInvalid), 1u);
-  const auto foreign = issue_connect_token(random_key(), kTestProtocolId, 1, 1, kT0, kMicrosPerSecond, 5);
-  server->receive(Address::ipv4(1, 1, 1, 1, 1), write_connection_request(kTestProtocolId, foreign.connect_token), kT0);
+  const auto foreign =
+      issue_connect_token(random_key(), kTestProtocolId, 1, 1, kT0, kMicrosPerSecond, 5);
+  server->receive(Address::ipv4(1, 1, 1, 1, 1),
+                  write_connection_request(kTestProtocolId, foreign.connect_token), kT0);
   EXPECT_EQ(drops(DropReason::TokenInvalid), 2u) << "sealed under another server's key";
   server->receive(Address::ipv4(1, 1, 1, 2, 1),
                   write_connection_request(kTestProtocolId, info.grant.connect_token),
@@ -162,12 +169,14 @@ TEST_F(TransportTest, ASpoofedSourceGetsOnlyAChallengeItCannotAnswer) {
   ChallengeBody guess;
   guess.challenge_sequence = 0;
   fill_random(guess.challenge_token);
-  server->receive(kAlice, seal_packet(PacketType::Response, 0, kTestProtocolId,
-                                      info.grant.client_to_server, write_challenge_body(guess)),
+  server->receive(kAlice,
+                  seal_packet(PacketType::Response, 0, kTestProtocolId, info.grant.client_to_server,
+                              write_challenge_body(guess)),
                   kT0);
   EXPECT_EQ(drops(DropReason::ChallengeInvalid), 1u);
-  server->receive(kMallory, seal_packet(PacketType::Response, 1, kTestProtocolId,
-                                        info.grant.client_to_server, write_challenge_body(guess)),
+  server->receive(kMallory,
+                  seal_packet(PacketType::Response, 1, kTestProtocolId, info.grant.client_to_server,
+                              write_challenge_body(guess)),
                   kT0);
   EXPECT_EQ(drops(DropReason::UnknownAddress), 1u);
   EXPECT_TRUE(server_out().empty());
@@ -181,8 +190,9 @@ TEST_F(TransportTest, RefusesForgedMacsReplaysAndPacketsOutOfState) {
   client.receive(kServerAddress, server_out()[0].bytes, kT0);
   auto response = client_out(client)[0].bytes;
 
-  server->receive(kAlice, seal_packet(PacketType::KeepAlive, 5, kTestProtocolId,
-                                      info.grant.client_to_server, write_keep_alive_body({})),
+  server->receive(kAlice,
+                  seal_packet(PacketType::KeepAlive, 5, kTestProtocolId,
+                              info.grant.client_to_server, write_keep_alive_body({})),
                   kT0);
   EXPECT_EQ(drops(DropReason::WrongState), 1u) << "keep-alive while challenged";
   auto forged = response;
@@ -239,9 +249,15 @@ TEST_F(TransportTest, CapsTrackedAddressesAndHalfOpenHandshakes) {
   start(config);
   const Address a = Address::ipv4(1, 0, 0, 1, 1), b = Address::ipv4(1, 0, 0, 2, 1),
                 c = Address::ipv4(1, 0, 0, 3, 1);
-  server->receive(a, write_connection_request(kTestProtocolId, sim::connect_info(1, 1, kT0).grant.connect_token), kT0);
+  server->receive(
+      a,
+      write_connection_request(kTestProtocolId, sim::connect_info(1, 1, kT0).grant.connect_token),
+      kT0);
   EXPECT_EQ(server->counters().half_open, 1u);
-  server->receive(b, write_connection_request(kTestProtocolId, sim::connect_info(2, 1, kT0).grant.connect_token), kT0);
+  server->receive(
+      b,
+      write_connection_request(kTestProtocolId, sim::connect_info(2, 1, kT0).grant.connect_token),
+      kT0);
   EXPECT_EQ(drops(DropReason::HalfOpenCap), 1u);
   server->receive(c, std::vector<std::uint8_t>(10, 1), kT0);
   EXPECT_EQ(drops(DropReason::AddressTableFull), 1u);
@@ -278,8 +294,9 @@ TEST_F(TransportTest, ReliableMessagesFarAheadOfTheWindowAreDropped) {
   ASSERT_EQ(client.state(), ConnectionState::Connected);
   PayloadBody body;
   body.reliable = {{1000, {1}}};
-  server->receive(kAlice, seal_packet(PacketType::Payload, 500, kTestProtocolId,
-                                      info.grant.client_to_server, write_payload_body(body)),
+  server->receive(kAlice,
+                  seal_packet(PacketType::Payload, 500, kTestProtocolId,
+                              info.grant.client_to_server, write_payload_body(body)),
                   kT0);
   EXPECT_EQ(drops(DropReason::ReliableOutOfWindow), 1u);
 }
@@ -293,9 +310,11 @@ TEST_F(TransportTest, TheClientDropsStrangersForgeriesAndPacketsOutOfState) {
   client.receive(kMallory, keep_alive, kT0);
   EXPECT_EQ(client.counters().dropped(DropReason::UnknownAddress), 1u);
   client.receive(kServerAddress, keep_alive, kT0);
-  EXPECT_EQ(client.counters().dropped(DropReason::WrongState), 1u) << "keep-alive before a challenge";
-  const auto forged_challenge = seal_packet(PacketType::Challenge, kHandshakeSequenceBit, kTestProtocolId,
-                                            random_key(), write_challenge_body({}));
+  EXPECT_EQ(client.counters().dropped(DropReason::WrongState), 1u)
+      << "keep-alive before a challenge";
+  const auto forged_challenge =
+      seal_packet(PacketType::Challenge, kHandshakeSequenceBit, kTestProtocolId, random_key(),
+                  write_challenge_body({}));
   client.receive(kServerAddress, forged_challenge, kT0);
   EXPECT_EQ(client.counters().dropped(DropReason::ForgedMac), 1u);
   EXPECT_EQ(client.state(), ConnectionState::SendingRequest);

@@ -14,7 +14,9 @@ const Key kKey = [] {
 }();
 constexpr std::uint64_t kProtocol = 42;
 
-std::vector<std::uint8_t> some_token() { return std::vector<std::uint8_t>(kConnectTokenBytes, 0x5A); }
+std::vector<std::uint8_t> some_token() {
+  return std::vector<std::uint8_t>(kConnectTokenBytes, 0x5A);
+}
 
 TEST(ConnectionRequest, IsPaddedToTheLargestDatagramAndRoundTrips) {
   const auto bytes = write_connection_request(kProtocol, some_token());
@@ -71,8 +73,8 @@ TEST(EncryptedPacket, HeaderRefusesEmptyOversizedUnknownTypeAndShortPackets) {
   std::vector<std::uint8_t> unknown(64, 0);
   unknown[0] = 9;
   EXPECT_EQ(read_encrypted_header(unknown).error, DropReason::Malformed);
-  const auto keep_alive = seal_packet(PacketType::KeepAlive, 1, kProtocol, kKey,
-                                      write_keep_alive_body({3, 4}));
+  const auto keep_alive =
+      seal_packet(PacketType::KeepAlive, 1, kProtocol, kKey, write_keep_alive_body({3, 4}));
   std::vector<std::uint8_t> cut(keep_alive.begin(), keep_alive.end() - 1);
   EXPECT_EQ(read_encrypted_header(cut).error, DropReason::Truncated);
 }
@@ -91,7 +93,8 @@ TEST(Bodies, RoundTripAndRefuseBadLengths) {
             DisconnectReason::Denied);
   EXPECT_FALSE(read_denied_body(std::vector<std::uint8_t>{200}).ok());
 
-  auto disconnect = read_disconnect_body(write_disconnect_body({{5, 6}, DisconnectReason::Replaced}));
+  auto disconnect =
+      read_disconnect_body(write_disconnect_body({{5, 6}, DisconnectReason::Replaced}));
   ASSERT_TRUE(disconnect.ok());
   EXPECT_EQ(disconnect.value.reason, DisconnectReason::Replaced);
   EXPECT_EQ(disconnect.value.ack, (AckHeader{5, 6}));

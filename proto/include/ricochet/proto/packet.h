@@ -75,8 +75,8 @@ std::vector<std::uint8_t> seal_packet(PacketType type, std::uint64_t sequence,
                                       std::uint64_t protocol_id, const Key& key,
                                       std::span<const std::uint8_t> body);
 /// Decrypts the body of a packet whose header read_encrypted_header accepted.
-bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id,
-                 const Key& key, std::vector<std::uint8_t>& body);
+bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id, const Key& key,
+                 std::vector<std::uint8_t>& body);
 
 // ---- bodies (the plaintext inside the encryption) ----
 
