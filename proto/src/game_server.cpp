@@ -245,8 +245,11 @@ void GameServer::State::on_handshake_packet(const Address& from, const Encrypted
     return drop(*error, from);
   auto response = read_challenge_body(body);
   if (!response.ok()) return drop(*response.error, from);
+  // The challenge must open under the challenge key, name this token and address, and be this
+  // handshake's own (an older handshake's challenge, replayed, has another sequence).
   std::vector<std::uint8_t> plain;
-  if (!open_chacha(response.value.challenge_token, kVersionInfo, response.value.challenge_sequence,
+  if (response.value.challenge_sequence != handshake.challenge.challenge_sequence ||
+      !open_chacha(response.value.challenge_token, kVersionInfo, response.value.challenge_sequence,
                    challenge_key, plain) ||
       plain != challenge_plaintext(handshake, from)) {
     return drop(DropReason::ChallengeInvalid, from);
