@@ -5,12 +5,6 @@
 #include "ricochet/proto/transport_states.h"
 
 namespace ricochet::proto {
-namespace {
-
-constexpr int kDisconnectCopies = 3;
-
-}  // namespace
-
 struct GameClient::State {
   ClientConnectInfo info;
   GameClientConfig config;
@@ -53,6 +47,15 @@ struct GameClient::State {
     reason = why;
     enter(ConnectionState::Disconnected, name(why));
     events.push_back(ClientDisconnected{why});
+  }
+  /// This end's decision to stop: tells the server when connected, then ends.
+  void leave(DisconnectReason why, TimeUs now) {
+    if (state == ConnectionState::Connected) {
+      for (int copy = 0; copy < kDisconnectCopies; ++copy) {
+        send(connection.make_disconnect(why, now));
+      }
+    }
+    end(why);
   }
   void send_handshake(TimeUs now) {
     last_handshake_send = now;
@@ -210,24 +213,13 @@ bool GameClient::send_reliable(std::span<const std::uint8_t> message, TimeUs now
     return false;
   }
   if (s.connection.queue_reliable(message)) return true;
-  if (s.state == ConnectionState::Connected) {
-    for (int copy = 0; copy < kDisconnectCopies; ++copy) {
-      s.send(s.connection.make_disconnect(DisconnectReason::ReliableOverflow, now));
-    }
-  }
-  s.end(DisconnectReason::ReliableOverflow);
+  s.leave(DisconnectReason::ReliableOverflow, now);
   return false;
 }
 
 void GameClient::disconnect(TimeUs now) {
-  State& s = *state_;
-  if (s.state == ConnectionState::Disconnected) return;
-  if (s.state == ConnectionState::Connected) {
-    for (int copy = 0; copy < kDisconnectCopies; ++copy) {
-      s.send(s.connection.make_disconnect(DisconnectReason::Requested, now));
-    }
-  }
-  s.end(DisconnectReason::Requested);
+  if (state_->state != ConnectionState::Disconnected)
+    state_->leave(DisconnectReason::Requested, now);
 }
 
 ConnectionState GameClient::state() const {

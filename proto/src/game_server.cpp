@@ -14,9 +14,6 @@
 namespace ricochet::proto {
 namespace {
 
-/// Disconnect packets are sent this many times: the last word should arrive despite loss.
-constexpr int kDisconnectCopies = 3;
-
 struct TokenMacHash {
   std::size_t operator()(const TokenMac& mac) const noexcept {
     std::uint64_t value;

@@ -8,13 +8,9 @@
 namespace ricochet::proto {
 namespace {
 
-std::array<std::uint8_t, kVersionBytes + 8 + 1> packet_ad(std::uint64_t protocol_id,
-                                                          std::uint8_t type) {
-  std::array<std::uint8_t, kVersionBytes + 8 + 1> ad{};
-  std::copy(kVersionInfo.begin(), kVersionInfo.end(), ad.begin());
-  for (int i = 0; i < 8; ++i)
-    ad[kVersionBytes + i] = static_cast<std::uint8_t>(protocol_id >> (8 * i));
-  ad[kVersionBytes + 8] = type;
+std::vector<std::uint8_t> packet_ad(std::uint64_t protocol_id, std::uint8_t type) {
+  std::vector<std::uint8_t> ad = version_and_protocol(protocol_id);
+  ad.push_back(type);
   return ad;
 }
 
@@ -63,6 +59,15 @@ std::optional<DisconnectReason> disconnect_reason_from(std::uint8_t byte) {
 }
 
 }  // namespace
+
+std::vector<std::uint8_t> version_and_protocol(std::uint64_t protocol_id) {
+  std::vector<std::uint8_t> out;
+  out.reserve(kVersionBytes + 8 + 1);  // + 1: room for the packet's type byte
+  ByteWriter writer(out);
+  writer.bytes(kVersionInfo);
+  writer.u64(protocol_id);
+  return out;
+}
 
 std::string_view name(PacketType type) {
   switch (type) {

@@ -23,8 +23,7 @@ using namespace ricochet::proto;
 /// The same layout as the sealing in connect_token.cpp: nonce | AEAD(plaintext), with the
 /// version and protocol id as additional data.
 std::vector<std::uint8_t> seal_token(std::span<const std::uint8_t> plain) {
-  std::vector<std::uint8_t> ad(kVersionInfo.begin(), kVersionInfo.end());
-  for (int i = 0; i < 8; ++i) ad.push_back(static_cast<std::uint8_t>(fuzz::kProtocolId >> (8 * i)));
+  const std::vector<std::uint8_t> ad = version_and_protocol(fuzz::kProtocolId);
   XNonce nonce{};
   nonce[0] = 1;
   std::vector<std::uint8_t> token(nonce.begin(), nonce.end());

@@ -16,20 +16,6 @@ namespace {
 
 using namespace ricochet::proto;
 
-struct Writer {
-  std::string dir;
-  int written = 0;
-  void save(const std::string& name, std::uint8_t mode, const std::vector<std::uint8_t>& bytes) {
-    const std::string path = dir + "/" + name + ".bin";
-    std::FILE* file = std::fopen(path.c_str(), "wb");
-    if (!file) fuzz::fail("cannot write a seed file");
-    std::fputc(mode, file);
-    std::fwrite(bytes.data(), 1, bytes.size(), file);
-    std::fclose(file);
-    ++written;
-  }
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -37,7 +23,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: connect_token_seeds DIR\n");
     return 2;
   }
-  Writer writer{argv[1]};
+  fuzz::SeedWriter writer{argv[1]};
   const TokenGrant grant = issue_connect_token(fuzz::token_key(), fuzz::kProtocolId, 1234, 2,
                                                fuzz::kNow, 30 * kMicrosPerSecond, 5);
   writer.save("sealed_token", 0, grant.connect_token);

@@ -16,20 +16,6 @@ namespace {
 
 using namespace ricochet::proto;
 
-struct Writer {
-  std::string dir;
-  int written = 0;
-  void save(const std::string& name, std::uint8_t mode, const std::vector<std::uint8_t>& bytes) {
-    const std::string path = dir + "/" + name + ".bin";
-    std::FILE* file = std::fopen(path.c_str(), "wb");
-    if (!file) fuzz::fail("cannot write a seed file");
-    std::fputc(mode, file);
-    std::fwrite(bytes.data(), 1, bytes.size(), file);
-    std::fclose(file);
-    ++written;
-  }
-};
-
 std::vector<std::uint8_t> sealed_body_seed(PacketType type, std::uint64_t sequence,
                                            const std::vector<std::uint8_t>& body) {
   std::vector<std::uint8_t> out = {static_cast<std::uint8_t>(type)};
@@ -45,7 +31,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: packet_reader_seeds DIR\n");
     return 2;
   }
-  Writer writer{argv[1]};
+  fuzz::SeedWriter writer{argv[1]};
   fuzz::Session session;
   // A real exchange captured from both ends.
   GameClient fresh(ClientConnectInfo{issue_connect_token(fuzz::token_key(), fuzz::kProtocolId, 9, 1,

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "ricochet/proto/connect_token.h"
@@ -37,6 +38,21 @@ inline GameServerConfig server_config() {
   std::fprintf(stderr, "transport fuzz: %s\n", what);
   std::abort();
 }
+
+/// Writes seed files: the mode byte the targets read first, then the bytes.
+struct SeedWriter {
+  std::string dir;
+  int written = 0;
+  void save(const std::string& name, std::uint8_t mode, const std::vector<std::uint8_t>& bytes) {
+    const std::string path = dir + "/" + name + ".bin";
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    if (!file) fail("cannot write a seed file");
+    std::fputc(mode, file);
+    std::fwrite(bytes.data(), 1, bytes.size(), file);
+    std::fclose(file);
+    ++written;
+  }
+};
 
 /// A server and a client connected to it through direct delivery.
 struct Session {

@@ -189,10 +189,11 @@ TEST_F(TransportTest, AResponseToAnEarlierHandshakeIsRefused) {
   server->receive(kAlice, client_out(client)[0].bytes, kT0);
   client.receive(kServerAddress, server_out()[0].bytes, kT0);
   const auto old_response = client_out(client)[0].bytes;  // lost on its way
-  server->update(kT0 + 5 * kMicrosPerSecond);              // the handshake times out
+  server->update(kT0 + 5 * kMicrosPerSecond);             // the handshake times out
   EXPECT_EQ(server->counters().half_open, 0u);
   const TimeUs later = kT0 + 5 * kMicrosPerSecond;
-  server->receive(kAlice, write_connection_request(kTestProtocolId, info.grant.connect_token), later);
+  server->receive(kAlice, write_connection_request(kTestProtocolId, info.grant.connect_token),
+                  later);
   ASSERT_EQ(server_out().size(), 1u) << "same token, same address: a new handshake";
   server->receive(kAlice, old_response, later);
   EXPECT_EQ(drops(DropReason::ChallengeInvalid), 1u);

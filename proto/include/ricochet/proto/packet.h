@@ -34,6 +34,12 @@ inline constexpr std::size_t kAckHeaderBytes = 2 + 4;
 /// Handshake packets (challenge, denied) use sequences with this bit set, from a server-wide
 /// counter, so their nonces never meet the per-connection sequences under the same key.
 inline constexpr std::uint64_t kHandshakeSequenceBit = std::uint64_t{1} << 63;
+/// Disconnect packets are sent this many times back to back, so that one arrives despite loss.
+inline constexpr int kDisconnectCopies = 3;
+
+/// version | u64 protocol_id: the additional data of connect tokens, and the start of every
+/// packet's additional data.
+std::vector<std::uint8_t> version_and_protocol(std::uint64_t protocol_id);
 
 enum class PacketType : std::uint8_t {
   ConnectionRequest = 0,
