@@ -1,0 +1,90 @@
+#pragma once
+/// Bit-level writer and reader for the packed snapshot payload (PROTOCOL.snapshot.md §bits).
+///
+/// Bits are written most significant first: the first bit written is bit 7 of byte 0. A value of
+/// n bits is written from its bit n-1 down to bit 0. The last byte is padded with zero bits.
+///
+/// Variable-length integers use order-k Exp-Golomb codes: value v >= 0 is written as
+/// z zero bits followed by the (z + k + 1)-bit binary of v + 2^k, where z = bit_width(v + 2^k) -
+/// k - 1. Small values cost k + 1 bits; each doubling of v beyond 2^k costs 2 more bits.
+/// Signed values are zig-zag mapped first (0, -1, 1, -2, 2 ... -> 0, 1, 2, 3, 4 ...).
+///
+/// The reader never reads past its input: a read beyond the end, or an Exp-Golomb prefix longer
+/// than kMaxExpGolombWidth allows, sets a sticky failure flag and yields 0, so a decoder can read a
+/// whole section and check failed() once.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace ricochet::proto {
+
+/// Widest Exp-Golomb code body (prefix zeros + order + 1 bits) the reader accepts, so every
+/// value read is below 2^42: headroom over every value the snapshot codec writes (< 2^33) and
+/// no overflow when a decoder adds a delta to a 32-bit field. Longer codes are malformed.
+inline constexpr int kMaxExpGolombWidth = 42;
+/// Largest Exp-Golomb order the codec uses.
+inline constexpr int kMaxExpGolombOrder = 31;
+
+/// Maps a signed value to an unsigned one so that small magnitudes stay small.
+constexpr std::uint64_t zigzag(std::int64_t value) {
+  return (static_cast<std::uint64_t>(value) << 1) ^ static_cast<std::uint64_t>(value >> 63);
+}
+constexpr std::int64_t unzigzag(std::uint64_t value) {
+  return static_cast<std::int64_t>(value >> 1) ^ -static_cast<std::int64_t>(value & 1);
+}
+
+/// Bits needed to write any value in [0, count - 1]; 0 when count <= 1.
+constexpr int bits_for_count(std::uint64_t count) {
+  int bits = 0;
+  while (count > 1 && (std::uint64_t{1} << bits) < count) ++bits;
+  return bits;
+}
+
+/// Bits the order-k Exp-Golomb code of `value` takes.
+int exp_golomb_bits(std::uint64_t value, int order);
+
+class BitWriter {
+ public:
+  /// Appends the low `bits` bits of value (0 <= bits <= 64), most significant first.
+  void write_bits(std::uint64_t value, int bits);
+  void write_bool(bool value) { write_bits(value ? 1 : 0, 1); }
+  void write_exp_golomb(std::uint64_t value, int order);
+  void write_signed_exp_golomb(std::int64_t value, int order) {
+    write_exp_golomb(zigzag(value), order);
+  }
+  std::size_t bit_count() const { return bit_count_; }
+  /// The bytes written so far; the last one zero-padded.
+  const std::vector<std::uint8_t>& bytes() const { return bytes_; }
+  void clear();
+
+ private:
+  std::vector<std::uint8_t> bytes_;
+  std::size_t bit_count_ = 0;
+};
+
+class BitReader {
+ public:
+  explicit BitReader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+  /// Reads `bits` bits (0 <= bits <= 64); 0 and failed() after the end of the input.
+  std::uint64_t read_bits(int bits);
+  bool read_bool() { return read_bits(1) != 0; }
+  std::uint64_t read_exp_golomb(int order);
+  std::int64_t read_signed_exp_golomb(int order) { return unzigzag(read_exp_golomb(order)); }
+  bool failed() const { return failed_; }
+  /// The failure came from an over-long Exp-Golomb code rather than the end of the input.
+  bool malformed() const { return malformed_; }
+  std::size_t bits_left() const { return failed_ ? 0 : bytes_.size() * 8 - position_; }
+  /// True when every bit not yet read is zero (the padding of the last byte) and fewer than 8
+  /// remain: the input held nothing more than what was read.
+  bool only_padding_left() const;
+
+ private:
+  std::span<const std::uint8_t> bytes_;
+  std::size_t position_ = 0;  ///< bits read
+  bool failed_ = false;
+  bool malformed_ = false;
+};
+
+}  // namespace ricochet::proto

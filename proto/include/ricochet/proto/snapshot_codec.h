@@ -1,0 +1,167 @@
+#pragma once
+/// Delta-compressed snapshots (PROTOCOL.snapshot.md): per client, the server encodes the
+/// quantised state of every entity against the newest snapshot that client acknowledged, within
+/// a byte budget; the client decodes, validates and echoes the newest tick it decoded.
+///
+/// An entity whose state equals the baseline's costs nothing but its share of a run length; a
+/// changed one costs its position, velocity, orientation and flag deltas in Exp-Golomb codes
+/// whose orders the encoder picks per snapshot. When the budget is short, entities are sent in
+/// priority order (nearest to the viewer and most changed first); one left out accumulates
+/// priority and goes sooner next time, and the client keeps showing its baseline state.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ricochet/proto/quantize.h"
+#include "ricochet/wire/snapshot.pb.h"
+
+namespace ricochet::proto {
+
+/// Snapshots remembered per client, on either end, unless the options say otherwise. At 60 Hz
+/// it covers about a second of acknowledgement delay.
+inline constexpr std::size_t kDefaultSnapshotRing = 64;
+/// Largest packed entity stream a decoder accepts, bytes (a game packet is at most 1200 bytes).
+inline constexpr std::size_t kMaxSnapshotStreamBytes = 1200;
+
+struct SnapshotEncoderOptions {
+  /// Sent snapshots remembered as possible baselines, 2..1024.
+  std::size_t ring_size = kDefaultSnapshotRing;
+  /// Priority falls off with distance d from the viewer as 1 / (1 + d / distance_scale_m).
+  float distance_scale_m = 8.0f;
+
+  /// Empty when usable; otherwise names the wrong field, its range and its value.
+  std::string validate() const;
+};
+
+/// What the last SnapshotEncoder::encode did, for benches and metrics.
+struct SnapshotEncodeReport {
+  bool has_baseline = false;
+  std::uint32_t baseline_tick = 0;
+  std::uint32_t entities = 0;  ///< in the world this tick
+  std::uint32_t pending = 0;   ///< entities differing from the baseline (changed, new or gone)
+  std::uint32_t sent = 0;      ///< of those, in the snapshot
+  std::uint32_t deferred = 0;  ///< of those, left out for the budget
+  std::size_t bytes = 0;       ///< serialised wire::Snapshot
+};
+
+class SnapshotEncoder {
+ public:
+  /// spec and options must be valid (their validate() empty).
+  explicit SnapshotEncoder(QuantizationSpec spec, SnapshotEncoderOptions options = {});
+
+  /// world: this tick's entities sorted by id, ids unique. viewer_m: the client's position for
+  /// priority. Fills `out` so that out.ByteSizeLong() <= budget_bytes (which must be >= 16; at
+  /// most about 1100 so the packet fits 1200 bytes). Ticks must increase from call to call.
+  void encode(std::uint32_t tick, std::span<const QuantizedEntity> world,
+              std::array<float, 3> viewer_m, std::size_t budget_bytes, wire::Snapshot& out);
+
+  /// From ClientPayload.ack_snapshot_tick (untrusted): a tick this encoder sent and still
+  /// remembers, newer than the current baseline, becomes the baseline; anything else is ignored
+  /// and counted.
+  void acknowledge(std::uint32_t tick);
+
+  const SnapshotEncodeReport& last_report() const { return report_; }
+  /// Acknowledgements that named a tick not in the ring, or not newer than the baseline.
+  std::uint64_t ignored_acks() const { return ignored_acks_; }
+  const QuantizationSpec& spec() const { return spec_; }
+
+ private:
+  struct Sent {
+    bool valid = false;
+    std::uint32_t tick = 0;
+    std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
+  };
+  struct Candidate;
+
+  Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
+
+  QuantizationSpec spec_;
+  SnapshotEncoderOptions options_;
+  std::vector<Sent> ring_;
+  bool has_ack_ = false;
+  std::uint32_t acked_tick_ = 0;
+  bool has_sent_ = false;
+  std::uint32_t last_tick_ = 0;
+  /// Accumulated priority of the entities left out last time, sorted by id.
+  std::vector<std::pair<std::uint32_t, float>> priority_;
+  std::vector<QuantizedEntity> next_view_;
+  SnapshotEncodeReport report_;
+  std::uint64_t ignored_acks_ = 0;
+};
+
+/// Why a decoder refused a snapshot. Every refusal leaves the decoder as it was.
+enum class SnapshotRejection : std::uint8_t {
+  Oversized,          ///< entity stream longer than kMaxSnapshotStreamBytes
+  Stale,              ///< tick not newer than the newest decoded one
+  BaselineAfterTick,  ///< baseline_age greater than tick
+  UnknownBaseline,    ///< baseline tick not (or no longer) in the ring
+  Truncated,          ///< the stream ended inside a field
+  BadCode,            ///< an Exp-Golomb prefix too long, or a count beyond any sane size
+  RemovedOutOfRange,  ///< a removal names an index past the baseline's entities
+  IdOutOfOrder,       ///< a new entity's id overflows or is already held
+  TooManyEntities,    ///< more entities than the decoder's limit
+  ChangedOutOfRange,  ///< a change names an index past the kept entities
+  EmptyChange,        ///< a changed entity with no changed field
+  ValueOutOfRange,    ///< a position, velocity or orientation outside the spec's ranges
+  TrailingBits,       ///< bits after the last field beyond the zero padding of the last byte
+  kCount,
+};
+const char* name(SnapshotRejection reason);
+
+struct SnapshotDecoderOptions {
+  std::size_t ring_size = kDefaultSnapshotRing;  ///< decoded snapshots kept as baselines, 2..1024
+  std::uint32_t max_entities = 65536;            ///< larger entity sets are refused
+
+  std::string validate() const;
+};
+
+struct SnapshotDecodeResult {
+  bool ok = false;
+  SnapshotRejection reason = SnapshotRejection::kCount;  ///< when !ok
+  std::string message;                                   ///< when !ok: expected and got
+  std::uint32_t tick = 0;
+  /// When ok: every entity the client holds at `tick`, sorted by id. Valid until the next
+  /// decode call.
+  std::span<const QuantizedEntity> entities;
+};
+
+class SnapshotDecoder {
+ public:
+  /// spec must equal the encoder's; spec and options must be valid.
+  explicit SnapshotDecoder(QuantizationSpec spec, SnapshotDecoderOptions options = {});
+
+  /// Validates everything; a refusal is counted by reason and changes nothing.
+  SnapshotDecodeResult decode(const wire::Snapshot& in);
+
+  bool has_snapshot() const { return has_newest_; }
+  /// What the client echoes as ack_snapshot_tick (meaningful once has_snapshot()).
+  std::uint32_t newest_tick() const { return newest_tick_; }
+  std::uint64_t accepted() const { return accepted_; }
+  const std::array<std::uint64_t, static_cast<std::size_t>(SnapshotRejection::kCount)>& rejections()
+      const {
+    return rejections_;
+  }
+
+ private:
+  struct Decoded {
+    bool valid = false;
+    std::uint32_t tick = 0;
+    std::vector<QuantizedEntity> view;
+  };
+
+  QuantizationSpec spec_;
+  SnapshotDecoderOptions options_;
+  std::vector<Decoded> ring_;
+  std::vector<QuantizedEntity> scratch_;
+  bool has_newest_ = false;
+  std::uint32_t newest_tick_ = 0;
+  std::uint64_t accepted_ = 0;
+  std::array<std::uint64_t, static_cast<std::size_t>(SnapshotRejection::kCount)> rejections_{};
+};
+
+}  // namespace ricochet::proto

@@ -1,0 +1,141 @@
+#pragma once
+/// The server's configuration: every key with its default, loaded from a TOML file and then
+/// overridden by command-line flags (defaults < file < flags), validated once at start.
+///
+/// Every key lives in one table (config.cpp) that drives the TOML loader, the CLI11 flags and
+/// their --help text, validate() and render_config_toml(); server/config/ricochet.toml is
+/// render_config_toml(ServerConfig{}) and a test keeps the two equal.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ricochet::server {
+
+enum class LogLevel { Trace, Debug, Info, Warn, Error, Critical, Off };
+enum class LogFormat { Text, Json };
+
+/// "trace", "debug", "info", "warn", "error", "critical", "off".
+const char* name(LogLevel level);
+/// "text", "json".
+const char* name(LogFormat format);
+
+/// [server]
+struct ProcessConfig {
+  std::string data_dir = "data";  ///< the database, the generated TLS pair; created if missing
+  int threads = 0;                ///< match worker threads; 0: one per core
+  int shutdown_grace_s = 10;      ///< SIGINT/SIGTERM: seconds to end matches and flush results
+};
+
+/// [db]
+struct DbConfig {
+  std::string path = "ricochet.db";  ///< SQLite file; relative paths are under data_dir
+};
+
+/// [tls]
+struct TlsConfig {
+  std::string
+      cert_file;  ///< PEM certificate chain; empty (with key_file): generate a pair in data_dir
+  std::string key_file;  ///< PEM private key; set both or neither
+};
+
+/// [control] TLS control channel (TCP); maps onto ControlServerConfig and ControlLimits.
+struct ControlConfig {
+  std::string bind = "0.0.0.0";  ///< IP address literal
+  int port = 7777;               ///< 0: any free port
+  int max_connections = 4096;    ///< all addresses together
+  int max_connections_per_address = 16;
+  int handshake_timeout_ms = 5'000;  ///< accept to finished TLS handshake
+  int frame_timeout_ms = 10'000;     ///< first byte of a frame to its last (slowloris)
+  int idle_timeout_ms = 120'000;     ///< no whole frame for this long
+};
+
+/// [game] encrypted UDP game channel (GameServerConfig) and the fixed tick (MatchConfig).
+struct GameConfig {
+  std::string bind = "0.0.0.0";  ///< IP address literal
+  int port = 7778;               ///< 0: any free port
+  int tick_rate_hz = 60;
+  int snapshot_rate_hz = 0;             ///< 0: the tick rate; otherwise at most the tick rate
+  int max_catch_up_steps = 5;           ///< fixed steps one tick() may run after a stall
+  int max_clients = 64;                 ///< connected game clients, all matches together
+  int max_half_open = 256;              ///< handshakes in progress (challenged, not yet connected)
+  int address_packets_per_s = 20;       ///< datagrams per second from an unconnected address
+  int client_packets_per_s = 250;       ///< datagrams per second from a connected client
+  int bandwidth_kbps_per_client = 512;  ///< snapshot budget per client, kilobits per second
+};
+
+/// [matches] created at start; more come through the control channel.
+struct MatchesConfig {
+  int count = 4;                              ///< free-for-all matches opened at start
+  int max_players = 16;                       ///< per match opened at start
+  std::string map = "server/maps/arena.map";  ///< map file of the matches opened at start
+};
+
+/// [admin] HTTP: /metrics, /healthz, /readyz.
+struct AdminConfig {
+  std::string bind = "127.0.0.1";  ///< IP address literal; keep it private
+  int port = 9100;                 ///< 0: any free port
+};
+
+/// [log]
+struct LogConfig {
+  LogLevel level = LogLevel::Info;
+  LogFormat format = LogFormat::Text;  ///< text lines or JSON lines (one object per line)
+};
+
+struct ServerConfig {
+  ProcessConfig server;
+  DbConfig db;
+  TlsConfig tls;
+  ControlConfig control;
+  GameConfig game;
+  MatchesConfig matches;
+  AdminConfig admin;
+  LogConfig log;
+
+  /// Every problem, one message each, naming the key, the allowed range and what came
+  /// ("game.tick_rate_hz must be 10..128, got 0"); empty when the configuration is usable.
+  std::vector<std::string> validate() const;
+
+  /// threads, with 0 resolved to the number of cores (at least 1).
+  int worker_threads() const;
+  /// snapshot_rate_hz, with 0 resolved to the tick rate.
+  int snapshot_rate_hz() const;
+  /// db.path, under data_dir unless absolute.
+  std::string db_file() const;
+  /// Bytes of one snapshot payload from the bandwidth budget at the snapshot rate, at most
+  /// kMaxSnapshotBytes (one datagram); validate() keeps it at least kMinSnapshotBytes.
+  int snapshot_budget_bytes() const;
+
+  static constexpr int kMinSnapshotBytes = 128;
+  static constexpr int kMaxSnapshotBytes = 1100;
+};
+
+/// Applies the keys of a TOML document over `config`. Returns every problem: malformed TOML
+/// (with line and column), an unknown key or table (named), a value of the wrong type or out of
+/// range. `source_name` names the document in messages (the file's path).
+std::vector<std::string> apply_config_toml(std::string_view toml_text, std::string_view source_name,
+                                           ServerConfig& config);
+/// Reads the file and applies it as apply_config_toml does; an unreadable file is one problem.
+std::vector<std::string> apply_config_file(const std::string& path, ServerConfig& config);
+
+/// The configuration as a TOML document with every key, its description and allowed range as
+/// comments; render_config_toml(ServerConfig{}) is the sample server/config/ricochet.toml.
+std::string render_config_toml(const ServerConfig& config);
+
+/// What the command line asked for: run with a configuration, or exit at once.
+struct ParseOutcome {
+  std::optional<ServerConfig> config;  ///< set: run with it (file and flags applied, validated)
+  int exit_code =
+      0;  ///< when config is empty: 0 for --help, --version, --print-config; 2 for errors
+  std::string text;  ///< when config is empty: print it (stdout when exit_code is 0, else stderr)
+};
+
+/// Parses `ricochet-server [--config PATH] [--KEY VALUE]...`: defaults, then the file named by
+/// --config, then every flag given, then validate(). --help lists every flag with its default,
+/// --version prints the version, --print-config prints the effective configuration as TOML.
+ParseOutcome parse_command_line(int argc, const char* const* argv);
+
+}  // namespace ricochet::server

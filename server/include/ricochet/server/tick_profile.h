@@ -1,0 +1,28 @@
+#pragma once
+/// Where a match's tick spends its time, per phase, for metrics and benches (as physics'
+/// StepProfile is for World::step).
+
+#include <cstdint>
+#include <functional>
+
+namespace ricochet::server {
+
+/// A monotonic clock in nanoseconds, read for the profile only, never for game logic. The
+/// server passes its steady clock; tests pass a counter; an empty one leaves the phase times 0.
+using ProfileClock = std::function<std::int64_t()>;
+
+/// One Match::tick() call: the fixed steps it ran and the wall time of each phase, summed over
+/// those steps, in milliseconds.
+struct TickProfile {
+  int steps = 0;              ///< fixed steps run (0 when none was due)
+  bool snapshot = false;      ///< snapshots were built and sent
+  double apply_inputs_ms = 0;  ///< one input per player from its jitter buffer
+  double movement_ms = 0;      ///< ground tests and wished velocities
+  double physics_ms = 0;       ///< World::step
+  double history_ms = 0;       ///< the entity states of the step into the history ring
+  double snapshots_ms = 0;     ///< quantisation and one delta-coded snapshot per player
+  double send_ms = 0;          ///< events and payloads serialised into the outbox
+  double total_ms = 0;
+};
+
+}  // namespace ricochet::server

@@ -1,0 +1,111 @@
+/// Input validation and the per-client jitter buffer (input_buffer.h).
+
+#include "ricochet/server/input_buffer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace ricochet::server {
+
+namespace {
+
+/// Accepted view angles, rad. Pitch allows for float rounding of ±π/2.
+constexpr float kMaxYaw = 2 * std::numbers::pi_v<float>;
+constexpr float kMaxPitch = std::numbers::pi_v<float> / 2 + 1e-6f;
+/// Inputs further ahead than this are not a network delay but a bogus sequence.
+constexpr std::uint32_t kMaxSequenceLead = 1024;
+
+}  // namespace
+
+const char* name(InputDrop reason) {
+  switch (reason) {
+    case InputDrop::MalformedPayload: return "malformed_payload";
+    case InputDrop::TooManyInputs: return "too_many_inputs";
+    case InputDrop::NonFinite: return "non_finite";
+    case InputDrop::OutOfRange: return "out_of_range";
+    case InputDrop::ZeroSequence: return "zero_sequence";
+    case InputDrop::Stale: return "stale";
+    case InputDrop::TooFarAhead: return "too_far_ahead";
+    case InputDrop::Skipped: return "skipped";
+    case InputDrop::UnknownPlayer: return "unknown_player";
+  }
+  return "unknown";
+}
+
+bool validate_input(const wire::Input& in, PlayerInput& out, InputDrop& reason) {
+  if (!std::isfinite(in.yaw()) || !std::isfinite(in.pitch())) {
+    reason = InputDrop::NonFinite;
+    return false;
+  }
+  if (in.sequence() == 0) {
+    reason = InputDrop::ZeroSequence;
+    return false;
+  }
+  const auto move_ok = [](std::int32_t steps) { return steps >= -kMoveSteps && steps <= kMoveSteps; };
+  const bool in_range = move_ok(in.move_right()) && move_ok(in.move_forward()) &&
+                        std::abs(in.yaw()) <= kMaxYaw && std::abs(in.pitch()) <= kMaxPitch &&
+                        (in.buttons() & ~kKnownButtons) == 0 &&
+                        in.weapon_slot() <= kMaxWeaponSlot;
+  if (!in_range) {
+    reason = InputDrop::OutOfRange;
+    return false;
+  }
+  out.sequence = in.sequence();
+  out.move_right = static_cast<float>(in.move_right()) / kMoveSteps;
+  out.move_forward = static_cast<float>(in.move_forward()) / kMoveSteps;
+  const float length_sq = out.move_right * out.move_right + out.move_forward * out.move_forward;
+  if (length_sq > 1) {
+    const float length = std::sqrt(length_sq);
+    out.move_right /= length;
+    out.move_forward /= length;
+  }
+  out.yaw_rad = in.yaw();
+  out.pitch_rad = in.pitch();
+  out.buttons = in.buttons();
+  out.weapon_slot = in.weapon_slot();
+  return true;
+}
+
+std::string InputBufferConfig::validate() const {
+  if (max_depth < 1 || max_depth > 32) {
+    return "input max_depth must be 1..32, got " + std::to_string(max_depth);
+  }
+  return {};
+}
+
+InputBuffer::InputBuffer(const InputBufferConfig& config) : config_(config) {
+  pending_.reserve(config_.max_depth + 1);
+}
+
+void InputBuffer::offer(const PlayerInput& input, InputDropCounters& drops) {
+  const auto count = [&drops](InputDrop reason) { ++drops[static_cast<std::size_t>(reason)]; };
+  if (input.sequence <= last_.sequence) return count(InputDrop::Stale);
+  if (input.sequence - last_.sequence > kMaxSequenceLead) return count(InputDrop::TooFarAhead);
+  const auto at = std::lower_bound(
+      pending_.begin(), pending_.end(), input.sequence,
+      [](const PlayerInput& kept, std::uint32_t sequence) { return kept.sequence < sequence; });
+  if (at != pending_.end() && at->sequence == input.sequence) return count(InputDrop::Stale);
+  pending_.insert(at, input);
+  if (pending_.size() > config_.max_depth) {
+    pending_.erase(pending_.begin());
+    count(InputDrop::Skipped);
+  }
+}
+
+const PlayerInput& InputBuffer::next(bool& repeated) {
+  repeated = pending_.empty();
+  if (!repeated) {
+    last_ = pending_.front();
+    pending_.erase(pending_.begin());
+  }
+  return last_;
+}
+
+void InputBuffer::reset() {
+  pending_.clear();
+  last_ = PlayerInput{};
+}
+
+}  // namespace ricochet::server

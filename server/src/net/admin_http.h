@@ -1,0 +1,88 @@
+#pragma once
+/// The admin HTTP port (Boost.Beast, coroutines): GET /metrics (Prometheus text 0.0.4),
+/// GET /healthz (200 while the health callback says the matches tick on time, else 503),
+/// GET /readyz (200 once the ready callback says sockets are bound and the DB is open, else 503).
+/// Other paths: 404; other methods on these paths: 405. HTTP/1.1 keep-alive.
+///
+/// Requests are untrusted: a request must arrive whole within request_timeout (slow senders and
+/// idle keep-alive connections are closed), headers and body are bounded by max_request_bytes
+/// (431 or 413, then closed), unparsable requests get 400 and are closed, connections beyond
+/// max_connections are closed at once. Each is counted by reason in
+/// ricochet_admin_rejected_total{reason}.
+///
+/// Everything runs on a strand of the given io_context; the callbacks are called there and must
+/// be thread-safe towards the code that owns what they read.
+
+#include <array>
+#include <atomic>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/system/error_code.hpp>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "ricochet/server/metrics.h"
+
+namespace ricochet::server {
+
+struct AdminHttpOptions {
+  std::string bind = "127.0.0.1";                   ///< IP address literal
+  std::uint16_t port = 9100;                        ///< 0: any free port (see local_endpoint())
+  std::size_t max_request_bytes = 8192;             ///< request line and headers; body likewise
+  std::chrono::milliseconds request_timeout{5000};  ///< from the first byte awaited to the last
+  int max_connections = 16;                         ///< open at once
+};
+
+/// Why a request or connection was refused.
+enum class AdminRejectReason {
+  Malformed,           ///< not parsable as HTTP/1.x: 400, closed
+  Oversized,           ///< headers or body above max_request_bytes: 431 or 413, closed
+  Timeout,             ///< not complete within request_timeout: closed without a reply
+  NotFound,            ///< unknown path: 404
+  MethodNotAllowed,    ///< not GET: 405
+  TooManyConnections,  ///< above max_connections: closed at once
+};
+inline constexpr int kAdminRejectReasonCount = 6;
+/// "malformed", "oversized", "timeout", "not_found", "method_not_allowed", "too_many_connections".
+const char* name(AdminRejectReason reason);
+
+struct AdminHttpCallbacks {
+  std::function<bool()> healthy;  ///< true while every match ticks on time
+  std::function<bool()> ready;    ///< true once sockets are bound and the DB is open
+};
+
+class AdminHttp {
+ public:
+  /// Registers its own counters as a collect callback in `metrics` (ricochet_admin_*), which
+  /// must outlive every scrape (the io_context's run).
+  AdminHttp(boost::asio::io_context& io, AdminHttpOptions options, MetricsRegistry& metrics,
+            AdminHttpCallbacks callbacks);
+  /// stop().
+  ~AdminHttp();
+  AdminHttp(const AdminHttp&) = delete;
+  AdminHttp& operator=(const AdminHttp&) = delete;
+
+  /// Binds, listens and starts accepting on the io_context. Returns the bind or listen error
+  /// (e.g. address in use); then nothing is accepted. Call once.
+  boost::system::error_code start();
+  /// The bound address; valid after a successful start() (the chosen port when port was 0).
+  boost::asio::ip::tcp::endpoint local_endpoint() const { return endpoint_; }
+  /// Closes the listener and every connection. Thread-safe; idempotent.
+  void stop();
+
+  /// Requests answered (any status) and refusals by reason so far.
+  std::uint64_t responses() const;
+  std::uint64_t rejected(AdminRejectReason reason) const;
+
+  struct State;
+
+ private:
+  std::shared_ptr<State> state_;
+  boost::asio::ip::tcp::endpoint endpoint_;
+};
+
+}  // namespace ricochet::server

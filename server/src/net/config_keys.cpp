@@ -1,0 +1,404 @@
+#include "config_keys.h"
+
+#include <array>
+#include <boost/asio/ip/address.hpp>
+#include <charconv>
+#include <limits>
+
+namespace ricochet::server {
+
+const char* name(LogLevel level) {
+  switch (level) {
+    case LogLevel::Trace:
+      return "trace";
+    case LogLevel::Debug:
+      return "debug";
+    case LogLevel::Info:
+      return "info";
+    case LogLevel::Warn:
+      return "warn";
+    case LogLevel::Error:
+      return "error";
+    case LogLevel::Critical:
+      return "critical";
+    case LogLevel::Off:
+      return "off";
+  }
+  return "unknown";
+}
+
+const char* name(LogFormat format) {
+  switch (format) {
+    case LogFormat::Text:
+      return "text";
+    case LogFormat::Json:
+      return "json";
+  }
+  return "unknown";
+}
+
+namespace config_keys {
+namespace {
+
+template <auto Section, auto Member>
+int& integer_of(ServerConfig& config) {
+  return (config.*Section).*Member;
+}
+
+template <auto Section, auto Member>
+std::string& text_of(ServerConfig& config) {
+  return (config.*Section).*Member;
+}
+
+/// Sets `out` to the enumerator whose name() is `text`.
+template <class Enum, std::size_t N>
+bool parse_enum(const std::array<Enum, N>& values, std::string_view text, Enum& out) {
+  for (Enum value : values) {
+    if (text == name(value)) {
+      out = value;
+      return true;
+    }
+  }
+  return false;
+}
+
+constexpr std::array kLogLevels = {LogLevel::Trace, LogLevel::Debug, LogLevel::Info,
+                                   LogLevel::Warn,  LogLevel::Error, LogLevel::Critical,
+                                   LogLevel::Off};
+constexpr std::array kLogFormats = {LogFormat::Text, LogFormat::Json};
+
+using S = ServerConfig;
+constexpr int kMaxPort = 65535;
+
+const std::array kKeys = {
+    Key{.section = "server",
+        .name = "data_dir",
+        .flag = "--data-dir",
+        .help = "directory of the database and the generated TLS pair; created if missing",
+        .kind = Kind::Text,
+        .text = &text_of<&S::server, &ProcessConfig::data_dir>},
+    Key{.section = "server",
+        .name = "threads",
+        .flag = "--threads",
+        .help = "match worker threads; 0: one per core",
+        .integer = &integer_of<&S::server, &ProcessConfig::threads>,
+        .min = 0,
+        .max = 256},
+    Key{.section = "server",
+        .name = "shutdown_grace_s",
+        .flag = "--shutdown-grace-s",
+        .help = "seconds after SIGINT/SIGTERM to end matches and flush results before exiting",
+        .integer = &integer_of<&S::server, &ProcessConfig::shutdown_grace_s>,
+        .min = 1,
+        .max = 300},
+    Key{.section = "db",
+        .name = "path",
+        .flag = "--db-path",
+        .help = "SQLite database file; a relative path is under server.data_dir",
+        .kind = Kind::Text,
+        .text = &text_of<&S::db, &DbConfig::path>},
+    Key{.section = "tls",
+        .name = "cert_file",
+        .flag = "--tls-cert",
+        .help = "PEM certificate chain; empty (with key_file empty): a self-signed pair is "
+                "generated in server.data_dir",
+        .kind = Kind::Text,
+        .text = &text_of<&S::tls, &TlsConfig::cert_file>,
+        .allow_empty = true},
+    Key{.section = "tls",
+        .name = "key_file",
+        .flag = "--tls-key",
+        .help = "PEM private key of cert_file; set both or neither",
+        .kind = Kind::Text,
+        .text = &text_of<&S::tls, &TlsConfig::key_file>,
+        .allow_empty = true},
+    Key{.section = "control",
+        .name = "bind",
+        .flag = "--control-bind",
+        .help = "address of the TLS control channel (TCP)",
+        .kind = Kind::Address,
+        .text = &text_of<&S::control, &ControlConfig::bind>},
+    Key{.section = "control",
+        .name = "port",
+        .flag = "--control-port",
+        .help = "TCP port of the control channel; 0: any free port",
+        .integer = &integer_of<&S::control, &ControlConfig::port>,
+        .min = 0,
+        .max = kMaxPort},
+    Key{.section = "control",
+        .name = "max_connections",
+        .flag = "--max-connections",
+        .help = "control connections, all addresses together",
+        .integer = &integer_of<&S::control, &ControlConfig::max_connections>,
+        .min = 1,
+        .max = 1'000'000},
+    Key{.section = "control",
+        .name = "max_connections_per_address",
+        .flag = "--max-connections-per-address",
+        .help = "control connections from one IP address; at most max_connections",
+        .integer = &integer_of<&S::control, &ControlConfig::max_connections_per_address>,
+        .min = 1,
+        .max = 1'000'000},
+    Key{.section = "control",
+        .name = "handshake_timeout_ms",
+        .flag = "--handshake-timeout-ms",
+        .help = "milliseconds from accept to a finished TLS handshake",
+        .integer = &integer_of<&S::control, &ControlConfig::handshake_timeout_ms>,
+        .min = 100,
+        .max = 60'000},
+    Key{.section = "control",
+        .name = "frame_timeout_ms",
+        .flag = "--frame-timeout-ms",
+        .help = "milliseconds from the first byte of a frame to its last (slowloris)",
+        .integer = &integer_of<&S::control, &ControlConfig::frame_timeout_ms>,
+        .min = 100,
+        .max = 600'000},
+    Key{.section = "control",
+        .name = "idle_timeout_ms",
+        .flag = "--idle-timeout-ms",
+        .help = "milliseconds without a whole frame before a connection is closed",
+        .integer = &integer_of<&S::control, &ControlConfig::idle_timeout_ms>,
+        .min = 1'000,
+        .max = 3'600'000},
+    Key{.section = "game",
+        .name = "bind",
+        .flag = "--game-bind",
+        .help = "address of the encrypted game channel (UDP)",
+        .kind = Kind::Address,
+        .text = &text_of<&S::game, &GameConfig::bind>},
+    Key{.section = "game",
+        .name = "port",
+        .flag = "--game-port",
+        .help = "UDP port of the game channel; 0: any free port",
+        .integer = &integer_of<&S::game, &GameConfig::port>,
+        .min = 0,
+        .max = kMaxPort},
+    Key{.section = "game",
+        .name = "tick_rate_hz",
+        .flag = "--tick-rate-hz",
+        .help = "fixed simulation steps per second of every match",
+        .integer = &integer_of<&S::game, &GameConfig::tick_rate_hz>,
+        .min = 10,
+        .max = 128},
+    Key{.section = "game",
+        .name = "snapshot_rate_hz",
+        .flag = "--snapshot-rate-hz",
+        .help = "snapshots per second to each client; 0: the tick rate; at most tick_rate_hz",
+        .integer = &integer_of<&S::game, &GameConfig::snapshot_rate_hz>,
+        .min = 0,
+        .max = 128},
+    Key{.section = "game",
+        .name = "max_catch_up_steps",
+        .flag = "--max-catch-up-steps",
+        .help = "fixed steps one tick may run to catch up after a stall (the rest is dropped "
+                "and counted as an overrun)",
+        .integer = &integer_of<&S::game, &GameConfig::max_catch_up_steps>,
+        .min = 1,
+        .max = 64},
+    Key{.section = "game",
+        .name = "max_clients",
+        .flag = "--max-clients",
+        .help = "connected game clients, all matches together",
+        .integer = &integer_of<&S::game, &GameConfig::max_clients>,
+        .min = 1,
+        .max = 4096},
+    Key{.section = "game",
+        .name = "max_half_open",
+        .flag = "--max-half-open",
+        .help = "game handshakes in progress at once (challenged, not yet connected)",
+        .integer = &integer_of<&S::game, &GameConfig::max_half_open>,
+        .min = 1,
+        .max = 65'536},
+    Key{.section = "game",
+        .name = "address_packets_per_s",
+        .flag = "--address-packets-per-s",
+        .help = "datagrams per second accepted from an unconnected address; the rest are "
+                "dropped and counted",
+        .integer = &integer_of<&S::game, &GameConfig::address_packets_per_s>,
+        .min = 1,
+        .max = 1'000'000},
+    Key{.section = "game",
+        .name = "client_packets_per_s",
+        .flag = "--client-packets-per-s",
+        .help = "datagrams per second accepted from a connected client; the rest are dropped "
+                "and counted",
+        .integer = &integer_of<&S::game, &GameConfig::client_packets_per_s>,
+        .min = 1,
+        .max = 1'000'000},
+    Key{.section = "game",
+        .name = "bandwidth_kbps_per_client",
+        .flag = "--bandwidth-kbps",
+        .help = "snapshot bandwidth budget per client, kilobits per second (one snapshot gets "
+                "at most 1100 bytes, at least 128)",
+        .integer = &integer_of<&S::game, &GameConfig::bandwidth_kbps_per_client>,
+        .min = 16,
+        .max = 100'000},
+    Key{.section = "matches",
+        .name = "count",
+        .flag = "--matches",
+        .help = "free-for-all matches opened at start (more are created over the control channel)",
+        .integer = &integer_of<&S::matches, &MatchesConfig::count>,
+        .min = 0,
+        .max = 256},
+    Key{.section = "matches",
+        .name = "max_players",
+        .flag = "--match-max-players",
+        .help = "players per match opened at start",
+        .integer = &integer_of<&S::matches, &MatchesConfig::max_players>,
+        .min = 1,
+        .max = 64},
+    Key{.section = "matches",
+        .name = "map",
+        .flag = "--map",
+        .help = "map file of the matches opened at start",
+        .kind = Kind::Text,
+        .text = &text_of<&S::matches, &MatchesConfig::map>},
+    Key{.section = "admin",
+        .name = "bind",
+        .flag = "--admin-bind",
+        .help = "address of the admin HTTP port (/metrics, /healthz, /readyz); keep it private",
+        .kind = Kind::Address,
+        .text = &text_of<&S::admin, &AdminConfig::bind>},
+    Key{.section = "admin",
+        .name = "port",
+        .flag = "--admin-port",
+        .help = "TCP port of the admin HTTP server; 0: any free port",
+        .integer = &integer_of<&S::admin, &AdminConfig::port>,
+        .min = 0,
+        .max = kMaxPort},
+    Key{.section = "log",
+        .name = "level",
+        .flag = "--log-level",
+        .help = "least severe level written",
+        .kind = Kind::Choice,
+        .choices = "trace|debug|info|warn|error|critical|off",
+        .get_choice = [](const ServerConfig& c) -> std::string_view { return name(c.log.level); },
+        .set_choice =
+            [](ServerConfig& c, std::string_view text) {
+              return parse_enum(kLogLevels, text, c.log.level);
+            }},
+    Key{.section = "log",
+        .name = "format",
+        .flag = "--log-format",
+        .help = "text lines, or JSON lines (one object per line)",
+        .kind = Kind::Choice,
+        .choices = "text|json",
+        .get_choice = [](const ServerConfig& c) -> std::string_view { return name(c.log.format); },
+        .set_choice =
+            [](ServerConfig& c, std::string_view text) {
+              return parse_enum(kLogFormats, text, c.log.format);
+            }},
+};
+
+constexpr std::array<std::string_view, 8> kSections = {"server", "db",      "tls",   "control",
+                                                       "game",   "matches", "admin", "log"};
+
+}  // namespace
+
+std::string Key::full_name() const {
+  std::string full{section};
+  full += '.';
+  full += name;
+  return full;
+}
+
+std::span<const Key> all() {
+  return kKeys;
+}
+
+std::span<const std::string_view> sections() {
+  return kSections;
+}
+
+const Key* find(std::string_view section, std::string_view name) {
+  for (const Key& key : kKeys) {
+    if (key.section == section && key.name == name) return &key;
+  }
+  return nullptr;
+}
+
+std::string value_text(const Key& key, const ServerConfig& config) {
+  // The accessors take a mutable config; reading through them changes nothing.
+  auto& mutable_config = const_cast<ServerConfig&>(config);
+  switch (key.kind) {
+    case Kind::Integer:
+      return std::to_string(key.integer(mutable_config));
+    case Kind::Text:
+    case Kind::Address:
+      return key.text(mutable_config);
+    case Kind::Choice:
+      return std::string{key.get_choice(config)};
+  }
+  return {};
+}
+
+std::string allowed_text(const Key& key) {
+  switch (key.kind) {
+    case Kind::Integer:
+      return std::to_string(key.min) + ".." + std::to_string(key.max);
+    case Kind::Text:
+      return key.allow_empty ? "any text" : "non-empty";
+    case Kind::Address:
+      return "an IP address";
+    case Kind::Choice:
+      return "one of " + std::string{key.choices};
+  }
+  return {};
+}
+
+std::string check(const Key& key, const ServerConfig& config) {
+  auto& mutable_config = const_cast<ServerConfig&>(config);
+  switch (key.kind) {
+    case Kind::Integer: {
+      const int value = key.integer(mutable_config);
+      if (value >= key.min && value <= key.max) return {};
+      return key.full_name() + " must be " + allowed_text(key) + ", got " + std::to_string(value);
+    }
+    case Kind::Text:
+      if (key.allow_empty || !key.text(mutable_config).empty()) return {};
+      return key.full_name() + " must be non-empty, got \"\"";
+    case Kind::Address: {
+      const std::string& text = key.text(mutable_config);
+      boost::system::error_code error;
+      boost::asio::ip::make_address(text, error);
+      if (!error) return {};
+      return key.full_name() + " must be an IP address (e.g. 0.0.0.0, 127.0.0.1 or ::), got \"" +
+             text + "\"";
+    }
+    case Kind::Choice:
+      return {};  // set_choice accepts only a choice
+  }
+  return {};
+}
+
+std::string assign_text(const Key& key, std::string_view text, ServerConfig& config) {
+  switch (key.kind) {
+    case Kind::Integer: {
+      long long value = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (error == std::errc::result_out_of_range ||
+          (error == std::errc{} && end == text.data() + text.size() &&
+           (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max()))) {
+        return key.full_name() + " must be " + allowed_text(key) + ", got " + std::string{text};
+      }
+      if (error != std::errc{} || end != text.data() + text.size()) {
+        return key.full_name() + " must be an integer " + allowed_text(key) + ", got \"" +
+               std::string{text} + "\"";
+      }
+      key.integer(config) = static_cast<int>(value);
+      return {};
+    }
+    case Kind::Text:
+    case Kind::Address:
+      key.text(config) = std::string{text};
+      return {};
+    case Kind::Choice:
+      if (key.set_choice(config, text)) return {};
+      return key.full_name() + " must be one of " + std::string{key.choices} + ", got \"" +
+             std::string{text} + "\"";
+  }
+  return {};
+}
+
+}  // namespace config_keys
+}  // namespace ricochet::server

@@ -1,0 +1,44 @@
+#pragma once
+/// What the control channel is configured with: where it listens, its TLS identity and the
+/// limits that keep hostile or broken clients from holding resources. The operations config
+/// (config.h) maps its TOML keys and flags onto this struct; defaults are the documented ones.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "ricochet/proto/clock.h"
+#include "tls_identity.h"
+
+namespace ricochet::server {
+
+struct ControlLimits {
+  int max_connections = 4096;                  ///< open TLS connections in total (1..1'000'000)
+  int max_connections_per_address = 16;        ///< from one IP address (1..max_connections)
+  std::uint32_t handshake_timeout_ms = 5'000;  ///< accept to finished TLS handshake
+  std::uint32_t frame_timeout_ms = 10'000;     ///< first byte of a frame to its last (slowloris)
+  std::uint32_t idle_timeout_ms = 120'000;     ///< no whole frame for this long (clients ping)
+  std::uint32_t write_timeout_ms = 10'000;     ///< one reply may take this long to be sent
+  double messages_per_second = 20;             ///< sustained requests per connection (> 0)
+  int message_burst = 40;                      ///< requests a connection may send at once (>= 1)
+  std::size_t max_outbox_bytes = 1 << 20;      ///< queued replies of a client that does not read
+  std::uint32_t max_chat_bytes = 256;          ///< longest chat text (1..4096)
+
+  /// Empty when valid, else which field is wrong, its allowed range and the value that came.
+  std::string validate() const;
+};
+
+struct ControlServerConfig {
+  std::string bind_address = "0.0.0.0";  ///< an IPv4 or IPv6 literal
+  std::uint16_t port = 7777;             ///< 0: any free port (tests); see ControlServer::port()
+  TlsIdentityPaths tls;                  ///< certificate and key, or the data directory
+  ControlLimits limits;
+  /// The clock connect tokens' expiry is on (the MatchDirectory's), in µs. Default: steady
+  /// clock since its epoch.
+  std::function<proto::TimeUs()> token_clock;
+
+  std::string validate() const;
+};
+
+}  // namespace ricochet::server

@@ -1,0 +1,285 @@
+// The requests of a control session: each turns a validated ClientMessage into the call on the
+// DB worker or the match directory and the reply (or Error) the client gets.
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <boost/asio/async_result.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/this_coro.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <chrono>
+#include <climits>
+
+#include "control_session.h"
+
+namespace ricochet::server {
+namespace asio = boost::asio;
+namespace {
+
+/// Runs `start(post, done)` (a DbWorker call) and resumes with what `done` receives, on the
+/// coroutine's executor.
+template <class R, class Start>
+asio::awaitable<R> await_db(Start start) {
+  auto executor = co_await asio::this_coro::executor;
+  co_return co_await asio::async_initiate<decltype(asio::use_awaitable), void(R)>(
+      [executor, start = std::move(start)](auto handler) mutable {
+        auto shared = std::make_shared<decltype(handler)>(std::move(handler));
+        db::Post post = [executor](std::function<void()> completion) {
+          asio::post(executor, std::move(completion));
+        };
+        start(std::move(post), [shared](R result) { (*shared)(std::move(result)); });
+      },
+      asio::use_awaitable);
+}
+
+db::UnixMillis unix_now_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+wire::ServerMessage error_reply(wire::ErrorCode code, std::string message) {
+  wire::ServerMessage reply;
+  reply.mutable_error()->set_code(code);
+  reply.mutable_error()->set_message(std::move(message));
+  return reply;
+}
+
+wire::ServerMessage error_reply(const db::DbError& error) {
+  switch (error.code) {
+    case db::DbErrorCode::InvalidUsername:
+      return error_reply(wire::INVALID_USERNAME, error.message);
+    case db::DbErrorCode::DuplicateUsername:
+      return error_reply(wire::DUPLICATE_USERNAME, error.message);
+    case db::DbErrorCode::EmptyPassword:
+    case db::DbErrorCode::PasswordTooShort:
+    case db::DbErrorCode::PasswordTooLong:
+      return error_reply(wire::INVALID_PASSWORD, error.message);
+    case db::DbErrorCode::WrongCredentials:
+      return error_reply(wire::WRONG_CREDENTIALS, error.message);
+    case db::DbErrorCode::AccountBanned:
+      return error_reply(wire::ACCOUNT_BANNED, error.message);
+    case db::DbErrorCode::UnknownAccount:
+    case db::DbErrorCode::UnknownSession:
+      return error_reply(wire::UNKNOWN_SESSION, error.message);
+    case db::DbErrorCode::ExpiredSession:
+      return error_reply(wire::EXPIRED_SESSION, error.message);
+    case db::DbErrorCode::RateLimited:
+      return error_reply(wire::LOGIN_RATE_LIMITED, error.message);
+    case db::DbErrorCode::QueueFull:
+    case db::DbErrorCode::Busy:
+      return error_reply(wire::SERVER_BUSY, error.message);
+    case db::DbErrorCode::Stopped:
+      return error_reply(wire::SHUTTING_DOWN, error.message);
+    default:
+      break;
+  }
+  // Storage failures name files and internals: logged here, not sent.
+  spdlog::warn("control: database error {}: {}", db::to_string(error.code), error.message);
+  return error_reply(wire::INTERNAL, std::string("the database failed (") +
+                                         db::to_string(error.code) + "); try again later");
+}
+
+wire::ServerMessage error_reply(const DirectoryError& error) {
+  switch (error.code) {
+    case DirectoryErrorCode::MatchNotFound:
+      return error_reply(wire::MATCH_NOT_FOUND, error.message);
+    case DirectoryErrorCode::MatchFull:
+      return error_reply(wire::MATCH_FULL, error.message);
+    case DirectoryErrorCode::AlreadyInMatch:
+      return error_reply(wire::ALREADY_IN_MATCH, error.message);
+    case DirectoryErrorCode::NotInMatch:
+      return error_reply(wire::NOT_IN_MATCH, error.message);
+    case DirectoryErrorCode::InvalidRequest:
+      return error_reply(wire::INVALID_REQUEST, error.message);
+    case DirectoryErrorCode::TooManyMatches:
+      return error_reply(wire::TOO_MANY_MATCHES, error.message);
+    case DirectoryErrorCode::ShuttingDown:
+      return error_reply(wire::SHUTTING_DOWN, error.message);
+  }
+  return error_reply(wire::INTERNAL, error.message);
+}
+
+void fill(const MatchSummary& summary, wire::MatchInfo& info) {
+  info.set_match_id(summary.id);
+  info.set_name(summary.name);
+  info.set_mode(summary.mode);
+  info.set_map(summary.map);
+  info.set_players(static_cast<std::uint32_t>(std::max(summary.players, 0)));
+  info.set_max_players(static_cast<std::uint32_t>(std::max(summary.max_players, 0)));
+}
+
+}  // namespace
+
+asio::awaitable<wire::ServerMessage> ControlSession::dispatch(const wire::ClientMessage& message) {
+  switch (message.body_case()) {
+    case wire::ClientMessage::kRegisterAccount:
+      co_return co_await register_account(message.register_account());
+    case wire::ClientMessage::kLogin:
+      co_return co_await login(message.login());
+    case wire::ClientMessage::kResume:
+      co_return co_await resume(message.resume());
+    case wire::ClientMessage::kListMatches:
+      co_return list_matches();
+    case wire::ClientMessage::kCreateMatch:
+      co_return create_match(message.create_match());
+    case wire::ClientMessage::kJoinMatch:
+      co_return join_match(message.join_match());
+    case wire::ClientMessage::kLeaveMatch:
+      co_return leave_match();
+    case wire::ClientMessage::kChat:
+      co_return chat(message.chat());
+    case wire::ClientMessage::kPing:
+      co_return pong(message.ping());
+    case wire::ClientMessage::BODY_NOT_SET:
+      break;
+  }
+  co_return error_reply(wire::MALFORMED, "the ClientMessage has no body set in its oneof");
+}
+
+asio::awaitable<wire::ServerMessage> ControlSession::register_account(
+    const wire::RegisterRequest& request) {
+  const db::DbResult<db::AccountId> result =
+      co_await await_db<db::DbResult<db::AccountId>>([&](db::Post post, auto done) {
+        context_.db.register_account(request.username(), request.password(), unix_now_ms(),
+                                     std::move(post), std::move(done));
+      });
+  if (!result.ok()) co_return error_reply(result.error());
+  wire::ServerMessage reply;
+  reply.mutable_register_account()->set_account_id(static_cast<std::uint64_t>(result.value()));
+  co_return reply;
+}
+
+asio::awaitable<wire::ServerMessage> ControlSession::login(const wire::LoginRequest& request) {
+  const db::DbResult<db::LoginResult> result =
+      co_await await_db<db::DbResult<db::LoginResult>>([&](db::Post post, auto done) {
+        context_.db.login(request.username(), request.password(), address_, unix_now_ms(),
+                          std::move(post), std::move(done));
+      });
+  if (!result.ok()) co_return error_reply(result.error());
+  if (machine_.state() != proto::ControlState::Unauthenticated) {
+    co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the login");
+  }
+  account_ = static_cast<std::uint64_t>(result.value().account);
+  username_ = request.username();
+  machine_.transition(proto::ControlState::Authenticated,
+                      "logged in as account " + std::to_string(account_));
+  wire::ServerMessage reply;
+  wire::SessionReply& session = *reply.mutable_session();
+  session.set_account_id(account_);
+  session.set_username(username_);
+  session.set_session_token(result.value().token);
+  session.set_expires_unix_ms(result.value().expires_ms);
+  co_return reply;
+}
+
+asio::awaitable<wire::ServerMessage> ControlSession::resume(const wire::ResumeRequest& request) {
+  const db::DbResult<db::SessionInfo> result =
+      co_await await_db<db::DbResult<db::SessionInfo>>([&](db::Post post, auto done) {
+        context_.db.submit(
+            [token = request.session_token(), now = unix_now_ms()](db::DbServices& services) {
+              return services.accounts.check_session(token, now);
+            },
+            std::move(post), std::move(done));
+      });
+  if (!result.ok()) co_return error_reply(result.error());
+  if (machine_.state() != proto::ControlState::Unauthenticated) {
+    co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the resume");
+  }
+  account_ = static_cast<std::uint64_t>(result.value().account);
+  username_ = result.value().username;
+  machine_.transition(proto::ControlState::Authenticated,
+                      "resumed the session of account " + std::to_string(account_));
+  wire::ServerMessage reply;
+  wire::SessionReply& session = *reply.mutable_session();
+  session.set_account_id(account_);
+  session.set_username(username_);
+  session.set_expires_unix_ms(result.value().expires_ms);
+  co_return reply;
+}
+
+wire::ServerMessage ControlSession::list_matches() {
+  wire::ServerMessage reply;
+  wire::ListMatchesReply& list = *reply.mutable_list_matches();
+  for (const MatchSummary& summary : context_.matches.list()) fill(summary, *list.add_matches());
+  return reply;
+}
+
+wire::ServerMessage ControlSession::create_match(const wire::CreateMatchRequest& request) {
+  CreateMatchRequest create;
+  create.name = request.name();
+  // Out-of-range counts stay out of range (the directory names the field); 0 is the default.
+  if (request.max_players() != 0) {
+    create.max_players = static_cast<int>(std::min<std::uint32_t>(request.max_players(), INT_MAX));
+  }
+  create.map = request.map();
+  DirectoryResult<MatchSummary> result = context_.matches.create(create);
+  if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
+  wire::ServerMessage reply;
+  fill(std::get<MatchSummary>(result), *reply.mutable_create_match()->mutable_match());
+  return reply;
+}
+
+wire::ServerMessage ControlSession::join_match(const wire::JoinMatchRequest& request) {
+  DirectoryResult<JoinGrant> result =
+      context_.matches.join(account_, username_, request.match_id());
+  if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
+  const JoinGrant& grant = std::get<JoinGrant>(result);
+  const proto::TimeUs now = context_.token_clock();
+  const proto::TimeUs left_us = std::max<proto::TimeUs>(grant.token.expires_at - now, 0);
+  wire::ServerMessage reply;
+  wire::JoinMatchReply& join = *reply.mutable_join_match();
+  join.set_match_id(grant.match_id);
+  join.set_udp_port(grant.udp_port);
+  join.set_connect_token(grant.token.connect_token.data(), grant.token.connect_token.size());
+  join.set_client_to_server_key(grant.token.client_to_server.data(),
+                                grant.token.client_to_server.size());
+  join.set_server_to_client_key(grant.token.server_to_client.data(),
+                                grant.token.server_to_client.size());
+  join.set_token_expires_in_ms(static_cast<std::uint32_t>(
+      std::min<proto::TimeUs>(left_us / proto::kMicrosPerMilli, UINT32_MAX)));
+  join.set_timeout_s(grant.token.timeout_s);
+  machine_.transition(proto::ControlState::InMatch,
+                      "joined match " + std::to_string(grant.match_id));
+  return reply;
+}
+
+wire::ServerMessage ControlSession::leave_match() {
+  DirectoryResult<Done> result = context_.matches.leave(account_);
+  if (const auto* error = std::get_if<DirectoryError>(&result)) {
+    if (error->code == DirectoryErrorCode::NotInMatch) {
+      machine_.transition(proto::ControlState::Authenticated, "the match had already let go");
+    }
+    return error_reply(*error);
+  }
+  machine_.transition(proto::ControlState::Authenticated, "left the match");
+  wire::ServerMessage reply;
+  reply.mutable_leave_match();
+  return reply;
+}
+
+wire::ServerMessage ControlSession::chat(const wire::ChatRequest& request) {
+  const std::size_t bytes = request.text().size();
+  if (bytes == 0 || bytes > context_.limits.max_chat_bytes) {
+    const std::string detail = "chat text must be 1.." +
+                               std::to_string(context_.limits.max_chat_bytes) + " bytes, got " +
+                               std::to_string(bytes);
+    refuse(ControlRefusal::InvalidRequest, detail);
+    return error_reply(wire::INVALID_REQUEST, detail);
+  }
+  DirectoryResult<Done> result = context_.matches.chat(account_, request.text());
+  if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
+  wire::ServerMessage reply;
+  reply.mutable_chat();
+  return reply;
+}
+
+wire::ServerMessage ControlSession::pong(const wire::Ping& request) {
+  wire::ServerMessage reply;
+  reply.mutable_pong()->set_client_time_us(request.client_time_us());
+  reply.mutable_pong()->set_server_unix_ms(unix_now_ms());
+  return reply;
+}
+
+}  // namespace ricochet::server

@@ -1,0 +1,142 @@
+#pragma once
+/// One control connection: the TLS handshake, then frames read, validated and dispatched to the
+/// DB worker or the match directory, replies written back, every deadline watched. Runs on the
+/// control server's strand; every member function is called there.
+///
+///   run():    handshake ─▶ read loop (frames ─▶ parse ─▶ rate ─▶ state table ─▶ dispatch ─▶ reply)
+///   writer:   drains the outbox; after close() it flushes the final Error, then closes
+///   watchdog: handshake, frame (slowloris), idle and write deadlines; the close grace
+
+#include <array>
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "control_config.h"
+#include "control_counters.h"
+#include "match_directory.h"
+#include "ricochet/db/db_worker.h"
+#include "ricochet/proto/control_states.h"
+#include "ricochet/proto/frame.h"
+#include "ricochet/wire/control.pb.h"
+
+namespace ricochet::server {
+
+/// What every session of one server shares; owned by the ControlServer.
+struct ControlContext {
+  const ControlLimits& limits;
+  ControlCounters& counters;
+  db::DbWorker& db;
+  MatchDirectory& matches;
+  std::function<proto::TimeUs()> token_clock;
+};
+
+class ControlSession : public std::enable_shared_from_this<ControlSession> {
+ public:
+  using Stream = boost::asio::ssl::stream<boost::asio::ip::tcp::socket>;
+  using Clock = std::chrono::steady_clock;
+  /// Called once on the strand when the session has ended and its socket is closed.
+  using OnEnded = std::function<void(ControlSession&)>;
+
+  /// `address` is the peer's IP (text), for logs, the per-address cap and login rate limits.
+  ControlSession(std::uint64_t id, boost::asio::ip::tcp::socket socket,
+                 boost::asio::ssl::context& tls, std::string address, ControlContext& context,
+                 OnEnded on_ended);
+  ControlSession(const ControlSession&) = delete;
+  ControlSession& operator=(const ControlSession&) = delete;
+
+  /// The whole life of the connection; co_spawn it on the strand.
+  boost::asio::awaitable<void> run();
+  /// Queues a server-initiated message (request_id 0). MatchResults also ends InMatch.
+  void push(wire::ServerMessage message);
+  /// Sends an Error (request_id 0) and closes once it is written (or the grace is over).
+  void close(wire::ErrorCode code, const std::string& message, std::string_view reason);
+
+  std::uint64_t id() const { return id_; }
+  const std::string& address() const { return address_; }
+  std::uint64_t account() const { return account_; }
+  proto::ControlState state() const { return machine_.state(); }
+
+ private:
+  enum class Phase { Handshake, Open, Closing, Ended };
+  enum class Expiry { Handshake, Frame, Idle, Write, CloseGrace };
+
+  boost::asio::awaitable<bool> handshake();
+  boost::asio::awaitable<void> read_loop();
+  boost::asio::awaitable<void> write_loop(std::shared_ptr<ControlSession> self);
+  boost::asio::awaitable<void> watch(std::shared_ptr<ControlSession> self);
+  /// Handles every whole frame buffered in the reader.
+  boost::asio::awaitable<void> drain_frames();
+  boost::asio::awaitable<void> handle(const std::vector<std::uint8_t>& payload);
+  boost::asio::awaitable<wire::ServerMessage> dispatch(const wire::ClientMessage& message);
+
+  boost::asio::awaitable<wire::ServerMessage> register_account(const wire::RegisterRequest& r);
+  boost::asio::awaitable<wire::ServerMessage> login(const wire::LoginRequest& r);
+  boost::asio::awaitable<wire::ServerMessage> resume(const wire::ResumeRequest& r);
+  wire::ServerMessage list_matches();
+  wire::ServerMessage create_match(const wire::CreateMatchRequest& r);
+  wire::ServerMessage join_match(const wire::JoinMatchRequest& r);
+  wire::ServerMessage leave_match();
+  wire::ServerMessage chat(const wire::ChatRequest& r);
+  wire::ServerMessage pong(const wire::Ping& r);
+
+  /// Frames and queues one message; closes the connection when the outbox is over its cap.
+  void send(const wire::ServerMessage& message);
+  void reply_error(std::uint32_t request_id, wire::ErrorCode code, const std::string& message);
+  /// Counts and logs a refusal.
+  void refuse(ControlRefusal refusal, const std::string& detail);
+  /// A stream the FrameReader or the parser refused: Error, then close.
+  void refuse_frame(proto::FrameRefusal refusal);
+  /// Token bucket over limits.messages_per_second; false when the request is over the rate.
+  bool take_rate_token(Clock::time_point now);
+
+  void begin_closing(std::string_view reason);
+  /// Closes the socket now (pending reads and writes end with an error).
+  void abort(std::string_view reason);
+  /// Starts or clears the frame deadline after the reader's buffer changed.
+  void note_partial_frame(Clock::time_point now);
+  std::pair<Clock::time_point, Expiry> next_deadline() const;
+  void expire(Expiry expiry);
+  /// Wakes the watchdog so it recomputes its deadline.
+  void rearm();
+  /// One of the reader and writer tasks ended; the last one ends the session.
+  void task_ended();
+
+  std::uint64_t id_;
+  Stream stream_;
+  std::string address_;
+  ControlContext& context_;
+  OnEnded on_ended_;
+  proto::ControlStateMachine machine_;
+  proto::FrameReader reader_;
+  std::vector<std::uint8_t> read_buffer_;
+  std::deque<std::vector<std::uint8_t>> outbox_;
+  std::size_t outbox_bytes_ = 0;
+  boost::asio::steady_timer watchdog_;
+  boost::asio::steady_timer outbox_signal_;
+  Phase phase_ = Phase::Handshake;
+  int running_tasks_ = 0;
+  bool socket_closed_ = false;
+  bool busy_ = false;  ///< dispatching a request: the idle and frame deadlines wait
+  Clock::time_point accepted_at_;
+  Clock::time_point last_frame_at_;
+  Clock::time_point closing_since_;
+  std::optional<Clock::time_point> frame_started_;
+  std::optional<Clock::time_point> write_started_;
+  double rate_tokens_;
+  Clock::time_point rate_refilled_at_;
+  std::uint64_t account_ = 0;
+  std::string username_;
+};
+
+}  // namespace ricochet::server

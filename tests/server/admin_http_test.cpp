@@ -1,0 +1,266 @@
+#include "admin_http.h"
+
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+
+#include <atomic>
+#include <boost/asio/connect.hpp>
+#include <boost/asio/read.hpp>
+#include <boost/asio/write.hpp>
+#include <chrono>
+#include <string>
+#include <thread>
+
+namespace ricochet::server {
+namespace {
+
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
+using namespace std::chrono_literals;
+
+/// A blocking client socket to the server, every read bounded by 3 s.
+class Client {
+ public:
+  explicit Client(std::uint16_t port) : socket_(io_) {
+    socket_.connect({asio::ip::make_address("127.0.0.1"), port});
+    timeval timeout{3, 0};
+    ::setsockopt(socket_.native_handle(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  }
+  void send(const std::string& bytes) { asio::write(socket_, asio::buffer(bytes)); }
+  /// Everything until the server closes (or the read times out).
+  std::string read_to_end() {
+    std::string received;
+    char chunk[4096];
+    boost::system::error_code error;
+    for (;;) {
+      const std::size_t n = socket_.read_some(asio::buffer(chunk), error);
+      if (error) break;
+      received.append(chunk, n);
+    }
+    closed_by_server_ = error == asio::error::eof || error == asio::error::connection_reset;
+    return received;
+  }
+  /// One response of `Content-Length` bytes, leaving the connection open.
+  std::string read_response() {
+    std::string received;
+    char c;
+    while (received.find("\r\n\r\n") == std::string::npos) {
+      asio::read(socket_, asio::buffer(&c, 1));
+      received += c;
+    }
+    const auto at = received.find("Content-Length: ");
+    const std::size_t length = std::stoul(received.substr(at + 16));
+    std::string body(length, '\0');
+    asio::read(socket_, asio::buffer(body));
+    return received + body;
+  }
+  bool closed_by_server() const { return closed_by_server_; }
+
+ private:
+  asio::io_context io_;
+  tcp::socket socket_;
+  bool closed_by_server_ = false;
+};
+
+std::string status_line(const std::string& response) {
+  return response.substr(0, response.find("\r\n"));
+}
+
+std::string body_of(const std::string& response) {
+  const auto at = response.find("\r\n\r\n");
+  return at == std::string::npos ? std::string{} : response.substr(at + 4);
+}
+
+std::string get(const std::string& target) {
+  return "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+}
+
+class AdminHttpTest : public ::testing::Test {
+ protected:
+  void start(AdminHttpOptions options = {}) {
+    options.port = 0;
+    server_.emplace(
+        io_, options, metrics_,
+        AdminHttpCallbacks{[this] { return healthy_.load(); }, [this] { return ready_.load(); }});
+    ASSERT_FALSE(server_->start());
+    port_ = server_->local_endpoint().port();
+    ASSERT_NE(port_, 0);
+    thread_ = std::thread{[this] { io_.run(); }};
+  }
+  void TearDown() override {
+    server_.reset();
+    work_.reset();
+    if (thread_.joinable()) thread_.join();
+  }
+  std::string exchange(const std::string& request) {
+    Client client{port_};
+    client.send(request);
+    return client.read_to_end();
+  }
+
+  asio::io_context io_;
+  std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work_{
+      asio::make_work_guard(io_)};
+  MetricsRegistry metrics_;
+  std::atomic<bool> healthy_{true};
+  std::atomic<bool> ready_{false};
+  std::optional<AdminHttp> server_;
+  std::thread thread_;
+  std::uint16_t port_ = 0;
+};
+
+TEST_F(AdminHttpTest, MetricsServesTheRegistryInTextFormat) {
+  metrics_.gauge("ricochet_matches", "Matches open.").set(4);
+  start();
+  const std::string response = exchange(get("/metrics"));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 200 OK");
+  EXPECT_NE(response.find("Content-Type: text/plain; version=0.0.4; charset=utf-8\r\n"),
+            std::string::npos)
+      << response;
+  const std::string body = body_of(response);
+  EXPECT_NE(body.find("# TYPE ricochet_matches gauge\nricochet_matches 4\n"), std::string::npos)
+      << body;
+  EXPECT_NE(body.find("ricochet_admin_rejected_total{reason=\"timeout\"} 0\n"), std::string::npos)
+      << body;
+}
+
+TEST_F(AdminHttpTest, HealthzFollowsTheHealthCallback) {
+  start();
+  std::string response = exchange(get("/healthz"));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 200 OK");
+  EXPECT_EQ(body_of(response), "ok\n");
+  healthy_ = false;
+  response = exchange(get("/healthz"));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 503 Service Unavailable");
+  EXPECT_EQ(body_of(response), "not ticking on time\n");
+}
+
+TEST_F(AdminHttpTest, ReadyzFollowsTheReadyCallback) {
+  start();
+  EXPECT_EQ(status_line(exchange(get("/readyz"))), "HTTP/1.1 503 Service Unavailable");
+  ready_ = true;
+  const std::string response = exchange(get("/readyz?verbose=1"));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 200 OK");
+  EXPECT_EQ(body_of(response), "ready\n");
+}
+
+TEST_F(AdminHttpTest, UnknownPathIs404AndOtherMethodsAre405) {
+  start();
+  EXPECT_EQ(status_line(exchange(get("/"))), "HTTP/1.1 404 Not Found");
+  EXPECT_EQ(status_line(exchange(get("/metricsx"))), "HTTP/1.1 404 Not Found");
+  const std::string response = exchange(
+      "POST /metrics HTTP/1.1\r\nHost: x\r\nContent-Length: 2\r\nConnection: close\r\n\r\nhi");
+  EXPECT_EQ(status_line(response), "HTTP/1.1 405 Method Not Allowed");
+  EXPECT_NE(response.find("Allow: GET\r\n"), std::string::npos) << response;
+  EXPECT_EQ(
+      status_line(exchange("DELETE /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")),
+      "HTTP/1.1 405 Method Not Allowed");
+  EXPECT_EQ(server_->rejected(AdminRejectReason::NotFound), 2u);
+  EXPECT_EQ(server_->rejected(AdminRejectReason::MethodNotAllowed), 2u);
+}
+
+TEST_F(AdminHttpTest, KeepAliveServesSeveralRequestsOnOneConnection) {
+  start();
+  Client client{port_};
+  for (int i = 0; i < 3; ++i) {
+    client.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
+    EXPECT_EQ(status_line(client.read_response()), "HTTP/1.1 200 OK");
+  }
+  EXPECT_EQ(server_->responses(), 3u);
+}
+
+TEST_F(AdminHttpTest, OversizedHeadersAre431AndClosed) {
+  AdminHttpOptions options;
+  options.max_request_bytes = 1024;
+  start(options);
+  Client client{port_};
+  client.send("GET /metrics HTTP/1.1\r\nHost: x\r\nX-Padding: " + std::string(4000, 'a') +
+              "\r\n\r\n");
+  const std::string response = client.read_to_end();
+  EXPECT_EQ(status_line(response), "HTTP/1.1 431 Request Header Fields Too Large");
+  EXPECT_TRUE(client.closed_by_server());
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Oversized), 1u);
+}
+
+TEST_F(AdminHttpTest, OversizedBodyIs413AndClosed) {
+  AdminHttpOptions options;
+  options.max_request_bytes = 1024;
+  start(options);
+  const std::string response = exchange(
+      "GET /metrics HTTP/1.1\r\nHost: x\r\nContent-Length: 5000\r\n\r\n" + std::string(5000, 'b'));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 413 Payload Too Large");
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Oversized), 1u);
+}
+
+TEST_F(AdminHttpTest, MalformedRequestIs400AndClosed) {
+  start();
+  Client client{port_};
+  client.send("BLAH\r\n\r\n");
+  EXPECT_EQ(status_line(client.read_to_end()), "HTTP/1.1 400 Bad Request");
+  EXPECT_TRUE(client.closed_by_server());
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Malformed), 1u);
+}
+
+TEST_F(AdminHttpTest, SlowRequestIsClosedAtTheDeadline) {
+  AdminHttpOptions options;
+  options.request_timeout = 200ms;
+  start(options);
+  Client client{port_};
+  const auto began = std::chrono::steady_clock::now();
+  client.send("GET /metrics HTTP/1.1\r\nHost: x\r\n");  // never finishes the headers
+  const std::string received = client.read_to_end();
+  const auto waited = std::chrono::steady_clock::now() - began;
+  EXPECT_EQ(received, "");
+  EXPECT_TRUE(client.closed_by_server());
+  EXPECT_GE(waited, 150ms);
+  EXPECT_LT(waited, 2s);
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Timeout), 1u);
+}
+
+TEST_F(AdminHttpTest, IdleKeepAliveConnectionIsClosedAtTheDeadline) {
+  AdminHttpOptions options;
+  options.request_timeout = 200ms;
+  start(options);
+  Client client{port_};
+  client.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(status_line(client.read_response()), "HTTP/1.1 200 OK");
+  EXPECT_EQ(client.read_to_end(), "");
+  EXPECT_TRUE(client.closed_by_server());
+}
+
+TEST_F(AdminHttpTest, ConnectionsAboveTheCapAreClosedAtOnce) {
+  AdminHttpOptions options;
+  options.max_connections = 1;
+  start(options);
+  Client first{port_};
+  first.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(status_line(first.read_response()), "HTTP/1.1 200 OK");  // first is being served
+  Client second{port_};
+  second.send(get("/healthz"));
+  EXPECT_EQ(second.read_to_end(), "");
+  EXPECT_TRUE(second.closed_by_server());
+  EXPECT_EQ(server_->rejected(AdminRejectReason::TooManyConnections), 1u);
+}
+
+TEST_F(AdminHttpTest, StopClosesOpenConnectionsAndTheListener) {
+  start();
+  Client client{port_};
+  client.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(status_line(client.read_response()), "HTTP/1.1 200 OK");
+  server_->stop();
+  EXPECT_EQ(client.read_to_end(), "");
+  EXPECT_TRUE(client.closed_by_server());
+  EXPECT_THROW(Client{port_}, boost::system::system_error);
+}
+
+TEST_F(AdminHttpTest, StartReportsABindError) {
+  start();
+  AdminHttpOptions taken;
+  taken.port = port_;
+  AdminHttp second{io_, taken, metrics_, {}};
+  EXPECT_EQ(second.start(), asio::error::address_in_use);
+}
+
+}  // namespace
+}  // namespace ricochet::server

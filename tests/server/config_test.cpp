@@ -1,0 +1,318 @@
+#include "ricochet/server/config.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace ricochet::server {
+namespace {
+
+/// The repository's root, found from this file's path (CMake passes absolute source paths).
+std::filesystem::path source_root() {
+  return std::filesystem::path{__FILE__}.parent_path().parent_path().parent_path();
+}
+
+/// Runs parse_command_line on "ricochet-server" followed by `args`.
+ParseOutcome parse(std::vector<std::string> args) {
+  args.insert(args.begin(), "ricochet-server");
+  std::vector<const char*> argv;
+  for (const std::string& arg : args) argv.push_back(arg.c_str());
+  return parse_command_line(static_cast<int>(argv.size()), argv.data());
+}
+
+/// A TOML file in the temporary directory, removed at the end of the test.
+class TempFile {
+ public:
+  explicit TempFile(const std::string& text)
+      : path_(std::filesystem::temp_directory_path() /
+              ("ricochet_config_test_" + std::to_string(::getpid()) + "_" +
+               std::to_string(counter_++) + ".toml")) {
+    std::ofstream{path_} << text;
+  }
+  ~TempFile() { std::filesystem::remove(path_); }
+  std::string path() const { return path_.string(); }
+
+ private:
+  static inline int counter_ = 0;
+  std::filesystem::path path_;
+};
+
+std::vector<std::string> problems_of(const std::string& toml) {
+  ServerConfig config;
+  return apply_config_toml(toml, "test.toml", config);
+}
+
+TEST(ServerConfig, DefaultsAreTheDocumentedOnes) {
+  const ServerConfig config;
+  EXPECT_TRUE(config.validate().empty());
+  EXPECT_EQ(config.server.data_dir, "data");
+  EXPECT_EQ(config.server.shutdown_grace_s, 10);
+  EXPECT_EQ(config.control.bind, "0.0.0.0");
+  EXPECT_EQ(config.control.port, 7777);
+  EXPECT_EQ(config.game.port, 7778);
+  EXPECT_EQ(config.admin.bind, "127.0.0.1");
+  EXPECT_EQ(config.admin.port, 9100);
+  EXPECT_EQ(config.game.tick_rate_hz, 60);
+  EXPECT_EQ(config.snapshot_rate_hz(), 60);
+  EXPECT_EQ(config.matches.count, 4);
+  EXPECT_EQ(config.matches.max_players, 16);
+  EXPECT_EQ(config.log.level, LogLevel::Info);
+  EXPECT_EQ(config.log.format, LogFormat::Text);
+  EXPECT_GE(config.worker_threads(), 1);
+  EXPECT_EQ(config.db_file(), "data/ricochet.db");
+  EXPECT_EQ(config.snapshot_budget_bytes(), 1066);  // 512 kbps at 60 Hz
+}
+
+TEST(ServerConfig, SnapshotBudgetFollowsBandwidthAndRate) {
+  ServerConfig config;
+  config.game.snapshot_rate_hz = 20;
+  EXPECT_EQ(config.snapshot_budget_bytes(), ServerConfig::kMaxSnapshotBytes);  // one datagram
+  config.game.bandwidth_kbps_per_client = 64;
+  EXPECT_EQ(config.snapshot_budget_bytes(), 400);
+  EXPECT_TRUE(config.validate().empty());
+}
+
+TEST(ServerConfig, NoArgumentsRunWithTheDefaults) {
+  const ParseOutcome outcome = parse({});
+  ASSERT_TRUE(outcome.config.has_value()) << outcome.text;
+  EXPECT_EQ(outcome.config->game.tick_rate_hz, 60);
+  EXPECT_EQ(render_config_toml(*outcome.config), render_config_toml(ServerConfig{}));
+}
+
+TEST(ServerConfig, FileOverridesDefaultsAndFlagsOverrideTheFile) {
+  const TempFile file{
+      "[game]\ntick_rate_hz = 30\nport = 8000\n[log]\nformat = \"json\"\n[db]\npath = "
+      "\"/var/x.db\"\n"};
+  const ParseOutcome outcome =
+      parse({"--config", file.path(), "--tick-rate-hz", "20", "--log-level", "debug"});
+  ASSERT_TRUE(outcome.config.has_value()) << outcome.text;
+  const ServerConfig& config = *outcome.config;
+  EXPECT_EQ(config.game.tick_rate_hz, 20);  // flag over file
+  EXPECT_EQ(config.game.port, 8000);        // file over default
+  EXPECT_EQ(config.log.format, LogFormat::Json);
+  EXPECT_EQ(config.log.level, LogLevel::Debug);
+  EXPECT_EQ(config.control.port, 7777);  // default
+  EXPECT_EQ(config.db_file(), "/var/x.db");
+}
+
+TEST(ServerConfig, FlagsApplyWithoutAFile) {
+  const ParseOutcome outcome =
+      parse({"--admin-port", "0",      "--control-port", "0",     "--game-port", "0",
+             "--data-dir",   "/tmp/r", "--matches",      "0",     "--map",       "m.map",
+             "--admin-bind", "::1",    "--tls-cert",     "c.pem", "--tls-key",   "k.pem",
+             "--threads",    "3"});
+  ASSERT_TRUE(outcome.config.has_value()) << outcome.text;
+  EXPECT_EQ(outcome.config->admin.port, 0);
+  EXPECT_EQ(outcome.config->admin.bind, "::1");
+  EXPECT_EQ(outcome.config->matches.count, 0);
+  EXPECT_EQ(outcome.config->matches.map, "m.map");
+  EXPECT_EQ(outcome.config->tls.cert_file, "c.pem");
+  EXPECT_EQ(outcome.config->worker_threads(), 3);
+  EXPECT_EQ(outcome.config->db_file(), "/tmp/r/ricochet.db");
+}
+
+TEST(ServerConfig, EveryRangeMessageNamesTheKeyTheRangeAndTheValue) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--tick-rate-hz", "0"}, "game.tick_rate_hz must be 10..128, got 0"},
+      {{"--tick-rate-hz", "129"}, "game.tick_rate_hz must be 10..128, got 129"},
+      {{"--threads", "-1"}, "server.threads must be 0..256, got -1"},
+      {{"--shutdown-grace-s", "0"}, "server.shutdown_grace_s must be 1..300, got 0"},
+      {{"--control-port", "65536"}, "control.port must be 0..65535, got 65536"},
+      {{"--game-port", "-5"}, "game.port must be 0..65535, got -5"},
+      {{"--admin-port", "70000"}, "admin.port must be 0..65535, got 70000"},
+      {{"--max-connections", "0"}, "control.max_connections must be 1..1000000, got 0"},
+      {{"--max-connections-per-address", "0"},
+       "control.max_connections_per_address must be 1..1000000, got 0"},
+      {{"--handshake-timeout-ms", "99"}, "control.handshake_timeout_ms must be 100..60000, got 99"},
+      {{"--frame-timeout-ms", "600001"},
+       "control.frame_timeout_ms must be 100..600000, got 600001"},
+      {{"--idle-timeout-ms", "999"}, "control.idle_timeout_ms must be 1000..3600000, got 999"},
+      {{"--snapshot-rate-hz", "-1"}, "game.snapshot_rate_hz must be 0..128, got -1"},
+      {{"--max-catch-up-steps", "0"}, "game.max_catch_up_steps must be 1..64, got 0"},
+      {{"--max-clients", "0"}, "game.max_clients must be 1..4096, got 0"},
+      {{"--max-half-open", "65537"}, "game.max_half_open must be 1..65536, got 65537"},
+      {{"--address-packets-per-s", "0"}, "game.address_packets_per_s must be 1..1000000, got 0"},
+      {{"--client-packets-per-s", "0"}, "game.client_packets_per_s must be 1..1000000, got 0"},
+      {{"--bandwidth-kbps", "15"}, "game.bandwidth_kbps_per_client must be 16..100000, got 15"},
+      {{"--bandwidth-kbps", "61"},
+       "game.bandwidth_kbps_per_client must be at least 62 at 60 snapshots/s (128 bytes per "
+       "snapshot), got 61"},
+      {{"--matches", "257"}, "matches.count must be 0..256, got 257"},
+      {{"--match-max-players", "65"}, "matches.max_players must be 1..64, got 65"},
+      {{"--data-dir", ""}, "server.data_dir must be non-empty, got \"\""},
+      {{"--db-path", ""}, "db.path must be non-empty, got \"\""},
+      {{"--map", ""}, "matches.map must be non-empty, got \"\""},
+      {{"--control-bind", "localhost"},
+       "control.bind must be an IP address (e.g. 0.0.0.0, 127.0.0.1 or ::), got \"localhost\""},
+      {{"--game-bind", "1.2.3"},
+       "game.bind must be an IP address (e.g. 0.0.0.0, 127.0.0.1 or ::), got \"1.2.3\""},
+      {{"--admin-bind", ""},
+       "admin.bind must be an IP address (e.g. 0.0.0.0, 127.0.0.1 or ::), got \"\""},
+      {{"--log-level", "loud"},
+       "--log-level: log.level must be one of trace|debug|info|warn|error|critical|off, got "
+       "\"loud\""},
+      {{"--log-format", "xml"}, "--log-format: log.format must be one of text|json, got \"xml\""},
+      {{"--tick-rate-hz", "fast"},
+       "--tick-rate-hz: game.tick_rate_hz must be an integer 10..128, got \"fast\""},
+      {{"--tick-rate-hz", "99999999999"},
+       "--tick-rate-hz: game.tick_rate_hz must be 10..128, got 99999999999"},
+      {{"--tick-rate-hz", "30", "--snapshot-rate-hz", "31"},
+       "game.snapshot_rate_hz must be 0..game.tick_rate_hz (30; 0: the tick rate), got 31"},
+      {{"--tls-cert", "c.pem"},
+       "tls.cert_file and tls.key_file must be both set or both empty, got cert_file \"c.pem\" "
+       "and key_file \"\""},
+      {{"--admin-port", "7777"},
+       "admin.port must differ from control.port (both are TCP), got "
+       "7777 for both"},
+      {{"--max-connections", "4"},
+       "control.max_connections_per_address must be 1..control.max_connections (4), got 16"},
+  };
+  for (const auto& [args, message] : cases) {
+    const ParseOutcome outcome = parse(args);
+    EXPECT_FALSE(outcome.config.has_value()) << message;
+    EXPECT_EQ(outcome.exit_code, 2) << message;
+    EXPECT_NE(outcome.text.find(message + "\n"), std::string::npos)
+        << "expected: " << message << "\ngot: " << outcome.text;
+  }
+}
+
+TEST(ServerConfig, ValidateReportsEveryProblemAtOnce) {
+  ServerConfig config;
+  config.game.tick_rate_hz = 0;
+  config.admin.port = -1;
+  config.server.data_dir.clear();
+  EXPECT_EQ(config.validate(), (std::vector<std::string>{
+                                   "server.data_dir must be non-empty, got \"\"",
+                                   "game.tick_rate_hz must be 10..128, got 0",
+                                   "admin.port must be 0..65535, got -1",
+                               }));
+}
+
+TEST(ServerConfig, UnknownKeysAndTablesAreNamed) {
+  EXPECT_EQ(problems_of("[game]\ntickrate = 30\n"),
+            std::vector<std::string>{
+                "test.toml:2:12: unknown key 'game.tickrate' (known keys in [game]: bind, port, "
+                "tick_rate_hz, snapshot_rate_hz, max_catch_up_steps, max_clients, "
+                "max_half_open, address_packets_per_s, client_packets_per_s, "
+                "bandwidth_kbps_per_client)"});
+  EXPECT_EQ(problems_of("[physics]\ngravity = 9\n"),
+            std::vector<std::string>{
+                "test.toml:1:1: unknown key 'physics' (known tables: server, db, tls, control, "
+                "game, matches, admin, log)"});
+  EXPECT_EQ(problems_of("verbose = true\n"),
+            std::vector<std::string>{
+                "test.toml:1:11: unknown key 'verbose' (known tables: server, db, tls, control, "
+                "game, matches, admin, log)"});
+  EXPECT_EQ(problems_of("game = 5\n"),
+            std::vector<std::string>{"test.toml:1:8: 'game' must be a table ([game]), got an "
+                                     "integer"});
+}
+
+TEST(ServerConfig, WrongTypesInTheFileAreNamed) {
+  EXPECT_EQ(problems_of("[game]\ntick_rate_hz = \"fast\"\n"),
+            std::vector<std::string>{
+                "test.toml:2:16: game.tick_rate_hz must be an integer 10..128, got a string"});
+  EXPECT_EQ(problems_of("[game]\ntick_rate_hz = 60.5\n"),
+            std::vector<std::string>{
+                "test.toml:2:16: game.tick_rate_hz must be an integer 10..128, got a float"});
+  EXPECT_EQ(problems_of("[game]\nport = 10000000000\n"),
+            std::vector<std::string>{"test.toml:2:8: game.port must be 0..65535, got 10000000000"});
+  EXPECT_EQ(problems_of("[log]\nlevel = 3\n"),
+            std::vector<std::string>{"test.toml:2:9: log.level must be a string, one of "
+                                     "trace|debug|info|warn|error|critical|off, got an integer"});
+  EXPECT_EQ(problems_of("[log]\nformat = \"yaml\"\n"),
+            std::vector<std::string>{
+                "test.toml:2:10: log.format must be one of text|json, got \"yaml\""});
+  EXPECT_EQ(problems_of("[server]\ndata_dir = [\"a\"]\n"),
+            std::vector<std::string>{
+                "test.toml:2:12: server.data_dir must be a string, non-empty, got an array"});
+}
+
+TEST(ServerConfig, MalformedTomlSaysWhere) {
+  const std::vector<std::string> problems = problems_of("[game]\ntick_rate_hz = = 3\n");
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].rfind("test.toml:2:", 0), 0u) << problems[0];
+  EXPECT_NE(problems[0].find("malformed TOML: "), std::string::npos) << problems[0];
+
+  const TempFile file{"[game\n"};
+  const ParseOutcome outcome = parse({"--config", file.path()});
+  EXPECT_FALSE(outcome.config.has_value());
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.text.find(file.path() + ":1:"), std::string::npos) << outcome.text;
+}
+
+TEST(ServerConfig, MissingFileIsOneProblem) {
+  const ParseOutcome outcome = parse({"--config", "/nonexistent/ricochet.toml"});
+  EXPECT_FALSE(outcome.config.has_value());
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.text.find("cannot read config file \"/nonexistent/ricochet.toml\": No such "
+                              "file or directory\n"),
+            std::string::npos)
+      << outcome.text;
+}
+
+TEST(ServerConfig, HelpListsEveryFlagWithItsDefault) {
+  const ParseOutcome outcome = parse({"--help"});
+  EXPECT_FALSE(outcome.config.has_value());
+  EXPECT_EQ(outcome.exit_code, 0);
+  for (const char* expected :
+       {"--config PATH", "--version", "--print-config", "--tick-rate-hz INT=60",
+        "--control-port INT=7777", "--game-port INT=7778", "--admin-bind ADDRESS=127.0.0.1",
+        "--admin-port INT=9100", "--log-level CHOICE=info", "--log-format CHOICE=text",
+        "--shutdown-grace-s INT=10", "--tls-cert TEXT=\"\"", "--matches INT=4",
+        "--data-dir TEXT=data", "--bandwidth-kbps INT=512", "TOML game.tick_rate_hz"}) {
+    EXPECT_NE(outcome.text.find(expected), std::string::npos) << expected << "\n" << outcome.text;
+  }
+}
+
+TEST(ServerConfig, VersionPrintsTheVersion) {
+  const ParseOutcome outcome = parse({"--version"});
+  EXPECT_FALSE(outcome.config.has_value());
+  EXPECT_EQ(outcome.exit_code, 0);
+  EXPECT_EQ(outcome.text, std::string{"ricochet-server "} + RICOCHET_VERSION + "\n");
+}
+
+TEST(ServerConfig, UnknownFlagIsAUsageError) {
+  const ParseOutcome outcome = parse({"--tickrate", "3"});
+  EXPECT_FALSE(outcome.config.has_value());
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.text.find("--tickrate"), std::string::npos) << outcome.text;
+}
+
+TEST(ServerConfig, PrintConfigShowsTheEffectiveValues) {
+  const ParseOutcome outcome = parse({"--print-config", "--tick-rate-hz", "30"});
+  EXPECT_FALSE(outcome.config.has_value());
+  EXPECT_EQ(outcome.exit_code, 0);
+  EXPECT_NE(outcome.text.find("\ntick_rate_hz = 30\n"), std::string::npos) << outcome.text;
+}
+
+TEST(ServerConfig, RenderedConfigLoadsBackToTheSameValues) {
+  ServerConfig changed;
+  changed.game.tick_rate_hz = 33;
+  changed.server.data_dir = "a \"quoted\" \\ dir";
+  changed.log.format = LogFormat::Json;
+  ServerConfig loaded;
+  EXPECT_TRUE(apply_config_toml(render_config_toml(changed), "rendered", loaded).empty());
+  EXPECT_EQ(render_config_toml(loaded), render_config_toml(changed));
+  EXPECT_EQ(loaded.server.data_dir, changed.server.data_dir);
+}
+
+TEST(ServerConfig, SampleFileDocumentsEveryKeyWithItsDefault) {
+  const std::filesystem::path sample = source_root() / "server/config/ricochet.toml";
+  std::ifstream file{sample};
+  ASSERT_TRUE(file) << sample;
+  std::ostringstream text;
+  text << file.rdbuf();
+  EXPECT_EQ(text.str(), render_config_toml(ServerConfig{}))
+      << "regenerate it: ricochet-server --print-config > server/config/ricochet.toml";
+  ServerConfig loaded;
+  EXPECT_TRUE(apply_config_toml(text.str(), sample.string(), loaded).empty());
+}
+
+}  // namespace
+}  // namespace ricochet::server

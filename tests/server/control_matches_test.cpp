@@ -1,0 +1,152 @@
+// The match side of the control channel through a fake directory: list, create, join (the
+// connect token and keys), chat, leave, match results pushed by the server, and the state table
+// enforced on each.
+
+#include <gtest/gtest.h>
+
+#include "control_test_client.h"
+
+namespace ricochet::server::test {
+namespace {
+
+wire::ClientMessage create(const std::string& name, std::uint32_t max_players) {
+  wire::ClientMessage m;
+  m.mutable_create_match()->set_name(name);
+  m.mutable_create_match()->set_max_players(max_players);
+  return m;
+}
+
+TEST(ControlMatches, ListCreateAndListAgain) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("ada");
+  auto reply = client.request(ControlTestClient::list_matches());
+  ASSERT_EQ(reply.list_matches().matches_size(), 1);
+  EXPECT_EQ(reply.list_matches().matches(0).name(), "arena 1");
+  EXPECT_EQ(reply.list_matches().matches(0).max_players(), 16u);
+
+  reply = client.request(create("duel", 2));
+  ASSERT_TRUE(reply.has_create_match()) << reply.DebugString();
+  EXPECT_EQ(reply.create_match().match().match_id(), 2u);
+  EXPECT_EQ(reply.create_match().match().max_players(), 2u);
+  EXPECT_EQ(client.request(ControlTestClient::list_matches()).list_matches().matches_size(), 2);
+}
+
+TEST(ControlMatches, CreateOutOfRangeIsTheDirectorysError) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("ada");
+  const auto reply = client.request(create("huge", 4'000'000'000u));
+  EXPECT_EQ(reply.error().code(), wire::INVALID_REQUEST) << reply.DebugString();
+  EXPECT_NE(reply.error().message().find("max_players"), std::string::npos);
+}
+
+TEST(ControlMatches, JoinHandsOverTheTokenAndKeys) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("ada");
+  const auto reply = client.request(ControlTestClient::join(1));
+  ASSERT_TRUE(reply.has_join_match()) << reply.DebugString();
+  const wire::JoinMatchReply& join = reply.join_match();
+  EXPECT_EQ(join.match_id(), 1u);
+  EXPECT_EQ(join.udp_port(), 7778u);
+  EXPECT_EQ(join.connect_token(), std::string(64, '\xab'));
+  EXPECT_EQ(join.client_to_server_key(), std::string(32, '\x01'));
+  EXPECT_EQ(join.server_to_client_key(), std::string(32, '\x02'));
+  EXPECT_GT(join.token_expires_in_ms(), 29'000u);
+  EXPECT_LE(join.token_expires_in_ms(), 30'000u);
+  EXPECT_EQ(join.timeout_s(), 5u);
+  EXPECT_EQ(rig.directory().joined_names, (std::vector<std::string>{"ada"}));
+}
+
+TEST(ControlMatches, JoinAnUnknownMatchIsNotFoundAndStaysAuthenticated) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("ada");
+  auto reply = client.request(ControlTestClient::join(99));
+  EXPECT_EQ(reply.error().code(), wire::MATCH_NOT_FOUND);
+  reply = client.request(ControlTestClient::chat("hello"));  // not in a match
+  EXPECT_EQ(reply.error().code(), wire::WRONG_STATE);
+}
+
+TEST(ControlMatches, ChatInAMatchReachesTheDirectoryThenLeave) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("ada");
+  ASSERT_TRUE(client.request(ControlTestClient::join(1)).has_join_match());
+  EXPECT_TRUE(client.request(ControlTestClient::chat("gl hf")).has_chat());
+  EXPECT_EQ(rig.directory().chats_seen(), (std::vector<std::string>{"gl hf"}));
+
+  auto reply = client.request(ControlTestClient::chat(""));
+  EXPECT_EQ(reply.error().code(), wire::INVALID_REQUEST);
+  reply = client.request(ControlTestClient::chat(std::string(257, 'x')));
+  EXPECT_EQ(reply.error().code(), wire::INVALID_REQUEST);
+  EXPECT_NE(reply.error().message().find("got 257"), std::string::npos) << reply.error().message();
+
+  EXPECT_TRUE(client.request(ControlTestClient::leave()).has_leave_match());
+  reply = client.request(ControlTestClient::chat("anyone?"));
+  EXPECT_EQ(reply.error().code(), wire::WRONG_STATE);
+  reply = client.request(ControlTestClient::leave());
+  EXPECT_EQ(reply.error().code(), wire::WRONG_STATE);
+}
+
+TEST(ControlMatches, EveryMatchRequestBeforeLoginIsWrongStateAndCounted) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  const std::vector<wire::ClientMessage> requests = {
+      ControlTestClient::list_matches(), create("x", 2), ControlTestClient::join(1),
+      ControlTestClient::leave(), ControlTestClient::chat("hi")};
+  for (const auto& request : requests) {
+    const auto reply = client.request(request);
+    EXPECT_EQ(reply.error().code(), wire::WRONG_STATE) << request.DebugString();
+    EXPECT_NE(reply.error().message().find("allowed: register, login, resume, ping"),
+              std::string::npos)
+        << reply.error().message();
+  }
+  EXPECT_EQ(rig.refusals(ControlRefusal::WrongState), requests.size());
+  // The connection is still usable.
+  EXPECT_TRUE(client.request(ControlTestClient::ping(1)).has_pong());
+  EXPECT_TRUE(rig.directory().joined_names.empty());
+}
+
+TEST(ControlMatches, RegisterAfterLoginIsWrongState) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("ada");
+  const auto reply = client.request(ControlTestClient::register_account("bob", "password-bob"));
+  EXPECT_EQ(reply.error().code(), wire::WRONG_STATE);
+}
+
+TEST(ControlMatches, MatchResultsReachThePlayerAndEndInMatch) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  const wire::SessionReply session = client.sign_in("ada");
+  ASSERT_TRUE(client.request(ControlTestClient::join(1)).has_join_match());
+
+  wire::ServerMessage results;
+  results.mutable_match_results()->set_match_id(1);
+  auto* player = results.mutable_match_results()->add_players();
+  player->set_account_id(session.account_id());
+  player->set_score(12);
+  rig.server().send_to_account(session.account_id(), results);
+  rig.server().send_to_account(session.account_id() + 1, results);  // nobody: dropped
+
+  const auto pushed = client.receive();
+  ASSERT_TRUE(pushed && pushed->has_match_results());
+  EXPECT_EQ(pushed->request_id(), 0u);
+  EXPECT_EQ(pushed->match_results().players(0).score(), 12);
+  // Back to Authenticated: chat is out of state, joining again is allowed.
+  EXPECT_EQ(client.request(ControlTestClient::chat("gg")).error().code(), wire::WRONG_STATE);
+  EXPECT_TRUE(client.request(ControlTestClient::join(1)).has_join_match());
+}
+
+}  // namespace
+}  // namespace ricochet::server::test

@@ -1,0 +1,431 @@
+#pragma once
+/// The control channel's test rig: a real server (TLS on 127.0.0.1, a port chosen free, a real
+/// DbWorker on a temporary SQLite file at the minimum password cost, a fake match directory)
+/// and a small blocking client with a deadline on every call.
+
+#include <gtest/gtest.h>
+#include <openssl/ssl.h>
+#include <openssl/x509.h>
+#include <stdlib.h>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl.hpp>
+#include <boost/asio/write.hpp>
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "control_server.h"
+#include "match_directory.h"
+#include "ricochet/db/db_worker.h"
+#include "ricochet/db/store.h"
+#include "ricochet/proto/frame.h"
+
+namespace ricochet::server::test {
+
+using namespace std::chrono_literals;
+namespace asio = boost::asio;
+
+/// A directory under $TMPDIR (or /tmp) removed with everything in it when the test ends.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "ricochet-control-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// A match directory that records what it is asked and answers from a small table.
+class FakeDirectory : public MatchDirectory {
+ public:
+  FakeDirectory() { matches_.push_back({1, "arena 1", "ffa", "arena", 0, 16}); }
+
+  std::vector<MatchSummary> list() const override {
+    std::lock_guard lock(mutex_);
+    return matches_;
+  }
+  DirectoryResult<MatchSummary> create(const CreateMatchRequest& request) override {
+    std::lock_guard lock(mutex_);
+    if (request.max_players < 1 || request.max_players > 64) {
+      return DirectoryError{
+          DirectoryErrorCode::InvalidRequest,
+          "max_players must be 1..64, got " + std::to_string(request.max_players)};
+    }
+    MatchSummary summary{static_cast<std::uint32_t>(matches_.size() + 1),
+                         request.name,
+                         "ffa",
+                         request.map.empty() ? "arena" : request.map,
+                         0,
+                         request.max_players};
+    matches_.push_back(summary);
+    return summary;
+  }
+  DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
+                                  std::uint32_t match_id) override {
+    std::lock_guard lock(mutex_);
+    if (match_id == 0 || match_id > matches_.size()) {
+      return DirectoryError{DirectoryErrorCode::MatchNotFound,
+                            "no match " + std::to_string(match_id)};
+    }
+    seated_[account] = match_id;
+    joined_names.push_back(username);
+    JoinGrant grant;
+    grant.match_id = match_id;
+    grant.udp_port = 7778;
+    grant.token.connect_token.assign(64, 0xab);
+    grant.token.client_to_server.fill(1);
+    grant.token.server_to_client.fill(2);
+    grant.token.expires_at = now_us() + 30 * proto::kMicrosPerSecond;
+    grant.token.timeout_s = 5;
+    return grant;
+  }
+  DirectoryResult<Done> leave(std::uint64_t account) override {
+    std::lock_guard lock(mutex_);
+    if (seated_.erase(account) == 0) {
+      return DirectoryError{DirectoryErrorCode::NotInMatch, "not in a match"};
+    }
+    return Done{};
+  }
+  DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) override {
+    std::lock_guard lock(mutex_);
+    if (!seated_.count(account)) {
+      return DirectoryError{DirectoryErrorCode::NotInMatch, "not in a match"};
+    }
+    chats.push_back(text);
+    return Done{};
+  }
+  static proto::TimeUs now_us() {
+    return std::chrono::duration_cast<std::chrono::microseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+  std::vector<std::string> chats_seen() const {
+    std::lock_guard lock(mutex_);
+    return chats;
+  }
+
+  std::vector<std::string> chats;
+  std::vector<std::string> joined_names;
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<MatchSummary> matches_;
+  std::map<std::uint64_t, std::uint32_t> seated_;
+};
+
+/// A server on a thread of its own.
+class ControlRig {
+ public:
+  explicit ControlRig(ControlLimits limits = {}) {
+    db::DbWorkerOptions options;
+    options.accounts.cost = db::PasswordCost::Minimum;
+    auto store = db::open_sqlite_store({.path = (dir_.path() / "ricochet.db").string()});
+    if (!store.ok()) throw std::runtime_error("cannot open the test database");
+    db_ = std::make_unique<db::DbWorker>(std::move(store).value(), options);
+    ControlServerConfig config;
+    config.bind_address = "127.0.0.1";
+    config.port = 0;
+    config.tls.data_dir = dir_.path() / "data";
+    config.limits = limits;
+    server_ = std::make_unique<ControlServer>(io_, config, *db_, directory_);
+    server_->start();
+    thread_ = std::thread([this] { io_.run(); });
+  }
+  ~ControlRig() {
+    server_->stop();
+    // Give the sessions their goodbye, then stop the loop whatever is left.
+    for (int i = 0; i < 300 && server_->connections() > 0; ++i) std::this_thread::sleep_for(10ms);
+    io_.stop();
+    thread_.join();
+    server_.reset();
+    db_->stop();
+  }
+  ControlRig(const ControlRig&) = delete;
+  ControlRig& operator=(const ControlRig&) = delete;
+
+  ControlServer& server() { return *server_; }
+  FakeDirectory& directory() { return directory_; }
+  std::uint16_t port() const { return server_->port(); }
+  std::uint64_t refusals(ControlRefusal refusal) const {
+    return server_->counters().refusals(refusal);
+  }
+  /// Waits until the refusal's counter reaches `at_least` (counters move on the server thread).
+  bool wait_refusals(ControlRefusal refusal, std::uint64_t at_least,
+                     std::chrono::milliseconds limit = 5s) const {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (refusals(refusal) < at_least) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(2ms);
+    }
+    return true;
+  }
+  const std::filesystem::path& dir() const { return dir_.path(); }
+
+ private:
+  TempDir dir_;
+  asio::io_context io_;
+  std::unique_ptr<db::DbWorker> db_;
+  FakeDirectory directory_;
+  std::unique_ptr<ControlServer> server_;
+  std::thread thread_;
+};
+
+/// A blocking client; every call has a deadline, so a test never hangs.
+class ControlTestClient {
+ public:
+  explicit ControlTestClient(std::uint16_t port, int max_tls_version = TLS1_3_VERSION)
+      : port_(port),
+        tls_(asio::ssl::context::tls_client),
+        stream_(io_, make_tls(max_tls_version)) {}
+
+  /// TCP connect only (for plaintext probes).
+  bool connect_tcp(std::chrono::milliseconds limit = 3s) {
+    bool done = false;
+    boost::system::error_code result;
+    stream_.next_layer().async_connect({asio::ip::make_address("127.0.0.1"), port_},
+                                       [&](boost::system::error_code error) {
+                                         result = error;
+                                         done = true;
+                                       });
+    run(done, limit);
+    return done && !result;
+  }
+  /// TCP connect and TLS handshake; true when the server let us in.
+  bool connect(std::chrono::milliseconds limit = 3s) {
+    if (!connect_tcp(limit)) return false;
+    bool done = false;
+    boost::system::error_code result;
+    stream_.async_handshake(asio::ssl::stream_base::client, [&](boost::system::error_code error) {
+      result = error;
+      done = true;
+    });
+    run(done, limit);
+    return done && !result;
+  }
+  /// The server certificate's fingerprint as tls_identity.h formats it.
+  std::string peer_fingerprint() {
+    X509* certificate = SSL_get1_peer_certificate(stream_.native_handle());
+    if (!certificate) return {};
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int size = 0;
+    X509_digest(certificate, EVP_sha256(), digest, &size);
+    X509_free(certificate);
+    std::string text;
+    char pair[4];
+    for (unsigned int i = 0; i < size; ++i) {
+      std::snprintf(pair, sizeof pair, "%02X", digest[i]);
+      if (i) text += ':';
+      text += pair;
+    }
+    return text;
+  }
+  std::string negotiated_version() { return SSL_get_version(stream_.native_handle()); }
+
+  void send(const wire::ClientMessage& message) {
+    std::vector<std::uint8_t> bytes;
+    ASSERT_TRUE(proto::append_frame(message, bytes));
+    send_bytes(bytes);
+  }
+  /// Raw bytes over TLS.
+  void send_bytes(const std::vector<std::uint8_t>& bytes) {
+    bool done = false;
+    asio::async_write(stream_, asio::buffer(bytes),
+                      [&](boost::system::error_code, std::size_t) { done = true; });
+    run(done, 3s);
+  }
+  /// Raw bytes over TCP, no TLS.
+  void send_plain(const std::string& text) {
+    bool done = false;
+    asio::async_write(stream_.next_layer(), asio::buffer(text),
+                      [&](boost::system::error_code, std::size_t) { done = true; });
+    run(done, 3s);
+  }
+
+  /// The next message, or nullopt when the server closed the connection (closed() is then
+  /// true) or nothing came within `limit`.
+  std::optional<wire::ServerMessage> receive(std::chrono::milliseconds limit = 3s) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    std::vector<std::uint8_t> payload;
+    while (true) {
+      const auto status = reader_.next(payload);
+      if (status == proto::FrameReader::Status::Frame) {
+        wire::ServerMessage message;
+        if (proto::parse_server_message(payload, message)) {
+          ADD_FAILURE() << "the server sent a frame that is not a ServerMessage";
+          return std::nullopt;
+        }
+        return message;
+      }
+      if (status == proto::FrameReader::Status::Refused) {
+        ADD_FAILURE() << "the server sent a bad frame";
+        return std::nullopt;
+      }
+      if (closed_) return std::nullopt;
+      const auto left = deadline - std::chrono::steady_clock::now();
+      if (left <= 0s) return std::nullopt;
+      bool done = false;
+      std::array<std::uint8_t, 16384> buffer;
+      stream_.async_read_some(asio::buffer(buffer),
+                              [&](boost::system::error_code error, std::size_t n) {
+                                if (error && error != asio::error::operation_aborted)
+                                  closed_ = true;
+                                reader_.feed(std::span<const std::uint8_t>(buffer.data(), n));
+                                done = true;
+                              });
+      run(done, std::chrono::duration_cast<std::chrono::milliseconds>(left));
+      if (!done) return std::nullopt;
+    }
+  }
+  /// Sends a request numbered by this client and waits for the reply with that number.
+  wire::ServerMessage request(wire::ClientMessage message) {
+    message.set_request_id(++last_request_id_);
+    send(message);
+    auto reply = receive();
+    if (!reply) {
+      ADD_FAILURE() << "no reply to request " << last_request_id_;
+      return {};
+    }
+    EXPECT_EQ(reply->request_id(), last_request_id_);
+    return *reply;
+  }
+  /// Reads until the server closes the connection; true when it did within `limit`.
+  /// Messages that came first are returned through `before`.
+  bool wait_closed(std::chrono::milliseconds limit = 5s,
+                   std::vector<wire::ServerMessage>* before = nullptr) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (!closed_ && std::chrono::steady_clock::now() < deadline) {
+      auto message = receive(std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now()));
+      if (message && before) before->push_back(*message);
+    }
+    return closed_;
+  }
+  /// Raw TCP bytes until the server closes; nullopt when it did not close within `limit`.
+  std::optional<std::size_t> plain_bytes_until_closed(std::chrono::milliseconds limit = 5s) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    std::size_t total = 0;
+    while (std::chrono::steady_clock::now() < deadline) {
+      bool done = false;
+      bool ended = false;
+      std::array<std::uint8_t, 4096> buffer;
+      stream_.next_layer().async_read_some(asio::buffer(buffer),
+                                           [&](boost::system::error_code error, std::size_t n) {
+                                             total += n;
+                                             ended = static_cast<bool>(error);
+                                             done = true;
+                                           });
+      run(done, std::chrono::duration_cast<std::chrono::milliseconds>(
+                    deadline - std::chrono::steady_clock::now()));
+      if (ended) return total;
+      if (!done) return std::nullopt;
+    }
+    return std::nullopt;
+  }
+  bool closed() const { return closed_; }
+
+  // Requests, built.
+  static wire::ClientMessage register_account(const std::string& name, const std::string& pw) {
+    wire::ClientMessage m;
+    m.mutable_register_account()->set_username(name);
+    m.mutable_register_account()->set_password(pw);
+    return m;
+  }
+  static wire::ClientMessage login(const std::string& name, const std::string& pw) {
+    wire::ClientMessage m;
+    m.mutable_login()->set_username(name);
+    m.mutable_login()->set_password(pw);
+    return m;
+  }
+  static wire::ClientMessage resume(const std::string& token) {
+    wire::ClientMessage m;
+    m.mutable_resume()->set_session_token(token);
+    return m;
+  }
+  static wire::ClientMessage ping(std::uint64_t t) {
+    wire::ClientMessage m;
+    m.mutable_ping()->set_client_time_us(t);
+    return m;
+  }
+  static wire::ClientMessage list_matches() {
+    wire::ClientMessage m;
+    m.mutable_list_matches();
+    return m;
+  }
+  static wire::ClientMessage leave() {
+    wire::ClientMessage m;
+    m.mutable_leave_match();
+    return m;
+  }
+  static wire::ClientMessage join(std::uint32_t match) {
+    wire::ClientMessage m;
+    m.mutable_join_match()->set_match_id(match);
+    return m;
+  }
+  static wire::ClientMessage chat(const std::string& text) {
+    wire::ClientMessage m;
+    m.mutable_chat()->set_text(text);
+    return m;
+  }
+  /// Registers (if `fresh`) and logs in; returns the session reply.
+  wire::SessionReply sign_in(const std::string& name, bool fresh = true) {
+    if (fresh) {
+      const auto reply = request(register_account(name, "password-" + name));
+      EXPECT_TRUE(reply.has_register_account()) << reply.DebugString();
+    }
+    const auto reply = request(login(name, "password-" + name));
+    EXPECT_TRUE(reply.has_session()) << reply.DebugString();
+    return reply.session();
+  }
+
+ private:
+  asio::ssl::context& make_tls(int max_version) {
+    SSL_CTX_set_min_proto_version(tls_.native_handle(), TLS1_VERSION);
+    SSL_CTX_set_max_proto_version(tls_.native_handle(), max_version);
+    tls_.set_verify_mode(asio::ssl::verify_none);  // pinned by fingerprint instead
+    return tls_;
+  }
+  /// Runs the client's loop until `done` or `limit`; on timeout, cancels what is pending.
+  void run(bool& done, std::chrono::milliseconds limit) {
+    io_.restart();
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (!done && std::chrono::steady_clock::now() < deadline) io_.run_one_for(5ms);
+    if (!done) {
+      boost::system::error_code ignored;
+      stream_.next_layer().cancel(ignored);
+      io_.restart();
+      io_.run_for(200ms);  // the cancelled handler runs and touches only `done` and locals
+    }
+  }
+
+  std::uint16_t port_;
+  asio::io_context io_;
+  asio::ssl::context tls_;
+  asio::ssl::stream<asio::ip::tcp::socket> stream_;
+  proto::FrameReader reader_;
+  bool closed_ = false;
+  std::uint32_t last_request_id_ = 0;
+};
+
+}  // namespace ricochet::server::test
