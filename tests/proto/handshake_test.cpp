@@ -68,6 +68,26 @@ TEST_F(TransportTest, HandshakeConnectsBothEndsAndEveryReplyIsSmallerThanItsCaus
   EXPECT_EQ(client_transitions[2].to, ConnectionState::Connected);
 }
 
+TEST_F(TransportTest, IPv6ClientsConnectAndDropsAreReportedThroughTheLog) {
+  std::vector<std::pair<DropReason, Address>> dropped;
+  GameServerConfig config = sim::test_server_config();
+  config.log.on_drop = [&](DropReason reason, const Address& from) {
+    dropped.emplace_back(reason, from);
+  };
+  start(config);
+  Address v6;
+  v6.v6 = true;
+  v6.ip = {0x20, 0x01, 0x0d, 0xb8, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
+  v6.port = 443;
+  auto client = connected_client(8, v6, kT0);
+  EXPECT_EQ(server->client_count(), 1u);
+  server->receive(v6, std::vector<std::uint8_t>(40, 0xEE), kT0);
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_EQ(dropped[0].first, DropReason::Malformed);
+  EXPECT_EQ(dropped[0].second, v6);
+  EXPECT_EQ(name(dropped[0].first), "malformed");
+}
+
 TEST_F(TransportTest, LostChallengeAndLostKeepAliveAreRecoveredByResends) {
   GameClient client(sim::connect_info(5, 1, kT0), kT0);
   server->receive(kAlice, client_out(client)[0].bytes, kT0);

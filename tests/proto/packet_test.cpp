@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string_view>
+
 #include "ricochet/proto/connect_token.h"
 
 namespace ricochet::proto {
@@ -137,6 +140,24 @@ TEST(PacketSizes, EveryHandshakeReplyIsSmallerThanTheRequest) {
   EXPECT_LT(challenge, kConnectionRequestBytes);
   EXPECT_LT(denied, kConnectionRequestBytes);
   EXPECT_EQ(kEncryptedHeaderBytes + kMaxBodyBytes + kMacBytes, kMaxDatagramBytes);
+}
+
+template <class Enum>
+std::set<std::string_view> names_of(std::size_t count) {
+  std::set<std::string_view> names;
+  for (std::size_t i = 0; i < count; ++i) names.insert(name(static_cast<Enum>(i)));
+  return names;
+}
+
+TEST(Names, EveryReasonStateAndTypeHasItsOwnMetricLabel) {
+  for (const auto& [names, count] :
+       {std::pair{names_of<DropReason>(kDropReasonCount), kDropReasonCount},
+        std::pair{names_of<DisconnectReason>(kDisconnectReasonCount), kDisconnectReasonCount},
+        std::pair{names_of<ConnectionState>(kConnectionStateCount), kConnectionStateCount},
+        std::pair{names_of<PacketType>(kPacketTypeCount), kPacketTypeCount}}) {
+    EXPECT_EQ(names.size(), count);
+    EXPECT_FALSE(names.contains("unknown")) << "an enum value without its name";
+  }
 }
 
 }  // namespace

@@ -51,6 +51,7 @@ enum class PacketType : std::uint8_t {
   Disconnect = 6,
 };
 inline constexpr std::size_t kPacketTypeCount = 7;
+static_assert(static_cast<std::size_t>(PacketType::Disconnect) + 1 == kPacketTypeCount);
 std::string_view name(PacketType type);
 
 /// A parse result: the value, or why the input was refused.

@@ -41,6 +41,7 @@ enum class DropReason : std::uint8_t {
   ReliableOutOfWindow,  ///< reliable message id too far ahead of the next expected one
 };
 inline constexpr std::size_t kDropReasonCount = 20;
+static_assert(static_cast<std::size_t>(DropReason::ReliableOutOfWindow) + 1 == kDropReasonCount);
 std::string_view name(DropReason reason);
 
 /// Why a connection ended. Carried in the disconnect and denied packets (one byte).
@@ -56,6 +57,7 @@ enum class DisconnectReason : std::uint8_t {
   Kicked,             ///< the server's application removed the client
 };
 inline constexpr std::size_t kDisconnectReasonCount = 9;
+static_assert(static_cast<std::size_t>(DisconnectReason::Kicked) + 1 == kDisconnectReasonCount);
 std::string_view name(DisconnectReason reason);
 
 /// Connection states. Server side per address: Connecting → Challenged → Connected →
@@ -70,6 +72,7 @@ enum class ConnectionState : std::uint8_t {
   Disconnected,
 };
 inline constexpr std::size_t kConnectionStateCount = 6;
+static_assert(static_cast<std::size_t>(ConnectionState::Disconnected) + 1 == kConnectionStateCount);
 std::string_view name(ConnectionState state);
 
 /// One state transition of one connection, reported exactly once.
