@@ -99,6 +99,7 @@ struct GameServer::State {
   std::deque<Transmit> transmits;
   std::deque<ServerEvent> events;
   TransportCounters counters;
+  std::uint64_t resends_of_gone_clients = 0;  ///< keeps counters.reliable_resends monotonic
 
   void drop(DropReason reason, const Address& from) {
     ++counters.drops[static_cast<std::size_t>(reason)];
@@ -183,8 +184,9 @@ void GameServer::State::on_request(const Address& from, std::span<const std::uin
   if (!request.ok()) return drop(*request.error, from);
   if (request.value.protocol_id != config.protocol_id) return drop(DropReason::WrongProtocol, from);
   const ConnectionState state = state_of(from);
-  if (!server_accepts(state, PacketType::ConnectionRequest))
+  if (!server_accepts(state, PacketType::ConnectionRequest)) {
     return drop(DropReason::WrongState, from);
+  }
   auto token =
       open_connect_token(config.token_key, config.protocol_id, request.value.connect_token, now);
   if (!token.ok()) return drop(*token.error, from);
@@ -238,8 +240,9 @@ void GameServer::State::on_handshake_packet(const Address& from, const Encrypted
     return drop(DropReason::WrongState, from);
   }
   std::vector<std::uint8_t> body;
-  if (auto error = handshake.connection.open(header, datagram, body, now))
+  if (auto error = handshake.connection.open(header, datagram, body, now)) {
     return drop(*error, from);
+  }
   auto response = read_challenge_body(body);
   if (!response.ok()) return drop(*response.error, from);
   // The challenge must open under the challenge key, name this token and address, and be this
@@ -351,6 +354,7 @@ void GameServer::State::remove_client(ClientId id, DisconnectReason reason, bool
     }
   }
   ++counters.disconnects[static_cast<std::size_t>(reason)];
+  resends_of_gone_clients += client.connection.reliable_resends();
   transition(client.address, id, ConnectionState::Connected, ConnectionState::Disconnected,
              name(reason));
   events.push_back(ServerDisconnected{id, client.account_id, reason});
@@ -417,9 +421,10 @@ void GameServer::update(TimeUs now) {
   for (auto it = s.address_budgets.begin(); it != s.address_budgets.end();) {
     it = it->second.full(now) ? s.address_budgets.erase(it) : std::next(it);
   }
-  s.counters.reliable_resends = 0;
-  for (const auto& [id, client] : s.clients)
+  s.counters.reliable_resends = s.resends_of_gone_clients;
+  for (const auto& [id, client] : s.clients) {
     s.counters.reliable_resends += client.connection.reliable_resends();
+  }
   s.update_gauges();
 }
 
