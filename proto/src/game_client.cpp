@@ -81,8 +81,9 @@ void GameClient::State::on_handshake_packet(const EncryptedHeader& header,
                                             std::span<const std::uint8_t> datagram, TimeUs now) {
   // Challenge and denied carry server-wide handshake sequences outside the session's replay
   // window; a replayed one is harmless (a second challenge is ignored, denied ends anyway).
-  if ((header.sequence & kHandshakeSequenceBit) == 0)
+  if ((header.sequence & kHandshakeSequenceBit) == 0) {
     return drop(DropReason::Malformed, info.server);
+  }
   std::vector<std::uint8_t> body;
   if (!open_packet(datagram, info.protocol_id, info.grant.server_to_client, body)) {
     return drop(DropReason::ForgedMac, info.server);

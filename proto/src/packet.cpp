@@ -104,10 +104,12 @@ std::vector<std::uint8_t> write_connection_request(std::uint64_t protocol_id,
 }
 
 Parsed<ConnectionRequest> read_connection_request(std::span<const std::uint8_t> datagram) {
-  if (datagram.size() < kConnectionRequestBytes)
+  if (datagram.size() < kConnectionRequestBytes) {
     return refused<ConnectionRequest>(DropReason::Truncated);
-  if (datagram.size() > kConnectionRequestBytes)
+  }
+  if (datagram.size() > kConnectionRequestBytes) {
     return refused<ConnectionRequest>(DropReason::Oversized);
+  }
   ByteReader reader(datagram);
   if (reader.u8() != static_cast<std::uint8_t>(PacketType::ConnectionRequest)) {
     return refused<ConnectionRequest>(DropReason::Malformed);
