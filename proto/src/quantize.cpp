@@ -11,6 +11,8 @@ namespace {
 constexpr double kMaxPositionSteps = 2147483647.0;
 constexpr double kMaxVelocitySteps = 1073741823.0;
 constexpr double kSqrt2 = 1.4142135623730951;
+/// Keeps the codec's prediction products within 64 bits (PROTOCOL.snapshot.md §prediction).
+constexpr std::int64_t kMaxPredictionScale = std::int64_t{1} << 23;
 
 std::int64_t round_clamped(double value, double low, double high) {
   if (!(value == value)) return static_cast<std::int64_t>(low);  // NaN
@@ -54,6 +56,13 @@ std::string QuantizationSpec::validate() const {
   if (orientation_bits < 4 || orientation_bits > 16) {
     return "orientation_bits must be 4..16, got " + std::to_string(orientation_bits);
   }
+  if (!(tick_s > 0 && tick_s <= 1)) {
+    return "tick_s must be in (0, 1] s, got " + std::to_string(tick_s);
+  }
+  if (prediction_scale() > kMaxPredictionScale) {
+    return "velocity_step_mps * tick_s / position_step_m must be <= 128, got " +
+           std::to_string(static_cast<double>(prediction_scale()) / 65536);
+  }
   return {};
 }
 
@@ -64,6 +73,11 @@ std::uint32_t QuantizationSpec::position_steps(int axis) const {
 std::int32_t QuantizationSpec::velocity_limit() const {
   return static_cast<std::int32_t>(
       std::floor(static_cast<double>(max_speed_mps) / velocity_step_mps + 0.5));
+}
+
+std::int64_t QuantizationSpec::prediction_scale() const {
+  return std::llround(65536.0 * static_cast<double>(velocity_step_mps) *
+                      static_cast<double>(tick_s) / static_cast<double>(position_step_m));
 }
 
 QuantizedEntity quantize(const EntityState& state, const QuantizationSpec& spec) {

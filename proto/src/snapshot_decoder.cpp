@@ -143,7 +143,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
     const int order = static_cast<int>(reader.read_bits(layout::kOrderBits));
     std::uint64_t index = 0;
     for (std::uint64_t k = 0; k < removed_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(order);
+      const std::uint64_t gap = layout::read_code(reader, order);
       if (reader.failed()) return refuse(reader_refusal(reader, "a removal"));
       index += gap + (k == 0 ? 0 : 1);
       if (index >= baseline.size()) {
@@ -175,7 +175,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
     const int order = static_cast<int>(reader.read_bits(layout::kOrderBits));
     std::uint64_t id = 0;
     for (std::uint64_t k = 0; k < added_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(order);
+      const std::uint64_t gap = layout::read_code(reader, order);
       if (reader.failed()) return refuse(reader_refusal(reader, "an addition's id"));
       id += gap + (k == 0 ? 0 : 1);
       if (id > 0xFFFFFFFFu) {
@@ -210,13 +210,16 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
   }
   if (changed_count > 0) {
     layout::DeltaOrders orders;
-    orders.gap = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.position = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.velocity = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.orientation = static_cast<int>(reader.read_bits(layout::kOrderBits));
+    auto read_order = [&reader] { return static_cast<int>(reader.read_bits(layout::kOrderBits)); };
+    orders.gap = read_order();
+    for (int& order : orders.velocity) order = read_order();
+    for (int& order : orders.position) order = read_order();
+    orders.orientation = read_order();
+    const layout::Prediction prediction = layout::make_prediction(in.baseline_age(), spec_);
     std::uint64_t index = 0;
+    std::uint8_t previous_mask = layout::kInitialFieldMask;
     for (std::uint64_t k = 0; k < changed_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(orders.gap);
+      const std::uint64_t gap = layout::read_code(reader, orders.gap);
       if (reader.failed()) return refuse(reader_refusal(reader, "a change's gap"));
       index += gap + (k == 0 ? 0 : 1);
       if (index >= kept_count) {
@@ -225,12 +228,12 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
                                                                  ", got " + std::to_string(index)});
       }
       const layout::DeltaStatus status =
-          layout::read_delta(reader, orders, widths, scratch_[index]);
+          layout::read_delta(reader, orders, widths, prediction, previous_mask, scratch_[index]);
       if (reader.failed()) return refuse(reader_refusal(reader, "a change"));
       if (status == layout::DeltaStatus::EmptyChange) {
-        return refuse({SnapshotRejection::EmptyChange,
-                       "expected a changed entity with a non-zero field mask, got 0 for id " +
-                           std::to_string(scratch_[index].id)});
+        return refuse({SnapshotRejection::EmptyChange, "expected a change to entity " +
+                                                           std::to_string(scratch_[index].id) +
+                                                           ", got its baseline state again"});
       }
       if (status == layout::DeltaStatus::OutOfRange) {
         return refuse({SnapshotRejection::ValueOutOfRange,

@@ -141,11 +141,11 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
           velocity_mps += std::fabs(static_cast<double>(now.velocity[a]) - then.velocity[a]) *
                           spec_.velocity_step_mps;
         }
-        const std::uint8_t fields = layout::changed_fields(then, now);
-        const double change_m =
-            kMinimumChange_m + moved_m + velocity_mps * kVelocityHorizon_s +
-            ((fields & layout::kOrientationChanged) ? kOrientationChange_m : 0) +
-            ((fields & layout::kFlagsChanged) ? kFlagsChange_m : 0);
+        const bool turned = then.orientation_largest != now.orientation_largest ||
+                            then.orientation != now.orientation;
+        const double change_m = kMinimumChange_m + moved_m + velocity_mps * kVelocityHorizon_s +
+                                (turned ? kOrientationChange_m : 0) +
+                                (then.flags != now.flags ? kFlagsChange_m : 0);
         add_world_candidate({Candidate::Kind::Changed, static_cast<std::uint32_t>(j),
                              static_cast<std::uint32_t>(i), 0, 0, false},
                             static_cast<float>(change_m));
@@ -156,29 +156,34 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   }
 
   // Orders for the whole set, to estimate each candidate's cost.
+  const layout::Prediction prediction = layout::make_prediction(baseline_age, spec_);
   layout::DeltaOrders orders;
   {
-    std::vector<std::uint64_t> position, velocity, orientation;
+    std::array<std::vector<std::uint64_t>, 3> position, velocity;
+    std::vector<std::uint64_t> orientation;
     for (const Candidate& c : candidates) {
       if (c.kind != Candidate::Kind::Changed) continue;
       const QuantizedEntity& now = world[c.world_index];
       const QuantizedEntity& then = baseline[c.baseline_index];
+      const std::uint8_t fields = layout::changed_fields(then, now, prediction);
+      const std::array<std::int64_t, 3> residual = layout::position_residual(then, now, prediction);
       for (int a = 0; a < 3; ++a) {
-        if (now.position != then.position) {
-          position.push_back(zigzag(static_cast<std::int64_t>(now.position[a]) - then.position[a]));
+        if (fields & layout::kPositionChanged) position[a].push_back(zigzag(residual[a]));
+        if (fields & layout::kVelocityChanged) {
+          velocity[a].push_back(
+              zigzag(static_cast<std::int64_t>(now.velocity[a]) - then.velocity[a]));
         }
-        if (now.velocity != then.velocity) {
-          velocity.push_back(zigzag(static_cast<std::int64_t>(now.velocity[a]) - then.velocity[a]));
-        }
-        if (now.orientation_largest == then.orientation_largest &&
-            now.orientation != then.orientation) {
+        if ((fields & layout::kOrientationChanged) &&
+            now.orientation_largest == then.orientation_largest) {
           orientation.push_back(
               zigzag(static_cast<std::int64_t>(now.orientation[a]) - then.orientation[a]));
         }
       }
     }
-    orders.position = layout::best_order(position);
-    orders.velocity = layout::best_order(velocity);
+    for (int a = 0; a < 3; ++a) {
+      orders.position[a] = layout::best_order(position[a]);
+      orders.velocity[a] = layout::best_order(velocity[a]);
+    }
     orders.orientation = layout::best_order(orientation);
   }
   std::size_t changed_total = 0;
@@ -187,9 +192,9 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
       exp_golomb_bits(changed_total == 0 ? 0 : baseline.size() / changed_total, 0);
   for (Candidate& c : candidates) {
     if (c.kind == Candidate::Kind::Changed) {
-      c.bits =
-          layout::delta_bits(baseline[c.baseline_index], world[c.world_index], orders, widths) +
-          gap_estimate;
+      c.bits = layout::delta_bits(baseline[c.baseline_index], world[c.world_index], orders, widths,
+                                  prediction) +
+               gap_estimate;
     } else if (c.kind == Candidate::Kind::Removed) {
       c.bits = 2 * bits_for_count(baseline.size() + 1) + 1;
     } else {
@@ -199,7 +204,8 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
 
   // Select within the budget: everything when it fits, else greedily by priority.
   const std::size_t header = header_bytes(tick, baseline_age, budget_bytes);
-  const std::size_t fixed_bits = 3 + 6 * layout::kOrderBits + 8;  // counts, orders, padding
+  // Counts, orders and padding.
+  const std::size_t fixed_bits = 3 + (2 + layout::kDeltaOrderCount) * layout::kOrderBits + 8;
   std::size_t budget_bits = budget_bytes > header ? (budget_bytes - header) * 8 : 0;
   budget_bits = budget_bits > fixed_bits ? budget_bits - fixed_bits : 0;
   std::vector<std::uint32_t> by_priority(candidates.size());
@@ -240,7 +246,7 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
     if (!removed_gaps.empty()) {
       const int order = layout::best_order(removed_gaps);
       stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
-      for (const std::uint64_t gap : removed_gaps) stream.write_exp_golomb(gap, order);
+      for (const std::uint64_t gap : removed_gaps) layout::write_code(stream, gap, order);
     }
     // New entities: id gaps, then each one's absolute state.
     std::vector<const QuantizedEntity*> added;
@@ -259,7 +265,7 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
       const int order = layout::best_order(added_gaps);
       stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
       for (std::size_t k = 0; k < added.size(); ++k) {
-        stream.write_exp_golomb(added_gaps[k], order);
+        layout::write_code(stream, added_gaps[k], order);
         layout::write_absolute(stream, *added[k], widths);
       }
     }
@@ -279,13 +285,18 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
     if (!changed.empty()) {
       layout::DeltaOrders chosen = orders;
       chosen.gap = layout::best_order(changed_gaps);
-      for (const int order : {chosen.gap, chosen.position, chosen.velocity, chosen.orientation}) {
+      const std::array<int, layout::kDeltaOrderCount> header_orders{
+          chosen.gap,         chosen.velocity[0], chosen.velocity[1], chosen.velocity[2],
+          chosen.position[0], chosen.position[1], chosen.position[2], chosen.orientation};
+      for (const int order : header_orders) {
         stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
       }
+      std::uint8_t previous_mask = layout::kInitialFieldMask;
       for (std::size_t k = 0; k < changed.size(); ++k) {
-        stream.write_exp_golomb(changed_gaps[k], chosen.gap);
+        layout::write_code(stream, changed_gaps[k], chosen.gap);
         layout::write_delta(stream, baseline[changed[k]->baseline_index],
-                            world[changed[k]->world_index], chosen, widths);
+                            world[changed[k]->world_index], chosen, widths, prediction,
+                            previous_mask);
       }
     }
     if (header + stream.bytes().size() <= budget_bytes || selected_count == 0) break;
