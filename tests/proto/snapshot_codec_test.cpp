@@ -171,6 +171,55 @@ TEST(SnapshotCodec, StarvedEntitiesAreSentSoonerAndTheClientConverges) {
   EXPECT_EQ(decoded(result), world);
 }
 
+/// Entities gliding at constant velocity move exactly as predicted: each costs its run length
+/// and a repeated mask, about two bits, though every one of them changes every tick.
+TEST(SnapshotCodec, ConstantVelocityIsPredictedAndNearlyFree) {
+  const QuantizationSpec spec = test_spec();  // 1 mm, 0.01 m/s, 60 Hz
+  std::vector<QuantizedEntity> world(200);
+  for (std::uint32_t i = 0; i < world.size(); ++i) {
+    world[i].id = i + 1;
+    world[i].position = {1000 + 10 * i, 5000, 20000};
+    world[i].velocity = {600, 0, -300};  // 6 and -3 m/s: 100 and -50 mm per tick
+  }
+  SnapshotEncoder encoder(spec);
+  SnapshotDecoder decoder(spec);
+  wire::Snapshot snapshot;
+  for (std::uint32_t tick = 1; tick <= 120; ++tick) {
+    for (QuantizedEntity& e : world) {
+      e.position[0] += 100;
+      e.position[2] -= 50;
+    }
+    if (tick > 8) encoder.acknowledge(tick - 6);  // 100 ms late
+    encoder.encode(tick, world, kOrigin, kBudget, snapshot);
+    const SnapshotDecodeResult result = decoder.decode(snapshot);
+    ASSERT_TRUE(result.ok) << result.message;
+    if (tick > 20) {
+      ASSERT_EQ(snapshot.baseline_age(), 6u);
+      ASSERT_EQ(encoder.last_report().sent, 200u);
+      ASSERT_EQ(decoded(result), world);
+      EXPECT_LE(snapshot.entities().size() * 8, 200u * 2 + 64) << "tick " << tick;
+    }
+  }
+}
+
+TEST(SnapshotCodec, EveryBudgetHolds) {
+  const QuantizationSpec spec = test_spec();
+  std::mt19937 random(19);
+  std::vector<QuantizedEntity> world = random_world(300, spec, random);
+  SnapshotEncoder encoder(spec);
+  SnapshotDecoder decoder(spec);
+  wire::Snapshot snapshot;
+  for (std::uint32_t tick = 1; tick <= 300; ++tick) {
+    test::perturb(world, spec, random);
+    const std::size_t budget = 16 + random() % 1085;
+    encoder.encode(tick, world, kOrigin, budget, snapshot);
+    ASSERT_LE(snapshot.ByteSizeLong(), budget) << "tick " << tick;
+    ASSERT_EQ(encoder.last_report().bytes, snapshot.ByteSizeLong());
+    ASSERT_TRUE(decoder.decode(snapshot).ok);
+    if (random() % 2 == 0) encoder.acknowledge(tick);
+  }
+}
+
 TEST(SnapshotCodec, AcknowledgementsOfUnknownOrOlderTicksAreIgnored) {
   const QuantizationSpec spec = test_spec();
   std::mt19937 random(16);
