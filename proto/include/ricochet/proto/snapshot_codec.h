@@ -157,7 +157,7 @@ class SnapshotDecoder {
   QuantizationSpec spec_;
   SnapshotDecoderOptions options_;
   std::vector<Decoded> ring_;
-  std::vector<QuantizedEntity> scratch_;
+  std::vector<QuantizedEntity> view_;  ///< the snapshot being decoded
   bool has_newest_ = false;
   std::uint32_t newest_tick_ = 0;
   std::uint64_t accepted_ = 0;
