@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -138,6 +139,41 @@ TEST(SnapshotCodec, TheBudgetHoldsAndTheNearestGoFirst) {
   }
   std::sort(unsent.begin(), unsent.end());
   EXPECT_LT(farthest_sent, unsent[unsent.size() / 2]);
+}
+
+TEST(SnapshotCodec, AtTheSameDistanceTheMostChangedGoFirst) {
+  const QuantizationSpec spec = test_spec();
+  // 200 entities on a ring around the viewer, all at rest and known to the client.
+  std::vector<QuantizedEntity> world(200);
+  for (std::uint32_t i = 0; i < world.size(); ++i) {
+    EntityState state;
+    state.id = i + 1;
+    const float angle = 6.2831853f * static_cast<float>(i) / static_cast<float>(world.size());
+    state.position_m = {10 * std::cos(angle), 1, 10 * std::sin(angle)};
+    world[i] = quantize(state, spec);
+  }
+  SnapshotEncoder encoder(spec);
+  SnapshotDecoder decoder(spec);
+  wire::Snapshot snapshot;
+  std::uint32_t tick = 1;
+  for (; encoder.last_report().pending > 0 || tick == 1; ++tick) {
+    encoder.encode(tick, world, kOrigin, kBudget, snapshot);
+    ASSERT_TRUE(decoder.decode(snapshot).ok);
+    encoder.acknowledge(tick);
+  }
+  // Odd ids move 2 m, even ids 2 cm; the budget holds about a third of them.
+  for (QuantizedEntity& e : world) e.position[1] += e.id % 2 == 1 ? 2000 : 20;
+  encoder.encode(tick, world, kOrigin, 60, snapshot);
+  ASSERT_GT(encoder.last_report().deferred, 0u);
+  const SnapshotDecodeResult result = decoder.decode(snapshot);
+  ASSERT_TRUE(result.ok);
+  int far_moved = 0, near_moved = 0;
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    if (result.entities[i] != world[i]) continue;  // not sent yet
+    (world[i].id % 2 == 1 ? far_moved : near_moved) += 1;
+  }
+  EXPECT_GT(far_moved, 0);
+  EXPECT_EQ(near_moved, 0);
 }
 
 TEST(SnapshotCodec, StarvedEntitiesAreSentSoonerAndTheClientConverges) {
