@@ -14,8 +14,9 @@ constexpr double kSqrt2 = 1.4142135623730951;
 /// Keeps the codec's prediction products within 64 bits (PROTOCOL.snapshot.md §prediction).
 constexpr std::int64_t kMaxPredictionScale = std::int64_t{1} << 23;
 
-std::int64_t round_clamped(double value, double low, double high) {
-  if (!(value == value)) return static_cast<std::int64_t>(low);  // NaN
+/// NaN gives `if_nan`.
+std::int64_t round_clamped(double value, double low, double high, std::int64_t if_nan) {
+  if (!(value == value)) return if_nan;
   return static_cast<std::int64_t>(std::llround(std::clamp(value, low, high)));
 }
 
@@ -89,10 +90,10 @@ QuantizedEntity quantize(const EntityState& state, const QuantizationSpec& spec)
     const double steps =
         (static_cast<double>(state.position_m[a]) - spec.bounds.min_m[a]) / spec.position_step_m;
     out.position[a] = static_cast<std::uint32_t>(
-        round_clamped(steps, 0, static_cast<double>(spec.position_steps(a) - 1)));
+        round_clamped(steps, 0, static_cast<double>(spec.position_steps(a) - 1), 0));
     out.velocity[a] = static_cast<std::int32_t>(
         round_clamped(static_cast<double>(state.velocity_mps[a]) / spec.velocity_step_mps,
-                      -velocity_limit, velocity_limit));
+                      -velocity_limit, velocity_limit, 0));
   }
 
   std::array<double, 4> q{};
@@ -113,7 +114,7 @@ QuantizedEntity quantize(const EntityState& state, const QuantizationSpec& spec)
   for (int i = 0, k = 0; i < 4; ++i) {
     if (i == largest) continue;
     out.orientation[k++] =
-        static_cast<std::int32_t>(round_clamped(q[i] * sign * kSqrt2 * limit, -limit, limit));
+        static_cast<std::int32_t>(round_clamped(q[i] * sign * kSqrt2 * limit, -limit, limit, 0));
   }
   return out;
 }

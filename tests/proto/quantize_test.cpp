@@ -133,7 +133,9 @@ TEST(Quantize, NanAndOutOfBoundsAreClampedNotPropagated) {
   EXPECT_EQ(q.position[0], 0u);
   EXPECT_EQ(q.position[1], spec.position_steps(1) - 1);
   EXPECT_EQ(q.position[2], 0u);
-  EXPECT_EQ(q.velocity[0], -spec.velocity_limit());
+  EXPECT_EQ(q.velocity[0], 0);
+  EXPECT_EQ(q.velocity[1], spec.velocity_limit());
+  EXPECT_EQ(q.velocity[2], -spec.velocity_limit());
   EXPECT_EQ(q.orientation_largest, 3);
   const EntityState back = dequantize(q, spec);
   for (const float c : back.orientation_xyzw) EXPECT_TRUE(std::isfinite(c));

@@ -354,15 +354,17 @@ std::string run(Scene scene, const BenchOptions& options) {
   std::snprintf(
       line, sizeof line,
       "{\"bench\":\"snapshot\",\"scene\":\"%s\",\"entities\":%zu,\"clients\":%d,\"seconds\":%g,"
-      "\"rate_hz\":%d,\"ack_delay_ms\":%d,\"budget_bytes\":%zu,\"bits_per_entity_avg\":%.3f,"
+      "\"rate_hz\":%d,\"ack_delay_ms\":%d,\"budget_bytes\":%zu,\"velocity_step_mps\":%g,"
+      "\"orientation_bits\":%d,\"bits_per_entity_avg\":%.3f,"
       "\"bits_per_entity_p99\":%.3f,\"bits_per_entity_rest\":%.3f,\"bytes_per_snapshot_avg\":%.1f,"
       "\"kbps_per_client\":%.2f,\"encode_us\":%.2f,\"decode_us\":%.2f,"
       "\"pending_per_snapshot\":%.1f,\"moving_per_snapshot\":%.1f,\"mismatches\":%llu,\"deferred_"
       "snapshots\":%llu,"
       "\"refused\":%llu}",
       scene.name.c_str(), scene.bodies.size(), scene.clients, options.seconds, options.rate_hz,
-      options.ack_delay_ms, options.budget_bytes, mean(run_bits), percentile(run_bits, 0.99),
-      mean(rest_bits), run_bytes / snapshots, kbps, encode_us / snapshots, decode_us / snapshots,
+      options.ack_delay_ms, options.budget_bytes, scene.spec.velocity_step_mps,
+      scene.spec.orientation_bits, mean(run_bits), percentile(run_bits, 0.99), mean(rest_bits),
+      run_bytes / snapshots, kbps, encode_us / snapshots, decode_us / snapshots,
       pending / snapshots, moving / snapshots, static_cast<unsigned long long>(mismatches),
       static_cast<unsigned long long>(deferred), static_cast<unsigned long long>(refused));
   return line;
