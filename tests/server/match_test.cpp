@@ -543,6 +543,29 @@ TEST(MatchReplay, TheSameInputsAndTimesGiveTheSameStates) {
   }
 }
 
+TEST_F(MatchFixture, EndingTellsEveryConnectedPlayerAtOnce) {
+  join(11, "ann");
+  join(22, "bob");
+  join(33, "cid");
+  advance(kTickUs);
+  match_.disconnect(33, now_);
+  inboxes_.clear();
+  EXPECT_EQ(match_.chat(11, "bye"), std::nullopt);
+  match_.end(wire::MATCH_END_REASON_SERVER_SHUTDOWN);
+  EXPECT_TRUE(match_.ended());
+  drain();  // no tick needed
+  for (const std::uint64_t account : {11u, 22u}) {
+    const Inbox& inbox = inboxes_[account];
+    ASSERT_EQ(inbox.events.size(), 2u);
+    EXPECT_EQ(inbox.events[0].chat().text(), "bye");
+    EXPECT_EQ(inbox.events[1].match_ended().reason(), wire::MATCH_END_REASON_SERVER_SHUTDOWN);
+    EXPECT_TRUE(inbox.payloads.empty());
+  }
+  EXPECT_TRUE(inboxes_[33].events.empty());
+  EXPECT_EQ(match_.connect(44, "dan"),
+            (std::variant<Joined, JoinRefusal>(JoinRefusal::MatchEnded)));
+}
+
 TEST_F(MatchFixture, TheHistoryKeepsTheLastTicks) {
   join(11, "ann");
   advance(2 * kMicrosPerSecond);
