@@ -500,6 +500,72 @@ TEST(MatchCrowd, SixtyFourPlayersOnSixteenSpawnsRunAroundWithinBounds) {
   EXPECT_EQ(match.counters().snapshots_sent, 64u * 15u);
 }
 
+/// The same joins, payloads and times give the same world, bit for bit: replays are exact.
+TEST(MatchReplay, TheSameInputsAndTimesGiveTheSameStates) {
+  const auto run = [] {
+    auto created = Match::create(MatchConfig{}, sample_map(), kStart);
+    Match match = std::get<Match>(std::move(created));
+    for (std::uint64_t account = 1; account <= 4; ++account) {
+      EXPECT_TRUE(std::holds_alternative<Joined>(match.connect(account, "p")));
+    }
+    TimeUs now = kStart;
+    for (std::uint32_t sequence = 1; sequence <= 120; ++sequence) {
+      for (std::uint64_t account = 1; account <= 4; ++account) {
+        wire::ClientPayload payload;
+        wire::Input& in = *payload.add_inputs();
+        in.set_sequence(sequence);
+        in.set_move_forward(static_cast<int>(sequence * account % 255) - 127);
+        in.set_move_right(static_cast<int>(account * 40) - 100);
+        in.set_yaw(std::remainder(0.05f * static_cast<float>(sequence * account), 6.2831853f));
+        in.set_buttons(sequence % 37 == account ? std::uint32_t{kButtonJump} : 0u);
+        std::vector<std::uint8_t> bytes(payload.ByteSizeLong());
+        payload.SerializeToArray(bytes.data(), static_cast<int>(bytes.size()));
+        match.receive(account, bytes);
+      }
+      now += kTickUs + static_cast<TimeUs>(sequence % 7) * 1000;  // uneven polling
+      match.tick(now);
+      Outgoing out;
+      while (match.poll_outbox(out)) {
+      }
+    }
+    return std::make_pair(match.world().state_hash(),
+                          std::vector<proto::EntityState>(match.entity_states().begin(),
+                                                          match.entity_states().end()));
+  };
+  const auto first = run();
+  const auto second = run();
+  EXPECT_EQ(first.first, second.first);
+  ASSERT_EQ(first.second.size(), 4u);
+  for (std::size_t k = 0; k < first.second.size(); ++k) {
+    EXPECT_EQ(first.second[k].position_m, second.second[k].position_m);
+    EXPECT_EQ(first.second[k].velocity_mps, second.second[k].velocity_mps);
+    EXPECT_EQ(first.second[k].flags, second.second[k].flags);
+  }
+}
+
+TEST_F(MatchFixture, EndingTellsEveryConnectedPlayerAtOnce) {
+  join(11, "ann");
+  join(22, "bob");
+  join(33, "cid");
+  advance(kTickUs);
+  match_.disconnect(33, now_);
+  inboxes_.clear();
+  EXPECT_EQ(match_.chat(11, "bye"), std::nullopt);
+  match_.end(wire::MATCH_END_REASON_SERVER_SHUTDOWN);
+  EXPECT_TRUE(match_.ended());
+  drain();  // no tick needed
+  for (const std::uint64_t account : {11u, 22u}) {
+    const Inbox& inbox = inboxes_[account];
+    ASSERT_EQ(inbox.events.size(), 2u);
+    EXPECT_EQ(inbox.events[0].chat().text(), "bye");
+    EXPECT_EQ(inbox.events[1].match_ended().reason(), wire::MATCH_END_REASON_SERVER_SHUTDOWN);
+    EXPECT_TRUE(inbox.payloads.empty());
+  }
+  EXPECT_TRUE(inboxes_[33].events.empty());
+  EXPECT_EQ(match_.connect(44, "dan"),
+            (std::variant<Joined, JoinRefusal>(JoinRefusal::MatchEnded)));
+}
+
 TEST_F(MatchFixture, TheHistoryKeepsTheLastTicks) {
   join(11, "ann");
   advance(2 * kMicrosPerSecond);

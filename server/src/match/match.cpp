@@ -64,6 +64,8 @@ const char* name(JoinRefusal reason) {
       return "match_full";
     case JoinRefusal::InvalidName:
       return "invalid_name";
+    case JoinRefusal::MatchEnded:
+      return "match_ended";
   }
   return "unknown";
 }
@@ -167,6 +169,7 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
     ++counters_.join_refusals[static_cast<std::size_t>(reason)];
     return reason;
   };
+  if (ended_) return refuse(JoinRefusal::MatchEnded);
   if (name.empty() || name.size() > kMaxPlayerNameBytes || !is_printable_utf8(name)) {
     return refuse(JoinRefusal::InvalidName);
   }
@@ -339,6 +342,15 @@ std::optional<ChatDrop> Match::chat(std::uint64_t account, std::string_view text
   broadcast(event);
   ++counters_.chat_messages;
   return std::nullopt;
+}
+
+void Match::end(wire::MatchEndReason reason) {
+  ended_ = true;
+  wire::GameEvent event;
+  event.mutable_match_ended()->set_reason(reason);
+  broadcast(event);
+  payload_count_ = 0;  // no snapshot goes with it
+  send();
 }
 
 void Match::queue_event(std::uint64_t account, const wire::GameEvent& event) {

@@ -69,8 +69,9 @@ struct MatchConfig {
 enum class JoinRefusal : std::uint8_t {
   MatchFull,    ///< max_players seated (connected or within their grace)
   InvalidName,  ///< not 1..32 bytes of printable UTF-8
+  MatchEnded,   ///< end() was called
 };
-inline constexpr std::size_t kJoinRefusalCount = 2;
+inline constexpr std::size_t kJoinRefusalCount = 3;
 const char* name(JoinRefusal reason);
 
 struct Joined {
@@ -145,6 +146,11 @@ class Match {
   /// A chat line from the account, echoed to every connected player. Returns why it was refused,
   /// or nothing when it was accepted.
   std::optional<ChatDrop> chat(std::uint64_t account, std::string_view text);
+
+  /// Ends the match: every connected player gets a MatchEnded, put in the outbox at once (drain
+  /// it before closing the connections); connect() refuses from now on.
+  void end(wire::MatchEndReason reason);
+  bool ended() const { return ended_; }
 
   // --- the tick ---
   /// Runs the fixed steps due at `now`; after the last, builds and sends the snapshots when one
@@ -247,6 +253,7 @@ class Match {
   std::size_t outbox_read_ = 0;
   TickProfile profile_;
   MatchCounters counters_;
+  bool ended_ = false;
 };
 
 }  // namespace ricochet::server
