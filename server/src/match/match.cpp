@@ -118,6 +118,8 @@ std::variant<Match, std::string> Match::create(const MatchConfig& config, const 
     spec.bounds.min_m[static_cast<std::size_t>(axis)] = static_cast<float>(map.bounds_min_m[axis]);
     spec.bounds.max_m[static_cast<std::size_t>(axis)] = static_cast<float>(map.bounds_max_m[axis]);
   }
+  // The codec predicts positions from velocities over one step of this match's tick.
+  spec.tick_s = 1.0f / static_cast<float>(config.tick.rate_hz);
   if (std::string error = spec.validate(); !error.empty()) {
     return "match quantization (with the bounds of map " + map.name + "): " + error;
   }

@@ -70,7 +70,10 @@ void GameChannel::stop(std::function<void()> done) {
   asio::post(strand_, [this, done = std::move(done)] {
     if (!stopping_) {
       stopping_ = true;
-      transport_.disconnect_all(proto::DisconnectReason::ServerShutdown, steady_now_us());
+      const proto::TimeUs now = steady_now_us();
+      transport_.update(now);  // what the matches queued last (MatchEnded) goes out first
+      drain();
+      transport_.disconnect_all(proto::DisconnectReason::ServerShutdown, now);
       drain();
       publish_counters();
       boost::system::error_code ignored;

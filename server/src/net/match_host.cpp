@@ -67,6 +67,8 @@ void MatchHost::end(std::function<void(db::MatchRecord)> done) {
     const proto::TimeUs now = steady_now_us();
     self->ended_ = true;
     self->timer_.cancel();
+    self->match_.end(wire::MATCH_END_REASON_SERVER_SHUTDOWN);  // MatchEnded to every player
+    self->drain_outbox();
     db::MatchRecord record;
     record.map = self->map_name_;
     record.mode = "ffa";

@@ -51,8 +51,9 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
 
   /// Starts ticking.
   void start();
-  /// Stops ticking and hands over the match's record (every player who played, with the
-  /// seconds they were connected) on the match's strand; players is empty when nobody played.
+  /// Stops ticking, tells the players the match ended (MatchEnded) and hands over the match's
+  /// record (every player who played, with the seconds they were connected) on the match's
+  /// strand; players is empty when nobody played.
   void end(std::function<void(db::MatchRecord)> done);
 
   // Thread-safe; each posts to the match's strand.

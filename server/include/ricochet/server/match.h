@@ -58,7 +58,8 @@ struct MatchConfig {
   int history_ticks = 64;  ///< entity states kept for lag compensation, 1..1024
   MovementConfig movement;
   InputBufferConfig input;
-  /// Quantisation of the snapshots; its bounds are replaced by the map's.
+  /// Quantisation of the snapshots; its bounds are replaced by the map's and its tick_s by the
+  /// tick rate's.
   proto::QuantizationSpec quantization;
 
   /// Empty when valid; otherwise names the field, the allowed range and what came.
