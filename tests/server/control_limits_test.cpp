@@ -194,6 +194,34 @@ TEST(ControlLimits, OverTheMessageRateIsDroppedWithAnError) {
   EXPECT_FALSE(client.closed());
 }
 
+TEST(ControlLimits, ClientThatNeverReadsIsClosed) {
+  ControlLimits limits;
+  limits.messages_per_second = 10'000;
+  limits.message_burst = 10'000;
+  limits.write_timeout_ms = 300;
+  limits.max_outbox_bytes = 256 * 1024;
+  ControlRig rig(limits);
+  for (int i = 0; i < 450; ++i) rig.directory().create({std::string(100, 'm'), 16, ""});
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("ada");
+  std::vector<std::uint8_t> requests;
+  for (int i = 0; i < 400; ++i) {  // ~24 MB of replies, more than loopback buffers take
+    ASSERT_TRUE(proto::append_frame(ControlTestClient::list_matches(), requests));
+  }
+  client.send_bytes(requests);  // and never read
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  while (rig.refusals(ControlRefusal::OutboxFull) + rig.refusals(ControlRefusal::WriteTimeout) ==
+             0 &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(5ms);
+  }
+  EXPECT_EQ(rig.refusals(ControlRefusal::OutboxFull) + rig.refusals(ControlRefusal::WriteTimeout),
+            1u);
+  for (int i = 0; i < 200 && rig.server().connections() > 0; ++i) std::this_thread::sleep_for(5ms);
+  EXPECT_EQ(rig.server().connections(), 0u);
+}
+
 TEST(ControlLimits, StopTellsEveryClientAndCloses) {
   ControlRig rig;
   ControlTestClient client(rig.port());

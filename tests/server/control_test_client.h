@@ -13,6 +13,7 @@
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/ssl.hpp>
 #include <boost/asio/write.hpp>
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -135,7 +136,8 @@ class FakeDirectory : public MatchDirectory {
   std::map<std::uint64_t, std::uint32_t> seated_;
 };
 
-/// A server on a thread of its own.
+/// A server whose io_context runs on two threads of its own (the control server keeps its
+/// state on one strand, so any number of threads must be safe).
 class ControlRig {
  public:
   explicit ControlRig(ControlLimits limits = {}) {
@@ -151,14 +153,14 @@ class ControlRig {
     config.limits = limits;
     server_ = std::make_unique<ControlServer>(io_, config, *db_, directory_);
     server_->start();
-    thread_ = std::thread([this] { io_.run(); });
+    for (auto& thread : threads_) thread = std::thread([this] { io_.run(); });
   }
   ~ControlRig() {
     server_->stop();
     // Give the sessions their goodbye, then stop the loop whatever is left.
     for (int i = 0; i < 300 && server_->connections() > 0; ++i) std::this_thread::sleep_for(10ms);
     io_.stop();
-    thread_.join();
+    for (auto& thread : threads_) thread.join();
     server_.reset();
     db_->stop();
   }
@@ -189,7 +191,7 @@ class ControlRig {
   std::unique_ptr<db::DbWorker> db_;
   FakeDirectory directory_;
   std::unique_ptr<ControlServer> server_;
-  std::thread thread_;
+  std::array<std::thread, 2> threads_;
 };
 
 /// A blocking client; every call has a deadline, so a test never hangs.

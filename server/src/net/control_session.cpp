@@ -369,18 +369,18 @@ void ControlSession::rearm() {
   watchdog_.cancel();
 }
 
+// `self` keeps the session alive for as long as the watchdog runs.
 asio::awaitable<void> ControlSession::watch(std::shared_ptr<ControlSession> self) {
-  while (phase_ != Phase::Ended) {
-    const auto [deadline, expiry] = next_deadline();
+  while (self->phase_ != Phase::Ended) {
+    const Clock::time_point deadline = next_deadline().first;
     watchdog_.expires_at(deadline);
     auto [error] = co_await watchdog_.async_wait(kAsTuple);
     if (phase_ == Phase::Ended) break;
     if (error || Clock::now() < deadline) continue;  // rearmed: recompute
     // The state may have moved on while the expiry was queued; only act on a deadline that
     // still holds.
-    if (next_deadline().first <= Clock::now()) expire(next_deadline().second);
+    if (const auto [due, expiry] = next_deadline(); due <= Clock::now()) expire(expiry);
   }
-  (void)self;
 }
 
 void ControlSession::expire(Expiry expiry) {
