@@ -159,4 +159,42 @@ bool in_range(const QuantizedEntity& entity, const QuantizationSpec& spec) {
   return entity.orientation_largest <= 3;
 }
 
+void to_wire(const QuantizationSpec& spec, wire::Quantization& out) {
+  out.Clear();
+  for (int axis = 0; axis < 3; ++axis) {
+    out.add_bounds_min_m(spec.bounds.min_m[static_cast<std::size_t>(axis)]);
+    out.add_bounds_max_m(spec.bounds.max_m[static_cast<std::size_t>(axis)]);
+  }
+  out.set_position_step_m(spec.position_step_m);
+  out.set_velocity_step_mps(spec.velocity_step_mps);
+  out.set_max_speed_mps(spec.max_speed_mps);
+  out.set_orientation_bits(static_cast<std::uint32_t>(spec.orientation_bits));
+  out.set_tick_s(spec.tick_s);
+}
+
+std::optional<QuantizationSpec> from_wire(const wire::Quantization& in, std::string& error) {
+  if (in.bounds_min_m_size() != 3 || in.bounds_max_m_size() != 3) {
+    error = "quantization bounds must have 3 values each, got " +
+            std::to_string(in.bounds_min_m_size()) + " and " + std::to_string(in.bounds_max_m_size());
+    return std::nullopt;
+  }
+  if (in.orientation_bits() > 16) {
+    error = "quantization orientation_bits must be 4..16, got " + std::to_string(in.orientation_bits());
+    return std::nullopt;
+  }
+  QuantizationSpec spec;
+  for (int axis = 0; axis < 3; ++axis) {
+    spec.bounds.min_m[static_cast<std::size_t>(axis)] = in.bounds_min_m(axis);
+    spec.bounds.max_m[static_cast<std::size_t>(axis)] = in.bounds_max_m(axis);
+  }
+  spec.position_step_m = in.position_step_m();
+  spec.velocity_step_mps = in.velocity_step_mps();
+  spec.max_speed_mps = in.max_speed_mps();
+  spec.orientation_bits = static_cast<int>(in.orientation_bits());
+  spec.tick_s = in.tick_s();
+  error = spec.validate();
+  if (!error.empty()) return std::nullopt;
+  return spec;
+}
+
 }  // namespace ricochet::proto

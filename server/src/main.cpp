@@ -5,6 +5,7 @@
 #include <exception>
 
 #include <boost/asio/io_context.hpp>
+#include <google/protobuf/stubs/logging.h>
 #include <spdlog/spdlog.h>
 
 #include "logging.h"
@@ -20,6 +21,12 @@ int main(int argc, char** argv) {
   }
   const ServerConfig& config = *outcome.config;
   setup_logging(config.log.level, config.log.format);
+  // protobuf complains on stderr about untrusted bytes it parses (invalid UTF-8 in a string
+  // field); those go through our log, at debug, so a client cannot fill the operator's terminal.
+  google::protobuf::SetLogHandler(
+      [](google::protobuf::LogLevel, const char*, int, const std::string& message) {
+        spdlog::debug("protobuf: {}", message);
+      });
   try {
     Server server(config);
     server.start();

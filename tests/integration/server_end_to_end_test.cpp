@@ -2,6 +2,8 @@
 // threads), driven over real loopback sockets: sign in over TLS, join, connect the game channel
 // with the token, play, come back from a new address, and stop gracefully.
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <filesystem>
 #include <memory>
 #include <random>
@@ -14,6 +16,7 @@
 #include "game_test_client.h"
 #include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
+#include "ricochet/proto/snapshot_codec.h"
 #include "ricochet/wire/game.pb.h"
 #include "server.h"
 
@@ -47,16 +50,34 @@ struct Player {
   std::uint32_t sequence = 0;
   wire::ServerPayload newest;  ///< the newest ServerPayload received
   std::uint64_t payloads = 0;
+  std::unique_ptr<proto::SnapshotDecoder> decoder;  ///< from the join reply's quantisation
+  std::vector<proto::EntityState> view;             ///< the newest decoded snapshot
+  std::optional<proto::EntityState> first_self;     ///< own entity in the first decoded snapshot
+
+  std::optional<proto::EntityState> self() const {
+    for (const proto::EntityState& entity : view) {
+      if (entity.id == newest.your_entity_id()) return entity;
+    }
+    return std::nullopt;
+  }
 
   /// Joins `match` over TLS and connects the game channel from a fresh socket.
   void join_and_connect(std::uint32_t match, std::uint16_t game_port) {
     const wire::ServerMessage reply = control.request(ControlTestClient::join(match));
     ASSERT_TRUE(reply.has_join_match()) << reply.DebugString();
     join = reply.join_match();
+    std::string error;
+    const auto spec = proto::from_wire(join.quantization(), error);
+    ASSERT_TRUE(spec) << error;
+    EXPECT_EQ(join.tick_rate_hz(), 60u);
+    decoder = std::make_unique<proto::SnapshotDecoder>(*spec);
+    spec_ = *spec;
     game = std::make_unique<GameTestClient>(join, game_port);
     ASSERT_TRUE(game->pump_until(proto::ConnectionState::Connected, 3s));
   }
   /// Sends one input per 1/60 s (running forward) and reads every payload, for `duration`.
+  proto::QuantizationSpec spec_;
+
   void play_for(std::chrono::milliseconds duration) {
     auto next_input = std::chrono::steady_clock::now();
     game->pump_for(duration, [this, &next_input] {
@@ -66,6 +87,7 @@ struct Player {
         wire::Input* input = payload.add_inputs();
         input->set_sequence(++sequence);
         input->set_move_forward(127);
+        payload.set_ack_snapshot_tick(decoder->has_snapshot() ? decoder->newest_tick() : 0);
         game->send(payload.SerializeAsString());
       }
       for (proto::ClientEvent& event : game->events()) {
@@ -74,6 +96,13 @@ struct Player {
           ASSERT_TRUE(payload.ParseFromArray(bytes->bytes.data(), static_cast<int>(bytes->bytes.size())));
           if (payload.server_tick() >= newest.server_tick()) newest = payload;
           ++payloads;
+          const proto::SnapshotDecodeResult decoded = decoder->decode(payload.snapshot());
+          if (!decoded.ok) continue;  // older than one already decoded
+          view.clear();
+          for (const proto::QuantizedEntity& entity : decoded.entities) {
+            view.push_back(proto::dequantize(entity, spec_));
+          }
+          if (!first_self) first_self = self();
         }
       }
       game->events().clear();
@@ -121,6 +150,18 @@ TEST_F(ServerEndToEnd, TwoPlayersJoinPlayAndTheServerAppliesTheirInputs) {
     EXPECT_LE(player->newest.last_input_sequence(), player->sequence);
   }
   EXPECT_NE(alice->newest.your_entity_id(), bob->newest.your_entity_id());
+  for (Player* player : {alice.get(), bob.get()}) {
+    EXPECT_EQ(player->view.size(), 2u);  // each sees both
+    ASSERT_TRUE(player->first_self && player->self());
+    double moved = 0;
+    for (int axis : {0, 2}) {
+      const double d = player->self()->position_m[axis] - player->first_self->position_m[axis];
+      moved += d * d;
+    }
+    // Running forward at up to 7 m/s for most of 1.4 s (each player's inputs stop while the
+    // other plays): well over a metre.
+    EXPECT_GT(std::sqrt(moved), 1.0);
+  }
   const wire::ServerMessage list = alice->control.request(ControlTestClient::list_matches());
   ASSERT_TRUE(list.has_list_matches());
   EXPECT_EQ(list.list_matches().matches(0).players(), 2);
@@ -152,6 +193,21 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   alice->game->pump_for(500ms);
   ASSERT_EQ(alice->game->transport().state(), proto::ConnectionState::Disconnected);
   EXPECT_EQ(alice->game->transport().disconnect_reason(), proto::DisconnectReason::ServerShutdown);
+  bool told_match_ended = false;
+  for (const proto::ClientEvent& event : alice->game->events()) {
+    if (const auto* reliable = std::get_if<proto::ClientReliable>(&event)) {
+      wire::GameEvent game_event;
+      ASSERT_TRUE(game_event.ParseFromArray(reliable->bytes.data(), static_cast<int>(reliable->bytes.size())));
+      told_match_ended |= game_event.has_match_ended();
+    }
+  }
+  EXPECT_TRUE(told_match_ended);
+  // The results come over the control channel, then SHUTTING_DOWN.
+  const auto results = alice->control.receive(3s);
+  ASSERT_TRUE(results && results->has_match_results()) << (results ? results->DebugString() : "nothing");
+  ASSERT_EQ(results->match_results().players_size(), 1);
+  EXPECT_EQ(results->match_results().players(0).username(), "alice");
+  EXPECT_TRUE(results->match_results().players(0).won());
   EXPECT_EQ(server_->wait(), 0);
   server_.reset();
 

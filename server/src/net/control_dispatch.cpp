@@ -250,6 +250,9 @@ wire::ServerMessage ControlSession::join_match(const wire::JoinMatchRequest& req
   join.set_token_expires_in_ms(static_cast<std::uint32_t>(
       std::min<proto::TimeUs>(left_us / proto::kMicrosPerMilli, UINT32_MAX)));
   join.set_timeout_s(grant.token.timeout_s);
+  proto::to_wire(grant.quantization, *join.mutable_quantization());
+  join.set_tick_rate_hz(static_cast<std::uint32_t>(grant.tick_rate_hz));
+  join.set_snapshot_rate_hz(static_cast<std::uint32_t>(grant.snapshot_rate_hz));
   machine_.transition(proto::ControlState::InMatch,
                       "joined match " + std::to_string(grant.match_id));
   return reply;

@@ -10,6 +10,7 @@
 #include <variant>
 #include <vector>
 
+#include "ricochet/proto/quantize.h"
 #include "ricochet/proto/token_grant.h"
 
 namespace ricochet::server {
@@ -34,6 +35,9 @@ struct JoinGrant {
   std::uint32_t match_id = 0;
   std::uint16_t udp_port = 0;
   proto::TokenGrant token;
+  proto::QuantizationSpec quantization;  ///< what the client builds its snapshot decoder from
+  int tick_rate_hz = 60;
+  int snapshot_rate_hz = 60;
 };
 
 enum class DirectoryErrorCode {

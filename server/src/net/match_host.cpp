@@ -48,6 +48,8 @@ MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel,
       map_name_(match_.map_name()),
       max_players_(match_.max_players()),
       tick_rate_hz_(match_.config().tick.rate_hz),
+      snapshot_rate_hz_(match_.config().snapshot_rate_hz),
+      quantization_(match_.config().quantization),
       started_unix_ms_(unix_now_ms()) {
   // 10 µs .. ~20 ms: a 60 Hz tick has 16.7 ms.
   const std::vector<double> bounds = exponential_buckets(0.00001, 2, 12);
@@ -62,14 +64,16 @@ MatchHost::~MatchHost() = default;
 
 void MatchHost::start() { asio::co_spawn(strand_, tick_loop(), asio::detached); }
 
-void MatchHost::end(std::function<void(db::MatchRecord)> done) {
+void MatchHost::end(std::function<void(EndedMatch)> done) {
   asio::post(strand_, [self = shared_from_this(), done = std::move(done)] {
     const proto::TimeUs now = steady_now_us();
     self->ended_ = true;
     self->timer_.cancel();
     self->match_.end(wire::MATCH_END_REASON_SERVER_SHUTDOWN);  // MatchEnded to every player
     self->drain_outbox();
-    db::MatchRecord record;
+    EndedMatch ended;
+    ended.id = self->id_;
+    db::MatchRecord& record = ended.record;
     record.map = self->map_name_;
     record.mode = "ffa";
     record.started_ms = self->started_unix_ms_;
@@ -84,8 +88,9 @@ void MatchHost::end(std::function<void(db::MatchRecord)> done) {
       result.account = static_cast<db::AccountId>(account);
       result.seconds_played = played.seconds;
       record.players.push_back(result);
+      ended.usernames.push_back(played.username);
     }
-    done(std::move(record));
+    done(std::move(ended));
   });
 }
 
@@ -103,6 +108,7 @@ void MatchHost::connect(std::uint64_t account, std::string name) {
     spdlog::info("match {}: account {} {} as entity {}", self->id_, account,
                  entered.reconnected ? "came back" : "entered", entered.entity_id);
     Played& played = self->played_[account];
+    played.username = name;
     played.seated = true;
     if (played.connected_at == 0) played.connected_at = steady_now_us();
     self->drain_outbox();

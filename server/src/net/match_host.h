@@ -37,6 +37,13 @@ struct MatchHostStats {
   proto::TimeUs last_tick_at = 0;  ///< steady µs of the last tick() call
 };
 
+/// A match that ended: its record for the DB and who played, for their MatchResults.
+struct EndedMatch {
+  std::uint32_t id = 0;
+  db::MatchRecord record;              ///< players empty when nobody played
+  std::vector<std::string> usernames;  ///< one per record.players entry
+};
+
 /// Reported to the owner when a player is no longer in the match (left, refused, or its
 /// reconnect grace ran out), so that its seat can be given to someone else.
 using SeatReleased = std::function<void(std::uint64_t account, std::uint32_t match_id)>;
@@ -54,7 +61,7 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   /// Stops ticking, tells the players the match ended (MatchEnded) and hands over the match's
   /// record (every player who played, with the seconds they were connected) on the match's
   /// strand; players is empty when nobody played.
-  void end(std::function<void(db::MatchRecord)> done);
+  void end(std::function<void(EndedMatch)> done);
 
   // Thread-safe; each posts to the match's strand.
   void connect(std::uint64_t account, std::string name);
@@ -68,10 +75,13 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   const std::string& map_name() const { return map_name_; }
   int max_players() const { return max_players_; }
   int tick_rate_hz() const { return tick_rate_hz_; }
+  int snapshot_rate_hz() const { return snapshot_rate_hz_; }
+  const proto::QuantizationSpec& quantization() const { return quantization_; }
   MatchHostStats stats() const;
 
  private:
   struct Played {
+    std::string username;
     proto::TimeUs connected_at = 0;  ///< 0 while not connected
     double seconds = 0;              ///< connected so far, not counting the current stretch
     bool seated = true;              ///< false once the seat was released
@@ -96,6 +106,8 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   const std::string map_name_;
   const int max_players_;
   const int tick_rate_hz_;
+  const int snapshot_rate_hz_;
+  const proto::QuantizationSpec quantization_;
   db::UnixMillis started_unix_ms_ = 0;
   bool ended_ = false;
   std::unordered_map<std::uint64_t, Played> played_;  ///< everyone who connected, by account

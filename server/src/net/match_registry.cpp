@@ -134,6 +134,9 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
   JoinGrant grant;
   grant.match_id = match_id;
   grant.udp_port = config_.udp_port;
+  grant.quantization = host->second->quantization();
+  grant.tick_rate_hz = host->second->tick_rate_hz();
+  grant.snapshot_rate_hz = host->second->snapshot_rate_hz();
   grant.token = proto::issue_connect_token(config_.token_key, proto::kProtocolId, account,
                                            match_id, now, config_.token_lifetime_us,
                                            config_.token_timeout_s);

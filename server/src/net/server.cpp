@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <future>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -12,6 +13,7 @@
 #include "control_server.h"
 #include "game_channel.h"
 #include "match_registry.h"
+#include "ricochet/wire/control.pb.h"
 #include "ricochet/db/db_worker.h"
 #include "ricochet/db/store.h"
 #include "ricochet/proto/crypto.h"
@@ -208,37 +210,74 @@ void Server::shut_down() {
 
 void Server::end_matches(Clock::time_point deadline) {
   // Each match hands over its record on its own strand.
-  std::vector<std::future<db::MatchRecord>> records;
+  std::vector<std::future<EndedMatch>> ended;
   for (const auto& host : matches_->hosts()) {
-    auto promise = std::make_shared<std::promise<db::MatchRecord>>();
-    records.push_back(promise->get_future());
-    host->end([promise](db::MatchRecord record) { promise->set_value(std::move(record)); });
+    auto promise = std::make_shared<std::promise<EndedMatch>>();
+    ended.push_back(promise->get_future());
+    host->end([promise](EndedMatch match) { promise->set_value(std::move(match)); });
   }
-  std::vector<std::future<bool>> writes;
-  for (auto& future : records) {
+  std::vector<std::future<std::optional<wire::MatchResults>>> written;
+  for (auto& future : ended) {
     if (!wait_until(future, deadline)) continue;
-    db::MatchRecord record = future.get();
-    if (record.players.empty()) continue;
-    auto written = std::make_shared<std::promise<bool>>();
-    writes.push_back(written->get_future());
-    const std::size_t players = record.players.size();
-    db_->submit(
-        [record = std::move(record)](db::DbServices& services) {
-          return services.matches.record_match(record);
-        },
-        [](std::function<void()> completion) { completion(); },  // runs on the DB thread
-        [written, players](db::DbResult<db::MatchId> result) {
-          if (!result) {
-            spdlog::error("stopping: a match record of {} players was refused: {}", players,
-                          result.error().message);
-          } else {
-            spdlog::info("stopping: match record {} written ({} players)", result.value(),
-                         players);
-          }
-          written->set_value(result.ok());
-        });
+    EndedMatch match = future.get();
+    if (match.record.players.empty()) continue;
+    auto promise = std::make_shared<std::promise<std::optional<wire::MatchResults>>>();
+    written.push_back(promise->get_future());
+    db_->submit([match = std::move(match)](db::DbServices& services) { return record(match, services); },
+                [](std::function<void()> completion) { completion(); },  // runs on the DB thread
+                [promise](db::DbResult<wire::MatchResults> result) {
+                  if (!result) {
+                    spdlog::error("stopping: a match record was refused: {}", result.error().message);
+                    promise->set_value(std::nullopt);
+                    return;
+                  }
+                  promise->set_value(std::move(result).value());
+                });
   }
-  for (auto& future : writes) wait_until(future, deadline);
+  // Every player hears its results over the control channel before it closes.
+  for (auto& future : written) {
+    if (!wait_until(future, deadline)) continue;
+    const std::optional<wire::MatchResults> results = future.get();
+    if (!results) continue;
+    for (const wire::PlayerMatchResult& player : results->players()) {
+      wire::ServerMessage message;
+      *message.mutable_match_results() = *results;
+      control_->send_to_account(player.account_id(), std::move(message));
+    }
+  }
+}
+
+db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbServices& services) {
+  const std::vector<db::PlayerResult>& players = match.record.players;
+  std::vector<double> rating_before;
+  for (const db::PlayerResult& player : players) {
+    auto stats = services.matches.player_stats(player.account);
+    if (!stats) return stats.error();
+    rating_before.push_back(stats.value().rating);
+  }
+  auto id = services.matches.record_match(match.record);
+  if (!id) return id.error();
+  spdlog::info("stopping: match {} recorded as {} ({} players)", match.id, id.value(), players.size());
+  int top_score = players.front().score;
+  for (const db::PlayerResult& player : players) top_score = std::max(top_score, player.score);
+  wire::MatchResults results;
+  results.set_match_id(match.id);
+  results.set_map(match.record.map);
+  results.set_mode(match.record.mode);
+  for (std::size_t i = 0; i < players.size(); ++i) {
+    auto after = services.matches.player_stats(players[i].account);
+    if (!after) return after.error();
+    wire::PlayerMatchResult& out = *results.add_players();
+    out.set_account_id(static_cast<std::uint64_t>(players[i].account));
+    out.set_username(match.usernames[i]);
+    out.set_kills(players[i].kills);
+    out.set_deaths(players[i].deaths);
+    out.set_score(players[i].score);
+    out.set_won(players[i].score == top_score);  // ties all win (matches.h)
+    out.set_rating_before(rating_before[i]);
+    out.set_rating_after(after.value().rating);
+  }
+  return results;
 }
 
 }  // namespace ricochet::server

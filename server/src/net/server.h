@@ -24,16 +24,22 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
 #include "ricochet/server/metrics.h"
 
 namespace ricochet::db {
 class DbWorker;
+struct DbServices;
+}
+namespace ricochet::wire {
+class MatchResults;
 }
 
 namespace ricochet::server {
 
 class AdminHttp;
+struct EndedMatch;
 class ControlServer;
 class GameChannel;
 class MatchRegistry;
@@ -68,6 +74,8 @@ class Server {
   /// The graceful stop, on the stopping thread.
   void shut_down();
   void end_matches(std::chrono::steady_clock::time_point deadline);
+  /// On the DB thread: writes one ended match and reads back its players' ratings.
+  static db::DbResult<wire::MatchResults> record(const EndedMatch& match, db::DbServices& services);
   void register_metrics();
 
   ServerConfig config_;

@@ -12,7 +12,10 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
+
+#include "ricochet/wire/snapshot.pb.h"
 
 namespace ricochet::proto {
 
@@ -47,6 +50,12 @@ struct QuantizationSpec {
   /// round(65536 * velocity_step_mps * tick_s / position_step_m), computed in double.
   std::int64_t prediction_scale() const;
 };
+
+/// The spec as the JoinMatchReply carries it.
+void to_wire(const QuantizationSpec& spec, wire::Quantization& out);
+/// Reads a spec from untrusted bytes: nullopt (with `error` set to what is wrong) when a bound is
+/// missing or the spec does not validate.
+std::optional<QuantizationSpec> from_wire(const wire::Quantization& in, std::string& error);
 
 /// What the server sends of one entity, as read from its simulation.
 struct EntityState {
