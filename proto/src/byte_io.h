@@ -16,7 +16,9 @@ class ByteWriter {
   void u16(std::uint16_t value) { unsigned_le(value, 2); }
   void u32(std::uint32_t value) { unsigned_le(value, 4); }
   void u64(std::uint64_t value) { unsigned_le(value, 8); }
-  void bytes(std::span<const std::uint8_t> data) { out_.insert(out_.end(), data.begin(), data.end()); }
+  void bytes(std::span<const std::uint8_t> data) {
+    out_.insert(out_.end(), data.begin(), data.end());
+  }
 
  private:
   void unsigned_le(std::uint64_t value, int count) {

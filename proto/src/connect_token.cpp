@@ -7,17 +7,6 @@
 #include "byte_io.h"
 
 namespace ricochet::proto {
-namespace {
-
-std::array<std::uint8_t, kVersionBytes + 8> token_ad(std::uint64_t protocol_id) {
-  std::array<std::uint8_t, kVersionBytes + 8> ad{};
-  std::copy(kVersionInfo.begin(), kVersionInfo.end(), ad.begin());
-  for (int i = 0; i < 8; ++i) ad[kVersionBytes + i] = static_cast<std::uint8_t>(protocol_id >> (8 * i));
-  return ad;
-}
-
-}  // namespace
-
 std::vector<std::uint8_t> encode_connect_token_plaintext(const ConnectTokenContents& contents) {
   std::vector<std::uint8_t> out;
   out.reserve(kConnectTokenPlainBytes);
@@ -73,8 +62,8 @@ TokenGrant issue_connect_token(const Key& token_key, std::uint64_t protocol_id,
   XNonce nonce;
   fill_random(nonce);
   grant.connect_token.assign(nonce.begin(), nonce.end());
-  seal_xchacha(encode_connect_token_plaintext(contents), token_ad(protocol_id), nonce, token_key,
-               grant.connect_token);
+  seal_xchacha(encode_connect_token_plaintext(contents), version_and_protocol(protocol_id), nonce,
+               token_key, grant.connect_token);
   grant.client_to_server = contents.client_to_server;
   grant.server_to_client = contents.server_to_client;
   grant.expires_at = contents.expires_at;
@@ -92,7 +81,8 @@ Parsed<OpenedConnectToken> open_connect_token(const Key& token_key, std::uint64_
   XNonce nonce;
   std::copy_n(token.begin(), kXNonceBytes, nonce.begin());
   std::vector<std::uint8_t> plain;
-  if (!open_xchacha(token.subspan(kXNonceBytes), token_ad(protocol_id), nonce, token_key, plain)) {
+  if (!open_xchacha(token.subspan(kXNonceBytes), version_and_protocol(protocol_id), nonce,
+                    token_key, plain)) {
     out.error = DropReason::TokenInvalid;
     return out;
   }

@@ -16,8 +16,8 @@
 namespace ricochet::proto {
 
 struct ConnectionTiming {
-  TimeUs timeout_us = 5 * kMicrosPerSecond;         ///< silence after which the peer is gone
-  TimeUs keep_alive_us = 100 * kMicrosPerMilli;     ///< send something at least this often
+  TimeUs timeout_us = 5 * kMicrosPerSecond;      ///< silence after which the peer is gone
+  TimeUs keep_alive_us = 100 * kMicrosPerMilli;  ///< send something at least this often
   TimeUs reliable_resend_us = 100 * kMicrosPerMilli;
   std::size_t max_reliable_pending = 256;
 };

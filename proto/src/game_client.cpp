@@ -5,12 +5,6 @@
 #include "ricochet/proto/transport_states.h"
 
 namespace ricochet::proto {
-namespace {
-
-constexpr int kDisconnectCopies = 3;
-
-}  // namespace
-
 struct GameClient::State {
   ClientConnectInfo info;
   GameClientConfig config;
@@ -54,6 +48,15 @@ struct GameClient::State {
     enter(ConnectionState::Disconnected, name(why));
     events.push_back(ClientDisconnected{why});
   }
+  /// This end's decision to stop: tells the server when connected, then ends.
+  void leave(DisconnectReason why, TimeUs now) {
+    if (state == ConnectionState::Connected) {
+      for (int copy = 0; copy < kDisconnectCopies; ++copy) {
+        send(connection.make_disconnect(why, now));
+      }
+    }
+    end(why);
+  }
   void send_handshake(TimeUs now) {
     last_handshake_send = now;
     if (state == ConnectionState::SendingRequest) {
@@ -78,7 +81,9 @@ void GameClient::State::on_handshake_packet(const EncryptedHeader& header,
                                             std::span<const std::uint8_t> datagram, TimeUs now) {
   // Challenge and denied carry server-wide handshake sequences outside the session's replay
   // window; a replayed one is harmless (a second challenge is ignored, denied ends anyway).
-  if ((header.sequence & kHandshakeSequenceBit) == 0) return drop(DropReason::Malformed, info.server);
+  if ((header.sequence & kHandshakeSequenceBit) == 0) {
+    return drop(DropReason::Malformed, info.server);
+  }
   std::vector<std::uint8_t> body;
   if (!open_packet(datagram, info.protocol_id, info.grant.server_to_client, body)) {
     return drop(DropReason::ForgedMac, info.server);
@@ -209,32 +214,29 @@ bool GameClient::send_reliable(std::span<const std::uint8_t> message, TimeUs now
     return false;
   }
   if (s.connection.queue_reliable(message)) return true;
-  if (s.state == ConnectionState::Connected) {
-    for (int copy = 0; copy < kDisconnectCopies; ++copy) {
-      s.send(s.connection.make_disconnect(DisconnectReason::ReliableOverflow, now));
-    }
-  }
-  s.end(DisconnectReason::ReliableOverflow);
+  s.leave(DisconnectReason::ReliableOverflow, now);
   return false;
 }
 
 void GameClient::disconnect(TimeUs now) {
-  State& s = *state_;
-  if (s.state == ConnectionState::Disconnected) return;
-  if (s.state == ConnectionState::Connected) {
-    for (int copy = 0; copy < kDisconnectCopies; ++copy) {
-      s.send(s.connection.make_disconnect(DisconnectReason::Requested, now));
-    }
-  }
-  s.end(DisconnectReason::Requested);
+  if (state_->state != ConnectionState::Disconnected)
+    state_->leave(DisconnectReason::Requested, now);
 }
 
-ConnectionState GameClient::state() const { return state_->state; }
+ConnectionState GameClient::state() const {
+  return state_->state;
+}
 
-std::optional<DisconnectReason> GameClient::disconnect_reason() const { return state_->reason; }
+std::optional<DisconnectReason> GameClient::disconnect_reason() const {
+  return state_->reason;
+}
 
-TimeUs GameClient::rtt_us() const { return state_->connection.rtt_us(); }
+TimeUs GameClient::rtt_us() const {
+  return state_->connection.rtt_us();
+}
 
-const TransportCounters& GameClient::counters() const { return state_->counters; }
+const TransportCounters& GameClient::counters() const {
+  return state_->counters;
+}
 
 }  // namespace ricochet::proto

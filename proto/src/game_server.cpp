@@ -14,9 +14,6 @@
 namespace ricochet::proto {
 namespace {
 
-/// Disconnect packets are sent this many times: the last word should arrive despite loss.
-constexpr int kDisconnectCopies = 3;
-
 struct TokenMacHash {
   std::size_t operator()(const TokenMac& mac) const noexcept {
     std::uint64_t value;
@@ -102,13 +99,14 @@ struct GameServer::State {
   std::deque<Transmit> transmits;
   std::deque<ServerEvent> events;
   TransportCounters counters;
+  std::uint64_t resends_of_gone_clients = 0;  ///< keeps counters.reliable_resends monotonic
 
   void drop(DropReason reason, const Address& from) {
     ++counters.drops[static_cast<std::size_t>(reason)];
     if (config.log.on_drop) config.log.on_drop(reason, from);
   }
-  void transition(const Address& address, ClientId client, ConnectionState from,
-                  ConnectionState to, std::string_view reason) {
+  void transition(const Address& address, ClientId client, ConnectionState from, ConnectionState to,
+                  std::string_view reason) {
     if (config.log.on_transition) config.log.on_transition({address, client, from, to, reason});
   }
   void send(const Address& to, std::vector<std::uint8_t> bytes) {
@@ -186,9 +184,11 @@ void GameServer::State::on_request(const Address& from, std::span<const std::uin
   if (!request.ok()) return drop(*request.error, from);
   if (request.value.protocol_id != config.protocol_id) return drop(DropReason::WrongProtocol, from);
   const ConnectionState state = state_of(from);
-  if (!server_accepts(state, PacketType::ConnectionRequest)) return drop(DropReason::WrongState, from);
-  auto token = open_connect_token(config.token_key, config.protocol_id,
-                                  request.value.connect_token, now);
+  if (!server_accepts(state, PacketType::ConnectionRequest)) {
+    return drop(DropReason::WrongState, from);
+  }
+  auto token =
+      open_connect_token(config.token_key, config.protocol_id, request.value.connect_token, now);
   if (!token.ok()) return drop(*token.error, from);
   const TokenMac& mac = token.value.mac;
   if (auto used = used_tokens.find(mac);
@@ -200,7 +200,8 @@ void GameServer::State::on_request(const Address& from, std::span<const std::uin
     send_challenge(from, existing->second);  // the challenge was lost: same one again
     return;
   }
-  if (existing == handshakes.end() && handshakes.size() >= static_cast<std::size_t>(config.max_half_open)) {
+  if (existing == handshakes.end() &&
+      handshakes.size() >= static_cast<std::size_t>(config.max_half_open)) {
     return drop(DropReason::HalfOpenCap, from);
   }
   const ConnectTokenContents& contents = token.value.contents;
@@ -214,8 +215,10 @@ void GameServer::State::on_request(const Address& from, std::span<const std::uin
     handshakes.erase(existing);
   }
   used_tokens[mac] = {from, contents.expires_at, false};
-  Handshake handshake{contents, mac,
-                      now + static_cast<TimeUs>(contents.timeout_s) * kMicrosPerSecond, {},
+  Handshake handshake{contents,
+                      mac,
+                      now + static_cast<TimeUs>(contents.timeout_s) * kMicrosPerSecond,
+                      {},
                       Connection(config.protocol_id, contents.server_to_client,
                                  contents.client_to_server, timing(contents.timeout_s), now)};
   handshake.challenge.challenge_sequence = challenge_sequence++;
@@ -237,12 +240,17 @@ void GameServer::State::on_handshake_packet(const Address& from, const Encrypted
     return drop(DropReason::WrongState, from);
   }
   std::vector<std::uint8_t> body;
-  if (auto error = handshake.connection.open(header, datagram, body, now)) return drop(*error, from);
+  if (auto error = handshake.connection.open(header, datagram, body, now)) {
+    return drop(*error, from);
+  }
   auto response = read_challenge_body(body);
   if (!response.ok()) return drop(*response.error, from);
+  // The challenge must open under the challenge key, name this token and address, and be this
+  // handshake's own (an older handshake's challenge, replayed, has another sequence).
   std::vector<std::uint8_t> plain;
-  if (!open_chacha(response.value.challenge_token, kVersionInfo,
-                   response.value.challenge_sequence, challenge_key, plain) ||
+  if (response.value.challenge_sequence != handshake.challenge.challenge_sequence ||
+      !open_chacha(response.value.challenge_token, kVersionInfo, response.value.challenge_sequence,
+                   challenge_key, plain) ||
       plain != challenge_plaintext(handshake, from)) {
     return drop(DropReason::ChallengeInvalid, from);
   }
@@ -265,7 +273,11 @@ void GameServer::State::complete_handshake(const Address& from, Handshake& hands
   }
   used_tokens[handshake.mac].connected = true;
   const ClientId id = next_client++;
-  Client client{id, from, account_id, handshake.token.match_id, std::move(handshake.connection),
+  Client client{id,
+                from,
+                account_id,
+                handshake.token.match_id,
+                std::move(handshake.connection),
                 TokenBucket(config.client_packets_per_s, config.client_burst, now)};
   handshakes.erase(from);
   address_budgets.erase(from);
@@ -342,6 +354,7 @@ void GameServer::State::remove_client(ClientId id, DisconnectReason reason, bool
     }
   }
   ++counters.disconnects[static_cast<std::size_t>(reason)];
+  resends_of_gone_clients += client.connection.reliable_resends();
   transition(client.address, id, ConnectionState::Connected, ConnectionState::Disconnected,
              name(reason));
   events.push_back(ServerDisconnected{id, client.account_id, reason});
@@ -408,8 +421,10 @@ void GameServer::update(TimeUs now) {
   for (auto it = s.address_budgets.begin(); it != s.address_budgets.end();) {
     it = it->second.full(now) ? s.address_budgets.erase(it) : std::next(it);
   }
-  s.counters.reliable_resends = 0;
-  for (const auto& [id, client] : s.clients) s.counters.reliable_resends += client.connection.reliable_resends();
+  s.counters.reliable_resends = s.resends_of_gone_clients;
+  for (const auto& [id, client] : s.clients) {
+    s.counters.reliable_resends += client.connection.reliable_resends();
+  }
   s.update_gauges();
 }
 
@@ -455,15 +470,21 @@ void GameServer::disconnect_all(DisconnectReason reason, TimeUs now) {
   for (ClientId id : ids) state_->remove_client(id, reason, true, now);
 }
 
-bool GameServer::connected(ClientId client) const { return state_->clients.contains(client); }
+bool GameServer::connected(ClientId client) const {
+  return state_->clients.contains(client);
+}
 
-std::size_t GameServer::client_count() const { return state_->clients.size(); }
+std::size_t GameServer::client_count() const {
+  return state_->clients.size();
+}
 
 TimeUs GameServer::rtt_us(ClientId client) const {
   auto it = state_->clients.find(client);
   return it == state_->clients.end() ? 0 : it->second.connection.rtt_us();
 }
 
-const TransportCounters& GameServer::counters() const { return state_->counters; }
+const TransportCounters& GameServer::counters() const {
+  return state_->counters;
+}
 
 }  // namespace ricochet::proto

@@ -8,25 +8,28 @@
 namespace ricochet::proto {
 namespace {
 
-std::array<std::uint8_t, kVersionBytes + 8 + 1> packet_ad(std::uint64_t protocol_id,
-                                                          std::uint8_t type) {
-  std::array<std::uint8_t, kVersionBytes + 8 + 1> ad{};
-  std::copy(kVersionInfo.begin(), kVersionInfo.end(), ad.begin());
-  for (int i = 0; i < 8; ++i) ad[kVersionBytes + i] = static_cast<std::uint8_t>(protocol_id >> (8 * i));
-  ad[kVersionBytes + 8] = type;
+std::vector<std::uint8_t> packet_ad(std::uint64_t protocol_id, std::uint8_t type) {
+  std::vector<std::uint8_t> ad = version_and_protocol(protocol_id);
+  ad.push_back(type);
   return ad;
 }
 
 /// Smallest body each encrypted type can have (the request is handled apart).
 std::size_t min_body_bytes(PacketType type) {
   switch (type) {
-    case PacketType::ConnectionRequest: return kConnectionRequestBytes;
-    case PacketType::ConnectionDenied: return 1;
+    case PacketType::ConnectionRequest:
+      return kConnectionRequestBytes;
+    case PacketType::ConnectionDenied:
+      return 1;
     case PacketType::Challenge:
-    case PacketType::Response: return 8 + kChallengeTokenBytes;
-    case PacketType::KeepAlive: return kAckHeaderBytes;
-    case PacketType::Payload: return kPayloadFixedBytes;
-    case PacketType::Disconnect: return kAckHeaderBytes + 1;
+    case PacketType::Response:
+      return 8 + kChallengeTokenBytes;
+    case PacketType::KeepAlive:
+      return kAckHeaderBytes;
+    case PacketType::Payload:
+      return kPayloadFixedBytes;
+    case PacketType::Disconnect:
+      return kAckHeaderBytes + 1;
   }
   return 0;
 }
@@ -57,15 +60,31 @@ std::optional<DisconnectReason> disconnect_reason_from(std::uint8_t byte) {
 
 }  // namespace
 
+std::vector<std::uint8_t> version_and_protocol(std::uint64_t protocol_id) {
+  std::vector<std::uint8_t> out;
+  out.reserve(kVersionBytes + 8 + 1);  // + 1: room for the packet's type byte
+  ByteWriter writer(out);
+  writer.bytes(kVersionInfo);
+  writer.u64(protocol_id);
+  return out;
+}
+
 std::string_view name(PacketType type) {
   switch (type) {
-    case PacketType::ConnectionRequest: return "connection_request";
-    case PacketType::ConnectionDenied: return "connection_denied";
-    case PacketType::Challenge: return "challenge";
-    case PacketType::Response: return "response";
-    case PacketType::KeepAlive: return "keep_alive";
-    case PacketType::Payload: return "payload";
-    case PacketType::Disconnect: return "disconnect";
+    case PacketType::ConnectionRequest:
+      return "connection_request";
+    case PacketType::ConnectionDenied:
+      return "connection_denied";
+    case PacketType::Challenge:
+      return "challenge";
+    case PacketType::Response:
+      return "response";
+    case PacketType::KeepAlive:
+      return "keep_alive";
+    case PacketType::Payload:
+      return "payload";
+    case PacketType::Disconnect:
+      return "disconnect";
   }
   return "unknown";
 }
@@ -85,8 +104,12 @@ std::vector<std::uint8_t> write_connection_request(std::uint64_t protocol_id,
 }
 
 Parsed<ConnectionRequest> read_connection_request(std::span<const std::uint8_t> datagram) {
-  if (datagram.size() < kConnectionRequestBytes) return refused<ConnectionRequest>(DropReason::Truncated);
-  if (datagram.size() > kConnectionRequestBytes) return refused<ConnectionRequest>(DropReason::Oversized);
+  if (datagram.size() < kConnectionRequestBytes) {
+    return refused<ConnectionRequest>(DropReason::Truncated);
+  }
+  if (datagram.size() > kConnectionRequestBytes) {
+    return refused<ConnectionRequest>(DropReason::Oversized);
+  }
   ByteReader reader(datagram);
   if (reader.u8() != static_cast<std::uint8_t>(PacketType::ConnectionRequest)) {
     return refused<ConnectionRequest>(DropReason::Malformed);
@@ -134,8 +157,8 @@ std::vector<std::uint8_t> seal_packet(PacketType type, std::uint64_t sequence,
   return out;
 }
 
-bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id,
-                 const Key& key, std::vector<std::uint8_t>& body) {
+bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id, const Key& key,
+                 std::vector<std::uint8_t>& body) {
   if (datagram.size() < kEncryptedHeaderBytes + kMacBytes) return false;
   ByteReader reader(datagram.subspan(1, 8));
   const std::uint64_t sequence = reader.u64();

@@ -11,9 +11,12 @@ namespace {
 constexpr double kMaxPositionSteps = 2147483647.0;
 constexpr double kMaxVelocitySteps = 1073741823.0;
 constexpr double kSqrt2 = 1.4142135623730951;
+/// Keeps the codec's prediction products within 64 bits (PROTOCOL.snapshot.md §prediction).
+constexpr std::int64_t kMaxPredictionScale = std::int64_t{1} << 23;
 
-std::int64_t round_clamped(double value, double low, double high) {
-  if (!(value == value)) return static_cast<std::int64_t>(low);  // NaN
+/// NaN gives `if_nan`.
+std::int64_t round_clamped(double value, double low, double high, std::int64_t if_nan) {
+  if (!(value == value)) return if_nan;
   return static_cast<std::int64_t>(std::llround(std::clamp(value, low, high)));
 }
 
@@ -54,6 +57,13 @@ std::string QuantizationSpec::validate() const {
   if (orientation_bits < 4 || orientation_bits > 16) {
     return "orientation_bits must be 4..16, got " + std::to_string(orientation_bits);
   }
+  if (!(tick_s > 0 && tick_s <= 1)) {
+    return "tick_s must be in (0, 1] s, got " + std::to_string(tick_s);
+  }
+  if (prediction_scale() > kMaxPredictionScale) {
+    return "velocity_step_mps * tick_s / position_step_m must be <= 128, got " +
+           std::to_string(static_cast<double>(prediction_scale()) / 65536);
+  }
   return {};
 }
 
@@ -66,6 +76,11 @@ std::int32_t QuantizationSpec::velocity_limit() const {
       std::floor(static_cast<double>(max_speed_mps) / velocity_step_mps + 0.5));
 }
 
+std::int64_t QuantizationSpec::prediction_scale() const {
+  return std::llround(65536.0 * static_cast<double>(velocity_step_mps) *
+                      static_cast<double>(tick_s) / static_cast<double>(position_step_m));
+}
+
 QuantizedEntity quantize(const EntityState& state, const QuantizationSpec& spec) {
   QuantizedEntity out;
   out.id = state.id;
@@ -75,10 +90,10 @@ QuantizedEntity quantize(const EntityState& state, const QuantizationSpec& spec)
     const double steps =
         (static_cast<double>(state.position_m[a]) - spec.bounds.min_m[a]) / spec.position_step_m;
     out.position[a] = static_cast<std::uint32_t>(
-        round_clamped(steps, 0, static_cast<double>(spec.position_steps(a) - 1)));
+        round_clamped(steps, 0, static_cast<double>(spec.position_steps(a) - 1), 0));
     out.velocity[a] = static_cast<std::int32_t>(
         round_clamped(static_cast<double>(state.velocity_mps[a]) / spec.velocity_step_mps,
-                      -velocity_limit, velocity_limit));
+                      -velocity_limit, velocity_limit, 0));
   }
 
   std::array<double, 4> q{};
@@ -99,7 +114,7 @@ QuantizedEntity quantize(const EntityState& state, const QuantizationSpec& spec)
   for (int i = 0, k = 0; i < 4; ++i) {
     if (i == largest) continue;
     out.orientation[k++] =
-        static_cast<std::int32_t>(round_clamped(q[i] * sign * kSqrt2 * limit, -limit, limit));
+        static_cast<std::int32_t>(round_clamped(q[i] * sign * kSqrt2 * limit, -limit, limit, 0));
   }
   return out;
 }

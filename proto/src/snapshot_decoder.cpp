@@ -3,6 +3,7 @@
 /// count, index, code and value is checked, and a refusal changes nothing.
 
 #include <cassert>
+#include <optional>
 
 #include "ricochet/proto/bit_stream.h"
 #include "ricochet/proto/snapshot_codec.h"
@@ -65,16 +66,186 @@ struct Refusal {
   SnapshotRejection reason;
   std::string message;
 };
+using MaybeRefusal = std::optional<Refusal>;
 
 /// A reader failure as a refusal: an over-long code, or the stream's end inside `what`.
 Refusal reader_refusal(const BitReader& in, const char* what) {
   if (in.malformed()) {
-    return {SnapshotRejection::BadCode,
-            std::string("expected an Exp-Golomb code of at most 42 bits in ") + what +
-                ", got a longer prefix"};
+    return {SnapshotRejection::BadCode, std::string("expected an Exp-Golomb code of at most 42 "
+                                                    "bits in ") +
+                                            what + ", got a longer prefix"};
   }
   return {SnapshotRejection::Truncated,
           std::string("expected more bits in ") + what + ", got the end of the stream"};
+}
+
+/// Reads one entity stream against its baseline (PROTOCOL.snapshot.md §4), a section per
+/// method in stream order; each returns the refusal that stops it, if any.
+class StreamReader {
+ public:
+  StreamReader(const QuantizationSpec& spec, const SnapshotDecoderOptions& options,
+               std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
+               const std::string& bytes)
+      : options_(options),
+        baseline_(baseline),
+        widths_(spec),
+        prediction_(layout::make_prediction(baseline_age, spec)),
+        reader_(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(bytes.data()),
+                                              bytes.size())) {}
+
+  MaybeRefusal read_removals();
+  MaybeRefusal read_additions();
+  MaybeRefusal read_changes();
+  MaybeRefusal check_end() const;
+  /// The kept entities (changed) and the additions merged by id into `view`.
+  MaybeRefusal merge(std::vector<QuantizedEntity>& view) const;
+
+ private:
+  /// Follows ascending indices written as gaps: first gap, then previous + 1 + gap.
+  static std::uint64_t next_index(std::uint64_t previous, std::uint64_t gap, bool first) {
+    return first ? gap : previous + 1 + gap;
+  }
+
+  const SnapshotDecoderOptions& options_;
+  std::span<const QuantizedEntity> baseline_;
+  layout::FieldWidths widths_;
+  layout::Prediction prediction_;
+  BitReader reader_;
+  std::vector<QuantizedEntity> kept_;   ///< the baseline without the removals
+  std::vector<QuantizedEntity> added_;  ///< ids ascending
+};
+
+MaybeRefusal StreamReader::read_removals() {
+  const std::uint64_t count = reader_.read_exp_golomb(0);
+  if (reader_.failed()) return reader_refusal(reader_, "the removal count");
+  if (count > baseline_.size()) {
+    return Refusal{SnapshotRejection::RemovedOutOfRange,
+                   "expected at most " + std::to_string(baseline_.size()) +
+                       " removals (the baseline's entities), got " + std::to_string(count)};
+  }
+  std::vector<std::uint8_t> removed(baseline_.size(), 0);
+  if (count > 0) {
+    const int order = static_cast<int>(reader_.read_bits(layout::kOrderBits));
+    std::uint64_t index = 0;
+    for (std::uint64_t k = 0; k < count; ++k) {
+      const std::uint64_t gap = layout::read_code(reader_, order);
+      if (reader_.failed()) return reader_refusal(reader_, "a removal");
+      index = next_index(index, gap, k == 0);
+      if (index >= baseline_.size()) {
+        return Refusal{SnapshotRejection::RemovedOutOfRange, "expected a removal index below " +
+                                                                 std::to_string(baseline_.size()) +
+                                                                 ", got " + std::to_string(index)};
+      }
+      removed[index] = 1;
+    }
+  }
+  kept_.reserve(baseline_.size() - count);
+  for (std::size_t k = 0; k < baseline_.size(); ++k) {
+    if (!removed[k]) kept_.push_back(baseline_[k]);
+  }
+  return std::nullopt;
+}
+
+MaybeRefusal StreamReader::read_additions() {
+  const std::uint64_t count = reader_.read_exp_golomb(0);
+  if (reader_.failed()) return reader_refusal(reader_, "the addition count");
+  if (kept_.size() + count > options_.max_entities) {
+    return Refusal{SnapshotRejection::TooManyEntities,
+                   "expected at most " + std::to_string(options_.max_entities) + " entities, got " +
+                       std::to_string(kept_.size() + count)};
+  }
+  if (count == 0) return std::nullopt;
+  if (count > reader_.bits_left()) return reader_refusal(reader_, "the additions");
+  added_.resize(count);
+  const int order = static_cast<int>(reader_.read_bits(layout::kOrderBits));
+  std::uint64_t id = 0;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    const std::uint64_t gap = layout::read_code(reader_, order);
+    if (reader_.failed()) return reader_refusal(reader_, "an addition's id");
+    id = next_index(id, gap, k == 0);
+    if (id > 0xFFFFFFFFu) {
+      return Refusal{SnapshotRejection::IdOutOfOrder,
+                     "expected a new entity id below 2^32, got " + std::to_string(id)};
+    }
+    added_[k].id = static_cast<std::uint32_t>(id);
+    const bool in_range = layout::read_absolute(reader_, widths_, added_[k]);
+    if (reader_.failed()) return reader_refusal(reader_, "a new entity's state");
+    if (!in_range) {
+      return Refusal{SnapshotRejection::ValueOutOfRange,
+                     "expected new entity " + std::to_string(id) +
+                         " within the spec's ranges, got a value outside"};
+    }
+  }
+  return std::nullopt;
+}
+
+MaybeRefusal StreamReader::read_changes() {
+  const std::uint64_t count = reader_.read_exp_golomb(0);
+  if (reader_.failed()) return reader_refusal(reader_, "the change count");
+  if (count > kept_.size()) {
+    return Refusal{SnapshotRejection::ChangedOutOfRange,
+                   "expected at most " + std::to_string(kept_.size()) +
+                       " changes (the kept entities), got " + std::to_string(count)};
+  }
+  if (count == 0) return std::nullopt;
+  layout::DeltaOrders orders;
+  auto read_order = [this] { return static_cast<int>(reader_.read_bits(layout::kOrderBits)); };
+  orders.gap = read_order();
+  for (int& order : orders.velocity) order = read_order();
+  for (int& order : orders.position) order = read_order();
+  orders.orientation = read_order();
+  std::uint64_t index = 0;
+  std::uint8_t previous_mask = layout::kInitialFieldMask;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    const std::uint64_t gap = layout::read_code(reader_, orders.gap);
+    if (reader_.failed()) return reader_refusal(reader_, "a change's gap");
+    index = next_index(index, gap, k == 0);
+    if (index >= kept_.size()) {
+      return Refusal{SnapshotRejection::ChangedOutOfRange, "expected a change index below " +
+                                                               std::to_string(kept_.size()) +
+                                                               ", got " + std::to_string(index)};
+    }
+    QuantizedEntity& entity = kept_[index];
+    const layout::DeltaStatus status =
+        layout::read_delta(reader_, orders, widths_, prediction_, previous_mask, entity);
+    if (reader_.failed()) return reader_refusal(reader_, "a change");
+    if (status == layout::DeltaStatus::EmptyChange) {
+      return Refusal{SnapshotRejection::EmptyChange, "expected a change to entity " +
+                                                         std::to_string(entity.id) +
+                                                         ", got its baseline state again"};
+    }
+    if (status == layout::DeltaStatus::OutOfRange) {
+      return Refusal{SnapshotRejection::ValueOutOfRange,
+                     "expected entity " + std::to_string(entity.id) +
+                         " within the spec's ranges after its delta, got a value outside"};
+    }
+  }
+  return std::nullopt;
+}
+
+MaybeRefusal StreamReader::check_end() const {
+  if (reader_.only_padding_left()) return std::nullopt;
+  return Refusal{SnapshotRejection::TrailingBits,
+                 "expected only zero padding after the last change, got " +
+                     std::to_string(reader_.bits_left()) + " more bits"};
+}
+
+MaybeRefusal StreamReader::merge(std::vector<QuantizedEntity>& view) const {
+  view.clear();
+  view.reserve(kept_.size() + added_.size());
+  std::size_t k = 0, a = 0;
+  while (k < kept_.size() || a < added_.size()) {
+    if (a == added_.size() || (k < kept_.size() && kept_[k].id < added_[a].id)) {
+      view.push_back(kept_[k++]);
+    } else if (k == kept_.size() || added_[a].id < kept_[k].id) {
+      view.push_back(added_[a++]);
+    } else {
+      return Refusal{SnapshotRejection::IdOutOfOrder,
+                     "expected new entity ids not already held, got " +
+                         std::to_string(added_[a].id) + " again"};
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -90,6 +261,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
     return result;
   };
 
+  // The header: size, tick order, baseline.
   const std::string& bytes = in.entities();
   if (bytes.size() > kMaxSnapshotStreamBytes) {
     return refuse({SnapshotRejection::Oversized, "expected an entity stream of at most " +
@@ -119,154 +291,20 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
     baseline = entry.view;
   }
 
-  const layout::FieldWidths widths(spec_);
-  BitReader reader(std::span<const std::uint8_t>(
-      reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
-  auto read_count = [&reader](std::uint64_t& count) {
-    count = reader.read_exp_golomb(0);
-    return !reader.failed();
-  };
+  // The stream, section by section, into a new view.
+  StreamReader stream(spec_, options_, baseline, in.baseline_age(), bytes);
+  MaybeRefusal refusal = stream.read_removals();
+  if (!refusal) refusal = stream.read_additions();
+  if (!refusal) refusal = stream.read_changes();
+  if (!refusal) refusal = stream.check_end();
+  if (!refusal) refusal = stream.merge(view_);
+  if (refusal) return refuse(std::move(*refusal));
 
-  // Removals: ascending indices into the baseline.
-  std::uint64_t removed_count = 0;
-  if (!read_count(removed_count)) {
-    return refuse(reader_refusal(reader, "the removal count"));
-  }
-  if (removed_count > baseline.size()) {
-    return refuse({SnapshotRejection::RemovedOutOfRange,
-                   "expected at most " + std::to_string(baseline.size()) +
-                       " removals (the baseline's entities), got " +
-                       std::to_string(removed_count)});
-  }
-  std::vector<std::uint8_t> removed(baseline.size(), 0);
-  if (removed_count > 0) {
-    const int order = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    std::uint64_t index = 0;
-    for (std::uint64_t k = 0; k < removed_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(order);
-      if (reader.failed()) return refuse(reader_refusal(reader, "a removal"));
-      index += gap + (k == 0 ? 0 : 1);
-      if (index >= baseline.size()) {
-        return refuse({SnapshotRejection::RemovedOutOfRange, "expected a removal index below " +
-                                                                 std::to_string(baseline.size()) +
-                                                                 ", got " + std::to_string(index)});
-      }
-      removed[index] = 1;
-    }
-  }
-  const std::uint64_t kept_count = baseline.size() - removed_count;
-
-  // Additions: ascending ids, each with its absolute state.
-  std::uint64_t added_count = 0;
-  if (!read_count(added_count)) {
-    return refuse(reader_refusal(reader, "the addition count"));
-  }
-  if (kept_count + added_count > options_.max_entities) {
-    return refuse({SnapshotRejection::TooManyEntities,
-                   "expected at most " + std::to_string(options_.max_entities) + " entities, got " +
-                       std::to_string(kept_count + added_count)});
-  }
-  std::vector<QuantizedEntity> added;
-  if (added_count > 0) {
-    if (added_count > reader.bits_left()) {
-      return refuse(reader_refusal(reader, "the additions"));
-    }
-    added.resize(added_count);
-    const int order = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    std::uint64_t id = 0;
-    for (std::uint64_t k = 0; k < added_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(order);
-      if (reader.failed()) return refuse(reader_refusal(reader, "an addition's id"));
-      id += gap + (k == 0 ? 0 : 1);
-      if (id > 0xFFFFFFFFu) {
-        return refuse({SnapshotRejection::IdOutOfOrder,
-                       "expected a new entity id below 2^32, got " + std::to_string(id)});
-      }
-      added[k].id = static_cast<std::uint32_t>(id);
-      const bool in_range = layout::read_absolute(reader, widths, added[k]);
-      if (reader.failed()) return refuse(reader_refusal(reader, "a new entity's state"));
-      if (!in_range) {
-        return refuse({SnapshotRejection::ValueOutOfRange,
-                       "expected new entity " + std::to_string(id) +
-                           " within the spec's ranges, got a value outside"});
-      }
-    }
-  }
-
-  // The kept baseline entities, then the changes applied to them.
-  scratch_.clear();
-  scratch_.reserve(kept_count + added_count);
-  for (std::size_t k = 0; k < baseline.size(); ++k) {
-    if (!removed[k]) scratch_.push_back(baseline[k]);
-  }
-  std::uint64_t changed_count = 0;
-  if (!read_count(changed_count)) {
-    return refuse(reader_refusal(reader, "the change count"));
-  }
-  if (changed_count > kept_count) {
-    return refuse({SnapshotRejection::ChangedOutOfRange,
-                   "expected at most " + std::to_string(kept_count) +
-                       " changes (the kept entities), got " + std::to_string(changed_count)});
-  }
-  if (changed_count > 0) {
-    layout::DeltaOrders orders;
-    orders.gap = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.position = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.velocity = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    orders.orientation = static_cast<int>(reader.read_bits(layout::kOrderBits));
-    std::uint64_t index = 0;
-    for (std::uint64_t k = 0; k < changed_count; ++k) {
-      const std::uint64_t gap = reader.read_exp_golomb(orders.gap);
-      if (reader.failed()) return refuse(reader_refusal(reader, "a change's gap"));
-      index += gap + (k == 0 ? 0 : 1);
-      if (index >= kept_count) {
-        return refuse({SnapshotRejection::ChangedOutOfRange, "expected a change index below " +
-                                                                 std::to_string(kept_count) +
-                                                                 ", got " + std::to_string(index)});
-      }
-      const layout::DeltaStatus status =
-          layout::read_delta(reader, orders, widths, scratch_[index]);
-      if (reader.failed()) return refuse(reader_refusal(reader, "a change"));
-      if (status == layout::DeltaStatus::EmptyChange) {
-        return refuse({SnapshotRejection::EmptyChange,
-                       "expected a changed entity with a non-zero field mask, got 0 for id " +
-                           std::to_string(scratch_[index].id)});
-      }
-      if (status == layout::DeltaStatus::OutOfRange) {
-        return refuse({SnapshotRejection::ValueOutOfRange,
-                       "expected entity " + std::to_string(scratch_[index].id) +
-                           " within the spec's ranges after its delta, got a value outside"});
-      }
-    }
-  }
-  if (!reader.only_padding_left()) {
-    return refuse(
-        {SnapshotRejection::TrailingBits, "expected only zero padding after the last change, got " +
-                                              std::to_string(reader.bits_left()) + " more bits"});
-  }
-
-  // Merge the additions in by id; an id already held is refused.
-  const std::size_t kept_end = scratch_.size();
-  scratch_.insert(scratch_.end(), added.begin(), added.end());
-  std::vector<QuantizedEntity> view;
-  view.reserve(scratch_.size());
-  std::size_t a = kept_end, b = 0;
-  while (b < kept_end || a < scratch_.size()) {
-    if (a == scratch_.size() || (b < kept_end && scratch_[b].id < scratch_[a].id)) {
-      view.push_back(scratch_[b++]);
-    } else if (b == kept_end || scratch_[a].id < scratch_[b].id) {
-      view.push_back(scratch_[a++]);
-    } else {
-      return refuse(
-          {SnapshotRejection::IdOutOfOrder, "expected new entity ids not already held, got " +
-                                                std::to_string(scratch_[a].id) + " again"});
-    }
-  }
-
+  // The baseline is read; its slot may now take the new view.
   Decoded& entry = ring_[in.tick() % ring_.size()];
   entry.valid = true;
   entry.tick = in.tick();
-  entry.view.swap(view);
+  entry.view.swap(view_);
   has_newest_ = true;
   newest_tick_ = in.tick();
   ++accepted_;

@@ -44,9 +44,8 @@ std::size_t header_bytes(std::uint32_t tick, std::uint32_t baseline_age, std::si
   return bytes;
 }
 
-}  // namespace
-
-struct SnapshotEncoder::Candidate {
+/// An entity that differs from the baseline: gone, new or changed.
+struct Candidate {
   enum class Kind : std::uint8_t { Removed, Added, Changed };
   Kind kind = Kind::Changed;
   std::uint32_t baseline_index = 0;  ///< Removed, Changed
@@ -55,6 +54,301 @@ struct SnapshotEncoder::Candidate {
   int bits = 0;  ///< estimate, for the budget
   bool selected = false;
 };
+
+/// One encode: the baseline and the world, what differs, what goes in, the stream and the view
+/// the client will hold. Each step is one method; SnapshotEncoder::encode calls them in order.
+class EncodePass {
+ public:
+  EncodePass(const QuantizationSpec& spec, const SnapshotEncoderOptions& options,
+             std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
+             std::span<const QuantizedEntity> world)
+      : spec_(spec),
+        options_(options),
+        baseline_(baseline),
+        world_(world),
+        widths_(spec),
+        prediction_(layout::make_prediction(baseline_age, spec)) {}
+
+  /// Walks world and baseline by id; each difference becomes a candidate whose priority adds
+  /// this tick's weight to what it carried (`carried`, sorted by id).
+  void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
+                    std::array<float, 3> viewer_m);
+  /// Chooses the field orders over all candidates and estimates each candidate's bits.
+  void estimate_costs();
+  /// Selects everything that fits budget_bits by priority, highest first.
+  void select(std::size_t budget_bits);
+  /// Writes the selected candidates; false if the stream exceeds stream_budget_bytes, after
+  /// leaving out about as many of the lowest priorities as the excess needs (call again).
+  bool write(BitWriter& stream, std::size_t stream_budget_bytes);
+  /// The entity set the client holds after decoding the stream.
+  void build_view(std::vector<QuantizedEntity>& view) const;
+  /// Deferred entities' priorities, sorted by id; returns how many candidates were sent.
+  std::size_t carry_priorities(std::vector<std::pair<std::uint32_t, float>>& carried) const;
+  std::size_t pending() const { return candidates_.size(); }
+
+ private:
+  float distance_weight(const QuantizedEntity& entity, std::array<float, 3> viewer_m) const;
+  double change_m(const QuantizedEntity& then, const QuantizedEntity& now) const;
+
+  const QuantizationSpec& spec_;
+  const SnapshotEncoderOptions& options_;
+  std::span<const QuantizedEntity> baseline_;
+  std::span<const QuantizedEntity> world_;
+  layout::FieldWidths widths_;
+  layout::Prediction prediction_;
+  layout::DeltaOrders orders_;
+  std::vector<Candidate> candidates_;
+  std::vector<std::uint32_t> by_priority_;  ///< candidate indices, highest priority first
+  std::size_t selected_count_ = 0;
+};
+
+float EncodePass::distance_weight(const QuantizedEntity& entity,
+                                  std::array<float, 3> viewer_m) const {
+  double squared = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = spec_.bounds.min_m[a] +
+                     static_cast<double>(entity.position[a]) * spec_.position_step_m - viewer_m[a];
+    squared += d * d;
+  }
+  return static_cast<float>(1.0 / (1.0 + std::sqrt(squared) / options_.distance_scale_m));
+}
+
+double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& now) const {
+  double moved_m = 0, velocity_mps = 0;
+  for (int a = 0; a < 3; ++a) {
+    moved_m +=
+        std::fabs(static_cast<double>(now.position[a]) - then.position[a]) * spec_.position_step_m;
+    velocity_mps += std::fabs(static_cast<double>(now.velocity[a]) - then.velocity[a]) *
+                    spec_.velocity_step_mps;
+  }
+  const bool turned =
+      then.orientation_largest != now.orientation_largest || then.orientation != now.orientation;
+  return kMinimumChange_m + moved_m + velocity_mps * kVelocityHorizon_s +
+         (turned ? kOrientationChange_m : 0) + (then.flags != now.flags ? kFlagsChange_m : 0);
+}
+
+void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
+                              std::array<float, 3> viewer_m) {
+  std::size_t p = 0;
+  auto add_world_candidate = [&](Candidate candidate, double change) {
+    const QuantizedEntity& entity = world_[candidate.world_index];
+    while (p < carried.size() && carried[p].first < entity.id) ++p;
+    const float before =
+        p < carried.size() && carried[p].first == entity.id ? carried[p].second : 0;
+    candidate.priority = before + static_cast<float>(change) * distance_weight(entity, viewer_m);
+    candidates_.push_back(candidate);
+  };
+  std::size_t i = 0, j = 0;
+  while (i < world_.size() || j < baseline_.size()) {
+    if (i == world_.size() || (j < baseline_.size() && baseline_[j].id < world_[i].id)) {
+      candidates_.push_back(
+          {Candidate::Kind::Removed, static_cast<std::uint32_t>(j), 0, kRemovalPriority, 0, false});
+      ++j;
+    } else if (j == baseline_.size() || world_[i].id < baseline_[j].id) {
+      add_world_candidate({Candidate::Kind::Added, 0, static_cast<std::uint32_t>(i), 0, 0, false},
+                          kNewEntityChange_m);
+      ++i;
+    } else {
+      if (world_[i] != baseline_[j]) {
+        add_world_candidate({Candidate::Kind::Changed, static_cast<std::uint32_t>(j),
+                             static_cast<std::uint32_t>(i), 0, 0, false},
+                            change_m(baseline_[j], world_[i]));
+      }
+      ++i;
+      ++j;
+    }
+  }
+}
+
+void EncodePass::estimate_costs() {
+  std::array<std::vector<std::uint64_t>, 3> position, velocity;
+  std::vector<std::uint64_t> orientation;
+  std::size_t changed = 0;
+  for (const Candidate& c : candidates_) {
+    if (c.kind != Candidate::Kind::Changed) continue;
+    ++changed;
+    const QuantizedEntity& now = world_[c.world_index];
+    const QuantizedEntity& then = baseline_[c.baseline_index];
+    const std::uint8_t fields = layout::changed_fields(then, now, prediction_);
+    const std::array<std::int64_t, 3> residual = layout::position_residual(then, now, prediction_);
+    for (int a = 0; a < 3; ++a) {
+      if (fields & layout::kPositionChanged) position[a].push_back(zigzag(residual[a]));
+      if (fields & layout::kVelocityChanged) {
+        velocity[a].push_back(
+            zigzag(static_cast<std::int64_t>(now.velocity[a]) - then.velocity[a]));
+      }
+      if ((fields & layout::kOrientationChanged) &&
+          now.orientation_largest == then.orientation_largest) {
+        orientation.push_back(
+            zigzag(static_cast<std::int64_t>(now.orientation[a]) - then.orientation[a]));
+      }
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    orders_.position[a] = layout::best_order(position[a]);
+    orders_.velocity[a] = layout::best_order(velocity[a]);
+  }
+  orders_.orientation = layout::best_order(orientation);
+
+  const int gap_estimate = exp_golomb_bits(changed == 0 ? 0 : baseline_.size() / changed, 0);
+  for (Candidate& c : candidates_) {
+    switch (c.kind) {
+      case Candidate::Kind::Changed:
+        c.bits = layout::delta_bits(baseline_[c.baseline_index], world_[c.world_index], orders_,
+                                    widths_, prediction_) +
+                 gap_estimate;
+        break;
+      case Candidate::Kind::Removed:
+        c.bits = 2 * bits_for_count(baseline_.size() + 1) + 1;
+        break;
+      case Candidate::Kind::Added:
+        c.bits = layout::absolute_bits(world_[c.world_index], widths_) +
+                 2 * bits_for_count(world_.size() + 1) + 1;
+        break;
+    }
+  }
+}
+
+void EncodePass::select(std::size_t budget_bits) {
+  by_priority_.resize(candidates_.size());
+  for (std::uint32_t k = 0; k < by_priority_.size(); ++k) by_priority_[k] = k;
+  std::stable_sort(by_priority_.begin(), by_priority_.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return candidates_[a].priority > candidates_[b].priority;
+  });
+  std::size_t used = 0;
+  for (const std::uint32_t k : by_priority_) {
+    if (used + candidates_[k].bits > budget_bits) break;
+    used += candidates_[k].bits;
+    candidates_[k].selected = true;
+    ++selected_count_;
+  }
+}
+
+bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
+  stream.clear();
+  // Removals, as gaps between baseline indices.
+  std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;
+  std::vector<std::uint32_t> removed_before(baseline_.size() + 1, 0);
+  {
+    std::int64_t previous = -1;
+    for (const Candidate& c : candidates_) {
+      if (!c.selected || c.kind != Candidate::Kind::Removed) continue;
+      removed_gaps.push_back(static_cast<std::uint64_t>(c.baseline_index - previous - 1));
+      previous = c.baseline_index;
+      removed_before[c.baseline_index + 1] = 1;
+    }
+    for (std::size_t k = 1; k < removed_before.size(); ++k) {
+      removed_before[k] += removed_before[k - 1];
+    }
+  }
+  stream.write_exp_golomb(removed_gaps.size(), 0);
+  if (!removed_gaps.empty()) {
+    const int order = layout::best_order(removed_gaps);
+    stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
+    for (const std::uint64_t gap : removed_gaps) layout::write_code(stream, gap, order);
+  }
+  // New entities: id gaps, each followed by the entity's absolute state.
+  std::vector<const QuantizedEntity*> added;
+  {
+    std::int64_t previous = -1;
+    for (const Candidate& c : candidates_) {
+      if (!c.selected || c.kind != Candidate::Kind::Added) continue;
+      const QuantizedEntity& entity = world_[c.world_index];
+      added_gaps.push_back(static_cast<std::uint64_t>(entity.id - previous - 1));
+      previous = entity.id;
+      added.push_back(&entity);
+    }
+  }
+  stream.write_exp_golomb(added.size(), 0);
+  if (!added.empty()) {
+    const int order = layout::best_order(added_gaps);
+    stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
+    for (std::size_t k = 0; k < added.size(); ++k) {
+      layout::write_code(stream, added_gaps[k], order);
+      layout::write_absolute(stream, *added[k], widths_);
+    }
+  }
+  // Changes, as gaps between indices among the kept baseline entities.
+  std::vector<const Candidate*> changed;
+  {
+    std::int64_t previous = -1;
+    for (const Candidate& c : candidates_) {
+      if (!c.selected || c.kind != Candidate::Kind::Changed) continue;
+      const std::int64_t kept_index = c.baseline_index - removed_before[c.baseline_index];
+      changed_gaps.push_back(static_cast<std::uint64_t>(kept_index - previous - 1));
+      previous = kept_index;
+      changed.push_back(&c);
+    }
+  }
+  stream.write_exp_golomb(changed.size(), 0);
+  if (!changed.empty()) {
+    layout::DeltaOrders chosen = orders_;
+    chosen.gap = layout::best_order(changed_gaps);
+    const std::array<int, layout::kDeltaOrderCount> header_orders{
+        chosen.gap,         chosen.velocity[0], chosen.velocity[1], chosen.velocity[2],
+        chosen.position[0], chosen.position[1], chosen.position[2], chosen.orientation};
+    for (const int order : header_orders) {
+      stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
+    }
+    std::uint8_t previous_mask = layout::kInitialFieldMask;
+    for (std::size_t k = 0; k < changed.size(); ++k) {
+      layout::write_code(stream, changed_gaps[k], chosen.gap);
+      layout::write_delta(stream, baseline_[changed[k]->baseline_index],
+                          world_[changed[k]->world_index], chosen, widths_, prediction_,
+                          previous_mask);
+    }
+  }
+  if (stream.bytes().size() <= stream_budget_bytes || selected_count_ == 0) return true;
+
+  // Overshoot: leave out about as many of the lowest priorities as the excess needs.
+  std::size_t excess_bits = (stream.bytes().size() - stream_budget_bytes) * 8;
+  for (auto k = by_priority_.rbegin(); k != by_priority_.rend() && excess_bits > 0; ++k) {
+    Candidate& c = candidates_[*k];
+    if (!c.selected) continue;
+    c.selected = false;
+    --selected_count_;
+    excess_bits -= std::min<std::size_t>(excess_bits, static_cast<std::size_t>(c.bits));
+  }
+  return false;
+}
+
+void EncodePass::build_view(std::vector<QuantizedEntity>& view) const {
+  view.clear();
+  std::vector<std::uint8_t> removed(baseline_.size(), 0);
+  std::vector<std::int64_t> change_of(baseline_.size(), -1);
+  std::vector<std::uint32_t> added;
+  for (const Candidate& c : candidates_) {
+    if (!c.selected) continue;
+    if (c.kind == Candidate::Kind::Removed) removed[c.baseline_index] = 1;
+    if (c.kind == Candidate::Kind::Changed) change_of[c.baseline_index] = c.world_index;
+    if (c.kind == Candidate::Kind::Added) added.push_back(c.world_index);
+  }
+  std::size_t a = 0;
+  for (std::size_t k = 0; k < baseline_.size(); ++k) {
+    if (removed[k]) continue;
+    while (a < added.size() && world_[added[a]].id < baseline_[k].id) {
+      view.push_back(world_[added[a++]]);
+    }
+    view.push_back(change_of[k] >= 0 ? world_[static_cast<std::size_t>(change_of[k])]
+                                     : baseline_[k]);
+  }
+  while (a < added.size()) view.push_back(world_[added[a++]]);
+}
+
+std::size_t EncodePass::carry_priorities(
+    std::vector<std::pair<std::uint32_t, float>>& carried) const {
+  carried.clear();
+  std::size_t sent = 0;
+  for (const Candidate& c : candidates_) {
+    sent += c.selected;
+    if (c.kind == Candidate::Kind::Removed || c.selected) continue;
+    carried.emplace_back(world_[c.world_index].id, c.priority);
+  }
+  std::sort(carried.begin(), carried.end());
+  return sent;
+}
+
+}  // namespace
 
 std::string SnapshotEncoderOptions::validate() const {
   if (ring_size < 2 || ring_size > 1024) {
@@ -87,7 +381,6 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   assert(!has_sent_ || tick > last_tick_);
   assert(std::is_sorted(world.begin(), world.end(),
                         [](const auto& a, const auto& b) { return a.id < b.id; }));
-  const layout::FieldWidths widths(spec_);
 
   // The baseline: the newest acknowledged snapshot, while the ring still holds it.
   const Sent& acked = slot(acked_tick_);
@@ -97,247 +390,26 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
                    : std::span<const QuantizedEntity>();
   const std::uint32_t baseline_age = has_baseline ? tick - acked_tick_ : 0;
 
-  // What differs from the baseline, each with its accumulated priority.
-  std::vector<Candidate> candidates;
-  auto carried_priority = [this, p = std::size_t{0}](std::uint32_t id) mutable {
-    while (p < priority_.size() && priority_[p].first < id) ++p;
-    return p < priority_.size() && priority_[p].first == id ? priority_[p].second : 0.0f;
-  };
-  auto distance_weight = [&](const QuantizedEntity& entity) {
-    double squared = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double d = spec_.bounds.min_m[a] +
-                       static_cast<double>(entity.position[a]) * spec_.position_step_m -
-                       viewer_m[a];
-      squared += d * d;
-    }
-    return static_cast<float>(1.0 / (1.0 + std::sqrt(squared) / options_.distance_scale_m));
-  };
-  auto add_world_candidate = [&](Candidate candidate, float change_m) {
-    const QuantizedEntity& entity = world[candidate.world_index];
-    candidate.priority = carried_priority(entity.id) + change_m * distance_weight(entity);
-    candidates.push_back(candidate);
-  };
-  std::size_t i = 0, j = 0;
-  while (i < world.size() || j < baseline.size()) {
-    if (i == world.size() || (j < baseline.size() && baseline[j].id < world[i].id)) {
-      Candidate removed{
-          Candidate::Kind::Removed, static_cast<std::uint32_t>(j), 0, kRemovalPriority, 0, false};
-      candidates.push_back(removed);
-      ++j;
-    } else if (j == baseline.size() || world[i].id < baseline[j].id) {
-      add_world_candidate({Candidate::Kind::Added, 0, static_cast<std::uint32_t>(i), 0,
-                           layout::absolute_bits(world[i], widths), false},
-                          kNewEntityChange_m);
-      ++i;
-    } else {
-      const QuantizedEntity& now = world[i];
-      const QuantizedEntity& then = baseline[j];
-      if (now != then) {
-        double moved_m = 0, velocity_mps = 0;
-        for (int a = 0; a < 3; ++a) {
-          moved_m += std::fabs(static_cast<double>(now.position[a]) - then.position[a]) *
-                     spec_.position_step_m;
-          velocity_mps += std::fabs(static_cast<double>(now.velocity[a]) - then.velocity[a]) *
-                          spec_.velocity_step_mps;
-        }
-        const std::uint8_t fields = layout::changed_fields(then, now);
-        const double change_m =
-            kMinimumChange_m + moved_m + velocity_mps * kVelocityHorizon_s +
-            ((fields & layout::kOrientationChanged) ? kOrientationChange_m : 0) +
-            ((fields & layout::kFlagsChanged) ? kFlagsChange_m : 0);
-        add_world_candidate({Candidate::Kind::Changed, static_cast<std::uint32_t>(j),
-                             static_cast<std::uint32_t>(i), 0, 0, false},
-                            static_cast<float>(change_m));
-      }
-      ++i;
-      ++j;
-    }
-  }
-
-  // Orders for the whole set, to estimate each candidate's cost.
-  layout::DeltaOrders orders;
-  {
-    std::vector<std::uint64_t> position, velocity, orientation;
-    for (const Candidate& c : candidates) {
-      if (c.kind != Candidate::Kind::Changed) continue;
-      const QuantizedEntity& now = world[c.world_index];
-      const QuantizedEntity& then = baseline[c.baseline_index];
-      for (int a = 0; a < 3; ++a) {
-        if (now.position != then.position) {
-          position.push_back(zigzag(static_cast<std::int64_t>(now.position[a]) - then.position[a]));
-        }
-        if (now.velocity != then.velocity) {
-          velocity.push_back(zigzag(static_cast<std::int64_t>(now.velocity[a]) - then.velocity[a]));
-        }
-        if (now.orientation_largest == then.orientation_largest &&
-            now.orientation != then.orientation) {
-          orientation.push_back(
-              zigzag(static_cast<std::int64_t>(now.orientation[a]) - then.orientation[a]));
-        }
-      }
-    }
-    orders.position = layout::best_order(position);
-    orders.velocity = layout::best_order(velocity);
-    orders.orientation = layout::best_order(orientation);
-  }
-  std::size_t changed_total = 0;
-  for (const Candidate& c : candidates) changed_total += c.kind == Candidate::Kind::Changed;
-  const int gap_estimate =
-      exp_golomb_bits(changed_total == 0 ? 0 : baseline.size() / changed_total, 0);
-  for (Candidate& c : candidates) {
-    if (c.kind == Candidate::Kind::Changed) {
-      c.bits =
-          layout::delta_bits(baseline[c.baseline_index], world[c.world_index], orders, widths) +
-          gap_estimate;
-    } else if (c.kind == Candidate::Kind::Removed) {
-      c.bits = 2 * bits_for_count(baseline.size() + 1) + 1;
-    } else {
-      c.bits += 2 * bits_for_count(world.size() + 1) + 1;
-    }
-  }
-
-  // Select within the budget: everything when it fits, else greedily by priority.
   const std::size_t header = header_bytes(tick, baseline_age, budget_bytes);
-  const std::size_t fixed_bits = 3 + 6 * layout::kOrderBits + 8;  // counts, orders, padding
-  std::size_t budget_bits = budget_bytes > header ? (budget_bytes - header) * 8 : 0;
-  budget_bits = budget_bits > fixed_bits ? budget_bits - fixed_bits : 0;
-  std::vector<std::uint32_t> by_priority(candidates.size());
-  for (std::uint32_t k = 0; k < by_priority.size(); ++k) by_priority[k] = k;
-  std::stable_sort(by_priority.begin(), by_priority.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return candidates[a].priority > candidates[b].priority;
-  });
-  std::size_t selected_count = 0;
-  {
-    std::size_t used = 0;
-    for (const std::uint32_t k : by_priority) {
-      if (used + candidates[k].bits > budget_bits) break;
-      used += candidates[k].bits;
-      candidates[k].selected = true;
-      ++selected_count;
-    }
-  }
+  const std::size_t stream_budget_bytes = budget_bytes > header ? budget_bytes - header : 0;
+  // Counts, orders and padding come before any entity.
+  const std::size_t fixed_bits = 3 + (2 + layout::kDeltaOrderCount) * layout::kOrderBits + 8;
 
-  // Write; while the real stream overshoots the estimate, leave out the lowest priorities.
-  BitWriter stream;
-  for (;;) {
-    stream.clear();
-    next_view_.clear();
-    // Removals, as gaps between baseline indices.
-    std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;
-    std::vector<std::uint32_t> removed_at(baseline.size() + 1, 0);  // removals before index
-    {
-      std::int64_t previous = -1;
-      for (const Candidate& c : candidates) {
-        if (!c.selected || c.kind != Candidate::Kind::Removed) continue;
-        removed_gaps.push_back(static_cast<std::uint64_t>(c.baseline_index - previous - 1));
-        previous = c.baseline_index;
-        removed_at[c.baseline_index + 1] = 1;
-      }
-      for (std::size_t k = 1; k < removed_at.size(); ++k) removed_at[k] += removed_at[k - 1];
-    }
-    stream.write_exp_golomb(removed_gaps.size(), 0);
-    if (!removed_gaps.empty()) {
-      const int order = layout::best_order(removed_gaps);
-      stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
-      for (const std::uint64_t gap : removed_gaps) stream.write_exp_golomb(gap, order);
-    }
-    // New entities: id gaps, then each one's absolute state.
-    std::vector<const QuantizedEntity*> added;
-    {
-      std::int64_t previous = -1;
-      for (const Candidate& c : candidates) {
-        if (!c.selected || c.kind != Candidate::Kind::Added) continue;
-        const QuantizedEntity& entity = world[c.world_index];
-        added_gaps.push_back(static_cast<std::uint64_t>(entity.id - previous - 1));
-        previous = entity.id;
-        added.push_back(&entity);
-      }
-    }
-    stream.write_exp_golomb(added.size(), 0);
-    if (!added.empty()) {
-      const int order = layout::best_order(added_gaps);
-      stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
-      for (std::size_t k = 0; k < added.size(); ++k) {
-        stream.write_exp_golomb(added_gaps[k], order);
-        layout::write_absolute(stream, *added[k], widths);
-      }
-    }
-    // Changes, as gaps between indices among the kept baseline entities.
-    std::vector<const Candidate*> changed;
-    {
-      std::int64_t previous = -1;
-      for (const Candidate& c : candidates) {
-        if (!c.selected || c.kind != Candidate::Kind::Changed) continue;
-        const std::int64_t kept_index = c.baseline_index - removed_at[c.baseline_index];
-        changed_gaps.push_back(static_cast<std::uint64_t>(kept_index - previous - 1));
-        previous = kept_index;
-        changed.push_back(&c);
-      }
-    }
-    stream.write_exp_golomb(changed.size(), 0);
-    if (!changed.empty()) {
-      layout::DeltaOrders chosen = orders;
-      chosen.gap = layout::best_order(changed_gaps);
-      for (const int order : {chosen.gap, chosen.position, chosen.velocity, chosen.orientation}) {
-        stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
-      }
-      for (std::size_t k = 0; k < changed.size(); ++k) {
-        stream.write_exp_golomb(changed_gaps[k], chosen.gap);
-        layout::write_delta(stream, baseline[changed[k]->baseline_index],
-                            world[changed[k]->world_index], chosen, widths);
-      }
-    }
-    if (header + stream.bytes().size() <= budget_bytes || selected_count == 0) break;
-    // Overshoot: drop about as many of the lowest priorities as the excess needs.
-    std::size_t excess_bits = (header + stream.bytes().size() - budget_bytes) * 8;
-    for (auto k = by_priority.rbegin(); k != by_priority.rend() && excess_bits > 0; ++k) {
-      Candidate& c = candidates[*k];
-      if (!c.selected) continue;
-      c.selected = false;
-      --selected_count;
-      excess_bits -= std::min<std::size_t>(excess_bits, static_cast<std::size_t>(c.bits));
-    }
-  }
-
-  // The view the client will hold: the baseline with the sent removals, changes and additions.
-  {
-    std::vector<std::uint8_t> removed(baseline.size(), 0);
-    std::vector<std::int64_t> change_of(baseline.size(), -1);
-    std::vector<std::uint32_t> added_indices;
-    for (const Candidate& c : candidates) {
-      if (!c.selected) continue;
-      if (c.kind == Candidate::Kind::Removed) removed[c.baseline_index] = 1;
-      if (c.kind == Candidate::Kind::Changed) change_of[c.baseline_index] = c.world_index;
-      if (c.kind == Candidate::Kind::Added) added_indices.push_back(c.world_index);
-    }
-    std::size_t a = 0;
-    for (std::size_t k = 0; k < baseline.size(); ++k) {
-      if (removed[k]) continue;
-      while (a < added_indices.size() && world[added_indices[a]].id < baseline[k].id) {
-        next_view_.push_back(world[added_indices[a++]]);
-      }
-      next_view_.push_back(change_of[k] >= 0 ? world[static_cast<std::size_t>(change_of[k])]
-                                             : baseline[k]);
-    }
-    while (a < added_indices.size()) next_view_.push_back(world[added_indices[a++]]);
-  }
-
-  // Priorities: what was sent starts again from zero, what waits keeps its accumulation.
-  priority_.clear();
-  std::size_t sent = 0;
-  for (const Candidate& c : candidates) {
-    sent += c.selected;
-    if (c.kind == Candidate::Kind::Removed || c.selected) continue;
-    priority_.emplace_back(world[c.world_index].id, c.priority);
-  }
-  std::sort(priority_.begin(), priority_.end());
+  EncodePass pass(spec_, options_, baseline, baseline_age, world);
+  pass.find_pending(priority_, viewer_m);
+  pass.estimate_costs();
+  pass.select(stream_budget_bytes * 8 > fixed_bits ? stream_budget_bytes * 8 - fixed_bits : 0);
+  bool fits = false;
+  while (!fits) fits = pass.write(stream_, stream_budget_bytes);  // each miss leaves some out
+  pass.build_view(next_view_);
+  const std::size_t sent = pass.carry_priorities(priority_);
 
   out.Clear();
   out.set_tick(tick);
   out.set_baseline_age(baseline_age);
-  out.set_entities(stream.bytes().data(), stream.bytes().size());
+  out.set_entities(stream_.bytes().data(), stream_.bytes().size());
 
+  // Remember what the client will hold; this may overwrite the baseline's slot, used no more.
   Sent& entry = slot(tick);
   entry.valid = true;
   entry.tick = tick;
@@ -348,9 +420,9 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   report_.has_baseline = has_baseline;
   report_.baseline_tick = has_baseline ? acked_tick_ : 0;
   report_.entities = static_cast<std::uint32_t>(world.size());
-  report_.pending = static_cast<std::uint32_t>(candidates.size());
+  report_.pending = static_cast<std::uint32_t>(pass.pending());
   report_.sent = static_cast<std::uint32_t>(sent);
-  report_.deferred = static_cast<std::uint32_t>(candidates.size() - sent);
+  report_.deferred = static_cast<std::uint32_t>(pass.pending() - sent);
   report_.bytes = out.ByteSizeLong();
 }
 

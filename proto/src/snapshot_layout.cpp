@@ -24,10 +24,56 @@ FieldWidths::FieldWidths(const QuantizationSpec& spec)
   orientation = bits_for_count(2 * static_cast<std::uint64_t>(orientation_limit) + 1);
 }
 
-std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current) {
+void write_code(BitWriter& out, std::uint64_t value, int order) {
+  if (order != kAllZeroOrder) out.write_exp_golomb(value, order);
+}
+
+int code_bits(std::uint64_t value, int order) {
+  return order == kAllZeroOrder ? 0 : exp_golomb_bits(value, order);
+}
+
+std::uint64_t read_code(BitReader& in, int order) {
+  return order == kAllZeroOrder ? 0 : in.read_exp_golomb(order);
+}
+
+Prediction make_prediction(std::uint32_t baseline_age, const QuantizationSpec& spec) {
+  if (baseline_age == 0 || baseline_age > kMaxPredictionAge) return {};
+  const std::int64_t scale = spec.prediction_scale();
+  return {(baseline_age - std::int64_t{1}) * scale, (baseline_age + std::int64_t{1}) * scale};
+}
+
+std::array<std::int64_t, 3> predicted_motion(const QuantizedEntity& baseline,
+                                             const std::array<std::int32_t, 3>& velocity_now,
+                                             const Prediction& prediction) {
+  std::array<std::int64_t, 3> motion{};
+  for (int a = 0; a < 3; ++a) {
+    const std::int64_t weighted = baseline.velocity[a] * prediction.baseline_weight +
+                                  velocity_now[a] * prediction.current_weight;
+    motion[a] = (weighted + (std::int64_t{1} << 16)) >> 17;
+  }
+  return motion;
+}
+
+std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
+                                              const QuantizedEntity& current,
+                                              const Prediction& prediction) {
+  const std::array<std::int64_t, 3> motion =
+      predicted_motion(baseline, current.velocity, prediction);
+  std::array<std::int64_t, 3> residual{};
+  for (int a = 0; a < 3; ++a) {
+    residual[a] = static_cast<std::int64_t>(current.position[a]) -
+                  static_cast<std::int64_t>(baseline.position[a]) - motion[a];
+  }
+  return residual;
+}
+
+std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current,
+                            const Prediction& prediction) {
   std::uint8_t mask = 0;
-  if (baseline.position != current.position) mask |= kPositionChanged;
   if (baseline.velocity != current.velocity) mask |= kVelocityChanged;
+  if (position_residual(baseline, current, prediction) != std::array<std::int64_t, 3>{}) {
+    mask |= kPositionChanged;
+  }
   if (baseline.orientation_largest != current.orientation_largest ||
       baseline.orientation != current.orientation) {
     mask |= kOrientationChanged;
@@ -95,104 +141,102 @@ bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& en
   return in_range;
 }
 
-void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths) {
-  const std::uint8_t mask = changed_fields(baseline, current);
-  out.write_bits(mask, kFieldMaskBits);
-  if (mask & kPositionChanged) {
-    for (int a = 0; a < 3; ++a) {
-      out.write_signed_exp_golomb(static_cast<std::int64_t>(current.position[a]) -
-                                      static_cast<std::int64_t>(baseline.position[a]),
-                                  orders.position);
-    }
-  }
+namespace {
+
+/// Walks the fields of a delta once, so writing and counting cannot disagree: `code(value,
+/// order)` for each Exp-Golomb field, `raw(value, bits)` for each fixed-width one.
+template <class Code, class Raw>
+void visit_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
+                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
+                 std::uint8_t& previous_mask, Code&& code, Raw&& raw) {
+  const std::uint8_t mask = changed_fields(baseline, current, prediction);
+  raw(mask == previous_mask ? 1 : 0, 1);
+  if (mask != previous_mask) raw(mask, kFieldMaskBits);
+  previous_mask = mask;
   if (mask & kVelocityChanged) {
     for (int a = 0; a < 3; ++a) {
-      out.write_signed_exp_golomb(
-          static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a], orders.velocity);
+      code(zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]),
+           orders.velocity[a]);
     }
+  }
+  if (mask & kPositionChanged) {
+    const std::array<std::int64_t, 3> residual = position_residual(baseline, current, prediction);
+    for (int a = 0; a < 3; ++a) code(zigzag(residual[a]), orders.position[a]);
   }
   if (mask & kOrientationChanged) {
     const bool same_largest = current.orientation_largest == baseline.orientation_largest;
-    out.write_bool(same_largest);
+    raw(same_largest ? 1 : 0, 1);
     if (same_largest) {
       for (int k = 0; k < 3; ++k) {
-        out.write_signed_exp_golomb(
-            static_cast<std::int64_t>(current.orientation[k]) - baseline.orientation[k],
-            orders.orientation);
+        code(zigzag(static_cast<std::int64_t>(current.orientation[k]) - baseline.orientation[k]),
+             orders.orientation);
       }
     } else {
-      out.write_bits(current.orientation_largest, 2);
+      raw(current.orientation_largest, 2);
       for (int k = 0; k < 3; ++k) {
-        out.write_bits(
-            static_cast<std::uint64_t>(current.orientation[k] + widths.orientation_limit),
+        raw(static_cast<std::uint64_t>(current.orientation[k] + widths.orientation_limit),
             widths.orientation);
       }
     }
   }
-  if (mask & kFlagsChanged) out.write_bits(current.flags, 8);
+  if (mask & kFlagsChanged) raw(current.flags, 8);
+}
+
+}  // namespace
+
+void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
+                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
+                 std::uint8_t& previous_mask) {
+  visit_delta(
+      baseline, current, orders, widths, prediction, previous_mask,
+      [&out](std::uint64_t value, int order) { write_code(out, value, order); },
+      [&out](std::uint64_t value, int bits) { out.write_bits(value, bits); });
 }
 
 int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
-               const DeltaOrders& orders, const FieldWidths& widths) {
-  const std::uint8_t mask = changed_fields(baseline, current);
-  int bits = kFieldMaskBits;
-  if (mask & kPositionChanged) {
-    for (int a = 0; a < 3; ++a) {
-      bits += exp_golomb_bits(zigzag(static_cast<std::int64_t>(current.position[a]) -
-                                     static_cast<std::int64_t>(baseline.position[a])),
-                              orders.position);
-    }
-  }
-  if (mask & kVelocityChanged) {
-    for (int a = 0; a < 3; ++a) {
-      bits += exp_golomb_bits(
-          zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]),
-          orders.velocity);
-    }
-  }
-  if (mask & kOrientationChanged) {
-    bits += 1;
-    if (current.orientation_largest == baseline.orientation_largest) {
-      for (int k = 0; k < 3; ++k) {
-        bits += exp_golomb_bits(
-            zigzag(static_cast<std::int64_t>(current.orientation[k]) - baseline.orientation[k]),
-            orders.orientation);
-      }
-    } else {
-      bits += 2 + 3 * widths.orientation;
-    }
-  }
-  if (mask & kFlagsChanged) bits += 8;
+               const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction) {
+  int bits = 0;
+  std::uint8_t no_mask = 0xFF;  // never equal: the mask counts in full
+  visit_delta(
+      baseline, current, orders, widths, prediction, no_mask,
+      [&bits](std::uint64_t value, int order) { bits += code_bits(value, order); },
+      [&bits](std::uint64_t, int width) { bits += width; });
   return bits;
 }
 
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,
+                       const Prediction& prediction, std::uint8_t& previous_mask,
                        QuantizedEntity& entity) {
-  const auto mask = static_cast<std::uint8_t>(in.read_bits(kFieldMaskBits));
-  if (in.failed()) return DeltaStatus::Ok;  // the caller reports the truncation
-  if (mask == 0) return DeltaStatus::EmptyChange;
+  const QuantizedEntity baseline = entity;
+  const bool same_mask = in.read_bool();
+  const auto mask =
+      same_mask ? previous_mask : static_cast<std::uint8_t>(in.read_bits(kFieldMaskBits));
+  previous_mask = mask;
   bool in_range = true;
-  if (mask & kPositionChanged) {
-    for (int a = 0; a < 3; ++a) {
-      const std::int64_t value = static_cast<std::int64_t>(entity.position[a]) +
-                                 in.read_signed_exp_golomb(orders.position);
-      in_range = in_range && value >= 0 && value < widths.position_steps[a];
-      entity.position[a] = static_cast<std::uint32_t>(value);
-    }
-  }
   if (mask & kVelocityChanged) {
     for (int a = 0; a < 3; ++a) {
-      const std::int64_t value = entity.velocity[a] + in.read_signed_exp_golomb(orders.velocity);
+      const std::int64_t value = entity.velocity[a] + unzigzag(read_code(in, orders.velocity[a]));
       in_range = in_range && value >= -widths.velocity_limit && value <= widths.velocity_limit;
-      entity.velocity[a] = static_cast<std::int32_t>(value);
+      entity.velocity[a] = in_range ? static_cast<std::int32_t>(value) : 0;
     }
+  }
+  if (!in_range) return DeltaStatus::OutOfRange;
+  // The position follows from the velocities, then its residual if the mask says so.
+  const std::array<std::int64_t, 3> motion =
+      predicted_motion(baseline, entity.velocity, prediction);
+  const bool has_residual = (mask & kPositionChanged) != 0;
+  for (int a = 0; a < 3; ++a) {
+    const std::int64_t residual = has_residual ? unzigzag(read_code(in, orders.position[a])) : 0;
+    const std::int64_t value =
+        static_cast<std::int64_t>(baseline.position[a]) + motion[a] + residual;
+    in_range = in_range && value >= 0 && value < widths.position_steps[a];
+    entity.position[a] = static_cast<std::uint32_t>(value);
   }
   if (mask & kOrientationChanged) {
     if (in.read_bool()) {
       for (int k = 0; k < 3; ++k) {
         const std::int64_t value =
-            entity.orientation[k] + in.read_signed_exp_golomb(orders.orientation);
+            entity.orientation[k] + unzigzag(read_code(in, orders.orientation));
         in_range =
             in_range && value >= -widths.orientation_limit && value <= widths.orientation_limit;
         entity.orientation[k] = static_cast<std::int32_t>(value);
@@ -208,7 +252,9 @@ DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidt
     }
   }
   if (mask & kFlagsChanged) entity.flags = static_cast<std::uint8_t>(in.read_bits(8));
-  return in_range ? DeltaStatus::Ok : DeltaStatus::OutOfRange;
+  if (!in_range) return DeltaStatus::OutOfRange;
+  if (entity == baseline) return DeltaStatus::EmptyChange;
+  return DeltaStatus::Ok;
 }
 
 }  // namespace ricochet::proto::snapshot_layout

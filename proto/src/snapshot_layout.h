@@ -12,23 +12,57 @@ namespace ricochet::proto::snapshot_layout {
 
 /// Bits of each Exp-Golomb order written in the stream (orders 0..31).
 inline constexpr int kOrderBits = 5;
+/// The order that says every value coded with it is 0 and takes no bits.
+inline constexpr int kAllZeroOrder = 31;
 
-/// Bit of each field in a changed entity's 4-bit mask, first written first.
+/// An Exp-Golomb code of `order`, or nothing for kAllZeroOrder (value must then be 0).
+void write_code(BitWriter& out, std::uint64_t value, int order);
+int code_bits(std::uint64_t value, int order);
+std::uint64_t read_code(BitReader& in, int order);
+
+/// Bit of each field in a changed entity's 4-bit mask, in the order the fields follow it.
 enum FieldBit : std::uint8_t {
-  kPositionChanged = 8,
-  kVelocityChanged = 4,
+  kVelocityChanged = 8,
+  kPositionChanged = 4,
   kOrientationChanged = 2,
   kFlagsChanged = 1,
 };
 inline constexpr int kFieldMaskBits = 4;
+/// The mask a stream's first changed entity is compared with (velocity and position).
+inline constexpr std::uint8_t kInitialFieldMask = kVelocityChanged | kPositionChanged;
 
-/// Exp-Golomb orders of the changed entities' fields in one snapshot.
+/// Exp-Golomb orders of the changed entities' fields in one snapshot, in stream order.
 struct DeltaOrders {
   int gap = 0;
-  int position = 0;
-  int velocity = 0;
-  int orientation = 0;
+  std::array<int, 3> velocity{};  ///< per axis
+  std::array<int, 3> position{};  ///< per axis, of the residual after prediction
+  int orientation = 0;            ///< the three components
 };
+inline constexpr int kDeltaOrderCount = 8;
+
+/// Baselines older than this many ticks get no position prediction.
+inline constexpr std::uint32_t kMaxPredictionAge = 255;
+
+/// The weights of the baseline's and the current velocity in a changed entity's predicted
+/// motion: (age - 1) * scale and (age + 1) * scale, or both 0 past kMaxPredictionAge
+/// (PROTOCOL.snapshot.md §6). With velocity integrated before position (semi-implicit Euler),
+/// a velocity changing linearly over the age is predicted exactly.
+struct Prediction {
+  std::int64_t baseline_weight = 0;
+  std::int64_t current_weight = 0;
+};
+Prediction make_prediction(std::uint32_t baseline_age, const QuantizationSpec& spec);
+
+/// Position steps an entity is predicted to have moved along each axis since its baseline:
+/// floor((v_baseline * baseline_weight + v_now * current_weight + 2^16) / 2^17).
+std::array<std::int64_t, 3> predicted_motion(const QuantizedEntity& baseline,
+                                             const std::array<std::int32_t, 3>& velocity_now,
+                                             const Prediction& prediction);
+
+/// The position residuals after prediction, zig-zag mapped, per axis.
+std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
+                                              const QuantizedEntity& current,
+                                              const Prediction& prediction);
 
 /// Raw widths derived from the spec, computed once per encoder or decoder.
 struct FieldWidths {
@@ -42,8 +76,11 @@ struct FieldWidths {
   explicit FieldWidths(const QuantizationSpec& spec);
 };
 
-/// Which fields of `current` differ from `baseline` (a FieldBit mask; 0 when equal).
-std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current);
+/// Which fields a changed entity's mask marks (FieldBit): velocity, orientation and flags when
+/// they differ from `baseline`, position when it differs from the prediction. May be 0 for an
+/// entity that moved exactly as predicted.
+std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current,
+                            const Prediction& prediction);
 
 /// A new entity's state, without its id.
 void write_absolute(BitWriter& out, const QuantizedEntity& entity, const FieldWidths& widths);
@@ -51,16 +88,20 @@ int absolute_bits(const QuantizedEntity& entity, const FieldWidths& widths);
 /// Fills every field but the id; false on a value out of range (the reader may also fail).
 bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& entity);
 
-/// A changed entity's fields after its gap: the mask, then each changed field's delta.
+/// A changed entity's fields after its gap: the mask (1 bit when it equals `previous_mask`, else
+/// 0 and 4 bits; updated), then each marked field's delta.
 void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths);
-/// Bits write_delta takes (without the gap).
+                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
+                 std::uint8_t& previous_mask);
+/// Bits write_delta takes (without the gap), its mask counted as 5 bits.
 int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
-               const DeltaOrders& orders, const FieldWidths& widths);
+               const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction);
 
 enum class DeltaStatus : std::uint8_t { Ok, EmptyChange, OutOfRange };
 /// Applies the delta read from `in` to `entity` (holding the baseline); the reader may fail.
+/// EmptyChange: the result equals the baseline.
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,
+                       const Prediction& prediction, std::uint8_t& previous_mask,
                        QuantizedEntity& entity);
 
 }  // namespace ricochet::proto::snapshot_layout

@@ -10,7 +10,8 @@ namespace ricochet::proto::snapshot_layout {
 /// Largest order the encoder tries; the stream can carry up to 31.
 inline constexpr int kMaxChosenOrder = 24;
 
-/// The order in [0, kMaxChosenOrder] minimising the total code length of `values` (0 if empty).
+/// The order in [0, kMaxChosenOrder] minimising the total code length of `values` (0 if empty),
+/// or kAllZeroOrder when every value is 0.
 int best_order(std::span<const std::uint64_t> values);
 /// Bits the order-k codes of `values` take together.
 std::uint64_t total_bits(std::span<const std::uint64_t> values, int order);

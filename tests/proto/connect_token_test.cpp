@@ -16,8 +16,8 @@ constexpr std::uint64_t kProtocol = 0xABCD;
 constexpr TimeUs kNow = 1'000 * kMicrosPerSecond;
 
 TEST(ConnectToken, OpensToWhatWasIssued) {
-  const TokenGrant grant = issue_connect_token(kTokenKey, kProtocol, 123456789, 7, kNow,
-                                               30 * kMicrosPerSecond, 5);
+  const TokenGrant grant =
+      issue_connect_token(kTokenKey, kProtocol, 123456789, 7, kNow, 30 * kMicrosPerSecond, 5);
   EXPECT_EQ(grant.connect_token.size(), kConnectTokenBytes);
   EXPECT_EQ(grant.expires_at, kNow + 30 * kMicrosPerSecond);
   EXPECT_EQ(grant.timeout_s, 5u);
@@ -47,7 +47,8 @@ TEST(ConnectToken, RefusesForgedWrongKeyWrongProtocolAndWrongLength) {
   for (std::size_t i = 0; i < grant.connect_token.size(); ++i) {
     auto forged = grant.connect_token;
     forged[i] ^= 0x01;
-    EXPECT_EQ(open_connect_token(kTokenKey, kProtocol, forged, kNow).error, DropReason::TokenInvalid)
+    EXPECT_EQ(open_connect_token(kTokenKey, kProtocol, forged, kNow).error,
+              DropReason::TokenInvalid)
         << "byte " << i;
   }
   Key other = kTokenKey;
@@ -61,16 +62,20 @@ TEST(ConnectToken, RefusesForgedWrongKeyWrongProtocolAndWrongLength) {
 }
 
 TEST(ConnectToken, ExpiresOnTheServersClock) {
-  const auto grant = issue_connect_token(kTokenKey, kProtocol, 1, 2, kNow, 10 * kMicrosPerSecond, 5);
+  const auto grant =
+      issue_connect_token(kTokenKey, kProtocol, 1, 2, kNow, 10 * kMicrosPerSecond, 5);
   EXPECT_TRUE(open_connect_token(kTokenKey, kProtocol, grant.connect_token,
-                                 kNow + 10 * kMicrosPerSecond - 1).ok());
-  EXPECT_EQ(open_connect_token(kTokenKey, kProtocol, grant.connect_token,
-                               kNow + 10 * kMicrosPerSecond).error,
-            DropReason::TokenExpired);
+                                 kNow + 10 * kMicrosPerSecond - 1)
+                  .ok());
+  EXPECT_EQ(
+      open_connect_token(kTokenKey, kProtocol, grant.connect_token, kNow + 10 * kMicrosPerSecond)
+          .error,
+      DropReason::TokenExpired);
   // An expiry more than 30 s ahead is never issued: a server clock that went back is refused.
-  EXPECT_EQ(open_connect_token(kTokenKey, kProtocol, grant.connect_token,
-                               kNow - 30 * kMicrosPerSecond).error,
-            DropReason::TokenExpired);
+  EXPECT_EQ(
+      open_connect_token(kTokenKey, kProtocol, grant.connect_token, kNow - 30 * kMicrosPerSecond)
+          .error,
+      DropReason::TokenExpired);
 }
 
 TEST(ConnectToken, IssuingOutsideTheLimitsIsACallersBug) {

@@ -46,7 +46,8 @@ TEST_F(TransportTest, AClientSilentForItsTimeoutIsDroppedOnce) {
   EXPECT_EQ(gone.client, id);
   EXPECT_EQ(gone.account_id, 1u);
   EXPECT_EQ(gone.reason, DisconnectReason::TimedOut);
-  EXPECT_EQ(server->counters().disconnects[static_cast<std::size_t>(DisconnectReason::TimedOut)], 1u);
+  EXPECT_EQ(server->counters().disconnects[static_cast<std::size_t>(DisconnectReason::TimedOut)],
+            1u);
   EXPECT_EQ(server_transitions.back().reason, "timed_out");
   server->update(kT0 + 6 * kMicrosPerSecond);
   EXPECT_TRUE(server_events().empty());
@@ -71,7 +72,8 @@ TEST_F(TransportTest, ReconnectFromANewAddressReplacesTheOldConnection) {
   auto new_client = std::make_unique<GameClient>(sim::connect_info(42, 1, kT0 + kMs), kT0 + kMs);
   // Deliver by hand so that the disconnect for the old address can be seen.
   for (int round = 0; round < 3; ++round) {
-    for (const Transmit& t : client_out(*new_client)) server->receive(kAliceOnMobile, t.bytes, kT0 + kMs);
+    for (const Transmit& t : client_out(*new_client))
+      server->receive(kAliceOnMobile, t.bytes, kT0 + kMs);
     for (const Transmit& t : server_out()) {
       if (t.to == kAliceOnMobile) new_client->receive(kServerAddress, t.bytes, kT0 + kMs);
       if (t.to == kAlice) old_client->receive(kServerAddress, t.bytes, kT0 + kMs);
@@ -142,7 +144,8 @@ TEST_F(TransportTest, ReliableMessagesReachTheClientInOrderAndTheCapDisconnects)
     ASSERT_TRUE(server->send_reliable(id, std::vector<std::uint8_t>{i}, kT0));
   }
   EXPECT_FALSE(server->send_reliable(id, {}, kT0)) << "empty";
-  EXPECT_FALSE(server->send_reliable(id, std::vector<std::uint8_t>(kMaxReliableMessageBytes + 1), kT0));
+  EXPECT_FALSE(
+      server->send_reliable(id, std::vector<std::uint8_t>(kMaxReliableMessageBytes + 1), kT0));
   server->update(kT0 + kMs);
   exchange(*alice, kAlice, kT0 + kMs);
   client_events(*alice);
@@ -157,7 +160,8 @@ TEST_F(TransportTest, ReliableMessagesReachTheClientInOrderAndTheCapDisconnects)
   exchange(*alice, kAlice, kT0 + 201 * kMs);
   std::vector<std::uint8_t> received;
   for (const ClientEvent& event : client_events(*alice)) {
-    if (const auto* reliable = std::get_if<ClientReliable>(&event)) received.push_back(reliable->bytes[0]);
+    if (const auto* reliable = std::get_if<ClientReliable>(&event))
+      received.push_back(reliable->bytes[0]);
   }
   EXPECT_EQ(received, (std::vector<std::uint8_t>{4, 5, 6, 7}));
   // Now the client goes silent: four more unacked messages fill the queue, the fifth disconnects.
@@ -177,7 +181,8 @@ TEST_F(TransportTest, UnreliablePayloadsAreLimitedToOnePacket) {
   auto packets = server_out();
   ASSERT_EQ(packets.size(), 1u);
   EXPECT_EQ(packets[0].bytes.size(), kMaxDatagramBytes);
-  EXPECT_FALSE(server->send_unreliable(id, std::vector<std::uint8_t>(kMaxUnreliableBytes + 1, 1), kT0));
+  EXPECT_FALSE(
+      server->send_unreliable(id, std::vector<std::uint8_t>(kMaxUnreliableBytes + 1, 1), kT0));
   EXPECT_FALSE(server->send_unreliable(9999, std::vector<std::uint8_t>{1}, kT0));
 }
 

@@ -15,7 +15,9 @@ constexpr TimeUs kT0 = 100 * kMicrosPerSecond;
 TEST_F(TransportTest, HandshakeConnectsBothEndsAndEveryReplyIsSmallerThanItsCause) {
   std::vector<StateTransition> client_transitions;
   GameClientConfig client_config;
-  client_config.log.on_transition = [&](const StateTransition& t) { client_transitions.push_back(t); };
+  client_config.log.on_transition = [&](const StateTransition& t) {
+    client_transitions.push_back(t);
+  };
   GameClient client(sim::connect_info(77, 3, kT0), kT0, client_config);
 
   auto request = client_out(client);
@@ -66,6 +68,26 @@ TEST_F(TransportTest, HandshakeConnectsBothEndsAndEveryReplyIsSmallerThanItsCaus
   EXPECT_EQ(client_transitions[2].to, ConnectionState::Connected);
 }
 
+TEST_F(TransportTest, IPv6ClientsConnectAndDropsAreReportedThroughTheLog) {
+  std::vector<std::pair<DropReason, Address>> dropped;
+  GameServerConfig config = sim::test_server_config();
+  config.log.on_drop = [&](DropReason reason, const Address& from) {
+    dropped.emplace_back(reason, from);
+  };
+  start(config);
+  Address v6;
+  v6.v6 = true;
+  v6.ip = {0x20, 0x01, 0x0d, 0xb8, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
+  v6.port = 443;
+  auto client = connected_client(8, v6, kT0);
+  EXPECT_EQ(server->client_count(), 1u);
+  server->receive(v6, std::vector<std::uint8_t>(40, 0xEE), kT0);
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_EQ(dropped[0].first, DropReason::Malformed);
+  EXPECT_EQ(dropped[0].second, v6);
+  EXPECT_EQ(name(dropped[0].first), "malformed");
+}
+
 TEST_F(TransportTest, LostChallengeAndLostKeepAliveAreRecoveredByResends) {
   GameClient client(sim::connect_info(5, 1, kT0), kT0);
   server->receive(kAlice, client_out(client)[0].bytes, kT0);
@@ -97,7 +119,9 @@ TEST_F(TransportTest, RefusesEmptyOversizedTruncatedAndUnknownTypes) {
   server->receive(kMallory, std::vector<std::uint8_t>(kMaxDatagramBytes + 1, 0), kT0);
   EXPECT_EQ(drops(DropReason::Oversized), 1u);
   server->receive(kMallory, std::vector<std::uint8_t>(kConnectionRequestBytes - 1, 0), kT0);
-  server->receive(kMallory, std::vector<std::uint8_t>{static_cast<std::uint8_t>(PacketType::Payload), 1, 2}, kT0);
+  server->receive(kMallory,
+                  std::vector<std::uint8_t>{static_cast<std::uint8_t>(PacketType::Payload), 1, 2},
+                  kT0);
   EXPECT_EQ(drops(DropReason::Truncated), 2u);
   server->receive(kMallory, std::vector<std::uint8_t>(100, 0xEE), kT0);
   EXPECT_EQ(drops(DropReason::Malformed), 1u);
@@ -110,7 +134,8 @@ TEST_F(TransportTest, RefusesWrongVersionAndWrongProtocol) {
   request[3] ^= 0x20;
   server->receive(kMallory, request, kT0);
   EXPECT_EQ(drops(DropReason::WrongVersion), 1u);
-  server->receive(kMallory, write_connection_request(kTestProtocolId + 1, info.grant.connect_token), kT0);
+  server->receive(kMallory, write_connection_request(kTestProtocolId + 1, info.grant.connect_token),
+                  kT0);
   EXPECT_EQ(drops(DropReason::WrongProtocol), 1u);
   EXPECT_TRUE(server_out().empty());
 }
@@ -121,8 +146,10 @@ TEST_F(TransportTest, RefusesForgedExpiredAndMalformedTokens) {
   forged[40] ^= 1;
   server->receive(kMallory, write_connection_request(kTestProtocolId, forged), kT0);
   EXPECT_EQ(drops(DropReason::TokenInvalid), 1u);
-  const auto foreign = issue_connect_token(random_key(), kTestProtocolId, 1, 1, kT0, kMicrosPerSecond, 5);
-  server->receive(Address::ipv4(1, 1, 1, 1, 1), write_connection_request(kTestProtocolId, foreign.connect_token), kT0);
+  const auto foreign =
+      issue_connect_token(random_key(), kTestProtocolId, 1, 1, kT0, kMicrosPerSecond, 5);
+  server->receive(Address::ipv4(1, 1, 1, 1, 1),
+                  write_connection_request(kTestProtocolId, foreign.connect_token), kT0);
   EXPECT_EQ(drops(DropReason::TokenInvalid), 2u) << "sealed under another server's key";
   server->receive(Address::ipv4(1, 1, 1, 2, 1),
                   write_connection_request(kTestProtocolId, info.grant.connect_token),
@@ -162,15 +189,34 @@ TEST_F(TransportTest, ASpoofedSourceGetsOnlyAChallengeItCannotAnswer) {
   ChallengeBody guess;
   guess.challenge_sequence = 0;
   fill_random(guess.challenge_token);
-  server->receive(kAlice, seal_packet(PacketType::Response, 0, kTestProtocolId,
-                                      info.grant.client_to_server, write_challenge_body(guess)),
+  server->receive(kAlice,
+                  seal_packet(PacketType::Response, 0, kTestProtocolId, info.grant.client_to_server,
+                              write_challenge_body(guess)),
                   kT0);
   EXPECT_EQ(drops(DropReason::ChallengeInvalid), 1u);
-  server->receive(kMallory, seal_packet(PacketType::Response, 1, kTestProtocolId,
-                                        info.grant.client_to_server, write_challenge_body(guess)),
+  server->receive(kMallory,
+                  seal_packet(PacketType::Response, 1, kTestProtocolId, info.grant.client_to_server,
+                              write_challenge_body(guess)),
                   kT0);
   EXPECT_EQ(drops(DropReason::UnknownAddress), 1u);
   EXPECT_TRUE(server_out().empty());
+  EXPECT_EQ(server->client_count(), 0u);
+}
+
+TEST_F(TransportTest, AResponseToAnEarlierHandshakeIsRefused) {
+  const auto info = sim::connect_info(14, 1, kT0);
+  GameClient client(info, kT0);
+  server->receive(kAlice, client_out(client)[0].bytes, kT0);
+  client.receive(kServerAddress, server_out()[0].bytes, kT0);
+  const auto old_response = client_out(client)[0].bytes;  // lost on its way
+  server->update(kT0 + 5 * kMicrosPerSecond);             // the handshake times out
+  EXPECT_EQ(server->counters().half_open, 0u);
+  const TimeUs later = kT0 + 5 * kMicrosPerSecond;
+  server->receive(kAlice, write_connection_request(kTestProtocolId, info.grant.connect_token),
+                  later);
+  ASSERT_EQ(server_out().size(), 1u) << "same token, same address: a new handshake";
+  server->receive(kAlice, old_response, later);
+  EXPECT_EQ(drops(DropReason::ChallengeInvalid), 1u);
   EXPECT_EQ(server->client_count(), 0u);
 }
 
@@ -181,8 +227,9 @@ TEST_F(TransportTest, RefusesForgedMacsReplaysAndPacketsOutOfState) {
   client.receive(kServerAddress, server_out()[0].bytes, kT0);
   auto response = client_out(client)[0].bytes;
 
-  server->receive(kAlice, seal_packet(PacketType::KeepAlive, 5, kTestProtocolId,
-                                      info.grant.client_to_server, write_keep_alive_body({})),
+  server->receive(kAlice,
+                  seal_packet(PacketType::KeepAlive, 5, kTestProtocolId,
+                              info.grant.client_to_server, write_keep_alive_body({})),
                   kT0);
   EXPECT_EQ(drops(DropReason::WrongState), 1u) << "keep-alive while challenged";
   auto forged = response;
@@ -239,9 +286,15 @@ TEST_F(TransportTest, CapsTrackedAddressesAndHalfOpenHandshakes) {
   start(config);
   const Address a = Address::ipv4(1, 0, 0, 1, 1), b = Address::ipv4(1, 0, 0, 2, 1),
                 c = Address::ipv4(1, 0, 0, 3, 1);
-  server->receive(a, write_connection_request(kTestProtocolId, sim::connect_info(1, 1, kT0).grant.connect_token), kT0);
+  server->receive(
+      a,
+      write_connection_request(kTestProtocolId, sim::connect_info(1, 1, kT0).grant.connect_token),
+      kT0);
   EXPECT_EQ(server->counters().half_open, 1u);
-  server->receive(b, write_connection_request(kTestProtocolId, sim::connect_info(2, 1, kT0).grant.connect_token), kT0);
+  server->receive(
+      b,
+      write_connection_request(kTestProtocolId, sim::connect_info(2, 1, kT0).grant.connect_token),
+      kT0);
   EXPECT_EQ(drops(DropReason::HalfOpenCap), 1u);
   server->receive(c, std::vector<std::uint8_t>(10, 1), kT0);
   EXPECT_EQ(drops(DropReason::AddressTableFull), 1u);
@@ -278,8 +331,9 @@ TEST_F(TransportTest, ReliableMessagesFarAheadOfTheWindowAreDropped) {
   ASSERT_EQ(client.state(), ConnectionState::Connected);
   PayloadBody body;
   body.reliable = {{1000, {1}}};
-  server->receive(kAlice, seal_packet(PacketType::Payload, 500, kTestProtocolId,
-                                      info.grant.client_to_server, write_payload_body(body)),
+  server->receive(kAlice,
+                  seal_packet(PacketType::Payload, 500, kTestProtocolId,
+                              info.grant.client_to_server, write_payload_body(body)),
                   kT0);
   EXPECT_EQ(drops(DropReason::ReliableOutOfWindow), 1u);
 }
@@ -293,9 +347,11 @@ TEST_F(TransportTest, TheClientDropsStrangersForgeriesAndPacketsOutOfState) {
   client.receive(kMallory, keep_alive, kT0);
   EXPECT_EQ(client.counters().dropped(DropReason::UnknownAddress), 1u);
   client.receive(kServerAddress, keep_alive, kT0);
-  EXPECT_EQ(client.counters().dropped(DropReason::WrongState), 1u) << "keep-alive before a challenge";
-  const auto forged_challenge = seal_packet(PacketType::Challenge, kHandshakeSequenceBit, kTestProtocolId,
-                                            random_key(), write_challenge_body({}));
+  EXPECT_EQ(client.counters().dropped(DropReason::WrongState), 1u)
+      << "keep-alive before a challenge";
+  const auto forged_challenge =
+      seal_packet(PacketType::Challenge, kHandshakeSequenceBit, kTestProtocolId, random_key(),
+                  write_challenge_body({}));
   client.receive(kServerAddress, forged_challenge, kT0);
   EXPECT_EQ(client.counters().dropped(DropReason::ForgedMac), 1u);
   EXPECT_EQ(client.state(), ConnectionState::SendingRequest);

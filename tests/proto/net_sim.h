@@ -20,11 +20,11 @@
 namespace ricochet::proto::sim {
 
 struct LinkConditions {
-  TimeUs latency_us = 0;        ///< one way
-  TimeUs jitter_us = 0;         ///< uniform in [-jitter, +jitter] added to the latency, ≥ 0 total
-  double loss = 0.0;            ///< probability a datagram is lost, 0..1
-  double duplicate = 0.0;       ///< probability a datagram is delivered twice, 0..1
-  double reorder = 0.0;         ///< probability a datagram is held back by reorder_delay_us
+  TimeUs latency_us = 0;   ///< one way
+  TimeUs jitter_us = 0;    ///< uniform in [-jitter, +jitter] added to the latency, ≥ 0 total
+  double loss = 0.0;       ///< probability a datagram is lost, 0..1
+  double duplicate = 0.0;  ///< probability a datagram is delivered twice, 0..1
+  double reorder = 0.0;    ///< probability a datagram is held back by reorder_delay_us
   TimeUs reorder_delay_us = 0;
 };
 
@@ -140,8 +140,8 @@ class SimWorld {
   std::size_t add_client(const Address& address, std::uint64_t account_id, std::uint32_t match_id,
                          TimeUs now_us, GameClientConfig config = {}) {
     peers.push_back({address,
-                     std::make_unique<GameClient>(connect_info(account_id, match_id, now_us), now_us,
-                                                  std::move(config)),
+                     std::make_unique<GameClient>(connect_info(account_id, match_id, now_us),
+                                                  now_us, std::move(config)),
                      {}});
     drain(now_us);
     return peers.size() - 1;
@@ -159,7 +159,8 @@ class SimWorld {
         server.receive(datagram.from, datagram.bytes, now_us);
       } else {
         for (Peer& peer : peers) {
-          if (peer.address == datagram.to) peer.client->receive(datagram.from, datagram.bytes, now_us);
+          if (peer.address == datagram.to)
+            peer.client->receive(datagram.from, datagram.bytes, now_us);
         }
       }
       drain(now_us);

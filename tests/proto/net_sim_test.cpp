@@ -34,7 +34,8 @@ std::vector<std::uint8_t> numbered(int i) {
 /// 20 s of a server sending one unreliable and, every 10th tick, one reliable message to each
 /// client at 20 Hz, clients answering with inputs at 20 Hz.
 struct TrafficRun {
-  explicit TrafficRun(std::uint64_t seed, LinkConditions conditions, int clients) : world(seed, conditions) {
+  explicit TrafficRun(std::uint64_t seed, LinkConditions conditions, int clients)
+      : world(seed, conditions) {
     for (int i = 0; i < clients; ++i) world.add_client(client_address(i), 100 + i, 1, 0);
   }
   void play(TimeUs duration) {

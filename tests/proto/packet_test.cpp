@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string_view>
+
 #include "ricochet/proto/connect_token.h"
 
 namespace ricochet::proto {
@@ -14,7 +17,9 @@ const Key kKey = [] {
 }();
 constexpr std::uint64_t kProtocol = 42;
 
-std::vector<std::uint8_t> some_token() { return std::vector<std::uint8_t>(kConnectTokenBytes, 0x5A); }
+std::vector<std::uint8_t> some_token() {
+  return std::vector<std::uint8_t>(kConnectTokenBytes, 0x5A);
+}
 
 TEST(ConnectionRequest, IsPaddedToTheLargestDatagramAndRoundTrips) {
   const auto bytes = write_connection_request(kProtocol, some_token());
@@ -71,8 +76,8 @@ TEST(EncryptedPacket, HeaderRefusesEmptyOversizedUnknownTypeAndShortPackets) {
   std::vector<std::uint8_t> unknown(64, 0);
   unknown[0] = 9;
   EXPECT_EQ(read_encrypted_header(unknown).error, DropReason::Malformed);
-  const auto keep_alive = seal_packet(PacketType::KeepAlive, 1, kProtocol, kKey,
-                                      write_keep_alive_body({3, 4}));
+  const auto keep_alive =
+      seal_packet(PacketType::KeepAlive, 1, kProtocol, kKey, write_keep_alive_body({3, 4}));
   std::vector<std::uint8_t> cut(keep_alive.begin(), keep_alive.end() - 1);
   EXPECT_EQ(read_encrypted_header(cut).error, DropReason::Truncated);
 }
@@ -91,7 +96,8 @@ TEST(Bodies, RoundTripAndRefuseBadLengths) {
             DisconnectReason::Denied);
   EXPECT_FALSE(read_denied_body(std::vector<std::uint8_t>{200}).ok());
 
-  auto disconnect = read_disconnect_body(write_disconnect_body({{5, 6}, DisconnectReason::Replaced}));
+  auto disconnect =
+      read_disconnect_body(write_disconnect_body({{5, 6}, DisconnectReason::Replaced}));
   ASSERT_TRUE(disconnect.ok());
   EXPECT_EQ(disconnect.value.reason, DisconnectReason::Replaced);
   EXPECT_EQ(disconnect.value.ack, (AckHeader{5, 6}));
@@ -134,6 +140,24 @@ TEST(PacketSizes, EveryHandshakeReplyIsSmallerThanTheRequest) {
   EXPECT_LT(challenge, kConnectionRequestBytes);
   EXPECT_LT(denied, kConnectionRequestBytes);
   EXPECT_EQ(kEncryptedHeaderBytes + kMaxBodyBytes + kMacBytes, kMaxDatagramBytes);
+}
+
+template <class Enum>
+std::set<std::string_view> names_of(std::size_t count) {
+  std::set<std::string_view> names;
+  for (std::size_t i = 0; i < count; ++i) names.insert(name(static_cast<Enum>(i)));
+  return names;
+}
+
+TEST(Names, EveryReasonStateAndTypeHasItsOwnMetricLabel) {
+  for (const auto& [names, count] :
+       {std::pair{names_of<DropReason>(kDropReasonCount), kDropReasonCount},
+        std::pair{names_of<DisconnectReason>(kDisconnectReasonCount), kDisconnectReasonCount},
+        std::pair{names_of<ConnectionState>(kConnectionStateCount), kConnectionStateCount},
+        std::pair{names_of<PacketType>(kPacketTypeCount), kPacketTypeCount}}) {
+    EXPECT_EQ(names.size(), count);
+    EXPECT_FALSE(names.contains("unknown")) << "an enum value without its name";
+  }
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
-#include "ricochet/proto/reliable_channel.h"
-
 #include <gtest/gtest.h>
+
+#include "ricochet/proto/reliable_channel.h"
 
 namespace ricochet::proto {
 namespace {

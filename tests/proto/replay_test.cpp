@@ -1,8 +1,7 @@
-#include "ricochet/proto/replay_window.h"
-
 #include <gtest/gtest.h>
 
 #include "ricochet/proto/ack_window.h"
+#include "ricochet/proto/replay_window.h"
 
 namespace ricochet::proto {
 namespace {

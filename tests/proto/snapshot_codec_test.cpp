@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -140,6 +141,41 @@ TEST(SnapshotCodec, TheBudgetHoldsAndTheNearestGoFirst) {
   EXPECT_LT(farthest_sent, unsent[unsent.size() / 2]);
 }
 
+TEST(SnapshotCodec, AtTheSameDistanceTheMostChangedGoFirst) {
+  const QuantizationSpec spec = test_spec();
+  // 200 entities on a ring around the viewer, all at rest and known to the client.
+  std::vector<QuantizedEntity> world(200);
+  for (std::uint32_t i = 0; i < world.size(); ++i) {
+    EntityState state;
+    state.id = i + 1;
+    const float angle = 6.2831853f * static_cast<float>(i) / static_cast<float>(world.size());
+    state.position_m = {10 * std::cos(angle), 1, 10 * std::sin(angle)};
+    world[i] = quantize(state, spec);
+  }
+  SnapshotEncoder encoder(spec);
+  SnapshotDecoder decoder(spec);
+  wire::Snapshot snapshot;
+  std::uint32_t tick = 1;
+  for (; encoder.last_report().pending > 0 || tick == 1; ++tick) {
+    encoder.encode(tick, world, kOrigin, kBudget, snapshot);
+    ASSERT_TRUE(decoder.decode(snapshot).ok);
+    encoder.acknowledge(tick);
+  }
+  // Odd ids move 2 m, even ids 2 cm; the budget holds about a third of them.
+  for (QuantizedEntity& e : world) e.position[1] += e.id % 2 == 1 ? 2000 : 20;
+  encoder.encode(tick, world, kOrigin, 60, snapshot);
+  ASSERT_GT(encoder.last_report().deferred, 0u);
+  const SnapshotDecodeResult result = decoder.decode(snapshot);
+  ASSERT_TRUE(result.ok);
+  int far_moved = 0, near_moved = 0;
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    if (result.entities[i] != world[i]) continue;  // not sent yet
+    (world[i].id % 2 == 1 ? far_moved : near_moved) += 1;
+  }
+  EXPECT_GT(far_moved, 0);
+  EXPECT_EQ(near_moved, 0);
+}
+
 TEST(SnapshotCodec, StarvedEntitiesAreSentSoonerAndTheClientConverges) {
   const QuantizationSpec spec = test_spec();
   std::mt19937 random(15);
@@ -169,6 +205,55 @@ TEST(SnapshotCodec, StarvedEntitiesAreSentSoonerAndTheClientConverges) {
   } while (encoder.last_report().pending > 0 && catch_up < 200);
   EXPECT_LT(catch_up, 200);
   EXPECT_EQ(decoded(result), world);
+}
+
+/// Entities gliding at constant velocity move exactly as predicted: each costs its run length
+/// and a repeated mask, about two bits, though every one of them changes every tick.
+TEST(SnapshotCodec, ConstantVelocityIsPredictedAndNearlyFree) {
+  const QuantizationSpec spec = test_spec();  // 1 mm, 0.01 m/s, 60 Hz
+  std::vector<QuantizedEntity> world(200);
+  for (std::uint32_t i = 0; i < world.size(); ++i) {
+    world[i].id = i + 1;
+    world[i].position = {1000 + 10 * i, 5000, 20000};
+    world[i].velocity = {600, 0, -300};  // 6 and -3 m/s: 100 and -50 mm per tick
+  }
+  SnapshotEncoder encoder(spec);
+  SnapshotDecoder decoder(spec);
+  wire::Snapshot snapshot;
+  for (std::uint32_t tick = 1; tick <= 120; ++tick) {
+    for (QuantizedEntity& e : world) {
+      e.position[0] += 100;
+      e.position[2] -= 50;
+    }
+    if (tick > 8) encoder.acknowledge(tick - 6);  // 100 ms late
+    encoder.encode(tick, world, kOrigin, kBudget, snapshot);
+    const SnapshotDecodeResult result = decoder.decode(snapshot);
+    ASSERT_TRUE(result.ok) << result.message;
+    if (tick > 20) {
+      ASSERT_EQ(snapshot.baseline_age(), 6u);
+      ASSERT_EQ(encoder.last_report().sent, 200u);
+      ASSERT_EQ(decoded(result), world);
+      EXPECT_LE(snapshot.entities().size() * 8, 200u * 2 + 64) << "tick " << tick;
+    }
+  }
+}
+
+TEST(SnapshotCodec, EveryBudgetHolds) {
+  const QuantizationSpec spec = test_spec();
+  std::mt19937 random(19);
+  std::vector<QuantizedEntity> world = random_world(300, spec, random);
+  SnapshotEncoder encoder(spec);
+  SnapshotDecoder decoder(spec);
+  wire::Snapshot snapshot;
+  for (std::uint32_t tick = 1; tick <= 300; ++tick) {
+    test::perturb(world, spec, random);
+    const std::size_t budget = 16 + random() % 1085;
+    encoder.encode(tick, world, kOrigin, budget, snapshot);
+    ASSERT_LE(snapshot.ByteSizeLong(), budget) << "tick " << tick;
+    ASSERT_EQ(encoder.last_report().bytes, snapshot.ByteSizeLong());
+    ASSERT_TRUE(decoder.decode(snapshot).ok);
+    if (random() % 2 == 0) encoder.acknowledge(tick);
+  }
 }
 
 TEST(SnapshotCodec, AcknowledgementsOfUnknownOrOlderTicksAreIgnored) {

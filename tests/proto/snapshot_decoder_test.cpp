@@ -70,9 +70,10 @@ TEST_F(Decoder, AcceptsAHandWrittenDeltaThatMovesOneEntity) {
   bits.write_exp_golomb(0, 0);                        // no removals
   bits.write_exp_golomb(0, 0);                        // no additions
   bits.write_exp_golomb(1, 0);                        // one change
-  for (int k = 0; k < 4; ++k) bits.write_bits(0, 5);  // orders 0
+  for (int k = 0; k < 8; ++k) bits.write_bits(0, 5);  // orders 0
   bits.write_exp_golomb(2, 0);                        // the third kept entity, id 9
-  bits.write_bits(0b1000, 4);                         // position only
+  bits.write_bits(0, 1);                              // a new mask:
+  bits.write_bits(0b0100, 4);                         // position only
   bits.write_signed_exp_golomb(7, 0);                 // x + 7 mm
   bits.write_signed_exp_golomb(0, 0);
   bits.write_signed_exp_golomb(3, 0);
@@ -113,7 +114,7 @@ TEST_F(Decoder, RefusesTruncatedStreams) {
   bits.write_exp_golomb(0, 0);
   bits.write_exp_golomb(0, 0);
   bits.write_exp_golomb(1, 0);
-  bits.write_bits(0, 5);  // orders cut short: only one of four
+  bits.write_bits(0, 5);  // orders cut short: only one of eight
   expect_refused(make_snapshot(11, 1, bits), SnapshotRejection::Truncated);
 }
 
@@ -197,18 +198,20 @@ TEST_F(Decoder, RefusesChangesBeyondTheKeptEntities) {
   expect_refused(make_snapshot(11, 1, bits), SnapshotRejection::ChangedOutOfRange);
   BitWriter gap;
   write_counts(gap, 0, 0, 1);
-  for (int k = 0; k < 4; ++k) gap.write_bits(0, 5);
+  for (int k = 0; k < 8; ++k) gap.write_bits(0, 5);
   gap.write_exp_golomb(3, 0);  // index 3 of three
+  gap.write_bits(0, 1);        // a new mask:
   gap.write_bits(0b0001, 4);
   gap.write_bits(1, 8);
   expect_refused(make_snapshot(11, 1, gap), SnapshotRejection::ChangedOutOfRange);
 }
 
-TEST_F(Decoder, RefusesAChangeWithNoField) {
+TEST_F(Decoder, RefusesAChangeThatChangesNothing) {
   BitWriter bits;
   write_counts(bits, 0, 0, 1);
-  for (int k = 0; k < 4; ++k) bits.write_bits(0, 5);
+  for (int k = 0; k < 8; ++k) bits.write_bits(0, 5);
   bits.write_exp_golomb(0, 0);
+  bits.write_bits(0, 1);  // a new mask:
   bits.write_bits(0, 4);
   expect_refused(make_snapshot(11, 1, bits), SnapshotRejection::EmptyChange);
 }
@@ -224,9 +227,10 @@ TEST_F(Decoder, RefusesValuesOutsideTheSpec) {
 
   BitWriter below_zero;
   write_counts(below_zero, 0, 0, 1);
-  for (int k = 0; k < 4; ++k) below_zero.write_bits(0, 5);
+  for (int k = 0; k < 8; ++k) below_zero.write_bits(0, 5);
   below_zero.write_exp_golomb(0, 0);
-  below_zero.write_bits(0b1000, 4);
+  below_zero.write_bits(0, 1);  // a new mask:
+  below_zero.write_bits(0b0100, 4);
   below_zero.write_signed_exp_golomb(-1, 0);  // x was 0
   below_zero.write_signed_exp_golomb(0, 0);
   below_zero.write_signed_exp_golomb(0, 0);
@@ -234,9 +238,10 @@ TEST_F(Decoder, RefusesValuesOutsideTheSpec) {
 
   BitWriter too_fast;
   write_counts(too_fast, 0, 0, 1);
-  for (int k = 0; k < 4; ++k) too_fast.write_bits(0, 5);
+  for (int k = 0; k < 8; ++k) too_fast.write_bits(0, 5);
   too_fast.write_exp_golomb(0, 0);
-  too_fast.write_bits(0b0100, 4);
+  too_fast.write_bits(0, 1);  // a new mask:
+  too_fast.write_bits(0b1000, 4);
   too_fast.write_signed_exp_golomb(spec_.velocity_limit() + 1, 0);
   too_fast.write_signed_exp_golomb(0, 0);
   too_fast.write_signed_exp_golomb(0, 0);

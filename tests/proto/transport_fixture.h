@@ -22,7 +22,9 @@ class TransportTest : public ::testing::Test {
   void SetUp() override { start(sim::test_server_config()); }
 
   void start(GameServerConfig config) {
-    config.log.on_transition = [this](const StateTransition& t) { server_transitions.push_back(t); };
+    config.log.on_transition = [this](const StateTransition& t) {
+      server_transitions.push_back(t);
+    };
     server = std::make_unique<GameServer>(std::move(config));
   }
 

@@ -1,12 +1,12 @@
 // Validation of untrusted inputs and the per-client jitter buffer.
 
+#include "ricochet/server/input_buffer.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <numbers>
-
-#include "ricochet/server/input_buffer.h"
 
 namespace ricochet::server {
 namespace {
@@ -65,8 +65,10 @@ TEST(ValidateInput, RefusesNonFiniteAngles) {
   for (const float bad : values) {
     for (int field = 0; field < 2; ++field) {
       wire::Input in = wire_input(1);
-      if (field == 0) in.set_yaw(bad);
-      else in.set_pitch(bad);
+      if (field == 0)
+        in.set_yaw(bad);
+      else
+        in.set_pitch(bad);
       PlayerInput out;
       InputDrop reason{};
       EXPECT_FALSE(validate_input(in, out, reason));
@@ -85,7 +87,8 @@ TEST(ValidateInput, RefusesOutOfRangeValues) {
   };
   EXPECT_TRUE(refused([](wire::Input& in) { in.set_move_right(128); }));
   EXPECT_TRUE(refused([](wire::Input& in) { in.set_move_forward(-128); }));
-  EXPECT_TRUE(refused([](wire::Input& in) { in.set_move_forward(std::numeric_limits<int>::min()); }));
+  EXPECT_TRUE(
+      refused([](wire::Input& in) { in.set_move_forward(std::numeric_limits<int>::min()); }));
   EXPECT_TRUE(refused([](wire::Input& in) { in.set_yaw(7); }));
   EXPECT_TRUE(refused([](wire::Input& in) { in.set_pitch(1.6f); }));
   EXPECT_TRUE(refused([](wire::Input& in) { in.set_buttons(1u << 3); }));

@@ -1,12 +1,13 @@
 // The map text format: the sample map, every statement, and errors that name line and field.
 
+#include "ricochet/server/map.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 
 #include "ricochet/physics/scene_profile.h"
-#include "ricochet/server/map.h"
 
 namespace ricochet::server {
 namespace {
@@ -120,7 +121,8 @@ TEST(Map, ErrorsNameTheLineTheFieldAndWhatCame) {
       {kHeader + "box 0 0 0 1 0 1\n", 4, "box half_extents.y", "got '0'"},
       {kHeader + "box 0 0 0 1 1\n", 4, "box", "got 5 values"},
       {kHeader + "box 0 0 0 1 1 1 0 0\n", 4, "box", "got 8 values"},
-      {kHeader + "box 0 0 0 1 1 x\n", 4, "box half_extents.z", "expected a decimal number, got 'x'"},
+      {kHeader + "box 0 0 0 1 1 x\n", 4, "box half_extents.z",
+       "expected a decimal number, got 'x'"},
       {kHeader + "box 0 nan 0 1 1 1\n", 4, "box center.y", "got 'nan'"},
       {kHeader + "box 0 inf 0 1 1 1\n", 4, "box center.y", "got 'inf'"},
       {kHeader + "box 0 1e400 0 1 1 1\n", 4, "box center.y", "got '1e400'"},
@@ -141,8 +143,8 @@ TEST(Map, ErrorsNameTheLineTheFieldAndWhatCame) {
       {kHeader + "mesh r\nvertex 0 0 0\nend\n", 6, "end", "at least one triangle"},
       {kHeader + "mesh r\nbox 0 0 0 1 1 1\n", 5, "mesh r", "expected vertex, triangle or end"},
       {kHeader + "mesh r\nvertex 0 0 99\n", 5, "vertex", "inside the bounds"},
-      {kHeader + "mesh r\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\ntriangle 0 1 2\n", 8,
-       "end", "expected 'end' to close mesh r"},
+      {kHeader + "mesh r\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\ntriangle 0 1 2\n", 8, "end",
+       "expected 'end' to close mesh r"},
       {kHeader + "mesh r/\n", 4, "mesh name", "got 'r/'"},
       {kHeader + "spawn 0 0 0\n", 4, "spawn", "got 3 values"},
       {kHeader + "spawn 0 -5 0 0\n", 4, "spawn position", "inside the bounds"},
@@ -157,8 +159,8 @@ TEST(Map, ErrorsNameTheLineTheFieldAndWhatCame) {
     const MapError error = error_of(bad.text);
     EXPECT_EQ(error.line, bad.line) << bad.text << "\n" << error.describe();
     EXPECT_EQ(error.field, bad.field) << bad.text << "\n" << error.describe();
-    EXPECT_NE(error.message.find(bad.message_part), std::string::npos)
-        << bad.text << "\n" << error.describe();
+    EXPECT_NE(error.message.find(bad.message_part), std::string::npos) << bad.text << "\n"
+                                                                       << error.describe();
   }
 }
 
@@ -188,8 +190,9 @@ TEST(Map, AMissingFileIsAnError) {
 }
 
 TEST(Map, CommentsAndTabsAndCarriageReturnsAreWhitespace) {
-  const Map map = parsed("# header comment\r\nricochet-map 1\r\nname\tcrlf # trailing\r\n"
-                         "bounds -1 -1 -1 1 1 1\r\n\t spawn 0 0 0 0\r\n");
+  const Map map = parsed(
+      "# header comment\r\nricochet-map 1\r\nname\tcrlf # trailing\r\n"
+      "bounds -1 -1 -1 1 1 1\r\n\t spawn 0 0 0 0\r\n");
   EXPECT_EQ(map.name, "crlf");
   EXPECT_EQ(map.spawns.size(), 1u);
 }

@@ -1,14 +1,14 @@
 // A match driven by fake time: players, untrusted payloads, the tick, snapshots, events, chat,
 // reconnects.
 
+#include "ricochet/server/match.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
-
-#include "ricochet/server/match.h"
 
 namespace ricochet::server {
 namespace {
@@ -186,19 +186,22 @@ TEST_F(MatchFixture, EveryConnectedPlayerGetsADecodableSnapshotPerTick) {
   proto::SnapshotDecoder decoder(match_.config().quantization);
   const std::vector<wire::ServerPayload>& payloads = inboxes_[11].payloads;
   ASSERT_EQ(payloads.size(), 30u);
+  std::vector<proto::QuantizedEntity> view;
   for (const wire::ServerPayload& payload : payloads) {
     EXPECT_EQ(payload.your_entity_id(), ann);
     EXPECT_EQ(payload.snapshot().tick(), payload.server_tick());
     const proto::SnapshotDecodeResult decoded = decoder.decode(payload.snapshot());
     ASSERT_TRUE(decoded.ok) << decoded.message;
-    EXPECT_EQ(decoded.entities.size(), 2u);
+    view.assign(decoded.entities.begin(), decoded.entities.end());
   }
-  // The last one is the match's state, quantised.
-  proto::SnapshotDecodeResult last = decoder.decode(payloads.back().snapshot());
-  EXPECT_FALSE(last.ok);  // already decoded: stale
-  const std::span<const proto::EntityState> states = match_.entity_states();
-  ASSERT_EQ(states.size(), 2u);
+  // The last one is the match's state now, quantised, bit for bit.
   EXPECT_EQ(payloads.back().server_tick(), match_.tick_number());
+  const std::span<const proto::EntityState> states = match_.entity_states();
+  ASSERT_EQ(view.size(), 2u);
+  ASSERT_EQ(states.size(), 2u);
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    EXPECT_EQ(view[k], proto::quantize(states[k], match_.config().quantization));
+  }
   EXPECT_EQ(inboxes_[22].payloads.size(), 30u);
   EXPECT_EQ(match_.counters().snapshots_sent, 60u);
 }
@@ -327,6 +330,12 @@ TEST_F(MatchFixture, AReconnectWithinTheGraceKeepsTheEntity) {
   EXPECT_FALSE(state_of(ann).flags & kEntityDisconnected);
   ASSERT_FALSE(inboxes_[22].events.empty());
   EXPECT_TRUE(inboxes_[22].events.back().player_joined().reconnected());
+  // The one back hears of bob, then of itself.
+  ASSERT_EQ(inboxes_[11].events.size(), 2u);
+  EXPECT_EQ(inboxes_[11].events[0].player_joined().name(), "bob");
+  EXPECT_FALSE(inboxes_[11].events[0].player_joined().reconnected());
+  EXPECT_EQ(inboxes_[11].events[1].player_joined().entity_id(), ann);
+  EXPECT_TRUE(inboxes_[11].events[1].player_joined().reconnected());
   // The new client starts its sequence at 1 again and gets a full snapshot.
   ASSERT_FALSE(inboxes_[11].payloads.empty());
   EXPECT_EQ(inboxes_[11].payloads.front().snapshot().baseline_age(), 0u);
@@ -337,7 +346,19 @@ TEST_F(MatchFixture, AReconnectWithinTheGraceKeepsTheEntity) {
   EXPECT_EQ(match_.counters().players_reconnected, 1u);
 }
 
-TEST_F(MatchFixture, APlayerAwayLongerThanTheGraceIsRemoved) {
+/// At 10 Hz, for tests that run through long stretches of match time.
+class TenHertzMatch : public MatchFixture {
+ protected:
+  TenHertzMatch() : MatchFixture(config()) {}
+  static MatchConfig config() {
+    MatchConfig config;
+    config.tick.rate_hz = 10;
+    config.snapshot_rate_hz = 10;
+    return config;
+  }
+};
+
+TEST_F(TenHertzMatch, APlayerAwayLongerThanTheGraceIsRemoved) {
   const std::uint32_t ann = join(11, "ann");
   join(22, "bob");
   advance(kTickUs);
@@ -345,7 +366,7 @@ TEST_F(MatchFixture, APlayerAwayLongerThanTheGraceIsRemoved) {
   inboxes_.clear();
   advance(29 * kMicrosPerSecond);
   EXPECT_EQ(match_.player_count(), 2);
-  advance(kMicrosPerSecond + kTickUs);
+  advance(kMicrosPerSecond + kMicrosPerSecond / 5);
   EXPECT_EQ(match_.player_count(), 1);
   EXPECT_FALSE(match_.entity_of(11));
   EXPECT_EQ(match_.entity_states().size(), 1u);
@@ -387,7 +408,7 @@ TEST_F(MatchFixture, ChatIsEchoedToEveryoneAndBadLinesAreRefused) {
   EXPECT_EQ(match_.chat(11, std::string(201, 'a')), ChatDrop::TooLong);
   EXPECT_EQ(match_.chat(11, std::string(200, 'a')), std::nullopt);
   EXPECT_EQ(match_.chat(11, "bell\a"), ChatDrop::InvalidText);
-  EXPECT_EQ(match_.chat(11, "\xC0\xAF"), ChatDrop::InvalidText);  // overlong '/'
+  EXPECT_EQ(match_.chat(11, "\xC0\xAF"), ChatDrop::InvalidText);      // overlong '/'
   EXPECT_EQ(match_.chat(11, "\xED\xA0\x80"), ChatDrop::InvalidText);  // a surrogate
   EXPECT_EQ(match_.chat(11, "cut \xE2\x82"), ChatDrop::InvalidText);
   advance(kTickUs);
@@ -410,17 +431,73 @@ TEST_F(MatchFixture, RefusesPlayersBeyondTheCapAndBadNames) {
     name += std::to_string(account);
     join(account, name);
   }
-  EXPECT_EQ(match_.connect(17, "late"), (std::variant<Joined, JoinRefusal>(JoinRefusal::MatchFull)));
+  EXPECT_EQ(match_.connect(17, "late"),
+            (std::variant<Joined, JoinRefusal>(JoinRefusal::MatchFull)));
   EXPECT_EQ(match_.connect(18, ""), (std::variant<Joined, JoinRefusal>(JoinRefusal::InvalidName)));
   EXPECT_EQ(match_.connect(18, "new\nline"),
             (std::variant<Joined, JoinRefusal>(JoinRefusal::InvalidName)));
-  // A seated player reconnecting is not refused for the cap.
+  // A seated player reconnecting (a new connection replacing its open one) is not refused for
+  // the cap, and hears of the 15 others and itself once, not also what was queued before.
   EXPECT_TRUE(std::holds_alternative<Joined>(match_.connect(16, "p16")));
+  drain();
+  EXPECT_EQ(inboxes_[16].events.size(), 0u);  // events go out with the next tick
+  advance(kTickUs);
+  EXPECT_EQ(inboxes_[16].events.size(), 16u);
+  EXPECT_TRUE(inboxes_[16].events.back().player_joined().reconnected());
   EXPECT_EQ(match_.counters().join_refusals[static_cast<std::size_t>(JoinRefusal::MatchFull)], 1u);
   // Sixteen players on sixteen spawns, a snapshot each within the budget.
   advance(kMicrosPerSecond / 2);
   EXPECT_EQ(match_.entity_states().size(), 16u);
-  EXPECT_EQ(inboxes_[1].payloads.size(), 30u);
+  EXPECT_EQ(inboxes_[1].payloads.size(), 31u);  // one tick, then half a second
+}
+
+TEST(MatchCrowd, SixtyFourPlayersOnSixteenSpawnsRunAroundWithinBounds) {
+  MatchConfig config;
+  config.max_players = 64;
+  config.snapshot_rate_hz = 10;  // 64 encoders of 64 entities: keep it quick under sanitizers
+  auto created = Match::create(config, sample_map(), kStart);
+  ASSERT_TRUE(std::holds_alternative<Match>(created));
+  Match& match = std::get<Match>(created);
+  for (std::uint64_t account = 1; account <= 64; ++account) {
+    ASSERT_TRUE(std::holds_alternative<Joined>(match.connect(account, "crowd")));
+  }
+  // Spawned apart: 16 on the floor, the others one player height above each other.
+  std::vector<std::uint8_t> payload_bytes;
+  std::uint32_t sequence = 0;
+  std::size_t largest_payload = 0;
+  TimeUs now = kStart;
+  for (int tick = 0; tick < 90; ++tick) {  // 1.5 s
+    ++sequence;
+    for (std::uint64_t account = 1; account <= 64; ++account) {
+      wire::ClientPayload payload;
+      wire::Input& in = *payload.add_inputs();
+      in.set_sequence(sequence);
+      in.set_move_forward(127);
+      in.set_yaw(std::remainder(static_cast<float>(account) * 0.7f + static_cast<float>(tick / 40),
+                                6.2831853f));
+      in.set_buttons(tick % 50 == static_cast<int>(account % 50) ? std::uint32_t{kButtonJump} : 0u);
+      payload_bytes.resize(payload.ByteSizeLong());
+      payload.SerializeToArray(payload_bytes.data(), static_cast<int>(payload_bytes.size()));
+      match.receive(account, payload_bytes);
+    }
+    now += kTickUs;
+    match.tick(now);
+    Outgoing out;
+    while (match.poll_outbox(out)) {
+      if (!out.reliable) largest_payload = std::max(largest_payload, out.bytes.size());
+    }
+  }
+  EXPECT_LE(largest_payload, config.snapshot_budget_bytes);
+  const Map map = sample_map();
+  ASSERT_EQ(match.entity_states().size(), 64u);
+  for (const proto::EntityState& state : match.entity_states()) {
+    const physics::Vec3 position(state.position_m[0], state.position_m[1], state.position_m[2]);
+    EXPECT_TRUE(position.allFinite());
+    EXPECT_TRUE(map.contains(position)) << state.id << ": " << position.transpose();
+    EXPECT_LT(position.y(), 3.0) << state.id;  // everyone came down; nobody was launched
+  }
+  EXPECT_EQ(match.counters().inputs_applied, 64u * 90u);
+  EXPECT_EQ(match.counters().snapshots_sent, 64u * 15u);
 }
 
 TEST_F(MatchFixture, TheHistoryKeepsTheLastTicks) {
@@ -450,9 +527,8 @@ TEST(MatchProfile, FillsEveryPhaseFromTheProfileClock) {
                           profile.history_ms, profile.snapshots_ms, profile.send_ms}) {
     EXPECT_GT(ms, 0);
   }
-  EXPECT_GE(profile.total_ms, profile.apply_inputs_ms + profile.movement_ms +
-                                  profile.physics_ms + profile.history_ms +
-                                  profile.snapshots_ms + profile.send_ms);
+  EXPECT_GE(profile.total_ms, profile.apply_inputs_ms + profile.movement_ms + profile.physics_ms +
+                                  profile.history_ms + profile.snapshots_ms + profile.send_ms);
   EXPECT_EQ(match.tick(kStart + 2 * kTickUs), 0);
   EXPECT_EQ(match.profile().steps, 0);
   EXPECT_FALSE(match.profile().snapshot);

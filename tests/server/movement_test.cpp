@@ -1,11 +1,12 @@
 // Player movement on the physics core: expected speeds and heights from the movement config.
 
+#include "ricochet/server/movement.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "ricochet/physics/scene_profile.h"
-#include "ricochet/server/movement.h"
 
 namespace ricochet::server {
 namespace {
@@ -93,7 +94,7 @@ TEST(Movement, GroundAccelerationReachesTheMaxSpeed) {
   EXPECT_NEAR(scene.horizontal_speed(), 10.0 * 7 / 60, 1e-3);
   scene.ticks(59, forward());
   EXPECT_NEAR(scene.horizontal_speed(), 7.0, 1e-3);
-  EXPECT_LT(scene.velocity().z(), -6.99);  // yaw 0 runs along -Z
+  EXPECT_LT(scene.velocity().z(), -6.99);            // yaw 0 runs along -Z
   EXPECT_NEAR(scene.position().y(), kRadius, 0.01);  // still on the floor
 }
 
@@ -135,7 +136,7 @@ TEST(Movement, JumpsOnlyWhenGrounded) {
     previous = scene.velocity().y();
     ASSERT_LT(++airborne_ticks, 120);
   }
-  EXPECT_GT(airborne_ticks, 30);  // fell 2.6 m: about 0.73 s
+  EXPECT_GT(airborne_ticks, 30);                            // fell 2.6 m: about 0.73 s
   EXPECT_NEAR(scene.velocity().y(), 5 - 9.81 * kDt, 1e-3);  // and jumped on landing
 }
 

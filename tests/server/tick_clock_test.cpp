@@ -1,8 +1,8 @@
 // The fixed tick's accumulator, driven by fake time.
 
-#include <gtest/gtest.h>
-
 #include "ricochet/server/tick_clock.h"
+
+#include <gtest/gtest.h>
 
 namespace ricochet::server {
 namespace {

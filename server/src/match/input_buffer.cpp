@@ -21,15 +21,24 @@ constexpr std::uint32_t kMaxSequenceLead = 1024;
 
 const char* name(InputDrop reason) {
   switch (reason) {
-    case InputDrop::MalformedPayload: return "malformed_payload";
-    case InputDrop::TooManyInputs: return "too_many_inputs";
-    case InputDrop::NonFinite: return "non_finite";
-    case InputDrop::OutOfRange: return "out_of_range";
-    case InputDrop::ZeroSequence: return "zero_sequence";
-    case InputDrop::Stale: return "stale";
-    case InputDrop::TooFarAhead: return "too_far_ahead";
-    case InputDrop::Skipped: return "skipped";
-    case InputDrop::UnknownPlayer: return "unknown_player";
+    case InputDrop::MalformedPayload:
+      return "malformed_payload";
+    case InputDrop::TooManyInputs:
+      return "too_many_inputs";
+    case InputDrop::NonFinite:
+      return "non_finite";
+    case InputDrop::OutOfRange:
+      return "out_of_range";
+    case InputDrop::ZeroSequence:
+      return "zero_sequence";
+    case InputDrop::Stale:
+      return "stale";
+    case InputDrop::TooFarAhead:
+      return "too_far_ahead";
+    case InputDrop::Skipped:
+      return "skipped";
+    case InputDrop::UnknownPlayer:
+      return "unknown_player";
   }
   return "unknown";
 }
@@ -43,11 +52,12 @@ bool validate_input(const wire::Input& in, PlayerInput& out, InputDrop& reason) 
     reason = InputDrop::ZeroSequence;
     return false;
   }
-  const auto move_ok = [](std::int32_t steps) { return steps >= -kMoveSteps && steps <= kMoveSteps; };
+  const auto move_ok = [](std::int32_t steps) {
+    return steps >= -kMoveSteps && steps <= kMoveSteps;
+  };
   const bool in_range = move_ok(in.move_right()) && move_ok(in.move_forward()) &&
                         std::abs(in.yaw()) <= kMaxYaw && std::abs(in.pitch()) <= kMaxPitch &&
-                        (in.buttons() & ~kKnownButtons) == 0 &&
-                        in.weapon_slot() <= kMaxWeaponSlot;
+                        (in.buttons() & ~kKnownButtons) == 0 && in.weapon_slot() <= kMaxWeaponSlot;
   if (!in_range) {
     reason = InputDrop::OutOfRange;
     return false;

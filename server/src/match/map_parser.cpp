@@ -55,8 +55,9 @@ class Parser {
 
   Map parse() {
     if (text_.size() > kMaxMapBytes) {
-      fail(0, "map", "expected at most " + std::to_string(kMaxMapBytes) + " bytes, got " +
-                         std::to_string(text_.size()));
+      fail(0, "map",
+           "expected at most " + std::to_string(kMaxMapBytes) + " bytes, got " +
+               std::to_string(text_.size()));
     }
     while (next_line()) statement();
     if (!seen_version_) fail(0, "ricochet-map", "expected the version line 'ricochet-map 1'");
@@ -104,8 +105,8 @@ class Parser {
   void expect_tokens(std::size_t low, std::size_t high, const char* usage) const {
     const std::size_t arguments = tokens_.size() - 1;
     if (arguments < low || arguments > high) {
-      fail(std::string(tokens_[0]), "expected '" + std::string(usage) + "', got " +
-                                        std::to_string(arguments) + " values");
+      fail(std::string(tokens_[0]),
+           "expected '" + std::string(usage) + "', got " + std::to_string(arguments) + " values");
     }
   }
 
@@ -143,8 +144,8 @@ class Parser {
     const std::string_view keyword = tokens_[0];
     if (!seen_version_) {
       if (keyword != "ricochet-map") {
-        fail("ricochet-map", "expected the version line 'ricochet-map 1' first, got " +
-                                 quoted(keyword));
+        fail("ricochet-map",
+             "expected the version line 'ricochet-map 1' first, got " + quoted(keyword));
       }
       expect_tokens(1, 1, "ricochet-map VERSION");
       if (tokens_[1] != "1") fail("ricochet-map version", "expected 1, got " + quoted(tokens_[1]));
@@ -159,8 +160,8 @@ class Parser {
     if (keyword == "wall") return wall_statement();
     if (keyword == "mesh") return mesh_start();
     if (keyword == "spawn") return spawn_statement();
-    fail("statement", "expected one of name, bounds, floor, box, wall, mesh, spawn, got " +
-                          quoted(keyword));
+    fail("statement",
+         "expected one of name, bounds, floor, box, wall, mesh, spawn, got " + quoted(keyword));
   }
 
   void name_statement() {
@@ -199,8 +200,8 @@ class Parser {
 
   void add_box(const MapBox& box) {
     if (map_.boxes.size() >= kMaxBoxes) {
-      fail(std::string(tokens_[0]), "expected at most " + std::to_string(kMaxBoxes) +
-                                        " boxes and walls, got more");
+      fail(std::string(tokens_[0]),
+           "expected at most " + std::to_string(kMaxBoxes) + " boxes and walls, got more");
     }
     map_.boxes.push_back(box);
   }
@@ -274,24 +275,24 @@ class Parser {
       for (int k = 0; k < 3; ++k) {
         const std::string_view token = tokens_[1 + k];
         std::uint32_t index = 0;
-        const auto [end, error] =
-            std::from_chars(token.data(), token.data() + token.size(), index);
+        const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), index);
         if (error != std::errc{} || end != token.data() + token.size() ||
             index >= mesh.vertices_m.size()) {
-          fail(kCorners[k],
-               mesh.vertices_m.empty()
-                   ? "expected 'vertex' lines before the first triangle of mesh " + mesh.name +
-                         ", got none"
-                   : "expected a vertex number 0.." + std::to_string(mesh.vertices_m.size() - 1) +
-                         " of mesh " + mesh.name + ", got " + quoted(token));
+          fail(kCorners[k], mesh.vertices_m.empty()
+                                ? "expected 'vertex' lines before the first triangle of mesh " +
+                                      mesh.name + ", got none"
+                                : "expected a vertex number 0.." +
+                                      std::to_string(mesh.vertices_m.size() - 1) + " of mesh " +
+                                      mesh.name + ", got " + quoted(token));
         }
         corner[k] = index;
       }
       const Vec3& a = mesh.vertices_m[corner[0]];
       const Vec3 normal = (mesh.vertices_m[corner[1]] - a).cross(mesh.vertices_m[corner[2]] - a);
       if (!(normal.norm() > physics::Real(1e-6))) {
-        fail("triangle", "expected three distinct corners enclosing an area, got a degenerate "
-                         "triangle");
+        fail("triangle",
+             "expected three distinct corners enclosing an area, got a degenerate "
+             "triangle");
       }
       mesh.indices.insert(mesh.indices.end(), corner, corner + 3);
     } else if (keyword == "end") {

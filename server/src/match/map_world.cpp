@@ -18,7 +18,8 @@ physics::Status add_map_to_world(const Map& map, physics::World& world) {
   for (const MapBox& box : map.boxes) {
     physics::BoxDef def;
     def.center = box.center_m;
-    def.orientation = physics::Quat(Eigen::AngleAxis<Real>(Real(box.yaw_rad), physics::Vec3::UnitY()));
+    def.orientation =
+        physics::Quat(Eigen::AngleAxis<Real>(Real(box.yaw_rad), physics::Vec3::UnitY()));
     def.half_extents = box.half_extents_m;
     const physics::Result<physics::ShapeId> added = world.add_box(def);
     if (!added.ok()) return added.error();

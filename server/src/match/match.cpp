@@ -60,18 +60,24 @@ bool is_printable_utf8(std::string_view text) {
 
 const char* name(JoinRefusal reason) {
   switch (reason) {
-    case JoinRefusal::MatchFull: return "match_full";
-    case JoinRefusal::InvalidName: return "invalid_name";
+    case JoinRefusal::MatchFull:
+      return "match_full";
+    case JoinRefusal::InvalidName:
+      return "invalid_name";
   }
   return "unknown";
 }
 
 const char* name(ChatDrop reason) {
   switch (reason) {
-    case ChatDrop::NotInMatch: return "not_in_match";
-    case ChatDrop::Empty: return "empty";
-    case ChatDrop::TooLong: return "too_long";
-    case ChatDrop::InvalidText: return "invalid_text";
+    case ChatDrop::NotInMatch:
+      return "not_in_match";
+    case ChatDrop::Empty:
+      return "empty";
+    case ChatDrop::TooLong:
+      return "too_long";
+    case ChatDrop::InvalidText:
+      return "invalid_text";
   }
   return "unknown";
 }
@@ -113,7 +119,8 @@ std::variant<Match, std::string> Match::create(const MatchConfig& config, const 
   if (std::string error = spec.validate(); !error.empty()) {
     return "match quantization (with the bounds of map " + map.name + "): " + error;
   }
-  physics::Result<physics::World> world = physics::World::create(physics::profiles::arena_players());
+  physics::Result<physics::World> world =
+      physics::World::create(physics::profiles::arena_players());
   if (!world.ok()) return "physics world: " + world.error().message;
   if (const physics::Status added = add_map_to_world(map, world.value()); !added.ok()) {
     return "map " + map.name + ": " + added.error().message;
@@ -132,6 +139,7 @@ Match::Match(const MatchConfig& config, physics::World world, const Map& map, pr
       profile_clock_(std::move(profile_clock)),
       history_(static_cast<std::size_t>(config.history_ticks)) {
   for (const MapSpawn& spawn : map.spawns) spawns_.push_back(spawn.position_m);
+  bounds_max_y_m_ = map.bounds_max_m.y() - player_body_def(physics::Vec3::Zero()).radius;
   snapshot_interval_ticks_ = std::max(
       1, static_cast<int>(std::lround(double(config.tick.rate_hz) / config.snapshot_rate_hz)));
   ticks_since_snapshot_ = snapshot_interval_ticks_;  // the first step sends one
@@ -171,18 +179,15 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
     player->inputs.reset();
     player->applied = PlayerInput{};
     player->snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
+    drop_pending_events(account);  // meant for the old connection
     ++counters_.players_reconnected;
+    for (const Player& other : players_) {
+      if (other.account != account) queue_present(account, other);
+    }
     joined.mutable_player_joined()->set_entity_id(player->entity_id);
     joined.mutable_player_joined()->set_name(player->name);
     joined.mutable_player_joined()->set_reconnected(true);
     broadcast(joined);
-    for (const Player& other : players_) {
-      if (other.account == account) continue;
-      wire::GameEvent present;
-      present.mutable_player_joined()->set_entity_id(other.entity_id);
-      present.mutable_player_joined()->set_name(other.name);
-      queue_event(account, present);
-    }
     return Joined{player->entity_id, true};
   }
   if (player_count() >= config_.max_players) return refuse(JoinRefusal::MatchFull);
@@ -197,12 +202,7 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
   player.inputs = InputBuffer(config_.input);
   player.snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
   // Everyone already here, to the newcomer; then the newcomer to everyone (itself included).
-  for (const Player& other : players_) {
-    wire::GameEvent present;
-    present.mutable_player_joined()->set_entity_id(other.entity_id);
-    present.mutable_player_joined()->set_name(other.name);
-    queue_event(account, present);
-  }
+  for (const Player& other : players_) queue_present(account, other);
   const Joined result{player.entity_id, false};
   joined.mutable_player_joined()->set_entity_id(player.entity_id);
   joined.mutable_player_joined()->set_name(player.name);
@@ -213,21 +213,34 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
 }
 
 physics::Vec3 Match::choose_spawn() {
-  // Round robin over the spawns, skipping one a player stands on (unless all are taken).
-  const physics::Real clearance = 2 * player_body_def(physics::Vec3::Zero()).radius + physics::Real(0.1);
-  for (std::size_t tried = 0; tried < spawns_.size(); ++tried) {
-    const physics::Vec3& spawn = spawns_[(next_spawn_ + tried) % spawns_.size()];
-    const bool taken = std::any_of(players_.begin(), players_.end(), [&](const Player& player) {
-      return (world_.body_state(player.body).value().position - spawn).norm() < clearance;
+  // Round robin over the spawns, skipping one a player stands on. When every spawn is taken
+  // (more players than spawns), the same points one player height up, and so on: the newcomer
+  // drops onto the floor or onto whoever is there.
+  const physics::Real clearance =
+      2 * player_body_def(physics::Vec3::Zero()).radius + physics::Real(0.1);
+  const auto is_free = [&](const physics::Vec3& point) {
+    return std::none_of(players_.begin(), players_.end(), [&](const Player& player) {
+      return (world_.body_state(player.body).value().position - point).norm() < clearance;
     });
-    if (!taken) {
-      next_spawn_ = (next_spawn_ + tried + 1) % spawns_.size();
-      return spawn;
+  };
+  for (int level = 0;; ++level) {
+    const physics::Vec3 lift(0, clearance * physics::Real(level), 0);
+    bool inside = false;
+    for (std::size_t tried = 0; tried < spawns_.size(); ++tried) {
+      const std::size_t index = (next_spawn_ + tried) % spawns_.size();
+      const physics::Vec3 point = spawns_[index] + lift;
+      if (point.y() > bounds_max_y_m_) continue;
+      inside = true;
+      if (is_free(point)) {
+        next_spawn_ = (index + 1) % spawns_.size();
+        return point;
+      }
     }
+    if (!inside) break;  // above the bounds everywhere: share a spawn
   }
-  const physics::Vec3 spawn = spawns_[next_spawn_];
+  const physics::Vec3 point = spawns_[next_spawn_];
   next_spawn_ = (next_spawn_ + 1) % spawns_.size();
-  return spawn;
+  return point;
 }
 
 void Match::disconnect(std::uint64_t account, proto::TimeUs now) {
@@ -238,6 +251,7 @@ void Match::disconnect(std::uint64_t account, proto::TimeUs now) {
   player->inputs.reset();  // the entity stands still while away
   player->applied = PlayerInput{};
   player->snapshots.reset();
+  drop_pending_events(account);
 }
 
 bool Match::leave(std::uint64_t account) {
@@ -261,8 +275,7 @@ void Match::remove_player(std::size_t index, wire::LeaveReason reason) {
   left.mutable_player_left()->set_reason(reason);
   const std::uint64_t account = player.account;
   players_.erase(players_.begin() + static_cast<std::ptrdiff_t>(index));
-  // Events still queued for the one who left go nowhere.
-  std::erase_if(pending_events_, [account](const Outgoing& out) { return out.account == account; });
+  drop_pending_events(account);
   broadcast(left);
 }
 
@@ -306,10 +319,14 @@ void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload
 std::optional<ChatDrop> Match::chat(std::uint64_t account, std::string_view text) {
   std::optional<ChatDrop> refusal;
   const Player* player = find(account);
-  if (!player || !player->connected) refusal = ChatDrop::NotInMatch;
-  else if (text.empty()) refusal = ChatDrop::Empty;
-  else if (text.size() > kMaxChatBytes) refusal = ChatDrop::TooLong;
-  else if (!is_printable_utf8(text)) refusal = ChatDrop::InvalidText;
+  if (!player || !player->connected)
+    refusal = ChatDrop::NotInMatch;
+  else if (text.empty())
+    refusal = ChatDrop::Empty;
+  else if (text.size() > kMaxChatBytes)
+    refusal = ChatDrop::TooLong;
+  else if (!is_printable_utf8(text))
+    refusal = ChatDrop::InvalidText;
   if (refusal) {
     ++counters_.chat_drops[static_cast<std::size_t>(*refusal)];
     return refusal;
@@ -333,6 +350,17 @@ void Match::queue_event(std::uint64_t account, const wire::GameEvent& event) {
   pending_events_.push_back(std::move(out));
 }
 
+void Match::drop_pending_events(std::uint64_t account) {
+  std::erase_if(pending_events_, [account](const Outgoing& out) { return out.account == account; });
+}
+
+void Match::queue_present(std::uint64_t account, const Player& other) {
+  wire::GameEvent present;
+  present.mutable_player_joined()->set_entity_id(other.entity_id);
+  present.mutable_player_joined()->set_name(other.name);
+  queue_event(account, present);
+}
+
 void Match::broadcast(const wire::GameEvent& event) {
   for (const Player& player : players_) {
     if (player.connected) queue_event(player.account, event);
@@ -347,41 +375,30 @@ int Match::tick(proto::TimeUs now) {
   expire_disconnected(now);
   const int steps = clock_.advance(now);
   for (int step = 0; step < steps; ++step) {
-    std::int64_t at = profile_now();
-    const auto phase = [&](double& ms) {
-      ms += elapsed_ms(at);
-      at = profile_now();
-    };
-    apply_inputs();
-    phase(profile_.apply_inputs_ms);
-    move_players();
-    phase(profile_.movement_ms);
-    step_physics();
-    phase(profile_.physics_ms);
-    record_history();
-    phase(profile_.history_ms);
+    run_phase(&Match::apply_inputs, profile_.apply_inputs_ms);
+    run_phase(&Match::move_players, profile_.movement_ms);
+    run_phase(&Match::step_physics, profile_.physics_ms);
+    run_phase(&Match::record_history, profile_.history_ms);
   }
   ticks_since_snapshot_ += steps;
   if (steps > 0 && ticks_since_snapshot_ >= snapshot_interval_ticks_) {
     ticks_since_snapshot_ = 0;
     profile_.snapshot = true;
-    std::int64_t at = profile_now();
-    build_snapshots();
-    profile_.snapshots_ms = elapsed_ms(at);
-    at = profile_now();
-    send();
-    profile_.send_ms = elapsed_ms(at);
-  } else if (!pending_events_.empty()) {
-    const std::int64_t at = profile_now();
-    send();
-    profile_.send_ms = elapsed_ms(at);
+    run_phase(&Match::build_snapshots, profile_.snapshots_ms);
   }
+  run_phase(&Match::send, profile_.send_ms);
   profile_.steps = steps;
   profile_.total_ms = elapsed_ms(tick_start);
   counters_.steps += static_cast<std::uint64_t>(steps);
   counters_.overruns = clock_.overruns();
   counters_.dropped_steps = clock_.dropped_steps();
   return steps;
+}
+
+void Match::run_phase(void (Match::*phase)(), double& ms) {
+  const std::int64_t start = profile_now();
+  (this->*phase)();
+  ms += elapsed_ms(start);
 }
 
 bool Match::poll_outbox(Outgoing& out) {
@@ -394,7 +411,9 @@ bool Match::poll_outbox(Outgoing& out) {
   return true;
 }
 
-std::int64_t Match::profile_now() const { return profile_clock_ ? profile_clock_() : 0; }
+std::int64_t Match::profile_now() const {
+  return profile_clock_ ? profile_clock_() : 0;
+}
 
 double Match::elapsed_ms(std::int64_t since_ns) const {
   return static_cast<double>(profile_now() - since_ns) / 1e6;
@@ -413,7 +432,9 @@ std::optional<std::uint32_t> Match::entity_of(std::uint64_t account) const {
   return player->entity_id;
 }
 
-std::span<const proto::EntityState> Match::entity_states() const { return states_at(tick_); }
+std::span<const proto::EntityState> Match::entity_states() const {
+  return states_at(tick_);
+}
 
 std::span<const proto::EntityState> Match::states_at(std::uint32_t tick) const {
   const HistoryEntry& entry = history_[tick % history_.size()];

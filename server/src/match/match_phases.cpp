@@ -33,8 +33,8 @@ void Match::move_players() {
   for (Player& player : players_) {
     const physics::BodyState state = world_.body_state(player.body).value();
     player.grounded = is_grounded(world_, player.body, state.radius, config_.movement);
-    const physics::Vec3 velocity =
-        move_velocity(config_.movement, player.applied, state.linear_velocity, player.grounded, dt_s);
+    const physics::Vec3 velocity = move_velocity(config_.movement, player.applied,
+                                                 state.linear_velocity, player.grounded, dt_s);
     [[maybe_unused]] const physics::Status set = world_.set_linear_velocity(player.body, velocity);
     assert(set.ok());  // validated inputs give finite velocities
   }

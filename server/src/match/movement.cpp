@@ -45,7 +45,8 @@ Vec3 apply_friction(const Vec3& velocity, const MovementConfig& config, float dt
 }  // namespace
 
 std::string MovementConfig::validate() const {
-  if (!within(max_speed_mps, 0.1f, 100)) return range_error("max_speed_mps", "0.1..100", max_speed_mps);
+  if (!within(max_speed_mps, 0.1f, 100))
+    return range_error("max_speed_mps", "0.1..100", max_speed_mps);
   if (!within(ground_acceleration, 0, 1000)) {
     return range_error("ground_acceleration", "0..1000", ground_acceleration);
   }
@@ -53,8 +54,10 @@ std::string MovementConfig::validate() const {
     return range_error("air_acceleration", "0..1000", air_acceleration);
   }
   if (!within(friction, 0, 1000)) return range_error("friction", "0..1000", friction);
-  if (!within(stop_speed_mps, 0, 100)) return range_error("stop_speed_mps", "0..100", stop_speed_mps);
-  if (!within(jump_speed_mps, 0, 100)) return range_error("jump_speed_mps", "0..100", jump_speed_mps);
+  if (!within(stop_speed_mps, 0, 100))
+    return range_error("stop_speed_mps", "0..100", stop_speed_mps);
+  if (!within(jump_speed_mps, 0, 100))
+    return range_error("jump_speed_mps", "0..100", jump_speed_mps);
   if (!within(ground_max_slope_deg, 0, 89)) {
     return range_error("ground_max_slope_deg", "0..89", ground_max_slope_deg);
   }
@@ -106,8 +109,7 @@ Vec3 move_velocity(const MovementConfig& config, const PlayerInput& input, const
                    bool grounded, float dt_s) {
   const Vec3 direction = wish_direction(input);
   // Input length (<= 1) scales the wished speed: half a stick is half speed.
-  const float amount = std::min(
-      1.0f, std::hypot(input.move_right, input.move_forward));
+  const float amount = std::min(1.0f, std::hypot(input.move_right, input.move_forward));
   const float wish_speed = config.max_speed_mps * amount;
   Vec3 velocity = velocity_mps;
   if (grounded) {

@@ -20,8 +20,7 @@ TickClock::TickClock(const TickClockConfig& config, proto::TimeUs start)
 int TickClock::advance(proto::TimeUs now) {
   if (now <= origin_) return 0;
   // Whole periods elapsed since the origin: (now - origin) * rate / 1e6, exact in integers.
-  const std::int64_t elapsed_steps =
-      (now - origin_) * config_.rate_hz / proto::kMicrosPerSecond;
+  const std::int64_t elapsed_steps = (now - origin_) * config_.rate_hz / proto::kMicrosPerSecond;
   std::int64_t due = elapsed_steps - steps_since_origin_;
   if (due <= 0) return 0;
   if (due > config_.max_catch_up_steps) {

@@ -28,9 +28,8 @@ enum class ControlRefusal : std::uint8_t {
   WrongState,          ///< not allowed in the connection's state: dropped, Error replied
   RateLimited,         ///< over messages_per_second: dropped, Error replied
   InvalidRequest,      ///< a field out of range (chat length ...): Error replied
-  ShuttingDown,        ///< accepted while stopping: closed
 };
-inline constexpr std::size_t kControlRefusalCount = 16;
+inline constexpr std::size_t kControlRefusalCount = 15;
 
 inline const char* name(ControlRefusal refusal) {
   switch (refusal) {
@@ -64,8 +63,6 @@ inline const char* name(ControlRefusal refusal) {
       return "rate_limited";
     case ControlRefusal::InvalidRequest:
       return "invalid_request";
-    case ControlRefusal::ShuttingDown:
-      return "shutting_down";
   }
   return "unknown";
 }

@@ -4,12 +4,14 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <boost/asio/async_result.hpp>
+#include <boost/asio/as_tuple.hpp>
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/this_coro.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <chrono>
 #include <climits>
+#include <optional>
 
 #include "control_session.h"
 
@@ -17,20 +19,28 @@ namespace ricochet::server {
 namespace asio = boost::asio;
 namespace {
 
-/// Runs `start(post, done)` (a DbWorker call) and resumes with what `done` receives, on the
-/// coroutine's executor.
+/// Runs `start(post, done)` (a DbWorker call) and resumes with what `done` receives. The
+/// completion is posted to the coroutine's executor (the strand), where it stores the result
+/// and wakes the coroutine through a timer.
 template <class R, class Start>
 asio::awaitable<R> await_db(Start start) {
+  struct Pending {
+    explicit Pending(const asio::any_io_executor& executor) : wake(executor) {}
+    std::optional<R> result;
+    asio::steady_timer wake;
+  };
   auto executor = co_await asio::this_coro::executor;
-  co_return co_await asio::async_initiate<decltype(asio::use_awaitable), void(R)>(
-      [executor, start = std::move(start)](auto handler) mutable {
-        auto shared = std::make_shared<decltype(handler)>(std::move(handler));
-        db::Post post = [executor](std::function<void()> completion) {
-          asio::post(executor, std::move(completion));
-        };
-        start(std::move(post), [shared](R result) { (*shared)(std::move(result)); });
-      },
-      asio::use_awaitable);
+  auto pending = std::make_shared<Pending>(executor);
+  pending->wake.expires_at(asio::steady_timer::time_point::max());
+  db::Post post = [executor](std::function<void()> completion) {
+    asio::post(executor, std::move(completion));
+  };
+  start(std::move(post), [pending](R result) {
+    pending->result.emplace(std::move(result));
+    pending->wake.cancel();
+  });
+  while (!pending->result) co_await pending->wake.async_wait(asio::as_tuple(asio::use_awaitable));
+  co_return std::move(*pending->result);
 }
 
 db::UnixMillis unix_now_ms() {

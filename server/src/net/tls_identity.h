@@ -12,10 +12,10 @@ namespace ricochet::server {
 
 struct TlsIdentityPaths {
   /// Both set: load these (a missing file is an error). Both empty: use the data directory.
-  std::filesystem::path certificate;  ///< PEM; may hold a chain, leaf first
-  std::filesystem::path private_key;  ///< PEM, unencrypted
+  std::filesystem::path certificate{};  ///< PEM; may hold a chain, leaf first
+  std::filesystem::path private_key{};  ///< PEM, unencrypted
   /// Where the generated pair lives (control-cert.pem, control-key.pem); created if missing.
-  std::filesystem::path data_dir;
+  std::filesystem::path data_dir{};
 };
 
 struct TlsIdentity {

@@ -24,7 +24,8 @@
 namespace ricochet::proto {
 
 inline constexpr std::size_t kConnectTokenPlainBytes = 8 + 4 + 8 + 4 + 2 * kKeyBytes;
-inline constexpr std::size_t kConnectTokenBytes = kXNonceBytes + kConnectTokenPlainBytes + kMacBytes;
+inline constexpr std::size_t kConnectTokenBytes =
+    kXNonceBytes + kConnectTokenPlainBytes + kMacBytes;
 inline constexpr TimeUs kMaxTokenLifetimeUs = 30 * kMicrosPerSecond;
 inline constexpr std::uint32_t kMinTimeoutS = 1;
 inline constexpr std::uint32_t kMaxTimeoutS = 60;
@@ -33,8 +34,8 @@ using TokenMac = std::array<std::uint8_t, kMacBytes>;
 struct ConnectTokenContents {
   std::uint64_t account_id = 0;
   std::uint32_t match_id = 0;
-  TimeUs expires_at = 0;       ///< on the issuing server's clock
-  std::uint32_t timeout_s = 0; ///< kMinTimeoutS..kMaxTimeoutS
+  TimeUs expires_at = 0;        ///< on the issuing server's clock
+  std::uint32_t timeout_s = 0;  ///< kMinTimeoutS..kMaxTimeoutS
   Key client_to_server{};
   Key server_to_client{};
   friend bool operator==(const ConnectTokenContents&, const ConnectTokenContents&) = default;

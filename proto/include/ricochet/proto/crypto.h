@@ -13,8 +13,8 @@
 
 namespace ricochet::proto {
 
-inline constexpr std::size_t kMacBytes = 16;          ///< Poly1305 tag
-inline constexpr std::size_t kXNonceBytes = 24;       ///< XChaCha20 nonce
+inline constexpr std::size_t kMacBytes = 16;     ///< Poly1305 tag
+inline constexpr std::size_t kXNonceBytes = 24;  ///< XChaCha20 nonce
 using XNonce = std::array<std::uint8_t, kXNonceBytes>;
 
 /// Fills `out` from libsodium's CSPRNG.

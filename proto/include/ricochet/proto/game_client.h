@@ -21,14 +21,14 @@
 namespace ricochet::proto {
 
 struct ClientConnectInfo {
-  TokenGrant grant;              ///< from the control channel's join reply
+  TokenGrant grant;  ///< from the control channel's join reply
   std::uint64_t protocol_id = 0;
-  Address server;                ///< the game channel's address (UDP 7778)
+  Address server;  ///< the game channel's address (UDP 7778)
 };
 
 struct GameClientConfig {
-  TimeUs resend_us = 100 * kMicrosPerMilli;          ///< request and response resend, 10 Hz
-  TimeUs keep_alive_us = 100 * kMicrosPerMilli;      ///< 10 Hz when idle
+  TimeUs resend_us = 100 * kMicrosPerMilli;      ///< request and response resend, 10 Hz
+  TimeUs keep_alive_us = 100 * kMicrosPerMilli;  ///< 10 Hz when idle
   TimeUs reliable_resend_us = 100 * kMicrosPerMilli;
   std::size_t max_reliable_pending = 256;
   TransportLog log;
@@ -44,7 +44,8 @@ struct ClientUnreliable {
 struct ClientReliable {
   std::vector<std::uint8_t> bytes;
 };
-using ClientEvent = std::variant<ClientConnected, ClientDisconnected, ClientUnreliable, ClientReliable>;
+using ClientEvent =
+    std::variant<ClientConnected, ClientDisconnected, ClientUnreliable, ClientReliable>;
 
 class GameClient {
  public:

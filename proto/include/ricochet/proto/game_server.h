@@ -24,18 +24,18 @@
 namespace ricochet::proto {
 
 struct GameServerConfig {
-  std::uint64_t protocol_id = 0;  ///< must match the tokens' and the clients'
-  Key token_key{};                ///< server-only key the connect tokens are sealed with
-  int max_clients = 64;           ///< connected at once; more get a denied packet
-  int max_half_open = 256;        ///< handshakes in progress at once; more are dropped
-  int max_tracked_addresses = 4096;  ///< unconnected addresses with a rate-limit bucket
+  std::uint64_t protocol_id = 0;        ///< must match the tokens' and the clients'
+  Key token_key{};                      ///< server-only key the connect tokens are sealed with
+  int max_clients = 64;                 ///< connected at once; more get a denied packet
+  int max_half_open = 256;              ///< handshakes in progress at once; more are dropped
+  int max_tracked_addresses = 4096;     ///< unconnected addresses with a rate-limit bucket
   double address_packets_per_s = 20.0;  ///< budget of an unconnected address
   double address_burst = 20.0;
   double client_packets_per_s = 250.0;  ///< budget of a connected client
   double client_burst = 250.0;
   TimeUs keep_alive_us = 100 * kMicrosPerMilli;       ///< 10 Hz when idle
   TimeUs reliable_resend_us = 100 * kMicrosPerMilli;  ///< resend an unacked reliable message
-  std::size_t max_reliable_pending = 256;  ///< 1..256 unacked messages; more disconnects
+  std::size_t max_reliable_pending = 256;             ///< 1..256 unacked messages; more disconnects
   TransportLog log;
 
   /// Empty when valid, else what is wrong, e.g. "max_clients must be 1..4096, got 0".
@@ -61,7 +61,8 @@ struct ServerReliable {
   ClientId client = 0;
   std::vector<std::uint8_t> bytes;
 };
-using ServerEvent = std::variant<ServerConnected, ServerDisconnected, ServerUnreliable, ServerReliable>;
+using ServerEvent =
+    std::variant<ServerConnected, ServerDisconnected, ServerUnreliable, ServerReliable>;
 
 class GameServer {
  public:

@@ -34,6 +34,12 @@ inline constexpr std::size_t kAckHeaderBytes = 2 + 4;
 /// Handshake packets (challenge, denied) use sequences with this bit set, from a server-wide
 /// counter, so their nonces never meet the per-connection sequences under the same key.
 inline constexpr std::uint64_t kHandshakeSequenceBit = std::uint64_t{1} << 63;
+/// Disconnect packets are sent this many times back to back, so that one arrives despite loss.
+inline constexpr int kDisconnectCopies = 3;
+
+/// version | u64 protocol_id: the additional data of connect tokens, and the start of every
+/// packet's additional data.
+std::vector<std::uint8_t> version_and_protocol(std::uint64_t protocol_id);
 
 enum class PacketType : std::uint8_t {
   ConnectionRequest = 0,
@@ -45,6 +51,7 @@ enum class PacketType : std::uint8_t {
   Disconnect = 6,
 };
 inline constexpr std::size_t kPacketTypeCount = 7;
+static_assert(static_cast<std::size_t>(PacketType::Disconnect) + 1 == kPacketTypeCount);
 std::string_view name(PacketType type);
 
 /// A parse result: the value, or why the input was refused.
@@ -75,8 +82,8 @@ std::vector<std::uint8_t> seal_packet(PacketType type, std::uint64_t sequence,
                                       std::uint64_t protocol_id, const Key& key,
                                       std::span<const std::uint8_t> body);
 /// Decrypts the body of a packet whose header read_encrypted_header accepted.
-bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id,
-                 const Key& key, std::vector<std::uint8_t>& body);
+bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id, const Key& key,
+                 std::vector<std::uint8_t>& body);
 
 // ---- bodies (the plaintext inside the encryption) ----
 

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "ricochet/proto/bit_stream.h"
 #include "ricochet/proto/quantize.h"
 #include "ricochet/wire/snapshot.pb.h"
 
@@ -76,8 +77,6 @@ class SnapshotEncoder {
     std::uint32_t tick = 0;
     std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
   };
-  struct Candidate;
-
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
 
   QuantizationSpec spec_;
@@ -90,6 +89,7 @@ class SnapshotEncoder {
   /// Accumulated priority of the entities left out last time, sorted by id.
   std::vector<std::pair<std::uint32_t, float>> priority_;
   std::vector<QuantizedEntity> next_view_;
+  BitWriter stream_;
   SnapshotEncodeReport report_;
   std::uint64_t ignored_acks_ = 0;
 };
@@ -157,7 +157,7 @@ class SnapshotDecoder {
   QuantizationSpec spec_;
   SnapshotDecoderOptions options_;
   std::vector<Decoded> ring_;
-  std::vector<QuantizedEntity> scratch_;
+  std::vector<QuantizedEntity> view_;  ///< the snapshot being decoded
   bool has_newest_ = false;
   std::uint32_t newest_tick_ = 0;
   std::uint64_t accepted_ = 0;

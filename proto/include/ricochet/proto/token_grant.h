@@ -10,6 +10,10 @@
 
 namespace ricochet::proto {
 
+/// The game's protocol id ("RICOCHET" in ASCII): sealed into every connect token and sent in every
+/// connection request; a server refuses another (PROTOCOL.md).
+inline constexpr std::uint64_t kProtocolId = 0x5249434f43484554ull;
+
 inline constexpr std::size_t kKeyBytes = 32;
 using Key = std::array<std::uint8_t, kKeyBytes>;
 

@@ -19,43 +19,45 @@ using ClientId = std::uint32_t;
 
 /// Why an incoming datagram was dropped. Wire-visible behaviour: a dropped packet gets no reply.
 enum class DropReason : std::uint8_t {
-  Empty,               ///< zero bytes
-  Oversized,           ///< more than kMaxDatagramBytes
-  Truncated,           ///< shorter than its packet type needs
-  Malformed,           ///< unknown type, bad length field or body that does not parse
-  WrongVersion,        ///< connection request with another version string
-  WrongProtocol,       ///< connection request with another protocol id
-  WrongState,          ///< packet type not allowed in the sender's connection state
-  UnknownAddress,      ///< encrypted packet from an address with no handshake or connection
-  ForgedMac,           ///< authentication tag does not verify (wrong key, tampered, forged)
-  Replayed,            ///< sequence already received or older than the 256-entry window
-  TokenInvalid,        ///< connect token does not open under the server key, or bad contents
-  TokenExpired,        ///< connect token past its expiry on the server's clock
-  TokenReused,         ///< connect token already used from another address, or already connected
-  ChallengeInvalid,    ///< response whose challenge token does not open: spoofed source
-  AddressRateLimited,  ///< per-address packet budget for unconnected senders exhausted
-  ClientRateLimited,   ///< per-client packet budget for a connected client exhausted
-  AddressTableFull,    ///< too many unconnected addresses tracked for rate limiting
-  HalfOpenCap,         ///< too many handshakes in progress
-  ServerFull,          ///< max_clients connected; answered with a denied packet
-  ReliableOutOfWindow, ///< reliable message id too far ahead of the next expected one
+  Empty,                ///< zero bytes
+  Oversized,            ///< more than kMaxDatagramBytes
+  Truncated,            ///< shorter than its packet type needs
+  Malformed,            ///< unknown type, bad length field or body that does not parse
+  WrongVersion,         ///< connection request with another version string
+  WrongProtocol,        ///< connection request with another protocol id
+  WrongState,           ///< packet type not allowed in the sender's connection state
+  UnknownAddress,       ///< encrypted packet from an address with no handshake or connection
+  ForgedMac,            ///< authentication tag does not verify (wrong key, tampered, forged)
+  Replayed,             ///< sequence already received or older than the 256-entry window
+  TokenInvalid,         ///< connect token does not open under the server key, or bad contents
+  TokenExpired,         ///< connect token past its expiry on the server's clock
+  TokenReused,          ///< connect token already used from another address, or already connected
+  ChallengeInvalid,     ///< response whose challenge token does not open: spoofed source
+  AddressRateLimited,   ///< per-address packet budget for unconnected senders exhausted
+  ClientRateLimited,    ///< per-client packet budget for a connected client exhausted
+  AddressTableFull,     ///< too many unconnected addresses tracked for rate limiting
+  HalfOpenCap,          ///< too many handshakes in progress
+  ServerFull,           ///< max_clients connected; answered with a denied packet
+  ReliableOutOfWindow,  ///< reliable message id too far ahead of the next expected one
 };
 inline constexpr std::size_t kDropReasonCount = 20;
+static_assert(static_cast<std::size_t>(DropReason::ReliableOutOfWindow) + 1 == kDropReasonCount);
 std::string_view name(DropReason reason);
 
 /// Why a connection ended. Carried in the disconnect and denied packets (one byte).
 enum class DisconnectReason : std::uint8_t {
-  Requested,         ///< this end's application asked for it
-  PeerRequested,     ///< the other end sent a disconnect packet
-  TimedOut,          ///< no valid packet for the token's timeout
-  HandshakeTimedOut, ///< client: no challenge or no keep-alive within the timeout
-  Denied,            ///< server full
-  Replaced,          ///< the same account connected again (new token, maybe a new address)
-  ReliableOverflow,  ///< the reliable send queue passed its cap: the peer stopped acking
-  ServerShutdown,    ///< the server is stopping
-  Kicked,            ///< the server's application removed the client
+  Requested,          ///< this end's application asked for it
+  PeerRequested,      ///< the other end sent a disconnect packet
+  TimedOut,           ///< no valid packet for the token's timeout
+  HandshakeTimedOut,  ///< client: no challenge or no keep-alive within the timeout
+  Denied,             ///< server full
+  Replaced,           ///< the same account connected again (new token, maybe a new address)
+  ReliableOverflow,   ///< the reliable send queue passed its cap: the peer stopped acking
+  ServerShutdown,     ///< the server is stopping
+  Kicked,             ///< the server's application removed the client
 };
 inline constexpr std::size_t kDisconnectReasonCount = 9;
+static_assert(static_cast<std::size_t>(DisconnectReason::Kicked) + 1 == kDisconnectReasonCount);
 std::string_view name(DisconnectReason reason);
 
 /// Connection states. Server side per address: Connecting → Challenged → Connected →
@@ -70,15 +72,16 @@ enum class ConnectionState : std::uint8_t {
   Disconnected,
 };
 inline constexpr std::size_t kConnectionStateCount = 6;
+static_assert(static_cast<std::size_t>(ConnectionState::Disconnected) + 1 == kConnectionStateCount);
 std::string_view name(ConnectionState state);
 
 /// One state transition of one connection, reported exactly once.
 struct StateTransition {
-  Address address;               ///< the peer (the server's address on the client side)
-  ClientId client = 0;           ///< 0 before the connection has an id, and on the client side
+  Address address;      ///< the peer (the server's address on the client side)
+  ClientId client = 0;  ///< 0 before the connection has an id, and on the client side
   ConnectionState from = ConnectionState::Connecting;
   ConnectionState to = ConnectionState::Connecting;
-  std::string_view reason;       ///< static text, e.g. "valid connection request"
+  std::string_view reason;  ///< static text, e.g. "valid connection request"
 };
 
 /// Where endpoints report. Both callbacks are optional; the server layer logs transitions at
@@ -95,14 +98,12 @@ struct TransportCounters {
   std::uint64_t bytes_out = 0;
   std::array<std::uint64_t, kDropReasonCount> drops{};
   std::array<std::uint64_t, kDisconnectReasonCount> disconnects{};
-  std::uint64_t connections_total = 0;   ///< handshakes completed
-  std::uint64_t reliable_resends = 0;    ///< reliable messages sent again for want of an ack
-  std::uint32_t half_open = 0;           ///< handshakes in progress now (gauge)
-  std::uint32_t connected = 0;           ///< connected clients now (gauge)
+  std::uint64_t connections_total = 0;  ///< handshakes completed
+  std::uint64_t reliable_resends = 0;   ///< reliable messages sent again for want of an ack
+  std::uint32_t half_open = 0;          ///< handshakes in progress now (gauge)
+  std::uint32_t connected = 0;          ///< connected clients now (gauge)
 
-  std::uint64_t dropped(DropReason reason) const {
-    return drops[static_cast<std::size_t>(reason)];
-  }
+  std::uint64_t dropped(DropReason reason) const { return drops[static_cast<std::size_t>(reason)]; }
   std::uint64_t dropped_total() const;
 };
 

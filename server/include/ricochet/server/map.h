@@ -65,8 +65,8 @@ struct Map {
 
 /// What is wrong with a map text: where and what.
 struct MapError {
-  int line = 0;       ///< 1-based; 0 when the error is about the whole text or file
-  std::string field;  ///< e.g. "box half_extents.y"
+  int line = 0;         ///< 1-based; 0 when the error is about the whole text or file
+  std::string field;    ///< e.g. "box half_extents.y"
   std::string message;  ///< what was expected and what came
 
   /// "line 12: box half_extents.y: expected a number > 0, got '-1'"

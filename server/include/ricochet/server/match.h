@@ -49,13 +49,13 @@ inline constexpr std::size_t kMaxClientPayloadBytes = 1200;
 struct MatchConfig {
   std::uint32_t id = 1;
   std::string name = "match";
-  int max_players = 16;                ///< 1..64
-  TickClockConfig tick;                ///< rate 10..128 Hz (60), catch-up cap
-  int snapshot_rate_hz = 60;           ///< 1..tick.rate_hz: a snapshot every
-                                       ///< round(tick / snapshot) ticks
+  int max_players = 16;                      ///< 1..64
+  TickClockConfig tick;                      ///< rate 10..128 Hz (60), catch-up cap
+  int snapshot_rate_hz = 60;                 ///< 1..tick.rate_hz: a snapshot every
+                                             ///< round(tick / snapshot) ticks
   std::size_t snapshot_budget_bytes = 1100;  ///< serialised ServerPayload, 128..1100
   proto::TimeUs reconnect_grace_us = 30 * proto::kMicrosPerSecond;  ///< 0..300 s
-  int history_ticks = 64;              ///< entity states kept for lag compensation, 1..1024
+  int history_ticks = 64;  ///< entity states kept for lag compensation, 1..1024
   MovementConfig movement;
   InputBufferConfig input;
   /// Quantisation of the snapshots; its bounds are replaced by the map's.
@@ -91,8 +91,8 @@ const char* name(ChatDrop reason);
 
 struct MatchCounters {
   std::uint64_t steps = 0;
-  std::uint64_t overruns = 0;       ///< tick() calls that hit the catch-up cap (TickClock)
-  std::uint64_t dropped_steps = 0;  ///< steps skipped by those
+  std::uint64_t overruns = 0;           ///< tick() calls that hit the catch-up cap (TickClock)
+  std::uint64_t dropped_steps = 0;      ///< steps skipped by those
   std::uint64_t payloads_received = 0;  ///< ClientPayloads that parsed and were used
   std::uint64_t inputs_applied = 0;     ///< player-steps that had a fresh input
   std::uint64_t inputs_repeated = 0;    ///< player-steps that repeated the last one
@@ -104,8 +104,8 @@ struct MatchCounters {
   std::uint64_t players_left = 0;
   std::uint64_t players_timed_out = 0;
   std::uint64_t chat_messages = 0;
-  InputDropCounters input_drops{};  ///< by InputDrop
-  std::array<std::uint64_t, kChatDropCount> chat_drops{};       ///< by ChatDrop
+  InputDropCounters input_drops{};                               ///< by InputDrop
+  std::array<std::uint64_t, kChatDropCount> chat_drops{};        ///< by ChatDrop
   std::array<std::uint64_t, kJoinRefusalCount> join_refusals{};  ///< by JoinRefusal
 };
 
@@ -124,7 +124,8 @@ class Match {
   /// Fails with a message naming the wrong config field or the map geometry physics refused.
   /// `now` starts the tick clock.
   static std::variant<Match, std::string> create(const MatchConfig& config, const Map& map,
-                                                 proto::TimeUs now, ProfileClock profile_clock = {});
+                                                 proto::TimeUs now,
+                                                 ProfileClock profile_clock = {});
 
   Match(Match&&) noexcept;
   Match& operator=(Match&&) noexcept;
@@ -183,7 +184,7 @@ class Match {
     proto::TimeUs disconnected_at = 0;
     bool grounded = false;
     InputBuffer inputs;
-    PlayerInput applied;  ///< this step's input
+    PlayerInput applied;                                ///< this step's input
     std::unique_ptr<proto::SnapshotEncoder> snapshots;  ///< per connection, none while away
   };
   struct HistoryEntry {
@@ -202,6 +203,8 @@ class Match {
   void build_snapshots();
   void send();
 
+  /// Runs one phase, adding its time to `ms`.
+  void run_phase(void (Match::*phase)(), double& ms);
   Player* find(std::uint64_t account);
   const Player* find(std::uint64_t account) const;
   physics::Vec3 choose_spawn();
@@ -209,12 +212,17 @@ class Match {
   void expire_disconnected(proto::TimeUs now);
   void broadcast(const wire::GameEvent& event);
   void queue_event(std::uint64_t account, const wire::GameEvent& event);
+  /// Forgets the events queued for `account`: its connection is gone or replaced.
+  void drop_pending_events(std::uint64_t account);
+  /// Tells `account` that `other` is in the match (a PlayerJoined).
+  void queue_present(std::uint64_t account, const Player& other);
   double elapsed_ms(std::int64_t since_ns) const;
   std::int64_t profile_now() const;
 
   MatchConfig config_;
   std::string map_name_;
   std::vector<physics::Vec3> spawns_;
+  physics::Real bounds_max_y_m_ = 0;  ///< highest spawn centre that keeps a player inside
   std::size_t next_spawn_ = 0;
   physics::World world_;
   TickClock clock_;
@@ -223,8 +231,8 @@ class Match {
   int snapshot_interval_ticks_ = 1;
   int ticks_since_snapshot_ = 0;
   std::uint32_t next_entity_id_ = 1;
-  std::vector<Player> players_;  ///< sorted by entity id
-  std::vector<HistoryEntry> history_;  ///< ring by tick % history_ticks
+  std::vector<Player> players_;            ///< sorted by entity id
+  std::vector<HistoryEntry> history_;      ///< ring by tick % history_ticks
   std::vector<physics::BodyId> body_ids_;  ///< scratch for World::read_bodies
   std::vector<physics::Vec3> positions_, velocities_;
   std::vector<proto::QuantizedEntity> quantized_;  ///< this snapshot's world
@@ -234,7 +242,7 @@ class Match {
   };
   std::vector<AddressedPayload> payloads_;  ///< built this tick, one per connected player
   std::size_t payload_count_ = 0;           ///< of payloads_ (kept for reuse), this tick's
-  std::vector<Outgoing> pending_events_;  ///< reliable, sent in the next send phase
+  std::vector<Outgoing> pending_events_;    ///< reliable, sent in the next send phase
   std::vector<Outgoing> outbox_;
   std::size_t outbox_read_ = 0;
   TickProfile profile_;

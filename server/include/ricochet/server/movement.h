@@ -17,14 +17,14 @@
 namespace ricochet::server {
 
 struct MovementConfig {
-  float max_speed_mps = 7;      ///< wished speed at full input, on the ground and in the air
-  float ground_acceleration = 10;  ///< 1/s: speed gained per second = this * max_speed
-  float air_acceleration = 1;      ///< 1/s: the same in the air (air control)
-  float friction = 6;              ///< 1/s, on the ground only
-  float stop_speed_mps = 2;        ///< below this, friction acts as if at this speed (stops)
-  float jump_speed_mps = 5;        ///< vertical speed a jump sets: height v²/2g (1.27 m at 9.81)
+  float max_speed_mps = 7;          ///< wished speed at full input, on the ground and in the air
+  float ground_acceleration = 10;   ///< 1/s: speed gained per second = this * max_speed
+  float air_acceleration = 1;       ///< 1/s: the same in the air (air control)
+  float friction = 6;               ///< 1/s, on the ground only
+  float stop_speed_mps = 2;         ///< below this, friction acts as if at this speed (stops)
+  float jump_speed_mps = 5;         ///< vertical speed a jump sets: height v²/2g (1.27 m at 9.81)
   float ground_max_slope_deg = 50;  ///< steeper surfaces are walls, not ground
-  float ground_probe_m = 0.05f;    ///< how far below the sphere ground still counts
+  float ground_probe_m = 0.05f;     ///< how far below the sphere ground still counts
 
   std::string validate() const;
 };

@@ -15,8 +15,8 @@
 namespace ricochet::server {
 
 struct TickClockConfig {
-  int rate_hz = 60;             ///< fixed steps per second, 10..128
-  int max_catch_up_steps = 5;   ///< most steps one advance() returns, 1..64
+  int rate_hz = 60;            ///< fixed steps per second, 10..128
+  int max_catch_up_steps = 5;  ///< most steps one advance() returns, 1..64
 
   /// Empty when valid; otherwise names the field, the allowed range and what came.
   std::string validate() const;
@@ -37,7 +37,7 @@ class TickClock {
   /// Time at which the next step is due: sleep until then.
   proto::TimeUs next_step_at() const;
 
-  std::uint64_t steps() const { return steps_; }          ///< steps returned so far
+  std::uint64_t steps() const { return steps_; }            ///< steps returned so far
   std::uint64_t late_calls() const { return late_calls_; }  ///< advance() calls that ran > 1 step
   std::uint64_t overruns() const { return overruns_; }      ///< calls that hit the catch-up cap
   std::uint64_t dropped_steps() const { return dropped_steps_; }  ///< steps never run

@@ -14,8 +14,8 @@ using ProfileClock = std::function<std::int64_t()>;
 /// One Match::tick() call: the fixed steps it ran and the wall time of each phase, summed over
 /// those steps, in milliseconds.
 struct TickProfile {
-  int steps = 0;              ///< fixed steps run (0 when none was due)
-  bool snapshot = false;      ///< snapshots were built and sent
+  int steps = 0;               ///< fixed steps run (0 when none was due)
+  bool snapshot = false;       ///< snapshots were built and sent
   double apply_inputs_ms = 0;  ///< one input per player from its jitter buffer
   double movement_ms = 0;      ///< ground tests and wished velocities
   double physics_ms = 0;       ///< World::step

@@ -1,0 +1,42 @@
+// ricochet-server: parses the configuration (TOML file + flags), sets up logging, runs the
+// Server until SIGINT/SIGTERM, and exits 0 after a graceful stop within the grace period.
+#include <chrono>
+#include <cstdio>
+#include <exception>
+
+#include <boost/asio/io_context.hpp>
+#include <spdlog/spdlog.h>
+
+#include "logging.h"
+#include "server.h"
+#include "signals.h"
+
+int main(int argc, char** argv) {
+  using namespace ricochet::server;
+  ParseOutcome outcome = parse_command_line(argc, argv);
+  if (!outcome.config) {
+    std::fputs(outcome.text.c_str(), outcome.exit_code == 0 ? stdout : stderr);
+    return outcome.exit_code;
+  }
+  const ServerConfig& config = *outcome.config;
+  setup_logging(config.log.level, config.log.format);
+  try {
+    Server server(config);
+    server.start();
+    // Signals get their own small io_context, so a stuck match cannot delay a second signal.
+    boost::asio::io_context signal_io;
+    ShutdownSignals signals(signal_io, std::chrono::seconds(config.server.shutdown_grace_s),
+                            [&server](int signal) {
+                              spdlog::info("signal {}: stopping gracefully", signal);
+                              server.stop();
+                            });
+    std::thread signal_thread([&signal_io] { signal_io.run(); });
+    const int code = server.wait();
+    signals.close();
+    signal_thread.join();
+    return code;
+  } catch (const std::exception& error) {
+    spdlog::critical("{}", error.what());
+    return 1;
+  }
+}

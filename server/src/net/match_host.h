@@ -1,0 +1,107 @@
+#pragma once
+/// One match on the network: the socket-free Match on its own strand, ticked by a timer at the
+/// times the match asks for, its outbox drained into the game channel after every tick. Every
+/// call posts to the strand, so the Match is touched by one thread at a time and never waits for
+/// another match, the socket or the database.
+///
+///   timer ─▶ Match::tick(now) ─▶ outbox ─▶ GameChannel::send ─▶ socket
+///   GameRouter (registry) ─post─▶ connect / disconnect / receive / chat / leave
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/strand.hpp>
+
+#include "game_channel.h"
+#include "ricochet/db/records.h"
+#include "ricochet/server/match.h"
+#include "ricochet/server/metrics.h"
+
+namespace ricochet::server {
+
+/// What a scrape or the directory reads about a match, refreshed after every tick.
+struct MatchHostStats {
+  MatchCounters counters;
+  TickProfile last_profile;
+  int seated = 0;     ///< connected plus within the reconnect grace
+  int connected = 0;
+  proto::TimeUs last_tick_at = 0;  ///< steady µs of the last tick() call
+};
+
+/// Reported to the owner when a player is no longer in the match (left, refused, or its
+/// reconnect grace ran out), so that its seat can be given to someone else.
+using SeatReleased = std::function<void(std::uint64_t account, std::uint32_t match_id)>;
+
+class MatchHost : public std::enable_shared_from_this<MatchHost> {
+ public:
+  MatchHost(boost::asio::io_context& io, Match match, GameChannel& channel,
+            MetricsRegistry& metrics, SeatReleased released);
+  ~MatchHost();
+  MatchHost(const MatchHost&) = delete;
+  MatchHost& operator=(const MatchHost&) = delete;
+
+  /// Starts ticking.
+  void start();
+  /// Stops ticking and hands over the match's record (every player who played, with the
+  /// seconds they were connected) on the match's strand; players is empty when nobody played.
+  void end(std::function<void(db::MatchRecord)> done);
+
+  // Thread-safe; each posts to the match's strand.
+  void connect(std::uint64_t account, std::string name);
+  void disconnect(std::uint64_t account);
+  void receive(std::uint64_t account, std::vector<std::uint8_t> payload);
+  void chat(std::uint64_t account, std::string text);
+  void leave(std::uint64_t account);
+
+  std::uint32_t id() const { return id_; }
+  const std::string& name() const { return name_; }
+  const std::string& map_name() const { return map_name_; }
+  int max_players() const { return max_players_; }
+  int tick_rate_hz() const { return tick_rate_hz_; }
+  MatchHostStats stats() const;
+
+ private:
+  struct Played {
+    proto::TimeUs connected_at = 0;  ///< 0 while not connected
+    double seconds = 0;              ///< connected so far, not counting the current stretch
+    bool seated = true;              ///< false once the seat was released
+  };
+
+  boost::asio::awaitable<void> tick_loop();
+  void tick(proto::TimeUs now);
+  void drain_outbox();
+  void observe_profile(const TickProfile& profile);
+  /// Seats whose player the match no longer has (grace ran out) are released.
+  void sweep_departed();
+  void stop_playing(std::uint64_t account, proto::TimeUs now);
+  void publish_stats(proto::TimeUs now);
+
+  Match match_;
+  GameChannel& channel_;
+  SeatReleased released_;
+  boost::asio::strand<boost::asio::io_context::executor_type> strand_;
+  boost::asio::steady_timer timer_;
+  const std::uint32_t id_;
+  const std::string name_;
+  const std::string map_name_;
+  const int max_players_;
+  const int tick_rate_hz_;
+  db::UnixMillis started_unix_ms_ = 0;
+  bool ended_ = false;
+  std::unordered_map<std::uint64_t, Played> played_;  ///< everyone who connected, by account
+  proto::TimeUs next_sweep_at_ = 0;
+  std::array<Histogram*, 7> phase_histograms_{};
+  mutable std::mutex stats_mutex_;
+  MatchHostStats stats_;
+};
+
+}  // namespace ricochet::server

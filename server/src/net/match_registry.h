@@ -1,0 +1,98 @@
+#pragma once
+/// The matches this process hosts and who sits where. It is the control channel's
+/// MatchDirectory (list, create, join, leave, chat) and the game channel's GameRouter (a
+/// connection came up, went away, sent bytes), and hands each to the right MatchHost.
+///
+/// Seats: joining seats an account in one match and issues a connect token. The seat is
+/// *reserved* until the game channel connects with that token (and given back if it does not
+/// within the token's lifetime), *taken* while the player is in the match (connected, or away
+/// within the reconnect grace), and released when the player leaves or its grace runs out.
+/// A match is full when its seats are. Thread-safe: one mutex over the tables; MatchHost calls
+/// post to the match strands and return at once.
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <boost/asio/io_context.hpp>
+
+#include "game_channel.h"
+#include "match_directory.h"
+#include "match_host.h"
+#include "ricochet/server/map.h"
+#include "ricochet/server/match.h"
+
+namespace ricochet::server {
+
+struct MatchRegistryConfig {
+  MatchConfig match_defaults;  ///< tick, snapshots, movement of every match; id, name, max_players set per match
+  std::uint16_t udp_port = 0;  ///< told to joining clients
+  proto::Key token_key{};      ///< the server-only key tokens are sealed with
+  proto::TimeUs token_lifetime_us = 10 * proto::kMicrosPerSecond;  ///< ≤ 30 s
+  std::uint32_t token_timeout_s = 5;  ///< game-channel silence that drops a client
+  int max_matches = 256;
+};
+
+class MatchRegistry final : public MatchDirectory, public GameRouter {
+ public:
+  MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config, Map map,
+                GameChannel& channel, MetricsRegistry& metrics);
+  ~MatchRegistry() override;
+
+  /// Opens a match (at start and through create()); the message says why it could not.
+  DirectoryResult<MatchSummary> open(const std::string& name, int max_players);
+  /// The UDP port clients are told, once the channel is bound.
+  void set_udp_port(std::uint16_t port);
+  /// Refuses joins and creates from now on (graceful shutdown).
+  void close();
+  /// Every match, for ending them and for metrics.
+  std::vector<std::shared_ptr<MatchHost>> hosts() const;
+  std::size_t seats_taken() const;
+
+  // MatchDirectory
+  std::vector<MatchSummary> list() const override;
+  DirectoryResult<MatchSummary> create(const CreateMatchRequest& request) override;
+  DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
+                                  std::uint32_t match_id) override;
+  DirectoryResult<Done> leave(std::uint64_t account) override;
+  DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) override;
+
+  // GameRouter
+  void connected(std::uint64_t account, std::uint32_t match_id) override;
+  void disconnected(std::uint64_t account, proto::DisconnectReason reason) override;
+  void payload(std::uint64_t account, std::vector<std::uint8_t> bytes) override;
+  void reliable(std::uint64_t account, std::vector<std::uint8_t> bytes) override;
+
+ private:
+  struct Seat {
+    std::uint32_t match_id = 0;
+    std::string username;
+    bool taken = false;              ///< the game channel connected at least once
+    proto::TimeUs reserved_until = 0;  ///< while not taken: the newest token's expiry
+  };
+
+  /// Gives back reserved seats whose token expired unused. Holds mutex_.
+  void expire_reservations(proto::TimeUs now);
+  int seats_in(std::uint32_t match_id) const;  ///< holds mutex_
+  MatchSummary summary(const MatchHost& host) const;  ///< holds mutex_
+  std::shared_ptr<MatchHost> host_of(std::uint64_t account) const;
+  void release(std::uint64_t account, std::uint32_t match_id);
+
+  boost::asio::io_context& io_;
+  MatchRegistryConfig config_;
+  Map map_;
+  GameChannel& channel_;
+  MetricsRegistry& metrics_;
+  mutable std::mutex mutex_;
+  std::map<std::uint32_t, std::shared_ptr<MatchHost>> hosts_;
+  std::unordered_map<std::uint64_t, Seat> seats_;
+  std::uint32_t next_match_id_ = 1;
+  bool closed_ = false;
+};
+
+}  // namespace ricochet::server

@@ -1,0 +1,244 @@
+#include "server.h"
+
+#include <chrono>
+#include <filesystem>
+#include <future>
+#include <stdexcept>
+#include <utility>
+
+#include <spdlog/spdlog.h>
+
+#include "admin_http.h"
+#include "control_server.h"
+#include "game_channel.h"
+#include "match_registry.h"
+#include "ricochet/db/db_worker.h"
+#include "ricochet/db/store.h"
+#include "ricochet/proto/crypto.h"
+#include "ricochet/proto/token_grant.h"
+#include "ricochet/server/map.h"
+#include "steady_time.h"
+
+namespace ricochet::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::unique_ptr<db::DbWorker> open_database(const ServerConfig& config) {
+  auto store = db::open_sqlite_store(db::SqliteOptions{.path = config.db_file()});
+  if (!store) throw std::runtime_error("cannot open the database: " + store.error().message);
+  return std::make_unique<db::DbWorker>(std::move(store).value());
+}
+
+Map load_map(const std::string& path) {
+  auto loaded = load_map_file(path);
+  if (auto* problem = std::get_if<MapError>(&loaded)) {
+    throw std::runtime_error("cannot load the map " + path + ": " + problem->describe());
+  }
+  return std::get<Map>(std::move(loaded));
+}
+
+GameChannelConfig game_channel_config(const ServerConfig& config) {
+  GameChannelConfig out;
+  out.bind = config.game.bind;
+  out.port = static_cast<std::uint16_t>(config.game.port);
+  proto::GameServerConfig& transport = out.transport;
+  transport.protocol_id = proto::kProtocolId;
+  transport.max_clients = config.game.max_clients;
+  transport.max_half_open = config.game.max_half_open;
+  transport.address_packets_per_s = config.game.address_packets_per_s;
+  transport.address_burst = config.game.address_packets_per_s;
+  transport.client_packets_per_s = config.game.client_packets_per_s;
+  transport.client_burst = config.game.client_packets_per_s;
+  transport.log.on_transition = [](const proto::StateTransition& transition) {
+    spdlog::debug("game channel: {} {} -> {} ({})", transition.address.to_string(),
+                  proto::name(transition.from), proto::name(transition.to), transition.reason);
+  };
+  transport.log.on_drop = [](proto::DropReason reason, const proto::Address& from) {
+    spdlog::debug("game channel: dropped a packet from {}: {}", from.to_string(),
+                  proto::name(reason));
+  };
+  return out;
+}
+
+MatchConfig match_defaults(const ServerConfig& config) {
+  MatchConfig out;
+  out.tick.rate_hz = config.game.tick_rate_hz;
+  out.tick.max_catch_up_steps = config.game.max_catch_up_steps;
+  out.snapshot_rate_hz = config.snapshot_rate_hz();
+  out.snapshot_budget_bytes = static_cast<std::size_t>(config.snapshot_budget_bytes());
+  return out;
+}
+
+ControlServerConfig control_config(const ServerConfig& config) {
+  ControlServerConfig out;
+  out.bind_address = config.control.bind;
+  out.port = static_cast<std::uint16_t>(config.control.port);
+  out.tls.certificate = config.tls.cert_file;
+  out.tls.private_key = config.tls.key_file;
+  out.tls.data_dir = config.server.data_dir;
+  out.limits.max_connections = config.control.max_connections;
+  out.limits.max_connections_per_address = config.control.max_connections_per_address;
+  out.limits.handshake_timeout_ms = static_cast<std::uint32_t>(config.control.handshake_timeout_ms);
+  out.limits.frame_timeout_ms = static_cast<std::uint32_t>(config.control.frame_timeout_ms);
+  out.limits.idle_timeout_ms = static_cast<std::uint32_t>(config.control.idle_timeout_ms);
+  out.token_clock = steady_now_us;
+  return out;
+}
+
+/// Waits for `future` until `deadline`; false when it did not come in time.
+template <class T>
+bool wait_until(std::future<T>& future, Clock::time_point deadline) {
+  return future.wait_until(deadline) == std::future_status::ready;
+}
+
+}  // namespace
+
+Server::Server(ServerConfig config) : config_(std::move(config)) {
+  std::filesystem::create_directories(config_.server.data_dir);
+  db_ = open_database(config_);
+  const proto::Key token_key = proto::random_key();  // this process's only; tokens die with it
+
+  GameChannelConfig game = game_channel_config(config_);
+  game.transport.token_key = token_key;
+  game_ = std::make_unique<GameChannel>(io_, std::move(game));
+
+  MatchRegistryConfig registry;
+  registry.match_defaults = match_defaults(config_);
+  registry.token_key = token_key;
+  matches_ = std::make_unique<MatchRegistry>(io_, std::move(registry), load_map(config_.matches.map),
+                                             *game_, metrics_);
+  control_ = std::make_unique<ControlServer>(io_, control_config(config_), *db_, *matches_);
+
+  AdminHttpOptions admin;
+  admin.bind = config_.admin.bind;
+  admin.port = static_cast<std::uint16_t>(config_.admin.port);
+  admin_ = std::make_unique<AdminHttp>(
+      io_, std::move(admin), metrics_,
+      AdminHttpCallbacks{[this] { return healthy(); }, [this] { return ready(); }});
+  register_metrics();
+}
+
+Server::~Server() {
+  stop();
+  wait();
+}
+
+void Server::start() {
+  game_->start(*matches_);
+  matches_->set_udp_port(game_->port());
+  for (int i = 1; i <= config_.matches.count; ++i) {
+    const auto opened = matches_->open("ffa-" + std::to_string(i), config_.matches.max_players);
+    if (auto* problem = std::get_if<DirectoryError>(&opened)) {
+      throw std::runtime_error("cannot open match " + std::to_string(i) + ": " + problem->message);
+    }
+  }
+  control_->start();
+  if (const auto error = admin_->start()) {
+    throw std::runtime_error("cannot bind the admin port " + config_.admin.bind + ":" +
+                             std::to_string(config_.admin.port) + ": " + error.message());
+  }
+  const int threads = config_.worker_threads();
+  for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
+  ready_ = true;
+  spdlog::info("ricochet-server {}: control TLS 1.3 on {}:{}, game UDP on {}:{}, admin HTTP on "
+               "{}:{}, {} matches, {} threads",
+               RICOCHET_VERSION, config_.control.bind, control_port(), config_.game.bind,
+               game_port(), config_.admin.bind, admin_port(), config_.matches.count, threads);
+  spdlog::info("TLS certificate SHA-256 fingerprint (pin it in clients): {}", fingerprint());
+}
+
+void Server::stop() {
+  std::call_once(stop_once_, [this] { stopper_ = std::thread([this] { shut_down(); }); });
+}
+
+int Server::wait() {
+  {
+    std::unique_lock lock(done_mutex_);
+    done_.wait(lock, [this] { return stopped_; });
+  }
+  if (stopper_.joinable() && stopper_.get_id() != std::this_thread::get_id()) stopper_.join();
+  return exit_code_.load();
+}
+
+std::uint16_t Server::control_port() const { return control_->port(); }
+std::uint16_t Server::game_port() const { return game_->port(); }
+std::uint16_t Server::admin_port() const { return admin_->local_endpoint().port(); }
+const std::string& Server::fingerprint() const { return control_->identity().fingerprint_sha256; }
+
+bool Server::healthy() const {
+  const proto::TimeUs now = steady_now_us();
+  for (const auto& host : matches_->hosts()) {
+    if (now - host->stats().last_tick_at > proto::kMicrosPerSecond) return false;
+  }
+  return ready_.load();
+}
+
+void Server::shut_down() {
+  const auto deadline = Clock::now() + std::chrono::seconds(config_.server.shutdown_grace_s);
+  spdlog::info("stopping: ending {} matches, {} s grace", matches_->hosts().size(),
+               config_.server.shutdown_grace_s);
+  ready_ = false;
+  matches_->close();
+  end_matches(deadline);
+
+  std::promise<void> game_closed;
+  auto game_closed_future = game_closed.get_future();
+  game_->stop([&game_closed] { game_closed.set_value(); });
+  const bool game_done = wait_until(game_closed_future, deadline);
+  control_->stop();
+  admin_->stop();
+  // The control sessions say SHUTTING_DOWN and close within 2 s; then nothing is left to run.
+  while (control_->connections() > 0 && Clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  const bool in_time = game_done && Clock::now() < deadline;
+  io_.stop();
+  for (auto& thread : threads_) thread.join();
+  threads_.clear();
+  db_->stop();
+  if (!in_time) spdlog::warn("stopping: the grace period ran out");
+  spdlog::info("stopped");
+  exit_code_ = in_time ? 0 : 1;
+  const std::lock_guard lock(done_mutex_);
+  stopped_ = true;
+  done_.notify_all();
+}
+
+void Server::end_matches(Clock::time_point deadline) {
+  // Each match hands over its record on its own strand.
+  std::vector<std::future<db::MatchRecord>> records;
+  for (const auto& host : matches_->hosts()) {
+    auto promise = std::make_shared<std::promise<db::MatchRecord>>();
+    records.push_back(promise->get_future());
+    host->end([promise](db::MatchRecord record) { promise->set_value(std::move(record)); });
+  }
+  std::vector<std::future<bool>> writes;
+  for (auto& future : records) {
+    if (!wait_until(future, deadline)) continue;
+    db::MatchRecord record = future.get();
+    if (record.players.empty()) continue;
+    auto written = std::make_shared<std::promise<bool>>();
+    writes.push_back(written->get_future());
+    const std::size_t players = record.players.size();
+    db_->submit(
+        [record = std::move(record)](db::DbServices& services) {
+          return services.matches.record_match(record);
+        },
+        [](std::function<void()> completion) { completion(); },  // runs on the DB thread
+        [written, players](db::DbResult<db::MatchId> result) {
+          if (!result) {
+            spdlog::error("stopping: a match record of {} players was refused: {}", players,
+                          result.error().message);
+          } else {
+            spdlog::info("stopping: match record {} written ({} players)", result.value(),
+                         players);
+          }
+          written->set_value(result.ok());
+        });
+  }
+  for (auto& future : writes) wait_until(future, deadline);
+}
+
+}  // namespace ricochet::server

@@ -1,0 +1,91 @@
+#pragma once
+/// The whole server process, wired: the DB worker, the matches (MatchRegistry, one MatchHost and
+/// strand each), the UDP game channel, the TLS control channel and the admin HTTP port, all on
+/// one io_context run by `server.threads` threads.
+///
+///   Server server(config);   // opens the DB and the map, makes the TLS pair; binds nothing
+///   server.start();          // binds 7777/7778/9100, opens the matches, runs the threads
+///   ...                      // SIGINT/SIGTERM (main) or a test calls stop()
+///   int code = server.wait(); // 0 after a graceful stop within the grace period
+///
+/// Graceful stop, in order: refuse new joins; end every match and write the records of those
+/// that had players to the DB (waiting for the writes); send each player its MatchResults over
+/// the control channel; tell every game client (ServerShutdown) and close the UDP socket; close
+/// the control channel (SHUTTING_DOWN to every client) and the admin port; stop the threads.
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <boost/asio/io_context.hpp>
+
+#include "ricochet/server/config.h"
+#include "ricochet/server/metrics.h"
+
+namespace ricochet::db {
+class DbWorker;
+}
+
+namespace ricochet::server {
+
+class AdminHttp;
+class ControlServer;
+class GameChannel;
+class MatchRegistry;
+
+class Server {
+ public:
+  /// Throws std::runtime_error with what went wrong (DB, map, TLS identity, config).
+  explicit Server(ServerConfig config);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  /// Binds every socket, opens the configured matches and starts the threads; throws
+  /// std::runtime_error naming the socket that could not be bound.
+  void start();
+  /// Starts the graceful stop on its own thread; thread-safe, idempotent.
+  void stop();
+  /// Blocks until stopped; the process's exit code (0: stopped within the grace period).
+  int wait();
+
+  std::uint16_t control_port() const;
+  std::uint16_t game_port() const;
+  std::uint16_t admin_port() const;
+  const std::string& fingerprint() const;
+  /// Sockets bound and the DB open.
+  bool ready() const { return ready_.load(); }
+  /// Every match ticked within the last second.
+  bool healthy() const;
+  MetricsRegistry& metrics() { return metrics_; }
+
+ private:
+  /// The graceful stop, on the stopping thread.
+  void shut_down();
+  void end_matches(std::chrono::steady_clock::time_point deadline);
+  void register_metrics();
+
+  ServerConfig config_;
+  boost::asio::io_context io_;
+  MetricsRegistry metrics_;
+  std::unique_ptr<db::DbWorker> db_;
+  std::unique_ptr<GameChannel> game_;
+  std::unique_ptr<MatchRegistry> matches_;
+  std::unique_ptr<ControlServer> control_;
+  std::unique_ptr<AdminHttp> admin_;
+  std::vector<std::thread> threads_;
+  std::thread stopper_;
+  std::once_flag stop_once_;
+  std::atomic<bool> ready_{false};
+  std::atomic<int> exit_code_{0};
+  std::mutex done_mutex_;
+  std::condition_variable done_;
+  bool stopped_ = false;
+};
+
+}  // namespace ricochet::server

@@ -1,0 +1,136 @@
+// What /metrics reports about the running server, read at scrape time from the copies each
+// part publishes (the game channel after every update, each match after every tick, the control
+// channel's atomic counters, the DB worker's queue), so a scrape never touches game state.
+#include <string>
+
+#include "control_server.h"
+#include "game_channel.h"
+#include "match_registry.h"
+#include "ricochet/db/db_worker.h"
+#include "server.h"
+
+namespace ricochet::server {
+
+namespace {
+
+void report_game_channel(const proto::TransportCounters& game, MetricsSink& sink) {
+  sink.counter("ricochet_game_packets_total", "Game channel datagrams", {{"direction", "in"}},
+               static_cast<double>(game.packets_in));
+  sink.counter("ricochet_game_packets_total", "Game channel datagrams", {{"direction", "out"}},
+               static_cast<double>(game.packets_out));
+  sink.counter("ricochet_game_bytes_total", "Game channel bytes", {{"direction", "in"}},
+               static_cast<double>(game.bytes_in));
+  sink.counter("ricochet_game_bytes_total", "Game channel bytes", {{"direction", "out"}},
+               static_cast<double>(game.bytes_out));
+  for (std::size_t i = 0; i < proto::kDropReasonCount; ++i) {
+    sink.counter("ricochet_game_dropped_total", "Game channel datagrams dropped, by reason",
+                 {{"reason", std::string(proto::name(static_cast<proto::DropReason>(i)))}},
+                 static_cast<double>(game.drops[i]));
+  }
+  for (std::size_t i = 0; i < proto::kDisconnectReasonCount; ++i) {
+    sink.counter("ricochet_game_disconnects_total", "Game connections ended, by reason",
+                 {{"reason", std::string(proto::name(static_cast<proto::DisconnectReason>(i)))}},
+                 static_cast<double>(game.disconnects[i]));
+  }
+  sink.counter("ricochet_game_handshakes_total", "Game channel handshakes completed", {},
+               static_cast<double>(game.connections_total));
+  sink.counter("ricochet_game_reliable_resends_total",
+               "Reliable messages sent again for want of an ack", {},
+               static_cast<double>(game.reliable_resends));
+  sink.gauge("ricochet_game_connections", "Game connections by state", {{"state", "half_open"}},
+             game.half_open);
+  sink.gauge("ricochet_game_connections", "Game connections by state", {{"state", "connected"}},
+             game.connected);
+}
+
+void report_control_channel(const ControlStats& control, MetricsSink& sink) {
+  sink.counter("ricochet_control_accepted_total", "TCP connections accepted on the control port",
+               {}, static_cast<double>(control.accepted));
+  sink.gauge("ricochet_control_connections", "Control connections by state",
+             {{"state", "tls_handshake"}}, static_cast<double>(control.handshaking));
+  for (std::size_t i = 0; i < proto::kControlStateCount; ++i) {
+    sink.gauge("ricochet_control_connections", "Control connections by state",
+               {{"state", proto::name(static_cast<proto::ControlState>(i))}},
+               static_cast<double>(control.by_state[i]));
+  }
+  sink.counter("ricochet_control_frames_total", "Control frames", {{"direction", "in"}},
+               static_cast<double>(control.frames_in));
+  sink.counter("ricochet_control_frames_total", "Control frames", {{"direction", "out"}},
+               static_cast<double>(control.frames_out));
+  sink.counter("ricochet_control_bytes_total", "Control channel plaintext bytes",
+               {{"direction", "in"}}, static_cast<double>(control.bytes_in));
+  sink.counter("ricochet_control_bytes_total", "Control channel plaintext bytes",
+               {{"direction", "out"}}, static_cast<double>(control.bytes_out));
+  for (std::size_t i = 0; i < proto::kClientMessageKindCount; ++i) {
+    sink.counter("ricochet_control_requests_total", "Control requests dispatched, by kind",
+                 {{"kind", proto::name(static_cast<proto::ClientMessageKind>(i))}},
+                 static_cast<double>(control.requests[i]));
+  }
+  for (std::size_t i = 0; i < kControlRefusalCount; ++i) {
+    sink.counter("ricochet_control_refused_total",
+                 "Control connections, frames and messages refused, by reason",
+                 {{"reason", name(static_cast<ControlRefusal>(i))}},
+                 static_cast<double>(control.refusals[i]));
+  }
+}
+
+void report_match(const MatchHost& host, MetricsSink& sink) {
+  const MatchHostStats stats = host.stats();
+  const MetricLabels match = {{"match", std::to_string(host.id())}};
+  const auto with = [&match](const char* key, std::string value) {
+    MetricLabels labels = match;
+    labels.emplace_back(key, std::move(value));
+    return labels;
+  };
+  sink.gauge("ricochet_match_players", "Players per match: seated (connected or within the "
+             "reconnect grace) and connected", with("state", "seated"), stats.seated);
+  sink.gauge("ricochet_match_players", "Players per match: seated (connected or within the "
+             "reconnect grace) and connected", with("state", "connected"), stats.connected);
+  const MatchCounters& counters = stats.counters;
+  sink.counter("ricochet_match_steps_total", "Fixed steps run", match,
+               static_cast<double>(counters.steps));
+  sink.counter("ricochet_match_overruns_total", "Ticks that hit the catch-up cap", match,
+               static_cast<double>(counters.overruns));
+  sink.counter("ricochet_match_dropped_steps_total", "Fixed steps skipped after a stall", match,
+               static_cast<double>(counters.dropped_steps));
+  sink.counter("ricochet_match_snapshots_total", "Snapshots sent", match,
+               static_cast<double>(counters.snapshots_sent));
+  sink.counter("ricochet_match_snapshot_bytes_total", "Serialised ServerPayload bytes", match,
+               static_cast<double>(counters.snapshot_bytes));
+  sink.counter("ricochet_match_inputs_total", "Player steps with a fresh or a repeated input",
+               with("kind", "applied"), static_cast<double>(counters.inputs_applied));
+  sink.counter("ricochet_match_inputs_total", "Player steps with a fresh or a repeated input",
+               with("kind", "repeated"), static_cast<double>(counters.inputs_repeated));
+  for (std::size_t i = 0; i < kInputDropCount; ++i) {
+    sink.counter("ricochet_match_input_dropped_total", "Client payloads or inputs dropped, by reason",
+                 with("reason", name(static_cast<InputDrop>(i))),
+                 static_cast<double>(counters.input_drops[i]));
+  }
+  for (std::size_t i = 0; i < kChatDropCount; ++i) {
+    sink.counter("ricochet_match_chat_dropped_total", "Chat lines dropped, by reason",
+                 with("reason", name(static_cast<ChatDrop>(i))),
+                 static_cast<double>(counters.chat_drops[i]));
+  }
+  for (std::size_t i = 0; i < kJoinRefusalCount; ++i) {
+    sink.counter("ricochet_match_join_refused_total", "Players refused entry, by reason",
+                 with("reason", name(static_cast<JoinRefusal>(i))),
+                 static_cast<double>(counters.join_refusals[i]));
+  }
+}
+
+}  // namespace
+
+void Server::register_metrics() {
+  metrics_.add_collect_callback([this](MetricsSink& sink) {
+    report_game_channel(game_->counters(), sink);
+    report_control_channel(control_->stats(), sink);
+    const auto hosts = matches_->hosts();
+    sink.gauge("ricochet_matches", "Matches hosted", {}, static_cast<double>(hosts.size()));
+    for (const auto& host : hosts) report_match(*host, sink);
+    sink.gauge("ricochet_db_queue_depth", "Jobs waiting for the DB thread", {},
+               static_cast<double>(db_->queued()));
+    sink.gauge("ricochet_up", "1 while the server is ready", {}, ready() ? 1 : 0);
+  });
+}
+
+}  // namespace ricochet::server

@@ -1,0 +1,418 @@
+/// Snapshot bench: what the snapshot codec (proto/snapshot_codec.h) costs per client on three
+/// scenes, each run through the real encoder and decoder with the client's acknowledgements
+/// arriving ack_delay_ms late.
+///
+///   spheres901  Fiedler's cube demo with spheres: 900 spheres (0.5 m) resting in a 30 x 30 grid
+///               (1.3 m apart) on a floor, one large kinematic sphere (2.5 m radius) driven
+///               through them on a figure of eight at up to 4 m/s. Spheres and floor resist
+///               rolling, so a knocked sphere rolls a metre or two and rests.
+///   spheres901_dense  the same with the grid 1.05 m apart: the ball ploughs a crowd ahead of it,
+///               several times as many spheres move, and the budget binds.
+///   players16, players64  arena_players movement: players running on scripted headings, each
+///               client seeing every player, priority from its own position.
+///
+/// Each scene runs a warm-up (the client receives the world, not measured), a rest phase
+/// (nothing moves; bits_per_entity_rest) and the measured run (rate_hz x seconds snapshots).
+/// Sizes are the serialised wire::Snapshot, its protobuf header included. `mismatches` counts
+/// decoded entities that differ from the server's quantised state in snapshots the encoder
+/// sent complete (deferred_snapshots counts the others, where the budget left some out).
+///
+///   snapshot-bench [--seconds 20] [--rate 60] [--ack-delay-ms 100] [--budget 1100]
+///                  [--scene all|spheres901|spheres901_dense|players16|players64] [--out FILE]
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ricochet/physics/scene_profile.h"
+#include "ricochet/physics/world.h"
+#include "ricochet/proto/snapshot_codec.h"
+
+namespace rp = ricochet::physics;
+namespace proto = ricochet::proto;
+
+namespace {
+
+struct BenchOptions {
+  double seconds = 20;
+  int rate_hz = 60;
+  int ack_delay_ms = 100;
+  std::size_t budget_bytes = 1100;
+  float velocity_step_mps = 0.01f;
+  int orientation_bits = 9;
+};
+
+/// One client: its encoder on the server, its decoder, the acks on their way back, and the
+/// figures of the measured phases.
+class ClientLink {
+ public:
+  ClientLink(const proto::QuantizationSpec& spec, int ack_delay_ticks)
+      : encoder_(spec), decoder_(spec), ack_delay_ticks_(ack_delay_ticks) {}
+
+  enum class Phase { Warmup, Rest, Run };
+
+  void send(std::uint32_t tick, std::span<const proto::QuantizedEntity> world,
+            std::array<float, 3> viewer_m, std::size_t budget_bytes, Phase phase) {
+    while (!acks_.empty() && acks_.front().first <= tick) {
+      encoder_.acknowledge(acks_.front().second);
+      acks_.pop_front();
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    encoder_.encode(tick, world, viewer_m, budget_bytes, snapshot_);
+    const auto t1 = std::chrono::steady_clock::now();
+    wire_ = snapshot_.SerializeAsString();
+    received_.ParseFromString(wire_);
+    const auto t2 = std::chrono::steady_clock::now();
+    const proto::SnapshotDecodeResult result = decoder_.decode(received_);
+    const auto t3 = std::chrono::steady_clock::now();
+    if (!result.ok) {
+      std::fprintf(stderr, "snapshot-bench: tick %u refused: %s\n", tick, result.message.c_str());
+      ++refused_;
+      return;
+    }
+    acks_.emplace_back(tick + ack_delay_ticks_, decoder_.newest_tick());
+    if (phase == Phase::Warmup) return;
+
+    const double bits_per_entity =
+        8.0 * static_cast<double>(wire_.size()) / std::max<std::size_t>(1, world.size());
+    if (phase == Phase::Rest) {
+      rest_bits_.push_back(bits_per_entity);
+    } else {
+      run_bits_.push_back(bits_per_entity);
+      run_bytes_ += wire_.size();
+      encode_us_ += std::chrono::duration<double, std::micro>(t1 - t0).count();
+      decode_us_ += std::chrono::duration<double, std::micro>(t3 - t2).count();
+      pending_ += encoder_.last_report().pending;
+      for (const proto::QuantizedEntity& e : world) {
+        moving_ += e.velocity != std::array<std::int32_t, 3>{};
+      }
+    }
+    if (encoder_.last_report().deferred > 0) {
+      ++deferred_snapshots_;
+      return;
+    }
+    if (result.entities.size() != world.size()) {
+      mismatches_ += std::max(result.entities.size(), world.size());
+      return;
+    }
+    for (std::size_t i = 0; i < world.size(); ++i) mismatches_ += !(result.entities[i] == world[i]);
+  }
+
+  const std::vector<double>& run_bits() const { return run_bits_; }
+  const std::vector<double>& rest_bits() const { return rest_bits_; }
+  std::size_t run_bytes() const { return run_bytes_; }
+  double encode_us() const { return encode_us_; }
+  double decode_us() const { return decode_us_; }
+  std::uint64_t pending() const { return pending_; }
+  std::uint64_t moving() const { return moving_; }
+  std::uint64_t mismatches() const { return mismatches_; }
+  std::uint64_t deferred_snapshots() const { return deferred_snapshots_; }
+  std::uint64_t refused() const { return refused_; }
+
+ private:
+  proto::SnapshotEncoder encoder_;
+  proto::SnapshotDecoder decoder_;
+  int ack_delay_ticks_;
+  std::deque<std::pair<std::uint32_t, std::uint32_t>> acks_;  ///< (arrives at tick, acked tick)
+  ricochet::wire::Snapshot snapshot_, received_;
+  std::string wire_;
+  std::vector<double> run_bits_, rest_bits_;
+  std::size_t run_bytes_ = 0;
+  double encode_us_ = 0, decode_us_ = 0;
+  std::uint64_t pending_ = 0, moving_ = 0, mismatches_ = 0, deferred_snapshots_ = 0, refused_ = 0;
+};
+
+/// A physics scene the bench drives: its world, its bodies in id order and how it moves.
+struct Scene {
+  std::string name;
+  proto::QuantizationSpec spec;
+  rp::World world;
+  std::vector<rp::BodyId> bodies;  ///< entity id = index + 1
+  /// Scripted control before each step; `moving` false in the warm-up and rest phases.
+  std::function<void(Scene&, int step, bool moving)> drive;
+  /// Viewer position of client c, m.
+  std::function<std::array<float, 3>(const Scene&, int client)> viewer;
+  int clients = 1;
+};
+
+/// The world's entities this tick, quantised, sorted by id.
+void read_entities(const Scene& scene, std::vector<proto::QuantizedEntity>& out) {
+  const std::size_t n = scene.bodies.size();
+  std::vector<rp::Vec3> positions(n), velocities(n);
+  std::vector<rp::Quat> orientations(n);
+  (void)scene.world.read_bodies(
+      scene.bodies,
+      {.positions = positions, .orientations = orientations, .linear_velocities = velocities});
+  out.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    proto::EntityState state;
+    state.id = static_cast<std::uint32_t>(i + 1);
+    for (int a = 0; a < 3; ++a) {
+      state.position_m[a] = static_cast<float>(positions[i][a]);
+      state.velocity_mps[a] = static_cast<float>(velocities[i][a]);
+    }
+    state.orientation_xyzw = {
+        static_cast<float>(orientations[i].x()), static_cast<float>(orientations[i].y()),
+        static_cast<float>(orientations[i].z()), static_cast<float>(orientations[i].w())};
+    out[i] = proto::quantize(state, scene.spec);
+  }
+}
+
+constexpr int kGrid = 30;
+constexpr rp::Real kSmallRadius = 0.5;
+constexpr rp::Real kSpacing = 1.3;        ///< m between grid centres, 0.3 m gaps
+constexpr rp::Real kDenseSpacing = 1.05;  ///< m, 5 cm gaps: the ball ploughs a crowd ahead
+constexpr rp::Real kLargeRadius = 2.5;    ///< m
+constexpr rp::Real kDriveSpeed = 4;       ///< m/s, the large sphere's peak speed
+const rp::Material kPropMaterial{.restitution = 0, .friction = 0.5f, .rolling_resistance = 0.1f};
+
+Scene spheres_scene(const std::string& name, rp::Real spacing) {
+  rp::WorldDef def = rp::profiles::physics_props();
+  Scene scene{name, {}, rp::World::create(def).value(), {}, {}, {}, 1};
+  scene.spec.bounds = {{-32.0f, -1.0f, -32.0f}, {32.0f, 15.0f, 32.0f}};
+  // The floor resists rolling as the spheres do (a contact uses the geometric mean of both), so
+  // a knocked sphere rolls a metre or two and rests, as Fiedler's cubes slide and stop.
+  rp::PlaneDef floor;
+  floor.material = kPropMaterial;
+  (void)scene.world.add_plane(floor);
+  for (int side = 0; side < 4; ++side) {  // walls inside the snapshot bounds
+    const rp::Real sign = side % 2 == 0 ? 1 : -1;
+    rp::PlaneDef wall;
+    wall.normal = side < 2 ? rp::Vec3(sign, 0, 0) : rp::Vec3(0, 0, sign);
+    wall.offset = -31;
+    wall.material = kPropMaterial;
+    (void)scene.world.add_plane(wall);
+  }
+  const rp::Real half = (kGrid - 1) * spacing / 2;
+  for (int x = 0; x < kGrid; ++x) {
+    for (int z = 0; z < kGrid; ++z) {
+      rp::BodyDef body;
+      body.position = rp::Vec3(x * spacing - half, kSmallRadius, z * spacing - half);
+      body.radius = kSmallRadius;
+      body.material = kPropMaterial;
+      scene.bodies.push_back(scene.world.create_body(body).value());
+    }
+  }
+  rp::BodyDef large;
+  large.type = rp::BodyType::Kinematic;
+  large.radius = kLargeRadius;
+  large.position = rp::Vec3(-half - 6, kLargeRadius, 0);
+  scene.bodies.push_back(scene.world.create_body(large).value());
+  // A figure of eight through the pile, starting from the parked position's side.
+  scene.drive = [half](Scene& s, int step, bool moving) {
+    const rp::BodyId ball = s.bodies.back();
+    if (!moving) {
+      (void)s.world.set_linear_velocity(ball, rp::Vec3::Zero());
+      (void)s.world.set_angular_velocity(ball, rp::Vec3::Zero());
+      return;
+    }
+    const rp::Real t = static_cast<rp::Real>(step) / 60;
+    const rp::Real reach = half + 6;
+    const rp::Real w = kDriveSpeed / reach;
+    const rp::Vec3 target(-reach * std::cos(w * t), kLargeRadius,
+                          (reach / 2) * std::sin(2 * w * t));
+    const rp::Vec3 now = s.world.body_state(ball).value().position;
+    const rp::Vec3 velocity = (target - now) * 60;
+    (void)s.world.set_linear_velocity(ball, velocity);
+    // Rolling: spin about the horizontal axis across the motion.
+    (void)s.world.set_angular_velocity(ball, rp::Vec3::UnitY().cross(velocity) / -kLargeRadius);
+  };
+  scene.viewer = [](const Scene& s, int) {
+    const rp::Vec3 p = s.world.body_state(s.bodies.back()).value().position;
+    return std::array<float, 3>{static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                static_cast<float>(p.z())};
+  };
+  return scene;
+}
+
+constexpr rp::Real kArenaHalf = 20;  ///< m
+constexpr rp::Real kRunSpeed = 6;    ///< m/s
+
+Scene players_scene(int players) {
+  Scene scene{"players" + std::to_string(players),
+              {},
+              rp::World::create(rp::profiles::arena_players()).value(),
+              {},
+              {},
+              {},
+              players};
+  scene.spec.bounds = {{-24.0f, -2.0f, -24.0f}, {24.0f, 14.0f, 24.0f}};
+  (void)scene.world.add_plane({.normal = rp::Vec3::UnitY(), .offset = 0});
+  for (int side = 0; side < 4; ++side) {
+    const rp::Real sign = side % 2 == 0 ? 1 : -1;
+    const rp::Vec3 normal = side < 2 ? rp::Vec3(sign, 0, 0) : rp::Vec3(0, 0, sign);
+    (void)scene.world.add_plane({.normal = normal, .offset = -kArenaHalf});
+  }
+  for (int i = 0; i < players; ++i) {
+    const rp::Real angle = 2 * 3.14159265358979 * i / players;
+    const rp::Real radius = 4 + 12 * ((i * 7919) % 13) / 13.0;
+    scene.bodies.push_back(scene.world
+                               .create_body(rp::profiles::player(rp::Vec3(
+                                   radius * std::cos(angle), 0.4, radius * std::sin(angle))))
+                               .value());
+  }
+  // Each player runs on a heading that turns slowly, and jumps now and then.
+  scene.drive = [](Scene& s, int step, bool moving) {
+    for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+      const rp::BodyState state = s.world.body_state(s.bodies[i]).value();
+      rp::Vec3 velocity = rp::Vec3::Zero();
+      if (moving) {
+        const rp::Real t = static_cast<rp::Real>(step) / 60;
+        const rp::Real heading = 1.7 * static_cast<rp::Real>(i) + 0.6 * t +
+                                 std::sin(0.37 * t + static_cast<rp::Real>(i));
+        velocity = rp::Vec3(std::cos(heading), 0, std::sin(heading)) * kRunSpeed;
+        // Turn back towards the centre near the walls.
+        if (std::abs(state.position.x()) > kArenaHalf - 3) velocity.x() = -state.position.x();
+        if (std::abs(state.position.z()) > kArenaHalf - 3) velocity.z() = -state.position.z();
+      }
+      const bool on_ground = state.position.y() < 0.41;
+      const bool jump = moving && on_ground && (step + 37 * static_cast<int>(i)) % 150 == 0;
+      velocity.y() = jump ? 5 : state.linear_velocity.y();
+      (void)s.world.set_linear_velocity(s.bodies[i], velocity);
+    }
+  };
+  scene.viewer = [](const Scene& s, int client) {
+    const rp::Vec3 p = s.world.body_state(s.bodies[client]).value().position;
+    return std::array<float, 3>{static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                static_cast<float>(p.z())};
+  };
+  return scene;
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const std::size_t k = std::min(values.size() - 1, static_cast<std::size_t>(p * values.size()));
+  return values[k];
+}
+
+double mean(const std::vector<double>& values) {
+  double sum = 0;
+  for (const double v : values) sum += v;
+  return values.empty() ? 0 : sum / values.size();
+}
+
+std::string run(Scene scene, const BenchOptions& options) {
+  scene.spec.velocity_step_mps = options.velocity_step_mps;
+  scene.spec.orientation_bits = options.orientation_bits;
+  scene.spec.tick_s = 1.0f / static_cast<float>(options.rate_hz);
+  if (const std::string problem = scene.spec.validate(); !problem.empty()) {
+    std::fprintf(stderr, "snapshot-bench: %s\n", problem.c_str());
+    std::exit(2);
+  }
+  const int ack_delay_ticks =
+      static_cast<int>(std::lround(options.ack_delay_ms * options.rate_hz / 1000.0));
+  std::vector<ClientLink> links;
+  for (int c = 0; c < scene.clients; ++c) links.emplace_back(scene.spec, ack_delay_ticks);
+  const int warmup_steps = options.rate_hz * 3 / 2;
+  const int rest_steps = options.rate_hz;
+  const int run_steps = static_cast<int>(std::lround(options.seconds * options.rate_hz));
+  const rp::Real dt = rp::Real(1) / options.rate_hz;
+  std::vector<proto::QuantizedEntity> entities;
+  std::uint32_t tick = 0;
+  for (int step = 0; step < warmup_steps + rest_steps + run_steps; ++step) {
+    const bool moving = step >= warmup_steps + rest_steps;
+    const ClientLink::Phase phase = step < warmup_steps ? ClientLink::Phase::Warmup
+                                    : moving            ? ClientLink::Phase::Run
+                                                        : ClientLink::Phase::Rest;
+    scene.drive(scene, step - warmup_steps - rest_steps, moving);
+    (void)scene.world.step(dt);
+    read_entities(scene, entities);
+    ++tick;
+    for (int c = 0; c < scene.clients; ++c) {
+      links[c].send(tick, entities, scene.viewer(scene, c), options.budget_bytes, phase);
+    }
+  }
+
+  std::vector<double> run_bits, rest_bits;
+  std::size_t run_bytes = 0;
+  double encode_us = 0, decode_us = 0;
+  std::uint64_t pending = 0, moving = 0, mismatches = 0, deferred = 0, refused = 0;
+  for (const ClientLink& link : links) {
+    run_bits.insert(run_bits.end(), link.run_bits().begin(), link.run_bits().end());
+    rest_bits.insert(rest_bits.end(), link.rest_bits().begin(), link.rest_bits().end());
+    run_bytes += link.run_bytes();
+    encode_us += link.encode_us();
+    decode_us += link.decode_us();
+    pending += link.pending();
+    moving += link.moving();
+    mismatches += link.mismatches();
+    deferred += link.deferred_snapshots();
+    refused += link.refused();
+  }
+  const double snapshots = static_cast<double>(run_bits.size());
+  const double kbps = run_bytes * 8.0 / snapshots * options.rate_hz / 1000.0;
+  char line[1024];
+  std::snprintf(
+      line, sizeof line,
+      "{\"bench\":\"snapshot\",\"scene\":\"%s\",\"entities\":%zu,\"clients\":%d,\"seconds\":%g,"
+      "\"rate_hz\":%d,\"ack_delay_ms\":%d,\"budget_bytes\":%zu,\"velocity_step_mps\":%g,"
+      "\"orientation_bits\":%d,\"bits_per_entity_avg\":%.3f,"
+      "\"bits_per_entity_p99\":%.3f,\"bits_per_entity_rest\":%.3f,\"bytes_per_snapshot_avg\":%.1f,"
+      "\"kbps_per_client\":%.2f,\"encode_us\":%.2f,\"decode_us\":%.2f,"
+      "\"pending_per_snapshot\":%.1f,\"moving_per_snapshot\":%.1f,\"mismatches\":%llu,\"deferred_"
+      "snapshots\":%llu,"
+      "\"refused\":%llu}",
+      scene.name.c_str(), scene.bodies.size(), scene.clients, options.seconds, options.rate_hz,
+      options.ack_delay_ms, options.budget_bytes, scene.spec.velocity_step_mps,
+      scene.spec.orientation_bits, mean(run_bits), percentile(run_bits, 0.99), mean(rest_bits),
+      run_bytes / snapshots, kbps, encode_us / snapshots, decode_us / snapshots,
+      pending / snapshots, moving / snapshots, static_cast<unsigned long long>(mismatches),
+      static_cast<unsigned long long>(deferred), static_cast<unsigned long long>(refused));
+  return line;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Snapshot bench: bits per entity, kbps per client, encode/decode time");
+  BenchOptions options;
+  std::string scene = "all", out;
+  app.add_option("--seconds", options.seconds, "measured run, s")->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--rate", options.rate_hz, "tick and snapshot rate, Hz")
+      ->check(CLI::Range(10, 128));
+  app.add_option("--ack-delay-ms", options.ack_delay_ms, "delay of the client's acks, ms")
+      ->check(CLI::Range(0, 2000));
+  app.add_option("--budget", options.budget_bytes, "bytes per snapshot")
+      ->check(CLI::Range(16, 1200));
+  app.add_option("--velocity-step", options.velocity_step_mps, "velocity quantum, m/s")
+      ->check(CLI::Range(0.0001, 1.0));
+  app.add_option("--orientation-bits", options.orientation_bits,
+                 "bits per smallest-three component")
+      ->check(CLI::Range(4, 16));
+  app.add_option("--scene", scene, "all, spheres901, spheres901_dense, players16 or players64")
+      ->check(CLI::IsMember({"all", "spheres901", "spheres901_dense", "players16", "players64"}));
+  app.add_option("--out", out, "also write the JSON lines to this file (replaced)");
+  CLI11_PARSE(app, argc, argv);
+
+  std::vector<std::string> lines;
+  if (scene == "all" || scene == "spheres901") {
+    lines.push_back(run(spheres_scene("spheres901", kSpacing), options));
+  }
+  if (scene == "all" || scene == "spheres901_dense") {
+    lines.push_back(run(spheres_scene("spheres901_dense", kDenseSpacing), options));
+  }
+  if (scene == "all" || scene == "players16") lines.push_back(run(players_scene(16), options));
+  if (scene == "all" || scene == "players64") lines.push_back(run(players_scene(64), options));
+  std::ofstream file;
+  if (!out.empty()) {
+    file.open(out, std::ios::trunc);
+    if (!file) {
+      std::fprintf(stderr, "snapshot-bench: cannot write %s\n", out.c_str());
+      return 1;
+    }
+  }
+  for (const std::string& line : lines) {
+    std::printf("%s\n", line.c_str());
+    if (file) file << line << '\n';
+  }
+  return 0;
+}
