@@ -254,6 +254,11 @@ TEST(ServerConfig, MissingFileIsOneProblem) {
                               "file or directory\n"),
             std::string::npos)
       << outcome.text;
+  const ParseOutcome directory = parse({"--config", "/"});
+  EXPECT_FALSE(directory.config.has_value());
+  EXPECT_NE(directory.text.find("cannot read config file \"/\": it is a directory\n"),
+            std::string::npos)
+      << directory.text;
 }
 
 TEST(ServerConfig, HelpListsEveryFlagWithItsDefault) {

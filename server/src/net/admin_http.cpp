@@ -11,7 +11,10 @@
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http.hpp>
+#include <array>
+#include <atomic>
 #include <exception>
+#include <optional>
 #include <string_view>
 #include <unordered_set>
 

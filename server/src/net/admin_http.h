@@ -13,8 +13,6 @@
 /// Everything runs on a strand of the given io_context; the callbacks are called there and must
 /// be thread-safe towards the code that owns what they read.
 
-#include <array>
-#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/system/error_code.hpp>

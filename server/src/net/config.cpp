@@ -224,6 +224,10 @@ std::vector<std::string> apply_config_toml(std::string_view toml_text, std::stri
 }
 
 std::vector<std::string> apply_config_file(const std::string& path, ServerConfig& config) {
+  std::error_code status_error;
+  if (std::filesystem::is_directory(path, status_error)) {
+    return {"cannot read config file \"" + path + "\": it is a directory"};
+  }
   std::ifstream file{path, std::ios::binary};
   std::ostringstream text;
   if (file) text << file.rdbuf();
