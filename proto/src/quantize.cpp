@@ -11,7 +11,7 @@ namespace {
 constexpr double kMaxPositionSteps = 2147483647.0;
 constexpr double kMaxVelocitySteps = 1073741823.0;
 constexpr double kSqrt2 = 1.4142135623730951;
-/// Keeps the codec's prediction products within 64 bits (PROTOCOL.snapshot.md §prediction).
+/// Keeps the codec's prediction products within 64 bits (PROTOCOL.md Snapshots §prediction).
 constexpr std::int64_t kMaxPredictionScale = std::int64_t{1} << 23;
 
 /// NaN gives `if_nan`.

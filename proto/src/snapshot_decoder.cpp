@@ -1,5 +1,5 @@
 /// SnapshotDecoder: validates a snapshot against its baseline and rebuilds the client's entity
-/// set (PROTOCOL.snapshot.md §stream, §rejections). Nothing is asserted about the input: every
+/// set (PROTOCOL.md Snapshots §stream, §rejections). Nothing is asserted about the input: every
 /// count, index, code and value is checked, and a refusal changes nothing.
 
 #include <cassert>
@@ -79,7 +79,7 @@ Refusal reader_refusal(const BitReader& in, const char* what) {
           std::string("expected more bits in ") + what + ", got the end of the stream"};
 }
 
-/// Reads one entity stream against its baseline (PROTOCOL.snapshot.md §4), a section per
+/// Reads one entity stream against its baseline (PROTOCOL.md Snapshots §4), a section per
 /// method in stream order; each returns the refusal that stops it, if any.
 class StreamReader {
  public:

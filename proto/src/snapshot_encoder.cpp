@@ -1,5 +1,5 @@
 /// SnapshotEncoder: chooses what to send against the acknowledged baseline, within the budget,
-/// and writes the stream (PROTOCOL.snapshot.md §stream).
+/// and writes the stream (PROTOCOL.md Snapshots §stream).
 
 #include <algorithm>
 #include <cassert>

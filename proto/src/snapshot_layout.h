@@ -1,6 +1,6 @@
 #pragma once
 /// The entity fields of the snapshot stream, shared by the encoder and the decoder so both read
-/// one definition (PROTOCOL.snapshot.md §entity fields).
+/// one definition (PROTOCOL.md Snapshots §entity fields).
 
 #include <array>
 #include <cstdint>
@@ -45,7 +45,7 @@ inline constexpr std::uint32_t kMaxPredictionAge = 255;
 
 /// The weights of the baseline's and the current velocity in a changed entity's predicted
 /// motion: (age - 1) * scale and (age + 1) * scale, or both 0 past kMaxPredictionAge
-/// (PROTOCOL.snapshot.md §6). With velocity integrated before position (semi-implicit Euler),
+/// (PROTOCOL.md Snapshots §6). With velocity integrated before position (semi-implicit Euler),
 /// a velocity changing linearly over the age is predicted exactly.
 struct Prediction {
   std::int64_t baseline_weight = 0;

@@ -1,6 +1,6 @@
 #pragma once
 /// Picks the Exp-Golomb order that writes a set of values in the fewest bits (the encoder writes
-/// it into the stream's header; PROTOCOL.snapshot.md §orders).
+/// it into the stream's header; PROTOCOL.md Snapshots §orders).
 
 #include <cstdint>
 #include <span>

@@ -33,10 +33,7 @@ int main(int argc, char** argv) {
     // Signals get their own small io_context, so a stuck match cannot delay a second signal.
     boost::asio::io_context signal_io;
     ShutdownSignals signals(signal_io, std::chrono::seconds(config.server.shutdown_grace_s),
-                            [&server](int signal) {
-                              spdlog::info("signal {}: stopping gracefully", signal);
-                              server.stop();
-                            });
+                            [&server](int) { server.stop(); });
     std::thread signal_thread([&signal_io] { signal_io.run(); });
     const int code = server.wait();
     signals.close();

@@ -1,5 +1,5 @@
 /// The decoder refuses every malformed snapshot with its reason, counts it, and stays as it was.
-/// The streams are written by hand after PROTOCOL.snapshot.md §stream.
+/// The streams are written by hand after PROTOCOL.md Snapshots §stream.
 
 #include <gtest/gtest.h>
 

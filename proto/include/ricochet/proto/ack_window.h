@@ -1,5 +1,5 @@
 #pragma once
-/// What this end sent, so that the peer's acks (16-bit ack + 32 bits, PROTOCOL.transport.md
+/// What this end sent, so that the peer's acks (16-bit ack + 32 bits, PROTOCOL.md Game channel transport
 /// §acks) tell which packets arrived, which reliable messages they carried, and the round trip.
 
 #include <array>

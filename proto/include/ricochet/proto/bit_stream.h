@@ -1,5 +1,5 @@
 #pragma once
-/// Bit-level writer and reader for the packed snapshot payload (PROTOCOL.snapshot.md §bits).
+/// Bit-level writer and reader for the packed snapshot payload (PROTOCOL.md Snapshots §bits).
 ///
 /// Bits are written most significant first: the first bit written is bit 7 of byte 0. A value of
 /// n bits is written from its bit n-1 down to bit 0. The last byte is padded with zero bits.

@@ -1,5 +1,5 @@
 #pragma once
-/// Connect tokens (PROTOCOL.transport.md §connect token): made by the server when the control
+/// Connect tokens (PROTOCOL.md Game channel transport §connect token): made by the server when the control
 /// channel admits a player to a match, handed to the client over TLS, and sent back as is in the
 /// connection request. Sealed with XChaCha20-Poly1305 under a key only the server knows, so a
 /// client can neither read nor forge one.

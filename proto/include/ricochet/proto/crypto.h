@@ -1,5 +1,5 @@
 #pragma once
-/// The two AEADs of the game channel, over libsodium (PROTOCOL.transport.md §keys):
+/// The two AEADs of the game channel, over libsodium (PROTOCOL.md Game channel transport §keys):
 /// ChaCha20-Poly1305 IETF for packets and challenge tokens (12-byte nonce = 4 zero bytes + the
 /// 64-bit sequence, little endian) and XChaCha20-Poly1305 IETF for connect tokens (24-byte
 /// random nonce). Ciphertexts carry their 16-byte tag at the end.

@@ -1,5 +1,5 @@
 #pragma once
-/// The client end of the game channel as a sans-IO state machine (PROTOCOL.transport.md):
+/// The client end of the game channel as a sans-IO state machine (PROTOCOL.md Game channel transport):
 /// SendingRequest → SendingResponse → Connected → Disconnected(reason). Used by the bot client
 /// and the tests. One GameClient per connect token; a reconnect takes a new token and a new
 /// GameClient. Not thread-safe.

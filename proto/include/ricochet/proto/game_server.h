@@ -1,5 +1,5 @@
 #pragma once
-/// The server end of the game channel as a sans-IO state machine (PROTOCOL.transport.md): bytes
+/// The server end of the game channel as a sans-IO state machine (PROTOCOL.md Game channel transport): bytes
 /// and time in, datagrams and events out. It knows no socket and reads no clock.
 ///
 /// Use: for every datagram call receive(); call update() at least every keep-alive interval

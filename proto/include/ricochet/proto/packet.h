@@ -1,5 +1,5 @@
 #pragma once
-/// The game channel's packet codec (PROTOCOL.transport.md §packets). All integers little endian.
+/// The game channel's packet codec (PROTOCOL.md Game channel transport §packets). All integers little endian.
 ///
 ///   connection request (unencrypted, exactly 1200 bytes):
 ///     u8 type=0 | 16 version | u64 protocol_id | u16 token_len=128 | token | zero padding

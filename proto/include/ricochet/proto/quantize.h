@@ -1,6 +1,6 @@
 #pragma once
 /// Quantisation of an entity's state to the integers the snapshot codec sends
-/// (PROTOCOL.snapshot.md §quantisation). The server quantises its state once per tick; what a
+/// (PROTOCOL.md Snapshots §quantisation). The server quantises its state once per tick; what a
 /// client decodes equals those integers bit for bit, and dequantize() turns them back to floats.
 ///
 /// Position: per axis, steps of position_step_m from bounds.min_m, clamped into the bounds; the

@@ -1,6 +1,6 @@
 #pragma once
 /// The small reliable-ordered message channel that rides on payload packets
-/// (PROTOCOL.transport.md §reliable). The sender keeps every message until a packet carrying it
+/// (PROTOCOL.md Game channel transport §reliable). The sender keeps every message until a packet carrying it
 /// is acked and resends it at most every resend interval; the receiver delivers in id order,
 /// once, and buffers up to kWindow messages ahead of the next expected id.
 

@@ -1,5 +1,5 @@
 #pragma once
-/// The 256-entry replay window (PROTOCOL.transport.md §replay): a packet is accepted once, and
+/// The 256-entry replay window (PROTOCOL.md Game channel transport §replay): a packet is accepted once, and
 /// never when it is 256 or more sequences older than the newest accepted one. The same window
 /// gives the 16-bit ack and 32 ack bits this end puts in every packet it sends.
 

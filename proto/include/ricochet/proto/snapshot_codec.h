@@ -1,5 +1,5 @@
 #pragma once
-/// Delta-compressed snapshots (PROTOCOL.snapshot.md): per client, the server encodes the
+/// Delta-compressed snapshots (PROTOCOL.md Snapshots): per client, the server encodes the
 /// quantised state of every entity against the newest snapshot that client acknowledged, within
 /// a byte budget; the client decodes, validates and echoes the newest tick it decoded.
 ///

@@ -1,5 +1,5 @@
 #pragma once
-/// Which packet types each connection state accepts (PROTOCOL.transport.md §states). The one
+/// Which packet types each connection state accepts (PROTOCOL.md Game channel transport §states). The one
 /// place both endpoints check; a packet outside its state is dropped as WrongState.
 ///
 ///   server, per address        accepts
