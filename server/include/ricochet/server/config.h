@@ -50,6 +50,8 @@ struct ControlConfig {
   int handshake_timeout_ms = 5'000;  ///< accept to finished TLS handshake
   int frame_timeout_ms = 10'000;     ///< first byte of a frame to its last (slowloris)
   int idle_timeout_ms = 120'000;     ///< no whole frame for this long
+  int messages_per_second = 20;      ///< sustained requests per connection
+  int message_burst = 40;            ///< requests a connection may send at once
 };
 
 /// [game] encrypted UDP game channel (GameServerConfig) and the fixed tick (MatchConfig).
