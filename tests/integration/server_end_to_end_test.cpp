@@ -288,6 +288,8 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
   EXPECT_LE(dropped, 1200 + 10);  // mallory's own handshake packets at most
   EXPECT_EQ(metric(page, R"(ricochet_game_connections{state="connected"})"), 1);
   EXPECT_EQ(metric(page, R"(ricochet_match_players{match="1",state="connected"})"), 1);
+  EXPECT_EQ(metric(page, "ricochet_players"), 1);
+  EXPECT_EQ(metric(page, "ricochet_matches"), 2);
   EXPECT_EQ(http_get(server_->admin_port(), "/healthz").substr(0, 2), "ok");
 }
 

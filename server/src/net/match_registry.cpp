@@ -77,10 +77,9 @@ std::vector<std::shared_ptr<MatchHost>> MatchRegistry::hosts() const {
   return out;
 }
 
-std::size_t MatchRegistry::seats_taken() const {
+std::size_t MatchRegistry::seats() const {
   const std::lock_guard lock(mutex_);
-  return static_cast<std::size_t>(
-      std::count_if(seats_.begin(), seats_.end(), [](const auto& seat) { return seat.second.taken; }));
+  return seats_.size();
 }
 
 std::vector<MatchSummary> MatchRegistry::list() const {
@@ -199,8 +198,8 @@ void MatchRegistry::payload(std::uint64_t account, std::vector<std::uint8_t> byt
 }
 
 void MatchRegistry::reliable(std::uint64_t account, std::vector<std::uint8_t> bytes) {
-  // Clients send nothing reliable yet (chat goes up the control channel); counted by the match
-  // as an unexpected message would be a later issue's concern. Dropped here, with a debug line.
+  // No client-to-server reliable message is defined (chat goes up the control channel).
+  unexpected_reliable_.fetch_add(1, std::memory_order_relaxed);
   spdlog::debug("game channel: account {} sent a reliable message of {} bytes; none is defined",
                 account, bytes.size());
 }

@@ -10,6 +10,7 @@
 /// A match is full when its seats are. Thread-safe: one mutex over the tables; MatchHost calls
 /// post to the match strands and return at once.
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -52,7 +53,10 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   void close();
   /// Every match, for ending them and for metrics.
   std::vector<std::shared_ptr<MatchHost>> hosts() const;
-  std::size_t seats_taken() const;
+  /// Seats reserved or taken, all matches together.
+  std::size_t seats() const;
+  /// Reliable messages clients sent though none is defined (dropped).
+  std::uint64_t unexpected_reliable() const { return unexpected_reliable_.load(); }
 
   // MatchDirectory
   std::vector<MatchSummary> list() const override;
@@ -93,6 +97,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   std::unordered_map<std::uint64_t, Seat> seats_;
   std::uint32_t next_match_id_ = 1;
   bool closed_ = false;
+  std::atomic<std::uint64_t> unexpected_reliable_{0};
 };
 
 }  // namespace ricochet::server

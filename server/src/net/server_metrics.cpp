@@ -126,6 +126,12 @@ void Server::register_metrics() {
     report_control_channel(control_->stats(), sink);
     const auto hosts = matches_->hosts();
     sink.gauge("ricochet_matches", "Matches hosted", {}, static_cast<double>(hosts.size()));
+    sink.gauge("ricochet_players", "Players seated in any match (connected, within the reconnect "
+               "grace, or holding a fresh connect token)", {},
+               static_cast<double>(matches_->seats()));
+    sink.counter("ricochet_game_unexpected_reliable_total",
+                 "Reliable messages from clients, none being defined (dropped)", {},
+                 static_cast<double>(matches_->unexpected_reliable()));
     for (const auto& host : hosts) report_match(*host, sink);
     sink.gauge("ricochet_db_queue_depth", "Jobs waiting for the DB thread", {},
                static_cast<double>(db_->queued()));
