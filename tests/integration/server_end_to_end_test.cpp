@@ -293,5 +293,27 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
   EXPECT_EQ(http_get(server_->admin_port(), "/healthz").substr(0, 2), "ok");
 }
 
+TEST(ServerStart, APortInUseIsAClearErrorAndTheServerStopsAtOnce) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ricochet-e2e-port-" + std::to_string(::getpid()));
+  boost::asio::io_context io;
+  boost::asio::ip::tcp::acceptor taken(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  server::ServerConfig config = test_config(dir);
+  config.control.port = taken.local_endpoint().port();
+  const auto started = std::chrono::steady_clock::now();
+  {
+    server::Server server(config);
+    try {
+      server.start();
+      ADD_FAILURE() << "start() bound a port that is in use";
+    } catch (const std::runtime_error& error) {
+      EXPECT_NE(std::string(error.what()).find("control channel (TLS) on 127.0.0.1:"), std::string::npos)
+          << error.what();
+    }
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - started, 3s);  // no grace period to wait out
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace ricochet::test

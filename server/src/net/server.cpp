@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include <boost/system/system_error.hpp>
 #include <spdlog/spdlog.h>
 
 #include "admin_http.h"
@@ -130,7 +131,12 @@ Server::~Server() {
 }
 
 void Server::start() {
-  game_->start(*matches_);
+  try {
+    game_->start(*matches_);
+  } catch (const boost::system::system_error& error) {
+    throw std::runtime_error("cannot bind the game channel (UDP) on " + config_.game.bind + ":" +
+                             std::to_string(config_.game.port) + ": " + error.code().message());
+  }
   matches_->set_udp_port(game_->port());
   for (int i = 1; i <= config_.matches.count; ++i) {
     const auto opened = matches_->open("ffa-" + std::to_string(i), config_.matches.max_players);
@@ -138,7 +144,13 @@ void Server::start() {
       throw std::runtime_error("cannot open match " + std::to_string(i) + ": " + problem->message);
     }
   }
-  control_->start();
+  try {
+    control_->start();
+  } catch (const boost::system::system_error& error) {
+    throw std::runtime_error("cannot bind the control channel (TLS) on " + config_.control.bind +
+                             ":" + std::to_string(config_.control.port) + ": " +
+                             error.code().message());
+  }
   if (const auto error = admin_->start()) {
     throw std::runtime_error("cannot bind the admin port " + config_.admin.bind + ":" +
                              std::to_string(config_.admin.port) + ": " + error.message());
@@ -180,6 +192,15 @@ bool Server::healthy() const {
 }
 
 void Server::shut_down() {
+  if (threads_.empty()) {
+    // start() never ran its threads (it failed, or was never called): nothing to end or tell.
+    db_->stop();
+    exit_code_ = 1;
+    const std::lock_guard lock(done_mutex_);
+    stopped_ = true;
+    done_.notify_all();
+    return;
+  }
   const auto deadline = Clock::now() + std::chrono::seconds(config_.server.shutdown_grace_s);
   spdlog::info("stopping: ending {} matches, {} s grace", matches_->hosts().size(),
                config_.server.shutdown_grace_s);
