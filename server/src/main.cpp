@@ -32,7 +32,9 @@ int main(int argc, char** argv) {
     server.start();
     // Signals get their own small io_context, so a stuck match cannot delay a second signal.
     boost::asio::io_context signal_io;
-    ShutdownSignals signals(signal_io, std::chrono::seconds(config.server.shutdown_grace_s),
+    // The backstop fires 2 s after the server's own deadline, so a stop that uses its whole
+    // grace still ends through the server's path (threads joined, DB closed).
+    ShutdownSignals signals(signal_io, std::chrono::seconds(config.server.shutdown_grace_s + 2),
                             [&server](int) { server.stop(); });
     std::thread signal_thread([&signal_io] { signal_io.run(); });
     const int code = server.wait();

@@ -190,8 +190,8 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   alice->join_and_connect(1, server_->game_port());
   alice->play_for(400ms);
   server_->stop();
-  alice->game->pump_for(500ms);
-  ASSERT_EQ(alice->game->transport().state(), proto::ConnectionState::Disconnected);
+  // Told after the match record is committed; a slow disk may take a while.
+  ASSERT_TRUE(alice->game->pump_until(proto::ConnectionState::Disconnected, 5s));
   EXPECT_EQ(alice->game->transport().disconnect_reason(), proto::DisconnectReason::ServerShutdown);
   bool told_match_ended = false;
   for (const proto::ClientEvent& event : alice->game->events()) {
@@ -256,6 +256,7 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
   // Mallory: garbage, an oversized datagram, truncated packets, a request with a forged token,
   // and alice's own token replayed from another address, while alice plays.
   GameTestClient mallory(alice->join, server_->game_port());  // alice's token, another socket
+  mallory.pump_for(200ms);  // its connection requests, before the flood rate-limits its address
   std::mt19937 random(1);
   std::vector<std::uint8_t> garbage(1200);
   for (int i = 0; i < 400; ++i) {
@@ -274,9 +275,8 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
 
   const std::string page = http_get(server_->admin_port(), "/metrics");
   EXPECT_GT(metric(page, R"(ricochet_game_dropped_total{reason="oversized"})"), 0) << page;
-  EXPECT_GT(metric(page, R"(ricochet_game_dropped_total{reason="token_reused"})") +
-                metric(page, R"(ricochet_game_dropped_total{reason="address_rate_limited"})"),
-            0);
+  EXPECT_GT(metric(page, R"(ricochet_game_dropped_total{reason="token_reused"})"), 0);
+  EXPECT_GT(metric(page, R"(ricochet_game_dropped_total{reason="address_rate_limited"})"), 0);
   // Each of the 1200 datagrams that reached the server is counted under some reason (most by the
   // per-address limit); a loaded machine's kernel may drop a few before the server sees them.
   double dropped = 0;

@@ -61,6 +61,10 @@ void GameChannel::start(GameRouter& router) {
   // A full send buffer must never stall the strand: send_to then fails with would_block and the
   // datagram is lost like any other (the protocol is built for loss).
   socket_.non_blocking(true);
+  // Room for bursts (many clients' inputs at once, or a flood being dropped) while the strand
+  // is busy: 4 MiB is some 3000 full datagrams. The kernel may cap it (net.core.rmem_max).
+  boost::system::error_code ignored;
+  socket_.set_option(asio::socket_base::receive_buffer_size(4 << 20), ignored);
   port_ = socket_.local_endpoint().port();
   asio::co_spawn(strand_, receive_loop(), asio::detached);
   asio::co_spawn(strand_, update_loop(), asio::detached);
@@ -153,8 +157,10 @@ void GameChannel::drain() {
     } else if (auto* gone = std::get_if<proto::ServerDisconnected>(&event)) {
       account_of_client_.erase(gone->client);
       const auto found = client_of_account_.find(gone->account_id);
-      // A replaced connection's account already names its new connection: the match keeps the
-      // player, so only the current connection's end is news.
+      // The transport reports a replaced connection's end before the new one's start, so the
+      // match sees a disconnect and then a reconnect of the same account (keeping its entity).
+      // Should a connection's end come after its successor's start, the account already names
+      // the successor and the end is no news.
       if (found != client_of_account_.end() && found->second == gone->client) {
         client_of_account_.erase(found);
         router_->disconnected(gone->account_id, gone->reason);

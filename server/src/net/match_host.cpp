@@ -94,14 +94,14 @@ void MatchHost::end(std::function<void(EndedMatch)> done) {
   });
 }
 
-void MatchHost::connect(std::uint64_t account, std::string name) {
-  asio::post(strand_, [self = shared_from_this(), account, name = std::move(name)] {
+void MatchHost::connect(std::uint64_t account, std::string name, std::uint64_t seat) {
+  asio::post(strand_, [self = shared_from_this(), account, name = std::move(name), seat] {
     if (self->ended_) return;
     const auto joined = self->match_.connect(account, name);
     if (const auto* refusal = std::get_if<JoinRefusal>(&joined)) {
       spdlog::info("match {}: account {} refused: {}", self->id_, account, server::name(*refusal));
       self->channel_.kick(account, proto::DisconnectReason::Kicked);
-      self->released_(account, self->id_);
+      self->released_(account, self->id_, seat);
       return;
     }
     const Joined& entered = std::get<Joined>(joined);
@@ -110,6 +110,7 @@ void MatchHost::connect(std::uint64_t account, std::string name) {
     Played& played = self->played_[account];
     played.username = name;
     played.seated = true;
+    played.seat = seat;
     if (played.connected_at == 0) played.connected_at = steady_now_us();
     self->drain_outbox();
   });
@@ -147,7 +148,6 @@ void MatchHost::leave(std::uint64_t account) {
       found->second.seated = false;  // the directory released the seat itself
     }
     if (self->match_.leave(account)) self->drain_outbox();
-    self->channel_.kick(account, proto::DisconnectReason::Kicked);
   });
 }
 
@@ -195,7 +195,7 @@ void MatchHost::sweep_departed() {
     if (!played.seated || match_.entity_of(account)) continue;
     played.seated = false;
     stop_playing(account, now);
-    released_(account, id_);
+    released_(account, id_, played.seat);
   }
 }
 

@@ -44,9 +44,11 @@ struct EndedMatch {
   std::vector<std::string> usernames;  ///< one per record.players entry
 };
 
-/// Reported to the owner when a player is no longer in the match (left, refused, or its
-/// reconnect grace ran out), so that its seat can be given to someone else.
-using SeatReleased = std::function<void(std::uint64_t account, std::uint32_t match_id)>;
+/// Reported to the owner when a player is no longer in the match (refused, or its reconnect
+/// grace ran out), so that its seat can be given to someone else. `seat` is the generation the
+/// player connected with (MatchRegistry), so a seat taken again since is not released.
+using SeatReleased =
+    std::function<void(std::uint64_t account, std::uint32_t match_id, std::uint64_t seat)>;
 
 class MatchHost : public std::enable_shared_from_this<MatchHost> {
  public:
@@ -64,10 +66,12 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   void end(std::function<void(EndedMatch)> done);
 
   // Thread-safe; each posts to the match's strand.
-  void connect(std::uint64_t account, std::string name);
+  /// `seat`: the registry's generation of the account's seat, handed back in SeatReleased.
+  void connect(std::uint64_t account, std::string name, std::uint64_t seat);
   void disconnect(std::uint64_t account);
   void receive(std::uint64_t account, std::vector<std::uint8_t> payload);
   void chat(std::uint64_t account, std::string text);
+  /// The account left (its seat is already released and its connection kicked).
   void leave(std::uint64_t account);
 
   std::uint32_t id() const { return id_; }
@@ -85,6 +89,7 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
     proto::TimeUs connected_at = 0;  ///< 0 while not connected
     double seconds = 0;              ///< connected so far, not counting the current stretch
     bool seated = true;              ///< false once the seat was released
+    std::uint64_t seat = 0;          ///< the seat generation it connected with
   };
 
   boost::asio::awaitable<void> tick_loop();

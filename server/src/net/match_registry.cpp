@@ -31,16 +31,19 @@ MatchRegistry::MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig co
 MatchRegistry::~MatchRegistry() = default;
 
 DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int max_players) {
-  const std::lock_guard lock(mutex_);
-  if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
-  if (static_cast<int>(hosts_.size()) >= config_.max_matches) {
-    return error(DirectoryErrorCode::TooManyMatches,
-                 "this server hosts at most " + std::to_string(config_.max_matches) + " matches");
-  }
   MatchConfig match_config = config_.match_defaults;
-  match_config.id = next_match_id_;
+  {
+    const std::lock_guard lock(mutex_);
+    if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
+    if (static_cast<int>(hosts_.size()) >= config_.max_matches) {
+      return error(DirectoryErrorCode::TooManyMatches,
+                   "this server hosts at most " + std::to_string(config_.max_matches) + " matches");
+    }
+    match_config.id = next_match_id_++;  // an id is never reused, even when the build fails
+  }
   match_config.name = name;
   match_config.max_players = max_players;
+  // The world is built outside the lock: routing and the control channel never wait for it.
   auto created = Match::create(match_config, map_, steady_now_us(), [] {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
                std::chrono::steady_clock::now().time_since_epoch())
@@ -49,15 +52,22 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   if (auto* problem = std::get_if<std::string>(&created)) {
     return error(DirectoryErrorCode::InvalidRequest, *problem);
   }
-  ++next_match_id_;
   auto host = std::make_shared<MatchHost>(
       io_, std::move(std::get<Match>(created)), channel_, metrics_,
-      [this](std::uint64_t account, std::uint32_t match_id) { release(account, match_id); });
+      [this](std::uint64_t account, std::uint32_t match_id, std::uint64_t seat) {
+        release(account, match_id, seat);
+      });
+  const std::lock_guard lock(mutex_);
+  if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
+  if (static_cast<int>(hosts_.size()) >= config_.max_matches) {
+    return error(DirectoryErrorCode::TooManyMatches,
+                 "this server hosts at most " + std::to_string(config_.max_matches) + " matches");
+  }
   host->start();
   hosts_.emplace(host->id(), host);
   spdlog::info("match {} '{}' open on map {} for {} players", host->id(), name, host->map_name(),
                max_players);
-  return summary(*host);
+  return summary(*host, steady_now_us());
 }
 
 void MatchRegistry::set_udp_port(std::uint16_t port) {
@@ -79,13 +89,16 @@ std::vector<std::shared_ptr<MatchHost>> MatchRegistry::hosts() const {
 
 std::size_t MatchRegistry::seats() const {
   const std::lock_guard lock(mutex_);
-  return seats_.size();
+  const proto::TimeUs now = steady_now_us();
+  return static_cast<std::size_t>(std::count_if(
+      seats_.begin(), seats_.end(), [now](const auto& seat) { return holds(seat.second, now); }));
 }
 
 std::vector<MatchSummary> MatchRegistry::list() const {
   const std::lock_guard lock(mutex_);
   std::vector<MatchSummary> out;
-  for (const auto& [id, host] : hosts_) out.push_back(summary(*host));
+  const proto::TimeUs now = steady_now_us();
+  for (const auto& [id, host] : hosts_) out.push_back(summary(*host, now));
   return out;
 }
 
@@ -123,7 +136,7 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
                  "already in match " + std::to_string(seat->second.match_id) + "; leave it first");
   }
   if (seat == seats_.end()) {
-    if (seats_in(match_id) >= host->second->max_players()) {
+    if (seats_in(match_id, now) >= host->second->max_players()) {
       return error(DirectoryErrorCode::MatchFull,
                    "match " + std::to_string(match_id) + " has all " +
                        std::to_string(host->second->max_players()) + " seats taken");
@@ -140,7 +153,8 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
                                            match_id, now, config_.token_lifetime_us,
                                            config_.token_timeout_s);
   // A taken seat stays taken (a reconnect); a reservation lives as long as its newest token.
-  seat->second.reserved_until = grant.token.expires_at;
+  seat->second.reserved_until =
+      grant.token.expires_at + static_cast<proto::TimeUs>(grant.token.timeout_s) * proto::kMicrosPerSecond;
   return grant;
 }
 
@@ -153,6 +167,9 @@ DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account) {
     host = hosts_.at(seat->second.match_id);
     seats_.erase(seat);
   }
+  // Kicked now, not from the match's strand: a connection made after a quick rejoin must not be
+  // the one a late kick finds.
+  channel_.kick(account, proto::DisconnectReason::Kicked);
   host->leave(account);
   return Done{};
 }
@@ -167,23 +184,27 @@ DirectoryResult<Done> MatchRegistry::chat(std::uint64_t account, const std::stri
 void MatchRegistry::connected(std::uint64_t account, std::uint32_t match_id) {
   std::shared_ptr<MatchHost> host;
   std::string username;
+  std::uint64_t generation = 0;
   {
     const std::lock_guard lock(mutex_);
     const auto seat = seats_.find(account);
-    if (seat != seats_.end() && seat->second.match_id == match_id) {
+    if (!closed_ && seat != seats_.end() && seat->second.match_id == match_id) {
       seat->second.taken = true;
+      seat->second.generation = next_generation_++;
+      generation = seat->second.generation;
       host = hosts_.at(match_id);
       username = seat->second.username;
     }
   }
   if (!host) {
-    // The token was good, but the account left (or was never seated here) since it was issued.
+    // The token was good, but the account left (or was never seated here) since it was issued,
+    // or the server is stopping.
     spdlog::debug("game channel: account {} connected to match {} without a seat; kicked", account,
                   match_id);
     channel_.kick(account, proto::DisconnectReason::Kicked);
     return;
   }
-  host->connect(account, std::move(username));
+  host->connect(account, std::move(username), generation);
 }
 
 void MatchRegistry::disconnected(std::uint64_t account, proto::DisconnectReason reason) {
@@ -205,24 +226,27 @@ void MatchRegistry::reliable(std::uint64_t account, std::vector<std::uint8_t> by
 }
 
 void MatchRegistry::expire_reservations(proto::TimeUs now) {
-  std::erase_if(seats_, [now](const auto& entry) {
-    return !entry.second.taken && entry.second.reserved_until <= now;
-  });
+  std::erase_if(seats_, [now](const auto& entry) { return !holds(entry.second, now); });
 }
 
-int MatchRegistry::seats_in(std::uint32_t match_id) const {
-  return static_cast<int>(std::count_if(seats_.begin(), seats_.end(), [match_id](const auto& seat) {
-    return seat.second.match_id == match_id;
-  }));
+bool MatchRegistry::holds(const Seat& seat, proto::TimeUs now) {
+  return seat.taken || seat.reserved_until > now;
 }
 
-MatchSummary MatchRegistry::summary(const MatchHost& host) const {
+int MatchRegistry::seats_in(std::uint32_t match_id, proto::TimeUs now) const {
+  return static_cast<int>(
+      std::count_if(seats_.begin(), seats_.end(), [match_id, now](const auto& seat) {
+        return seat.second.match_id == match_id && holds(seat.second, now);
+      }));
+}
+
+MatchSummary MatchRegistry::summary(const MatchHost& host, proto::TimeUs now) const {
   MatchSummary out;
   out.id = host.id();
   out.name = host.name();
   out.mode = "ffa";
   out.map = host.map_name();
-  out.players = seats_in(host.id());
+  out.players = seats_in(host.id(), now);
   out.max_players = host.max_players();
   return out;
 }
@@ -234,10 +258,12 @@ std::shared_ptr<MatchHost> MatchRegistry::host_of(std::uint64_t account) const {
   return hosts_.at(seat->second.match_id);
 }
 
-void MatchRegistry::release(std::uint64_t account, std::uint32_t match_id) {
+void MatchRegistry::release(std::uint64_t account, std::uint32_t match_id, std::uint64_t generation) {
   const std::lock_guard lock(mutex_);
   const auto seat = seats_.find(account);
-  if (seat != seats_.end() && seat->second.match_id == match_id && seat->second.taken) {
+  // Only the seat the player connected with: one taken again since (a rejoin) stays.
+  if (seat != seats_.end() && seat->second.match_id == match_id && seat->second.taken &&
+      seat->second.generation == generation) {
     seats_.erase(seat);
   }
 }

@@ -77,15 +77,20 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
     std::uint32_t match_id = 0;
     std::string username;
     bool taken = false;              ///< the game channel connected at least once
-    proto::TimeUs reserved_until = 0;  ///< while not taken: the newest token's expiry
+    /// While not taken: the newest token's expiry plus its timeout (a handshake accepted just
+    /// before the expiry may take that long to finish).
+    proto::TimeUs reserved_until = 0;
+    std::uint64_t generation = 0;    ///< bumped on every connection, named by SeatReleased
   };
 
   /// Gives back reserved seats whose token expired unused. Holds mutex_.
   void expire_reservations(proto::TimeUs now);
-  int seats_in(std::uint32_t match_id) const;  ///< holds mutex_
-  MatchSummary summary(const MatchHost& host) const;  ///< holds mutex_
+  /// A seat that counts: taken, or reserved by a token still usable at `now`.
+  static bool holds(const Seat& seat, proto::TimeUs now);
+  int seats_in(std::uint32_t match_id, proto::TimeUs now) const;  ///< holds mutex_
+  MatchSummary summary(const MatchHost& host, proto::TimeUs now) const;  ///< holds mutex_
   std::shared_ptr<MatchHost> host_of(std::uint64_t account) const;
-  void release(std::uint64_t account, std::uint32_t match_id);
+  void release(std::uint64_t account, std::uint32_t match_id, std::uint64_t generation);
 
   boost::asio::io_context& io_;
   MatchRegistryConfig config_;
@@ -96,6 +101,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   std::map<std::uint32_t, std::shared_ptr<MatchHost>> hosts_;
   std::unordered_map<std::uint64_t, Seat> seats_;
   std::uint32_t next_match_id_ = 1;
+  std::uint64_t next_generation_ = 1;
   bool closed_ = false;
   std::atomic<std::uint64_t> unexpected_reliable_{0};
 };

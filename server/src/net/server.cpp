@@ -166,14 +166,16 @@ void Server::start() {
 }
 
 void Server::stop() {
-  std::call_once(stop_once_, [this] { stopper_ = std::thread([this] { shut_down(); }); });
+  std::call_once(stop_once_, [this] {
+    const std::lock_guard lock(done_mutex_);  // wait() reads stopper_ under it
+    stopper_ = std::thread([this] { shut_down(); });
+  });
 }
 
 int Server::wait() {
-  {
-    std::unique_lock lock(done_mutex_);
-    done_.wait(lock, [this] { return stopped_; });
-  }
+  std::unique_lock lock(done_mutex_);
+  done_.wait(lock, [this] { return stopped_; });
+  // shut_down() released the lock after its last step, so its thread is ending.
   if (stopper_.joinable() && stopper_.get_id() != std::this_thread::get_id()) stopper_.join();
   return exit_code_.load();
 }
@@ -205,8 +207,11 @@ void Server::shut_down() {
   spdlog::info("stopping: ending {} matches, {} s grace", matches_->hosts().size(),
                config_.server.shutdown_grace_s);
   ready_ = false;
-  matches_->close();
-  end_matches(deadline);
+  matches_->close();  // no joins, no new game connections into a match
+  // The DB writes get the grace less 2 s (at least half of it), so that telling the game and
+  // control clients always has time left.
+  const auto grace = std::chrono::seconds(config_.server.shutdown_grace_s);
+  end_matches(std::max(deadline - std::chrono::seconds(2), Clock::now() + grace / 2));
 
   std::promise<void> game_closed;
   auto game_closed_future = game_closed.get_future();
@@ -241,7 +246,10 @@ void Server::end_matches(Clock::time_point deadline) {
   }
   std::vector<std::future<std::optional<wire::MatchResults>>> written;
   for (auto& future : ended) {
-    if (!wait_until(future, deadline)) continue;
+    if (!wait_until(future, deadline)) {
+      spdlog::warn("stopping: a match did not hand over its record in time; it is not written");
+      continue;
+    }
     EndedMatch match = future.get();
     if (match.record.players.empty()) continue;
     auto promise = std::make_shared<std::promise<std::optional<wire::MatchResults>>>();
@@ -259,7 +267,10 @@ void Server::end_matches(Clock::time_point deadline) {
   }
   // Every player hears its results over the control channel before it closes.
   for (auto& future : written) {
-    if (!wait_until(future, deadline)) continue;
+    if (!wait_until(future, deadline)) {
+      spdlog::warn("stopping: a match record was not written in time; its players get no results");
+      continue;
+    }
     const std::optional<wire::MatchResults> results = future.get();
     if (!results) continue;
     for (const wire::PlayerMatchResult& player : results->players()) {
