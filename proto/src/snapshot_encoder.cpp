@@ -44,6 +44,16 @@ std::size_t header_bytes(std::uint32_t tick, std::uint32_t baseline_age, std::si
   return bytes;
 }
 
+/// QuantizedEntity's ==, one field after another (the defaulted one calls memcmp per array).
+bool same_state(const QuantizedEntity& a, const QuantizedEntity& b) {
+  bool same = a.id == b.id && a.orientation_largest == b.orientation_largest && a.flags == b.flags;
+  for (int k = 0; k < 3; ++k) {
+    same = same && a.position[k] == b.position[k] && a.velocity[k] == b.velocity[k] &&
+           a.orientation[k] == b.orientation[k];
+  }
+  return same;
+}
+
 /// An entity that differs from the baseline: gone, new or changed.
 struct Candidate {
   enum class Kind : std::uint8_t { Removed, Added, Changed };
@@ -53,6 +63,17 @@ struct Candidate {
   float priority = 0;
   int bits = 0;  ///< estimate, for the budget
   bool selected = false;
+  layout::Delta delta;  ///< Changed: what it writes
+
+  static Candidate of(Kind kind, std::size_t baseline_index, std::size_t world_index,
+                      float priority = 0) {
+    Candidate candidate;
+    candidate.kind = kind;
+    candidate.baseline_index = static_cast<std::uint32_t>(baseline_index);
+    candidate.world_index = static_cast<std::uint32_t>(world_index);
+    candidate.priority = priority;
+    return candidate;
+  }
 };
 
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
@@ -164,17 +185,14 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
   std::size_t i = 0, j = 0;
   while (i < world_.size() || j < baseline_.size()) {
     if (i == world_.size() || (j < baseline_.size() && baseline_[j].id < world_[i].id)) {
-      candidates_.push_back(
-          {Candidate::Kind::Removed, static_cast<std::uint32_t>(j), 0, kRemovalPriority, 0, false});
+      candidates_.push_back(Candidate::of(Candidate::Kind::Removed, j, 0, kRemovalPriority));
       ++j;
     } else if (j == baseline_.size() || world_[i].id < baseline_[j].id) {
-      add_world_candidate({Candidate::Kind::Added, 0, static_cast<std::uint32_t>(i), 0, 0, false},
-                          kNewEntityChange_m);
+      add_world_candidate(Candidate::of(Candidate::Kind::Added, 0, i), kNewEntityChange_m);
       ++i;
     } else {
-      if (world_[i] != baseline_[j]) {
-        add_world_candidate({Candidate::Kind::Changed, static_cast<std::uint32_t>(j),
-                             static_cast<std::uint32_t>(i), 0, 0, false},
+      if (!same_state(world_[i], baseline_[j])) {
+        add_world_candidate(Candidate::of(Candidate::Kind::Changed, j, i),
                             change_m(baseline_[j], world_[i]));
       }
       ++i;
@@ -193,23 +211,17 @@ void EncodePass::estimate_costs() {
   }
   orientation.clear();
   std::size_t changed = 0;
-  for (const Candidate& c : candidates_) {
+  for (Candidate& c : candidates_) {
     if (c.kind != Candidate::Kind::Changed) continue;
     ++changed;
-    const QuantizedEntity& now = world_[c.world_index];
-    const QuantizedEntity& then = baseline_[c.baseline_index];
-    const std::uint8_t fields = layout::changed_fields(then, now, prediction_);
-    const std::array<std::int64_t, 3> residual = layout::position_residual(then, now, prediction_);
+    c.delta = layout::make_delta(baseline_[c.baseline_index], world_[c.world_index], widths_,
+                                 prediction_);
+    const layout::Delta& delta = c.delta;
     for (int a = 0; a < 3; ++a) {
-      if (fields & layout::kPositionChanged) position[a].push_back(zigzag(residual[a]));
-      if (fields & layout::kVelocityChanged) {
-        velocity[a].push_back(
-            zigzag(static_cast<std::int64_t>(now.velocity[a]) - then.velocity[a]));
-      }
-      if ((fields & layout::kOrientationChanged) &&
-          now.orientation_largest == then.orientation_largest) {
-        orientation.push_back(
-            zigzag(static_cast<std::int64_t>(now.orientation[a]) - then.orientation[a]));
+      if (delta.mask & layout::kPositionChanged) position[a].push_back(delta.position[a]);
+      if (delta.mask & layout::kVelocityChanged) velocity[a].push_back(delta.velocity[a]);
+      if ((delta.mask & layout::kOrientationChanged) && delta.same_largest) {
+        orientation.push_back(delta.orientation[a]);
       }
     }
   }
@@ -223,9 +235,7 @@ void EncodePass::estimate_costs() {
   for (Candidate& c : candidates_) {
     switch (c.kind) {
       case Candidate::Kind::Changed:
-        c.bits = layout::delta_bits(baseline_[c.baseline_index], world_[c.world_index], orders_,
-                                    widths_, prediction_) +
-                 gap_estimate;
+        c.bits = layout::delta_bits(c.delta, orders_, widths_) + gap_estimate;
         break;
       case Candidate::Kind::Removed:
         c.bits = 2 * bits_for_count(baseline_.size() + 1) + 1;
@@ -340,9 +350,7 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     std::uint8_t previous_mask = layout::kInitialFieldMask;
     for (std::size_t k = 0; k < changed.size(); ++k) {
       layout::write_code(stream, changed_gaps[k], chosen.gap);
-      layout::write_delta(stream, baseline_[changed[k]->baseline_index],
-                          world_[changed[k]->world_index], chosen, widths_, prediction_,
-                          previous_mask);
+      layout::write_delta(stream, changed[k]->delta, chosen, widths_, previous_mask);
     }
   }
   if (stream.bytes().size() <= stream_budget_bytes || selected_count_ == 0) return true;
