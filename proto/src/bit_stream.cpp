@@ -10,33 +10,6 @@ int exp_golomb_bits(std::uint64_t value, int order) {
   return 2 * width - order - 1;
 }
 
-void BitWriter::write_bits(std::uint64_t value, int bits) {
-  // A byte at a time: each step fills what is free of the last byte (a new one when it is full).
-  while (bits > 0) {
-    const int used = static_cast<int>(bit_count_ % 8);
-    if (used == 0) bytes_.push_back(0);
-    const int free = 8 - used;
-    const int take = bits < free ? bits : free;
-    const auto chunk = static_cast<unsigned>((value >> (bits - take)) & ((1u << take) - 1));
-    bytes_.back() |= static_cast<std::uint8_t>(chunk << (free - take));
-    bits -= take;
-    bit_count_ += static_cast<std::size_t>(take);
-  }
-}
-
-void BitWriter::write_exp_golomb(std::uint64_t value, int order) {
-  const std::uint64_t shifted = value + (std::uint64_t{1} << order);
-  const int width = std::bit_width(shifted);
-  const int zeros = width - order - 1;
-  // The zeros are the leading bits of `shifted` written wider, when that fits one call.
-  if (zeros + width <= 64) {
-    write_bits(shifted, zeros + width);
-    return;
-  }
-  write_bits(0, zeros);
-  write_bits(shifted, width);
-}
-
 void BitWriter::clear() {
   bytes_.clear();
   bit_count_ = 0;

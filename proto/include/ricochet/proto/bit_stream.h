@@ -13,6 +13,7 @@
 /// than kMaxExpGolombWidth allows, sets a sticky failure flag and yields 0, so a decoder can read a
 /// whole section and check failed() once.
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -48,9 +49,42 @@ int exp_golomb_bits(std::uint64_t value, int order);
 class BitWriter {
  public:
   /// Appends the low `bits` bits of value (0 <= bits <= 64), most significant first.
-  void write_bits(std::uint64_t value, int bits);
+  void write_bits(std::uint64_t value, int bits) {
+    if (bits <= 0) return;
+    const int used = static_cast<int>(bit_count_ % 8);  // bits already in the last byte
+    if (used + bits > 64) {  // wider than one window: the high part, then the low 32 bits
+      write_bits(value >> 32, bits - 32);
+      write_bits(value, 32);
+      return;
+    }
+    // The bits in one 64-bit window that starts at the last byte's first bit: its top byte
+    // goes into the last byte when that has room, the following ones are appended.
+    const std::uint64_t low = bits == 64 ? value : value & ((std::uint64_t{1} << bits) - 1);
+    std::uint64_t window = low << (64 - used - bits);
+    int left = used + bits;  // bits of the window still to store
+    if (used != 0) {
+      bytes_.back() |= static_cast<std::uint8_t>(window >> 56);
+      window <<= 8;
+      left -= 8;
+    }
+    for (; left > 0; left -= 8, window <<= 8) {
+      bytes_.push_back(static_cast<std::uint8_t>(window >> 56));
+    }
+    bit_count_ += static_cast<std::size_t>(bits);
+  }
   void write_bool(bool value) { write_bits(value ? 1 : 0, 1); }
-  void write_exp_golomb(std::uint64_t value, int order);
+  void write_exp_golomb(std::uint64_t value, int order) {
+    const std::uint64_t shifted = value + (std::uint64_t{1} << order);
+    const int width = std::bit_width(shifted);
+    const int zeros = width - order - 1;
+    // The zeros are the leading bits of `shifted` written wider, when that fits one call.
+    if (zeros + width <= 64) {
+      write_bits(shifted, zeros + width);
+      return;
+    }
+    write_bits(0, zeros);
+    write_bits(shifted, width);
+  }
   void write_signed_exp_golomb(std::int64_t value, int order) {
     write_exp_golomb(zigzag(value), order);
   }
