@@ -44,14 +44,20 @@ std::size_t header_bytes(std::uint32_t tick, std::uint32_t baseline_age, std::si
   return bytes;
 }
 
-/// QuantizedEntity's ==, one field after another (the defaulted one calls memcmp per array).
+/// QuantizedEntity's ==, one field after another, positions (the likeliest to differ) first;
+/// the defaulted one calls memcmp per array.
 bool same_state(const QuantizedEntity& a, const QuantizedEntity& b) {
-  bool same = a.id == b.id && a.orientation_largest == b.orientation_largest && a.flags == b.flags;
-  for (int k = 0; k < 3; ++k) {
-    same = same && a.position[k] == b.position[k] && a.velocity[k] == b.velocity[k] &&
-           a.orientation[k] == b.orientation[k];
+  if (a.position[0] != b.position[0] || a.position[1] != b.position[1] ||
+      a.position[2] != b.position[2]) {
+    return false;
   }
-  return same;
+  if (a.velocity[0] != b.velocity[0] || a.velocity[1] != b.velocity[1] ||
+      a.velocity[2] != b.velocity[2]) {
+    return false;
+  }
+  return a.id == b.id && a.orientation_largest == b.orientation_largest &&
+         a.orientation[0] == b.orientation[0] && a.orientation[1] == b.orientation[1] &&
+         a.orientation[2] == b.orientation[2] && a.flags == b.flags;
 }
 
 /// An entity that differs from the baseline: gone, new or changed.
@@ -97,12 +103,13 @@ class EncodePass {
  public:
   EncodePass(const QuantizationSpec& spec, const SnapshotEncoderOptions& options,
              std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
-             std::span<const QuantizedEntity> world, EncodeBuffers& buffers)
+             std::span<const QuantizedEntity> world, const layout::FieldWidths& widths,
+             EncodeBuffers& buffers)
       : spec_(spec),
         options_(options),
         baseline_(baseline),
         world_(world),
-        widths_(spec),
+        widths_(widths),
         prediction_(layout::make_prediction(baseline_age, spec)),
         buffers_(buffers),
         candidates_(buffers.candidates),
@@ -135,7 +142,7 @@ class EncodePass {
   const SnapshotEncoderOptions& options_;
   std::span<const QuantizedEntity> baseline_;
   std::span<const QuantizedEntity> world_;
-  layout::FieldWidths widths_;
+  const layout::FieldWidths& widths_;
   layout::Prediction prediction_;
   layout::DeltaOrders orders_;
   EncodeBuffers& buffers_;
@@ -410,6 +417,8 @@ std::size_t EncodePass::carry_priorities(
 }  // namespace
 
 struct SnapshotEncoder::Scratch {
+  explicit Scratch(const QuantizationSpec& spec) : widths(spec) {}
+  layout::FieldWidths widths;
   EncodeBuffers buffers;
 };
 
@@ -427,7 +436,7 @@ SnapshotEncoder::SnapshotEncoder(QuantizationSpec spec, SnapshotEncoderOptions o
     : spec_(spec),
       options_(options),
       ring_(options.ring_size),
-      scratch_(std::make_unique<Scratch>()) {
+      scratch_(std::make_unique<Scratch>(spec_)) {
   assert(spec_.validate().empty() && options_.validate().empty());
 }
 
@@ -465,7 +474,8 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   // Counts, orders and padding come before any entity.
   const std::size_t fixed_bits = 3 + (2 + layout::kDeltaOrderCount) * layout::kOrderBits + 8;
 
-  EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->buffers);
+  EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
+                  scratch_->buffers);
   pass.find_pending(priority_, viewer_m);
   pass.estimate_costs();
   pass.select(stream_budget_bytes * 8 > fixed_bits ? stream_budget_bytes * 8 - fixed_bits : 0);

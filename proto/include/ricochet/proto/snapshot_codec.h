@@ -82,8 +82,8 @@ class SnapshotEncoder {
     std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
   };
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
-  /// Working buffers of encode, kept from call to call so that encoding allocates nothing once
-  /// they have grown to the world's size.
+  /// The spec's field widths and encode's working buffers, kept from call to call so that
+  /// encoding allocates nothing once they have grown to the world's size.
   struct Scratch;
 
   QuantizationSpec spec_;
