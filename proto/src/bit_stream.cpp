@@ -10,8 +10,20 @@ int exp_golomb_bits(std::uint64_t value, int order) {
   return 2 * width - order - 1;
 }
 
+const std::vector<std::uint8_t>& BitWriter::bytes() const {
+  bytes_.resize(flushed_bytes_);
+  for (int left = pending_bits_; left > 0; left -= 8) {
+    const std::uint64_t top = left >= 8 ? pending_ >> (left - 8) : pending_ << (8 - left);
+    bytes_.push_back(static_cast<std::uint8_t>(top));
+  }
+  return bytes_;
+}
+
 void BitWriter::clear() {
   bytes_.clear();
+  flushed_bytes_ = 0;
+  pending_ = 0;
+  pending_bits_ = 0;
   bit_count_ = 0;
 }
 

@@ -51,26 +51,15 @@ class BitWriter {
   /// Appends the low `bits` bits of value (0 <= bits <= 64), most significant first.
   void write_bits(std::uint64_t value, int bits) {
     if (bits <= 0) return;
-    const int used = static_cast<int>(bit_count_ % 8);  // bits already in the last byte
-    if (used + bits > 64) {  // wider than one window: the high part, then the low 32 bits
+    if (bits > 32) {  // the high part first, then the low 32 bits
       write_bits(value >> 32, bits - 32);
-      write_bits(value, 32);
-      return;
+      bits = 32;
     }
-    // The bits in one 64-bit window that starts at the last byte's first bit: its top byte
-    // goes into the last byte when that has room, the following ones are appended.
-    const std::uint64_t low = bits == 64 ? value : value & ((std::uint64_t{1} << bits) - 1);
-    std::uint64_t window = low << (64 - used - bits);
-    int left = used + bits;  // bits of the window still to store
-    if (used != 0) {
-      bytes_.back() |= static_cast<std::uint8_t>(window >> 56);
-      window <<= 8;
-      left -= 8;
-    }
-    for (; left > 0; left -= 8, window <<= 8) {
-      bytes_.push_back(static_cast<std::uint8_t>(window >> 56));
-    }
+    // Fewer than 32 bits are pending, so all of them and these fit the 64-bit accumulator.
+    pending_ = (pending_ << bits) | (value & ((std::uint64_t{1} << bits) - 1));
+    pending_bits_ += bits;
     bit_count_ += static_cast<std::size_t>(bits);
+    if (pending_bits_ >= 32) flush_word();
   }
   void write_bool(bool value) { write_bits(value ? 1 : 0, 1); }
   void write_exp_golomb(std::uint64_t value, int order) {
@@ -89,12 +78,28 @@ class BitWriter {
     write_exp_golomb(zigzag(value), order);
   }
   std::size_t bit_count() const { return bit_count_; }
-  /// The bytes written so far; the last one zero-padded.
-  const std::vector<std::uint8_t>& bytes() const { return bytes_; }
+  /// The bytes written so far; the last one zero-padded. Valid until the next write or clear.
+  const std::vector<std::uint8_t>& bytes() const;
   void clear();
 
  private:
-  std::vector<std::uint8_t> bytes_;
+  /// Moves the oldest 32 pending bits into bytes_ as 4 bytes.
+  void flush_word() {
+    bytes_.resize(flushed_bytes_);  // drops what bytes() appended of the pending bits
+    const auto word = static_cast<std::uint32_t>(pending_ >> (pending_bits_ - 32));
+    for (int shift = 24; shift >= 0; shift -= 8) {
+      bytes_.push_back(static_cast<std::uint8_t>(word >> shift));
+    }
+    flushed_bytes_ += 4;
+    pending_bits_ -= 32;
+  }
+
+  /// The first flushed_bytes_ bytes are written; bytes() appends the pending bits after them,
+  /// which is why it is mutable (the bits written are the same either way).
+  mutable std::vector<std::uint8_t> bytes_;
+  std::size_t flushed_bytes_ = 0;
+  std::uint64_t pending_ = 0;  ///< its low pending_bits_ bits follow bytes_[flushed_bytes_ - 1]
+  int pending_bits_ = 0;       ///< 0..31 between calls
   std::size_t bit_count_ = 0;
 };
 
