@@ -62,7 +62,8 @@ Delta make_delta(const QuantizedEntity& baseline, const QuantizedEntity& current
   bool velocity_changed = false, position_changed = false;
   for (int a = 0; a < 3; ++a) {
     velocity_changed = velocity_changed || baseline.velocity[a] != current.velocity[a];
-    delta.velocity[a] = zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]);
+    delta.velocity[a] =
+        zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]);
     const std::int64_t residual = static_cast<std::int64_t>(current.position[a]) -
                                   static_cast<std::int64_t>(baseline.position[a]) - motion[a];
     position_changed = position_changed || residual != 0;

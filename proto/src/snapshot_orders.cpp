@@ -42,7 +42,7 @@ int best_order(std::span<const std::uint64_t> values) {
   // differences; one pass over the values gives every order's total exactly, as total_bits
   // would, instead of one pass per order.
   constexpr int kOrders = kMaxChosenOrder + 1;
-  std::array<std::int64_t, kOrders + 1> wide_step{};  // differences of sum over wider values
+  std::array<std::int64_t, kOrders + 1> wide_step{};     // differences of sum over wider values
   std::array<std::uint64_t, kOrders + 1> width_count{};  // values of bit_width w, w < kOrders
   bool all_zero = true;
   for (const std::uint64_t value : values) {
