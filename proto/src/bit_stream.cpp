@@ -10,23 +10,20 @@ int exp_golomb_bits(std::uint64_t value, int order) {
   return 2 * width - order - 1;
 }
 
-void BitWriter::write_bits(std::uint64_t value, int bits) {
-  for (int i = bits - 1; i >= 0; --i) {
-    if (bit_count_ % 8 == 0) bytes_.push_back(0);
-    if ((value >> i) & 1) bytes_.back() |= static_cast<std::uint8_t>(0x80u >> (bit_count_ % 8));
-    ++bit_count_;
+const std::vector<std::uint8_t>& BitWriter::bytes() const {
+  bytes_.resize(flushed_bytes_);
+  for (int left = pending_bits_; left > 0; left -= 8) {
+    const std::uint64_t top = left >= 8 ? pending_ >> (left - 8) : pending_ << (8 - left);
+    bytes_.push_back(static_cast<std::uint8_t>(top));
   }
-}
-
-void BitWriter::write_exp_golomb(std::uint64_t value, int order) {
-  const std::uint64_t shifted = value + (std::uint64_t{1} << order);
-  const int width = std::bit_width(shifted);
-  write_bits(0, width - order - 1);
-  write_bits(shifted, width);
+  return bytes_;
 }
 
 void BitWriter::clear() {
   bytes_.clear();
+  flushed_bytes_ = 0;
+  pending_ = 0;
+  pending_bits_ = 0;
   bit_count_ = 0;
 }
 

@@ -44,6 +44,22 @@ std::size_t header_bytes(std::uint32_t tick, std::uint32_t baseline_age, std::si
   return bytes;
 }
 
+/// QuantizedEntity's ==, one field after another, positions (the likeliest to differ) first;
+/// the defaulted one calls memcmp per array.
+bool same_state(const QuantizedEntity& a, const QuantizedEntity& b) {
+  if (a.position[0] != b.position[0] || a.position[1] != b.position[1] ||
+      a.position[2] != b.position[2]) {
+    return false;
+  }
+  if (a.velocity[0] != b.velocity[0] || a.velocity[1] != b.velocity[1] ||
+      a.velocity[2] != b.velocity[2]) {
+    return false;
+  }
+  return a.id == b.id && a.orientation_largest == b.orientation_largest &&
+         a.orientation[0] == b.orientation[0] && a.orientation[1] == b.orientation[1] &&
+         a.orientation[2] == b.orientation[2] && a.flags == b.flags;
+}
+
 /// An entity that differs from the baseline: gone, new or changed.
 struct Candidate {
   enum class Kind : std::uint8_t { Removed, Added, Changed };
@@ -53,6 +69,32 @@ struct Candidate {
   float priority = 0;
   int bits = 0;  ///< estimate, for the budget
   bool selected = false;
+  layout::Delta delta;  ///< Changed: what it writes
+
+  static Candidate of(Kind kind, std::size_t baseline_index, std::size_t world_index,
+                      float priority = 0) {
+    Candidate candidate;
+    candidate.kind = kind;
+    candidate.baseline_index = static_cast<std::uint32_t>(baseline_index);
+    candidate.world_index = static_cast<std::uint32_t>(world_index);
+    candidate.priority = priority;
+    return candidate;
+  }
+};
+
+/// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
+struct EncodeBuffers {
+  std::vector<Candidate> candidates;
+  std::vector<std::uint32_t> by_priority;
+  std::array<std::vector<std::uint64_t>, 3> position, velocity;  ///< estimate_costs' codes
+  std::vector<std::uint64_t> orientation;
+  std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;  ///< write's
+  std::vector<std::uint32_t> removed_before;
+  std::vector<const QuantizedEntity*> added;
+  std::vector<const Candidate*> changed;
+  std::vector<std::uint8_t> view_removed;  ///< build_view's
+  std::vector<std::int64_t> view_change_of;
+  std::vector<std::uint32_t> view_added;
 };
 
 /// One encode: the baseline and the world, what differs, what goes in, the stream and the view
@@ -61,13 +103,19 @@ class EncodePass {
  public:
   EncodePass(const QuantizationSpec& spec, const SnapshotEncoderOptions& options,
              std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
-             std::span<const QuantizedEntity> world)
+             std::span<const QuantizedEntity> world, const layout::FieldWidths& widths,
+             EncodeBuffers& buffers)
       : spec_(spec),
         options_(options),
         baseline_(baseline),
         world_(world),
-        widths_(spec),
-        prediction_(layout::make_prediction(baseline_age, spec)) {}
+        widths_(widths),
+        prediction_(layout::make_prediction(baseline_age, spec)),
+        buffers_(buffers),
+        candidates_(buffers.candidates),
+        by_priority_(buffers.by_priority) {
+    candidates_.clear();
+  }
 
   /// Walks world and baseline by id; each difference becomes a candidate whose priority adds
   /// this tick's weight to what it carried (`carried`, sorted by id).
@@ -81,7 +129,7 @@ class EncodePass {
   /// leaving out about as many of the lowest priorities as the excess needs (call again).
   bool write(BitWriter& stream, std::size_t stream_budget_bytes);
   /// The entity set the client holds after decoding the stream.
-  void build_view(std::vector<QuantizedEntity>& view) const;
+  void build_view(std::vector<QuantizedEntity>& view);
   /// Deferred entities' priorities, sorted by id; returns how many candidates were sent.
   std::size_t carry_priorities(std::vector<std::pair<std::uint32_t, float>>& carried) const;
   std::size_t pending() const { return candidates_.size(); }
@@ -94,12 +142,14 @@ class EncodePass {
   const SnapshotEncoderOptions& options_;
   std::span<const QuantizedEntity> baseline_;
   std::span<const QuantizedEntity> world_;
-  layout::FieldWidths widths_;
+  const layout::FieldWidths& widths_;
   layout::Prediction prediction_;
   layout::DeltaOrders orders_;
-  std::vector<Candidate> candidates_;
-  std::vector<std::uint32_t> by_priority_;  ///< candidate indices, highest priority first
+  EncodeBuffers& buffers_;
+  std::vector<Candidate>& candidates_;
+  std::vector<std::uint32_t>& by_priority_;  ///< candidate indices, highest priority first
   std::size_t selected_count_ = 0;
+  bool any_nan_priority_ = false;
 };
 
 float EncodePass::distance_weight(const QuantizedEntity& entity,
@@ -136,22 +186,20 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
     const float before =
         p < carried.size() && carried[p].first == entity.id ? carried[p].second : 0;
     candidate.priority = before + static_cast<float>(change) * distance_weight(entity, viewer_m);
+    any_nan_priority_ = any_nan_priority_ || std::isnan(candidate.priority);
     candidates_.push_back(candidate);
   };
   std::size_t i = 0, j = 0;
   while (i < world_.size() || j < baseline_.size()) {
     if (i == world_.size() || (j < baseline_.size() && baseline_[j].id < world_[i].id)) {
-      candidates_.push_back(
-          {Candidate::Kind::Removed, static_cast<std::uint32_t>(j), 0, kRemovalPriority, 0, false});
+      candidates_.push_back(Candidate::of(Candidate::Kind::Removed, j, 0, kRemovalPriority));
       ++j;
     } else if (j == baseline_.size() || world_[i].id < baseline_[j].id) {
-      add_world_candidate({Candidate::Kind::Added, 0, static_cast<std::uint32_t>(i), 0, 0, false},
-                          kNewEntityChange_m);
+      add_world_candidate(Candidate::of(Candidate::Kind::Added, 0, i), kNewEntityChange_m);
       ++i;
     } else {
-      if (world_[i] != baseline_[j]) {
-        add_world_candidate({Candidate::Kind::Changed, static_cast<std::uint32_t>(j),
-                             static_cast<std::uint32_t>(i), 0, 0, false},
+      if (!same_state(world_[i], baseline_[j])) {
+        add_world_candidate(Candidate::of(Candidate::Kind::Changed, j, i),
                             change_m(baseline_[j], world_[i]));
       }
       ++i;
@@ -161,26 +209,26 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
 }
 
 void EncodePass::estimate_costs() {
-  std::array<std::vector<std::uint64_t>, 3> position, velocity;
-  std::vector<std::uint64_t> orientation;
+  std::array<std::vector<std::uint64_t>, 3>& position = buffers_.position;
+  std::array<std::vector<std::uint64_t>, 3>& velocity = buffers_.velocity;
+  std::vector<std::uint64_t>& orientation = buffers_.orientation;
+  for (int a = 0; a < 3; ++a) {
+    position[a].clear();
+    velocity[a].clear();
+  }
+  orientation.clear();
   std::size_t changed = 0;
-  for (const Candidate& c : candidates_) {
+  for (Candidate& c : candidates_) {
     if (c.kind != Candidate::Kind::Changed) continue;
     ++changed;
-    const QuantizedEntity& now = world_[c.world_index];
-    const QuantizedEntity& then = baseline_[c.baseline_index];
-    const std::uint8_t fields = layout::changed_fields(then, now, prediction_);
-    const std::array<std::int64_t, 3> residual = layout::position_residual(then, now, prediction_);
+    c.delta = layout::make_delta(baseline_[c.baseline_index], world_[c.world_index], widths_,
+                                 prediction_);
+    const layout::Delta& delta = c.delta;
     for (int a = 0; a < 3; ++a) {
-      if (fields & layout::kPositionChanged) position[a].push_back(zigzag(residual[a]));
-      if (fields & layout::kVelocityChanged) {
-        velocity[a].push_back(
-            zigzag(static_cast<std::int64_t>(now.velocity[a]) - then.velocity[a]));
-      }
-      if ((fields & layout::kOrientationChanged) &&
-          now.orientation_largest == then.orientation_largest) {
-        orientation.push_back(
-            zigzag(static_cast<std::int64_t>(now.orientation[a]) - then.orientation[a]));
+      if (delta.mask & layout::kPositionChanged) position[a].push_back(delta.position[a]);
+      if (delta.mask & layout::kVelocityChanged) velocity[a].push_back(delta.velocity[a]);
+      if ((delta.mask & layout::kOrientationChanged) && delta.same_largest) {
+        orientation.push_back(delta.orientation[a]);
       }
     }
   }
@@ -194,9 +242,7 @@ void EncodePass::estimate_costs() {
   for (Candidate& c : candidates_) {
     switch (c.kind) {
       case Candidate::Kind::Changed:
-        c.bits = layout::delta_bits(baseline_[c.baseline_index], world_[c.world_index], orders_,
-                                    widths_, prediction_) +
-                 gap_estimate;
+        c.bits = layout::delta_bits(c.delta, orders_, widths_) + gap_estimate;
         break;
       case Candidate::Kind::Removed:
         c.bits = 2 * bits_for_count(baseline_.size() + 1) + 1;
@@ -212,9 +258,19 @@ void EncodePass::estimate_costs() {
 void EncodePass::select(std::size_t budget_bits) {
   by_priority_.resize(candidates_.size());
   for (std::uint32_t k = 0; k < by_priority_.size(); ++k) by_priority_[k] = k;
-  std::stable_sort(by_priority_.begin(), by_priority_.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return candidates_[a].priority > candidates_[b].priority;
-  });
+  if (any_nan_priority_) {
+    std::stable_sort(by_priority_.begin(), by_priority_.end(),
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       return candidates_[a].priority > candidates_[b].priority;
+                     });
+  } else {
+    // Without NaN the order is total, so sorting by (priority, index) gives exactly the stable
+    // sort's order, without its buffer.
+    std::sort(by_priority_.begin(), by_priority_.end(), [&](std::uint32_t a, std::uint32_t b) {
+      const float pa = candidates_[a].priority, pb = candidates_[b].priority;
+      return pa > pb || (pa == pb && a < b);
+    });
+  }
   std::size_t used = 0;
   for (const std::uint32_t k : by_priority_) {
     if (used + candidates_[k].bits > budget_bits) break;
@@ -227,8 +283,14 @@ void EncodePass::select(std::size_t budget_bits) {
 bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
   stream.clear();
   // Removals, as gaps between baseline indices.
-  std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;
-  std::vector<std::uint32_t> removed_before(baseline_.size() + 1, 0);
+  std::vector<std::uint64_t>& removed_gaps = buffers_.removed_gaps;
+  std::vector<std::uint64_t>& added_gaps = buffers_.added_gaps;
+  std::vector<std::uint64_t>& changed_gaps = buffers_.changed_gaps;
+  removed_gaps.clear();
+  added_gaps.clear();
+  changed_gaps.clear();
+  std::vector<std::uint32_t>& removed_before = buffers_.removed_before;
+  removed_before.assign(baseline_.size() + 1, 0);
   {
     std::int64_t previous = -1;
     for (const Candidate& c : candidates_) {
@@ -248,7 +310,8 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     for (const std::uint64_t gap : removed_gaps) layout::write_code(stream, gap, order);
   }
   // New entities: id gaps, each followed by the entity's absolute state.
-  std::vector<const QuantizedEntity*> added;
+  std::vector<const QuantizedEntity*>& added = buffers_.added;
+  added.clear();
   {
     std::int64_t previous = -1;
     for (const Candidate& c : candidates_) {
@@ -269,7 +332,8 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     }
   }
   // Changes, as gaps between indices among the kept baseline entities.
-  std::vector<const Candidate*> changed;
+  std::vector<const Candidate*>& changed = buffers_.changed;
+  changed.clear();
   {
     std::int64_t previous = -1;
     for (const Candidate& c : candidates_) {
@@ -293,9 +357,7 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     std::uint8_t previous_mask = layout::kInitialFieldMask;
     for (std::size_t k = 0; k < changed.size(); ++k) {
       layout::write_code(stream, changed_gaps[k], chosen.gap);
-      layout::write_delta(stream, baseline_[changed[k]->baseline_index],
-                          world_[changed[k]->world_index], chosen, widths_, prediction_,
-                          previous_mask);
+      layout::write_delta(stream, changed[k]->delta, chosen, widths_, previous_mask);
     }
   }
   if (stream.bytes().size() <= stream_budget_bytes || selected_count_ == 0) return true;
@@ -312,11 +374,14 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
   return false;
 }
 
-void EncodePass::build_view(std::vector<QuantizedEntity>& view) const {
+void EncodePass::build_view(std::vector<QuantizedEntity>& view) {
   view.clear();
-  std::vector<std::uint8_t> removed(baseline_.size(), 0);
-  std::vector<std::int64_t> change_of(baseline_.size(), -1);
-  std::vector<std::uint32_t> added;
+  std::vector<std::uint8_t>& removed = buffers_.view_removed;
+  std::vector<std::int64_t>& change_of = buffers_.view_change_of;
+  std::vector<std::uint32_t>& added = buffers_.view_added;
+  removed.assign(baseline_.size(), 0);
+  change_of.assign(baseline_.size(), -1);
+  added.clear();
   for (const Candidate& c : candidates_) {
     if (!c.selected) continue;
     if (c.kind == Candidate::Kind::Removed) removed[c.baseline_index] = 1;
@@ -344,11 +409,18 @@ std::size_t EncodePass::carry_priorities(
     if (c.kind == Candidate::Kind::Removed || c.selected) continue;
     carried.emplace_back(world_[c.world_index].id, c.priority);
   }
-  std::sort(carried.begin(), carried.end());
+  // Candidates follow the world's order, so the ids are increasing already.
+  assert(std::is_sorted(carried.begin(), carried.end()));
   return sent;
 }
 
 }  // namespace
+
+struct SnapshotEncoder::Scratch {
+  explicit Scratch(const QuantizationSpec& spec) : widths(spec) {}
+  layout::FieldWidths widths;
+  EncodeBuffers buffers;
+};
 
 std::string SnapshotEncoderOptions::validate() const {
   if (ring_size < 2 || ring_size > 1024) {
@@ -361,9 +433,16 @@ std::string SnapshotEncoderOptions::validate() const {
 }
 
 SnapshotEncoder::SnapshotEncoder(QuantizationSpec spec, SnapshotEncoderOptions options)
-    : spec_(spec), options_(options), ring_(options.ring_size) {
+    : spec_(spec),
+      options_(options),
+      ring_(options.ring_size),
+      scratch_(std::make_unique<Scratch>(spec_)) {
   assert(spec_.validate().empty() && options_.validate().empty());
 }
+
+SnapshotEncoder::SnapshotEncoder(SnapshotEncoder&&) noexcept = default;
+SnapshotEncoder& SnapshotEncoder::operator=(SnapshotEncoder&&) noexcept = default;
+SnapshotEncoder::~SnapshotEncoder() = default;
 
 void SnapshotEncoder::acknowledge(std::uint32_t tick) {
   const Sent& sent = slot(tick);
@@ -395,7 +474,8 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   // Counts, orders and padding come before any entity.
   const std::size_t fixed_bits = 3 + (2 + layout::kDeltaOrderCount) * layout::kOrderBits + 8;
 
-  EncodePass pass(spec_, options_, baseline, baseline_age, world);
+  EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
+                  scratch_->buffers);
   pass.find_pending(priority_, viewer_m);
   pass.estimate_costs();
   pass.select(stream_budget_bytes * 8 > fixed_bits ? stream_budget_bytes * 8 - fixed_bits : 0);

@@ -54,32 +54,37 @@ std::array<std::int64_t, 3> predicted_motion(const QuantizedEntity& baseline,
   return motion;
 }
 
-std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
-                                              const QuantizedEntity& current,
-                                              const Prediction& prediction) {
+Delta make_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
+                 const FieldWidths& widths, const Prediction& prediction) {
+  Delta delta;
   const std::array<std::int64_t, 3> motion =
       predicted_motion(baseline, current.velocity, prediction);
-  std::array<std::int64_t, 3> residual{};
+  bool velocity_changed = false, position_changed = false;
   for (int a = 0; a < 3; ++a) {
-    residual[a] = static_cast<std::int64_t>(current.position[a]) -
-                  static_cast<std::int64_t>(baseline.position[a]) - motion[a];
+    velocity_changed = velocity_changed || baseline.velocity[a] != current.velocity[a];
+    delta.velocity[a] =
+        zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]);
+    const std::int64_t residual = static_cast<std::int64_t>(current.position[a]) -
+                                  static_cast<std::int64_t>(baseline.position[a]) - motion[a];
+    position_changed = position_changed || residual != 0;
+    delta.position[a] = zigzag(residual);
   }
-  return residual;
-}
-
-std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current,
-                            const Prediction& prediction) {
-  std::uint8_t mask = 0;
-  if (baseline.velocity != current.velocity) mask |= kVelocityChanged;
-  if (position_residual(baseline, current, prediction) != std::array<std::int64_t, 3>{}) {
-    mask |= kPositionChanged;
+  if (velocity_changed) delta.mask |= kVelocityChanged;
+  if (position_changed) delta.mask |= kPositionChanged;
+  delta.same_largest = baseline.orientation_largest == current.orientation_largest;
+  delta.largest = current.orientation_largest;
+  bool turned = !delta.same_largest;
+  for (int k = 0; k < 3; ++k) {
+    turned = turned || baseline.orientation[k] != current.orientation[k];
+    delta.orientation[k] =
+        delta.same_largest
+            ? zigzag(static_cast<std::int64_t>(current.orientation[k]) - baseline.orientation[k])
+            : static_cast<std::uint64_t>(current.orientation[k] + widths.orientation_limit);
   }
-  if (baseline.orientation_largest != current.orientation_largest ||
-      baseline.orientation != current.orientation) {
-    mask |= kOrientationChanged;
-  }
-  if (baseline.flags != current.flags) mask |= kFlagsChanged;
-  return mask;
+  if (turned) delta.mask |= kOrientationChanged;
+  if (baseline.flags != current.flags) delta.mask |= kFlagsChanged;
+  delta.flags = current.flags;
+  return delta;
 }
 
 void write_absolute(BitWriter& out, const QuantizedEntity& entity, const FieldWidths& widths) {
@@ -146,59 +151,45 @@ namespace {
 /// Walks the fields of a delta once, so writing and counting cannot disagree: `code(value,
 /// order)` for each Exp-Golomb field, `raw(value, bits)` for each fixed-width one.
 template <class Code, class Raw>
-void visit_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
+void visit_delta(const Delta& delta, const DeltaOrders& orders, const FieldWidths& widths,
                  std::uint8_t& previous_mask, Code&& code, Raw&& raw) {
-  const std::uint8_t mask = changed_fields(baseline, current, prediction);
+  const std::uint8_t mask = delta.mask;
   raw(mask == previous_mask ? 1 : 0, 1);
   if (mask != previous_mask) raw(mask, kFieldMaskBits);
   previous_mask = mask;
   if (mask & kVelocityChanged) {
-    for (int a = 0; a < 3; ++a) {
-      code(zigzag(static_cast<std::int64_t>(current.velocity[a]) - baseline.velocity[a]),
-           orders.velocity[a]);
-    }
+    for (int a = 0; a < 3; ++a) code(delta.velocity[a], orders.velocity[a]);
   }
   if (mask & kPositionChanged) {
-    const std::array<std::int64_t, 3> residual = position_residual(baseline, current, prediction);
-    for (int a = 0; a < 3; ++a) code(zigzag(residual[a]), orders.position[a]);
+    for (int a = 0; a < 3; ++a) code(delta.position[a], orders.position[a]);
   }
   if (mask & kOrientationChanged) {
-    const bool same_largest = current.orientation_largest == baseline.orientation_largest;
-    raw(same_largest ? 1 : 0, 1);
-    if (same_largest) {
-      for (int k = 0; k < 3; ++k) {
-        code(zigzag(static_cast<std::int64_t>(current.orientation[k]) - baseline.orientation[k]),
-             orders.orientation);
-      }
+    raw(delta.same_largest ? 1 : 0, 1);
+    if (delta.same_largest) {
+      for (int k = 0; k < 3; ++k) code(delta.orientation[k], orders.orientation);
     } else {
-      raw(current.orientation_largest, 2);
-      for (int k = 0; k < 3; ++k) {
-        raw(static_cast<std::uint64_t>(current.orientation[k] + widths.orientation_limit),
-            widths.orientation);
-      }
+      raw(delta.largest, 2);
+      for (int k = 0; k < 3; ++k) raw(delta.orientation[k], widths.orientation);
     }
   }
-  if (mask & kFlagsChanged) raw(current.flags, 8);
+  if (mask & kFlagsChanged) raw(delta.flags, 8);
 }
 
 }  // namespace
 
-void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
-                 std::uint8_t& previous_mask) {
+void write_delta(BitWriter& out, const Delta& delta, const DeltaOrders& orders,
+                 const FieldWidths& widths, std::uint8_t& previous_mask) {
   visit_delta(
-      baseline, current, orders, widths, prediction, previous_mask,
+      delta, orders, widths, previous_mask,
       [&out](std::uint64_t value, int order) { write_code(out, value, order); },
       [&out](std::uint64_t value, int bits) { out.write_bits(value, bits); });
 }
 
-int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
-               const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction) {
+int delta_bits(const Delta& delta, const DeltaOrders& orders, const FieldWidths& widths) {
   int bits = 0;
   std::uint8_t no_mask = 0xFF;  // never equal: the mask counts in full
   visit_delta(
-      baseline, current, orders, widths, prediction, no_mask,
+      delta, orders, widths, no_mask,
       [&bits](std::uint64_t value, int order) { bits += code_bits(value, order); },
       [&bits](std::uint64_t, int width) { bits += width; });
   return bits;

@@ -59,11 +59,6 @@ std::array<std::int64_t, 3> predicted_motion(const QuantizedEntity& baseline,
                                              const std::array<std::int32_t, 3>& velocity_now,
                                              const Prediction& prediction);
 
-/// The position residuals after prediction, zig-zag mapped, per axis.
-std::array<std::int64_t, 3> position_residual(const QuantizedEntity& baseline,
-                                              const QuantizedEntity& current,
-                                              const Prediction& prediction);
-
 /// Raw widths derived from the spec, computed once per encoder or decoder.
 struct FieldWidths {
   std::array<int, 3> position{};  ///< bits per axis
@@ -76,11 +71,22 @@ struct FieldWidths {
   explicit FieldWidths(const QuantizationSpec& spec);
 };
 
-/// Which fields a changed entity's mask marks (FieldBit): velocity, orientation and flags when
-/// they differ from `baseline`, position when it differs from the prediction. May be 0 for an
-/// entity that moved exactly as predicted.
-std::uint8_t changed_fields(const QuantizedEntity& baseline, const QuantizedEntity& current,
-                            const Prediction& prediction);
+/// A changed entity's delta, worked out once so that the encoder counts and writes the same
+/// values. `mask` marks (FieldBit) velocity, orientation and flags when they differ from the
+/// baseline, position when it differs from the prediction; it may be 0 for an entity that
+/// moved exactly as predicted. The arrays hold what write_delta writes for each marked field.
+struct Delta {
+  std::uint8_t mask = 0;
+  std::array<std::uint64_t, 3> velocity{};  ///< zig-zag velocity deltas, per axis
+  std::array<std::uint64_t, 3> position{};  ///< zig-zag position residuals after prediction
+  bool same_largest = false;                ///< orientation: the same largest component
+  std::uint8_t largest = 0;                 ///< orientation: the current largest component
+  /// Orientation: zig-zag component deltas when same_largest, else component + limit.
+  std::array<std::uint64_t, 3> orientation{};
+  std::uint8_t flags = 0;  ///< the current flags
+};
+Delta make_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
+                 const FieldWidths& widths, const Prediction& prediction);
 
 /// A new entity's state, without its id.
 void write_absolute(BitWriter& out, const QuantizedEntity& entity, const FieldWidths& widths);
@@ -90,12 +96,10 @@ bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& en
 
 /// A changed entity's fields after its gap: the mask (1 bit when it equals `previous_mask`, else
 /// 0 and 4 bits; updated), then each marked field's delta.
-void write_delta(BitWriter& out, const QuantizedEntity& baseline, const QuantizedEntity& current,
-                 const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction,
-                 std::uint8_t& previous_mask);
+void write_delta(BitWriter& out, const Delta& delta, const DeltaOrders& orders,
+                 const FieldWidths& widths, std::uint8_t& previous_mask);
 /// Bits write_delta takes (without the gap), its mask counted as 5 bits.
-int delta_bits(const QuantizedEntity& baseline, const QuantizedEntity& current,
-               const DeltaOrders& orders, const FieldWidths& widths, const Prediction& prediction);
+int delta_bits(const Delta& delta, const DeltaOrders& orders, const FieldWidths& widths);
 
 enum class DeltaStatus : std::uint8_t { Ok, EmptyChange, OutOfRange };
 /// Applies the delta read from `in` to `entity` (holding the baseline); the reader may fail.

@@ -13,6 +13,7 @@
 /// than kMaxExpGolombWidth allows, sets a sticky failure flag and yields 0, so a decoder can read a
 /// whole section and check failed() once.
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -48,19 +49,57 @@ int exp_golomb_bits(std::uint64_t value, int order);
 class BitWriter {
  public:
   /// Appends the low `bits` bits of value (0 <= bits <= 64), most significant first.
-  void write_bits(std::uint64_t value, int bits);
+  void write_bits(std::uint64_t value, int bits) {
+    if (bits <= 0) return;
+    if (bits > 32) {  // the high part first, then the low 32 bits
+      write_bits(value >> 32, bits - 32);
+      bits = 32;
+    }
+    // Fewer than 32 bits are pending, so all of them and these fit the 64-bit accumulator.
+    pending_ = (pending_ << bits) | (value & ((std::uint64_t{1} << bits) - 1));
+    pending_bits_ += bits;
+    bit_count_ += static_cast<std::size_t>(bits);
+    if (pending_bits_ >= 32) flush_word();
+  }
   void write_bool(bool value) { write_bits(value ? 1 : 0, 1); }
-  void write_exp_golomb(std::uint64_t value, int order);
+  void write_exp_golomb(std::uint64_t value, int order) {
+    const std::uint64_t shifted = value + (std::uint64_t{1} << order);
+    const int width = std::bit_width(shifted);
+    const int zeros = width - order - 1;
+    // The zeros are the leading bits of `shifted` written wider, when that fits one call.
+    if (zeros + width <= 64) {
+      write_bits(shifted, zeros + width);
+      return;
+    }
+    write_bits(0, zeros);
+    write_bits(shifted, width);
+  }
   void write_signed_exp_golomb(std::int64_t value, int order) {
     write_exp_golomb(zigzag(value), order);
   }
   std::size_t bit_count() const { return bit_count_; }
-  /// The bytes written so far; the last one zero-padded.
-  const std::vector<std::uint8_t>& bytes() const { return bytes_; }
+  /// The bytes written so far; the last one zero-padded. Valid until the next write or clear.
+  const std::vector<std::uint8_t>& bytes() const;
   void clear();
 
  private:
-  std::vector<std::uint8_t> bytes_;
+  /// Moves the oldest 32 pending bits into bytes_ as 4 bytes.
+  void flush_word() {
+    bytes_.resize(flushed_bytes_);  // drops what bytes() appended of the pending bits
+    const auto word = static_cast<std::uint32_t>(pending_ >> (pending_bits_ - 32));
+    for (int shift = 24; shift >= 0; shift -= 8) {
+      bytes_.push_back(static_cast<std::uint8_t>(word >> shift));
+    }
+    flushed_bytes_ += 4;
+    pending_bits_ -= 32;
+  }
+
+  /// The first flushed_bytes_ bytes are written; bytes() appends the pending bits after them,
+  /// which is why it is mutable (the bits written are the same either way).
+  mutable std::vector<std::uint8_t> bytes_;
+  std::size_t flushed_bytes_ = 0;
+  std::uint64_t pending_ = 0;  ///< its low pending_bits_ bits follow bytes_[flushed_bytes_ - 1]
+  int pending_bits_ = 0;       ///< 0..31 between calls
   std::size_t bit_count_ = 0;
 };
 

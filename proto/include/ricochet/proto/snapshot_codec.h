@@ -12,6 +12,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <utility>
@@ -54,6 +55,9 @@ class SnapshotEncoder {
  public:
   /// spec and options must be valid (their validate() empty).
   explicit SnapshotEncoder(QuantizationSpec spec, SnapshotEncoderOptions options = {});
+  SnapshotEncoder(SnapshotEncoder&&) noexcept;
+  SnapshotEncoder& operator=(SnapshotEncoder&&) noexcept;
+  ~SnapshotEncoder();
 
   /// world: this tick's entities sorted by id, ids unique. viewer_m: the client's position for
   /// priority. Fills `out` so that out.ByteSizeLong() <= budget_bytes (which must be >= 16; at
@@ -78,6 +82,9 @@ class SnapshotEncoder {
     std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
   };
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
+  /// The spec's field widths and encode's working buffers, kept from call to call so that
+  /// encoding allocates nothing once they have grown to the world's size.
+  struct Scratch;
 
   QuantizationSpec spec_;
   SnapshotEncoderOptions options_;
@@ -90,6 +97,7 @@ class SnapshotEncoder {
   std::vector<std::pair<std::uint32_t, float>> priority_;
   std::vector<QuantizedEntity> next_view_;
   BitWriter stream_;
+  std::unique_ptr<Scratch> scratch_;
   SnapshotEncodeReport report_;
   std::uint64_t ignored_acks_ = 0;
 };
