@@ -117,7 +117,9 @@ TEST(Map, ErrorsNameTheLineTheFieldAndWhatCame) {
       {"ricochet-map 1\nname a\nbox 0 0 0 1 1 1\n", 3, "box center", "'bounds' before"},
       {kHeader + "bounds 0 0 0 1 1 1\n", 4, "bounds", "got a second"},
       {"ricochet-map 1\nname a\nbounds 0 0 0 1 -1 1\n", 3, "bounds max.y", "more than min.y"},
-      {kHeader + "box 0 0 0 1 -1 1\n", 4, "box half_extents.y", "> 0.000000"},
+      {kHeader + "box 0 0 0 1 -1 1\n", 4, "box half_extents.y", ">= 0.001000"},
+      {kHeader + "box 0 0 0 1 1e-50 1\n", 4, "box half_extents.y", ">= 0.001000"},
+      {kHeader + "wall 0 0 0 1e-40 0 2 0.5\n", 4, "wall x1", "at least 0.002000 m"},
       {kHeader + "box 0 0 0 1 0 1\n", 4, "box half_extents.y", "got '0'"},
       {kHeader + "box 0 0 0 1 1\n", 4, "box", "got 5 values"},
       {kHeader + "box 0 0 0 1 1 1 0 0\n", 4, "box", "got 8 values"},
@@ -131,7 +133,7 @@ TEST(Map, ErrorsNameTheLineTheFieldAndWhatCame) {
       {kHeader + "box 0 0 0 1 1 1 400\n", 4, "box yaw", "<= 360"},
       {kHeader + "floor 20\n", 4, "floor y", "inside the bounds"},
       {kHeader + "floor 0\nfloor 1\n", 5, "floor", "got a second"},
-      {kHeader + "wall 1 1 1 1 0 2 1\n", 4, "wall x1", "different from the start"},
+      {kHeader + "wall 1 1 1 1 0 2 1\n", 4, "wall x1", "at least 0.002000 m from the start"},
       {kHeader + "wall 0 0 1 1 0 0 1\n", 4, "wall height", "got '0'"},
       {kHeader + "mesh r\nvertex 0 0 0\ntriangle 0 1 2\n", 6, "triangle b", "0..0"},
       {kHeader + "mesh r\ntriangle 0 0 0\n", 5, "triangle a", "'vertex' lines before"},
@@ -167,7 +169,7 @@ TEST(Map, ErrorsNameTheLineTheFieldAndWhatCame) {
 TEST(Map, DescribeSaysWhereAndWhat) {
   const MapError error = error_of(kHeader + "box 0 0 0 1 -1 1\n");
   EXPECT_EQ(error.describe(),
-            "line 4: box half_extents.y: expected a number > 0.000000 and <= 100000.000000, got "
+            "line 4: box half_extents.y: expected a number >= 0.001000 and <= 100000.000000, got "
             "'-1'");
 }
 

@@ -22,6 +22,10 @@ constexpr std::size_t kMaxMeshTriangles = 65536;
 constexpr std::size_t kMaxSpawns = 64;
 constexpr std::size_t kMaxNameChars = 32;
 constexpr double kMaxCoordinate = 100000;
+/// Smallest half extent of a box, m. Anything thinner means nothing to a 0.4 m player, and a
+/// positive double below float's range would become a zero-sized box in the world (found by
+/// map_parser_fuzz).
+constexpr double kMinSize = 0.001;
 constexpr double kRadiansPerDegree = std::numbers::pi / 180;
 
 /// Thrown inside the parser only, caught in parse_map: the first error ends the parse.
@@ -211,9 +215,9 @@ class Parser {
     MapBox box;
     box.center_m = point(1, "box center");
     require_inside(box.center_m, "box center");
-    box.half_extents_m = Vec3(number(4, "box half_extents.x", 0, kMaxCoordinate, true),
-                              number(5, "box half_extents.y", 0, kMaxCoordinate, true),
-                              number(6, "box half_extents.z", 0, kMaxCoordinate, true));
+    box.half_extents_m = Vec3(number(4, "box half_extents.x", kMinSize, kMaxCoordinate),
+                              number(5, "box half_extents.y", kMinSize, kMaxCoordinate),
+                              number(6, "box half_extents.z", kMinSize, kMaxCoordinate));
     if (tokens_.size() == 8) {
       box.yaw_rad = static_cast<float>(number(7, "box yaw", -360, 360) * kRadiansPerDegree);
     }
@@ -227,10 +231,13 @@ class Parser {
     const double x1 = coordinate(3, "wall x1");
     const double z1 = coordinate(4, "wall z1");
     const double base = coordinate(5, "wall base");
-    const double height = number(6, "wall height", 0, kMaxCoordinate, true);
-    const double thickness = number(7, "wall thickness", 0, kMaxCoordinate, true);
+    const double height = number(6, "wall height", 2 * kMinSize, kMaxCoordinate);
+    const double thickness = number(7, "wall thickness", 2 * kMinSize, kMaxCoordinate);
     const double length = std::hypot(x1 - x0, z1 - z0);
-    if (!(length > 0)) fail("wall x1", "expected an end point different from the start point");
+    if (!(length >= 2 * kMinSize)) {
+      fail("wall x1", "expected an end point at least " + std::to_string(2 * kMinSize) +
+                          " m from the start point, got " + std::to_string(length));
+    }
     MapBox box;
     box.center_m = Vec3((x0 + x1) / 2, base + height / 2, (z0 + z1) / 2);
     require_inside(box.center_m, "wall center");

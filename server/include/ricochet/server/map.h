@@ -7,7 +7,7 @@
 ///   name arena                              1..32 of A-Z a-z 0-9 _ -
 ///   bounds MINX MINY MINZ MAXX MAXY MAXZ     m, once, before any geometry; each max > min
 ///   floor Y                                  m, optional, once: the plane y = Y, solid below
-///   box CX CY CZ HX HY HZ [YAW]              centre (m, inside bounds), half extents (m, > 0),
+///   box CX CY CZ HX HY HZ [YAW]              centre (m, inside bounds), half extents (m, >= 0.001),
 ///                                            yaw about +Y (degrees, default 0)
 ///   wall X0 Z0 X1 Z1 BASE HEIGHT THICKNESS   a vertical slab along (X0,Z0)-(X1,Z1) from y=BASE
 ///   mesh NAME                                a triangle mesh (e.g. a ramp) until `end`:
