@@ -80,10 +80,7 @@ void MatchHost::end(std::function<void(EndedMatch)> done) {
     record.ended_ms = unix_now_ms();
     record.tick_rate = self->tick_rate_hz_;
     for (auto& [account, played] : self->played_) {
-      if (played.connected_at != 0) {
-        played.seconds += static_cast<double>(now - played.connected_at) / 1e6;
-        played.connected_at = 0;
-      }
+      played.stop(now);
       db::PlayerResult result;
       result.account = static_cast<db::AccountId>(account);
       result.seconds_played = played.seconds;
@@ -201,9 +198,7 @@ void MatchHost::sweep_departed() {
 
 void MatchHost::stop_playing(std::uint64_t account, proto::TimeUs now) {
   const auto found = played_.find(account);
-  if (found == played_.end() || found->second.connected_at == 0) return;
-  found->second.seconds += static_cast<double>(now - found->second.connected_at) / 1e6;
-  found->second.connected_at = 0;
+  if (found != played_.end()) found->second.stop(now);
 }
 
 void MatchHost::publish_stats(proto::TimeUs now) {

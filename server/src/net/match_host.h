@@ -90,6 +90,13 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
     double seconds = 0;              ///< connected so far, not counting the current stretch
     bool seated = true;              ///< false once the seat was released
     std::uint64_t seat = 0;          ///< the seat generation it connected with
+
+    /// Ends the current connected stretch (if any) at `now`, adding it to `seconds`.
+    void stop(proto::TimeUs now) {
+      if (connected_at == 0) return;
+      seconds += static_cast<double>(now - connected_at) / 1e6;
+      connected_at = 0;
+    }
   };
 
   boost::asio::awaitable<void> tick_loop();

@@ -1,6 +1,7 @@
 #include "match_registry.h"
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include <spdlog/spdlog.h>
@@ -34,11 +35,7 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   MatchConfig match_config = config_.match_defaults;
   {
     const std::lock_guard lock(mutex_);
-    if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
-    if (static_cast<int>(hosts_.size()) >= config_.max_matches) {
-      return error(DirectoryErrorCode::TooManyMatches,
-                   "this server hosts at most " + std::to_string(config_.max_matches) + " matches");
-    }
+    if (auto refused = refuse_open()) return *refused;
     match_config.id = next_match_id_++;  // an id is never reused, even when the build fails
   }
   match_config.name = name;
@@ -58,11 +55,8 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
         release(account, match_id, seat);
       });
   const std::lock_guard lock(mutex_);
-  if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
-  if (static_cast<int>(hosts_.size()) >= config_.max_matches) {
-    return error(DirectoryErrorCode::TooManyMatches,
-                 "this server hosts at most " + std::to_string(config_.max_matches) + " matches");
-  }
+  // Checked again: the registry may have closed or filled while the world was built.
+  if (auto refused = refuse_open()) return *refused;
   host->start();
   hosts_.emplace(host->id(), host);
   spdlog::info("match {} '{}' open on map {} for {} players", host->id(), name, host->map_name(),
@@ -227,6 +221,15 @@ void MatchRegistry::reliable(std::uint64_t account, std::vector<std::uint8_t> by
 
 void MatchRegistry::expire_reservations(proto::TimeUs now) {
   std::erase_if(seats_, [now](const auto& entry) { return !holds(entry.second, now); });
+}
+
+std::optional<DirectoryError> MatchRegistry::refuse_open() const {
+  if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
+  if (static_cast<int>(hosts_.size()) >= config_.max_matches) {
+    return error(DirectoryErrorCode::TooManyMatches,
+                 "this server hosts at most " + std::to_string(config_.max_matches) + " matches");
+  }
+  return std::nullopt;
 }
 
 bool MatchRegistry::holds(const Seat& seat, proto::TimeUs now) {

@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -83,6 +84,8 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
     std::uint64_t generation = 0;    ///< bumped on every connection, named by SeatReleased
   };
 
+  /// Why no match can be opened now (closed, or at the cap), or nothing. Holds mutex_.
+  std::optional<DirectoryError> refuse_open() const;
   /// Gives back reserved seats whose token expired unused. Holds mutex_.
   void expire_reservations(proto::TimeUs now);
   /// A seat that counts: taken, or reserved by a token still usable at `now`.
