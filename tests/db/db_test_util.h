@@ -12,27 +12,14 @@
 #include "ricochet/db/result.h"
 #include "sqlite_handle.h"
 
+#include "temp_dir.h"
+
 namespace ricochet::db::test {
 
-/// A directory under $TMPDIR (or /tmp) removed with everything in it when the test ends.
-class TempDir {
+/// A temp directory named ricochet-db-XXXXXX (tests/temp_dir.h).
+class TempDir : public ricochet::test::TempDir {
  public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "ricochet-db-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
+  TempDir() : ricochet::test::TempDir("ricochet-db") {}
 };
 
 inline std::string describe(const DbError& e) {

@@ -19,6 +19,7 @@
 #include "ricochet/proto/snapshot_codec.h"
 #include "ricochet/wire/game.pb.h"
 #include "server.h"
+#include "temp_dir.h"
 
 namespace ricochet::test {
 namespace {
@@ -113,17 +114,10 @@ struct Player {
 class ServerEndToEnd : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("ricochet-e2e-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    server_ = std::make_unique<server::Server>(test_config(dir_));
+    server_ = std::make_unique<server::Server>(test_config(dir_.path()));
     server_->start();
   }
-  void TearDown() override {
-    server_.reset();
-    std::filesystem::remove_all(dir_);
-  }
+  void TearDown() override { server_.reset(); }
   std::unique_ptr<Player> signed_in(const std::string& name) {
     auto player = std::make_unique<Player>(server_->control_port());
     EXPECT_TRUE(player->control.connect());
@@ -132,7 +126,7 @@ class ServerEndToEnd : public ::testing::Test {
     return player;
   }
 
-  std::filesystem::path dir_;
+  TempDir dir_{"ricochet-e2e"};  ///< outlives the server (declared first)
   std::unique_ptr<server::Server> server_;
 };
 
@@ -211,7 +205,7 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   EXPECT_EQ(server_->wait(), 0);
   server_.reset();
 
-  auto store = db::open_sqlite_store({.path = (dir_ / "ricochet.db").string()});
+  auto store = db::open_sqlite_store({.path = dir_.file("ricochet.db")});
   ASSERT_TRUE(store) << store.error().message;
   db::Matches matches(*store.value());
   const auto account = store.value()->find_account_by_key("alice");
@@ -294,11 +288,10 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
 }
 
 TEST(ServerStart, APortInUseIsAClearErrorAndTheServerStopsAtOnce) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("ricochet-e2e-port-" + std::to_string(::getpid()));
+  const TempDir dir("ricochet-e2e-port");
   boost::asio::io_context io;
   boost::asio::ip::tcp::acceptor taken(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
-  server::ServerConfig config = test_config(dir);
+  server::ServerConfig config = test_config(dir.path());
   config.control.port = taken.local_endpoint().port();
   const auto started = std::chrono::steady_clock::now();
   {
@@ -312,7 +305,6 @@ TEST(ServerStart, APortInUseIsAClearErrorAndTheServerStopsAtOnce) {
     }
   }
   EXPECT_LT(std::chrono::steady_clock::now() - started, 3s);  // no grace period to wait out
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

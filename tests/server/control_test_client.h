@@ -31,31 +31,17 @@
 #include "ricochet/db/db_worker.h"
 #include "ricochet/db/store.h"
 #include "ricochet/proto/frame.h"
+#include "temp_dir.h"
 
 namespace ricochet::server::test {
 
 using namespace std::chrono_literals;
 namespace asio = boost::asio;
 
-/// A directory under $TMPDIR (or /tmp) removed with everything in it when the test ends.
-class TempDir {
+/// A temp directory named ricochet-control-XXXXXX (tests/temp_dir.h).
+class TempDir : public ricochet::test::TempDir {
  public:
-  TempDir() {
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "ricochet-control-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
+  TempDir() : ricochet::test::TempDir("ricochet-control") {}
 };
 
 /// A match directory that records what it is asked and answers from a small table.
