@@ -57,7 +57,7 @@ bool validate_input(const wire::Input& in, PlayerInput& out, InputDrop& reason) 
   };
   const bool in_range = move_ok(in.move_right()) && move_ok(in.move_forward()) &&
                         std::abs(in.yaw()) <= kMaxYaw && std::abs(in.pitch()) <= kMaxPitch &&
-                        (in.buttons() & ~kKnownButtons) == 0 && in.weapon_slot() <= kMaxWeaponSlot;
+                        (in.buttons() & ~kKnownButtons) == 0 && in.weapon_slot() <= kMaxWeaponSlot && in.view_fraction() <= 255;
   if (!in_range) {
     reason = InputDrop::OutOfRange;
     return false;
@@ -75,6 +75,8 @@ bool validate_input(const wire::Input& in, PlayerInput& out, InputDrop& reason) 
   out.pitch_rad = in.pitch();
   out.buttons = in.buttons();
   out.weapon_slot = in.weapon_slot();
+  out.view_tick = in.view_tick();
+  out.view_fraction = static_cast<std::uint8_t>(in.view_fraction());
   return true;
 }
 

@@ -40,6 +40,8 @@ struct PlayerInput {
   float pitch_rad = 0;            ///< -π/2..π/2, positive looks up
   std::uint32_t buttons = 0;      ///< Button bits
   std::uint32_t weapon_slot = 0;  ///< 0 keeps the weapon, 1..9 select one
+  std::uint32_t view_tick = 0;    ///< the server tick the client showed (0: not given)
+  std::uint8_t view_fraction = 0; ///< 1/256 of a tick past view_tick
   bool pressed(Button button) const { return (buttons & button) != 0; }
 };
 
