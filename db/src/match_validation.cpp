@@ -12,7 +12,7 @@ namespace ricochet::db {
 
 namespace {
 
-constexpr std::size_t kMaxNameBytes = 64;    ///< map and mode names
+constexpr std::size_t kMaxNameBytes = 64;    ///< map names
 constexpr std::int32_t kMaxTickRate = 1000;  ///< Hz
 
 std::string check_name(const char* field, const std::string& value) {
@@ -41,12 +41,36 @@ std::string check_player(std::size_t index, const PlayerResult& p) {
   return {};
 }
 
+/// The mode, and every team as that mode needs it.
+std::string check_teams(const MatchRecord& match) {
+  const bool teams = match.mode == kModeTeamDeathmatch;
+  if (!teams && match.mode != kModeFreeForAll)
+    return "match mode must be \"ffa\" or \"tdm\", got \"" + match.mode + "\"";
+  const TeamScores& scores = match.team_scores;
+  if (!teams && (scores.red != 0 || scores.blue != 0))
+    return "an ffa match has no team scores, got red " + std::to_string(scores.red) + " and blue " +
+           std::to_string(scores.blue);
+  if (teams && (scores.red < 0 || scores.blue < 0))
+    return "tdm team scores must be >= 0, got red " + std::to_string(scores.red) + " and blue " +
+           std::to_string(scores.blue);
+  for (std::size_t i = 0; i < match.players.size(); ++i) {
+    const std::int32_t team = match.players[i].team;
+    const bool fits = teams ? (team == kTeamRed || team == kTeamBlue) : team == kNoTeam;
+    if (!fits)
+      return "player " + std::to_string(i) + " (account " +
+             std::to_string(match.players[i].account) + "): team must be " +
+             (teams ? "1 (red) or 2 (blue) in a tdm match" : "0 (none) in an ffa match") +
+             ", got " + std::to_string(team);
+  }
+  return {};
+}
+
 }  // namespace
 
 std::string check_match(const MatchRecord& match) {
   if (match.players.empty()) return "a match needs at least one player";
   if (auto e = check_name("map", match.map); !e.empty()) return e;
-  if (auto e = check_name("mode", match.mode); !e.empty()) return e;
+  if (auto e = check_teams(match); !e.empty()) return e;
   if (match.ended_ms < match.started_ms)
     return "match ended_ms (" + std::to_string(match.ended_ms) + ") is before started_ms (" +
            std::to_string(match.started_ms) + ")";

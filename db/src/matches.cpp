@@ -16,19 +16,32 @@ DbError invalid_match(std::string message) {
   return DbError{DbErrorCode::InvalidMatch, std::move(message)};
 }
 
-/// Each player's outcome: new ratings by Elo, and a win for everyone with the top score.
+/// The score that decides a player's duels: its own (ffa) or its team's (tdm).
+std::int32_t deciding_score(const MatchRecord& match, const PlayerResult& player) {
+  if (match.mode != kModeTeamDeathmatch) return player.score;
+  return player.team == kTeamRed ? match.team_scores.red : match.team_scores.blue;
+}
+
+/// Each player's outcome: new ratings by Elo, and a win for everyone with the top deciding
+/// score. An aborted match keeps every rating and has no winner.
 std::vector<PlayerOutcome> outcomes_of(const MatchRecord& match,
                                        const std::vector<double>& ratings) {
+  std::vector<PlayerOutcome> outcomes;
+  if (match.aborted) {
+    for (const double rating : ratings) outcomes.push_back({rating, rating, false});
+    return outcomes;
+  }
   std::vector<RatedScore> rated;
   std::int32_t top_score = std::numeric_limits<std::int32_t>::min();
   for (std::size_t i = 0; i < match.players.size(); ++i) {
-    rated.push_back({ratings[i], static_cast<double>(match.players[i].score)});
-    top_score = std::max(top_score, match.players[i].score);
+    const std::int32_t score = deciding_score(match, match.players[i]);
+    rated.push_back({ratings[i], static_cast<double>(score), match.players[i].team});
+    top_score = std::max(top_score, score);
   }
   const std::vector<double> after = updated_ratings(rated);
-  std::vector<PlayerOutcome> outcomes;
   for (std::size_t i = 0; i < match.players.size(); ++i)
-    outcomes.push_back({ratings[i], after[i], match.players[i].score == top_score});
+    outcomes.push_back(
+        {ratings[i], after[i], deciding_score(match, match.players[i]) == top_score});
   return outcomes;
 }
 

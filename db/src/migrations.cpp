@@ -107,9 +107,21 @@ CREATE INDEX login_failures_by_key ON login_failures(key, at_ms);
 CREATE INDEX login_failures_by_time ON login_failures(at_ms);
 )sql";
 
+// Version 3. Team deathmatch and aborted matches: a match's team scores and whether it was
+// stopped before its end, each player's team (0 in free-for-all). Rows written before it are
+// free-for-all matches that ended normally, which the defaults say. Only columns are added, so
+// the upgrade is quick and old rows are not rewritten.
+constexpr const char* kSchemaV3 = R"sql(
+ALTER TABLE matches ADD COLUMN aborted INTEGER NOT NULL DEFAULT 0 CHECK (aborted IN (0, 1));
+ALTER TABLE matches ADD COLUMN red_score INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE matches ADD COLUMN blue_score INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE match_players ADD COLUMN team INTEGER NOT NULL DEFAULT 0 CHECK (team IN (0, 1, 2));
+)sql";
+
 constexpr std::array kMigrations = {
     Migration{1, "accounts, sessions, matches, player stats and leaderboard indexes", kSchemaV1},
     Migration{2, "failed logins for rate limits shared by every server process", kSchemaV2},
+    Migration{3, "team deathmatch (teams, team scores) and aborted matches", kSchemaV3},
 };
 
 DbResult<int> read_user_version(sqlite3* db, const std::string& path) {

@@ -1,4 +1,4 @@
-/// Elo over free-for-all matches as pairwise duels (rating.h).
+/// Elo over pairwise duels, free-for-all or across teams (rating.h).
 
 #include "ricochet/db/rating.h"
 
@@ -16,6 +16,7 @@ std::vector<double> updated_ratings(const std::vector<RatedScore>& players) {
     double change = 0;
     for (std::size_t j = 0; j < n; ++j) {
       if (i == j) continue;
+      if (players[i].team != 0 && players[i].team == players[j].team) continue;  // team-mates
       const double expected =
           1 / (1 + std::pow(10.0, (players[j].rating - players[i].rating) / 400));
       const double actual = players[i].score > players[j].score    ? 1.0

@@ -136,12 +136,12 @@ DbStatus SqliteStore::prepare_statements() {
        "SELECT s.rating FROM accounts AS a LEFT JOIN player_stats AS s ON s.account_id = a.id"
        " WHERE a.id = ?1"},
       {&insert_match_,
-       "INSERT INTO matches (map, mode, started_ms, ended_ms, tick_rate)"
-       " VALUES (?1, ?2, ?3, ?4, ?5)"},
+       "INSERT INTO matches (map, mode, started_ms, ended_ms, tick_rate, aborted, red_score,"
+       " blue_score) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"},
       {&insert_match_player_,
        "INSERT INTO match_players (match_id, account_id, kills, deaths, score, shots, hits,"
-       " damage_dealt, damage_taken, seconds_played, rating_before, rating_after)"
-       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)"},
+       " damage_dealt, damage_taken, seconds_played, rating_before, rating_after, team)"
+       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)"},
       {&upsert_stats_,
        "INSERT INTO player_stats (account_id, matches, wins, kills, deaths, score, shots, hits,"
        " damage_dealt, damage_taken, seconds_played, rating)"
@@ -381,7 +381,8 @@ DbResult<MatchId> SqliteStore::write_match(const MatchRecord& match,
   {
     sqlite::Query q(insert_match_);
     q.bind_text(match.map).bind_text(match.mode).bind_int(match.started_ms);
-    q.bind_int(match.ended_ms).bind_int(match.tick_rate);
+    q.bind_int(match.ended_ms).bind_int(match.tick_rate).bind_int(match.aborted ? 1 : 0);
+    q.bind_int(match.team_scores.red).bind_int(match.team_scores.blue);
     if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "inserting a match");
     id = sqlite3_last_insert_rowid(db_.get());
   }
@@ -391,7 +392,7 @@ DbResult<MatchId> SqliteStore::write_match(const MatchRecord& match,
     q.bind_int(id).bind_int(p.account).bind_int(p.kills).bind_int(p.deaths).bind_int(p.score);
     q.bind_int(p.shots).bind_int(p.hits).bind_real(p.damage_dealt).bind_real(p.damage_taken);
     q.bind_real(p.seconds_played).bind_real(outcomes[i].rating_before);
-    q.bind_real(outcomes[i].rating_after);
+    q.bind_real(outcomes[i].rating_after).bind_int(p.team);
     if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "inserting a match player");
   }
   for (std::size_t i = 0; i < match.players.size(); ++i) {

@@ -5,6 +5,7 @@
 #include "ricochet/db/matches.h"
 
 #include <limits>
+#include <stdexcept>
 
 #include "ricochet/db/rating.h"
 #include "store_fixture.h"
@@ -60,6 +61,74 @@ TEST_F(MatchesTest, RatingsCarryOverToTheNextMatch) {
   expect_totals(b, 1, 1501.469502);
 }
 
+/// A team deathmatch of `players` (teams set) with the given team scores.
+MatchRecord tdm_of(std::vector<PlayerResult> players, std::int32_t red, std::int32_t blue) {
+  MatchRecord m = match_of(std::move(players));
+  m.mode = "tdm";
+  m.team_scores = {red, blue};
+  return m;
+}
+
+PlayerResult on_team(PlayerResult p, std::int32_t team) {
+  p.team = team;
+  return p;
+}
+
+TEST_F(MatchesTest, TeamDeathmatchIsDecidedByTheTeamScores) {
+  const AccountId r1 = add("r1"), r2 = add("r2"), b1 = add("b1"), b2 = add("b2");
+  // Blue's best player has the top score of the match, but red has the top team score.
+  must(matches_.record_match(
+           tdm_of({on_team(result(r1, 5), kTeamRed), on_team(result(r2, 4), kTeamRed),
+                   on_team(result(b1, 20), kTeamBlue), on_team(result(b2, 1), kTeamBlue)},
+                  12, 9)),
+       "record");
+  // Each red player beat both blue ones (K / 3 per duel, expected 0.5): +32/3; team-mates do not
+  // count, so everyone on a team moves alike whatever its own score.
+  expect_totals(r1, 1, 1500 + 32.0 / 3);
+  expect_totals(r2, 1, 1500 + 32.0 / 3);
+  expect_totals(b1, 0, 1500 - 32.0 / 3);
+  expect_totals(b2, 0, 1500 - 32.0 / 3);
+  EXPECT_EQ(raw_integer("SELECT COUNT(*) FROM matches WHERE mode = 'tdm' AND red_score = 12"
+                        " AND blue_score = 9 AND aborted = 0"),
+            1);
+  EXPECT_EQ(raw_integer("SELECT team FROM match_players WHERE account_id = " + std::to_string(b1)),
+            kTeamBlue);
+}
+
+TEST_F(MatchesTest, TiedTeamsAllWinAndDraw) {
+  const AccountId r = add("r"), b = add("b");
+  must(matches_.record_match(
+           tdm_of({on_team(result(r, 9), kTeamRed), on_team(result(b, 2), kTeamBlue)}, 7, 7)),
+       "record");
+  expect_totals(r, 1, 1500);
+  expect_totals(b, 1, 1500);
+}
+
+TEST_F(MatchesTest, AnAbortedMatchCountsButDecidesNothing) {
+  const AccountId a = add("a"), b = add("b");
+  must(matches_.record_match(match_of({result(a, 10, 3), result(b, 5, 1)})), "decided");
+  MatchRecord aborted = match_of({result(a, 1, 1), result(b, 8, 6)});
+  aborted.aborted = true;
+  must(matches_.record_match(aborted), "aborted");
+  // Ratings and wins as after the first match; the aborted one's stats are in the totals.
+  expect_totals(a, 1, 1516);
+  expect_totals(b, 0, 1484);
+  const PlayerStats stats = must(store_->player_stats(b), "stats");
+  EXPECT_EQ(stats.matches, 2);
+  EXPECT_EQ(stats.kills, 7);
+  EXPECT_DOUBLE_EQ(stats.seconds_played, 600);
+  EXPECT_EQ(raw_integer("SELECT COUNT(*) FROM matches WHERE aborted = 1"), 1);
+  EXPECT_EQ(raw_integer("SELECT COUNT(*) FROM match_players JOIN matches ON id = match_id"
+                        " WHERE aborted = 1 AND rating_before = rating_after"),
+            2);
+  // A first match that was aborted still puts the player on the boards, at the initial rating.
+  const AccountId c = add("c");
+  MatchRecord first = match_of({result(c, 3)});
+  first.aborted = true;
+  must(matches_.record_match(first), "aborted first match");
+  expect_totals(c, 0, kInitialRating);
+}
+
 TEST_F(MatchesTest, InvalidMatchesWriteNothing) {
   const AccountId a = add("a"), b = add("b");
   const AccountId unknown = b + 1000;
@@ -73,7 +142,25 @@ TEST_F(MatchesTest, InvalidMatchesWriteNothing) {
       {"listed twice", with([&](MatchRecord& m) { m.players.push_back(result(a, 1)); })},
       {"no players", with([](MatchRecord& m) { m.players.clear(); })},
       {"empty map", with([](MatchRecord& m) { m.map.clear(); })},
-      {"long mode", with([](MatchRecord& m) { m.mode = std::string(65, 'm'); })},
+      {"unknown mode", with([](MatchRecord& m) { m.mode = "ctf"; })},
+      {"empty mode", with([](MatchRecord& m) { m.mode.clear(); })},
+      {"team in ffa", with([](MatchRecord& m) { m.players[0].team = kTeamRed; })},
+      {"team scores in ffa", with([](MatchRecord& m) { m.team_scores.blue = 3; })},
+      {"no team in tdm", with([](MatchRecord& m) {
+         m.mode = "tdm";
+         m.players[0].team = kTeamRed;
+       })},
+      {"team 3 in tdm", with([](MatchRecord& m) {
+         m.mode = "tdm";
+         m.players[0].team = kTeamRed;
+         m.players[1].team = 3;
+       })},
+      {"negative team score", with([](MatchRecord& m) {
+         m.mode = "tdm";
+         m.players[0].team = kTeamRed;
+         m.players[1].team = kTeamBlue;
+         m.team_scores.red = -1;
+       })},
       {"ends before start", with([](MatchRecord& m) { m.ended_ms = m.started_ms - 1; })},
       {"tick rate 0", with([](MatchRecord& m) { m.tick_rate = 0; })},
       {"tick rate 1001", with([](MatchRecord& m) { m.tick_rate = 1001; })},
@@ -95,6 +182,16 @@ TEST_F(MatchesTest, InvalidMatchesWriteNothing) {
   EXPECT_NE(unknown_error.find(std::to_string(unknown)), std::string::npos) << unknown_error;
   const auto twice_error = matches_.record_match(cases[1].second).error().message;
   EXPECT_NE(twice_error.find("account " + std::to_string(a)), std::string::npos) << twice_error;
+  const auto find_case = [&](const std::string& name) -> const MatchRecord& {
+    for (const auto& [n, m] : cases)
+      if (n == name) return m;
+    throw std::logic_error("no case " + name);
+  };
+  EXPECT_EQ(matches_.record_match(find_case("unknown mode")).error().message,
+            "match mode must be \"ffa\" or \"tdm\", got \"ctf\"");
+  EXPECT_EQ(matches_.record_match(find_case("no team in tdm")).error().message,
+            "player 1 (account " + std::to_string(b) +
+                "): team must be 1 (red) or 2 (blue) in a tdm match, got 0");
 
   EXPECT_EQ(rows("matches"), 0);
   EXPECT_EQ(rows("match_players"), 0);

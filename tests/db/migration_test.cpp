@@ -95,7 +95,7 @@ TEST(MigrationTest, AVersion1FileGainsTheLoginFailuresAndKeepsItsData) {
         << sqlite3_errmsg(raw.get());
   }
   auto store = must(open_store(path), "open a version-1 file");
-  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), 2);
+  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), sqlite_schema_version());
   const auto old = must(store->find_account_by_key("old"), "the old account");
   ASSERT_TRUE(old.has_value());
   EXPECT_EQ(old->account.created_ms, 7);
@@ -103,6 +103,71 @@ TEST(MigrationTest, AVersion1FileGainsTheLoginFailuresAndKeepsItsData) {
   EXPECT_EQ(must(store->count_login_failures("account:old", 99), "count"), 1);
   RICOCHET_DB_EXPECT_OK(store->delete_login_failure(id));
   EXPECT_EQ(must(store->count_login_failures("account:old", 0), "count after delete"), 0);
+}
+
+TEST(MigrationTest, AVersion2FileGainsTeamsAndAbortedMatchesAndKeepsItsData) {
+  TempDir dir;
+  const std::string path = dir.file("v2.db");
+  {
+    // A file as the version-2 binary left it: two accounts and one free-for-all match they
+    // played, with their results and lifetime stats, written with that version's statements.
+    sqlite::Connection raw;
+    ASSERT_EQ(sqlite::open(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, raw), SQLITE_OK);
+    for (const Migration& m : sqlite_migrations().first(2))
+      ASSERT_EQ(sqlite::exec(raw.get(), m.sql), SQLITE_OK) << sqlite3_errmsg(raw.get());
+    ASSERT_EQ(
+        sqlite::exec(
+            raw.get(),
+            "INSERT INTO accounts (id, username, username_key, password_hash, created_ms)"
+            " VALUES (1, 'Ann', 'ann', 'h', 7), (2, 'Bo', 'bo', 'h', 8);"
+            "INSERT INTO matches (id, map, mode, started_ms, ended_ms, tick_rate)"
+            " VALUES (1, 'arena', 'ffa', 100, 200, 60);"
+            "INSERT INTO match_players VALUES (1, 1, 3, 1, 3, 10, 4, 80, 20, 100, 1500, 1516),"
+            " (1, 2, 1, 3, 1, 9, 2, 20, 80, 100, 1500, 1484);"
+            "INSERT INTO player_stats (account_id, matches, wins, kills, rating)"
+            " VALUES (1, 1, 1, 3, 1516), (2, 1, 0, 1, 1484);"
+            "PRAGMA user_version = 2"),
+        SQLITE_OK)
+        << sqlite3_errmsg(raw.get());
+  }
+  auto store = must(open_store(path), "open a version-2 file");
+  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), 3);
+  // The old match reads as what it was: a free-for-all that ended normally, no teams.
+  EXPECT_EQ(raw_integer(path,
+                        "SELECT COUNT(*) FROM matches WHERE id = 1 AND aborted = 0"
+                        " AND red_score = 0 AND blue_score = 0"),
+            1);
+  EXPECT_EQ(raw_integer(path, "SELECT COUNT(*) FROM match_players WHERE team = 0"), 2);
+  EXPECT_DOUBLE_EQ(must(store->player_stats(1), "Ann").rating, 1516);
+  // And the new fields are written: an aborted team deathmatch next to it.
+  MatchRecord tdm;
+  tdm.map = "foundry";
+  tdm.mode = "tdm";
+  tdm.started_ms = 300;
+  tdm.ended_ms = 400;
+  tdm.aborted = true;
+  tdm.team_scores = {4, 2};
+  PlayerResult ann, bo;
+  ann.account = 1;
+  ann.team = kTeamRed;
+  bo.account = 2;
+  bo.team = kTeamBlue;
+  tdm.players = {ann, bo};
+  must(store->insert_match(tdm, {{1516, 1516, false}, {1484, 1484, false}}), "insert");
+  EXPECT_EQ(raw_integer(path,
+                        "SELECT COUNT(*) FROM matches WHERE aborted = 1 AND red_score = 4"
+                        " AND blue_score = 2"),
+            1);
+  EXPECT_EQ(raw_integer(path,
+                        "SELECT team FROM match_players WHERE match_id = 2 AND"
+                        " account_id = 2"),
+            kTeamBlue);
+  EXPECT_EQ(must(store->player_stats(2), "Bo").matches, 2);
+  // The constraints of the new columns hold.
+  sqlite::Connection raw;
+  ASSERT_EQ(sqlite::open(path, SQLITE_OPEN_READWRITE, raw), SQLITE_OK);
+  EXPECT_NE(sqlite::exec(raw.get(), "UPDATE match_players SET team = 3"), SQLITE_OK);
+  EXPECT_NE(sqlite::exec(raw.get(), "UPDATE matches SET aborted = 2"), SQLITE_OK);
 }
 
 TEST(MigrationTest, ReopeningIsIdempotent) {

@@ -43,6 +43,32 @@ TEST(Rating, FreeForAllIsPairwiseDuelsWithKOverNMinusOne) {
   EXPECT_NEAR(next[3], 1531.830560, 1e-6);
 }
 
+TEST(Rating, TeamMatesNeverRateEachOther) {
+  // 2 v 2, red (team 1) won 30 to 10: each red player beat both blue ones, K / (N - 1) = 32 / 3
+  // per duel, expected 0.5 between equals: +32/3 * (2 - 1) each; the red pair's own difference
+  // in rating changes nothing between them.
+  const std::vector<double> next =
+      updated_ratings({{1500, 30, 1}, {1500, 30, 1}, {1500, 10, 2}, {1500, 10, 2}});
+  EXPECT_NEAR(next[0], 1500 + 32.0 / 3, 1e-9);
+  EXPECT_NEAR(next[1], 1500 + 32.0 / 3, 1e-9);
+  EXPECT_NEAR(next[2], 1500 - 32.0 / 3, 1e-9);
+  EXPECT_NEAR(next[3], 1500 - 32.0 / 3, 1e-9);
+  // Team-mates alone: no pair counts.
+  EXPECT_EQ(updated_ratings({{1600, 5, 2}, {1400, 5, 2}}), (std::vector<double>{1600, 1400}));
+}
+
+TEST(Rating, UnevenTeamsAreConserved) {
+  // 1 v 3, the lone blue player lost: it duelled three opponents, each of them one.
+  const std::vector<double> next =
+      updated_ratings({{1500, 2, 2}, {1450, 9, 1}, {1550, 9, 1}, {1500, 9, 1}});
+  double sum = 0;
+  for (const double r : next) sum += r;
+  EXPECT_NEAR(sum, 1500 + 1450 + 1550 + 1500, 1e-9);
+  EXPECT_LT(next[0], 1500);
+  // By hand for the red 1450: one duel against 1500, expected 1 / (1 + 10^(50/400)) = 0.428537.
+  EXPECT_NEAR(next[1], 1450 + 32.0 / 3 * (1 - 0.428537), 1e-5);
+}
+
 TEST(Rating, ASoloMatchChangesNothing) {
   EXPECT_EQ(updated_ratings({{1500, 100}}), std::vector<double>{1500});
   EXPECT_TRUE(updated_ratings({}).empty());

@@ -2,10 +2,17 @@
 /// Match rules over any Store: what a valid match record is, who won, the Elo update, lifetime
 /// stats, and the leaderboards with their ranks.
 ///
-///   record_match  refuses a record with missing or out-of-range fields or an unknown or
-///                 repeated player (InvalidMatch); otherwise, in one transaction, reads each
-///                 player's rating, computes the new ones (rating.h) and the winners (everyone
-///                 with the top score: ties all win) and has the store write it all
+///   record_match  refuses a record with missing or out-of-range fields, a mode other than
+///                 "ffa" or "tdm", a team that does not fit the mode (ffa: all 0; tdm: every
+///                 player 1 or 2), team scores in ffa, or an unknown or repeated player
+///                 (InvalidMatch); otherwise, in one transaction, reads each player's rating,
+///                 computes the new ones (rating.h) and the winners and has the store write it
+///                 all. Winners: ffa, everyone with the top score; tdm, every player of the team
+///                 with the top team score; ties all win.
+///                 An aborted match (MatchRecord::aborted) is stored, and its players' kills,
+///                 deaths, score, shots, hits, damage and time, and the match itself, count in
+///                 their lifetime totals (so it lowers a win rate like a match not won); but it
+///                 has no winner and every rating stays as it was.
 ///   leaderboard   best first; equal values share the better rank
 ///   rank_of       one account's place on a board: 1 + how many entries are strictly better
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ricochet::db {
@@ -34,9 +35,19 @@ struct SessionRow {
   UnixMillis expires_ms = 0;
 };
 
+/// The modes a match record may name.
+inline constexpr std::string_view kModeFreeForAll = "ffa";
+inline constexpr std::string_view kModeTeamDeathmatch = "tdm";
+
+/// Teams as a match record numbers them (the same numbers as wire::Team).
+inline constexpr std::int32_t kNoTeam = 0;   ///< free-for-all
+inline constexpr std::int32_t kTeamRed = 1;  ///< team deathmatch
+inline constexpr std::int32_t kTeamBlue = 2;
+
 /// One player's result in a match.
 struct PlayerResult {
   AccountId account = 0;
+  std::int32_t team = kNoTeam;  ///< ffa: kNoTeam; tdm: kTeamRed or kTeamBlue
   std::int32_t kills = 0;
   std::int32_t deaths = 0;
   std::int32_t score = 0;
@@ -51,16 +62,26 @@ struct PlayerResult {
 struct PlayerOutcome {
   double rating_before = 0;  ///< Elo
   double rating_after = 0;   ///< Elo
-  bool won = false;          ///< had the top score (ties all win)
+  bool won = false;          ///< ffa: had the top score; tdm: on the top team (ties all win)
+};
+
+/// The teams' scores of a team deathmatch (both 0 in free-for-all).
+struct TeamScores {
+  std::int32_t red = 0;
+  std::int32_t blue = 0;
 };
 
 /// A finished match, written in one transaction with every player's result.
 struct MatchRecord {
   std::string map;
-  std::string mode;
+  std::string mode{kModeFreeForAll};  ///< kModeFreeForAll or kModeTeamDeathmatch
   UnixMillis started_ms = 0;
   UnixMillis ended_ms = 0;
   std::int32_t tick_rate = 60;  ///< Hz
+  /// Stopped before its end (the server was told to stop): what was played is kept and counted
+  /// in the lifetime totals, but it decides no winner and moves no rating (matches.h).
+  bool aborted = false;
+  TeamScores team_scores;  ///< tdm only
   std::vector<PlayerResult> players;
 };
 
@@ -68,8 +89,8 @@ struct MatchRecord {
 struct PlayerStats {
   AccountId account = 0;
   std::string username;
-  std::int64_t matches = 0;
-  std::int64_t wins = 0;  ///< matches where the player had the top score (ties all win)
+  std::int64_t matches = 0;  ///< aborted ones included
+  std::int64_t wins = 0;     ///< matches the player won (PlayerOutcome::won)
   std::int64_t kills = 0;
   std::int64_t deaths = 0;
   std::int64_t score = 0;
