@@ -55,13 +55,14 @@ std::int64_t rank_after(std::int64_t strictly_better) {
 Matches::Matches(Store& store, MatchesOptions options)
     : store_(store), options_(std::move(options)), refusals_(options_.on_refusal) {}
 
-DbResult<MatchId> Matches::record_match(const MatchRecord& match) {
-  using R = DbResult<MatchId>;
+DbResult<RecordedMatch> Matches::record_match(const MatchRecord& match) {
+  using R = DbResult<RecordedMatch>;
   if (std::string problem = check_match(match); !problem.empty())
     return refusals_(R(invalid_match(std::move(problem))));
   // The ratings are read and written in one transaction, so a match recorded at the same time
   // by another server process on the same database cannot be lost between the two.
-  return refusals_(atomically(store_, [&]() -> R {
+  RecordedMatch recorded;
+  DbResult<MatchId> id = refusals_(atomically(store_, [&]() -> DbResult<MatchId> {
     std::vector<double> ratings;
     for (const PlayerResult& p : match.players) {
       DbResult<std::optional<double>> rating = store_.rating_of(p.account);
@@ -70,8 +71,12 @@ DbResult<MatchId> Matches::record_match(const MatchRecord& match) {
       if (!rating.ok()) return rating.error();
       ratings.push_back(rating.value().value_or(kInitialRating));
     }
-    return store_.insert_match(match, outcomes_of(match, ratings));
+    recorded.outcomes = outcomes_of(match, ratings);
+    return store_.insert_match(match, recorded.outcomes);
   }));
+  if (!id.ok()) return id.error();
+  recorded.id = id.value();
+  return recorded;
 }
 
 DbResult<PlayerStats> Matches::player_stats(AccountId id) {

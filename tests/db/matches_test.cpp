@@ -28,7 +28,15 @@ class MatchesTest : public StoreTest {
 TEST_F(MatchesTest, EqualPlayersTradeHalfOfK) {
   const AccountId winner = add("alice");
   const AccountId loser = add("bob");
-  must(matches_.record_match(match_of({result(winner, 10, 3), result(loser, 5, 1)})), "record");
+  const RecordedMatch recorded =
+      must(matches_.record_match(match_of({result(winner, 10, 3), result(loser, 5, 1)})), "record");
+  EXPECT_EQ(recorded.id, 1);
+  ASSERT_EQ(recorded.outcomes.size(), 2u);
+  EXPECT_TRUE(recorded.outcomes[0].won);
+  EXPECT_DOUBLE_EQ(recorded.outcomes[0].rating_before, 1500);
+  EXPECT_DOUBLE_EQ(recorded.outcomes[0].rating_after, 1516);
+  EXPECT_FALSE(recorded.outcomes[1].won);
+  EXPECT_DOUBLE_EQ(recorded.outcomes[1].rating_after, 1484);
   // Elo between equals: expected 0.5 each, K = 32, so the winner gains 16 and the loser loses 16.
   expect_totals(winner, 1, 1516);
   expect_totals(loser, 0, 1484);

@@ -15,6 +15,7 @@
 #include "control_test_client.h"
 #include "game_test_client.h"
 #include "ricochet/db/matches.h"
+#include "ricochet/db/rating.h"
 #include "ricochet/db/store.h"
 #include "ricochet/proto/snapshot_codec.h"
 #include "ricochet/wire/game.pb.h"
@@ -38,7 +39,7 @@ server::ServerConfig test_config(const std::filesystem::path& data_dir) {
   config.game.port = 0;
   config.admin.port = 0;
   config.matches.count = 2;
-  config.matches.map = RICOCHET_SOURCE_DIR "/server/maps/arena.map";
+  config.matches.maps = {RICOCHET_SOURCE_DIR "/server/maps/arena.map"};
   return config;
 }
 
@@ -199,9 +200,20 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   // The results come over the control channel, then SHUTTING_DOWN.
   const auto results = alice->control.receive(3s);
   ASSERT_TRUE(results && results->has_match_results()) << (results ? results->DebugString() : "nothing");
-  ASSERT_EQ(results->match_results().players_size(), 1);
-  EXPECT_EQ(results->match_results().players(0).username(), "alice");
-  EXPECT_TRUE(results->match_results().players(0).won());
+  const wire::MatchResults& match = results->match_results();
+  ASSERT_EQ(match.players_size(), 1);
+  EXPECT_EQ(match.mode(), "ffa");
+  EXPECT_TRUE(match.aborted());  // stopped by the server: no winner, no rating change
+  EXPECT_EQ(match.end_reason(), wire::MATCH_END_REASON_SERVER_SHUTDOWN);
+  EXPECT_EQ(match.team_scores_size(), 0);
+  const wire::PlayerMatchResult& player = match.players(0);
+  EXPECT_EQ(player.username(), "alice");
+  EXPECT_EQ(player.team(), wire::TEAM_NONE);
+  EXPECT_FALSE(player.won());
+  EXPECT_EQ(player.rating_before(), db::kInitialRating);
+  EXPECT_EQ(player.rating_after(), db::kInitialRating);
+  EXPECT_EQ(player.rank(), 1u);  // the only player on the board
+  EXPECT_GT(player.seconds_played(), 0.3);
   EXPECT_EQ(server_->wait(), 0);
   server_.reset();
 
@@ -212,7 +224,8 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   ASSERT_TRUE(account.ok() && account.value().has_value());
   const auto stats = matches.player_stats(account.value()->account.id);
   ASSERT_TRUE(stats) << stats.error().message;
-  EXPECT_EQ(stats.value().matches, 1);
+  EXPECT_EQ(stats.value().matches, 1);  // an aborted match counts in the totals
+  EXPECT_EQ(stats.value().wins, 0);
   EXPECT_GT(stats.value().seconds_played, 0.3);
 }
 

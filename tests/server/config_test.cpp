@@ -103,14 +103,14 @@ TEST(ServerConfig, FileOverridesDefaultsAndFlagsOverrideTheFile) {
 TEST(ServerConfig, FlagsApplyWithoutAFile) {
   const ParseOutcome outcome =
       parse({"--admin-port", "0",      "--control-port", "0",     "--game-port", "0",
-             "--data-dir",   "/tmp/r", "--matches",      "0",     "--map",       "m.map",
+             "--data-dir",   "/tmp/r", "--matches",      "0",     "--maps",      "m.toml,n.toml",
              "--admin-bind", "::1",    "--tls-cert",     "c.pem", "--tls-key",   "k.pem",
              "--threads",    "3"});
   ASSERT_TRUE(outcome.config.has_value()) << outcome.text;
   EXPECT_EQ(outcome.config->admin.port, 0);
   EXPECT_EQ(outcome.config->admin.bind, "::1");
   EXPECT_EQ(outcome.config->matches.count, 0);
-  EXPECT_EQ(outcome.config->matches.map, "m.map");
+  EXPECT_EQ(outcome.config->matches.maps, (std::vector<std::string>{"m.toml", "n.toml"}));
   EXPECT_EQ(outcome.config->tls.cert_file, "c.pem");
   EXPECT_EQ(outcome.config->worker_threads(), 3);
   EXPECT_EQ(outcome.config->db_file(), "/tmp/r/ricochet.db");
@@ -146,7 +146,26 @@ TEST(ServerConfig, EveryRangeMessageNamesTheKeyTheRangeAndTheValue) {
       {{"--match-max-players", "65"}, "matches.max_players must be 1..64, got 65"},
       {{"--data-dir", ""}, "server.data_dir must be non-empty, got \"\""},
       {{"--db-path", ""}, "db.path must be non-empty, got \"\""},
-      {{"--map", ""}, "matches.map must be non-empty, got \"\""},
+      {{"--maps", ""}, "matches.maps must list non-empty names, got \"\" at 1"},
+      {{"--maps", "a.toml,,b.toml"}, "matches.maps must list non-empty names, got \"\" at 2"},
+      {{"--mode", "ctf"}, "--mode: matches.mode must be one of ffa|tdm, got \"ctf\""},
+      {{"--frag-limit", "0"}, "matches.frag_limit must be 1..10000, got 0"},
+      {{"--time-limit-s", "9.5"}, "matches.time_limit_s must be 10..86400, got 9.5"},
+      {{"--time-limit-s", "long"},
+       "--time-limit-s: matches.time_limit_s must be a number 10..86400, got \"long\""},
+      {{"--time-limit-s", "inf"},
+       "--time-limit-s: matches.time_limit_s must be a number 10..86400, got \"inf\""},
+      {{"--warmup-s", "-1"}, "matches.warmup_s must be 0..600, got -1"},
+      {{"--min-players", "0"}, "matches.min_players must be 1..64, got 0"},
+      {{"--min-players", "17"}, "matches.min_players must be 1..matches.max_players (16), got 17"},
+      {{"--respawn-delay-s", "61"}, "matches.respawn_delay_s must be 0..60, got 61"},
+      {{"--spawn-protection-s", "10.5"}, "matches.spawn_protection_s must be 0..10, got 10.5"},
+      {{"--self-damage", "1.5"}, "matches.self_damage must be 0..1, got 1.5"},
+      {{"--friendly-fire", "yes"},
+       "--friendly-fire: matches.friendly_fire must be true or false, got \"yes\""},
+      {{"--seed", "-1"}, "matches.seed must be 0..2147483647, got -1"},
+      {{"--max-rewind-ms", "250.5"}, "matches.max_rewind_ms must be 0..250, got 250.5"},
+      {{"--recordings-dir", ""}, "matches.recordings_dir must be non-empty, got \"\""},
       {{"--control-bind", "localhost"},
        "control.bind must be an IP address (e.g. 0.0.0.0, 127.0.0.1 or ::), got \"localhost\""},
       {{"--game-bind", "1.2.3"},
@@ -233,6 +252,64 @@ TEST(ServerConfig, WrongTypesInTheFileAreNamed) {
                 "test.toml:2:12: server.data_dir must be a string, non-empty, got an array"});
 }
 
+TEST(ServerConfig, MatchRulesLoadFromTheFile) {
+  ServerConfig config;
+  EXPECT_TRUE(apply_config_toml("[matches]\n"
+                                "maps = [\"a.toml\", \"b.toml\"]\n"
+                                "mode = \"tdm\"\n"
+                                "frag_limit = 50\n"
+                                "time_limit_s = 300\n"  // an integer is a number too
+                                "warmup_s = 2.5\n"
+                                "min_players = 4\n"
+                                "respawn_delay_s = 0.5\n"
+                                "spawn_protection_s = 0\n"
+                                "self_damage = 0.25\n"
+                                "friendly_fire = true\n"
+                                "seed = 1234\n"
+                                "lag_compensation = false\n"
+                                "max_rewind_ms = 100\n"
+                                "record = false\n"
+                                "recordings_dir = \"/srv/rec\"\n",
+                                "test.toml", config)
+                  .empty());
+  EXPECT_TRUE(config.validate().empty());
+  const MatchesConfig& m = config.matches;
+  EXPECT_EQ(m.maps, (std::vector<std::string>{"a.toml", "b.toml"}));
+  EXPECT_EQ(m.mode, "tdm");
+  EXPECT_EQ(m.frag_limit, 50);
+  EXPECT_EQ(m.time_limit_s, 300);
+  EXPECT_EQ(m.warmup_s, 2.5);
+  EXPECT_EQ(m.min_players, 4);
+  EXPECT_EQ(m.respawn_delay_s, 0.5);
+  EXPECT_EQ(m.spawn_protection_s, 0);
+  EXPECT_EQ(m.self_damage, 0.25);
+  EXPECT_TRUE(m.friendly_fire);
+  EXPECT_EQ(m.seed, 1234);
+  EXPECT_FALSE(m.lag_compensation);
+  EXPECT_EQ(m.max_rewind_ms, 100);
+  EXPECT_FALSE(m.record);
+  EXPECT_EQ(config.recordings_path(), "/srv/rec");
+  EXPECT_EQ(ServerConfig{}.recordings_path(), "data/recordings");
+}
+
+TEST(ServerConfig, WrongTypesOfTheMatchRulesAreNamed) {
+  EXPECT_EQ(problems_of("[matches]\nmaps = \"a.toml\"\n"),
+            std::vector<std::string>{"test.toml:2:8: matches.maps must be an array of strings, "
+                                     "one or more non-empty, got a string"});
+  EXPECT_EQ(problems_of("[matches]\nmaps = [\"a.toml\", 3]\n"),
+            std::vector<std::string>{
+                "test.toml:2:8: matches.maps must be an array of strings, got an integer in it"});
+  EXPECT_EQ(problems_of("[matches]\nself_damage = \"half\"\n"),
+            std::vector<std::string>{
+                "test.toml:2:15: matches.self_damage must be a number 0..1, got a string"});
+  EXPECT_EQ(problems_of("[matches]\nfriendly_fire = 1\n"),
+            std::vector<std::string>{
+                "test.toml:2:17: matches.friendly_fire must be true or false, got an integer"});
+  EXPECT_EQ(
+      problems_of("[matches]\nmode = \"ctf\"\n"),
+      std::vector<std::string>{"test.toml:2:8: matches.mode must be one of ffa|tdm, got \"ctf\""});
+}
+
 TEST(ServerConfig, MalformedTomlSaysWhere) {
   const std::vector<std::string> problems = problems_of("[game]\ntick_rate_hz = = 3\n");
   ASSERT_EQ(problems.size(), 1u);
@@ -265,12 +342,28 @@ TEST(ServerConfig, HelpListsEveryFlagWithItsDefault) {
   const ParseOutcome outcome = parse({"--help"});
   EXPECT_FALSE(outcome.config.has_value());
   EXPECT_EQ(outcome.exit_code, 0);
-  for (const char* expected :
-       {"--config PATH", "--version", "--print-config", "--tick-rate-hz INT=60",
-        "--control-port INT=7777", "--game-port INT=7778", "--admin-bind ADDRESS=127.0.0.1",
-        "--admin-port INT=9100", "--log-level CHOICE=info", "--log-format CHOICE=text",
-        "--shutdown-grace-s INT=10", "--tls-cert TEXT=\"\"", "--matches INT=4",
-        "--data-dir TEXT=data", "--bandwidth-kbps INT=512", "TOML game.tick_rate_hz"}) {
+  for (const char* expected : {"--config PATH",
+                               "--version",
+                               "--print-config",
+                               "--tick-rate-hz INT=60",
+                               "--control-port INT=7777",
+                               "--game-port INT=7778",
+                               "--admin-bind ADDRESS=127.0.0.1",
+                               "--admin-port INT=9100",
+                               "--log-level CHOICE=info",
+                               "--log-format CHOICE=text",
+                               "--shutdown-grace-s INT=10",
+                               "--tls-cert TEXT=\"\"",
+                               "--matches INT=4",
+                               "--data-dir TEXT=data",
+                               "--bandwidth-kbps INT=512",
+                               "TOML game.tick_rate_hz",
+                               "--maps LIST=server/maps/arena.map",
+                               "--mode CHOICE=ffa",
+                               "--self-damage NUMBER=0.5",
+                               "--friendly-fire BOOL=false",
+                               "--time-limit-s NUMBER=600",
+                               "--seed INT=0"}) {
     EXPECT_NE(outcome.text.find(expected), std::string::npos) << expected << "\n" << outcome.text;
   }
 }
@@ -301,10 +394,18 @@ TEST(ServerConfig, RenderedConfigLoadsBackToTheSameValues) {
   changed.game.tick_rate_hz = 33;
   changed.server.data_dir = "a \"quoted\" \\ dir";
   changed.log.format = LogFormat::Json;
+  changed.matches.maps = {"a \"b\".toml", "c.toml"};
+  changed.matches.self_damage = 0.1;
+  changed.matches.time_limit_s = 1e-5;  // out of range, but it must still read back exactly
+  changed.matches.friendly_fire = true;
   ServerConfig loaded;
   EXPECT_TRUE(apply_config_toml(render_config_toml(changed), "rendered", loaded).empty());
   EXPECT_EQ(render_config_toml(loaded), render_config_toml(changed));
   EXPECT_EQ(loaded.server.data_dir, changed.server.data_dir);
+  EXPECT_EQ(loaded.matches.maps, changed.matches.maps);
+  EXPECT_EQ(loaded.matches.self_damage, 0.1);
+  EXPECT_EQ(loaded.matches.time_limit_s, 1e-5);
+  EXPECT_TRUE(loaded.matches.friendly_fire);
 }
 
 TEST(ServerConfig, SampleFileDocumentsEveryKeyWithItsDefault) {

@@ -132,16 +132,30 @@ TEST(ControlMatches, MatchResultsReachThePlayerAndEndInMatch) {
   ASSERT_TRUE(client.request(ControlTestClient::join(1)).has_join_match());
 
   wire::ServerMessage results;
-  results.mutable_match_results()->set_match_id(1);
-  auto* player = results.mutable_match_results()->add_players();
+  wire::MatchResults& sent = *results.mutable_match_results();
+  sent.set_match_id(1);
+  sent.set_mode("tdm");
+  sent.set_end_reason(wire::MATCH_END_REASON_FRAG_LIMIT);
+  wire::TeamScore* red = sent.add_team_scores();
+  red->set_team(wire::TEAM_RED);
+  red->set_score(20);
+  auto* player = sent.add_players();
   player->set_account_id(session.account_id());
   player->set_score(12);
+  player->set_team(wire::TEAM_RED);
+  player->set_shots(40);
+  player->set_hits(15);
+  player->set_damage_dealt(300);
+  player->set_damage_taken(120);
+  player->set_seconds_played(95.5);
+  player->set_rank(3);
   rig.server().send_to_account(session.account_id(), results);
   rig.server().send_to_account(session.account_id() + 1, results);  // nobody: dropped
 
   const auto pushed = client.receive();
   ASSERT_TRUE(pushed && pushed->has_match_results());
   EXPECT_EQ(pushed->request_id(), 0u);
+  EXPECT_EQ(pushed->match_results().SerializeAsString(), sent.SerializeAsString());
   EXPECT_EQ(pushed->match_results().players(0).score(), 12);
   // Back to Authenticated: chat is out of state, joining again is allowed.
   EXPECT_EQ(client.request(ControlTestClient::chat("gg")).error().code(), wire::WRONG_STATE);

@@ -61,26 +61,6 @@ std::string location(std::string_view source_name, const toml::source_region& re
   return text + ": ";
 }
 
-/// Writes a TOML basic string: quotes, backslashes and control characters escaped.
-std::string toml_quote(std::string_view text) {
-  std::string quoted = "\"";
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\') {
-      quoted += '\\';
-      quoted += c;
-    } else if (byte < 0x20 || byte == 0x7f) {
-      static constexpr char kHex[] = "0123456789abcdef";
-      quoted += "\\u00";
-      quoted += kHex[byte >> 4];
-      quoted += kHex[byte & 0xf];
-    } else {
-      quoted += c;
-    }
-  }
-  return quoted + '"';
-}
-
 std::string known_keys_of(std::string_view section) {
   std::string known;
   for (const keys::Key& key : keys::all()) {
@@ -103,23 +83,66 @@ std::string known_sections() {
 /// Assigns one TOML value to its key; returns the problem or empty.
 std::string apply_value(const keys::Key& key, const toml::node& node, ServerConfig& config) {
   const std::string full = key.full_name();
-  if (key.kind == keys::Kind::Integer) {
-    const auto* integer = node.as_integer();
-    if (integer == nullptr) {
-      return full + " must be an integer " + keys::allowed_text(key) + ", got " + type_name(node);
+  switch (key.kind) {
+    case keys::Kind::Integer: {
+      const auto* integer = node.as_integer();
+      if (integer == nullptr) {
+        return full + " must be an integer " + keys::allowed_text(key) + ", got " + type_name(node);
+      }
+      const std::int64_t value = integer->get();
+      if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max()) {
+        return full + " must be " + keys::allowed_text(key) + ", got " + std::to_string(value);
+      }
+      key.integer(config) = static_cast<int>(value);
+      return {};
     }
-    const std::int64_t value = integer->get();
-    if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max()) {
-      return full + " must be " + keys::allowed_text(key) + ", got " + std::to_string(value);
+    case keys::Kind::Number: {
+      const std::optional<double> value = node.value<double>();  // a float or an integer
+      if (!value || !(node.is_floating_point() || node.is_integer())) {
+        return full + " must be a number " + keys::allowed_text(key) + ", got " + type_name(node);
+      }
+      key.number(config) = *value;
+      return {};
     }
-    key.integer(config) = static_cast<int>(value);
-    return {};
+    case keys::Kind::Bool: {
+      const auto* boolean = node.as_boolean();
+      if (boolean == nullptr) return full + " must be true or false, got " + type_name(node);
+      key.boolean(config) = boolean->get();
+      return {};
+    }
+    case keys::Kind::TextList: {
+      const auto* array = node.as_array();
+      if (array == nullptr) {
+        return full + " must be an array of strings, " + keys::allowed_text(key) + ", got " +
+               type_name(node);
+      }
+      std::vector<std::string> texts;
+      for (const toml::node& item : *array) {
+        const auto* text = item.as_string();
+        if (text == nullptr) {
+          return full + " must be an array of strings, got " + type_name(item) + " in it";
+        }
+        texts.push_back(text->get());
+      }
+      key.texts(config) = std::move(texts);
+      return {};
+    }
+    case keys::Kind::Text:
+    case keys::Kind::Address:
+    case keys::Kind::Choice:
+      break;
   }
   const auto* text = node.as_string();
   if (text == nullptr) {
     return full + " must be a string, " + keys::allowed_text(key) + ", got " + type_name(node);
   }
   return keys::assign_text(key, text->get(), config);
+}
+
+/// Whether --help and the sample show the key's range after its description.
+bool shows_range(const keys::Key& key) {
+  return key.kind == keys::Kind::Integer || key.kind == keys::Kind::Number ||
+         key.kind == keys::Kind::Choice;
 }
 
 }  // namespace
@@ -143,6 +166,11 @@ std::vector<std::string> ServerConfig::validate() const {
   if (control.port != 0 && control.port == admin.port) {
     problems.push_back("admin.port must differ from control.port (both are TCP), got " +
                        std::to_string(admin.port) + " for both");
+  }
+  if (matches.min_players > matches.max_players) {
+    problems.push_back("matches.min_players must be 1..matches.max_players (" +
+                       std::to_string(matches.max_players) + "), got " +
+                       std::to_string(matches.min_players));
   }
   if (control.max_connections_per_address > control.max_connections) {
     problems.push_back("control.max_connections_per_address must be 1..control.max_connections (" +
@@ -177,6 +205,12 @@ int ServerConfig::snapshot_rate_hz() const {
 
 std::string ServerConfig::db_file() const {
   const std::filesystem::path path{db.path};
+  if (path.is_absolute()) return path.string();
+  return (std::filesystem::path{server.data_dir} / path).string();
+}
+
+std::string ServerConfig::recordings_path() const {
+  const std::filesystem::path path{matches.recordings_dir};
   if (path.is_absolute()) return path.string();
   return (std::filesystem::path{server.data_dir} / path).string();
 }
@@ -251,16 +285,14 @@ std::string render_config_toml(const ServerConfig& config) {
       if (key.section != section) continue;
       out += "# ";
       out += key.help;
-      if (key.kind == keys::Kind::Integer || key.kind == keys::Kind::Choice) {
-        out += " (" + keys::allowed_text(key) + ")";
-      }
+      if (shows_range(key)) out += " (" + keys::allowed_text(key) + ")";
       out += "; flag ";
       out += key.flag;
+      if (key.kind == keys::Kind::TextList) out += " (comma-separated)";
       out += '\n';
       out += key.name;
       out += " = ";
-      const std::string value = keys::value_text(key, config);
-      out += key.kind == keys::Kind::Integer ? value : toml_quote(value);
+      out += keys::value_toml(key, config);
       out += '\n';
     }
   }
@@ -285,14 +317,15 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   const ServerConfig defaults;
   for (const keys::Key& key : keys::all()) {
     std::string help{key.help};
-    if (key.kind == keys::Kind::Integer || key.kind == keys::Kind::Choice) {
-      help += " (" + keys::allowed_text(key) + ")";
-    }
+    if (shows_range(key)) help += " (" + keys::allowed_text(key) + ")";
     help += "; TOML " + key.full_name();
-    const char* type = key.kind == keys::Kind::Integer   ? "INT"
-                       : key.kind == keys::Kind::Address ? "ADDRESS"
-                       : key.kind == keys::Kind::Choice  ? "CHOICE"
-                                                         : "TEXT";
+    const char* type = key.kind == keys::Kind::Integer    ? "INT"
+                       : key.kind == keys::Kind::Number   ? "NUMBER"
+                       : key.kind == keys::Kind::Bool     ? "BOOL"
+                       : key.kind == keys::Kind::Address  ? "ADDRESS"
+                       : key.kind == keys::Kind::Choice   ? "CHOICE"
+                       : key.kind == keys::Kind::TextList ? "LIST"
+                                                          : "TEXT";
     const std::string default_value = keys::value_text(key, defaults);
     app.add_option_function<std::string>(
            std::string{key.flag},

@@ -3,6 +3,7 @@
 #include <array>
 #include <boost/asio/ip/address.hpp>
 #include <charconv>
+#include <cmath>
 #include <limits>
 
 namespace ricochet::server {
@@ -48,6 +49,49 @@ int& integer_of(ServerConfig& config) {
 template <auto Section, auto Member>
 std::string& text_of(ServerConfig& config) {
   return (config.*Section).*Member;
+}
+
+template <auto Section, auto Member>
+double& number_of(ServerConfig& config) {
+  return (config.*Section).*Member;
+}
+
+template <auto Section, auto Member>
+bool& boolean_of(ServerConfig& config) {
+  return (config.*Section).*Member;
+}
+
+template <auto Section, auto Member>
+std::vector<std::string>& texts_of(ServerConfig& config) {
+  return (config.*Section).*Member;
+}
+
+/// The shortest text that reads back as exactly `value`; "10", "1.5", "1e-05".
+std::string number_text(double value) {
+  std::array<char, 32> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  if (error != std::errc{}) return "nan";
+  return std::string(buffer.data(), end);
+}
+
+/// Writes a TOML basic string: quotes, backslashes and control characters escaped.
+std::string toml_quote(std::string_view text) {
+  std::string quoted = "\"";
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      quoted += '\\';
+      quoted += c;
+    } else if (byte < 0x20 || byte == 0x7f) {
+      static constexpr char kHex[] = "0123456789abcdef";
+      quoted += "\\u00";
+      quoted += kHex[byte >> 4];
+      quoted += kHex[byte & 0xf];
+    } else {
+      quoted += c;
+    }
+  }
+  return quoted + '"';
 }
 
 /// Sets `out` to the enumerator whose name() is `text`.
@@ -250,7 +294,7 @@ const std::array kKeys = {
     Key{.section = "matches",
         .name = "count",
         .flag = "--matches",
-        .help = "free-for-all matches opened at start (more are created over the control channel)",
+        .help = "matches opened at start (more are created over the control channel)",
         .integer = &integer_of<&S::matches, &MatchesConfig::count>,
         .min = 0,
         .max = 256},
@@ -262,11 +306,120 @@ const std::array kKeys = {
         .min = 1,
         .max = 64},
     Key{.section = "matches",
-        .name = "map",
-        .flag = "--map",
-        .help = "map file of the matches opened at start",
+        .name = "maps",
+        .flag = "--maps",
+        .help = "map files in rotation order: the matches opened at start play the first, and a "
+                "match that ends is followed by one on the next; each is loaded at start",
+        .kind = Kind::TextList,
+        .texts = &texts_of<&S::matches, &MatchesConfig::maps>},
+    Key{.section = "matches",
+        .name = "mode",
+        .flag = "--mode",
+        .help = "ffa: free-for-all; tdm: team deathmatch (red against blue)",
+        .kind = Kind::Choice,
+        .choices = "ffa|tdm",
+        .get_choice = [](const ServerConfig& c) -> std::string_view { return c.matches.mode; },
+        .set_choice =
+            [](ServerConfig& c, std::string_view text) {
+              if (text != "ffa" && text != "tdm") return false;
+              c.matches.mode = std::string{text};
+              return true;
+            }},
+    Key{.section = "matches",
+        .name = "frag_limit",
+        .flag = "--frag-limit",
+        .help = "kills that end the match, by one player (ffa) or one team (tdm)",
+        .integer = &integer_of<&S::matches, &MatchesConfig::frag_limit>,
+        .min = 1,
+        .max = 10'000},
+    Key{.section = "matches",
+        .name = "time_limit_s",
+        .flag = "--time-limit-s",
+        .help = "seconds after the warm-up that end the match",
+        .kind = Kind::Number,
+        .number = &number_of<&S::matches, &MatchesConfig::time_limit_s>,
+        .min_number = 10,
+        .max_number = 86'400},
+    Key{.section = "matches",
+        .name = "warmup_s",
+        .flag = "--warmup-s",
+        .help = "seconds of warm-up once min_players are in, before the match counts",
+        .kind = Kind::Number,
+        .number = &number_of<&S::matches, &MatchesConfig::warmup_s>,
+        .min_number = 0,
+        .max_number = 600},
+    Key{.section = "matches",
+        .name = "min_players",
+        .flag = "--min-players",
+        .help = "players needed before the warm-up starts; at most max_players",
+        .integer = &integer_of<&S::matches, &MatchesConfig::min_players>,
+        .min = 1,
+        .max = 64},
+    Key{.section = "matches",
+        .name = "respawn_delay_s",
+        .flag = "--respawn-delay-s",
+        .help = "seconds a dead player waits before it respawns",
+        .kind = Kind::Number,
+        .number = &number_of<&S::matches, &MatchesConfig::respawn_delay_s>,
+        .min_number = 0,
+        .max_number = 60},
+    Key{.section = "matches",
+        .name = "spawn_protection_s",
+        .flag = "--spawn-protection-s",
+        .help = "seconds a player takes no damage after it spawns",
+        .kind = Kind::Number,
+        .number = &number_of<&S::matches, &MatchesConfig::spawn_protection_s>,
+        .min_number = 0,
+        .max_number = 10},
+    Key{.section = "matches",
+        .name = "self_damage",
+        .flag = "--self-damage",
+        .help = "fraction of the damage of its own explosions a player takes (0: none)",
+        .kind = Kind::Number,
+        .number = &number_of<&S::matches, &MatchesConfig::self_damage>,
+        .min_number = 0,
+        .max_number = 1},
+    Key{.section = "matches",
+        .name = "friendly_fire",
+        .flag = "--friendly-fire",
+        .help = "tdm: team-mates damage each other",
+        .kind = Kind::Bool,
+        .boolean = &boolean_of<&S::matches, &MatchesConfig::friendly_fire>},
+    Key{.section = "matches",
+        .name = "seed",
+        .flag = "--seed",
+        .help = "seed of each match's random numbers (weapon spread); 0: a random seed for each "
+                "match, logged",
+        .integer = &integer_of<&S::matches, &MatchesConfig::seed>,
+        .min = 0,
+        .max = std::numeric_limits<int>::max()},
+    Key{.section = "matches",
+        .name = "lag_compensation",
+        .flag = "--lag-compensation",
+        .help = "rewind the targets of a shot to what the shooter saw",
+        .kind = Kind::Bool,
+        .boolean = &boolean_of<&S::matches, &MatchesConfig::lag_compensation>},
+    Key{.section = "matches",
+        .name = "max_rewind_ms",
+        .flag = "--max-rewind-ms",
+        .help = "milliseconds lag compensation rewinds at most (latency and interpolation)",
+        .kind = Kind::Number,
+        .number = &number_of<&S::matches, &MatchesConfig::max_rewind_ms>,
+        .min_number = 0,
+        .max_number = 250},
+    Key{.section = "matches",
+        .name = "record",
+        .flag = "--record-matches",
+        .help = "write a recording of every match to recordings_dir (replay it with "
+                "ricochet-replay)",
+        .kind = Kind::Bool,
+        .boolean = &boolean_of<&S::matches, &MatchesConfig::record>},
+    Key{.section = "matches",
+        .name = "recordings_dir",
+        .flag = "--recordings-dir",
+        .help = "directory of the match recordings; a relative path is under server.data_dir",
         .kind = Kind::Text,
-        .text = &text_of<&S::matches, &MatchesConfig::map>},
+        .text = &text_of<&S::matches, &MatchesConfig::recordings_dir>},
     Key{.section = "admin",
         .name = "bind",
         .flag = "--admin-bind",
@@ -342,6 +495,46 @@ std::string value_text(const Key& key, const ServerConfig& config) {
       return key.text(mutable_config);
     case Kind::Choice:
       return std::string{key.get_choice(config)};
+    case Kind::Number:
+      return number_text(key.number(mutable_config));
+    case Kind::Bool:
+      return key.boolean(mutable_config) ? "true" : "false";
+    case Kind::TextList: {
+      std::string joined;
+      for (const std::string& text : key.texts(mutable_config)) {
+        if (!joined.empty()) joined += ',';
+        joined += text;
+      }
+      return joined;
+    }
+  }
+  return {};
+}
+
+std::string value_toml(const Key& key, const ServerConfig& config) {
+  auto& mutable_config = const_cast<ServerConfig&>(config);
+  switch (key.kind) {
+    case Kind::Integer:
+    case Kind::Bool:
+      return value_text(key, config);
+    case Kind::Number: {
+      // A float in TOML, so that the sample shows the kind: 10 is written 10.0.
+      std::string text = number_text(key.number(mutable_config));
+      if (text.find_first_of(".en") == std::string::npos) text += ".0";
+      return text;
+    }
+    case Kind::Text:
+    case Kind::Address:
+    case Kind::Choice:
+      return toml_quote(value_text(key, config));
+    case Kind::TextList: {
+      std::string array = "[";
+      for (const std::string& text : key.texts(mutable_config)) {
+        if (array.size() > 1) array += ", ";
+        array += toml_quote(text);
+      }
+      return array + "]";
+    }
   }
   return {};
 }
@@ -350,8 +543,14 @@ std::string allowed_text(const Key& key) {
   switch (key.kind) {
     case Kind::Integer:
       return std::to_string(key.min) + ".." + std::to_string(key.max);
+    case Kind::Number:
+      return number_text(key.min_number) + ".." + number_text(key.max_number);
+    case Kind::Bool:
+      return "true or false";
     case Kind::Text:
       return key.allow_empty ? "any text" : "non-empty";
+    case Kind::TextList:
+      return "one or more non-empty";
     case Kind::Address:
       return "an IP address";
     case Kind::Choice:
@@ -368,9 +567,26 @@ std::string check(const Key& key, const ServerConfig& config) {
       if (value >= key.min && value <= key.max) return {};
       return key.full_name() + " must be " + allowed_text(key) + ", got " + std::to_string(value);
     }
+    case Kind::Number: {
+      const double value = key.number(mutable_config);
+      if (value >= key.min_number && value <= key.max_number) return {};  // false for NaN
+      return key.full_name() + " must be " + allowed_text(key) + ", got " + number_text(value);
+    }
     case Kind::Text:
       if (key.allow_empty || !key.text(mutable_config).empty()) return {};
       return key.full_name() + " must be non-empty, got \"\"";
+    case Kind::TextList: {
+      const std::vector<std::string>& texts = key.texts(mutable_config);
+      if (texts.empty()) return key.full_name() + " must list one or more, got none";
+      for (std::size_t i = 0; i < texts.size(); ++i) {
+        if (!texts[i].empty()) continue;
+        std::string problem = key.full_name();
+        problem += " must list non-empty names, got \"\" at ";
+        problem += std::to_string(i + 1);
+        return problem;
+      }
+      return {};
+    }
     case Kind::Address: {
       const std::string& text = key.text(mutable_config);
       boost::system::error_code error;
@@ -380,7 +596,8 @@ std::string check(const Key& key, const ServerConfig& config) {
              text + "\"";
     }
     case Kind::Choice:
-      return {};  // set_choice accepts only a choice
+    case Kind::Bool:
+      return {};  // set_choice and assign_text accept only a valid value
   }
   return {};
 }
@@ -400,6 +617,34 @@ std::string assign_text(const Key& key, std::string_view text, ServerConfig& con
                std::string{text} + "\"";
       }
       key.integer(config) = static_cast<int>(value);
+      return {};
+    }
+    case Kind::Number: {
+      double value = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (error != std::errc{} || end != text.data() + text.size() || !std::isfinite(value)) {
+        return key.full_name() + " must be a number " + allowed_text(key) + ", got \"" +
+               std::string{text} + "\"";
+      }
+      key.number(config) = value;
+      return {};
+    }
+    case Kind::Bool:
+      if (text == "true" || text == "false") {
+        key.boolean(config) = text == "true";
+        return {};
+      }
+      return key.full_name() + " must be true or false, got \"" + std::string{text} + "\"";
+    case Kind::TextList: {
+      std::vector<std::string>& texts = key.texts(config);
+      texts.clear();
+      std::size_t start = 0;
+      while (true) {
+        const std::size_t comma = text.find(',', start);
+        texts.emplace_back(text.substr(start, comma - start));
+        if (comma == std::string_view::npos) break;
+        start = comma + 1;
+      }
       return {};
     }
     case Kind::Text:

@@ -73,12 +73,14 @@ void MatchHost::end(std::function<void(EndedMatch)> done) {
     self->drain_outbox();
     EndedMatch ended;
     ended.id = self->id_;
+    ended.end_reason = wire::MATCH_END_REASON_SERVER_SHUTDOWN;
     db::MatchRecord& record = ended.record;
     record.map = self->map_name_;
     record.mode = "ffa";
     record.started_ms = self->started_unix_ms_;
     record.ended_ms = unix_now_ms();
     record.tick_rate = self->tick_rate_hz_;
+    record.aborted = true;  // stopped by the server before its end
     for (auto& [account, played] : self->played_) {
       played.stop(now);
       db::PlayerResult result;

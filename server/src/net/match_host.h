@@ -40,8 +40,9 @@ struct MatchHostStats {
 /// A match that ended: its record for the DB and who played, for their MatchResults.
 struct EndedMatch {
   std::uint32_t id = 0;
-  db::MatchRecord record;              ///< players empty when nobody played
+  db::MatchRecord record;              ///< players empty when nobody played; aborted when stopped
   std::vector<std::string> usernames;  ///< one per record.players entry
+  wire::MatchEndReason end_reason = wire::MATCH_END_REASON_SERVER_SHUTDOWN;
 };
 
 /// Reported to the owner when a player is no longer in the match (refused, or its reconnect

@@ -1,6 +1,7 @@
 #include "server.h"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <future>
 #include <optional>
@@ -98,6 +99,22 @@ bool wait_until(std::future<T>& future, Clock::time_point deadline) {
   return future.wait_until(deadline) == std::future_status::ready;
 }
 
+wire::Team wire_team(std::int32_t team) {
+  switch (team) {
+    case db::kTeamRed:
+      return wire::TEAM_RED;
+    case db::kTeamBlue:
+      return wire::TEAM_BLUE;
+    default:
+      return wire::TEAM_NONE;
+  }
+}
+
+/// Hit points are whole numbers; the store keeps them as reals.
+std::int32_t hit_points(double value) {
+  return static_cast<std::int32_t>(std::llround(value));
+}
+
 }  // namespace
 
 Server::Server(ServerConfig config) : config_(std::move(config)) {
@@ -112,7 +129,11 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   MatchRegistryConfig registry;
   registry.match_defaults = match_defaults(config_);
   registry.token_key = token_key;
-  matches_ = std::make_unique<MatchRegistry>(io_, std::move(registry), load_map(config_.matches.map),
+  // Every map of the rotation is loaded now, so a broken one stops the start, not a match end.
+  std::vector<Map> maps;
+  for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));
+  // TODO(results, part 4): the registry takes the whole rotation once a match can end.
+  matches_ = std::make_unique<MatchRegistry>(io_, std::move(registry), std::move(maps.front()),
                                              *game_, metrics_);
   control_ = std::make_unique<ControlServer>(io_, control_config(config_), *db_, *matches_);
 
@@ -282,34 +303,47 @@ void Server::end_matches(Clock::time_point deadline) {
 }
 
 db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbServices& services) {
-  const std::vector<db::PlayerResult>& players = match.record.players;
-  std::vector<double> rating_before;
-  for (const db::PlayerResult& player : players) {
-    auto stats = services.matches.player_stats(player.account);
-    if (!stats) return stats.error();
-    rating_before.push_back(stats.value().rating);
-  }
-  auto id = services.matches.record_match(match.record);
-  if (!id) return id.error();
-  spdlog::info("stopping: match {} recorded as {} ({} players)", match.id, id.value(), players.size());
-  int top_score = players.front().score;
-  for (const db::PlayerResult& player : players) top_score = std::max(top_score, player.score);
+  const db::MatchRecord& record = match.record;
+  auto recorded = services.matches.record_match(record);
+  if (!recorded) return recorded.error();
+  const std::vector<db::PlayerOutcome>& outcomes = recorded.value().outcomes;
+  spdlog::info("match {} recorded as {} ({} players, {}{})", match.id, recorded.value().id,
+               record.players.size(), record.mode, record.aborted ? ", aborted" : "");
   wire::MatchResults results;
   results.set_match_id(match.id);
-  results.set_map(match.record.map);
-  results.set_mode(match.record.mode);
-  for (std::size_t i = 0; i < players.size(); ++i) {
-    auto after = services.matches.player_stats(players[i].account);
-    if (!after) return after.error();
+  results.set_map(record.map);
+  results.set_mode(record.mode);
+  results.set_aborted(record.aborted);
+  results.set_end_reason(match.end_reason);
+  if (record.mode == db::kModeTeamDeathmatch) {
+    for (const auto& [team, score] : {std::pair{wire::TEAM_RED, record.team_scores.red},
+                                      std::pair{wire::TEAM_BLUE, record.team_scores.blue}}) {
+      wire::TeamScore& out = *results.add_team_scores();
+      out.set_team(team);
+      out.set_score(score);
+    }
+  }
+  for (std::size_t i = 0; i < record.players.size(); ++i) {
+    const db::PlayerResult& player = record.players[i];
+    auto rank = services.matches.rank_of(player.account, db::LeaderboardKind::Rating);
+    if (!rank) return rank.error();
     wire::PlayerMatchResult& out = *results.add_players();
-    out.set_account_id(static_cast<std::uint64_t>(players[i].account));
+    out.set_account_id(static_cast<std::uint64_t>(player.account));
     out.set_username(match.usernames[i]);
-    out.set_kills(players[i].kills);
-    out.set_deaths(players[i].deaths);
-    out.set_score(players[i].score);
-    out.set_won(players[i].score == top_score);  // ties all win (matches.h)
-    out.set_rating_before(rating_before[i]);
-    out.set_rating_after(after.value().rating);
+    out.set_team(wire_team(player.team));
+    out.set_kills(player.kills);
+    out.set_deaths(player.deaths);
+    out.set_score(player.score);
+    out.set_shots(player.shots);
+    out.set_hits(player.hits);
+    out.set_damage_dealt(hit_points(player.damage_dealt));
+    out.set_damage_taken(hit_points(player.damage_taken));
+    out.set_seconds_played(player.seconds_played);
+    out.set_won(outcomes[i].won);
+    out.set_rating_before(outcomes[i].rating_before);
+    out.set_rating_after(outcomes[i].rating_after);
+    // Every player of a recorded match is on the rating board.
+    if (rank.value()) out.set_rank(static_cast<std::uint32_t>(rank.value()->rank));
   }
   return results;
 }

@@ -38,7 +38,7 @@ class Matches {
   /// The store must outlive this object.
   explicit Matches(Store& store, MatchesOptions options = {});
 
-  DbResult<MatchId> record_match(const MatchRecord& match);
+  DbResult<RecordedMatch> record_match(const MatchRecord& match);
   /// Zeros and the initial rating for an account that never played; UnknownAccount if none.
   DbResult<PlayerStats> player_stats(AccountId id);
   /// The first `limit` entries, best first (ties by account id).

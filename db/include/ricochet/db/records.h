@@ -85,6 +85,13 @@ struct MatchRecord {
   std::vector<PlayerResult> players;
 };
 
+/// A match as record_match wrote it: its id and what it did to each player (outcomes[i] is
+/// players[i]'s).
+struct RecordedMatch {
+  MatchId id = 0;
+  std::vector<PlayerOutcome> outcomes;
+};
+
 /// Lifetime totals of one account.
 struct PlayerStats {
   AccountId account = 0;

@@ -68,11 +68,29 @@ struct GameConfig {
   int bandwidth_kbps_per_client = 512;  ///< snapshot budget per client, kilobits per second
 };
 
-/// [matches] created at start; more come through the control channel.
+/// [matches] the matches opened at start and the rules every match plays by; more matches come
+/// through the control channel. Maps onto MatchRegistryConfig and MatchConfig (server.cpp).
 struct MatchesConfig {
-  int count = 4;                              ///< free-for-all matches opened at start
-  int max_players = 16;                       ///< per match opened at start
-  std::string map = "server/maps/arena.map";  ///< map file of the matches opened at start
+  int count = 4;         ///< matches opened at start
+  int max_players = 16;  ///< per match opened at start
+  /// Map files in rotation order: the first opens the matches at start, and each match that
+  /// ends is followed by one on the next map. Every file is loaded and validated at start.
+  std::vector<std::string> maps = {"server/maps/arena.map"};
+  std::string mode = "ffa";         ///< "ffa" (free-for-all) or "tdm" (team deathmatch)
+  int frag_limit = 20;              ///< a player (ffa) or team (tdm) reaching it ends the match
+  double time_limit_s = 600;        ///< the match ends after this long (warm-up not counted)
+  double warmup_s = 10;             ///< once min_players are in, before the match counts
+  int min_players = 2;              ///< players needed before the warm-up starts
+  double respawn_delay_s = 2;       ///< dead this long before respawning
+  double spawn_protection_s = 1.5;  ///< no damage taken this long after a spawn
+  double self_damage = 0.5;         ///< fraction of its own explosions' damage a player takes
+  bool friendly_fire = false;       ///< tdm: team-mates damage each other
+  /// Seeds each match's random numbers (weapon spread); 0: a random seed for each match, logged.
+  int seed = 0;
+  bool lag_compensation = true;  ///< rewind the targets to what the shooter saw
+  double max_rewind_ms = 250;    ///< lag compensation's total rewind cap
+  bool record = true;            ///< write a recording of every match (ricochet-replay)
+  std::string recordings_dir = "recordings";  ///< under data_dir unless absolute
 };
 
 /// [admin] HTTP: /metrics, /healthz, /readyz.
@@ -107,6 +125,8 @@ struct ServerConfig {
   int snapshot_rate_hz() const;
   /// db.path, under data_dir unless absolute.
   std::string db_file() const;
+  /// matches.recordings_dir, under data_dir unless absolute.
+  std::string recordings_path() const;
   /// Bytes of one snapshot payload from the bandwidth budget at the snapshot rate, at most
   /// kMaxSnapshotBytes (one datagram); validate() keeps it at least kMinSnapshotBytes.
   int snapshot_budget_bytes() const;
