@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "ricochet/physics/scene_profile.h"
@@ -94,6 +96,29 @@ TEST(Damage, DeadTargetsAndNonPositiveDamageChangeNothing) {
   EXPECT_EQ(alive.armor, 50);
 }
 
+TEST(Damage, InvariantsOverRandomHits) {
+  // Nothing is created or lost: what the target loses is at most the damage, never negative,
+  // and health and armour stay within 0..their start, whatever the absorb fraction.
+  MatchRng rng(2024);
+  for (int i = 0; i < 20000; ++i) {
+    Vitals vitals{.health = int(rng.next() % 101), .armor = int(rng.next() % 101)};
+    const Vitals before = vitals;
+    const int damage = int(rng.next() % 300) - 20;
+    const float absorb = rng.uniform() * 1.4f - 0.2f;  // out of range too: clamped
+    const DamageResult result = apply_damage(vitals, damage, absorb);
+    ASSERT_GE(result.health_lost, 0);
+    ASSERT_GE(result.armor_lost, 0);
+    ASSERT_LE(result.health_lost + result.armor_lost, std::max(damage, 0));
+    ASSERT_EQ(vitals.health, before.health - result.health_lost);
+    ASSERT_EQ(vitals.armor, before.armor - result.armor_lost);
+    ASSERT_GE(vitals.health, 0);
+    ASSERT_GE(vitals.armor, 0);
+    ASSERT_EQ(result.killed, before.health > 0 && vitals.health == 0);
+  }
+  Vitals vitals{.health = 100, .armor = 100};
+  EXPECT_EQ(apply_damage(vitals, 10, std::nanf("")).armor_lost, 0);
+}
+
 TEST(Damage, ScaleForSelfTeammatesAndOthers) {
   WeaponsConfig config;
   EXPECT_FLOAT_EQ(damage_scale(config, true, false), 0.5f);
@@ -108,6 +133,8 @@ TEST(Damage, ScaleForSelfTeammatesAndOthers) {
   EXPECT_EQ(scaled_damage(40, 0.0f), 0);
   EXPECT_EQ(scaled_damage(40, 1.0f), 40);
   EXPECT_EQ(scaled_damage(-3, 1.0f), 0);
+  EXPECT_EQ(scaled_damage(40, 1e30f), 40);
+  EXPECT_EQ(scaled_damage(40, std::nanf("")), 0);
 }
 
 // --- random numbers ---

@@ -47,8 +47,9 @@ void orthonormal_basis(const Vec3& axis, Vec3& u, Vec3& v) {
 DamageResult apply_damage(Vitals& target, int damage, float armor_absorb) {
   DamageResult result;
   if (damage <= 0 || target.health <= 0) return result;
+  const double absorb = armor_absorb > 0 ? std::min(double(armor_absorb), 1.0) : 0.0;
   const int armor_share =
-      std::min(round_half_up(double(damage) * double(armor_absorb)), std::max(target.armor, 0));
+      std::min(round_half_up(double(damage) * absorb), std::max(target.armor, 0));
   const int health_share = damage - armor_share;
   result.armor_lost = armor_share;
   result.health_lost = std::min(health_share, target.health);
@@ -66,7 +67,7 @@ float damage_scale(const WeaponsConfig& config, bool self, bool teammate) {
 
 int scaled_damage(int damage, float scale) {
   if (damage <= 0 || !(scale > 0)) return 0;
-  return round_half_up(double(damage) * double(scale));
+  return round_half_up(double(damage) * std::min(double(scale), 1.0));
 }
 
 MatchRng::MatchRng(std::uint64_t seed) {

@@ -32,14 +32,14 @@ struct DamageResult {
 };
 
 /// Armour takes round(damage × armor_absorb) (halves up) while it lasts, health the rest; health
-/// stops at 0. Damage <= 0, or a target already dead, changes nothing. Integer arithmetic but
-/// for that one rounding, so deterministic.
+/// stops at 0. Damage <= 0, or a target already dead, changes nothing. armor_absorb is taken
+/// within 0..1 (NaN as 0). Integer arithmetic but for that one rounding, so deterministic.
 DamageResult apply_damage(Vitals& target, int damage, float armor_absorb);
 
 /// The factor of a hit's damage: own explosions self_damage_scale; a teammate's (same non-None
 /// team, not oneself) 0, or friendly_fire_scale when friendly_fire; anyone else 1.
 float damage_scale(const WeaponsConfig& config, bool self, bool teammate);
-/// round(damage × scale), halves up; 0 for scale <= 0.
+/// round(damage × scale), halves up, scale taken within 0..1 (NaN as 0).
 int scaled_damage(int damage, float scale);
 
 // --- random numbers ---
