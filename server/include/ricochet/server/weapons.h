@@ -40,7 +40,7 @@ struct WeaponConfig {
   int ammo_start = 0;         ///< rounds at spawn, 0..ammo_max
   int ammo_max = 0;           ///< 1..10000
   int ammo_per_pickup = 0;    ///< rounds an ammo pickup gives, 0..ammo_max
-  float projectile_speed_mps = 0;  ///< launch speed relative to the shooter, 0..1000 m/s
+  float projectile_speed_mps = 0;  ///< 0..1000 m/s (a grenade adds the shooter's velocity)
   float projectile_radius_m = 0;   ///< 0..1 m (a rocket of 0 is a ray; a grenade needs >= 0.01)
   float gravity_scale = 0;         ///< multiplies the world's gravity, 0..10
   float restitution = 0;           ///< grenade bounce, 0..1
@@ -71,8 +71,8 @@ struct WeaponsConfig {
   const WeaponConfig& operator[](WeaponKind kind) const {
     return weapons[static_cast<std::size_t>(kind)];
   }
-  /// Each weapon's validate() and what its kind needs: the rifle a range, projectile weapons a
-  /// speed >= 1 m/s and a fuse >= 0.05 s, the grenade a radius >= 0.01 m and gravity.
+  /// Each weapon's validate(), then what projectile weapons need: a speed >= 1 m/s and a fuse
+  /// >= 0.05 s, and the grenade a radius >= 0.01 m.
   std::string validate() const;
 };
 
