@@ -162,5 +162,128 @@ TEST_F(LagCompensationTest, ShooterIsNeverRewound) {
   EXPECT_NEAR(spheres[0].center.x(), walked_x(kNow - 6), kEps);
 }
 
+TEST_F(LagCompensationTest, InterpolatesBetweenTicks) {
+  LagCompensation lag(config_, kRate);
+  record_walk(lag, 1, kNow);
+  const ViewTime half = lag.resolve(kNow, kNow - 6, 128, 66.7);
+  EXPECT_EQ(half.tick, kNow - 6);
+  EXPECT_EQ(half.fraction, 0.5f);
+  EXPECT_NEAR(half.rewind_ms, 5.5 * 1000.0 / kRate, 1e-6);
+  EXPECT_NEAR(target_at(lag, half).x(), walked_x(kNow - 6) + Real(0.05), kEps);
+
+  // 0.39 m right of the half-way centre: a hit; 0.44 m right of the whole-tick one: a miss.
+  physics::RayHit hit;
+  const Real x = walked_x(kNow - 6) + Real(0.44);
+  EXPECT_TRUE(shoot(lag, half, x, hit));
+  EXPECT_FALSE(shoot(lag, lag.resolve(kNow, kNow - 6, 0, 66.7), x, hit));
+}
+
+TEST_F(LagCompensationTest, NeverExtrapolatesAClaimAheadOfNow) {
+  LagCompensation lag(config_, kRate);
+  record_walk(lag, 1, kNow);
+  const ViewTime view = lag.resolve(kNow, kNow + 5, 0, 10);
+  EXPECT_TRUE(view.clamped);
+  EXPECT_EQ(view.tick, kNow);
+  EXPECT_EQ(view.fraction, 0.0f);
+  EXPECT_EQ(view.rewind_ms, 0.0);
+  EXPECT_NEAR(target_at(lag, view).x(), walked_x(kNow), kEps);
+
+  // A view handed in past the newest tick stays at the newest tick.
+  ViewTime ahead;
+  ahead.tick = kNow + 10;
+  ahead.fraction = 0.5f;
+  EXPECT_NEAR(target_at(lag, ahead).x(), walked_x(kNow), kEps);
+}
+
+TEST_F(LagCompensationTest, RewindIsCappedAt250Ms) {
+  LagCompensation lag(config_, kRate);
+  record_walk(lag, 1, kNow);
+  // No claim, 400 ms one way: the estimate alone is capped, which is not a clamped claim.
+  const ViewTime estimate = lag.resolve(kNow, 0, 0, 400);
+  EXPECT_FALSE(estimate.clamped);
+  EXPECT_NEAR(estimate.rewind_ms, 250.0, 1e-3);
+  EXPECT_NEAR(target_at(lag, estimate).x(), walked_x(kNow - 15), kEps);
+
+  // A claim of 300 ms, within 200 ms of the (capped) estimate, is still capped.
+  const ViewTime claim = lag.resolve(kNow, kNow - 18, 0, 216.7);
+  EXPECT_TRUE(claim.clamped);
+  EXPECT_NEAR(claim.rewind_ms, 250.0, 1e-3);
+}
+
+TEST_F(LagCompensationTest, TeleportCancelsTheRewind) {
+  LagCompensation lag(config_, kRate);
+  record_walk(lag, 1, kNow - 4);
+  // At tick 57 the target respawns at x = 20 (its life bumps) and stays there.
+  for (std::uint32_t tick = kNow - 3; tick <= kNow; ++tick) {
+    const LagSample players[] = {sample(kShooter, Vec3(0, 1, 10)),
+                                 sample(kTarget, Vec3(20, 1, 0), 1)};
+    lag.record(tick, players);
+  }
+  const ViewTime view = lag.resolve(kNow, kNow - 6, 0, 66.7);
+  EXPECT_NEAR(target_at(lag, view).x(), 20, kEps);
+  physics::RayHit hit;
+  EXPECT_FALSE(shoot(lag, view, walked_x(kNow - 6), hit));
+  EXPECT_TRUE(shoot(lag, view, 20, hit));
+
+  // Between the last tick before the teleport and the first after it: where it is now.
+  const ViewTime across = lag.resolve(kNow, kNow - 4, 128, 40);
+  EXPECT_FALSE(across.clamped);
+  EXPECT_NEAR(target_at(lag, across).x(), 20, kEps);
+}
+
+TEST_F(LagCompensationTest, DisabledTestsTheCurrentPositions) {
+  LagCompensationConfig off = config_;
+  off.enabled = false;
+  LagCompensation lag(off, kRate);
+  record_walk(lag, 1, kNow);
+  const ViewTime view = lag.resolve(kNow, kNow - 6, 0, 66.7);
+  EXPECT_EQ(view.tick, kNow);
+  EXPECT_EQ(view.rewind_ms, 0.0);
+  EXPECT_FALSE(view.clamped);
+  // Even a view handed in from elsewhere is not rewound.
+  ViewTime past;
+  past.tick = kNow - 6;
+  EXPECT_NEAR(target_at(lag, past).x(), walked_x(kNow), kEps);
+  physics::RayHit hit;
+  EXPECT_FALSE(shoot(lag, view, walked_x(kNow - 6), hit));
+  ASSERT_TRUE(shoot(lag, view, walked_x(kNow), hit));
+  EXPECT_EQ(hit.target.user_data, kTarget);
+}
+
+TEST_F(LagCompensationTest, ClaimOlderThanTheRingIsClamped) {
+  LagCompensation lag(config_, kRate);
+  constexpr std::uint32_t kLate = 200;
+  record_walk(lag, 1, kLate);
+  // Tick 10 was 3.2 s ago, long out of the 1 s ring: clamped to 50 + 200 = 250 ms.
+  const ViewTime view = lag.resolve(kLate, 10, 0, 16.7);
+  EXPECT_TRUE(view.clamped);
+  EXPECT_EQ(lag.clamped_claims(), 1u);
+  EXPECT_NEAR(view.rewind_ms, 250.0, 1e-3);
+  EXPECT_NEAR(target_at(lag, view).x(), walked_x(kLate - 15), kEps);
+
+  // A view older than the ring, handed in as it is, takes the oldest stored tick (1 s + now).
+  ViewTime old;
+  old.tick = 10;
+  EXPECT_NEAR(target_at(lag, old).x(), walked_x(kLate - kRate), kEps);
+}
+
+TEST(LagCompensationConfigTest, ValidateNamesTheFieldAndTheRange) {
+  EXPECT_EQ(LagCompensationConfig{}.validate(), "");
+  LagCompensationConfig config;
+  config.history_s = 0.05f;
+  EXPECT_NE(config.validate().find("history_s must be 0.1..2, got 0.05"), std::string::npos)
+      << config.validate();
+  config = {};
+  config.max_rewind_ms = 1500;
+  EXPECT_NE(config.validate().find("max_rewind_ms must be 0..1000"), std::string::npos)
+      << config.validate();
+  config = {};
+  config.claim_tolerance_ms = -1;
+  EXPECT_NE(config.validate().find("claim_tolerance_ms"), std::string::npos);
+  config = {};
+  config.interpolation_delay_ms = 300;
+  EXPECT_NE(config.validate().find("interpolation_delay_ms must be 0..250"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace ricochet::server
