@@ -37,7 +37,14 @@ class MatchRegistryTest : public ::testing::Test {
     config.token_lifetime_us = token_lifetime_us;
     config.token_timeout_s = 1;
     config.max_matches = 3;
-    registry_ = std::make_unique<MatchRegistry>(io_, config, sample_map(), *channel_, metrics_);
+    // A rotation of two maps: the arena, and the arena again under another name.
+    Map second = sample_map();
+    second.name = "arena-b";
+    std::vector<Map> rotation;
+    rotation.push_back(sample_map());
+    rotation.push_back(std::move(second));
+    registry_ = std::make_unique<MatchRegistry>(io_, config, std::move(rotation), *channel_,
+                                                metrics_);
     channel_->start(*registry_);
     registry_->set_udp_port(channel_->port());
   }
@@ -125,6 +132,28 @@ TEST_F(MatchRegistryTest, CreateValidatesItsFieldsAndTheMatchCap) {
   auto fourth = registry_->create({.name = "m", .max_players = 4, .map = ""});
   ASSERT_TRUE(std::holds_alternative<DirectoryError>(fourth));
   EXPECT_EQ(std::get<DirectoryError>(fourth).code, DirectoryErrorCode::TooManyMatches);
+}
+
+TEST_F(MatchRegistryTest, MatchesArePlayedOnTheRotationsMaps) {
+  const auto map_of = [this](std::uint32_t id) {
+    for (const MatchSummary& summary : registry_->list())
+      if (summary.id == id) return summary.map;
+    return std::string("none");
+  };
+  const std::uint32_t first = open("a", 4);
+  EXPECT_EQ(map_of(first), "arena");
+  auto named = registry_->create({.name = "b", .max_players = 4, .map = "arena-b"});
+  ASSERT_TRUE(std::holds_alternative<MatchSummary>(named));
+  EXPECT_EQ(std::get<MatchSummary>(named).map, "arena-b");
+  EXPECT_EQ(registry_->next_in_rotation(0), 1u);
+  EXPECT_EQ(registry_->next_in_rotation(1), 0u);  // back to the first
+  auto next = registry_->open("c", 4, registry_->next_in_rotation(1));
+  ASSERT_TRUE(std::holds_alternative<MatchSummary>(next));
+  EXPECT_EQ(std::get<MatchSummary>(next).map, "arena");
+  auto unknown = registry_->create({.name = "d", .max_players = 4, .map = "foundry"});
+  ASSERT_TRUE(std::holds_alternative<DirectoryError>(unknown));
+  EXPECT_EQ(std::get<DirectoryError>(unknown).message,
+            "map must be one of the loaded maps ('arena', 'arena-b') or empty, got 'foundry'");
 }
 
 TEST_F(MatchRegistryTest, AClosedRegistryRefusesJoinsAndCreates) {

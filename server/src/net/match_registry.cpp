@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include <spdlog/spdlog.h>
@@ -24,14 +25,17 @@ bool printable_name(const std::string& name) {
 
 }  // namespace
 
-MatchRegistry::MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config, Map map,
-                             GameChannel& channel, MetricsRegistry& metrics)
-    : io_(io), config_(std::move(config)), map_(std::move(map)), channel_(channel),
-      metrics_(metrics) {}
+MatchRegistry::MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config,
+                             std::vector<Map> maps, GameChannel& channel, MetricsRegistry& metrics)
+    : io_(io), config_(std::move(config)), maps_(std::move(maps)), channel_(channel),
+      metrics_(metrics) {
+  if (maps_.empty()) throw std::invalid_argument("MatchRegistry needs at least one map");
+}
 
 MatchRegistry::~MatchRegistry() = default;
 
-DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int max_players) {
+DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int max_players,
+                                                  std::size_t map) {
   MatchConfig match_config = config_.match_defaults;
   {
     const std::lock_guard lock(mutex_);
@@ -41,7 +45,7 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   match_config.name = name;
   match_config.max_players = max_players;
   // The world is built outside the lock: routing and the control channel never wait for it.
-  auto created = Match::create(match_config, map_, steady_now_us(), [] {
+  auto created = Match::create(match_config, maps_[map % maps_.size()], steady_now_us(), [] {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
                std::chrono::steady_clock::now().time_since_epoch())
         .count();
@@ -106,12 +110,20 @@ DirectoryResult<MatchSummary> MatchRegistry::create(const CreateMatchRequest& re
     return error(DirectoryErrorCode::InvalidRequest,
                  "max_players must be 1..64, got " + std::to_string(request.max_players));
   }
-  if (!request.map.empty() && request.map != map_.name) {
-    return error(DirectoryErrorCode::InvalidRequest,
-                 "map must be '" + map_.name + "' (the only map loaded) or empty, got '" +
-                     request.map + "'");
+  std::size_t map = 0;  // empty: the rotation's first
+  if (!request.map.empty()) {
+    const auto named = std::find_if(maps_.begin(), maps_.end(),
+                                    [&](const Map& loaded) { return loaded.name == request.map; });
+    if (named == maps_.end()) {
+      std::string known;
+      for (const Map& loaded : maps_) known += (known.empty() ? "'" : ", '") + loaded.name + "'";
+      return error(DirectoryErrorCode::InvalidRequest,
+                   "map must be one of the loaded maps (" + known + ") or empty, got '" +
+                       request.map + "'");
+    }
+    map = static_cast<std::size_t>(named - maps_.begin());
   }
-  return open(request.name, request.max_players);
+  return open(request.name, request.max_players, map);
 }
 
 DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std::string& username,

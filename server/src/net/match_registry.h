@@ -42,12 +42,17 @@ struct MatchRegistryConfig {
 
 class MatchRegistry final : public MatchDirectory, public GameRouter {
  public:
-  MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config, Map map,
+  /// `maps` is the rotation (at least one): every map a match may be played on, in order.
+  MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config, std::vector<Map> maps,
                 GameChannel& channel, MetricsRegistry& metrics);
   ~MatchRegistry() override;
 
-  /// Opens a match (at start and through create()); the message says why it could not.
-  DirectoryResult<MatchSummary> open(const std::string& name, int max_players);
+  /// Opens a match on the rotation's map `map` (0: the first; taken modulo the rotation's size),
+  /// at start and through create(); the message says why it could not.
+  DirectoryResult<MatchSummary> open(const std::string& name, int max_players,
+                                     std::size_t map = 0);
+  /// The rotation's map after `map`: where a match that ended on `map` is followed.
+  std::size_t next_in_rotation(std::size_t map) const { return (map + 1) % maps_.size(); }
   /// The UDP port clients are told, once the channel is bound.
   void set_udp_port(std::uint16_t port);
   /// Refuses joins and creates from now on (graceful shutdown).
@@ -97,7 +102,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
 
   boost::asio::io_context& io_;
   MatchRegistryConfig config_;
-  Map map_;
+  std::vector<Map> maps_;  ///< the rotation, never empty
   GameChannel& channel_;
   MetricsRegistry& metrics_;
   mutable std::mutex mutex_;

@@ -132,9 +132,8 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   // Every map of the rotation is loaded now, so a broken one stops the start, not a match end.
   std::vector<Map> maps;
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));
-  // TODO(results, part 4): the registry takes the whole rotation once a match can end.
-  matches_ = std::make_unique<MatchRegistry>(io_, std::move(registry), std::move(maps.front()),
-                                             *game_, metrics_);
+  matches_ = std::make_unique<MatchRegistry>(io_, std::move(registry), std::move(maps), *game_,
+                                             metrics_);
   control_ = std::make_unique<ControlServer>(io_, control_config(config_), *db_, *matches_);
 
   AdminHttpOptions admin;
@@ -160,7 +159,10 @@ void Server::start() {
   }
   matches_->set_udp_port(game_->port());
   for (int i = 1; i <= config_.matches.count; ++i) {
-    const auto opened = matches_->open("ffa-" + std::to_string(i), config_.matches.max_players);
+    std::string name = config_.matches.mode;  // "ffa-1", "tdm-1", ...
+    name += '-';
+    name += std::to_string(i);
+    const auto opened = matches_->open(name, config_.matches.max_players);
     if (auto* problem = std::get_if<DirectoryError>(&opened)) {
       throw std::runtime_error("cannot open match " + std::to_string(i) + ": " + problem->message);
     }
