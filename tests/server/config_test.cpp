@@ -149,12 +149,12 @@ TEST(ServerConfig, EveryRangeMessageNamesTheKeyTheRangeAndTheValue) {
       {{"--maps", ""}, "matches.maps must list non-empty names, got \"\" at 1"},
       {{"--maps", "a.toml,,b.toml"}, "matches.maps must list non-empty names, got \"\" at 2"},
       {{"--mode", "ctf"}, "--mode: matches.mode must be one of ffa|tdm, got \"ctf\""},
-      {{"--frag-limit", "0"}, "matches.frag_limit must be 1..10000, got 0"},
-      {{"--time-limit-s", "9.5"}, "matches.time_limit_s must be 10..86400, got 9.5"},
+      {{"--frag-limit", "1001"}, "matches.frag_limit must be 0..1000, got 1001"},
+      {{"--time-limit-s", "-0.5"}, "matches.time_limit_s must be 0..86400, got -0.5"},
       {{"--time-limit-s", "long"},
-       "--time-limit-s: matches.time_limit_s must be a number 10..86400, got \"long\""},
+       "--time-limit-s: matches.time_limit_s must be a number 0..86400, got \"long\""},
       {{"--time-limit-s", "inf"},
-       "--time-limit-s: matches.time_limit_s must be a number 10..86400, got \"inf\""},
+       "--time-limit-s: matches.time_limit_s must be a number 0..86400, got \"inf\""},
       {{"--warmup-s", "-1"}, "matches.warmup_s must be 0..600, got -1"},
       {{"--min-players", "0"}, "matches.min_players must be 1..64, got 0"},
       {{"--min-players", "17"}, "matches.min_players must be 1..matches.max_players (16), got 17"},
@@ -396,7 +396,7 @@ TEST(ServerConfig, RenderedConfigLoadsBackToTheSameValues) {
   changed.log.format = LogFormat::Json;
   changed.matches.maps = {"a \"b\".toml", "c.toml"};
   changed.matches.self_damage = 0.1;
-  changed.matches.time_limit_s = 1e-5;  // out of range, but it must still read back exactly
+  changed.matches.time_limit_s = 1e-5;  // written with an exponent, read back exactly
   changed.matches.friendly_fire = true;
   ServerConfig loaded;
   EXPECT_TRUE(apply_config_toml(render_config_toml(changed), "rendered", loaded).empty());

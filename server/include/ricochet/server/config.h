@@ -77,8 +77,8 @@ struct MatchesConfig {
   /// ends is followed by one on the next map. Every file is loaded and validated at start.
   std::vector<std::string> maps = {"server/maps/arena.map"};
   std::string mode = "ffa";         ///< "ffa" (free-for-all) or "tdm" (team deathmatch)
-  int frag_limit = 20;              ///< a player (ffa) or team (tdm) reaching it ends the match
-  double time_limit_s = 600;        ///< the match ends after this long (warm-up not counted)
+  int frag_limit = 20;              ///< a player's (ffa) or team's (tdm) score ending it; 0: none
+  double time_limit_s = 600;        ///< after the warm-up, the match ends this late; 0: none
   double warmup_s = 10;             ///< once min_players are in, before the match counts
   int min_players = 2;              ///< players needed before the warm-up starts
   double respawn_delay_s = 2;       ///< dead this long before respawning
