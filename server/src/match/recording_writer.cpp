@@ -183,23 +183,21 @@ void RecordingWriter::encode_pending() {
                  previous_entities_.end(),
                  [](const RecordedInput& input, std::uint32_t id) { return input.entity_id == id; });
   if (!same_entities) flags |= rf::kTickEntities;
-  // The change masks, into a scratch tail of record_ that moves to its place below.
   const auto previous = [&](std::uint32_t id) {
-    const auto it = std::lower_bound(
+    return std::lower_bound(
         previous_inputs_.begin(), previous_inputs_.end(), id,
         [](const RecordedInput& input, std::uint32_t key) { return input.entity_id < key; });
-    return it;
   };
-  std::vector<std::uint8_t> changes;
+  changes_.clear();
   bool any_change = false;
   for (const RecordedInput& input : pending_.inputs) {
     const auto it = previous(input.entity_id);
     RecordedInput before;
     before.entity_id = input.entity_id;
     if (it != previous_inputs_.end() && it->entity_id == input.entity_id) before = *it;
-    const std::size_t at = changes.size();
-    put_input_change(changes, before, input);
-    any_change = any_change || changes.size() != at + 1 || changes[at] != 0;
+    const std::size_t at = changes_.size();
+    put_input_change(changes_, before, input);
+    any_change = any_change || changes_.size() != at + 1 || changes_[at] != 0;
   }
   if (any_change) flags |= rf::kTickChanges;
   if (pending_has_hash_) flags |= rf::kTickHash;
@@ -214,7 +212,7 @@ void RecordingWriter::encode_pending() {
     rf::put_varint(record_, pending_.inputs.size());
     for (const RecordedInput& input : pending_.inputs) rf::put_varint(record_, input.entity_id);
   }
-  if (flags & rf::kTickChanges) rf::put_bytes(record_, changes);
+  if (flags & rf::kTickChanges) rf::put_bytes(record_, changes_);
   if (flags & rf::kTickHash) rf::put_u64(record_, pending_hash_);
 
   if (out_.size() + chunk_.size() + record_.size() + kFinishReserve > max_bytes_) {

@@ -124,7 +124,8 @@ class RecordingWriter {
   std::size_t max_bytes_;
   std::vector<std::uint8_t> out_;    ///< magic, header chunk and the full tick chunks
   std::vector<std::uint8_t> chunk_;  ///< the tick chunk being filled (payload only)
-  std::vector<std::uint8_t> record_; ///< scratch for one tick record
+  std::vector<std::uint8_t> record_;  ///< scratch: one tick record
+  std::vector<std::uint8_t> changes_; ///< scratch: its change masks and fields
   RecordedTick pending_;
   bool has_pending_ = false;         ///< pending_ is a tick not yet encoded
   bool open_ = false;                ///< between begin_tick() and end_tick()
