@@ -72,7 +72,7 @@ struct GameConfig {
 struct MatchesConfig {
   int count = 4;                              ///< free-for-all matches opened at start
   int max_players = 16;                       ///< per match opened at start
-  std::string map = "server/maps/arena.map";  ///< map file of the matches opened at start
+  std::string map = "server/maps/arena.toml";  ///< map file of the matches opened at start
 };
 
 /// [admin] HTTP: /metrics, /healthz, /readyz.
