@@ -245,6 +245,10 @@ TEST(Map, EveryRuleIsRefusedNamingTheLineTheItemAndWhatCame) {
       {"format = 1\nname = \n", 2, "toml", "malformed TOML"},
       {"format = 1\nname = \"\xff\"\n", 2, "toml", "malformed TOML"},
       {"format = 1\ncolour = 3\n", 2, "colour", "unknown key (expected one of format, name"},
+      // An empty key names itself "" (found by map_parser_fuzz: the item was empty).
+      {"\"\" = \"\"\n", 1, "\"\"", "unknown key"},
+      {kHeader + "[[box]]\n\"\" = 1\n", 7, "box 1 (\"\")", "unknown key"},
+      {kHeader + "[[box]]\n\"\\u0001\" = 1\n", 7, "box 1 (?)", "unknown key"},
       {"format = 1\nname = \"a\"\n", 0, "bounds", "expected a table [bounds]"},
       {"format = 1\nname = \"a\"\nbounds = 3\n", 3, "bounds", "expected a table, got an integer"},
       {kHeader + "[bounds.extra]\n", 6, "bounds (extra)", "unknown key (expected one of min, max)"},

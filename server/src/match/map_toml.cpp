@@ -188,8 +188,9 @@ class Parser {
         list += name;
       }
       const int at = key.source().begin.line > 0 ? static_cast<int>(key.source().begin.line) : line;
-      fail(at, item_name(entry, map_text::printable(key.str())),
-           "unknown key (expected one of " + list + ")");
+      // An empty key ("" = 1) is a key too: shown as "".
+      const std::string shown = key.str().empty() ? "\"\"" : map_text::printable(key.str());
+      fail(at, item_name(entry, shown), "unknown key (expected one of " + list + ")");
     }
   }
 

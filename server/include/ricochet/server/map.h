@@ -126,8 +126,9 @@ MapResult parse_map_files(std::span<const MapFile> files);
 
 /// Reads a Wavefront OBJ text into a mesh: `v X Y Z [W]` vertices, `f` faces of 3..64 corners in
 /// the v, v/vt, v/vt/vn and v//vn forms with 1-based or negative (relative) indices, fanned into
-/// triangles; vt, vn, vp, o, g, s, usemtl, mtllib and comments are ignored. Errors name `file`
-/// and the line; `item` names the mesh. Vertices are not checked against any bounds here.
+/// triangles; vt and vn only count (face indices into them are checked); vp, o, g, s, usemtl,
+/// mtllib and comments are ignored. Errors name `file` and the line; `item` names the mesh.
+/// Vertices are not checked against any bounds here.
 std::variant<MapMesh, MapError> parse_obj(std::string_view text, std::string_view file,
                                           std::string_view item);
 
