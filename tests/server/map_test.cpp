@@ -237,10 +237,10 @@ TEST(Map, EveryRuleIsRefusedNamingTheLineTheItemAndWhatCame) {
       // The document and its top level.
       {"", 0, "format", "expected the format version (format = 1), missing"},
       {"format = 2\n", 1, "format", "expected an integer in 1..1, got 2"},
-      {"format = \"1\"\n", 1, "format", "expected an integer, got a string"},
+      {"format = \"1\"\n", 1, "format", "expected an integer, got string"},
       {"format = 1\nname = \"bad/name\"\n", 2, "name", "got 'bad/name'"},
       {"format = 1\nname = \"\"\n", 2, "name", "expected 1..32 of"},
-      {"format = 1\nname = 7\n", 2, "name", "expected a string, got an integer"},
+      {"format = 1\nname = 7\n", 2, "name", "expected a string, got integer"},
       {"format = 1\nname = \"a\"\nname = \"b\"\n", 3, "toml", "malformed TOML"},
       {"format = 1\nname = \n", 2, "toml", "malformed TOML"},
       {"format = 1\nname = \"\xff\"\n", 2, "toml", "malformed TOML"},
@@ -250,7 +250,7 @@ TEST(Map, EveryRuleIsRefusedNamingTheLineTheItemAndWhatCame) {
       {kHeader + "[[box]]\n\"\" = 1\n", 7, "box 1 (\"\")", "unknown key"},
       {kHeader + "[[box]]\n\"\\u0001\" = 1\n", 7, "box 1 (?)", "unknown key"},
       {"format = 1\nname = \"a\"\n", 0, "bounds", "expected a table [bounds]"},
-      {"format = 1\nname = \"a\"\nbounds = 3\n", 3, "bounds", "expected a table, got an integer"},
+      {"format = 1\nname = \"a\"\nbounds = 3\n", 3, "bounds", "expected a table, got integer"},
       {kHeader + "[bounds.extra]\n", 6, "bounds (extra)", "unknown key (expected one of min, max)"},
       {kHeader + "[bounds]\n", 6, "toml", "malformed TOML"},
       // The bounds.
@@ -258,9 +258,9 @@ TEST(Map, EveryRuleIsRefusedNamingTheLineTheItemAndWhatCame) {
        "bounds (max.y)", "expected at least min + 1 = 1, got 0.5"},
       {"format = 1\nname = \"a\"\n[bounds]\nmin = [0, 0]\nmax = [1, 1, 1]\n", 4, "bounds (min)",
        "expected an array of 3 numbers [x, y, z], got an array of 2"},
-      {"format = 1\nname = \"a\"\n[bounds]\nmin = 0\n", 4, "bounds (min)", "got an integer"},
+      {"format = 1\nname = \"a\"\n[bounds]\nmin = 0\n", 4, "bounds (min)", "got integer"},
       {"format = 1\nname = \"a\"\n[bounds]\nmin = [\"a\", 0, 0]\n", 4, "bounds (min.x)",
-       "expected a number, got a string"},
+       "expected a number, got string"},
       {"format = 1\nname = \"a\"\n[bounds]\nmin = [-inf, 0, 0]\n", 4, "bounds (min.x)",
        "expected a finite number, got -inf"},
       {"format = 1\nname = \"a\"\n[bounds]\nmin = [0, nan, 0]\n", 4, "bounds (min.y)",
@@ -284,8 +284,8 @@ TEST(Map, EveryRuleIsRefusedNamingTheLineTheItemAndWhatCame) {
       {kHeader + kBox + "half_extents = [1, 1, 1]\n" + kBox + "half_extents = [1, 0, 1]\n", 11,
        "box 2 (half_extents.y)", "got 0"},
       {kHeader + "[box]\ncenter = [0, 0, 0]\n", 6, "box",
-       "expected an array of tables ([[box]]), got a table"},
-      {"box = [1]\n" + kHeader, 1, "box 1", "expected a table, got an integer"},
+       "expected an array of tables ([[box]]), got table"},
+      {"box = [1]\n" + kHeader, 1, "box 1", "expected a table, got integer"},
       // Walls.
       {kHeader + "[[wall]]\nfrom = [1, 1]\nto = [1, 1]\nbase = 0\nheight = 2\nthickness = 1\n", 8,
        "wall 1 (to)", "expected an end at least 0.002 m from the start, got 0 m"},
@@ -340,7 +340,7 @@ TEST(Map, EveryRuleIsRefusedNamingTheLineTheItemAndWhatCame) {
       {kHeader + kPickup + "kind = \"ammo\"\namount = 150\n" + kSpawn, 10, "pickup 1 (amount)",
        "expected an integer in 1..100, got 150"},
       {kHeader + kPickup + "kind = \"armor\"\namount = 2.5\n" + kSpawn, 10, "pickup 1 (amount)",
-       "expected an integer, got a float"},
+       "expected an integer, got floating-point"},
       {kHeader +
            "[[pickup]]\nposition = [0, 0.5, 0]\nrespawn_s = 0.5\nkind = \"ammo\"\n"
            "amount = 1\n" +

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 
 #include "map_text.h"
@@ -68,30 +69,11 @@ std::string format(const Vec3& p) {
          ")";
 }
 
-const char* type_name(const toml::node& node) {
-  switch (node.type()) {
-    case toml::node_type::table:
-      return "a table";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return "an integer";
-    case toml::node_type::floating_point:
-      return "a float";
-    case toml::node_type::boolean:
-      return "a boolean";
-    case toml::node_type::date:
-      return "a date";
-    case toml::node_type::time:
-      return "a time";
-    case toml::node_type::date_time:
-      return "a date-time";
-    case toml::node_type::none:
-      break;
-  }
-  return "nothing";
+/// toml++'s name of a node's type: "string", "integer", "floating-point", "table" ...
+std::string type_name(const toml::node& node) {
+  std::ostringstream out;
+  out << node.type();
+  return out.str();
 }
 
 int line_of(const toml::node& node) {
@@ -241,7 +223,7 @@ class Parser {
     } else if (const auto* floating = node.as_floating_point()) {
       value = floating->get();
     } else {
-      fail(line_of(node), item, std::string("expected a number, got ") + type_name(node));
+      fail(line_of(node), item, "expected a number, got " + type_name(node));
     }
     if (!std::isfinite(value))
       fail(line_of(node), item, "expected a finite number, got " + format(value));
