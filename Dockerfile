@@ -28,7 +28,8 @@ RUN cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release \
 RUN install -D -m 0755 build/release/server/ricochet-server /out/bin/ricochet-server \
  && install -D -m 0755 build/release/tools/bench/physics-bench /out/bin/physics-bench \
  && install -D -m 0755 build/release/tools/bench/db-bench /out/bin/db-bench \
- && install -D -m 0644 server/maps/arena.map /out/share/ricochet/maps/arena.map \
+ && install -D -m 0644 -t /out/share/ricochet/maps \
+      server/maps/arena.toml server/maps/foundry.toml server/maps/foundry_ramps.obj \
  && install -D -m 0644 server/config/ricochet.toml /out/share/ricochet/ricochet.toml
 
 ############################ runtime stage ############################
@@ -75,4 +76,5 @@ HEALTHCHECK --interval=15s --timeout=5s --start-period=20s --retries=3 \
 # given with --config (the documented sample is /usr/local/share/ricochet/ricochet.toml).
 # No ENTRYPOINT, so `podman run IMAGE physics-bench --bodies 256` runs any binary directly.
 CMD ["ricochet-server", "--data-dir", "/var/lib/ricochet", \
-     "--map", "/usr/local/share/ricochet/maps/arena.map", "--admin-bind", "0.0.0.0"]
+     "--maps", "/usr/local/share/ricochet/maps/arena.toml,/usr/local/share/ricochet/maps/foundry.toml", \
+     "--admin-bind", "0.0.0.0"]
