@@ -153,7 +153,7 @@ int main(int argc, char** argv) {
   CLI::App app{"ricochet-replay: re-simulates a recorded match and checks its hashes"};
   app.add_option("FILE", file, "the recording")->required();
   app.add_flag("--json", json, "print the report as one JSON object");
-  app.add_option("--export", export_path, "write every step's entity positions as CSV (tick,entity,x,y,z)");
+  app.add_option("--export", export_path, "write every step's player positions as CSV (tick,entity,x,y,z)");
   app.add_flag("--keep-going", keep_going, "replay to the end after a mismatch, counting them");
   CLI11_PARSE(app, argc, argv);
 
@@ -170,9 +170,11 @@ int main(int argc, char** argv) {
   for (const RecordedFile& f : recording.header.map_files) map_files.push_back({f.path, f.text});
   auto map = parse_map_files(map_files);
   if (const auto* bad = std::get_if<MapError>(&map)) return fail(file, "its map: " + bad->describe());
-  auto config = Match::decode_config(recording.header.config);
+  auto config = decode_match_config(recording.header.config);
   if (const auto* bad = std::get_if<std::string>(&config)) return fail(file, "its config: " + *bad);
-  auto created = Match::create(std::get<MatchConfig>(config), std::get<Map>(map), 0);
+  MatchConfig replay_config = std::get<MatchConfig>(config);
+  replay_config.record = false;  // a replay records nothing itself
+  auto created = Match::create(replay_config, std::get<Map>(map), 0);
   if (const auto* bad = std::get_if<std::string>(&created)) return fail(file, "its match: " + *bad);
   Match& match = std::get<Match>(created);
   MatchSimulation simulation(match);
@@ -191,6 +193,7 @@ int main(int argc, char** argv) {
   if (csv) {
     options.after_step = [&](std::uint32_t tick) {
       for (const auto& state : match.entity_states()) {
+        if ((state.flags & kEntityKindMask) != 0) continue;  // players only, not projectiles
         std::fprintf(csv, "%u,%u,%.9g,%.9g,%.9g\n", tick, state.id, state.position_m[0],
                      state.position_m[1], state.position_m[2]);
       }
