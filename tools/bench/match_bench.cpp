@@ -11,11 +11,14 @@
 ///   projectiles_avg              rockets and grenades in flight, averaged over the ticks
 ///   shots_per_s, kills           what the fight did
 ///   matches_per_core             how many such matches one core could tick at this rate
+///   replay_speed_x               the match's recording played back (ricochet-replay's path):
+///                                simulated seconds per wall second; replay_hashes_match
 /// then one line of lag-compensated hitscan throughput (LagCompensation::cast against the map
 /// and 64 rewound players, interpolated between ticks): lag_shots_per_s_per_core.
 ///
 ///   match-bench [--players 16,32,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
-///               [--map server/maps/foundry.toml] [--out FILE]
+///               [--map server/maps/foundry.toml] [--record FILE] [--out FILE]
+/// --record writes the last player count's recording to FILE (for ricochet-replay).
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -30,6 +33,9 @@
 #include "ricochet/server/lag_compensation.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
+#include "ricochet/server/match_replay.h"
+#include "ricochet/server/recording.h"
+#include "ricochet/server/replay.h"
 #include "ricochet/wire/game.pb.h"
 
 namespace server = ricochet::server;
@@ -51,6 +57,7 @@ struct Options {
   int ack_delay_ms = 100;
   std::string map = "server/maps/foundry.toml";
   std::string out;
+  std::string record;
 };
 
 /// The scripted fighters: each strafes, aims at the nearest other living player (where the
@@ -186,6 +193,32 @@ std::string run(const server::Map& map, int players, const Options& options) {
   const double kbps = static_cast<double>(payload_bytes) * 8 / 1000 / options.seconds / players;
   const double period_ms = 1000.0 / options.rate_hz;
   const server::MatchCounters& counters = match.counters();
+  // The recording, played back as ricochet-replay does.
+  const std::vector<std::uint8_t> recording_bytes = match.take_recording();
+  if (!options.record.empty()) {
+    std::ofstream file(options.record, std::ios::binary | std::ios::trunc);
+    file.write(reinterpret_cast<const char*>(recording_bytes.data()),
+               static_cast<std::streamsize>(recording_bytes.size()));
+  }
+  double replay_speed = 0;
+  bool replay_matches = false;
+  auto read = server::read_recording(recording_bytes);
+  if (auto* recording = std::get_if<server::Recording>(&read)) {
+    auto opened = server::open_recorded_match(*recording);
+    if (auto* replayed = std::get_if<server::Match>(&opened)) {
+      server::MatchSimulation simulation(*replayed);
+      server::ReplayOptions replay_options;
+      replay_options.wall_clock_s = [] { return static_cast<double>(steady_ns()) / 1e9; };
+      const server::ReplayReport report = server::replay(*recording, simulation, replay_options);
+      replay_speed = report.wall_s > 0 ? report.simulated_s / report.wall_s : 0;
+      replay_matches = !report.first_mismatch && report.hashes_checked > 0;
+    } else {
+      std::fprintf(stderr, "match-bench: %s\n", std::get<std::string>(opened).c_str());
+    }
+  } else {
+    std::fprintf(stderr, "match-bench: recording: %s\n", std::get<server::RecordingError>(read).message.c_str());
+  }
+  const double player_minutes = players * (options.seconds + 1) / 60.0;
   char line[2048];
   std::snprintf(line, sizeof line,
                 "{\"bench\":\"match\",\"map\":\"%s\",\"players\":%d,\"rate_hz\":%d,\"seconds\":%g,"
@@ -194,7 +227,8 @@ std::string run(const server::Map& map, int players, const Options& options) {
                 "\"movement\":%.4f,\"combat\":%.4f,\"physics\":%.4f,\"history\":%.4f,"
                 "\"snapshots\":%.4f,\"send\":%.4f},\"kbps_per_client\":%.1f,\"projectiles_avg\":%.1f,"
                 "\"shots_per_s\":%.1f,\"kills\":%llu,\"explosions\":%llu,\"recording_bytes\":%llu,"
-                "\"matches_per_core\":%.1f,\"overruns\":%llu}",
+                "\"recording_bytes_per_player_minute\":%.0f,\"replay_speed_x\":%.1f,"
+                "\"replay_hashes_match\":%s,\"matches_per_core\":%.1f,\"overruns\":%llu}",
                 map.name.c_str(), players, options.rate_hz, options.seconds, options.ack_delay_ms,
                 percentile(tick_ms, 0.5), percentile(tick_ms, 0.99), percentile(tick_ms, 1.0), avg,
                 sum.apply_inputs_ms / n, sum.rules_ms / n, sum.movement_ms / n, sum.combat_ms / n,
@@ -203,7 +237,9 @@ std::string run(const server::Map& map, int players, const Options& options) {
                 static_cast<double>(counters.shots_fired - shots_before) / options.seconds,
                 static_cast<unsigned long long>(counters.kills - kills_before),
                 static_cast<unsigned long long>(counters.explosions),
-                static_cast<unsigned long long>(counters.recording_bytes), period_ms / avg,
+                static_cast<unsigned long long>(recording_bytes.size()),
+                static_cast<double>(recording_bytes.size()) / player_minutes, replay_speed,
+                replay_matches ? "true" : "false", period_ms / avg,
                 static_cast<unsigned long long>(counters.overruns));
   return line;
 }
@@ -254,14 +290,17 @@ std::string lag_shots(const server::Map& map, const Options& options) {
                                   static_cast<std::uint8_t>(uniform() * 255), 40.0);
     ricochet::physics::RayHit hit;
     const ricochet::physics::Vec3 direction = (to - from).normalized();
-    hits += lag.cast(world.value(), from + ricochet::physics::Vec3(0, 0.25f, 0), direction, 200, view,
-                     static_cast<std::uint32_t>(shooter + 1), hit);
+    if (lag.cast(world.value(), from + ricochet::physics::Vec3(0, 0.25f, 0), direction, 200, view,
+                 static_cast<std::uint32_t>(shooter + 1), hit) &&
+        hit.target.user_data != 0) {
+      ++hits;  // a player, not the map
+    }
   }
   const double seconds = static_cast<double>(steady_ns() - started) / 1e9;
   char line[512];
   std::snprintf(line, sizeof line,
                 "{\"bench\":\"lag_compensated_shots\",\"map\":\"%s\",\"players\":%d,\"shots\":%d,"
-                "\"hits\":%d,\"us_per_shot\":%.3f,\"lag_shots_per_s_per_core\":%.0f}",
+                "\"player_hits\":%d,\"us_per_shot\":%.3f,\"lag_shots_per_s_per_core\":%.0f}",
                 map.name.c_str(), kPlayers, kShots, hits, seconds * 1e6 / kShots, kShots / seconds);
   return line;
 }
@@ -277,6 +316,7 @@ int main(int argc, char** argv) {
   app.add_option("--ack-delay-ms", options.ack_delay_ms, "how late clients acknowledge snapshots")->check(CLI::Range(0, 1000));
   app.add_option("--map", options.map, "map file");
   app.add_option("--out", options.out, "also append the JSON lines to this file");
+  app.add_option("--record", options.record, "write the (last) match's recording to this file");
   CLI11_PARSE(app, argc, argv);
 
   auto loaded = server::load_map_file(options.map);

@@ -21,23 +21,12 @@
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
 #include "ricochet/server/recording.h"
+#include "ricochet/server/match_replay.h"
 #include "ricochet/server/replay.h"
 
 namespace {
 
 using namespace ricochet::server;
-
-/// Match as a ReplaySimulation.
-class MatchSimulation final : public ReplaySimulation {
- public:
-  explicit MatchSimulation(Match& match) : match_(match) {}
-  void apply(const RecordedEvent& event) override { match_.apply(event); }
-  void step(std::span<const RecordedInput> inputs) override { match_.step_recorded(inputs); }
-  std::uint64_t state_hash() const override { return match_.state_hash(); }
-
- private:
-  Match& match_;
-};
 
 /// The whole file, or nothing and `error` set.
 std::optional<std::vector<std::uint8_t>> read_file(const std::string& path, std::string& error) {
@@ -166,17 +155,9 @@ int main(int argc, char** argv) {
   }
   const Recording& recording = std::get<Recording>(read);
 
-  std::vector<MapFile> map_files;
-  for (const RecordedFile& f : recording.header.map_files) map_files.push_back({f.path, f.text});
-  auto map = parse_map_files(map_files);
-  if (const auto* bad = std::get_if<MapError>(&map)) return fail(file, "its map: " + bad->describe());
-  auto config = decode_match_config(recording.header.config);
-  if (const auto* bad = std::get_if<std::string>(&config)) return fail(file, "its config: " + *bad);
-  MatchConfig replay_config = std::get<MatchConfig>(config);
-  replay_config.record = false;  // a replay records nothing itself
-  auto created = Match::create(replay_config, std::get<Map>(map), 0);
-  if (const auto* bad = std::get_if<std::string>(&created)) return fail(file, "its match: " + *bad);
-  Match& match = std::get<Match>(created);
+  auto opened = open_recorded_match(recording);
+  if (const auto* bad = std::get_if<std::string>(&opened)) return fail(file, *bad);
+  Match& match = std::get<Match>(opened);
   MatchSimulation simulation(match);
 
   std::FILE* csv = nullptr;
