@@ -83,6 +83,53 @@ struct Candidate {
   }
 };
 
+/// The deltas of one tick's changed entities, per world index, each against the baseline state
+/// and age it was worked out for: clients holding the same baseline state of an entity at the
+/// same age share its delta and change instead of working them out again.
+class SharedDeltas {
+ public:
+  /// Forgets every delta (nothing is cleared: each remembers the generation it was made in).
+  void reset(std::size_t world_size) {
+    ++generation_;
+    if (ways_.size() < world_size * kWays) ways_.resize(world_size * kWays);
+  }
+
+  struct Way {
+    std::uint64_t generation = 0;
+    layout::Prediction prediction;
+    QuantizedEntity baseline;
+    layout::Delta delta;
+    double change_m = 0;
+  };
+
+  const Way* find(std::size_t world_index, const QuantizedEntity& baseline,
+                  const layout::Prediction& prediction) const {
+    for (std::size_t w = 0; w < kWays; ++w) {
+      const Way& way = ways_[world_index * kWays + w];
+      if (way.generation == generation_ && way.prediction == prediction &&
+          same_state(way.baseline, baseline)) {
+        return &way;
+      }
+    }
+    return nullptr;
+  }
+
+  /// A way for a delta not found: a free one, else the last (the first keeps the commonest).
+  Way& claim(std::size_t world_index) {
+    Way* ways = &ways_[world_index * kWays];
+    for (std::size_t w = 0; w + 1 < kWays; ++w) {
+      if (ways[w].generation != generation_) return ways[w];
+    }
+    return ways[kWays - 1];
+  }
+  std::uint64_t generation() const { return generation_; }
+
+ private:
+  static constexpr std::size_t kWays = 2;
+  std::uint64_t generation_ = 0;
+  std::vector<Way> ways_;
+};
+
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
 struct EncodeBuffers {
   std::vector<Candidate> candidates;
@@ -106,7 +153,7 @@ class EncodePass {
   EncodePass(const QuantizationSpec& spec, const SnapshotEncoderOptions& options,
              std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
              std::span<const QuantizedEntity> world, const layout::FieldWidths& widths,
-             EncodeBuffers& buffers)
+             EncodeBuffers& buffers, SharedDeltas* shared_deltas)
       : spec_(spec),
         options_(options),
         baseline_(baseline),
@@ -115,12 +162,14 @@ class EncodePass {
         prediction_(layout::make_prediction(baseline_age, spec)),
         buffers_(buffers),
         candidates_(buffers.candidates),
-        by_priority_(buffers.by_priority) {
+        by_priority_(buffers.by_priority),
+        shared_deltas_(shared_deltas) {
     candidates_.clear();
   }
 
   /// Walks world and baseline by id; each difference becomes a candidate whose priority adds
-  /// this tick's weight to what it carried (`carried`, sorted by id).
+  /// this tick's weight to what it carried (`carried`, sorted by id), a changed one with its
+  /// delta.
   void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                     std::array<float, 3> viewer_m);
   /// Chooses the field orders over all candidates and estimates each candidate's bits.
@@ -161,6 +210,7 @@ class EncodePass {
   std::size_t selected_count_ = 0;
   bool any_nan_priority_ = false;
   bool sorted_ = false;  ///< by_priority_ is filled
+  SharedDeltas* shared_deltas_;  ///< the tick's, or null
 };
 
 float EncodePass::distance_weight(const QuantizedEntity& entity,
@@ -210,8 +260,26 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
       ++i;
     } else {
       if (!same_state(world_[i], baseline_[j])) {
-        add_world_candidate(Candidate::of(Candidate::Kind::Changed, j, i),
-                            change_m(baseline_[j], world_[i]));
+        Candidate candidate = Candidate::of(Candidate::Kind::Changed, j, i);
+        const SharedDeltas::Way* shared =
+            shared_deltas_ ? shared_deltas_->find(i, baseline_[j], prediction_) : nullptr;
+        double change = 0;
+        if (shared) {
+          candidate.delta = shared->delta;
+          change = shared->change_m;
+        } else {
+          candidate.delta = layout::make_delta(baseline_[j], world_[i], widths_, prediction_);
+          change = change_m(baseline_[j], world_[i]);
+          if (shared_deltas_) {
+            SharedDeltas::Way& way = shared_deltas_->claim(i);
+            way.generation = shared_deltas_->generation();
+            way.prediction = prediction_;
+            way.baseline = baseline_[j];
+            way.delta = candidate.delta;
+            way.change_m = change;
+          }
+        }
+        add_world_candidate(candidate, change);
       }
       ++i;
       ++j;
@@ -232,8 +300,6 @@ void EncodePass::estimate_costs() {
   for (Candidate& c : candidates_) {
     if (c.kind != Candidate::Kind::Changed) continue;
     ++changed;
-    c.delta = layout::make_delta(baseline_[c.baseline_index], world_[c.world_index], widths_,
-                                 prediction_);
     const layout::Delta& delta = c.delta;
     for (int a = 0; a < 3; ++a) {
       if (delta.mask & layout::kPositionChanged) position[a].push_back(delta.position[a]);
@@ -469,17 +535,27 @@ struct SnapshotEncodeCache::Streams {
   std::size_t used = 0;                       ///< of entries, this tick's
   std::size_t next_replaced = 0;              ///< when all are used
   std::vector<SharedStream> entries;
+  const QuantizedEntity* world = nullptr;  ///< this tick's, its identity
+  std::size_t world_size = 0;
+  SharedDeltas deltas;
 
   explicit Streams(std::size_t max_streams) : entries(max_streams) {}
 
   /// Forgets the previous tick's streams when `tick` is a new one.
-  void begin(std::uint32_t tick_now, const layout::FieldWidths& encoder_widths) {
-    if (has_tick && tick == tick_now && widths == encoder_widths) return;
+  void begin(std::uint32_t tick_now, std::span<const QuantizedEntity> world_now,
+             const layout::FieldWidths& encoder_widths) {
+    if (has_tick && tick == tick_now && world == world_now.data() &&
+        world_size == world_now.size() && widths == encoder_widths) {
+      return;
+    }
     has_tick = true;
     tick = tick_now;
+    world = world_now.data();
+    world_size = world_now.size();
     widths = encoder_widths;
     used = 0;
     next_replaced = 0;
+    deltas.reset(world_size);
   }
 
   SharedStream* find(std::span<const QuantizedEntity> world,
@@ -591,7 +667,7 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   const SharedStream* reused = nullptr;
   const layout::Prediction prediction = layout::make_prediction(baseline_age, spec_);
   if (shared) {
-    shared->begin(tick, scratch_->widths);
+    shared->begin(tick, world, scratch_->widths);
     const SharedStream* found = shared->find(world, baseline, baseline_age, prediction);
     if (found && found->candidate_bits <= select_budget_bits &&
         found->stream.size() <= stream_budget_bytes) {
@@ -611,7 +687,7 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
     out.set_entities(reused->stream.data(), reused->stream.size());
   } else {
     EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
-                    scratch_->buffers);
+                    scratch_->buffers, shared ? &shared->deltas : nullptr);
     pass.find_pending(priority_, viewer_m);
     pass.estimate_costs();
     pass.select(select_budget_bits);

@@ -55,9 +55,10 @@ struct SnapshotEncodeReport {
 /// every client's SnapshotEncoder::encode of a tick, with the same world each time. A client
 /// whose baseline holds exactly the entities, and is exactly as old, as that of a client encoded
 /// before it this tick, and for whom everything pending fits the budget, is sent a copy of that
-/// client's stream instead of encoding it again: the bytes are the ones encode would write
-/// without the cache. Any other client is encoded as usual. Allocates nothing once its buffers
-/// have grown to the world's size.
+/// client's stream instead of encoding it again. Any other client is encoded as usual, except
+/// that a changed entity whose baseline state and age another client of the tick had reuses
+/// that client's delta. Either way the bytes are the ones encode writes without the cache.
+/// Allocates nothing once its buffers have grown to the world's size.
 class SnapshotEncodeCache {
  public:
   /// max_streams: distinct (baseline, age) streams remembered per tick, 1..64; past that the
