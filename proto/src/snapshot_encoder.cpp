@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <optional>
 
 #include "ricochet/proto/bit_stream.h"
 #include "ricochet/proto/snapshot_codec.h"
@@ -82,10 +83,58 @@ struct Candidate {
   }
 };
 
+/// The deltas of one tick's changed entities, per world index, each against the baseline state
+/// and age it was worked out for: clients holding the same baseline state of an entity at the
+/// same age share its delta and change instead of working them out again.
+class SharedDeltas {
+ public:
+  /// Forgets every delta (nothing is cleared: each remembers the generation it was made in).
+  void reset(std::size_t world_size) {
+    ++generation_;
+    if (ways_.size() < world_size * kWays) ways_.resize(world_size * kWays);
+  }
+
+  struct Way {
+    std::uint64_t generation = 0;
+    layout::Prediction prediction;
+    QuantizedEntity baseline;
+    layout::Delta delta;
+    double change_m = 0;
+  };
+
+  const Way* find(std::size_t world_index, const QuantizedEntity& baseline,
+                  const layout::Prediction& prediction) const {
+    for (std::size_t w = 0; w < kWays; ++w) {
+      const Way& way = ways_[world_index * kWays + w];
+      if (way.generation == generation_ && way.prediction == prediction &&
+          same_state(way.baseline, baseline)) {
+        return &way;
+      }
+    }
+    return nullptr;
+  }
+
+  /// A way for a delta not found: a free one, else the last (the first keeps the commonest).
+  Way& claim(std::size_t world_index) {
+    Way* ways = &ways_[world_index * kWays];
+    for (std::size_t w = 0; w + 1 < kWays; ++w) {
+      if (ways[w].generation != generation_) return ways[w];
+    }
+    return ways[kWays - 1];
+  }
+  std::uint64_t generation() const { return generation_; }
+
+ private:
+  static constexpr std::size_t kWays = 2;
+  std::uint64_t generation_ = 0;
+  std::vector<Way> ways_;
+};
+
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
 struct EncodeBuffers {
   std::vector<Candidate> candidates;
   std::vector<std::uint32_t> by_priority;
+  std::vector<std::pair<float, std::uint32_t>> priority_keys;  ///< select's sort
   std::array<std::vector<std::uint64_t>, 3> position, velocity;  ///< estimate_costs' codes
   std::vector<std::uint64_t> orientation;
   std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;  ///< write's
@@ -104,7 +153,7 @@ class EncodePass {
   EncodePass(const QuantizationSpec& spec, const SnapshotEncoderOptions& options,
              std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
              std::span<const QuantizedEntity> world, const layout::FieldWidths& widths,
-             EncodeBuffers& buffers)
+             EncodeBuffers& buffers, SharedDeltas* shared_deltas)
       : spec_(spec),
         options_(options),
         baseline_(baseline),
@@ -113,12 +162,14 @@ class EncodePass {
         prediction_(layout::make_prediction(baseline_age, spec)),
         buffers_(buffers),
         candidates_(buffers.candidates),
-        by_priority_(buffers.by_priority) {
+        by_priority_(buffers.by_priority),
+        shared_deltas_(shared_deltas) {
     candidates_.clear();
   }
 
   /// Walks world and baseline by id; each difference becomes a candidate whose priority adds
-  /// this tick's weight to what it carried (`carried`, sorted by id).
+  /// this tick's weight to what it carried (`carried`, sorted by id), a changed one with its
+  /// delta.
   void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                     std::array<float, 3> viewer_m);
   /// Chooses the field orders over all candidates and estimates each candidate's bits.
@@ -133,8 +184,16 @@ class EncodePass {
   /// Deferred entities' priorities, sorted by id; returns how many candidates were sent.
   std::size_t carry_priorities(std::vector<std::pair<std::uint32_t, float>>& carried) const;
   std::size_t pending() const { return candidates_.size(); }
+  /// estimate_costs' bits of every candidate, summed.
+  std::size_t candidate_bits() const {
+    std::size_t bits = 0;
+    for (const Candidate& c : candidates_) bits += static_cast<std::size_t>(c.bits);
+    return bits;
+  }
 
  private:
+  /// Fills by_priority_, highest priority first, ties by candidate index; once per pass.
+  void sort_by_priority();
   float distance_weight(const QuantizedEntity& entity, std::array<float, 3> viewer_m) const;
   double change_m(const QuantizedEntity& then, const QuantizedEntity& now) const;
 
@@ -150,6 +209,8 @@ class EncodePass {
   std::vector<std::uint32_t>& by_priority_;  ///< candidate indices, highest priority first
   std::size_t selected_count_ = 0;
   bool any_nan_priority_ = false;
+  bool sorted_ = false;  ///< by_priority_ is filled
+  SharedDeltas* shared_deltas_;  ///< the tick's, or null
 };
 
 float EncodePass::distance_weight(const QuantizedEntity& entity,
@@ -199,8 +260,26 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
       ++i;
     } else {
       if (!same_state(world_[i], baseline_[j])) {
-        add_world_candidate(Candidate::of(Candidate::Kind::Changed, j, i),
-                            change_m(baseline_[j], world_[i]));
+        Candidate candidate = Candidate::of(Candidate::Kind::Changed, j, i);
+        const SharedDeltas::Way* shared =
+            shared_deltas_ ? shared_deltas_->find(i, baseline_[j], prediction_) : nullptr;
+        double change = 0;
+        if (shared) {
+          candidate.delta = shared->delta;
+          change = shared->change_m;
+        } else {
+          candidate.delta = layout::make_delta(baseline_[j], world_[i], widths_, prediction_);
+          change = change_m(baseline_[j], world_[i]);
+          if (shared_deltas_) {
+            SharedDeltas::Way& way = shared_deltas_->claim(i);
+            way.generation = shared_deltas_->generation();
+            way.prediction = prediction_;
+            way.baseline = baseline_[j];
+            way.delta = candidate.delta;
+            way.change_m = change;
+          }
+        }
+        add_world_candidate(candidate, change);
       }
       ++i;
       ++j;
@@ -221,8 +300,6 @@ void EncodePass::estimate_costs() {
   for (Candidate& c : candidates_) {
     if (c.kind != Candidate::Kind::Changed) continue;
     ++changed;
-    c.delta = layout::make_delta(baseline_[c.baseline_index], world_[c.world_index], widths_,
-                                 prediction_);
     const layout::Delta& delta = c.delta;
     for (int a = 0; a < 3; ++a) {
       if (delta.mask & layout::kPositionChanged) position[a].push_back(delta.position[a]);
@@ -256,21 +333,16 @@ void EncodePass::estimate_costs() {
 }
 
 void EncodePass::select(std::size_t budget_bits) {
-  by_priority_.resize(candidates_.size());
-  for (std::uint32_t k = 0; k < by_priority_.size(); ++k) by_priority_[k] = k;
-  if (any_nan_priority_) {
-    std::stable_sort(by_priority_.begin(), by_priority_.end(),
-                     [&](std::uint32_t a, std::uint32_t b) {
-                       return candidates_[a].priority > candidates_[b].priority;
-                     });
-  } else {
-    // Without NaN the order is total, so sorting by (priority, index) gives exactly the stable
-    // sort's order, without its buffer.
-    std::sort(by_priority_.begin(), by_priority_.end(), [&](std::uint32_t a, std::uint32_t b) {
-      const float pa = candidates_[a].priority, pb = candidates_[b].priority;
-      return pa > pb || (pa == pb && a < b);
-    });
+  std::size_t total_bits = 0;
+  for (const Candidate& c : candidates_) total_bits += static_cast<std::size_t>(c.bits);
+  if (total_bits <= budget_bits) {
+    // Everything fits: the greedy pass below would take every candidate in any order, so the
+    // order is worked out only if write overshoots.
+    for (Candidate& c : candidates_) c.selected = true;
+    selected_count_ = candidates_.size();
+    return;
   }
+  sort_by_priority();
   std::size_t used = 0;
   for (const std::uint32_t k : by_priority_) {
     if (used + candidates_[k].bits > budget_bits) break;
@@ -278,6 +350,30 @@ void EncodePass::select(std::size_t budget_bits) {
     candidates_[k].selected = true;
     ++selected_count_;
   }
+}
+
+void EncodePass::sort_by_priority() {
+  if (sorted_) return;
+  sorted_ = true;
+  by_priority_.resize(candidates_.size());
+  if (any_nan_priority_) {
+    for (std::uint32_t k = 0; k < by_priority_.size(); ++k) by_priority_[k] = k;
+    std::stable_sort(by_priority_.begin(), by_priority_.end(),
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       return candidates_[a].priority > candidates_[b].priority;
+                     });
+    return;
+  }
+  // Without NaN the order is total, so sorting by (priority, index) gives exactly the stable
+  // sort's order, without its buffer; the keys sit beside the indices so the compares stay in
+  // one array.
+  std::vector<std::pair<float, std::uint32_t>>& keys = buffers_.priority_keys;
+  keys.resize(candidates_.size());
+  for (std::uint32_t k = 0; k < keys.size(); ++k) keys[k] = {candidates_[k].priority, k};
+  std::sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
+  for (std::size_t k = 0; k < keys.size(); ++k) by_priority_[k] = keys[k].second;
 }
 
 bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
@@ -363,6 +459,7 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
   if (stream.bytes().size() <= stream_budget_bytes || selected_count_ == 0) return true;
 
   // Overshoot: leave out about as many of the lowest priorities as the excess needs.
+  sort_by_priority();
   std::size_t excess_bits = (stream.bytes().size() - stream_budget_bytes) * 8;
   for (auto k = by_priority_.rbegin(); k != by_priority_.rend() && excess_bits > 0; ++k) {
     Candidate& c = candidates_[*k];
@@ -416,6 +513,80 @@ std::size_t EncodePass::carry_priorities(
 
 }  // namespace
 
+/// One stream a cache holds: what an encode wrote against a baseline when everything pending
+/// was sent, and what any encode of the same tick, world, baseline and age needs to write the
+/// same.
+struct SharedStream {
+  const QuantizedEntity* world = nullptr;  ///< the world's first entity, its identity
+  std::size_t world_size = 0;
+  std::uint32_t baseline_age = 0;
+  layout::Prediction prediction;
+  std::vector<QuantizedEntity> baseline;
+  std::size_t candidate_bits = 0;  ///< the estimates of every pending entity, summed
+  std::uint32_t pending = 0;
+  std::vector<std::uint8_t> stream;
+  std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
+};
+
+struct SnapshotEncodeCache::Streams {
+  bool has_tick = false;
+  std::uint32_t tick = 0;
+  std::optional<layout::FieldWidths> widths;  ///< of the encoders sharing this tick
+  std::size_t used = 0;                       ///< of entries, this tick's
+  std::size_t next_replaced = 0;              ///< when all are used
+  std::vector<SharedStream> entries;
+  const QuantizedEntity* world = nullptr;  ///< this tick's, its identity
+  std::size_t world_size = 0;
+  SharedDeltas deltas;
+
+  explicit Streams(std::size_t max_streams) : entries(max_streams) {}
+
+  /// Forgets the previous tick's streams when `tick` is a new one.
+  void begin(std::uint32_t tick_now, std::span<const QuantizedEntity> world_now,
+             const layout::FieldWidths& encoder_widths) {
+    if (has_tick && tick == tick_now && world == world_now.data() &&
+        world_size == world_now.size() && widths == encoder_widths) {
+      return;
+    }
+    has_tick = true;
+    tick = tick_now;
+    world = world_now.data();
+    world_size = world_now.size();
+    widths = encoder_widths;
+    used = 0;
+    next_replaced = 0;
+    deltas.reset(world_size);
+  }
+
+  SharedStream* find(std::span<const QuantizedEntity> world,
+                     std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
+                     const layout::Prediction& prediction) {
+    for (std::size_t k = 0; k < used; ++k) {
+      SharedStream& entry = entries[k];
+      if (entry.world == world.data() && entry.world_size == world.size() &&
+          entry.baseline_age == baseline_age && entry.prediction == prediction &&
+          std::equal(baseline.begin(), baseline.end(), entry.baseline.begin(),
+                     entry.baseline.end(), same_state)) {
+        return &entry;
+      }
+    }
+    return nullptr;
+  }
+
+  SharedStream& claim() {
+    if (used < entries.size()) return entries[used++];
+    SharedStream& entry = entries[next_replaced];
+    next_replaced = (next_replaced + 1) % entries.size();
+    return entry;
+  }
+};
+
+SnapshotEncodeCache::SnapshotEncodeCache(std::size_t max_streams)
+    : streams_(std::make_unique<Streams>(std::clamp<std::size_t>(max_streams, 1, 64))) {}
+SnapshotEncodeCache::SnapshotEncodeCache(SnapshotEncodeCache&&) noexcept = default;
+SnapshotEncodeCache& SnapshotEncodeCache::operator=(SnapshotEncodeCache&&) noexcept = default;
+SnapshotEncodeCache::~SnapshotEncodeCache() = default;
+
 struct SnapshotEncoder::Scratch {
   explicit Scratch(const QuantizationSpec& spec) : widths(spec) {}
   layout::FieldWidths widths;
@@ -457,6 +628,18 @@ void SnapshotEncoder::acknowledge(std::uint32_t tick) {
 void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity> world,
                              std::array<float, 3> viewer_m, std::size_t budget_bytes,
                              wire::Snapshot& out) {
+  encode_with(tick, world, viewer_m, budget_bytes, out, nullptr);
+}
+
+void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity> world,
+                             std::array<float, 3> viewer_m, std::size_t budget_bytes,
+                             wire::Snapshot& out, SnapshotEncodeCache& cache) {
+  encode_with(tick, world, viewer_m, budget_bytes, out, &cache);
+}
+
+void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedEntity> world,
+                                  std::array<float, 3> viewer_m, std::size_t budget_bytes,
+                                  wire::Snapshot& out, SnapshotEncodeCache* cache) {
   assert(!has_sent_ || tick > last_tick_);
   assert(std::is_sorted(world.begin(), world.end(),
                         [](const auto& a, const auto& b) { return a.id < b.id; }));
@@ -474,20 +657,63 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   // Counts, orders and padding come before any entity.
   const std::size_t fixed_bits = 3 + (2 + layout::kDeltaOrderCount) * layout::kOrderBits + 8;
 
-  EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
-                  scratch_->buffers);
-  pass.find_pending(priority_, viewer_m);
-  pass.estimate_costs();
-  pass.select(stream_budget_bytes * 8 > fixed_bits ? stream_budget_bytes * 8 - fixed_bits : 0);
-  bool fits = false;
-  while (!fits) fits = pass.write(stream_, stream_budget_bytes);  // each miss leaves some out
-  pass.build_view(next_view_);
-  const std::size_t sent = pass.carry_priorities(priority_);
+  const std::size_t select_budget_bits =
+      stream_budget_bytes * 8 > fixed_bits ? stream_budget_bytes * 8 - fixed_bits : 0;
+
+  // Another client of this tick with this baseline, for whom everything fitted: when it all
+  // fits this budget too, select takes every candidate whatever their priorities, write writes
+  // that client's stream, and nothing is left to carry.
+  SnapshotEncodeCache::Streams* shared = cache ? cache->streams_.get() : nullptr;
+  const SharedStream* reused = nullptr;
+  const layout::Prediction prediction = layout::make_prediction(baseline_age, spec_);
+  if (shared) {
+    shared->begin(tick, world, scratch_->widths);
+    const SharedStream* found = shared->find(world, baseline, baseline_age, prediction);
+    if (found && found->candidate_bits <= select_budget_bits &&
+        found->stream.size() <= stream_budget_bytes) {
+      reused = found;
+    }
+  }
 
   out.Clear();
   out.set_tick(tick);
   out.set_baseline_age(baseline_age);
-  out.set_entities(stream_.bytes().data(), stream_.bytes().size());
+  std::size_t pending = 0, sent = 0;
+  if (reused) {
+    ++cache->hits_;
+    next_view_.assign(reused->view.begin(), reused->view.end());
+    priority_.clear();
+    pending = sent = reused->pending;
+    out.set_entities(reused->stream.data(), reused->stream.size());
+  } else {
+    EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
+                    scratch_->buffers, shared ? &shared->deltas : nullptr);
+    pass.find_pending(priority_, viewer_m);
+    pass.estimate_costs();
+    pass.select(select_budget_bits);
+    bool fits = false;
+    while (!fits) fits = pass.write(stream_, stream_budget_bytes);  // each miss leaves some out
+    pass.build_view(next_view_);
+    pending = pass.pending();
+    sent = pass.carry_priorities(priority_);
+    out.set_entities(stream_.bytes().data(), stream_.bytes().size());
+    if (shared) {
+      ++cache->misses_;
+      // Everything sent means the first write fitted (a miss leaves something out).
+      if (sent == pending) {
+        SharedStream& entry = shared->claim();
+        entry.world = world.data();
+        entry.world_size = world.size();
+        entry.baseline_age = baseline_age;
+        entry.prediction = prediction;
+        entry.baseline.assign(baseline.begin(), baseline.end());
+        entry.candidate_bits = pass.candidate_bits();
+        entry.pending = static_cast<std::uint32_t>(pending);
+        entry.stream.assign(stream_.bytes().begin(), stream_.bytes().end());
+        entry.view.assign(next_view_.begin(), next_view_.end());
+      }
+    }
+  }
 
   // Remember what the client will hold; this may overwrite the baseline's slot, used no more.
   Sent& entry = slot(tick);
@@ -500,9 +726,9 @@ void SnapshotEncoder::encode(std::uint32_t tick, std::span<const QuantizedEntity
   report_.has_baseline = has_baseline;
   report_.baseline_tick = has_baseline ? acked_tick_ : 0;
   report_.entities = static_cast<std::uint32_t>(world.size());
-  report_.pending = static_cast<std::uint32_t>(pass.pending());
+  report_.pending = static_cast<std::uint32_t>(pending);
   report_.sent = static_cast<std::uint32_t>(sent);
-  report_.deferred = static_cast<std::uint32_t>(pass.pending() - sent);
+  report_.deferred = static_cast<std::uint32_t>(pending - sent);
   report_.bytes = out.ByteSizeLong();
 }
 

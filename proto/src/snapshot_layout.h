@@ -50,6 +50,8 @@ inline constexpr std::uint32_t kMaxPredictionAge = 255;
 struct Prediction {
   std::int64_t baseline_weight = 0;
   std::int64_t current_weight = 0;
+
+  friend bool operator==(const Prediction&, const Prediction&) = default;
 };
 Prediction make_prediction(std::uint32_t baseline_age, const QuantizationSpec& spec);
 
@@ -69,6 +71,7 @@ struct FieldWidths {
   std::array<std::uint32_t, 3> position_steps{};
 
   explicit FieldWidths(const QuantizationSpec& spec);
+  friend bool operator==(const FieldWidths&, const FieldWidths&) = default;
 };
 
 /// A changed entity's delta, worked out once so that the encoder counts and writes the same

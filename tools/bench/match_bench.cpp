@@ -13,6 +13,8 @@
 ///   matches_per_core             how many such matches one core could tick at this rate
 ///   replay_speed_x               the match's recording played back (ricochet-replay's path):
 ///                                simulated seconds per wall second; replay_hashes_match
+///   payload_fnv1a                FNV-1a of every payload sent (account, reliable, bytes), warm-up
+///                                included: equal before and after a change that keeps the output
 /// then one line of lag-compensated hitscan throughput (LagCompensation::cast against the map
 /// and 64 rewound players, interpolated between ticks): lag_shots_per_s_per_core.
 ///
@@ -109,6 +111,22 @@ class Fighters {
   }
 };
 
+/// FNV-1a over every byte the match sends, to show an optimisation leaves the output unchanged.
+class Fnv1a {
+ public:
+  void add(std::uint64_t value) {
+    for (int k = 0; k < 8; ++k) add_byte(static_cast<std::uint8_t>(value >> (8 * k)));
+  }
+  void add_byte(std::uint8_t byte) {
+    hash_ ^= byte;
+    hash_ *= 1099511628211ull;
+  }
+  std::uint64_t value() const { return hash_; }
+
+ private:
+  std::uint64_t hash_ = 14695981039346656037ull;
+};
+
 double percentile(std::vector<double> sorted, double q) {
   std::sort(sorted.begin(), sorted.end());
   return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(sorted.size() * q))];
@@ -152,6 +170,7 @@ std::string run(const server::Map& map, int players, const Options& options) {
   std::uint64_t shots_before = 0;
   std::uint64_t kills_before = 0;
   server::Outgoing outgoing;
+  Fnv1a payload_hash;
   for (int t = 1; t <= warmup + ticks; ++t) {
     const proto::TimeUs now = t * tick_us;
     const std::uint32_t ack = match.tick_number() > ack_delay_ticks ? match.tick_number() - ack_delay_ticks : 0;
@@ -167,6 +186,9 @@ std::string run(const server::Map& map, int players, const Options& options) {
     std::uint64_t bytes = 0;
     while (match.poll_outbox(outgoing)) {
       if (!outgoing.reliable) bytes += outgoing.bytes.size();
+      payload_hash.add(outgoing.account);
+      payload_hash.add(outgoing.reliable ? 1 : 0);
+      for (const std::uint8_t byte : outgoing.bytes) payload_hash.add_byte(byte);
     }
     if (t == warmup) {
       shots_before = match.counters().shots_fired;
@@ -228,7 +250,8 @@ std::string run(const server::Map& map, int players, const Options& options) {
                 "\"snapshots\":%.4f,\"send\":%.4f},\"kbps_per_client\":%.1f,\"projectiles_avg\":%.1f,"
                 "\"shots_per_s\":%.1f,\"kills\":%llu,\"explosions\":%llu,\"recording_bytes\":%llu,"
                 "\"recording_bytes_per_player_minute\":%.0f,\"replay_speed_x\":%.1f,"
-                "\"replay_hashes_match\":%s,\"matches_per_core\":%.1f,\"overruns\":%llu}",
+                "\"replay_hashes_match\":%s,\"matches_per_core\":%.1f,\"overruns\":%llu,"
+                "\"payload_fnv1a\":\"%016llx\"}",
                 map.name.c_str(), players, options.rate_hz, options.seconds, options.ack_delay_ms,
                 percentile(tick_ms, 0.5), percentile(tick_ms, 0.99), percentile(tick_ms, 1.0), avg,
                 sum.apply_inputs_ms / n, sum.rules_ms / n, sum.movement_ms / n, sum.combat_ms / n,
@@ -240,7 +263,8 @@ std::string run(const server::Map& map, int players, const Options& options) {
                 static_cast<unsigned long long>(recording_bytes.size()),
                 static_cast<double>(recording_bytes.size()) / player_minutes, replay_speed,
                 replay_matches ? "true" : "false", period_ms / avg,
-                static_cast<unsigned long long>(counters.overruns));
+                static_cast<unsigned long long>(counters.overruns),
+                static_cast<unsigned long long>(payload_hash.value()));
   return line;
 }
 

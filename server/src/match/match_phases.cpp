@@ -141,7 +141,7 @@ void Match::build_snapshots() {
     wire::ServerPayload& payload = addressed.payload;
     player.snapshots->encode(tick_, quantized_, to_array(player.position_m),
                              config_.snapshot_budget_bytes - kPayloadOverheadBytes,
-                             *payload.mutable_snapshot());
+                             *payload.mutable_snapshot(), snapshot_cache_);
     payload.set_last_input_sequence(player.inputs.last_applied_sequence());
     payload.set_server_tick(tick_);
     payload.set_your_entity_id(player.entity_id);

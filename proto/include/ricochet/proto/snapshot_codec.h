@@ -51,6 +51,35 @@ struct SnapshotEncodeReport {
   std::size_t bytes = 0;       ///< serialised wire::Snapshot
 };
 
+/// Work the encoders of one match share within a tick. The match makes one and passes it to
+/// every client's SnapshotEncoder::encode of a tick, with the same world each time. A client
+/// whose baseline holds exactly the entities, and is exactly as old, as that of a client encoded
+/// before it this tick, and for whom everything pending fits the budget, is sent a copy of that
+/// client's stream instead of encoding it again. Any other client is encoded as usual, except
+/// that a changed entity whose baseline state and age another client of the tick had reuses
+/// that client's delta. Either way the bytes are the ones encode writes without the cache.
+/// Allocates nothing once its buffers have grown to the world's size.
+class SnapshotEncodeCache {
+ public:
+  /// max_streams: distinct (baseline, age) streams remembered per tick, 1..64; past that the
+  /// oldest is replaced.
+  explicit SnapshotEncodeCache(std::size_t max_streams = 4);
+  SnapshotEncodeCache(SnapshotEncodeCache&&) noexcept;
+  SnapshotEncodeCache& operator=(SnapshotEncodeCache&&) noexcept;
+  ~SnapshotEncodeCache();
+
+  /// Encodes answered with a copy, and encodes that wrote their own stream, since construction.
+  std::uint64_t hits() const { return hits_; }
+  std::uint64_t misses() const { return misses_; }
+
+ private:
+  friend class SnapshotEncoder;
+  struct Streams;
+  std::unique_ptr<Streams> streams_;
+  std::uint64_t hits_ = 0;
+  std::uint64_t misses_ = 0;
+};
+
 class SnapshotEncoder {
  public:
   /// spec and options must be valid (their validate() empty).
@@ -64,6 +93,12 @@ class SnapshotEncoder {
   /// most about 1100 so the packet fits 1200 bytes). Ticks must increase from call to call.
   void encode(std::uint32_t tick, std::span<const QuantizedEntity> world,
               std::array<float, 3> viewer_m, std::size_t budget_bytes, wire::Snapshot& out);
+  /// The same, sharing work with the other encoders of the tick through `cache` (which every
+  /// encoder passed it must share this encoder's spec; `world` must not change between the
+  /// calls of one tick). Writes exactly what the call without the cache writes.
+  void encode(std::uint32_t tick, std::span<const QuantizedEntity> world,
+              std::array<float, 3> viewer_m, std::size_t budget_bytes, wire::Snapshot& out,
+              SnapshotEncodeCache& cache);
 
   /// From ClientPayload.ack_snapshot_tick (untrusted): a tick this encoder sent and still
   /// remembers, newer than the current baseline, becomes the baseline; anything else is ignored
@@ -82,6 +117,9 @@ class SnapshotEncoder {
     std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
   };
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
+  void encode_with(std::uint32_t tick, std::span<const QuantizedEntity> world,
+                   std::array<float, 3> viewer_m, std::size_t budget_bytes, wire::Snapshot& out,
+                   SnapshotEncodeCache* cache);
   /// The spec's field widths and encode's working buffers, kept from call to call so that
   /// encoding allocates nothing once they have grown to the world's size.
   struct Scratch;

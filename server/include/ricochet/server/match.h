@@ -384,6 +384,7 @@ class Match {
   std::vector<physics::BodyId> body_ids_;  ///< scratch for World::read_bodies
   std::vector<physics::Vec3> positions_, velocities_;
   std::vector<proto::QuantizedEntity> quantized_;  ///< this snapshot's world
+  proto::SnapshotEncodeCache snapshot_cache_;      ///< shared by the clients' encoders per tick
   std::vector<RecordedInput> step_inputs_;         ///< this step's, for the recording
   std::vector<RecordedEvent> pending_record_events_;  ///< since the last step
   std::unique_ptr<RecordingWriter> recording_;
