@@ -163,6 +163,7 @@ void Match::explode(const Projectile& shot, const physics::Vec3& center_m) {
         ExplosionTarget{other.grenade, state.position, static_cast<float>(state.radius)});
     explosion_entities_.push_back(0);
   }
+  explosion_effects_.clear();  // explosion_effects appends
   explosion_effects(world_, center_m, weapon, explosion_targets_, explosion_effects_);
   Player* attacker = find_entity(shot.owner_entity);  // null when it left the match
   bool hit_someone = false;
