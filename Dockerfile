@@ -6,7 +6,7 @@
 #   (in our sandbox `podman run` fails on setrlimit; use the script's `-- COMMAND`, which runs it with buildah)
 #
 # Stage 1 builds Release with CMake + Ninja; stage 2 is a slim runtime with only the binaries, the
-# maps and the runtime libraries they link against.
+# sample map and the runtime libraries they link against.
 
 ############################ build stage ############################
 FROM debian:bookworm AS build
@@ -28,7 +28,8 @@ RUN cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release \
 RUN install -D -m 0755 build/release/server/ricochet-server /out/bin/ricochet-server \
  && install -D -m 0755 build/release/tools/bench/physics-bench /out/bin/physics-bench \
  && install -D -m 0755 build/release/tools/bench/db-bench /out/bin/db-bench \
- && for map in server/maps/*; do install -D -m 0644 "$map" "/out/share/ricochet/maps/${map##*/}"; done \
+ && install -D -m 0644 -t /out/share/ricochet/maps \
+      server/maps/arena.toml server/maps/foundry.toml server/maps/foundry_ramps.obj \
  && install -D -m 0644 server/config/ricochet.toml /out/share/ricochet/ricochet.toml
 
 ############################ runtime stage ############################
@@ -75,4 +76,5 @@ HEALTHCHECK --interval=15s --timeout=5s --start-period=20s --retries=3 \
 # given with --config (the documented sample is /usr/local/share/ricochet/ricochet.toml).
 # No ENTRYPOINT, so `podman run IMAGE physics-bench --bodies 256` runs any binary directly.
 CMD ["ricochet-server", "--data-dir", "/var/lib/ricochet", \
-     "--maps", "/usr/local/share/ricochet/maps/arena.map", "--admin-bind", "0.0.0.0"]
+     "--maps", "/usr/local/share/ricochet/maps/arena.toml,/usr/local/share/ricochet/maps/foundry.toml", \
+     "--admin-bind", "0.0.0.0"]

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job: installs dependencies, builds ricochet-server and runs it on embedded defaults:
-# SQLite under ./data/, the sample map (server/maps/arena.map), a TLS pair generated into ./data/
+# SQLite under ./data/, the sample map (server/maps/arena.toml), a TLS pair generated into ./data/
 # on first start. It logs where it listens (TLS 7777, UDP 7778, admin http://127.0.0.1:9100) and
 # the certificate's SHA-256 fingerprint. Ctrl-C or SIGTERM stops it gracefully (exit 0).
 # Extra arguments go to the server (./tools/run.sh --help lists them; --config FILE for TOML).

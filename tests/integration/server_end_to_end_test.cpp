@@ -39,7 +39,7 @@ server::ServerConfig test_config(const std::filesystem::path& data_dir) {
   config.game.port = 0;
   config.admin.port = 0;
   config.matches.count = 2;
-  config.matches.maps = {RICOCHET_SOURCE_DIR "/server/maps/arena.map"};
+  config.matches.maps = {RICOCHET_SOURCE_DIR "/server/maps/arena.toml"};
   return config;
 }
 

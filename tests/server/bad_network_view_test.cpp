@@ -33,7 +33,7 @@ namespace sim = proto::sim;
 constexpr TimeUs kTickUs = proto::kMicrosPerSecond / 60;
 
 Map sample_map() {
-  auto loaded = load_map_file(RICOCHET_SOURCE_DIR "/server/maps/arena.map");
+  auto loaded = load_map_file(RICOCHET_SOURCE_DIR "/server/maps/arena.toml");
   if (auto* error = std::get_if<MapError>(&loaded)) ADD_FAILURE() << error->describe();
   return std::get<Map>(std::move(loaded));
 }

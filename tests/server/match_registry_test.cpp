@@ -20,7 +20,7 @@ namespace {
 using namespace std::chrono_literals;
 
 Map sample_map() {
-  auto loaded = load_map_file(RICOCHET_SOURCE_DIR "/server/maps/arena.map");
+  auto loaded = load_map_file(RICOCHET_SOURCE_DIR "/server/maps/arena.toml");
   if (auto* error = std::get_if<MapError>(&loaded)) ADD_FAILURE() << error->describe();
   return std::get<Map>(std::move(loaded));
 }

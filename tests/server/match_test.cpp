@@ -21,7 +21,7 @@ constexpr TimeUs kTickUs = kMicrosPerSecond / 60 + 1;  // a little over one 60 H
 
 Map sample_map() {
   const std::string path =
-      (std::filesystem::path(__FILE__).parent_path() / "../../server/maps/arena.map").string();
+      (std::filesystem::path(__FILE__).parent_path() / "../../server/maps/arena.toml").string();
   MapResult result = load_map_file(path);
   EXPECT_TRUE(std::holds_alternative<Map>(result));
   return std::get<Map>(std::move(result));

@@ -9,7 +9,7 @@
 ///   matches_per_core               how many such matches one core could tick at this rate
 ///
 ///   match-bench [--players 16,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
-///               [--map server/maps/arena.map] [--out FILE]
+///               [--map server/maps/arena.toml] [--out FILE]
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -41,7 +41,7 @@ struct Options {
   double seconds = 10;
   int rate_hz = 60;
   int ack_delay_ms = 100;
-  std::string map = "server/maps/arena.map";
+  std::string map = "server/maps/arena.toml";
   std::string out;
 };
 

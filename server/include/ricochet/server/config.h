@@ -75,7 +75,7 @@ struct MatchesConfig {
   int max_players = 16;  ///< per match opened at start
   /// Map files in rotation order: the first opens the matches at start, and each match that
   /// ends is followed by one on the next map. Every file is loaded and validated at start.
-  std::vector<std::string> maps = {"server/maps/arena.map"};
+  std::vector<std::string> maps = {"server/maps/arena.toml", "server/maps/foundry.toml"};
   std::string mode = "ffa";         ///< "ffa" (free-for-all) or "tdm" (team deathmatch)
   int frag_limit = 20;              ///< a player's (ffa) or team's (tdm) score ending it; 0: none
   double time_limit_s = 600;        ///< after the warm-up, the match ends this late; 0: none

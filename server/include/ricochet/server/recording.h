@@ -1,0 +1,156 @@
+#pragma once
+/// Match recordings: everything needed to re-simulate a match (the map files, the config, the
+/// seed, every membership change and every input applied per tick) plus the world's state hash
+/// every N ticks to check the re-simulation against. The byte layout is in server/RECORDING.md.
+///
+/// The Match owns a RecordingWriter that encodes into memory as the ticks go, bounded by
+/// max_bytes; the server writes the finished bytes to disk off the match thread.
+/// read_recording() decodes a file without trusting any of it.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "ricochet/server/input_buffer.h"
+
+namespace ricochet::server {
+
+/// Largest values read_recording() accepts (and the writer must stay within).
+inline constexpr std::uint64_t kMaxRecordingBytes = 1ull << 30;         ///< 1 GiB file
+inline constexpr std::size_t kMaxRecordedPlayers = 64;                  ///< inputs per tick
+inline constexpr std::size_t kMaxRecordedEventsPerTick = 256;
+inline constexpr std::size_t kMaxRecordedNameBytes = 32;                ///< Connect's name
+inline constexpr std::size_t kMaxRecordedMapFiles = 64;
+inline constexpr std::size_t kMaxRecordedMapFileBytes = 2u << 20;       ///< 2 MiB per file
+inline constexpr std::size_t kMaxRecordedPathBytes = 1024;
+inline constexpr std::size_t kMaxRecordedConfigBytes = 1u << 20;        ///< 1 MiB
+inline constexpr std::size_t kMaxRecordedVersionBytes = 64;
+
+/// One file the map was loaded from (the map first, then what it references, by path).
+struct RecordedFile {
+  std::string path;
+  std::string text;
+};
+
+enum class RecordedEventKind : std::uint8_t {
+  Connect = 1,     ///< account, name
+  Disconnect = 2,  ///< account: its game connection is gone (the entity waits the grace)
+  Leave = 3,       ///< account: gone for good
+  TimedOut = 4,    ///< account: its reconnect grace ran out
+  End = 5,         ///< end_reason
+};
+
+/// A membership change, applied before the tick's step. Only the fields the kind names are
+/// recorded; the others read back as their defaults.
+struct RecordedEvent {
+  RecordedEventKind kind = RecordedEventKind::Connect;
+  std::uint64_t account = 0;     ///< every kind but End
+  std::string name;              ///< Connect only, at most kMaxRecordedNameBytes
+  std::uint32_t end_reason = 0;  ///< End only: a wire::MatchEndReason
+};
+
+/// The input one player entity stepped with.
+struct RecordedInput {
+  std::uint32_t entity_id = 0;
+  PlayerInput input;             ///< in the ranges validate_input() enforces (sequence may be 0)
+  std::uint32_t latency_us = 0;  ///< the one-way latency estimate used for this input, µs
+};
+
+struct RecordedTick {
+  std::uint32_t tick = 0;               ///< the step number this becomes (1, 2, ...)
+  std::vector<RecordedEvent> events;    ///< applied before this step, in order
+  std::vector<RecordedInput> inputs;    ///< one per player entity that steps with an input;
+                                        ///< distinct entity ids
+};
+
+/// world.state_hash() after step `tick`.
+struct RecordedHash {
+  std::uint32_t tick = 0;
+  std::uint64_t hash = 0;
+};
+
+struct RecordingHeader {
+  std::string server_version;             ///< at most kMaxRecordedVersionBytes
+  std::vector<RecordedFile> map_files;    ///< the map first
+  std::vector<std::uint8_t> config;       ///< opaque: the match's MatchConfig codec
+  std::uint64_t seed = 0;
+  std::uint32_t hash_interval_ticks = 0;  ///< 0: no hashes
+  std::uint32_t tick_rate_hz = 60;        ///< 1..1000
+};
+
+struct Recording {
+  RecordingHeader header;
+  std::vector<RecordedTick> ticks;    ///< increasing tick numbers
+  std::vector<RecordedHash> hashes;   ///< increasing, each the tick of an entry of `ticks`
+  bool complete = false;              ///< the footer was there: nothing is missing at the end
+  bool truncated = false;             ///< the writer hit max_bytes and recorded no further ticks
+};
+
+/// Encodes a recording into memory as the match goes. Per tick: begin_tick(), its events and
+/// inputs, then (before the next begin_tick or finish) add_hash() for that tick if one is due.
+/// Ticks must increase; a call out of that order stops the recording (stopped_reason() says
+/// why), as does reaching max_bytes: the bytes so far stay a valid recording marked truncated.
+class RecordingWriter {
+ public:
+  /// max_bytes: the size finish() stays within (a header alone larger than that is still
+  /// written whole).
+  RecordingWriter(RecordingHeader header, std::size_t max_bytes);
+
+  void begin_tick(std::uint32_t tick);
+  void add_event(const RecordedEvent& event);
+  void add_input(const RecordedInput& input);
+  /// The hash after step `tick`: the tick just begun or, if later, a tick of its own with no
+  /// events or inputs.
+  void add_hash(std::uint32_t tick, std::uint64_t hash);
+  void end_tick();
+
+  /// True once the writer stopped recording: over max_bytes, or a call out of order.
+  bool full() const { return !stopped_reason_.empty(); }
+  const std::string& stopped_reason() const { return stopped_reason_; }
+  /// Bytes encoded so far (finish() adds the last chunk's framing and the footer).
+  std::size_t bytes() const;
+  /// Writes the last ticks and the footer (totals and a checksum) and returns the file. The
+  /// writer records nothing after it.
+  std::vector<std::uint8_t> finish();
+
+ private:
+  void encode_pending();
+  void flush_chunk();
+  void stop(std::string reason);
+
+  std::size_t max_bytes_;
+  std::vector<std::uint8_t> out_;    ///< magic, header chunk and the full tick chunks
+  std::vector<std::uint8_t> chunk_;  ///< the tick chunk being filled (payload only)
+  std::vector<std::uint8_t> record_;  ///< scratch: one tick record
+  std::vector<std::uint8_t> changes_; ///< scratch: its change masks and fields
+  RecordedTick pending_;
+  bool has_pending_ = false;         ///< pending_ is a tick not yet encoded
+  bool open_ = false;                ///< between begin_tick() and end_tick()
+  bool pending_has_hash_ = false;
+  std::uint64_t pending_hash_ = 0;
+  std::uint32_t last_tick_ = 0;      ///< the last tick begun
+  std::uint32_t last_encoded_ = 0;   ///< the last tick in the bytes
+  std::vector<std::uint32_t> previous_entities_;
+  std::vector<RecordedInput> previous_inputs_;  ///< the last input of every entity, by id
+  std::uint64_t tick_count_ = 0, event_count_ = 0, input_count_ = 0, hash_count_ = 0;
+  std::uint32_t chunk_count_ = 0;
+  bool finished_ = false;
+  std::string stopped_reason_;
+};
+
+/// What is wrong with a recording and where: "truncated at byte 812 in tick 4711 (expected 9
+/// more bytes)", "chunk 3 (ticks) at byte 8200: CRC-32 mismatch ...".
+struct RecordingError {
+  std::string message;
+  std::uint64_t offset = 0;  ///< byte in the file
+};
+
+/// Decodes and validates a whole recording. A file cut short after its header (also inside the
+/// footer) reads as `complete = false` with every whole chunk before the cut; a cut inside the
+/// magic or the header chunk, a CRC mismatch, a bad length, count or enum is an error.
+std::variant<Recording, RecordingError> read_recording(std::span<const std::uint8_t> bytes);
+
+}  // namespace ricochet::server
