@@ -58,6 +58,8 @@ class BadNetworkView : public ::testing::Test {
   void run(const sim::LinkConditions& conditions, double seconds, double max_p99_lag_s) {
     const Map map = sample_map();
     MatchConfig config;
+    config.rules.min_players = 1;  // no warm-up: its end respawns everyone (a teleport)
+    config.rules.warmup_s = 0;
     auto created = Match::create(config, map, 0);
     ASSERT_TRUE(std::holds_alternative<Match>(created)) << std::get<std::string>(created);
     Match match = std::move(std::get<Match>(created));

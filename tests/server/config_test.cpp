@@ -358,7 +358,7 @@ TEST(ServerConfig, HelpListsEveryFlagWithItsDefault) {
                                "--data-dir TEXT=data",
                                "--bandwidth-kbps INT=512",
                                "TOML game.tick_rate_hz",
-                               "--maps LIST=server/maps/arena.map",
+                               "--maps LIST=server/maps/arena.toml,server/maps/foundry.toml",
                                "--mode CHOICE=ffa",
                                "--self-damage NUMBER=0.5",
                                "--friendly-fire BOOL=false",

@@ -1,15 +1,24 @@
-/// Match bench: what one match's tick costs on a server, per phase, with N players on the sample
-/// map — every player sending one input per tick (running, turning, now and then jumping) and
-/// acknowledging snapshots ack_delay_ms late, as clients behind a link would. It runs the real
-/// Match (server/include/ricochet/server/match.h) with fake time and times each tick with the
-/// steady clock. One JSON line per player count:
-///   tick_ms_avg, tick_ms_p99       Match::tick for one step, snapshots included
-///   phase_ms                       the TickProfile phases, averaged
-///   kbps_per_client                ServerPayload bytes per client
-///   matches_per_core               how many such matches one core could tick at this rate
+/// Match bench: what one match's tick costs on a server, per phase, with N players fighting on a
+/// map — every player sending one input per tick (strafing, aiming at the nearest other player,
+/// firing the rifle, rockets and grenades in turn, now and then jumping), claiming the view tick
+/// an interpolating client would show, and acknowledging snapshots ack_delay_ms late, as clients
+/// behind a link would. It runs the real Match (server/include/ricochet/server/match.h) with fake
+/// time and times each tick with the steady clock. One JSON line per player count:
+///   tick_ms_p50, tick_ms_p99, tick_ms_max, tick_ms_avg   Match::tick for one step, snapshots
+///                                                        built and encoded for every client
+///   phase_ms                     the TickProfile phases, averaged
+///   kbps_per_client              ServerPayload bytes per client
+///   projectiles_avg              rockets and grenades in flight, averaged over the ticks
+///   shots_per_s, kills           what the fight did
+///   matches_per_core             how many such matches one core could tick at this rate
+///   replay_speed_x               the match's recording played back (ricochet-replay's path):
+///                                simulated seconds per wall second; replay_hashes_match
+/// then one line of lag-compensated hitscan throughput (LagCompensation::cast against the map
+/// and 64 rewound players, interpolated between ticks): lag_shots_per_s_per_core.
 ///
-///   match-bench [--players 16,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
-///               [--map server/maps/arena.toml] [--out FILE]
+///   match-bench [--players 16,32,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
+///               [--map server/maps/foundry.toml] [--record FILE] [--out FILE]
+/// --record writes the last player count's recording to FILE (for ricochet-replay).
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -20,8 +29,13 @@
 #include <string>
 #include <vector>
 
+#include "ricochet/physics/scene_profile.h"
+#include "ricochet/server/lag_compensation.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
+#include "ricochet/server/match_replay.h"
+#include "ricochet/server/recording.h"
+#include "ricochet/server/replay.h"
 #include "ricochet/wire/game.pb.h"
 
 namespace server = ricochet::server;
@@ -37,26 +51,67 @@ std::int64_t steady_ns() {
 }
 
 struct Options {
-  std::vector<int> players{16, 64};
+  std::vector<int> players{16, 32, 64};
   double seconds = 10;
   int rate_hz = 60;
   int ack_delay_ms = 100;
-  std::string map = "server/maps/arena.toml";
+  std::string map = "server/maps/foundry.toml";
   std::string out;
+  std::string record;
 };
 
-/// One player's input for `tick`: run forward, turn at a player-specific rate, jump now and then.
-std::string input_payload(int player, std::uint32_t sequence, std::uint32_t ack_tick, double time_s) {
-  wire::ClientPayload payload;
-  wire::Input* input = payload.add_inputs();
-  input->set_sequence(sequence);
-  input->set_move_forward(127);
-  input->set_move_right(player % 3 == 0 ? 40 : 0);
-  const double turn = 0.5 + 0.1 * (player % 7);
-  input->set_yaw(static_cast<float>(std::fmod(time_s * turn + player, 6.0)));
-  input->set_buttons(sequence % (60 + player % 30) == 0 ? 1u : 0u);
-  payload.set_ack_snapshot_tick(ack_tick);
-  return payload.SerializeAsString();
+/// The scripted fighters: each strafes, aims at the nearest other living player (where the
+/// match last showed it), fires, and changes weapon every few seconds.
+class Fighters {
+ public:
+  std::string payload(server::Match& match, int player, std::uint32_t sequence,
+                      std::uint32_t ack_tick, std::uint32_t view_tick, double time_s) {
+    wire::ClientPayload payload;
+    wire::Input* input = payload.add_inputs();
+    input->set_sequence(sequence);
+    const int phase = static_cast<int>(time_s * 0.7 + player) % 4;
+    input->set_move_forward(phase < 2 ? 127 : -60);
+    input->set_move_right(phase % 2 == 0 ? 100 : -100);
+    const auto me = match.entity_of(1000 + static_cast<std::uint64_t>(player));
+    const auto states = match.entity_states();
+    const ricochet::proto::EntityState* self = nullptr;
+    for (const auto& state : states) {
+      if (me && state.id == *me) self = &state;
+    }
+    float yaw = static_cast<float>(std::fmod(time_s * 0.5 + player, 6.0));
+    float pitch = 0;
+    if (self) {
+      double best = 1e30;
+      for (const auto& state : states) {
+        const bool player_entity = (state.flags & server::kEntityKindMask) == 0;
+        if (state.id == self->id || !player_entity || (state.flags & server::kEntityDead)) continue;
+        const double dx = state.position_m[0] - self->position_m[0];
+        const double dy = state.position_m[1] - self->position_m[1];
+        const double dz = state.position_m[2] - self->position_m[2];
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 < best) {
+          best = d2;
+          yaw = static_cast<float>(std::atan2(-dx, -dz));
+          pitch = static_cast<float>(std::atan2(dy - 0.25, std::hypot(dx, dz)));
+        }
+      }
+    }
+    input->set_yaw(yaw);
+    input->set_pitch(std::clamp(pitch, -1.5f, 1.5f));
+    const int weapon = static_cast<int>(time_s / 3 + player) % 3;
+    input->set_weapon_slot(static_cast<std::uint32_t>(weapon + 1));
+    std::uint32_t buttons = server::kButtonFire;
+    if (sequence % (60 + player % 30) == 0) buttons |= server::kButtonJump;
+    input->set_buttons(buttons);
+    input->set_view_tick(view_tick);
+    payload.set_ack_snapshot_tick(ack_tick);
+    return payload.SerializeAsString();
+  }
+};
+
+double percentile(std::vector<double> sorted, double q) {
+  std::sort(sorted.begin(), sorted.end());
+  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(sorted.size() * q))];
 }
 
 std::string run(const server::Map& map, int players, const Options& options) {
@@ -64,6 +119,11 @@ std::string run(const server::Map& map, int players, const Options& options) {
   config.max_players = players;
   config.tick.rate_hz = options.rate_hz;
   config.snapshot_rate_hz = options.rate_hz;
+  config.rules.min_players = 1;
+  config.rules.warmup_s = 0;
+  config.rules.frag_limit = 0;    // fight for the whole run
+  config.rules.time_limit_s = 0;
+  config.rules.respawn_delay_s = 1;
   auto created = server::Match::create(config, map, 0, steady_ns);
   if (auto* error = std::get_if<std::string>(&created)) {
     std::fprintf(stderr, "match-bench: %s\n", error->c_str());
@@ -77,7 +137,9 @@ std::string run(const server::Map& map, int players, const Options& options) {
       std::fprintf(stderr, "match-bench: player %d was refused\n", i);
       std::exit(1);
     }
+    match.set_latency(1000 + i, 30'000 + 1000 * (i % 40));
   }
+  Fighters fighters;
   const proto::TimeUs tick_us = proto::kMicrosPerSecond / options.rate_hz;
   const std::uint32_t ack_delay_ticks =
       static_cast<std::uint32_t>(options.ack_delay_ms * options.rate_hz / 1000);
@@ -86,12 +148,17 @@ std::string run(const server::Map& map, int players, const Options& options) {
   std::vector<double> tick_ms;
   server::TickProfile sum;
   std::uint64_t payload_bytes = 0;
+  std::uint64_t projectiles = 0;
+  std::uint64_t shots_before = 0;
+  std::uint64_t kills_before = 0;
   server::Outgoing outgoing;
   for (int t = 1; t <= warmup + ticks; ++t) {
     const proto::TimeUs now = t * tick_us;
     const std::uint32_t ack = match.tick_number() > ack_delay_ticks ? match.tick_number() - ack_delay_ticks : 0;
+    // An interpolating client shows about two snapshots behind what it received.
+    const std::uint32_t view = ack > 2 ? ack - 2 : 0;
     for (int i = 0; i < players; ++i) {
-      const std::string bytes = input_payload(i, static_cast<std::uint32_t>(t), ack, now / 1e6);
+      const std::string bytes = fighters.payload(match, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
       match.receive(1000 + i, std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
     }
     const std::int64_t started = steady_ns();
@@ -101,36 +168,140 @@ std::string run(const server::Map& map, int players, const Options& options) {
     while (match.poll_outbox(outgoing)) {
       if (!outgoing.reliable) bytes += outgoing.bytes.size();
     }
+    if (t == warmup) {
+      shots_before = match.counters().shots_fired;
+      kills_before = match.counters().kills;
+    }
     if (t <= warmup) continue;
     tick_ms.push_back(elapsed_ms);
     payload_bytes += bytes;
+    for (const auto& state : match.entity_states()) projectiles += (state.flags & server::kEntityKindMask) != 0;
     const server::TickProfile& profile = match.profile();
     sum.apply_inputs_ms += profile.apply_inputs_ms;
+    sum.rules_ms += profile.rules_ms;
     sum.movement_ms += profile.movement_ms;
+    sum.combat_ms += profile.combat_ms;
     sum.physics_ms += profile.physics_ms;
     sum.history_ms += profile.history_ms;
     sum.snapshots_ms += profile.snapshots_ms;
     sum.send_ms += profile.send_ms;
   }
-  std::vector<double> sorted = tick_ms;
-  std::sort(sorted.begin(), sorted.end());
   double total = 0;
   for (double ms : tick_ms) total += ms;
   const double n = static_cast<double>(tick_ms.size());
   const double avg = total / n;
-  const double p99 = sorted[static_cast<std::size_t>(n * 0.99)];
   const double kbps = static_cast<double>(payload_bytes) * 8 / 1000 / options.seconds / players;
   const double period_ms = 1000.0 / options.rate_hz;
-  char line[1024];
+  const server::MatchCounters& counters = match.counters();
+  // The recording, played back as ricochet-replay does.
+  const std::vector<std::uint8_t> recording_bytes = match.take_recording();
+  if (!options.record.empty()) {
+    std::ofstream file(options.record, std::ios::binary | std::ios::trunc);
+    file.write(reinterpret_cast<const char*>(recording_bytes.data()),
+               static_cast<std::streamsize>(recording_bytes.size()));
+  }
+  double replay_speed = 0;
+  bool replay_matches = false;
+  auto read = server::read_recording(recording_bytes);
+  if (auto* recording = std::get_if<server::Recording>(&read)) {
+    auto opened = server::open_recorded_match(*recording);
+    if (auto* replayed = std::get_if<server::Match>(&opened)) {
+      server::MatchSimulation simulation(*replayed);
+      server::ReplayOptions replay_options;
+      replay_options.wall_clock_s = [] { return static_cast<double>(steady_ns()) / 1e9; };
+      const server::ReplayReport report = server::replay(*recording, simulation, replay_options);
+      replay_speed = report.wall_s > 0 ? report.simulated_s / report.wall_s : 0;
+      replay_matches = !report.first_mismatch && report.hashes_checked > 0;
+    } else {
+      std::fprintf(stderr, "match-bench: %s\n", std::get<std::string>(opened).c_str());
+    }
+  } else {
+    std::fprintf(stderr, "match-bench: recording: %s\n", std::get<server::RecordingError>(read).message.c_str());
+  }
+  const double player_minutes = players * (options.seconds + 1) / 60.0;
+  char line[2048];
   std::snprintf(line, sizeof line,
-                "{\"bench\":\"match\",\"players\":%d,\"rate_hz\":%d,\"seconds\":%g,\"ack_delay_ms\":%d,"
-                "\"tick_ms_avg\":%.4f,\"tick_ms_p99\":%.4f,\"phase_ms\":{\"apply_inputs\":%.4f,"
-                "\"movement\":%.4f,\"physics\":%.4f,\"history\":%.4f,\"snapshots\":%.4f,\"send\":%.4f},"
-                "\"kbps_per_client\":%.1f,\"matches_per_core\":%.1f,\"overruns\":%llu}",
-                players, options.rate_hz, options.seconds, options.ack_delay_ms, avg, p99,
-                sum.apply_inputs_ms / n, sum.movement_ms / n, sum.physics_ms / n, sum.history_ms / n,
-                sum.snapshots_ms / n, sum.send_ms / n, kbps, period_ms / avg,
-                static_cast<unsigned long long>(match.counters().overruns));
+                "{\"bench\":\"match\",\"map\":\"%s\",\"players\":%d,\"rate_hz\":%d,\"seconds\":%g,"
+                "\"ack_delay_ms\":%d,\"tick_ms_p50\":%.4f,\"tick_ms_p99\":%.4f,\"tick_ms_max\":%.4f,"
+                "\"tick_ms_avg\":%.4f,\"phase_ms\":{\"apply_inputs\":%.4f,\"rules\":%.4f,"
+                "\"movement\":%.4f,\"combat\":%.4f,\"physics\":%.4f,\"history\":%.4f,"
+                "\"snapshots\":%.4f,\"send\":%.4f},\"kbps_per_client\":%.1f,\"projectiles_avg\":%.1f,"
+                "\"shots_per_s\":%.1f,\"kills\":%llu,\"explosions\":%llu,\"recording_bytes\":%llu,"
+                "\"recording_bytes_per_player_minute\":%.0f,\"replay_speed_x\":%.1f,"
+                "\"replay_hashes_match\":%s,\"matches_per_core\":%.1f,\"overruns\":%llu}",
+                map.name.c_str(), players, options.rate_hz, options.seconds, options.ack_delay_ms,
+                percentile(tick_ms, 0.5), percentile(tick_ms, 0.99), percentile(tick_ms, 1.0), avg,
+                sum.apply_inputs_ms / n, sum.rules_ms / n, sum.movement_ms / n, sum.combat_ms / n,
+                sum.physics_ms / n, sum.history_ms / n, sum.snapshots_ms / n, sum.send_ms / n, kbps,
+                static_cast<double>(projectiles) / n,
+                static_cast<double>(counters.shots_fired - shots_before) / options.seconds,
+                static_cast<unsigned long long>(counters.kills - kills_before),
+                static_cast<unsigned long long>(counters.explosions),
+                static_cast<unsigned long long>(recording_bytes.size()),
+                static_cast<double>(recording_bytes.size()) / player_minutes, replay_speed,
+                replay_matches ? "true" : "false", period_ms / avg,
+                static_cast<unsigned long long>(counters.overruns));
+  return line;
+}
+
+/// Lag-compensated rays per second on one core: 64 players moving on the map, one second of
+/// history, casts at random view times within the last 250 ms towards random players.
+std::string lag_shots(const server::Map& map, const Options& options) {
+  auto world = ricochet::physics::World::create(ricochet::physics::profiles::arena_players());
+  if (!world.ok() || !server::add_map_to_world(map, world.value()).ok()) {
+    std::fprintf(stderr, "match-bench: cannot build the map's world\n");
+    std::exit(1);
+  }
+  server::LagCompensationConfig config;
+  server::LagCompensation lag(config, options.rate_hz);
+  constexpr int kPlayers = 64;
+  std::vector<server::LagSample> samples(kPlayers);
+  std::uint64_t seed = 12345;
+  const auto uniform = [&seed] {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<float>((seed >> 40) & 0xFFFFFF) / float(1 << 24);
+  };
+  std::vector<ricochet::physics::Vec3> base(kPlayers);
+  for (int i = 0; i < kPlayers; ++i) {
+    const auto& spawn = map.spawns[static_cast<std::size_t>(i) % map.spawns.size()];
+    base[static_cast<std::size_t>(i)] = spawn.position_m;
+  }
+  const std::uint32_t ticks = static_cast<std::uint32_t>(options.rate_hz);
+  for (std::uint32_t tick = 1; tick <= ticks; ++tick) {
+    for (int i = 0; i < kPlayers; ++i) {
+      const float t = static_cast<float>(tick) / static_cast<float>(options.rate_hz);
+      samples[static_cast<std::size_t>(i)] = server::LagSample{
+          static_cast<std::uint32_t>(i + 1), ricochet::physics::BodyId{},
+          base[static_cast<std::size_t>(i)] +
+              ricochet::physics::Vec3(std::sin(t * 3 + i) * 2, 0, std::cos(t * 2 + i) * 2),
+          0.4f, 1, true};
+    }
+    lag.record(tick, samples);
+  }
+  constexpr int kShots = 200000;
+  int hits = 0;
+  const std::int64_t started = steady_ns();
+  for (int k = 0; k < kShots; ++k) {
+    const int shooter = k % kPlayers;
+    const int target = (k * 7 + 3) % kPlayers;
+    const auto& from = samples[static_cast<std::size_t>(shooter)].position_m;
+    const auto& to = samples[static_cast<std::size_t>(target)].position_m;
+    const auto view = lag.resolve(ticks, ticks - 1 - static_cast<std::uint32_t>(uniform() * 12),
+                                  static_cast<std::uint8_t>(uniform() * 255), 40.0);
+    ricochet::physics::RayHit hit;
+    const ricochet::physics::Vec3 direction = (to - from).normalized();
+    if (lag.cast(world.value(), from + ricochet::physics::Vec3(0, 0.25f, 0), direction, 200, view,
+                 static_cast<std::uint32_t>(shooter + 1), hit) &&
+        hit.target.user_data != 0) {
+      ++hits;  // a player, not the map
+    }
+  }
+  const double seconds = static_cast<double>(steady_ns() - started) / 1e9;
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "{\"bench\":\"lag_compensated_shots\",\"map\":\"%s\",\"players\":%d,\"shots\":%d,"
+                "\"player_hits\":%d,\"us_per_shot\":%.3f,\"lag_shots_per_s_per_core\":%.0f}",
+                map.name.c_str(), kPlayers, kShots, hits, seconds * 1e6 / kShots, kShots / seconds);
   return line;
 }
 
@@ -145,6 +316,7 @@ int main(int argc, char** argv) {
   app.add_option("--ack-delay-ms", options.ack_delay_ms, "how late clients acknowledge snapshots")->check(CLI::Range(0, 1000));
   app.add_option("--map", options.map, "map file");
   app.add_option("--out", options.out, "also append the JSON lines to this file");
+  app.add_option("--record", options.record, "write the (last) match's recording to this file");
   CLI11_PARSE(app, argc, argv);
 
   auto loaded = server::load_map_file(options.map);
@@ -160,5 +332,8 @@ int main(int argc, char** argv) {
     std::printf("%s\n", line.c_str());
     if (out) out << line << '\n';
   }
+  const std::string line = lag_shots(map, options);
+  std::printf("%s\n", line.c_str());
+  if (out) out << line << '\n';
   return 0;
 }

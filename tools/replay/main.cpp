@@ -21,23 +21,12 @@
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
 #include "ricochet/server/recording.h"
+#include "ricochet/server/match_replay.h"
 #include "ricochet/server/replay.h"
 
 namespace {
 
 using namespace ricochet::server;
-
-/// Match as a ReplaySimulation.
-class MatchSimulation final : public ReplaySimulation {
- public:
-  explicit MatchSimulation(Match& match) : match_(match) {}
-  void apply(const RecordedEvent& event) override { match_.apply(event); }
-  void step(std::span<const RecordedInput> inputs) override { match_.step_recorded(inputs); }
-  std::uint64_t state_hash() const override { return match_.state_hash(); }
-
- private:
-  Match& match_;
-};
 
 /// The whole file, or nothing and `error` set.
 std::optional<std::vector<std::uint8_t>> read_file(const std::string& path, std::string& error) {
@@ -153,7 +142,7 @@ int main(int argc, char** argv) {
   CLI::App app{"ricochet-replay: re-simulates a recorded match and checks its hashes"};
   app.add_option("FILE", file, "the recording")->required();
   app.add_flag("--json", json, "print the report as one JSON object");
-  app.add_option("--export", export_path, "write every step's entity positions as CSV (tick,entity,x,y,z)");
+  app.add_option("--export", export_path, "write every step's player positions as CSV (tick,entity,x,y,z)");
   app.add_flag("--keep-going", keep_going, "replay to the end after a mismatch, counting them");
   CLI11_PARSE(app, argc, argv);
 
@@ -166,15 +155,9 @@ int main(int argc, char** argv) {
   }
   const Recording& recording = std::get<Recording>(read);
 
-  std::vector<MapFile> map_files;
-  for (const RecordedFile& f : recording.header.map_files) map_files.push_back({f.path, f.text});
-  auto map = parse_map_files(map_files);
-  if (const auto* bad = std::get_if<MapError>(&map)) return fail(file, "its map: " + bad->describe());
-  auto config = Match::decode_config(recording.header.config);
-  if (const auto* bad = std::get_if<std::string>(&config)) return fail(file, "its config: " + *bad);
-  auto created = Match::create(std::get<MatchConfig>(config), std::get<Map>(map), 0);
-  if (const auto* bad = std::get_if<std::string>(&created)) return fail(file, "its match: " + *bad);
-  Match& match = std::get<Match>(created);
+  auto opened = open_recorded_match(recording);
+  if (const auto* bad = std::get_if<std::string>(&opened)) return fail(file, *bad);
+  Match& match = std::get<Match>(opened);
   MatchSimulation simulation(match);
 
   std::FILE* csv = nullptr;
@@ -191,6 +174,7 @@ int main(int argc, char** argv) {
   if (csv) {
     options.after_step = [&](std::uint32_t tick) {
       for (const auto& state : match.entity_states()) {
+        if ((state.flags & kEntityKindMask) != 0) continue;  // players only, not projectiles
         std::fprintf(csv, "%u,%u,%.9g,%.9g,%.9g\n", tick, state.id, state.position_m[0],
                      state.position_m[1], state.position_m[2]);
       }

@@ -11,53 +11,6 @@
 
 namespace ricochet::server {
 
-namespace {
-
-std::string range_error(const char* field, const char* range, long long value) {
-  return std::string("match ") + field + " must be " + range + ", got " + std::to_string(value);
-}
-
-/// Printable UTF-8: well-formed sequences (no overlongs, surrogates or values past U+10FFFF)
-/// and no C0 or C1 control characters.
-bool is_printable_utf8(std::string_view text) {
-  std::size_t at = 0;
-  while (at < text.size()) {
-    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[at + k]); };
-    const unsigned char lead = byte(0);
-    std::size_t length = 0;
-    std::uint32_t code = 0;
-    if (lead < 0x80) {
-      length = 1;
-      code = lead;
-    } else if (lead >= 0xC2 && lead <= 0xDF) {
-      length = 2;
-      code = lead & 0x1Fu;
-    } else if (lead >= 0xE0 && lead <= 0xEF) {
-      length = 3;
-      code = lead & 0x0Fu;
-    } else if (lead >= 0xF0 && lead <= 0xF4) {
-      length = 4;
-      code = lead & 0x07u;
-    } else {
-      return false;
-    }
-    if (at + length > text.size()) return false;
-    for (std::size_t k = 1; k < length; ++k) {
-      if ((byte(k) & 0xC0u) != 0x80u) return false;
-      code = (code << 6) | (byte(k) & 0x3Fu);
-    }
-    const std::uint32_t smallest[] = {0, 0, 0x80, 0x800, 0x10000};
-    if (code < smallest[length] || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) {
-      return false;
-    }
-    if (code < 0x20 || (code >= 0x7F && code < 0xA0)) return false;
-    at += length;
-  }
-  return true;
-}
-
-}  // namespace
-
 const char* name(JoinRefusal reason) {
   switch (reason) {
     case JoinRefusal::MatchFull:
@@ -84,31 +37,6 @@ const char* name(ChatDrop reason) {
   return "unknown";
 }
 
-std::string MatchConfig::validate() const {
-  if (name.empty() || name.size() > 32 || !is_printable_utf8(name)) {
-    return "match name must be 1..32 bytes of printable UTF-8, got '" + name + "'";
-  }
-  if (max_players < 1 || max_players > 64) return range_error("max_players", "1..64", max_players);
-  if (std::string error = tick.validate(); !error.empty()) return "match " + error;
-  if (snapshot_rate_hz < 1 || snapshot_rate_hz > tick.rate_hz) {
-    return "match snapshot_rate_hz must be 1..tick rate_hz (" + std::to_string(tick.rate_hz) +
-           "), got " + std::to_string(snapshot_rate_hz);
-  }
-  if (snapshot_budget_bytes < 128 || snapshot_budget_bytes > 1100) {
-    return range_error("snapshot_budget_bytes", "128..1100",
-                       static_cast<long long>(snapshot_budget_bytes));
-  }
-  if (reconnect_grace_us < 0 || reconnect_grace_us > 300 * proto::kMicrosPerSecond) {
-    return range_error("reconnect_grace_us", "0..300000000", reconnect_grace_us);
-  }
-  if (history_ticks < 1 || history_ticks > 1024) {
-    return range_error("history_ticks", "1..1024", history_ticks);
-  }
-  if (std::string error = movement.validate(); !error.empty()) return "match " + error;
-  if (std::string error = input.validate(); !error.empty()) return "match " + error;
-  return {};
-}
-
 std::variant<Match, std::string> Match::create(const MatchConfig& config, const Map& map,
                                                proto::TimeUs now, ProfileClock profile_clock) {
   if (std::string error = config.validate(); !error.empty()) return error;
@@ -124,7 +52,7 @@ std::variant<Match, std::string> Match::create(const MatchConfig& config, const 
     return "match quantization (with the bounds of map " + map.name + "): " + error;
   }
   physics::Result<physics::World> world =
-      physics::World::create(physics::profiles::arena_players());
+      physics::World::create(combat_world_def());
   if (!world.ok()) return "physics world: " + world.error().message;
   if (const physics::Status added = add_map_to_world(map, world.value()); !added.ok()) {
     return "map " + map.name + ": " + added.error().message;
@@ -138,15 +66,28 @@ Match::Match(const MatchConfig& config, physics::World world, const Map& map, pr
              ProfileClock profile_clock)
     : config_(config),
       map_name_(map.name),
+      map_(map),
       world_(std::move(world)),
       clock_(config.tick, now),
       profile_clock_(std::move(profile_clock)),
+      rng_(config.rules.seed),
+      lag_(config.lag, config.tick.rate_hz),
       history_(static_cast<std::size_t>(config.history_ticks)) {
-  for (const MapSpawn& spawn : map.spawns) spawns_.push_back(spawn.position_m);
-  bounds_max_y_m_ = map.bounds_max_m.y() - player_body_def(physics::Vec3::Zero()).radius;
+  for (const MapPickup& spot : map.pickups) pickups_.push_back(PickupState{spot, true, 0});
   snapshot_interval_ticks_ = std::max(
       1, static_cast<int>(std::lround(double(config.tick.rate_hz) / config.snapshot_rate_hz)));
   ticks_since_snapshot_ = snapshot_interval_ticks_;  // the first step sends one
+  if (config.record) {
+    RecordingHeader header;
+    header.server_version = "ricochet-match 1";
+    for (const MapFile& file : map.files) header.map_files.push_back({file.path, file.text});
+    header.config = encode_match_config(config_);
+    header.seed = config.rules.seed;
+    header.hash_interval_ticks = static_cast<std::uint32_t>(config.hash_interval_ticks);
+    header.tick_rate_hz = static_cast<std::uint32_t>(config.tick.rate_hz);
+    recording_ = std::make_unique<RecordingWriter>(std::move(header), config.max_recording_bytes);
+  }
+  if (config.rules.min_players <= 0) enter_phase(MatchPhase::Warmup);
 }
 
 Match::Match(Match&&) noexcept = default;
@@ -171,7 +112,7 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
     ++counters_.join_refusals[static_cast<std::size_t>(reason)];
     return reason;
   };
-  if (ended_) return refuse(JoinRefusal::MatchEnded);
+  if (ended()) return refuse(JoinRefusal::MatchEnded);
   if (name.empty() || name.size() > kMaxPlayerNameBytes || !is_printable_utf8(name)) {
     return refuse(JoinRefusal::InvalidName);
   }
@@ -186,9 +127,11 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
     player->snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
     drop_pending_events(account);  // meant for the old connection
     ++counters_.players_reconnected;
+    record_event(RecordedEvent{RecordedEventKind::Connect, account, std::string(name), 0});
     for (const Player& other : players_) {
       if (other.account != account) queue_present(account, other);
     }
+    queue_arrival(account);
     joined.mutable_player_joined()->set_entity_id(player->entity_id);
     joined.mutable_player_joined()->set_name(player->name);
     joined.mutable_player_joined()->set_reconnected(true);
@@ -197,60 +140,42 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
   }
   if (player_count() >= config_.max_players) return refuse(JoinRefusal::MatchFull);
 
-  const physics::Result<physics::BodyId> body = world_.create_body(player_body_def(choose_spawn()));
-  assert(body.ok());  // a valid definition in a world far below its body limit
+  record_event(RecordedEvent{RecordedEventKind::Connect, account, std::string(name), 0});
   Player player;
   player.account = account;
   player.name = std::string(name);
   player.entity_id = next_entity_id_++;
-  player.body = body.value();
   player.inputs = InputBuffer(config_.input);
   player.snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
+  player.team = balanced_team();
+  // A player coming back after leaving keeps what it scored.
+  const auto before = std::find_if(departed_.begin(), departed_.end(),
+                                   [account](const PlayerScore& s) { return s.account == account; });
+  if (before != departed_.end()) {
+    player.score = *before;
+    departed_.erase(before);
+  }
+  player.score.account = account;
+  player.score.name = player.name;
+  player.score.entity_id = player.entity_id;
+  player.score.team = player.team;
   // Everyone already here, to the newcomer; then the newcomer to everyone (itself included).
   for (const Player& other : players_) queue_present(account, other);
+  queue_arrival(account);
   const Joined result{player.entity_id, false};
   joined.mutable_player_joined()->set_entity_id(player.entity_id);
   joined.mutable_player_joined()->set_name(player.name);
   players_.push_back(std::move(player));
   broadcast(joined);
+  spawn(players_.back());
   ++counters_.players_joined;
   return result;
-}
-
-physics::Vec3 Match::choose_spawn() {
-  // Round robin over the spawns, skipping one a player stands on. When every spawn is taken
-  // (more players than spawns), the same points one player height up, and so on: the newcomer
-  // drops onto the floor or onto whoever is there.
-  const physics::Real clearance =
-      2 * player_body_def(physics::Vec3::Zero()).radius + physics::Real(0.1);
-  const auto is_free = [&](const physics::Vec3& point) {
-    return std::none_of(players_.begin(), players_.end(), [&](const Player& player) {
-      return (world_.body_state(player.body).value().position - point).norm() < clearance;
-    });
-  };
-  for (int level = 0;; ++level) {
-    const physics::Vec3 lift(0, clearance * physics::Real(level), 0);
-    bool inside = false;
-    for (std::size_t tried = 0; tried < spawns_.size(); ++tried) {
-      const std::size_t index = (next_spawn_ + tried) % spawns_.size();
-      const physics::Vec3 point = spawns_[index] + lift;
-      if (point.y() > bounds_max_y_m_) continue;
-      inside = true;
-      if (is_free(point)) {
-        next_spawn_ = (index + 1) % spawns_.size();
-        return point;
-      }
-    }
-    if (!inside) break;  // above the bounds everywhere: share a spawn
-  }
-  const physics::Vec3 point = spawns_[next_spawn_];
-  next_spawn_ = (next_spawn_ + 1) % spawns_.size();
-  return point;
 }
 
 void Match::disconnect(std::uint64_t account, proto::TimeUs now) {
   Player* player = find(account);
   if (!player || !player->connected) return;
+  record_event(RecordedEvent{RecordedEventKind::Disconnect, account, {}, 0});
   player->connected = false;
   player->disconnected_at = now;
   player->inputs.reset();  // the entity stands still while away
@@ -262,6 +187,7 @@ void Match::disconnect(std::uint64_t account, proto::TimeUs now) {
 bool Match::leave(std::uint64_t account) {
   for (std::size_t k = 0; k < players_.size(); ++k) {
     if (players_[k].account == account) {
+      record_event(RecordedEvent{RecordedEventKind::Leave, account, {}, 0});
       remove_player(k, wire::LEAVE_REASON_LEFT);
       ++counters_.players_left;
       return true;
@@ -272,8 +198,13 @@ bool Match::leave(std::uint64_t account) {
 
 void Match::remove_player(std::size_t index, wire::LeaveReason reason) {
   const Player& player = players_[index];
-  [[maybe_unused]] const physics::Status destroyed = world_.destroy_body(player.body);
-  assert(destroyed.ok());
+  if (!player.body.is_null()) {
+    [[maybe_unused]] const physics::Status destroyed = world_.destroy_body(player.body);
+    assert(destroyed.ok());
+  }
+  if (player.score.ticks_played > 0 || player.score.shots > 0 || player.score.deaths > 0) {
+    departed_.push_back(player.score);
+  }
   wire::GameEvent left;
   left.mutable_player_left()->set_entity_id(player.entity_id);
   left.mutable_player_left()->set_name(player.name);
@@ -288,10 +219,15 @@ void Match::expire_disconnected(proto::TimeUs now) {
   for (std::size_t k = players_.size(); k-- > 0;) {
     const Player& player = players_[k];
     if (!player.connected && now - player.disconnected_at >= config_.reconnect_grace_us) {
-      remove_player(k, wire::LEAVE_REASON_TIMED_OUT);
-      ++counters_.players_timed_out;
+      time_out(k);
     }
   }
+}
+
+void Match::time_out(std::size_t index) {
+  record_event(RecordedEvent{RecordedEventKind::TimedOut, players_[index].account, {}, 0});
+  remove_player(index, wire::LEAVE_REASON_TIMED_OUT);
+  ++counters_.players_timed_out;
 }
 
 void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload) {
@@ -309,16 +245,44 @@ void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload
     return drop(InputDrop::TooManyInputs);
   }
   ++counters_.payloads_received;
+  // Input rate: a client sends one input per tick; a window of one second may bring more
+  // (input_rate_limit: clock drift, bursts after a stall). Beyond that the inputs are refused: a
+  // sped-up client gains nothing and is counted.
+  const std::uint32_t window = static_cast<std::uint32_t>(config_.tick.rate_hz);
+  if (tick_ - player->input_window_start >= window) {
+    player->input_window_start = tick_;
+    player->inputs_in_window = 0;
+  }
+  const auto allowed = static_cast<std::uint32_t>(input_rate_limit(config_.tick.rate_hz));
   for (const wire::Input& in : message.inputs()) {
     PlayerInput input;
     InputDrop reason{};
-    if (validate_input(in, input, reason)) {
-      player->inputs.offer(input, counters_.input_drops);
-    } else {
+    if (!validate_input(in, input, reason)) {
       drop(reason);
+      continue;
+    }
+    if (input.sequence <= player->inputs.last_applied_sequence()) {
+      drop(InputDrop::Stale);  // the redundancy; not counted against the rate
+      continue;
+    }
+    if (player->inputs_in_window >= allowed) {
+      drop(InputDrop::Skipped);
+      note_violation(*player, Violation::InputRate);
+      continue;
+    }
+    const std::uint64_t stale_before = counters_.input_drops[static_cast<std::size_t>(InputDrop::Stale)];
+    player->inputs.offer(input, counters_.input_drops);
+    if (counters_.input_drops[static_cast<std::size_t>(InputDrop::Stale)] == stale_before) {
+      ++player->inputs_in_window;
     }
   }
   if (message.ack_snapshot_tick() != 0) player->snapshots->acknowledge(message.ack_snapshot_tick());
+}
+
+void Match::set_latency(std::uint64_t account, proto::TimeUs one_way_us) {
+  if (Player* player = find(account)) {
+    player->latency_us = std::clamp<proto::TimeUs>(one_way_us, 0, proto::kMicrosPerSecond);
+  }
 }
 
 std::optional<ChatDrop> Match::chat(std::uint64_t account, std::string_view text) {
@@ -347,10 +311,8 @@ std::optional<ChatDrop> Match::chat(std::uint64_t account, std::string_view text
 }
 
 void Match::end(wire::MatchEndReason reason) {
-  ended_ = true;
-  wire::GameEvent event;
-  event.mutable_match_ended()->set_reason(reason);
-  broadcast(event);
+  if (ended()) return;
+  finish(reason);
   payload_count_ = 0;  // no snapshot goes with it
   send();
 }
@@ -388,25 +350,37 @@ int Match::tick(proto::TimeUs now) {
   profile_ = TickProfile{};
   expire_disconnected(now);
   const int steps = clock_.advance(now);
-  for (int step = 0; step < steps; ++step) {
+  int run = 0;
+  for (; run < steps && !ended(); ++run) {
     run_phase(&Match::apply_inputs, profile_.apply_inputs_ms);
-    run_phase(&Match::move_players, profile_.movement_ms);
-    run_phase(&Match::step_physics, profile_.physics_ms);
-    run_phase(&Match::record_history, profile_.history_ms);
+    simulate_step();
   }
-  ticks_since_snapshot_ += steps;
-  if (steps > 0 && ticks_since_snapshot_ >= snapshot_interval_ticks_) {
+  ticks_since_snapshot_ += run;
+  if (run > 0 && ticks_since_snapshot_ >= snapshot_interval_ticks_) {
     ticks_since_snapshot_ = 0;
     profile_.snapshot = true;
     run_phase(&Match::build_snapshots, profile_.snapshots_ms);
   }
   run_phase(&Match::send, profile_.send_ms);
-  profile_.steps = steps;
+  profile_.steps = run;
   profile_.total_ms = elapsed_ms(tick_start);
-  counters_.steps += static_cast<std::uint64_t>(steps);
+  counters_.steps += static_cast<std::uint64_t>(run);
   counters_.overruns = clock_.overruns();
   counters_.dropped_steps = clock_.dropped_steps();
-  return steps;
+  return run;
+}
+
+void Match::simulate_step() {
+  run_phase(&Match::check_inputs, profile_.rules_ms);
+  run_phase(&Match::update_rules, profile_.rules_ms);
+  run_phase(&Match::move_players, profile_.movement_ms);
+  run_phase(&Match::fire_weapons, profile_.combat_ms);
+  run_phase(&Match::step_physics, profile_.physics_ms);
+  run_phase(&Match::resolve_projectiles, profile_.combat_ms);
+  run_phase(&Match::apply_hazards, profile_.combat_ms);
+  run_phase(&Match::take_pickups, profile_.combat_ms);
+  run_phase(&Match::record_history, profile_.history_ms);
+  run_phase(&Match::record_step, profile_.history_ms);
 }
 
 void Match::run_phase(void (Match::*phase)(), double& ms) {
@@ -438,6 +412,29 @@ double Match::elapsed_ms(std::int64_t since_ns) const {
 int Match::connected_count() const {
   return static_cast<int>(std::count_if(players_.begin(), players_.end(),
                                         [](const Player& player) { return player.connected; }));
+}
+
+Match::Player* Match::find_entity(std::uint32_t entity_id) {
+  const auto at = std::lower_bound(
+      players_.begin(), players_.end(), entity_id,
+      [](const Player& player, std::uint32_t id) { return player.entity_id < id; });
+  return at != players_.end() && at->entity_id == entity_id ? &*at : nullptr;
+}
+
+std::vector<PlayerScore> Match::scoreboard() const {
+  std::vector<PlayerScore> out = departed_;
+  for (const Player& player : players_) out.push_back(player.score);
+  std::sort(out.begin(), out.end(), [](const PlayerScore& a, const PlayerScore& b) {
+    return a.entity_id < b.entity_id;
+  });
+  return out;
+}
+
+std::optional<Match::PlayerView> Match::player_view(std::uint64_t account) const {
+  const Player* player = find(account);
+  if (!player) return std::nullopt;
+  return PlayerView{player->vitals, player->alive, player->team, player->weapon, player->ammo,
+                    player->violations};
 }
 
 std::optional<std::uint32_t> Match::entity_of(std::uint64_t account) const {

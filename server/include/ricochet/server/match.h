@@ -11,7 +11,11 @@
 ///   leave()       gone for good, at once;
 ///   tick()        removes players whose grace ran out.
 /// Everyone connected gets a reliable PlayerJoined / PlayerLeft for each change, a newcomer one
-/// PlayerJoined for every player already there.
+/// PlayerJoined for every player already there, the MatchState and the pickups that are down.
+///
+/// The game (rules.h, weapons.h, combat.h, lag_compensation.h) is deterministic: the same config,
+/// map, membership calls between steps and inputs per step give the same state bit for bit.
+/// A recording (recording.h) keeps exactly those, and apply() + step_recorded() play them back.
 
 #include <array>
 #include <cstdint>
@@ -23,48 +27,42 @@
 #include <variant>
 #include <vector>
 
+#include <functional>
+
 #include "ricochet/physics/world.h"
 #include "ricochet/proto/clock.h"
 #include "ricochet/proto/snapshot_codec.h"
+#include "ricochet/server/combat.h"
 #include "ricochet/server/input_buffer.h"
+#include "ricochet/server/lag_compensation.h"
 #include "ricochet/server/map.h"
+#include "ricochet/server/match_config.h"
 #include "ricochet/server/movement.h"
+#include "ricochet/server/recording.h"
+#include "ricochet/server/rules.h"
 #include "ricochet/server/tick_clock.h"
 #include "ricochet/server/tick_profile.h"
+#include "ricochet/server/weapons.h"
 #include "ricochet/wire/game.pb.h"
 
 namespace ricochet::server {
 
 /// Bits of proto::EntityState::flags as matches set them.
+/// Bits 2..3 hold the entity's kind (EntityKind).
 enum EntityFlag : std::uint8_t {
   kEntityGrounded = 1u << 0,      ///< standing on something
   kEntityDisconnected = 1u << 1,  ///< its player is away, within the reconnect grace
+  kEntityDead = 1u << 4,          ///< a player waiting to respawn (not hittable, not moving)
+  kEntityProtected = 1u << 5,     ///< a player under spawn protection
 };
+enum class EntityKind : std::uint8_t { Player = 0, Rocket = 1, Grenade = 2 };
+inline constexpr unsigned kEntityKindShift = 2;
+inline constexpr std::uint8_t kEntityKindMask = 3u << kEntityKindShift;
 
 inline constexpr std::size_t kMaxChatBytes = 200;
 inline constexpr std::size_t kMaxPlayerNameBytes = 32;
 /// Largest ClientPayload accepted, bytes (a game datagram is at most 1200).
 inline constexpr std::size_t kMaxClientPayloadBytes = 1200;
-
-struct MatchConfig {
-  std::uint32_t id = 1;
-  std::string name = "match";
-  int max_players = 16;                      ///< 1..64
-  TickClockConfig tick;                      ///< rate 10..128 Hz (60), catch-up cap
-  int snapshot_rate_hz = 60;                 ///< 1..tick.rate_hz: a snapshot every
-                                             ///< round(tick / snapshot) ticks
-  std::size_t snapshot_budget_bytes = 1100;  ///< serialised ServerPayload, 128..1100
-  proto::TimeUs reconnect_grace_us = 30 * proto::kMicrosPerSecond;  ///< 0..300 s
-  int history_ticks = 64;  ///< entity states kept for lag compensation, 1..1024
-  MovementConfig movement;
-  InputBufferConfig input;
-  /// Quantisation of the snapshots; its bounds are replaced by the map's and its tick_s by the
-  /// tick rate's.
-  proto::QuantizationSpec quantization;
-
-  /// Empty when valid; otherwise names the field, the allowed range and what came.
-  std::string validate() const;
-};
 
 /// Why connect() refused a player.
 enum class JoinRefusal : std::uint8_t {
@@ -106,6 +104,17 @@ struct MatchCounters {
   std::uint64_t players_left = 0;
   std::uint64_t players_timed_out = 0;
   std::uint64_t chat_messages = 0;
+  std::uint64_t shots_fired = 0;       ///< rifle rays, rockets and grenades
+  std::uint64_t lag_compensated_shots = 0;
+  std::uint64_t view_claims_clamped = 0;  ///< Input.view_tick outside the trusted window
+  std::uint64_t hits = 0;                 ///< damage events on players
+  std::uint64_t kills = 0;
+  std::uint64_t explosions = 0;
+  std::uint64_t respawns = 0;
+  std::uint64_t pickups_taken = 0;
+  std::uint64_t recording_bytes = 0;
+  bool recording_truncated = false;  ///< max_recording_bytes reached: recording stopped
+  std::array<std::uint64_t, kViolationCount> violations{};       ///< by Violation
   InputDropCounters input_drops{};                               ///< by InputDrop
   std::array<std::uint64_t, kChatDropCount> chat_drops{};        ///< by ChatDrop
   std::array<std::uint64_t, kJoinRefusalCount> join_refusals{};  ///< by JoinRefusal
@@ -120,6 +129,9 @@ struct Outgoing {
   std::vector<std::uint8_t> bytes;
 };
 
+/// A line for the server's log (rule violations, per player), from the match's thread.
+using MatchLog = std::function<void(std::string_view line)>;
+
 class Match {
  public:
   /// Builds the world from `map` (its static geometry, its bounds as the snapshots' bounds).
@@ -133,6 +145,8 @@ class Match {
   Match& operator=(Match&&) noexcept;
   ~Match();
 
+  void set_log(MatchLog log) { log_ = std::move(log); }
+
   // --- players ---
   /// The account's game connection is up (the transport checked its token). `name` is the
   /// account's name.
@@ -144,14 +158,19 @@ class Match {
   /// A ClientPayload from the account's connection: untrusted bytes, validated, and dropped and
   /// counted by InputDrop when wrong.
   void receive(std::uint64_t account, std::span<const std::uint8_t> payload);
+  /// The transport's latency estimate for the account: one way, µs (RTT / 2). Lag compensation
+  /// rewinds by it (and it is recorded with every input).
+  void set_latency(std::uint64_t account, proto::TimeUs one_way_us);
   /// A chat line from the account, echoed to every connected player. Returns why it was refused,
   /// or nothing when it was accepted.
   std::optional<ChatDrop> chat(std::uint64_t account, std::string_view text);
 
   /// Ends the match: every connected player gets a MatchEnded, put in the outbox at once (drain
-  /// it before closing the connections); connect() refuses from now on.
+  /// it before closing the connections); connect() refuses from now on. The match also ends by
+  /// itself at its frag or time limit (rules.h).
   void end(wire::MatchEndReason reason);
-  bool ended() const { return ended_; }
+  bool ended() const { return phase_ == MatchPhase::Ended; }
+  wire::MatchEndReason end_reason() const { return end_reason_; }
 
   // --- the tick ---
   /// Runs the fixed steps due at `now`; after the last, builds and sends the snapshots when one
@@ -162,20 +181,48 @@ class Match {
   /// When the next step is due: sleep until then.
   proto::TimeUs next_tick_at() const { return clock_.next_step_at(); }
 
+  // --- replay (recording.h) ---
+  /// Plays back a membership change recorded before a step.
+  void apply(const RecordedEvent& event);
+  /// Runs one step with these inputs (players without one get the neutral input), as tick()
+  /// would have with the inputs it applied; no snapshots are built.
+  void step_recorded(std::span<const RecordedInput> inputs);
+  /// The recording so far, finished (footer written); empty when config.record is off. The
+  /// match keeps no recording after this.
+  std::vector<std::uint8_t> take_recording();
+  /// The hash recordings check: the world's state_hash() and every game rule's state (health,
+  /// armour, ammunition, scores, timers, pickups, projectiles, the generator).
+  std::uint64_t state_hash() const;
+
   // --- reading ---
   std::uint32_t id() const { return config_.id; }
   const std::string& name() const { return config_.name; }
   const std::string& map_name() const { return map_name_; }
   const MatchConfig& config() const { return config_; }
   std::uint32_t tick_number() const { return tick_; }
+  MatchPhase phase() const { return phase_; }
   int player_count() const { return static_cast<int>(players_.size()); }  ///< seated
   int connected_count() const;
   int max_players() const { return config_.max_players; }
   std::optional<std::uint32_t> entity_of(std::uint64_t account) const;
-  /// The entity states after the last step, sorted by id.
+  /// Everyone who played while the match was running, including those who left, by entity.
+  std::vector<PlayerScore> scoreboard() const;
+  /// Team scores by wire::Team (index 1 red, 2 blue; 0 unused), team deathmatch.
+  std::array<int, 3> team_scores() const { return team_scores_; }
+  /// A seated player's vitals and weapon, for tests and tools.
+  struct PlayerView {
+    Vitals vitals;
+    bool alive = false;
+    Team team = Team::None;
+    WeaponKind weapon = WeaponKind::Rifle;
+    std::array<int, kWeaponCount> ammo{};
+    std::array<std::uint64_t, kViolationCount> violations{};
+  };
+  std::optional<PlayerView> player_view(std::uint64_t account) const;
+  /// The entity states after the last step (players, rockets, grenades), sorted by id.
   std::span<const proto::EntityState> entity_states() const;
   /// The entity states after step `tick` while it is in the history ring (the last
-  /// history_ticks steps), sorted by id; empty otherwise. For lag compensation.
+  /// history_ticks steps), sorted by id; empty otherwise.
   std::span<const proto::EntityState> states_at(std::uint32_t tick) const;
   const TickProfile& profile() const { return profile_; }
   const MatchCounters& counters() const { return counters_; }
@@ -186,13 +233,51 @@ class Match {
     std::uint64_t account = 0;
     std::string name;
     std::uint32_t entity_id = 0;
-    physics::BodyId body;
+    physics::BodyId body;  ///< null while dead
     bool connected = true;
     proto::TimeUs disconnected_at = 0;
     bool grounded = false;
     InputBuffer inputs;
     PlayerInput applied;                                ///< this step's input
     std::unique_ptr<proto::SnapshotEncoder> snapshots;  ///< per connection, none while away
+    proto::TimeUs latency_us = 0;                       ///< one way
+
+    // --- the game ---
+    Team team = Team::None;
+    Vitals vitals;
+    bool alive = true;
+    std::uint32_t life = 0;             ///< bumps at every spawn (lag compensation)
+    std::uint32_t respawn_tick = 0;     ///< while dead
+    std::uint32_t protected_until = 0;  ///< no damage before this tick
+    physics::Vec3 position_m = physics::Vec3::Zero();  ///< after the last step (or at death)
+    physics::Vec3 velocity_mps = physics::Vec3::Zero();
+    WeaponKind weapon = WeaponKind::Rifle;
+    std::array<int, kWeaponCount> ammo{};
+    std::uint32_t next_fire_tick = 0;  ///< the weapon is ready at this tick
+    std::uint32_t previous_buttons = 0;
+    float aim_yaw_rad = 0, aim_pitch_rad = 0;  ///< the aim the checks accepted
+    bool aimed = false;                        ///< aim_* hold a previous aim
+    PlayerScore score;
+    std::array<std::uint64_t, kViolationCount> violations{};
+    std::uint32_t input_window_start = 0;  ///< tick the input-rate window began
+    std::uint32_t inputs_in_window = 0;    ///< new inputs offered in it
+  };
+  /// A rocket or grenade in flight.
+  struct Projectile {
+    std::uint32_t entity_id = 0;
+    WeaponKind weapon = WeaponKind::RocketLauncher;
+    std::uint32_t owner_entity = 0;
+    Team owner_team = Team::None;
+    physics::ProjectileId rocket;  ///< a rocket's
+    physics::BodyId grenade;       ///< a grenade's
+    std::uint32_t expires_tick = 0;  ///< fuse (grenade) or longest flight (rocket)
+    physics::Vec3 position_m = physics::Vec3::Zero();
+    physics::Vec3 velocity_mps = physics::Vec3::Zero();
+  };
+  struct PickupState {
+    MapPickup spot;
+    bool available = true;
+    std::uint32_t respawn_tick = 0;
   };
   struct HistoryEntry {
     std::uint32_t tick = 0;
@@ -202,11 +287,20 @@ class Match {
   Match(const MatchConfig& config, physics::World world, const Map& map, proto::TimeUs now,
         ProfileClock profile_clock);
 
+  // One step (simulate_step), the table of contents: every phase is deterministic.
+  void simulate_step();
   // The phases of a step and of a snapshot (match_phases.cpp).
   void apply_inputs();
+  void check_inputs();  // match_checks.cpp
+  void update_rules();  // match_rules.cpp
   void move_players();
+  void fire_weapons();  // match_combat.cpp
   void step_physics();
+  void resolve_projectiles();  // match_combat.cpp
+  void apply_hazards();        // match_combat.cpp: kill volumes, bounds
+  void take_pickups();         // match_combat.cpp
   void record_history();
+  void record_step();  // match_recording.cpp
   void build_snapshots();
   void send();
 
@@ -214,8 +308,10 @@ class Match {
   void run_phase(void (Match::*phase)(), double& ms);
   Player* find(std::uint64_t account);
   const Player* find(std::uint64_t account) const;
-  physics::Vec3 choose_spawn();
+  Player* find_entity(std::uint32_t entity_id);
   void remove_player(std::size_t index, wire::LeaveReason reason);
+  /// Removes a player whose reconnect grace ran out.
+  void time_out(std::size_t index);
   void expire_disconnected(proto::TimeUs now);
   void broadcast(const wire::GameEvent& event);
   void queue_event(std::uint64_t account, const wire::GameEvent& event);
@@ -223,26 +319,74 @@ class Match {
   void drop_pending_events(std::uint64_t account);
   /// Tells `account` that `other` is in the match (a PlayerJoined).
   void queue_present(std::uint64_t account, const Player& other);
+  /// Tells a newcomer the state of the match: the phase and the pickups that are down.
+  void queue_arrival(std::uint64_t account);
   double elapsed_ms(std::int64_t since_ns) const;
   std::int64_t profile_now() const;
+  void note_violation(Player& player, Violation violation);
+
+  // The rules (match_rules.cpp).
+  std::uint32_t ticks_of(float seconds) const;
+  Team balanced_team() const;
+  /// The spawn farthest from living enemies, among those of the player's team.
+  const MapSpawn& choose_spawn(const Player& player) const;
+  /// Puts a player (back) into play at a spawn: a new body, full health, the start weapons.
+  void spawn(Player& player);
+  void enter_phase(MatchPhase phase);
+  void start_running();
+  wire::GameEvent match_state_event() const;
+  bool counts() const { return phase_ == MatchPhase::Running; }
+  void finish(wire::MatchEndReason reason);
+
+  // Combat (match_combat.cpp).
+  void fire_rifle(Player& shooter, const physics::Vec3& eye, const physics::Vec3& aim);
+  void launch(Player& shooter, WeaponKind weapon, const physics::Vec3& eye,
+              const physics::Vec3& aim);
+  void explode(const Projectile& projectile, const physics::Vec3& center_m);
+  /// Damage from `attacker` (null: it left the match) with `weapon`, after spawn protection,
+  /// self damage and friendly fire. Returns the hit points taken.
+  int hurt(Player& victim, Player* attacker, WeaponKind weapon, int damage);
+  /// `from_world`: a kill volume or the map's bounds (no attacker, no weapon).
+  void kill(Player& victim, Player* attacker, WeaponKind weapon, bool from_world);
+  void clear_projectiles();
+  void reset_pickups();
+
+  // Recording (match_recording.cpp).
+  void record_event(const RecordedEvent& event);
 
   MatchConfig config_;
   std::string map_name_;
-  std::vector<physics::Vec3> spawns_;
-  physics::Real bounds_max_y_m_ = 0;  ///< highest spawn centre that keeps a player inside
-  std::size_t next_spawn_ = 0;
+  Map map_;
   physics::World world_;
   TickClock clock_;
   ProfileClock profile_clock_;
+  MatchLog log_;
   std::uint32_t tick_ = 0;
   int snapshot_interval_ticks_ = 1;
   int ticks_since_snapshot_ = 0;
   std::uint32_t next_entity_id_ = 1;
   std::vector<Player> players_;            ///< sorted by entity id
+  std::vector<PlayerScore> departed_;      ///< scores of players who left while running
+  std::vector<Projectile> projectiles_;    ///< sorted by entity id
+  std::vector<PickupState> pickups_;       ///< the map's, in order
+  MatchPhase phase_ = MatchPhase::Waiting;
+  std::uint32_t phase_started_tick_ = 0;
+  std::uint32_t phase_ends_tick_ = 0;  ///< 0: open-ended
+  std::array<int, 3> team_scores_{};
+  wire::MatchEndReason end_reason_ = wire::MATCH_END_REASON_UNSPECIFIED;
+  MatchRng rng_;
+  LagCompensation lag_;
+  std::vector<LagSample> lag_samples_;
+  std::vector<ExplosionTarget> explosion_targets_;
+  std::vector<ExplosionEffect> explosion_effects_;
+  std::vector<std::uint32_t> explosion_entities_;  ///< entity of each explosion target
   std::vector<HistoryEntry> history_;      ///< ring by tick % history_ticks
   std::vector<physics::BodyId> body_ids_;  ///< scratch for World::read_bodies
   std::vector<physics::Vec3> positions_, velocities_;
   std::vector<proto::QuantizedEntity> quantized_;  ///< this snapshot's world
+  std::vector<RecordedInput> step_inputs_;         ///< this step's, for the recording
+  std::vector<RecordedEvent> pending_record_events_;  ///< since the last step
+  std::unique_ptr<RecordingWriter> recording_;
   struct AddressedPayload {
     std::uint64_t account = 0;
     wire::ServerPayload payload;
@@ -254,7 +398,6 @@ class Match {
   std::size_t outbox_read_ = 0;
   TickProfile profile_;
   MatchCounters counters_;
-  bool ended_ = false;
 };
 
 }  // namespace ricochet::server

@@ -17,9 +17,13 @@ struct TickProfile {
   int steps = 0;               ///< fixed steps run (0 when none was due)
   bool snapshot = false;       ///< snapshots were built and sent
   double apply_inputs_ms = 0;  ///< one input per player from its jitter buffer
+  double rules_ms = 0;         ///< input checks, the match's phase, respawns
   double movement_ms = 0;      ///< ground tests and wished velocities
+  double combat_ms = 0;        ///< weapons fired (lag-compensated rays), projectiles, explosions,
+                               ///< kill volumes, pickups
   double physics_ms = 0;       ///< World::step
-  double history_ms = 0;       ///< the entity states of the step into the history ring
+  double history_ms = 0;       ///< the entity states of the step into the history ring, the
+                               ///< lag compensation ring and the recording
   double snapshots_ms = 0;     ///< quantisation and one delta-coded snapshot per player
   double send_ms = 0;          ///< events and payloads serialised into the outbox
   double total_ms = 0;

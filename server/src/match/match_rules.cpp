@@ -1,0 +1,220 @@
+/// The rules of a match (rules.h): the lifecycle, teams, spawns and respawns, the limits.
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+#include "ricochet/server/match.h"
+
+namespace ricochet::server {
+
+std::uint32_t Match::ticks_of(float seconds) const {
+  return static_cast<std::uint32_t>(std::lround(double(seconds) * config_.tick.rate_hz));
+}
+
+Team Match::balanced_team() const {
+  if (config_.rules.mode != GameMode::TeamDeathmatch) return Team::None;
+  int red = 0, blue = 0;
+  for (const Player& player : players_) {
+    red += player.team == Team::Red;
+    blue += player.team == Team::Blue;
+  }
+  if (red != blue) return red < blue ? Team::Red : Team::Blue;
+  const int red_score = team_scores_[static_cast<std::size_t>(Team::Red)];
+  const int blue_score = team_scores_[static_cast<std::size_t>(Team::Blue)];
+  return blue_score < red_score ? Team::Blue : Team::Red;  // the weaker team, red on a tie
+}
+
+const MapSpawn& Match::choose_spawn(const Player& player) const {
+  // In team deathmatch the spawns of the player's team when the map has any; otherwise, and
+  // in free-for-all, every spawn (server/maps/FORMAT.md).
+  const bool team_spawns =
+      player.team != Team::None &&
+      std::any_of(map_.spawns.begin(), map_.spawns.end(),
+                  [&](const MapSpawn& spawn) { return spawn.team == player.team; });
+  const auto usable = [&](const MapSpawn& spawn) {
+    return !team_spawns || spawn.team == player.team;
+  };
+  const auto enemy = [&](const Player& other) {
+    if (other.entity_id == player.entity_id || !other.alive) return false;
+    return player.team == Team::None || other.team != player.team;
+  };
+  // Farthest from the nearest living enemy; among equals (no enemies yet) the one least
+  // recently used, so that players joining an empty match spread out.
+  const MapSpawn* best = nullptr;
+  double best_distance = -1;
+  const std::size_t count = map_.spawns.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const MapSpawn& spawn = map_.spawns[(k + player.entity_id) % count];
+    if (!usable(spawn)) continue;
+    double nearest = std::numeric_limits<double>::max();
+    for (const Player& other : players_) {
+      if (!enemy(other)) continue;
+      nearest = std::min(nearest, double((other.position_m - spawn.position_m).squaredNorm()));
+    }
+    // Any player standing on the spawn makes it a poor choice (a stack of spheres).
+    for (const Player& other : players_) {
+      if (other.entity_id != player.entity_id && other.alive &&
+          (other.position_m - spawn.position_m).norm() < 1.0) {
+        nearest = std::min(nearest, 0.0);
+      }
+    }
+    if (nearest > best_distance) {
+      best_distance = nearest;
+      best = &spawn;
+    }
+  }
+  return best ? *best : map_.spawns.front();  // create() checked there is a spawn
+}
+
+void Match::spawn(Player& player) {
+  const MapSpawn& at = choose_spawn(player);
+  if (!player.body.is_null()) {
+    [[maybe_unused]] const physics::Status destroyed = world_.destroy_body(player.body);
+    assert(destroyed.ok());
+  }
+  physics::BodyDef def = player_body_def(at.position_m);
+  def.user_data = player.entity_id;  // what rockets and rays report
+  const physics::Result<physics::BodyId> body = world_.create_body(def);
+  assert(body.ok());  // a valid definition in a world far below its body limit
+  player.body = body.value();
+  player.alive = true;
+  ++player.life;
+  player.position_m = at.position_m;
+  player.velocity_mps = physics::Vec3::Zero();
+  player.vitals = Vitals{};
+  player.weapon = WeaponKind::Rifle;
+  for (std::size_t k = 0; k < kWeaponCount; ++k) {
+    player.ammo[k] = config_.weapons.weapons[k].ammo_start;
+  }
+  player.next_fire_tick = tick_;
+  player.protected_until = tick_ + ticks_of(config_.rules.spawn_protection_s);
+  player.aim_yaw_rad = at.yaw_rad;
+  player.aim_pitch_rad = 0;
+  player.aimed = false;  // a spawn turns the view: the next aim is not a flick
+  ++counters_.respawns;
+  wire::GameEvent event;
+  wire::Spawned& spawned = *event.mutable_spawned();
+  spawned.set_entity_id(player.entity_id);
+  for (int axis = 0; axis < 3; ++axis) {
+    spawned.add_position(static_cast<float>(at.position_m[axis]));
+  }
+  spawned.set_yaw(at.yaw_rad);
+  spawned.set_protected_until_tick(player.protected_until);
+  spawned.set_team(static_cast<wire::Team>(player.team));
+  broadcast(event);
+}
+
+void Match::update_rules() {
+  const int connected = connected_count();
+  const bool enough = connected >= config_.rules.min_players;
+  switch (phase_) {
+    case MatchPhase::Waiting:
+      if (enough) {
+        if (config_.rules.warmup_s > 0) {
+          enter_phase(MatchPhase::Warmup);
+        } else {
+          start_running();
+        }
+      }
+      break;
+    case MatchPhase::Warmup:
+      if (!enough) {
+        enter_phase(MatchPhase::Waiting);
+      } else if (tick_ >= phase_ends_tick_) {
+        start_running();
+      }
+      break;
+    case MatchPhase::Running:
+      if (phase_ends_tick_ != 0 && tick_ >= phase_ends_tick_) {
+        finish(wire::MATCH_END_REASON_TIME_LIMIT);
+        return;
+      }
+      for (Player& player : players_) {
+        if (player.connected) ++player.score.ticks_played;
+      }
+      break;
+    case MatchPhase::Ended:
+      return;
+  }
+  for (Player& player : players_) {
+    if (!player.alive && tick_ >= player.respawn_tick) spawn(player);
+  }
+}
+
+void Match::enter_phase(MatchPhase phase) {
+  phase_ = phase;
+  phase_started_tick_ = tick_;
+  phase_ends_tick_ = 0;
+  if (phase == MatchPhase::Warmup) phase_ends_tick_ = tick_ + ticks_of(config_.rules.warmup_s);
+  if (phase == MatchPhase::Running && config_.rules.time_limit_s > 0) {
+    phase_ends_tick_ = tick_ + ticks_of(config_.rules.time_limit_s);
+  }
+  broadcast(match_state_event());
+}
+
+void Match::start_running() {
+  // What happened before the start does not count: fresh scores, everyone respawned, nothing
+  // in flight, every pickup up.
+  departed_.clear();
+  team_scores_ = {};
+  clear_projectiles();
+  reset_pickups();
+  for (Player& player : players_) {
+    const PlayerScore fresh{player.account, player.name, player.entity_id, player.team,
+                            0, 0, 0, 0, 0, 0, 0, 0};
+    player.score = fresh;
+  }
+  enter_phase(MatchPhase::Running);
+  for (Player& player : players_) spawn(player);
+}
+
+wire::GameEvent Match::match_state_event() const {
+  wire::GameEvent event;
+  wire::MatchState& state = *event.mutable_match_state();
+  state.set_phase(static_cast<wire::MatchPhase>(phase_));
+  state.set_phase_started_tick(phase_started_tick_);
+  state.set_phase_ends_tick(phase_ends_tick_);
+  state.set_frag_limit(config_.rules.frag_limit);
+  if (config_.rules.mode == GameMode::TeamDeathmatch) {
+    for (const Team team : {Team::Red, Team::Blue}) {
+      wire::TeamScore& score = *state.add_team_scores();
+      score.set_team(static_cast<wire::Team>(team));
+      score.set_score(team_scores_[static_cast<std::size_t>(team)]);
+    }
+  }
+  for (const Player& player : players_) {
+    wire::PlayerScore& score = *state.add_scores();
+    score.set_entity_id(player.entity_id);
+    score.set_team(static_cast<wire::Team>(player.team));
+    score.set_kills(player.score.kills);
+    score.set_deaths(player.score.deaths);
+    score.set_score(player.score.score);
+  }
+  return event;
+}
+
+void Match::queue_arrival(std::uint64_t account) {
+  queue_event(account, match_state_event());
+  for (std::size_t k = 0; k < pickups_.size(); ++k) {
+    const PickupState& pickup = pickups_[k];
+    if (pickup.available) continue;
+    wire::GameEvent event;
+    wire::Pickup& down = *event.mutable_pickup();
+    down.set_pickup_index(static_cast<std::uint32_t>(k));
+    down.set_kind(static_cast<wire::PickupKind>(pickup.spot.kind));
+    down.set_respawn_tick(pickup.respawn_tick);
+    queue_event(account, event);
+  }
+}
+
+void Match::finish(wire::MatchEndReason reason) {
+  end_reason_ = reason;
+  enter_phase(MatchPhase::Ended);
+  wire::GameEvent event;
+  event.mutable_match_ended()->set_reason(reason);
+  broadcast(event);
+}
+
+}  // namespace ricochet::server
