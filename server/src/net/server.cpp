@@ -14,6 +14,7 @@
 #include "admin_http.h"
 #include "control_server.h"
 #include "game_channel.h"
+#include "match_defaults.h"
 #include "match_registry.h"
 #include "ricochet/wire/control.pb.h"
 #include "ricochet/db/db_worker.h"
@@ -63,19 +64,6 @@ GameChannelConfig game_channel_config(const ServerConfig& config) {
     spdlog::debug("game channel: dropped a packet from {}: {}", from.to_string(),
                   proto::name(reason));
   };
-  return out;
-}
-
-MatchConfig match_defaults(const ServerConfig& config) {
-  MatchConfig out;
-  out.tick.rate_hz = config.game.tick_rate_hz;
-  out.tick.max_catch_up_steps = config.game.max_catch_up_steps;
-  out.snapshot_rate_hz = config.snapshot_rate_hz();
-  out.snapshot_budget_bytes = static_cast<std::size_t>(config.snapshot_budget_bytes());
-  // TODO(results): once MatchConfig has them, map [matches] onto rules (mode, min_players,
-  // warmup_s, frag_limit, time_limit_s, respawn_delay_s, spawn_protection_s, seed; 0 drawn at
-  // random per match and logged), weapons (self_damage_scale, friendly_fire), lag (enabled,
-  // max_rewind_ms) and record; recordings go to config.recordings_path().
   return out;
 }
 
