@@ -5,6 +5,8 @@
 #include <cmath>
 #include <optional>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -19,6 +21,7 @@
 #include "ricochet/db/rating.h"
 #include "ricochet/db/store.h"
 #include "ricochet/proto/snapshot_codec.h"
+#include "ricochet/server/match_replay.h"
 #include "ricochet/wire/game.pb.h"
 #include "server.h"
 #include "temp_dir.h"
@@ -400,6 +403,22 @@ TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotatio
   ASSERT_EQ(recordings.size(), 1u);
   EXPECT_EQ(recordings[0].filename().string().rfind("match-1-", 0), 0u) << recordings[0];
   EXPECT_GT(std::filesystem::file_size(recordings[0]), 0u);
+  // ... which re-simulates the match bit for bit (every recorded hash matches).
+  std::ifstream file(recordings[0], std::ios::binary);
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(file),
+                                        std::istreambuf_iterator<char>()};
+  auto read = server::read_recording(bytes);
+  ASSERT_TRUE(std::holds_alternative<server::Recording>(read))
+      << std::get<server::RecordingError>(read).message;
+  const server::Recording& recording = std::get<server::Recording>(read);
+  EXPECT_TRUE(recording.complete);
+  auto opened = server::open_recorded_match(recording);
+  ASSERT_TRUE(std::holds_alternative<server::Match>(opened)) << std::get<std::string>(opened);
+  server::MatchSimulation simulation(std::get<server::Match>(opened));
+  const server::ReplayReport replayed = server::replay(recording, simulation);
+  EXPECT_GT(replayed.hashes_checked, 0u);
+  EXPECT_FALSE(replayed.first_mismatch) << "first mismatch at tick " << replayed.first_mismatch->tick;
+  EXPECT_EQ(std::get<server::Match>(opened).scoreboard().at(0).shots, player.shots());
   const std::string page = http_get(server->admin_port(), "/metrics");
   EXPECT_EQ(metric(page, R"(ricochet_recordings_total{result="written"})"), 1) << page;
   EXPECT_EQ(metric(page, "ricochet_matches"), 1);  // the one that followed
