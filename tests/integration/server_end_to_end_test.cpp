@@ -440,6 +440,55 @@ TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotatio
   EXPECT_GT(stats.value().seconds_played, player.seconds_played());
 }
 
+TEST(ServerMatchEnd, ATeamDeathmatchEndsWithTheTeamsScoresAndEveryPlayerOnATeam) {
+  const TempDir dir("ricochet-e2e-tdm");
+  server::ServerConfig config = test_config(dir.path());
+  config.matches.count = 1;
+  config.matches.mode = "tdm";
+  config.matches.time_limit_s = 1.0;
+  config.matches.record = false;
+  auto server = std::make_unique<server::Server>(config);
+  server->start();
+  std::vector<std::unique_ptr<Player>> players;
+  for (const char* name : {"alice", "bob"}) {
+    players.push_back(std::make_unique<Player>(server->control_port()));
+    ASSERT_TRUE(players.back()->control.connect());
+    players.back()->control.sign_in(name);
+    players.back()->join_and_connect(1, server->game_port());
+  }
+  // Both play in turns until the limit ends the match and each is let go.
+  const auto until = std::chrono::steady_clock::now() + 6s;
+  const auto all_gone = [&players] {
+    for (const auto& player : players) {
+      if (player->game->transport().state() != proto::ConnectionState::Disconnected) return false;
+    }
+    return true;
+  };
+  while (!all_gone() && std::chrono::steady_clock::now() < until) {
+    for (const auto& player : players) player->play_for(20ms);
+  }
+  ASSERT_TRUE(all_gone());
+  for (const auto& player : players) {
+    const auto results = player->control.receive(5s);
+    ASSERT_TRUE(results && results->has_match_results()) << (results ? results->DebugString() : "nothing");
+    const wire::MatchResults& match = results->match_results();
+    EXPECT_EQ(match.mode(), "tdm");
+    EXPECT_FALSE(match.aborted());
+    EXPECT_EQ(match.end_reason(), wire::MATCH_END_REASON_TIME_LIMIT);
+    ASSERT_EQ(match.team_scores_size(), 2);
+    EXPECT_EQ(match.team_scores(0).team(), wire::TEAM_RED);
+    EXPECT_EQ(match.team_scores(1).team(), wire::TEAM_BLUE);
+    ASSERT_EQ(match.players_size(), 2);
+    // Balanced on join: one on each side.
+    EXPECT_NE(match.players(0).team(), match.players(1).team());
+    for (const wire::PlayerMatchResult& result : match.players()) {
+      EXPECT_TRUE(result.team() == wire::TEAM_RED || result.team() == wire::TEAM_BLUE);
+    }
+  }
+  server->stop();
+  EXPECT_EQ(server->wait(), 0);
+}
+
 TEST(ServerStart, APortInUseIsAClearErrorAndTheServerStopsAtOnce) {
   const TempDir dir("ricochet-e2e-port");
   boost::asio::io_context io;
