@@ -67,6 +67,8 @@ MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel,
     phase_histograms_.push_back(std::make_unique<Histogram>(bounds));
   }
   match_.set_log([id = id_](std::string_view line) { spdlog::info("match {}: {}", id, line); });
+  // A match that opens (at a rotation, while the server runs) is healthy until its first tick.
+  stats_.last_tick_at = steady_now_us();
 }
 
 MatchHost::~MatchHost() = default;

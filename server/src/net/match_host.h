@@ -37,7 +37,7 @@ struct MatchHostStats {
   TickProfile last_profile;
   int seated = 0;     ///< connected plus within the reconnect grace
   int connected = 0;
-  proto::TimeUs last_tick_at = 0;  ///< steady µs of the last tick() call
+  proto::TimeUs last_tick_at = 0;  ///< steady µs of the last tick() call (or of the opening)
 };
 
 /// A match that ended: its record for the DB, who played (for their MatchResults) and its
