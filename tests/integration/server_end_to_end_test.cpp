@@ -105,7 +105,8 @@ struct Player {
       for (proto::ClientEvent& event : game->events()) {
         if (auto* reliable = std::get_if<proto::ClientReliable>(&event)) {
           wire::GameEvent game_event;
-          ASSERT_TRUE(game_event.ParseFromArray(reliable->bytes.data(), static_cast<int>(reliable->bytes.size())));
+          ASSERT_TRUE(game_event.ParseFromArray(reliable->bytes.data(),
+                                                static_cast<int>(reliable->bytes.size())));
           game_events.push_back(std::move(game_event));
         }
         if (auto* bytes = std::get_if<proto::ClientUnreliable>(&event)) {
@@ -358,7 +359,8 @@ TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotatio
 
   // The results, once the record is written, over TLS.
   const auto results = alice->control.receive(5s);
-  ASSERT_TRUE(results && results->has_match_results()) << (results ? results->DebugString() : "nothing");
+  ASSERT_TRUE(results && results->has_match_results())
+      << (results ? results->DebugString() : "nothing");
   const wire::MatchResults& match = results->match_results();
   EXPECT_EQ(match.match_id(), 1u);
   EXPECT_EQ(match.map(), "arena");
@@ -417,7 +419,8 @@ TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotatio
   server::MatchSimulation simulation(std::get<server::Match>(opened));
   const server::ReplayReport replayed = server::replay(recording, simulation);
   EXPECT_GT(replayed.hashes_checked, 0u);
-  EXPECT_FALSE(replayed.first_mismatch) << "first mismatch at tick " << replayed.first_mismatch->tick;
+  EXPECT_FALSE(replayed.first_mismatch)
+      << "first mismatch at tick " << replayed.first_mismatch->tick;
   EXPECT_EQ(std::get<server::Match>(opened).scoreboard().at(0).shots, player.shots());
   const std::string page = http_get(server->admin_port(), "/metrics");
   EXPECT_EQ(metric(page, R"(ricochet_recordings_total{result="written"})"), 1) << page;
@@ -470,7 +473,8 @@ TEST(ServerMatchEnd, ATeamDeathmatchEndsWithTheTeamsScoresAndEveryPlayerOnATeam)
   ASSERT_TRUE(all_gone());
   for (const auto& player : players) {
     const auto results = player->control.receive(5s);
-    ASSERT_TRUE(results && results->has_match_results()) << (results ? results->DebugString() : "nothing");
+    ASSERT_TRUE(results && results->has_match_results())
+        << (results ? results->DebugString() : "nothing");
     const wire::MatchResults& match = results->match_results();
     EXPECT_EQ(match.mode(), "tdm");
     EXPECT_FALSE(match.aborted());

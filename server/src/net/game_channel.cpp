@@ -172,7 +172,8 @@ void GameChannel::drain() {
     } else if (auto* payload = std::get_if<proto::ServerUnreliable>(&event)) {
       const auto found = account_of_client_.find(payload->client);
       if (found != account_of_client_.end()) {
-        router_->payload(found->second, std::move(payload->bytes), transport_.rtt_us(payload->client));
+        router_->payload(found->second, std::move(payload->bytes),
+                         transport_.rtt_us(payload->client));
       }
     } else if (auto* message = std::get_if<proto::ServerReliable>(&event)) {
       const auto found = account_of_client_.find(message->client);

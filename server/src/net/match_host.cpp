@@ -26,15 +26,15 @@ db::UnixMillis unix_now_ms() {
 }
 
 /// The phases of TickProfile as they appear in ricochet_tick_phase_seconds{phase}.
-constexpr std::array<const char*, 9> kPhaseNames = {
-    "apply_inputs", "rules",     "movement", "combat", "physics",
-    "history",      "snapshots", "send",     "total"};
+constexpr std::array<const char*, 9> kPhaseNames = {"apply_inputs", "rules",   "movement",
+                                                    "combat",       "physics", "history",
+                                                    "snapshots",    "send",    "total"};
 constexpr const char* kPhaseHelp = "Time one tick spends in each phase, per match";
 
 std::array<double, kPhaseNames.size()> phase_ms(const TickProfile& profile) {
-  return {profile.apply_inputs_ms, profile.rules_ms,     profile.movement_ms,
-          profile.combat_ms,       profile.physics_ms,   profile.history_ms,
-          profile.snapshots_ms,    profile.send_ms,      profile.total_ms};
+  return {profile.apply_inputs_ms, profile.rules_ms,   profile.movement_ms,
+          profile.combat_ms,       profile.physics_ms, profile.history_ms,
+          profile.snapshots_ms,    profile.send_ms,    profile.total_ms};
 }
 
 /// Took part while the match was running (EndedMatch).
@@ -44,8 +44,8 @@ bool played_while_running(const PlayerScore& score) {
 
 }  // namespace
 
-MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel,
-                     SeatReleased released, MatchEndedHandler ended)
+MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel, SeatReleased released,
+                     MatchEndedHandler ended)
     : match_(std::move(match)),
       channel_(channel),
       released_(std::move(released)),

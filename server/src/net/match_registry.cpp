@@ -34,7 +34,10 @@ bool printable_name(const std::string& name) {
 
 MatchRegistry::MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config,
                              std::vector<Map> maps, GameChannel& channel, MatchEndedHandler ended)
-    : io_(io), config_(std::move(config)), maps_(std::move(maps)), channel_(channel),
+    : io_(io),
+      config_(std::move(config)),
+      maps_(std::move(maps)),
+      channel_(channel),
       ended_(std::move(ended)) {
   if (maps_.empty()) throw std::invalid_argument("MatchRegistry needs at least one map");
 }
@@ -311,11 +314,13 @@ void MatchRegistry::match_ended(std::uint32_t match_id, EndedMatch ended) {
   }
   // Posted to the channel after the MatchEnded the host just sent, which goes out first; and
   // before the seat could be taken elsewhere, so no later connection of the account is hit.
-  for (const std::uint64_t account : seated) channel_.kick(account, proto::DisconnectReason::Kicked);
+  for (const std::uint64_t account : seated)
+    channel_.kick(account, proto::DisconnectReason::Kicked);
   if (!name.empty()) {
     const auto next = open(name, max_players, next_in_rotation(map));
     if (const auto* problem = std::get_if<DirectoryError>(&next)) {
-      spdlog::info("match {} '{}' is not followed by another: {}", match_id, name, problem->message);
+      spdlog::info("match {} '{}' is not followed by another: {}", match_id, name,
+                   problem->message);
     } else {
       spdlog::info("match {} '{}' is followed by match {} on map {}", match_id, name,
                    std::get<MatchSummary>(next).id, std::get<MatchSummary>(next).map);

@@ -18,7 +18,8 @@ std::string write_file_atomically(const std::filesystem::path& directory, const 
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) return "cannot open " + temporary.string() + " for writing";
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
     out.flush();
     if (!out) {
       out.close();
@@ -40,7 +41,9 @@ std::string write_file_atomically(const std::filesystem::path& directory, const 
 RecordingFiles::RecordingFiles(std::filesystem::path directory)
     : directory_(std::move(directory)), thread_([this] { run(); }) {}
 
-RecordingFiles::~RecordingFiles() { stop(); }
+RecordingFiles::~RecordingFiles() {
+  stop();
+}
 
 std::string RecordingFiles::file_name(std::uint32_t match_id, std::int64_t ended_unix_ms) {
   std::string name = "match-";

@@ -298,16 +298,17 @@ void Server::finish_match(EndedMatch match,
     return;
   }
   const std::uint32_t id = match.id;
-  db_->submit([match = std::move(match)](db::DbServices& services) { return record(match, services); },
-              [](std::function<void()> completion) { completion(); },  // runs on the DB thread
-              [id, done = std::move(done)](db::DbResult<wire::MatchResults> result) {
-                if (!result) {
-                  spdlog::error("match {}: its record was refused: {}", id, result.error().message);
-                  done(std::nullopt);
-                  return;
-                }
-                done(std::move(result).value());
-              });
+  db_->submit(
+      [match = std::move(match)](db::DbServices& services) { return record(match, services); },
+      [](std::function<void()> completion) { completion(); },  // runs on the DB thread
+      [id, done = std::move(done)](db::DbResult<wire::MatchResults> result) {
+        if (!result) {
+          spdlog::error("match {}: its record was refused: {}", id, result.error().message);
+          done(std::nullopt);
+          return;
+        }
+        done(std::move(result).value());
+      });
 }
 
 void Server::send_results(const wire::MatchResults& results) {

@@ -84,8 +84,7 @@ class Server {
   void end_matches(std::chrono::steady_clock::time_point deadline);
   /// Any thread: the recording to its file, the record to the DB thread; `done` runs on the DB
   /// thread with the results (nothing when nobody played or the DB refused the record).
-  void finish_match(EndedMatch match,
-                    std::function<void(std::optional<wire::MatchResults>)> done);
+  void finish_match(EndedMatch match, std::function<void(std::optional<wire::MatchResults>)> done);
   /// Each player of the match its MatchResults over the control channel.
   void send_results(const wire::MatchResults& results);
   /// On the DB thread: writes one ended match and reads back its players' ratings.
