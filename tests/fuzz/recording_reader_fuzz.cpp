@@ -7,7 +7,6 @@
 // RecordingWriter, reads back the same. Every other outcome, and every sanitizer report, is a
 // bug. Run it with tools/fuzz.sh --only recording_reader.
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -54,17 +53,6 @@ void repair_checksums(std::vector<std::uint8_t>& bytes) {
     store32(bytes, payload + length, rf::crc32(std::span(bytes).subspan(payload, length)));
     pos = payload + length + 4;
   }
-}
-
-bool same(const RecordedInput& a, const RecordedInput& b) {
-  const auto bits = [](float value) { return std::bit_cast<std::uint32_t>(value); };
-  return a.entity_id == b.entity_id && a.latency_us == b.latency_us &&
-         a.input.sequence == b.input.sequence && bits(a.input.move_right) == bits(b.input.move_right) &&
-         bits(a.input.move_forward) == bits(b.input.move_forward) &&
-         bits(a.input.yaw_rad) == bits(b.input.yaw_rad) &&
-         bits(a.input.pitch_rad) == bits(b.input.pitch_rad) && a.input.buttons == b.input.buttons &&
-         a.input.weapon_slot == b.input.weapon_slot && a.input.view_tick == b.input.view_tick &&
-         a.input.view_fraction == b.input.view_fraction;
 }
 
 void check_rules(const Recording& recording) {
@@ -121,7 +109,7 @@ void check_rewrite(const Recording& recording) {
     check(a.tick == b.tick && a.inputs.size() == b.inputs.size() &&
               a.events.size() == b.events.size(),
           "rewrite changed a tick");
-    for (std::size_t j = 0; j < a.inputs.size(); ++j) check(same(a.inputs[j], b.inputs[j]), "rewrite changed an input");
+    for (std::size_t j = 0; j < a.inputs.size(); ++j) check(bit_identical(a.inputs[j], b.inputs[j]), "rewrite changed an input");
     for (std::size_t j = 0; j < a.events.size(); ++j) {
       check(a.events[j].kind == b.events[j].kind && a.events[j].account == b.events[j].account &&
                 a.events[j].name == b.events[j].name &&

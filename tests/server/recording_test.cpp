@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -27,17 +26,6 @@ std::string with_number(const char* text, std::uint64_t number) {
   return out;
 }
 
-bool same_input(const RecordedInput& a, const RecordedInput& b) {
-  const auto bits = [](float value) { return std::bit_cast<std::uint32_t>(value); };
-  return a.entity_id == b.entity_id && a.latency_us == b.latency_us &&
-         a.input.sequence == b.input.sequence && bits(a.input.move_right) == bits(b.input.move_right) &&
-         bits(a.input.move_forward) == bits(b.input.move_forward) &&
-         bits(a.input.yaw_rad) == bits(b.input.yaw_rad) &&
-         bits(a.input.pitch_rad) == bits(b.input.pitch_rad) && a.input.buttons == b.input.buttons &&
-         a.input.weapon_slot == b.input.weapon_slot && a.input.view_tick == b.input.view_tick &&
-         a.input.view_fraction == b.input.view_fraction;
-}
-
 bool same_event(const RecordedEvent& a, const RecordedEvent& b) {
   return a.kind == b.kind && a.account == b.account && a.name == b.name &&
          a.end_reason == b.end_reason;
@@ -52,7 +40,7 @@ bool same_tick(const RecordedTick& a, const RecordedTick& b) {
     if (!same_event(a.events[i], b.events[i])) return false;
   }
   for (std::size_t i = 0; i < a.inputs.size(); ++i) {
-    if (!same_input(a.inputs[i], b.inputs[i])) return false;
+    if (!bit_identical(a.inputs[i], b.inputs[i])) return false;
   }
   return true;
 }

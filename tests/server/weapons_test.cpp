@@ -48,7 +48,7 @@ TEST(WeaponsConfig, ValidationNamesWeaponFieldRangeAndValue) {
 
   config = WeaponsConfig{};
   config.weapons[1].damage = -5;
-  EXPECT_EQ(config.validate(), "rocket_launcher damage must be 0..1000, got -5.000000");
+  EXPECT_EQ(config.validate(), "rocket_launcher damage must be 0..1000, got -5");
 
   config = WeaponsConfig{};
   config.weapons[2].restitution = std::nanf("");
@@ -56,7 +56,7 @@ TEST(WeaponsConfig, ValidationNamesWeaponFieldRangeAndValue) {
 
   config = WeaponsConfig{};
   config.weapons[0].ammo_start = 201;
-  EXPECT_EQ(config.validate(), "rifle ammo_start must be 0..ammo_max, got 201.000000");
+  EXPECT_EQ(config.validate(), "rifle ammo_start must be 0..ammo_max, got 201");
 
   config = WeaponsConfig{};
   config.weapons[0].spread_rad = 1;

@@ -3,26 +3,14 @@
 
 #include "ricochet/server/lag_compensation.h"
 
+#include "range_check.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace ricochet::server {
 
 namespace {
-
-bool within(float value, float low, float high) {
-  return std::isfinite(value) && value >= low && value <= high;
-}
-
-std::string range_error(const char* field, const std::string& range, float value) {
-  std::string message = "lag_compensation ";
-  message += field;
-  message += " must be ";
-  message += range;
-  message += ", got ";
-  message += std::to_string(value);
-  return message;
-}
 
 /// The sample of `entity` in `samples`, looked up first at `hint` (players keep their index
 /// from tick to tick), or nullptr.
@@ -44,18 +32,18 @@ bool same_track(const LagSample* then, const LagSample& now) {
 }  // namespace
 
 std::string LagCompensationConfig::validate() const {
-  if (!within(history_s, 0.1f, 2)) return range_error("history_s", "0.1..2", history_s);
+  if (!within(history_s, 0.1f, 2)) return range_error("lag_compensation", "history_s", "0.1..2", history_s);
   if (!within(max_rewind_ms, 0, history_s * 1000)) {
     std::string range = "0..";
     range += std::to_string(std::lround(history_s * 1000));
     range += " (history_s in ms)";
-    return range_error("max_rewind_ms", range, max_rewind_ms);
+    return range_error("lag_compensation", "max_rewind_ms", range, max_rewind_ms);
   }
   if (!within(claim_tolerance_ms, 0, 1000)) {
-    return range_error("claim_tolerance_ms", "0..1000", claim_tolerance_ms);
+    return range_error("lag_compensation", "claim_tolerance_ms", "0..1000", claim_tolerance_ms);
   }
   if (!within(interpolation_delay_ms, 0, 250)) {
-    return range_error("interpolation_delay_ms", "0..250", interpolation_delay_ms);
+    return range_error("lag_compensation", "interpolation_delay_ms", "0..250", interpolation_delay_ms);
   }
   return {};
 }

@@ -2,6 +2,8 @@
 
 #include "ricochet/server/match_config.h"
 
+#include "range_check.h"
+
 #include <charconv>
 #include <cinttypes>
 #include <cmath>
@@ -13,30 +15,6 @@
 namespace ricochet::server {
 
 namespace {
-
-std::string range_error(const char* field, const char* range, long long value) {
-  std::string out = "match ";
-  out += field;
-  out += " must be ";
-  out += range;
-  out += ", got ";
-  out += std::to_string(value);
-  return out;
-}
-
-std::string range_error(const char* field, const char* range, double value) {
-  std::string out = "match ";
-  out += field;
-  out += " must be ";
-  out += range;
-  out += ", got ";
-  out += std::to_string(value);
-  return out;
-}
-
-bool within(float value, float low, float high) {
-  return std::isfinite(value) && value >= low && value <= high;
-}
 
 /// One field of the codec: its key, how to print it and how to read it back.
 struct Field {
@@ -245,20 +223,20 @@ std::string RulesConfig::validate() const {
     return "match rules mode must be ffa or tdm";
   }
   if (min_players < 1 || min_players > 64) {
-    return range_error("rules min_players", "1..64", static_cast<long long>(min_players));
+    return range_error("match", "rules min_players", "1..64", static_cast<long long>(min_players));
   }
-  if (!within(warmup_s, 0, 600)) return range_error("rules warmup_s", "0..600", warmup_s);
+  if (!within(warmup_s, 0, 600)) return range_error("match", "rules warmup_s", "0..600", warmup_s);
   if (frag_limit < 0 || frag_limit > 1000) {
-    return range_error("rules frag_limit", "0..1000", static_cast<long long>(frag_limit));
+    return range_error("match", "rules frag_limit", "0..1000", static_cast<long long>(frag_limit));
   }
   if (!within(time_limit_s, 0, 86400)) {
-    return range_error("rules time_limit_s", "0..86400", time_limit_s);
+    return range_error("match", "rules time_limit_s", "0..86400", time_limit_s);
   }
   if (!within(respawn_delay_s, 0, 60)) {
-    return range_error("rules respawn_delay_s", "0..60", respawn_delay_s);
+    return range_error("match", "rules respawn_delay_s", "0..60", respawn_delay_s);
   }
   if (!within(spawn_protection_s, 0, 10)) {
-    return range_error("rules spawn_protection_s", "0..10", spawn_protection_s);
+    return range_error("match", "rules spawn_protection_s", "0..10", spawn_protection_s);
   }
   return {};
 }
@@ -268,7 +246,7 @@ std::string MatchConfig::validate() const {
     return "match name must be 1..32 bytes of printable UTF-8, got '" + name + "'";
   }
   if (max_players < 1 || max_players > 64) {
-    return range_error("max_players", "1..64", static_cast<long long>(max_players));
+    return range_error("match", "max_players", "1..64", static_cast<long long>(max_players));
   }
   if (std::string error = tick.validate(); !error.empty()) return "match " + error;
   if (snapshot_rate_hz < 1 || snapshot_rate_hz > tick.rate_hz) {
@@ -276,15 +254,15 @@ std::string MatchConfig::validate() const {
            "), got " + std::to_string(snapshot_rate_hz);
   }
   if (snapshot_budget_bytes < 192 || snapshot_budget_bytes > 1100) {
-    return range_error("snapshot_budget_bytes", "192..1100",
+    return range_error("match", "snapshot_budget_bytes", "192..1100",
                        static_cast<long long>(snapshot_budget_bytes));
   }
   if (reconnect_grace_us < 0 || reconnect_grace_us > 300 * proto::kMicrosPerSecond) {
-    return range_error("reconnect_grace_us", "0..300000000",
+    return range_error("match", "reconnect_grace_us", "0..300000000",
                        static_cast<long long>(reconnect_grace_us));
   }
   if (history_ticks < 1 || history_ticks > 1024) {
-    return range_error("history_ticks", "1..1024", static_cast<long long>(history_ticks));
+    return range_error("match", "history_ticks", "1..1024", static_cast<long long>(history_ticks));
   }
   if (std::string error = movement.validate(); !error.empty()) return "match " + error;
   if (std::string error = input.validate(); !error.empty()) return "match " + error;
@@ -292,11 +270,11 @@ std::string MatchConfig::validate() const {
   if (std::string error = weapons.validate(); !error.empty()) return "match " + error;
   if (std::string error = lag.validate(); !error.empty()) return "match " + error;
   if (hash_interval_ticks < 1 || hash_interval_ticks > 3600) {
-    return range_error("hash_interval_ticks", "1..3600",
+    return range_error("match", "hash_interval_ticks", "1..3600",
                        static_cast<long long>(hash_interval_ticks));
   }
   if (max_recording_bytes < 4096 || max_recording_bytes > (std::size_t{1} << 30)) {
-    return range_error("max_recording_bytes", "4096..1073741824",
+    return range_error("match", "max_recording_bytes", "4096..1073741824",
                        static_cast<long long>(max_recording_bytes));
   }
   return {};

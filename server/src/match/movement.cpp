@@ -2,6 +2,8 @@
 
 #include "ricochet/server/movement.h"
 
+#include "range_check.h"
+
 #include <cmath>
 #include <numbers>
 
@@ -13,14 +15,6 @@ namespace {
 
 using physics::Real;
 using physics::Vec3;
-
-bool within(float value, float low, float high) {
-  return std::isfinite(value) && value >= low && value <= high;
-}
-
-std::string range_error(const char* field, const char* range, float value) {
-  return std::string("movement ") + field + " must be " + range + ", got " + std::to_string(value);
-}
 
 /// Adds speed along `direction` until the speed along it reaches `wish_speed`, at most
 /// acceleration * wish_speed * dt (Quake's PM_Accelerate).
@@ -46,23 +40,23 @@ Vec3 apply_friction(const Vec3& velocity, const MovementConfig& config, float dt
 
 std::string MovementConfig::validate() const {
   if (!within(max_speed_mps, 0.1f, 100))
-    return range_error("max_speed_mps", "0.1..100", max_speed_mps);
+    return range_error("movement", "max_speed_mps", "0.1..100", max_speed_mps);
   if (!within(ground_acceleration, 0, 1000)) {
-    return range_error("ground_acceleration", "0..1000", ground_acceleration);
+    return range_error("movement", "ground_acceleration", "0..1000", ground_acceleration);
   }
   if (!within(air_acceleration, 0, 1000)) {
-    return range_error("air_acceleration", "0..1000", air_acceleration);
+    return range_error("movement", "air_acceleration", "0..1000", air_acceleration);
   }
-  if (!within(friction, 0, 1000)) return range_error("friction", "0..1000", friction);
+  if (!within(friction, 0, 1000)) return range_error("movement", "friction", "0..1000", friction);
   if (!within(stop_speed_mps, 0, 100))
-    return range_error("stop_speed_mps", "0..100", stop_speed_mps);
+    return range_error("movement", "stop_speed_mps", "0..100", stop_speed_mps);
   if (!within(jump_speed_mps, 0, 100))
-    return range_error("jump_speed_mps", "0..100", jump_speed_mps);
+    return range_error("movement", "jump_speed_mps", "0..100", jump_speed_mps);
   if (!within(ground_max_slope_deg, 0, 89)) {
-    return range_error("ground_max_slope_deg", "0..89", ground_max_slope_deg);
+    return range_error("movement", "ground_max_slope_deg", "0..89", ground_max_slope_deg);
   }
   if (!within(ground_probe_m, 0.001f, 1)) {
-    return range_error("ground_probe_m", "0.001..1", ground_probe_m);
+    return range_error("movement", "ground_probe_m", "0.001..1", ground_probe_m);
   }
   return {};
 }

@@ -70,6 +70,16 @@ void put_event(std::vector<std::uint8_t>& out, const RecordedEvent& event) {
 
 }  // namespace
 
+bool bit_identical(const RecordedInput& a, const RecordedInput& b) {
+  const PlayerInput& x = a.input;
+  const PlayerInput& y = b.input;
+  return a.entity_id == b.entity_id && a.latency_us == b.latency_us && x.sequence == y.sequence &&
+         same_bits(x.move_right, y.move_right) && same_bits(x.move_forward, y.move_forward) &&
+         same_bits(x.yaw_rad, y.yaw_rad) && same_bits(x.pitch_rad, y.pitch_rad) &&
+         x.buttons == y.buttons && x.weapon_slot == y.weapon_slot && x.view_tick == y.view_tick &&
+         x.view_fraction == y.view_fraction;
+}
+
 RecordingWriter::RecordingWriter(RecordingHeader header, std::size_t max_bytes)
     : max_bytes_(max_bytes) {
   out_.assign(rf::kMagic.begin(), rf::kMagic.end());

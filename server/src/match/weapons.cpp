@@ -2,6 +2,8 @@
 
 #include "ricochet/server/weapons.h"
 
+#include "range_check.h"
+
 #include <cmath>
 
 #include "ricochet/physics/scene_profile.h"
@@ -21,21 +23,6 @@ constexpr std::uint32_t kProjectileMask =
 constexpr Real kGrenadeMassKg = Real(0.4);
 /// Gap between the shooter's sphere and a grenade leaving it, m.
 constexpr Real kLaunchClearanceM = Real(0.05);
-
-bool within(double value, double low, double high) {
-  return std::isfinite(value) && value >= low && value <= high;
-}
-
-std::string range_error(const char* weapon, const char* field, const char* range, double value) {
-  std::string message = weapon;
-  message += ' ';
-  message += field;
-  message += " must be ";
-  message += range;
-  message += ", got ";
-  message += std::to_string(value);
-  return message;
-}
 
 Vec3 unit_or_zero(const Vec3& direction) {
   const Real length = direction.norm();

@@ -52,7 +52,8 @@ struct MapSpawn {
 struct MapPickup {
   PickupKind kind = PickupKind::Health;
   physics::Vec3 position_m = physics::Vec3::Zero();
-  /// Health and Armor: hit points, 1..200. Ammo: rounds of every weapon, 1..100.
+  /// Health and Armor: hit points, 1..200. Ammo: boxes, 1..100 (each gives every weapon its
+  /// WeaponConfig::ammo_per_pickup rounds).
   int amount = 0;
   float respawn_s = 0;  ///< s until it is back after being taken, 1..600
 };

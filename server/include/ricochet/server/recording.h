@@ -59,6 +59,10 @@ struct RecordedInput {
   std::uint32_t latency_us = 0;  ///< the one-way latency estimate used for this input, µs
 };
 
+/// Every field equal, floats bit for bit (so -0 differs from 0 and a NaN equals itself): what a
+/// recording must give back.
+bool bit_identical(const RecordedInput& a, const RecordedInput& b);
+
 struct RecordedTick {
   std::uint32_t tick = 0;               ///< the step number this becomes (1, 2, ...)
   std::vector<RecordedEvent> events;    ///< applied before this step, in order
