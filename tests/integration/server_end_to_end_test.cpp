@@ -5,10 +5,13 @@
 #include <cmath>
 #include <optional>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -18,6 +21,7 @@
 #include "ricochet/db/rating.h"
 #include "ricochet/db/store.h"
 #include "ricochet/proto/snapshot_codec.h"
+#include "ricochet/server/match_replay.h"
 #include "ricochet/wire/game.pb.h"
 #include "server.h"
 #include "temp_dir.h"
@@ -40,6 +44,9 @@ server::ServerConfig test_config(const std::filesystem::path& data_dir) {
   config.admin.port = 0;
   config.matches.count = 2;
   config.matches.maps = {RICOCHET_SOURCE_DIR "/server/maps/arena.toml"};
+  // One player starts the match at once, so whoever plays is in its record.
+  config.matches.min_players = 1;
+  config.matches.warmup_s = 0;
   return config;
 }
 
@@ -55,6 +62,8 @@ struct Player {
   std::unique_ptr<proto::SnapshotDecoder> decoder;  ///< from the join reply's quantisation
   std::vector<proto::EntityState> view;             ///< the newest decoded snapshot
   std::optional<proto::EntityState> first_self;     ///< own entity in the first decoded snapshot
+  std::uint32_t buttons = 0;                        ///< held in every input (bit 1: fire)
+  std::vector<wire::GameEvent> game_events;         ///< every reliable GameEvent received
 
   std::optional<proto::EntityState> self() const {
     for (const proto::EntityState& entity : view) {
@@ -89,10 +98,17 @@ struct Player {
         wire::Input* input = payload.add_inputs();
         input->set_sequence(++sequence);
         input->set_move_forward(127);
+        input->set_buttons(buttons);
         payload.set_ack_snapshot_tick(decoder->has_snapshot() ? decoder->newest_tick() : 0);
         game->send(payload.SerializeAsString());
       }
       for (proto::ClientEvent& event : game->events()) {
+        if (auto* reliable = std::get_if<proto::ClientReliable>(&event)) {
+          wire::GameEvent game_event;
+          ASSERT_TRUE(game_event.ParseFromArray(reliable->bytes.data(),
+                                                static_cast<int>(reliable->bytes.size())));
+          game_events.push_back(std::move(game_event));
+        }
         if (auto* bytes = std::get_if<proto::ClientUnreliable>(&event)) {
           wire::ServerPayload payload;
           ASSERT_TRUE(payload.ParseFromArray(bytes->bytes.data(), static_cast<int>(bytes->bytes.size())));
@@ -297,7 +313,184 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
   EXPECT_EQ(metric(page, R"(ricochet_match_players{match="1",state="connected"})"), 1);
   EXPECT_EQ(metric(page, "ricochet_players"), 1);
   EXPECT_EQ(metric(page, "ricochet_matches"), 2);
+  for (const char* phase : {"rules", "combat", "physics", "total"}) {
+    EXPECT_NE(page.find(std::string("ricochet_tick_phase_seconds_count{match=\"1\",phase=\"") +
+                        phase + "\"}"),
+              std::string::npos)
+        << phase;
+  }
   EXPECT_EQ(http_get(server_->admin_port(), "/healthz").substr(0, 2), "ok");
+}
+
+TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotationOpens) {
+  const TempDir dir("ricochet-e2e-end");
+  server::ServerConfig config = test_config(dir.path());
+  config.matches.count = 1;
+  config.matches.maps.push_back(RICOCHET_SOURCE_DIR "/server/maps/foundry.toml");
+  config.matches.time_limit_s = 1.5;
+  auto server = std::make_unique<server::Server>(config);
+  server->start();
+  const auto signed_in = [&server](const std::string& name) {
+    auto player = std::make_unique<Player>(server->control_port());
+    EXPECT_TRUE(player->control.connect());
+    player->control.sign_in(name);
+    return player;
+  };
+  auto alice = signed_in("alice");
+  alice->join_and_connect(1, server->game_port());
+  alice->buttons = 1u << 1;  // fire held: the rifle's shots count
+  // Running from her arrival (min_players 1, no warm-up) until the 1.5 s limit; then the match
+  // tells her it ended and closes her game connection.
+  const auto until = std::chrono::steady_clock::now() + 6s;
+  while (alice->game->transport().state() != proto::ConnectionState::Disconnected &&
+         std::chrono::steady_clock::now() < until) {
+    alice->play_for(50ms);
+  }
+  ASSERT_EQ(alice->game->transport().state(), proto::ConnectionState::Disconnected);
+  EXPECT_EQ(alice->game->transport().disconnect_reason(), proto::DisconnectReason::Kicked);
+  bool told_match_ended = false;
+  for (const wire::GameEvent& event : alice->game_events) {
+    if (event.has_match_ended()) {
+      told_match_ended = true;
+      EXPECT_EQ(event.match_ended().reason(), wire::MATCH_END_REASON_TIME_LIMIT);
+    }
+  }
+  EXPECT_TRUE(told_match_ended);
+
+  // The results, once the record is written, over TLS.
+  const auto results = alice->control.receive(5s);
+  ASSERT_TRUE(results && results->has_match_results())
+      << (results ? results->DebugString() : "nothing");
+  const wire::MatchResults& match = results->match_results();
+  EXPECT_EQ(match.match_id(), 1u);
+  EXPECT_EQ(match.map(), "arena");
+  EXPECT_EQ(match.mode(), "ffa");
+  EXPECT_FALSE(match.aborted());
+  EXPECT_EQ(match.end_reason(), wire::MATCH_END_REASON_TIME_LIMIT);
+  ASSERT_EQ(match.players_size(), 1);
+  const wire::PlayerMatchResult& player = match.players(0);
+  EXPECT_EQ(player.username(), "alice");
+  EXPECT_EQ(player.team(), wire::TEAM_NONE);
+  EXPECT_GT(player.shots(), 0);
+  EXPECT_EQ(player.hits(), 0);  // nobody else to hit
+  EXPECT_GT(player.seconds_played(), 1.0);
+  EXPECT_EQ(player.rank(), 1u);
+  EXPECT_TRUE(player.won());  // the top score, alone
+
+  // Followed by a match on the rotation's next map, which she can join.
+  const wire::ServerMessage list = alice->control.request(ControlTestClient::list_matches());
+  ASSERT_TRUE(list.has_list_matches());
+  ASSERT_EQ(list.list_matches().matches_size(), 1);
+  const wire::MatchInfo& next = list.list_matches().matches(0);
+  EXPECT_EQ(next.match_id(), 2u);
+  EXPECT_EQ(next.map(), "foundry");
+  EXPECT_EQ(next.name(), "ffa-1");
+  alice->newest = {};
+  alice->sequence = 0;
+  alice->join_and_connect(2, server->game_port());
+  alice->play_for(200ms);
+  EXPECT_NE(alice->newest.your_entity_id(), 0u);
+
+  // The recording, written off the match's strand.
+  std::vector<std::filesystem::path> recordings;
+  const auto recordings_dir = dir.path() / "recordings";
+  for (int attempt = 0; attempt < 100 && recordings.empty(); ++attempt) {
+    if (std::filesystem::exists(recordings_dir)) {
+      for (const auto& entry : std::filesystem::directory_iterator(recordings_dir)) {
+        if (entry.path().extension() == ".rcr") recordings.push_back(entry.path());
+      }
+    }
+    if (recordings.empty()) std::this_thread::sleep_for(20ms);
+  }
+  ASSERT_EQ(recordings.size(), 1u);
+  EXPECT_EQ(recordings[0].filename().string().rfind("match-1-", 0), 0u) << recordings[0];
+  EXPECT_GT(std::filesystem::file_size(recordings[0]), 0u);
+  // ... which re-simulates the match bit for bit (every recorded hash matches).
+  std::ifstream file(recordings[0], std::ios::binary);
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(file),
+                                        std::istreambuf_iterator<char>()};
+  auto read = server::read_recording(bytes);
+  ASSERT_TRUE(std::holds_alternative<server::Recording>(read))
+      << std::get<server::RecordingError>(read).message;
+  const server::Recording& recording = std::get<server::Recording>(read);
+  EXPECT_TRUE(recording.complete);
+  auto opened = server::open_recorded_match(recording);
+  ASSERT_TRUE(std::holds_alternative<server::Match>(opened)) << std::get<std::string>(opened);
+  server::MatchSimulation simulation(std::get<server::Match>(opened));
+  const server::ReplayReport replayed = server::replay(recording, simulation);
+  EXPECT_GT(replayed.hashes_checked, 0u);
+  EXPECT_FALSE(replayed.first_mismatch)
+      << "first mismatch at tick " << replayed.first_mismatch->tick;
+  EXPECT_EQ(std::get<server::Match>(opened).scoreboard().at(0).shots, player.shots());
+  const std::string page = http_get(server->admin_port(), "/metrics");
+  EXPECT_EQ(metric(page, R"(ricochet_recordings_total{result="written"})"), 1) << page;
+  EXPECT_EQ(metric(page, "ricochet_matches"), 1);  // the one that followed
+
+  server->stop();
+  EXPECT_EQ(server->wait(), 0);
+  server.reset();
+  auto store = db::open_sqlite_store({.path = dir.file("ricochet.db")});
+  ASSERT_TRUE(store) << store.error().message;
+  db::Matches matches(*store.value());
+  const auto account = store.value()->find_account_by_key("alice");
+  ASSERT_TRUE(account.ok() && account.value().has_value());
+  const auto stats = matches.player_stats(account.value()->account.id);
+  ASSERT_TRUE(stats) << stats.error().message;
+  // The first match, and the second, stopped by the server (aborted: counted, but no win).
+  EXPECT_EQ(stats.value().matches, 2);
+  EXPECT_EQ(stats.value().wins, 1);
+  EXPECT_GE(stats.value().shots, player.shots());
+  EXPECT_GT(stats.value().seconds_played, player.seconds_played());
+}
+
+TEST(ServerMatchEnd, ATeamDeathmatchEndsWithTheTeamsScoresAndEveryPlayerOnATeam) {
+  const TempDir dir("ricochet-e2e-tdm");
+  server::ServerConfig config = test_config(dir.path());
+  config.matches.count = 1;
+  config.matches.mode = "tdm";
+  config.matches.time_limit_s = 1.0;
+  config.matches.record = false;
+  auto server = std::make_unique<server::Server>(config);
+  server->start();
+  std::vector<std::unique_ptr<Player>> players;
+  for (const char* name : {"alice", "bob"}) {
+    players.push_back(std::make_unique<Player>(server->control_port()));
+    ASSERT_TRUE(players.back()->control.connect());
+    players.back()->control.sign_in(name);
+    players.back()->join_and_connect(1, server->game_port());
+  }
+  // Both play in turns until the limit ends the match and each is let go.
+  const auto until = std::chrono::steady_clock::now() + 6s;
+  const auto all_gone = [&players] {
+    for (const auto& player : players) {
+      if (player->game->transport().state() != proto::ConnectionState::Disconnected) return false;
+    }
+    return true;
+  };
+  while (!all_gone() && std::chrono::steady_clock::now() < until) {
+    for (const auto& player : players) player->play_for(20ms);
+  }
+  ASSERT_TRUE(all_gone());
+  for (const auto& player : players) {
+    const auto results = player->control.receive(5s);
+    ASSERT_TRUE(results && results->has_match_results())
+        << (results ? results->DebugString() : "nothing");
+    const wire::MatchResults& match = results->match_results();
+    EXPECT_EQ(match.mode(), "tdm");
+    EXPECT_FALSE(match.aborted());
+    EXPECT_EQ(match.end_reason(), wire::MATCH_END_REASON_TIME_LIMIT);
+    ASSERT_EQ(match.team_scores_size(), 2);
+    EXPECT_EQ(match.team_scores(0).team(), wire::TEAM_RED);
+    EXPECT_EQ(match.team_scores(1).team(), wire::TEAM_BLUE);
+    ASSERT_EQ(match.players_size(), 2);
+    // Balanced on join: one on each side.
+    EXPECT_NE(match.players(0).team(), match.players(1).team());
+    for (const wire::PlayerMatchResult& result : match.players()) {
+      EXPECT_TRUE(result.team() == wire::TEAM_RED || result.team() == wire::TEAM_BLUE);
+    }
+  }
+  server->stop();
+  EXPECT_EQ(server->wait(), 0);
 }
 
 TEST(ServerStart, APortInUseIsAClearErrorAndTheServerStopsAtOnce) {

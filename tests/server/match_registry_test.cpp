@@ -44,7 +44,7 @@ class MatchRegistryTest : public ::testing::Test {
     rotation.push_back(sample_map());
     rotation.push_back(std::move(second));
     registry_ = std::make_unique<MatchRegistry>(io_, config, std::move(rotation), *channel_,
-                                                metrics_);
+                                                [](EndedMatch) {});
     channel_->start(*registry_);
     registry_->set_udp_port(channel_->port());
   }
@@ -71,7 +71,6 @@ class MatchRegistryTest : public ::testing::Test {
   }
 
   boost::asio::io_context io_;
-  MetricsRegistry metrics_;
   std::unique_ptr<GameChannel> channel_;
   std::unique_ptr<MatchRegistry> registry_;
 };

@@ -107,7 +107,11 @@ void GameChannel::kick(std::uint64_t account, proto::DisconnectReason reason) {
   asio::post(strand_, [this, account, reason] {
     const auto found = client_of_account_.find(account);
     if (found == client_of_account_.end()) return;
-    transport_.disconnect(found->second, reason, steady_now_us());
+    const proto::ClientId client = found->second;
+    const proto::TimeUs now = steady_now_us();
+    transport_.update(now);  // what is queued for it goes out before the disconnect packets
+    drain();
+    if (transport_.connected(client)) transport_.disconnect(client, reason, now);
     drain();
   });
 }
@@ -167,7 +171,10 @@ void GameChannel::drain() {
       }
     } else if (auto* payload = std::get_if<proto::ServerUnreliable>(&event)) {
       const auto found = account_of_client_.find(payload->client);
-      if (found != account_of_client_.end()) router_->payload(found->second, std::move(payload->bytes));
+      if (found != account_of_client_.end()) {
+        router_->payload(found->second, std::move(payload->bytes),
+                         transport_.rtt_us(payload->client));
+      }
     } else if (auto* message = std::get_if<proto::ServerReliable>(&event)) {
       const auto found = account_of_client_.find(message->client);
       if (found != account_of_client_.end()) router_->reliable(found->second, std::move(message->bytes));

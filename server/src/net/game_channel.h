@@ -35,7 +35,9 @@ class GameRouter {
   virtual ~GameRouter() = default;
   virtual void connected(std::uint64_t account, std::uint32_t match_id) = 0;
   virtual void disconnected(std::uint64_t account, proto::DisconnectReason reason) = 0;
-  virtual void payload(std::uint64_t account, std::vector<std::uint8_t> bytes) = 0;
+  /// `rtt_us`: the connection's smoothed round trip (GameServer::rtt_us; 0 until measured).
+  virtual void payload(std::uint64_t account, std::vector<std::uint8_t> bytes,
+                       proto::TimeUs rtt_us) = 0;
   virtual void reliable(std::uint64_t account, std::vector<std::uint8_t> bytes) = 0;
 };
 
@@ -63,7 +65,8 @@ class GameChannel {
 
   /// Thread-safe: queue bytes for the account's connection (dropped when it has none).
   void send(std::uint64_t account, bool reliable, std::vector<std::uint8_t> bytes);
-  /// Thread-safe: ends the account's connection (the one exit, with its reason).
+  /// Thread-safe: ends the account's connection (the one exit, with its reason), after sending
+  /// the reliable messages queued for it (a match's MatchEnded) once.
   void kick(std::uint64_t account, proto::DisconnectReason reason);
 
   std::uint16_t port() const { return port_.load(); }

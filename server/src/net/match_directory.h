@@ -18,7 +18,7 @@ namespace ricochet::server {
 struct MatchSummary {
   std::uint32_t id = 0;
   std::string name;
-  std::string mode;  ///< "ffa" (free for all) today
+  std::string mode;  ///< "ffa" (free-for-all) or "tdm" (team deathmatch): [matches] mode
   std::string map;   ///< the map's name
   int players = 0;   ///< seated: connected plus reserved plus reconnecting
   int max_players = 0;
@@ -27,7 +27,7 @@ struct MatchSummary {
 struct CreateMatchRequest {
   std::string name;     ///< 1..32 printable characters
   int max_players = 16; ///< 1..64
-  std::string map;      ///< empty: the default map
+  std::string map;      ///< a loaded map's name; empty: the rotation's first
 };
 
 /// Everything the client needs to open the game channel.

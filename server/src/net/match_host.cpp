@@ -26,26 +26,36 @@ db::UnixMillis unix_now_ms() {
 }
 
 /// The phases of TickProfile as they appear in ricochet_tick_phase_seconds{phase}.
-constexpr std::array<const char*, 7> kPhaseNames = {
-    "apply_inputs", "movement", "physics", "history", "snapshots", "send", "total"};
+constexpr std::array<const char*, 9> kPhaseNames = {"apply_inputs", "rules",   "movement",
+                                                    "combat",       "physics", "history",
+                                                    "snapshots",    "send",    "total"};
+constexpr const char* kPhaseHelp = "Time one tick spends in each phase, per match";
 
-std::array<double, 7> phase_ms(const TickProfile& profile) {
-  return {profile.apply_inputs_ms, profile.movement_ms, profile.physics_ms, profile.history_ms,
-          profile.snapshots_ms,    profile.send_ms,     profile.total_ms};
+std::array<double, kPhaseNames.size()> phase_ms(const TickProfile& profile) {
+  return {profile.apply_inputs_ms, profile.rules_ms,   profile.movement_ms,
+          profile.combat_ms,       profile.physics_ms, profile.history_ms,
+          profile.snapshots_ms,    profile.send_ms,    profile.total_ms};
+}
+
+/// Took part while the match was running (EndedMatch).
+bool played_while_running(const PlayerScore& score) {
+  return score.ticks_played > 0 || score.kills > 0 || score.deaths > 0;
 }
 
 }  // namespace
 
-MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel,
-                     MetricsRegistry& metrics, SeatReleased released)
+MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel, SeatReleased released,
+                     MatchEndedHandler ended)
     : match_(std::move(match)),
       channel_(channel),
       released_(std::move(released)),
+      on_ended_(std::move(ended)),
       strand_(asio::make_strand(io)),
       timer_(strand_),
       id_(match_.id()),
       name_(match_.name()),
       map_name_(match_.map_name()),
+      mode_(match_.config().rules.mode),
       max_players_(match_.max_players()),
       tick_rate_hz_(match_.config().tick.rate_hz),
       snapshot_rate_hz_(match_.config().snapshot_rate_hz),
@@ -54,10 +64,11 @@ MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel,
   // 10 µs .. ~20 ms: a 60 Hz tick has 16.7 ms.
   const std::vector<double> bounds = exponential_buckets(0.00001, 2, 12);
   for (std::size_t phase = 0; phase < kPhaseNames.size(); ++phase) {
-    phase_histograms_[phase] = &metrics.histogram(
-        "ricochet_tick_phase_seconds", "Time one tick spends in each phase, per match", bounds,
-        {{"match", std::to_string(id_)}, {"phase", kPhaseNames[phase]}});
+    phase_histograms_.push_back(std::make_unique<Histogram>(bounds));
   }
+  match_.set_log([id = id_](std::string_view line) { spdlog::info("match {}: {}", id, line); });
+  // A match that opens (at a rotation, while the server runs) is healthy until its first tick.
+  stats_.last_tick_at = steady_now_us();
 }
 
 MatchHost::~MatchHost() = default;
@@ -66,31 +77,56 @@ void MatchHost::start() { asio::co_spawn(strand_, tick_loop(), asio::detached); 
 
 void MatchHost::end(std::function<void(EndedMatch)> done) {
   asio::post(strand_, [self = shared_from_this(), done = std::move(done)] {
-    const proto::TimeUs now = steady_now_us();
+    if (self->ended_) {  // it ended by itself and was handed over then
+      EndedMatch nothing;
+      nothing.id = self->id_;
+      done(std::move(nothing));
+      return;
+    }
     self->ended_ = true;
     self->timer_.cancel();
     self->match_.end(wire::MATCH_END_REASON_SERVER_SHUTDOWN);  // MatchEnded to every player
     self->drain_outbox();
-    EndedMatch ended;
-    ended.id = self->id_;
-    ended.end_reason = wire::MATCH_END_REASON_SERVER_SHUTDOWN;
-    db::MatchRecord& record = ended.record;
-    record.map = self->map_name_;
-    record.mode = "ffa";
-    record.started_ms = self->started_unix_ms_;
-    record.ended_ms = unix_now_ms();
-    record.tick_rate = self->tick_rate_hz_;
-    record.aborted = true;  // stopped by the server before its end
-    for (auto& [account, played] : self->played_) {
-      played.stop(now);
-      db::PlayerResult result;
-      result.account = static_cast<db::AccountId>(account);
-      result.seconds_played = played.seconds;
-      record.players.push_back(result);
-      ended.usernames.push_back(played.username);
-    }
-    done(std::move(ended));
+    done(self->ended_match(true, steady_now_us()));
   });
+}
+
+EndedMatch MatchHost::ended_match(bool aborted, proto::TimeUs now) {
+  EndedMatch ended;
+  ended.id = id_;
+  ended.end_reason = match_.end_reason();
+  ended.recording = match_.take_recording();
+  db::MatchRecord& record = ended.record;
+  record.map = map_name_;
+  record.mode = server::name(mode_);
+  record.started_ms = started_unix_ms_;
+  record.ended_ms = unix_now_ms();
+  record.tick_rate = tick_rate_hz_;
+  record.aborted = aborted;
+  if (mode_ == GameMode::TeamDeathmatch) {
+    const std::array<int, 3> teams = match_.team_scores();
+    record.team_scores.red = teams[static_cast<std::size_t>(Team::Red)];
+    record.team_scores.blue = teams[static_cast<std::size_t>(Team::Blue)];
+  }
+  for (auto& [account, played] : played_) played.stop(now);
+  for (const PlayerScore& score : match_.scoreboard()) {
+    if (!played_while_running(score)) continue;
+    db::PlayerResult result;
+    result.account = static_cast<db::AccountId>(score.account);
+    result.team = static_cast<std::int32_t>(score.team);
+    result.kills = score.kills;
+    result.deaths = score.deaths;
+    result.score = score.score;
+    result.shots = score.shots;
+    result.hits = score.hits;
+    result.damage_dealt = score.damage_dealt;
+    result.damage_taken = score.damage_taken;
+    const auto played = played_.find(score.account);
+    result.seconds_played = played != played_.end() ? played->second.seconds : 0.0;
+    record.players.push_back(result);
+    ended.usernames.push_back(score.name);
+  }
+  return ended;
 }
 
 void MatchHost::connect(std::uint64_t account, std::string name, std::uint64_t seat) {
@@ -107,7 +143,6 @@ void MatchHost::connect(std::uint64_t account, std::string name, std::uint64_t s
     spdlog::info("match {}: account {} {} as entity {}", self->id_, account,
                  entered.reconnected ? "came back" : "entered", entered.entity_id);
     Played& played = self->played_[account];
-    played.username = name;
     played.seated = true;
     played.seat = seat;
     if (played.connected_at == 0) played.connected_at = steady_now_us();
@@ -123,8 +158,11 @@ void MatchHost::disconnect(std::uint64_t account) {
   });
 }
 
-void MatchHost::receive(std::uint64_t account, std::vector<std::uint8_t> payload) {
-  asio::post(strand_, [self = shared_from_this(), account, payload = std::move(payload)] {
+void MatchHost::receive(std::uint64_t account, std::vector<std::uint8_t> payload,
+                        proto::TimeUs rtt_us) {
+  asio::post(strand_, [self = shared_from_this(), account, payload = std::move(payload), rtt_us] {
+    if (self->ended_) return;
+    self->match_.set_latency(account, rtt_us / 2);
     self->match_.receive(account, payload);
   });
 }
@@ -155,9 +193,18 @@ MatchHostStats MatchHost::stats() const {
   return stats_;
 }
 
+void MatchHost::report_phases(MetricsSink& sink) const {
+  for (std::size_t phase = 0; phase < kPhaseNames.size(); ++phase) {
+    sink.histogram("ricochet_tick_phase_seconds", kPhaseHelp,
+                   {{"match", std::to_string(id_)}, {"phase", kPhaseNames[phase]}},
+                   phase_histograms_[phase]->snapshot());
+  }
+}
+
 asio::awaitable<void> MatchHost::tick_loop() {
   while (!ended_) {
     tick(steady_now_us());
+    if (ended_) break;
     timer_.expires_at(steady_time_point(match_.next_tick_at()));
     auto [error] = co_await timer_.async_wait(asio::as_tuple(asio::use_awaitable));
     if (error) break;
@@ -166,7 +213,15 @@ asio::awaitable<void> MatchHost::tick_loop() {
 
 void MatchHost::tick(proto::TimeUs now) {
   if (match_.tick(now) > 0) observe_profile(match_.profile());
-  drain_outbox();
+  drain_outbox();  // with the MatchEnded of a match that just ended
+  if (match_.ended()) {
+    ended_ = true;
+    publish_stats(now);
+    spdlog::info("match {} ended: {} after {} steps", id_,
+                 wire::MatchEndReason_Name(match_.end_reason()), match_.tick_number());
+    on_ended_(ended_match(false, now));
+    return;
+  }
   if (now >= next_sweep_at_) {
     sweep_departed();
     next_sweep_at_ = now + kSweepIntervalUs;
@@ -182,7 +237,7 @@ void MatchHost::drain_outbox() {
 }
 
 void MatchHost::observe_profile(const TickProfile& profile) {
-  const std::array<double, 7> ms = phase_ms(profile);
+  const auto ms = phase_ms(profile);
   for (std::size_t phase = 0; phase < ms.size(); ++phase) {
     phase_histograms_[phase]->observe(ms[phase] / 1000.0);
   }

@@ -6,6 +6,9 @@
 ///
 ///   timer ─▶ Match::tick(now) ─▶ outbox ─▶ GameChannel::send ─▶ socket
 ///   GameRouter (registry) ─post─▶ connect / disconnect / receive / chat / leave
+///
+/// A match ends by itself (frag or time limit, after a tick: MatchEnded handler) or by end()
+/// (the server stops: aborted). Either way the host stops ticking and hands over one EndedMatch.
 
 #include <atomic>
 #include <cstdint>
@@ -34,16 +37,28 @@ struct MatchHostStats {
   TickProfile last_profile;
   int seated = 0;     ///< connected plus within the reconnect grace
   int connected = 0;
-  proto::TimeUs last_tick_at = 0;  ///< steady µs of the last tick() call
+  proto::TimeUs last_tick_at = 0;  ///< steady µs of the last tick() call (or of the opening)
 };
 
-/// A match that ended: its record for the DB and who played, for their MatchResults.
+/// A match that ended: its record for the DB, who played (for their MatchResults) and its
+/// recording.
+///
+/// A player is in the record when it took part while the match was running: connected for at
+/// least one running tick, or killed or died then (an entity away within its reconnect grace
+/// can still die). Players who only waited or warmed up are not: nothing of theirs counted.
+/// seconds_played is the wall time the player's game connection was up (waiting and warm-up
+/// included), as the host measured it.
 struct EndedMatch {
   std::uint32_t id = 0;
   db::MatchRecord record;              ///< players empty when nobody played; aborted when stopped
   std::vector<std::string> usernames;  ///< one per record.players entry
   wire::MatchEndReason end_reason = wire::MATCH_END_REASON_SERVER_SHUTDOWN;
+  std::vector<std::uint8_t> recording;  ///< the finished recording (empty when recording is off)
 };
+
+/// Called once, on the match's strand, when the match ended by itself (frag or time limit),
+/// after the MatchEnded event went into the game channel.
+using MatchEndedHandler = std::function<void(EndedMatch)>;
 
 /// Reported to the owner when a player is no longer in the match (refused, or its reconnect
 /// grace ran out), so that its seat can be given to someone else. `seat` is the generation the
@@ -53,24 +68,26 @@ using SeatReleased =
 
 class MatchHost : public std::enable_shared_from_this<MatchHost> {
  public:
-  MatchHost(boost::asio::io_context& io, Match match, GameChannel& channel,
-            MetricsRegistry& metrics, SeatReleased released);
+  MatchHost(boost::asio::io_context& io, Match match, GameChannel& channel, SeatReleased released,
+            MatchEndedHandler ended);
   ~MatchHost();
   MatchHost(const MatchHost&) = delete;
   MatchHost& operator=(const MatchHost&) = delete;
 
   /// Starts ticking.
   void start();
-  /// Stops ticking, tells the players the match ended (MatchEnded) and hands over the match's
-  /// record (every player who played, with the seconds they were connected) on the match's
-  /// strand; players is empty when nobody played.
+  /// Stops ticking, tells the players the match ended (MatchEnded, server shutdown) and hands
+  /// over the match, aborted, on the match's strand. A match that had already ended by itself
+  /// hands over an empty one (its id only: it was handed to the MatchEndedHandler).
   void end(std::function<void(EndedMatch)> done);
 
   // Thread-safe; each posts to the match's strand.
   /// `seat`: the registry's generation of the account's seat, handed back in SeatReleased.
   void connect(std::uint64_t account, std::string name, std::uint64_t seat);
   void disconnect(std::uint64_t account);
-  void receive(std::uint64_t account, std::vector<std::uint8_t> payload);
+  /// `rtt_us`: the transport's smoothed round trip (0: not measured yet); half of it is the
+  /// latency lag compensation rewinds by.
+  void receive(std::uint64_t account, std::vector<std::uint8_t> payload, proto::TimeUs rtt_us);
   void chat(std::uint64_t account, std::string text);
   /// The account left (its seat is already released and its connection kicked).
   void leave(std::uint64_t account);
@@ -78,15 +95,18 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   std::uint32_t id() const { return id_; }
   const std::string& name() const { return name_; }
   const std::string& map_name() const { return map_name_; }
+  GameMode mode() const { return mode_; }
   int max_players() const { return max_players_; }
   int tick_rate_hz() const { return tick_rate_hz_; }
   int snapshot_rate_hz() const { return snapshot_rate_hz_; }
   const proto::QuantizationSpec& quantization() const { return quantization_; }
   MatchHostStats stats() const;
+  /// Reports the per-phase tick histograms (ricochet_tick_phase_seconds{match, phase}); they
+  /// go with the host.
+  void report_phases(MetricsSink& sink) const;
 
  private:
   struct Played {
-    std::string username;
     proto::TimeUs connected_at = 0;  ///< 0 while not connected
     double seconds = 0;              ///< connected so far, not counting the current stretch
     bool seated = true;              ///< false once the seat was released
@@ -102,6 +122,8 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
 
   boost::asio::awaitable<void> tick_loop();
   void tick(proto::TimeUs now);
+  /// The match as it ended, with the recording; every connected stretch stops at `now`.
+  EndedMatch ended_match(bool aborted, proto::TimeUs now);
   void drain_outbox();
   void observe_profile(const TickProfile& profile);
   /// Seats whose player the match no longer has (grace ran out) are released.
@@ -112,11 +134,13 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   Match match_;
   GameChannel& channel_;
   SeatReleased released_;
+  MatchEndedHandler on_ended_;
   boost::asio::strand<boost::asio::io_context::executor_type> strand_;
   boost::asio::steady_timer timer_;
   const std::uint32_t id_;
   const std::string name_;
   const std::string map_name_;
+  const GameMode mode_;
   const int max_players_;
   const int tick_rate_hz_;
   const int snapshot_rate_hz_;
@@ -125,7 +149,7 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   bool ended_ = false;
   std::unordered_map<std::uint64_t, Played> played_;  ///< everyone who connected, by account
   proto::TimeUs next_sweep_at_ = 0;
-  std::array<Histogram*, 7> phase_histograms_{};
+  std::vector<std::unique_ptr<Histogram>> phase_histograms_;  ///< by kPhaseNames
   mutable std::mutex stats_mutex_;
   MatchHostStats stats_;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <random>
 #include <stdexcept>
 #include <utility>
 
@@ -18,6 +19,12 @@ DirectoryError error(DirectoryErrorCode code, std::string message) {
   return DirectoryError{code, std::move(message)};
 }
 
+/// A match seed from the system's entropy (rules.seed 0).
+std::uint64_t random_seed() {
+  std::random_device device;
+  return (static_cast<std::uint64_t>(device()) << 32) | device();
+}
+
 bool printable_name(const std::string& name) {
   return !name.empty() && name.size() <= 32 &&
          std::all_of(name.begin(), name.end(), [](char c) { return c >= 0x20 && c != 0x7f; });
@@ -26,9 +33,12 @@ bool printable_name(const std::string& name) {
 }  // namespace
 
 MatchRegistry::MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config,
-                             std::vector<Map> maps, GameChannel& channel, MetricsRegistry& metrics)
-    : io_(io), config_(std::move(config)), maps_(std::move(maps)), channel_(channel),
-      metrics_(metrics) {
+                             std::vector<Map> maps, GameChannel& channel, MatchEndedHandler ended)
+    : io_(io),
+      config_(std::move(config)),
+      maps_(std::move(maps)),
+      channel_(channel),
+      ended_(std::move(ended)) {
   if (maps_.empty()) throw std::invalid_argument("MatchRegistry needs at least one map");
 }
 
@@ -44,8 +54,10 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   }
   match_config.name = name;
   match_config.max_players = max_players;
+  if (match_config.rules.seed == 0) match_config.rules.seed = random_seed();
+  map %= maps_.size();
   // The world is built outside the lock: routing and the control channel never wait for it.
-  auto created = Match::create(match_config, maps_[map % maps_.size()], steady_now_us(), [] {
+  auto created = Match::create(match_config, maps_[map], steady_now_us(), [] {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
                std::chrono::steady_clock::now().time_since_epoch())
         .count();
@@ -53,18 +65,21 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   if (auto* problem = std::get_if<std::string>(&created)) {
     return error(DirectoryErrorCode::InvalidRequest, *problem);
   }
+  const std::uint32_t id = match_config.id;
   auto host = std::make_shared<MatchHost>(
-      io_, std::move(std::get<Match>(created)), channel_, metrics_,
+      io_, std::move(std::get<Match>(created)), channel_,
       [this](std::uint64_t account, std::uint32_t match_id, std::uint64_t seat) {
         release(account, match_id, seat);
-      });
+      },
+      [this, id](EndedMatch ended) { match_ended(id, std::move(ended)); });
   const std::lock_guard lock(mutex_);
   // Checked again: the registry may have closed or filled while the world was built.
   if (auto refused = refuse_open()) return *refused;
   host->start();
-  hosts_.emplace(host->id(), host);
-  spdlog::info("match {} '{}' open on map {} for {} players", host->id(), name, host->map_name(),
-               max_players);
+  hosts_.emplace(id, Hosted{host, map});
+  spdlog::info("match {} '{}' open: {} on map {} for {} players, seed {}", id, name,
+               server::name(match_config.rules.mode), host->map_name(), max_players,
+               match_config.rules.seed);
   return summary(*host, steady_now_us());
 }
 
@@ -81,7 +96,7 @@ void MatchRegistry::close() {
 std::vector<std::shared_ptr<MatchHost>> MatchRegistry::hosts() const {
   const std::lock_guard lock(mutex_);
   std::vector<std::shared_ptr<MatchHost>> out;
-  for (const auto& [id, host] : hosts_) out.push_back(host);
+  for (const auto& [id, hosted] : hosts_) out.push_back(hosted.host);
   return out;
 }
 
@@ -96,7 +111,7 @@ std::vector<MatchSummary> MatchRegistry::list() const {
   const std::lock_guard lock(mutex_);
   std::vector<MatchSummary> out;
   const proto::TimeUs now = steady_now_us();
-  for (const auto& [id, host] : hosts_) out.push_back(summary(*host, now));
+  for (const auto& [id, hosted] : hosts_) out.push_back(summary(*hosted.host, now));
   return out;
 }
 
@@ -142,19 +157,19 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
                  "already in match " + std::to_string(seat->second.match_id) + "; leave it first");
   }
   if (seat == seats_.end()) {
-    if (seats_in(match_id, now) >= host->second->max_players()) {
+    if (seats_in(match_id, now) >= host->second.host->max_players()) {
       return error(DirectoryErrorCode::MatchFull,
                    "match " + std::to_string(match_id) + " has all " +
-                       std::to_string(host->second->max_players()) + " seats taken");
+                       std::to_string(host->second.host->max_players()) + " seats taken");
     }
     seat = seats_.emplace(account, Seat{match_id, username, false, 0}).first;
   }
   JoinGrant grant;
   grant.match_id = match_id;
   grant.udp_port = config_.udp_port;
-  grant.quantization = host->second->quantization();
-  grant.tick_rate_hz = host->second->tick_rate_hz();
-  grant.snapshot_rate_hz = host->second->snapshot_rate_hz();
+  grant.quantization = host->second.host->quantization();
+  grant.tick_rate_hz = host->second.host->tick_rate_hz();
+  grant.snapshot_rate_hz = host->second.host->snapshot_rate_hz();
   grant.token = proto::issue_connect_token(config_.token_key, proto::kProtocolId, account,
                                            match_id, now, config_.token_lifetime_us,
                                            config_.token_timeout_s);
@@ -170,7 +185,7 @@ DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account) {
     const std::lock_guard lock(mutex_);
     const auto seat = seats_.find(account);
     if (seat == seats_.end()) return error(DirectoryErrorCode::NotInMatch, "not in a match");
-    host = hosts_.at(seat->second.match_id);
+    host = hosts_.at(seat->second.match_id).host;
     seats_.erase(seat);
   }
   // Kicked now, not from the match's strand: a connection made after a quick rejoin must not be
@@ -198,7 +213,7 @@ void MatchRegistry::connected(std::uint64_t account, std::uint32_t match_id) {
       seat->second.taken = true;
       seat->second.generation = next_generation_++;
       generation = seat->second.generation;
-      host = hosts_.at(match_id);
+      host = hosts_.at(match_id).host;
       username = seat->second.username;
     }
   }
@@ -220,8 +235,9 @@ void MatchRegistry::disconnected(std::uint64_t account, proto::DisconnectReason 
   }
 }
 
-void MatchRegistry::payload(std::uint64_t account, std::vector<std::uint8_t> bytes) {
-  if (const auto host = host_of(account)) host->receive(account, std::move(bytes));
+void MatchRegistry::payload(std::uint64_t account, std::vector<std::uint8_t> bytes,
+                            proto::TimeUs rtt_us) {
+  if (const auto host = host_of(account)) host->receive(account, std::move(bytes), rtt_us);
 }
 
 void MatchRegistry::reliable(std::uint64_t account, std::vector<std::uint8_t> bytes) {
@@ -259,7 +275,7 @@ MatchSummary MatchRegistry::summary(const MatchHost& host, proto::TimeUs now) co
   MatchSummary out;
   out.id = host.id();
   out.name = host.name();
-  out.mode = "ffa";
+  out.mode = server::name(host.mode());
   out.map = host.map_name();
   out.players = seats_in(host.id(), now);
   out.max_players = host.max_players();
@@ -270,7 +286,47 @@ std::shared_ptr<MatchHost> MatchRegistry::host_of(std::uint64_t account) const {
   const std::lock_guard lock(mutex_);
   const auto seat = seats_.find(account);
   if (seat == seats_.end()) return nullptr;
-  return hosts_.at(seat->second.match_id);
+  return hosts_.at(seat->second.match_id).host;
+}
+
+void MatchRegistry::match_ended(std::uint32_t match_id, EndedMatch ended) {
+  std::string name;
+  int max_players = 0;
+  std::size_t map = 0;
+  std::vector<std::uint64_t> seated;
+  {
+    const std::lock_guard lock(mutex_);
+    const auto found = hosts_.find(match_id);
+    if (found != hosts_.end()) {
+      name = found->second.host->name();
+      max_players = found->second.host->max_players();
+      map = found->second.map;
+      hosts_.erase(found);
+    }
+    for (auto seat = seats_.begin(); seat != seats_.end();) {
+      if (seat->second.match_id != match_id) {
+        ++seat;
+        continue;
+      }
+      seated.push_back(seat->first);
+      seat = seats_.erase(seat);
+    }
+  }
+  // Posted to the channel after the MatchEnded the host just sent, which goes out first; and
+  // before the seat could be taken elsewhere, so no later connection of the account is hit.
+  for (const std::uint64_t account : seated)
+    channel_.kick(account, proto::DisconnectReason::Kicked);
+  if (!name.empty()) {
+    const auto next = open(name, max_players, next_in_rotation(map));
+    if (const auto* problem = std::get_if<DirectoryError>(&next)) {
+      spdlog::info("match {} '{}' is not followed by another: {}", match_id, name,
+                   problem->message);
+    } else {
+      spdlog::info("match {} '{}' is followed by match {} on map {}", match_id, name,
+                   std::get<MatchSummary>(next).id, std::get<MatchSummary>(next).map);
+    }
+  }
+  ended_(std::move(ended));
 }
 
 void MatchRegistry::release(std::uint64_t account, std::uint32_t match_id, std::uint64_t generation) {

@@ -9,6 +9,10 @@
 /// within the reconnect grace), and released when the player leaves or its grace runs out.
 /// A match is full when its seats are. Thread-safe: one mutex over the tables; MatchHost calls
 /// post to the match strands and return at once.
+///
+/// Rotation: when a match ends by itself the registry drops it, gives back its seats (kicking
+/// the game connections still up, after the MatchEnded went out), opens the next match of the
+/// rotation under a new id with the same name and size, and hands the ended match on.
 
 #include <atomic>
 #include <cstdint>
@@ -32,7 +36,9 @@
 namespace ricochet::server {
 
 struct MatchRegistryConfig {
-  MatchConfig match_defaults;  ///< tick, snapshots, movement of every match; id, name, max_players set per match
+  /// Tick, snapshots, movement and rules of every match; id, name and max_players set per
+  /// match. rules.seed 0: each match draws a random seed when it opens (logged).
+  MatchConfig match_defaults;
   std::uint16_t udp_port = 0;  ///< told to joining clients
   proto::Key token_key{};      ///< the server-only key tokens are sealed with
   proto::TimeUs token_lifetime_us = 10 * proto::kMicrosPerSecond;  ///< ≤ 30 s
@@ -43,8 +49,10 @@ struct MatchRegistryConfig {
 class MatchRegistry final : public MatchDirectory, public GameRouter {
  public:
   /// `maps` is the rotation (at least one): every map a match may be played on, in order.
+  /// `ended` gets every match that ended by itself (on that match's strand), after the next
+  /// match of the rotation opened.
   MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config, std::vector<Map> maps,
-                GameChannel& channel, MetricsRegistry& metrics);
+                GameChannel& channel, MatchEndedHandler ended);
   ~MatchRegistry() override;
 
   /// Opens a match on the rotation's map `map` (0: the first; taken modulo the rotation's size),
@@ -75,7 +83,8 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   // GameRouter
   void connected(std::uint64_t account, std::uint32_t match_id) override;
   void disconnected(std::uint64_t account, proto::DisconnectReason reason) override;
-  void payload(std::uint64_t account, std::vector<std::uint8_t> bytes) override;
+  void payload(std::uint64_t account, std::vector<std::uint8_t> bytes,
+               proto::TimeUs rtt_us) override;
   void reliable(std::uint64_t account, std::vector<std::uint8_t> bytes) override;
 
  private:
@@ -98,15 +107,21 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   int seats_in(std::uint32_t match_id, proto::TimeUs now) const;  ///< holds mutex_
   MatchSummary summary(const MatchHost& host, proto::TimeUs now) const;  ///< holds mutex_
   std::shared_ptr<MatchHost> host_of(std::uint64_t account) const;
+  /// A match ended by itself (on its strand): drop it, free its seats, open the next one.
+  void match_ended(std::uint32_t match_id, EndedMatch ended);
   void release(std::uint64_t account, std::uint32_t match_id, std::uint64_t generation);
 
   boost::asio::io_context& io_;
   MatchRegistryConfig config_;
   std::vector<Map> maps_;  ///< the rotation, never empty
   GameChannel& channel_;
-  MetricsRegistry& metrics_;
+  MatchEndedHandler ended_;
   mutable std::mutex mutex_;
-  std::map<std::uint32_t, std::shared_ptr<MatchHost>> hosts_;
+  struct Hosted {
+    std::shared_ptr<MatchHost> host;
+    std::size_t map = 0;  ///< index in the rotation
+  };
+  std::map<std::uint32_t, Hosted> hosts_;
   std::unordered_map<std::uint64_t, Seat> seats_;
   std::uint32_t next_match_id_ = 1;
   std::uint64_t next_generation_ = 1;

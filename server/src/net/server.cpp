@@ -14,7 +14,9 @@
 #include "admin_http.h"
 #include "control_server.h"
 #include "game_channel.h"
+#include "match_defaults.h"
 #include "match_registry.h"
+#include "recording_files.h"
 #include "ricochet/wire/control.pb.h"
 #include "ricochet/db/db_worker.h"
 #include "ricochet/db/store.h"
@@ -66,19 +68,6 @@ GameChannelConfig game_channel_config(const ServerConfig& config) {
   return out;
 }
 
-MatchConfig match_defaults(const ServerConfig& config) {
-  MatchConfig out;
-  out.tick.rate_hz = config.game.tick_rate_hz;
-  out.tick.max_catch_up_steps = config.game.max_catch_up_steps;
-  out.snapshot_rate_hz = config.snapshot_rate_hz();
-  out.snapshot_budget_bytes = static_cast<std::size_t>(config.snapshot_budget_bytes());
-  // TODO(results): once MatchConfig has them, map [matches] onto rules (mode, min_players,
-  // warmup_s, frag_limit, time_limit_s, respawn_delay_s, spawn_protection_s, seed; 0 drawn at
-  // random per match and logged), weapons (self_damage_scale, friendly_fire), lag (enabled,
-  // max_rewind_ms) and record; recordings go to config.recordings_path().
-  return out;
-}
-
 ControlServerConfig control_config(const ServerConfig& config) {
   ControlServerConfig out;
   out.bind_address = config.control.bind;
@@ -124,6 +113,7 @@ std::int32_t hit_points(double value) {
 Server::Server(ServerConfig config) : config_(std::move(config)) {
   std::filesystem::create_directories(config_.server.data_dir);
   db_ = open_database(config_);
+  recordings_ = std::make_unique<RecordingFiles>(config_.recordings_path());
   const proto::Key token_key = proto::random_key();  // this process's only; tokens die with it
 
   GameChannelConfig game = game_channel_config(config_);
@@ -136,8 +126,12 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   // Every map of the rotation is loaded now, so a broken one stops the start, not a match end.
   std::vector<Map> maps;
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));
-  matches_ = std::make_unique<MatchRegistry>(io_, std::move(registry), std::move(maps), *game_,
-                                             metrics_);
+  matches_ = std::make_unique<MatchRegistry>(
+      io_, std::move(registry), std::move(maps), *game_, [this](EndedMatch match) {
+        finish_match(std::move(match), [this](std::optional<wire::MatchResults> results) {
+          if (results) send_results(*results);
+        });
+      });
   control_ = std::make_unique<ControlServer>(io_, control_config(config_), *db_, *matches_);
 
   AdminHttpOptions admin;
@@ -254,6 +248,7 @@ void Server::shut_down() {
   io_.stop();
   for (auto& thread : threads_) thread.join();
   threads_.clear();
+  recordings_->stop();  // every match has handed its recording over by now
   db_->stop();
   if (!in_time) spdlog::warn("stopping: the grace period ran out");
   spdlog::info("stopped");
@@ -277,20 +272,11 @@ void Server::end_matches(Clock::time_point deadline) {
       spdlog::warn("stopping: a match did not hand over its record in time; it is not written");
       continue;
     }
-    EndedMatch match = future.get();
-    if (match.record.players.empty()) continue;
     auto promise = std::make_shared<std::promise<std::optional<wire::MatchResults>>>();
     written.push_back(promise->get_future());
-    db_->submit([match = std::move(match)](db::DbServices& services) { return record(match, services); },
-                [](std::function<void()> completion) { completion(); },  // runs on the DB thread
-                [promise](db::DbResult<wire::MatchResults> result) {
-                  if (!result) {
-                    spdlog::error("stopping: a match record was refused: {}", result.error().message);
-                    promise->set_value(std::nullopt);
-                    return;
-                  }
-                  promise->set_value(std::move(result).value());
-                });
+    finish_match(future.get(), [promise](std::optional<wire::MatchResults> results) {
+      promise->set_value(std::move(results));
+    });
   }
   // Every player hears its results over the control channel before it closes.
   for (auto& future : written) {
@@ -298,13 +284,38 @@ void Server::end_matches(Clock::time_point deadline) {
       spdlog::warn("stopping: a match record was not written in time; its players get no results");
       continue;
     }
-    const std::optional<wire::MatchResults> results = future.get();
-    if (!results) continue;
-    for (const wire::PlayerMatchResult& player : results->players()) {
-      wire::ServerMessage message;
-      *message.mutable_match_results() = *results;
-      control_->send_to_account(player.account_id(), std::move(message));
-    }
+    if (const std::optional<wire::MatchResults> results = future.get()) send_results(*results);
+  }
+}
+
+void Server::finish_match(EndedMatch match,
+                          std::function<void(std::optional<wire::MatchResults>)> done) {
+  if (!match.recording.empty()) {
+    recordings_->write(match.id, match.record.ended_ms, std::move(match.recording));
+  }
+  if (match.record.players.empty()) {
+    done(std::nullopt);
+    return;
+  }
+  const std::uint32_t id = match.id;
+  db_->submit(
+      [match = std::move(match)](db::DbServices& services) { return record(match, services); },
+      [](std::function<void()> completion) { completion(); },  // runs on the DB thread
+      [id, done = std::move(done)](db::DbResult<wire::MatchResults> result) {
+        if (!result) {
+          spdlog::error("match {}: its record was refused: {}", id, result.error().message);
+          done(std::nullopt);
+          return;
+        }
+        done(std::move(result).value());
+      });
+}
+
+void Server::send_results(const wire::MatchResults& results) {
+  for (const wire::PlayerMatchResult& player : results.players()) {
+    wire::ServerMessage message;
+    *message.mutable_match_results() = results;
+    control_->send_to_account(player.account_id(), std::move(message));
   }
 }
 

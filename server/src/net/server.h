@@ -8,14 +8,21 @@
 ///   ...                      // SIGINT/SIGTERM (main) or a test calls stop()
 ///   int code = server.wait(); // 0 after a graceful stop within the grace period
 ///
+/// A match that ends by itself (frag or time limit) is followed by the next of the rotation
+/// (MatchRegistry); its record goes to the DB thread, each player gets its MatchResults over the
+/// control channel once it is written, and its recording goes to a file (RecordingFiles).
+///
 /// Graceful stop, in order: refuse new joins; end every match and write the records of those
-/// that had players to the DB (waiting for the writes); send each player its MatchResults over
-/// the control channel; tell every game client (ServerShutdown) and close the UDP socket; close
-/// the control channel (SHUTTING_DOWN to every client) and the admin port; stop the threads.
+/// that had players to the DB (waiting for the writes), aborted; send each player its
+/// MatchResults over the control channel; tell every game client (ServerShutdown) and close the
+/// UDP socket; close the control channel (SHUTTING_DOWN to every client) and the admin port;
+/// stop the threads; finish writing the recordings.
 
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -43,6 +50,7 @@ struct EndedMatch;
 class ControlServer;
 class GameChannel;
 class MatchRegistry;
+class RecordingFiles;
 
 class Server {
  public:
@@ -74,6 +82,11 @@ class Server {
   /// The graceful stop, on the stopping thread.
   void shut_down();
   void end_matches(std::chrono::steady_clock::time_point deadline);
+  /// Any thread: the recording to its file, the record to the DB thread; `done` runs on the DB
+  /// thread with the results (nothing when nobody played or the DB refused the record).
+  void finish_match(EndedMatch match, std::function<void(std::optional<wire::MatchResults>)> done);
+  /// Each player of the match its MatchResults over the control channel.
+  void send_results(const wire::MatchResults& results);
   /// On the DB thread: writes one ended match and reads back its players' ratings.
   static db::DbResult<wire::MatchResults> record(const EndedMatch& match, db::DbServices& services);
   void register_metrics();
@@ -82,6 +95,7 @@ class Server {
   boost::asio::io_context io_;
   MetricsRegistry metrics_;
   std::unique_ptr<db::DbWorker> db_;
+  std::unique_ptr<RecordingFiles> recordings_;
   std::unique_ptr<GameChannel> game_;
   std::unique_ptr<MatchRegistry> matches_;
   std::unique_ptr<ControlServer> control_;

@@ -6,6 +6,7 @@
 #include "control_server.h"
 #include "game_channel.h"
 #include "match_registry.h"
+#include "recording_files.h"
 #include "ricochet/db/db_worker.h"
 #include "server.h"
 
@@ -132,7 +133,16 @@ void Server::register_metrics() {
     sink.counter("ricochet_game_unexpected_reliable_total",
                  "Reliable messages from clients, none being defined (dropped)", {},
                  static_cast<double>(matches_->unexpected_reliable()));
-    for (const auto& host : hosts) report_match(*host, sink);
+    for (const auto& host : hosts) {
+      report_match(*host, sink);
+      host->report_phases(sink);
+    }
+    sink.counter("ricochet_recordings_total", "Match recordings written to disk, or not",
+                 {{"result", "written"}}, static_cast<double>(recordings_->written()));
+    sink.counter("ricochet_recordings_total", "Match recordings written to disk, or not",
+                 {{"result", "failed"}}, static_cast<double>(recordings_->failed()));
+    sink.counter("ricochet_recording_bytes_total", "Bytes of the match recordings written", {},
+                 static_cast<double>(recordings_->written_bytes()));
     sink.gauge("ricochet_db_queue_depth", "Jobs waiting for the DB thread", {},
                static_cast<double>(db_->queued()));
     sink.gauge("ricochet_up", "1 while the server is ready", {}, ready() ? 1 : 0);
