@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
+#include <thread>
 
 #include "leaderboard_sql.h"
 #include "migrations.h"
@@ -536,8 +538,19 @@ DbStatus check_integrity(sqlite3* db, const std::string& path) {
 
 DbStatus configure(sqlite3* db, const SqliteOptions& options) {
   const std::string& path = options.path;
-  // WAL: readers never block the writer, and a commit is one append to the log.
-  if (DbStatus s = set_pragma(db, path, "PRAGMA journal_mode = WAL", "wal"); !s) {
+  // WAL: readers never block the writer, and a commit is one append to the log. Switching needs
+  // the exclusive lock, and SQLite answers SQLITE_BUSY at once (without the busy handler, to
+  // avoid a deadlock) while another connection is migrating the same new file: try again until
+  // the busy timeout has passed.
+  DbStatus wal = set_pragma(db, path, "PRAGMA journal_mode = WAL", "wal");
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(options.busy_timeout_ms);
+  while (!wal && wal.error().code == DbErrorCode::Busy &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    wal = set_pragma(db, path, "PRAGMA journal_mode = WAL", "wal");
+  }
+  if (DbStatus s = wal; !s) {
     DbError e = s.error();
     if (e.code == DbErrorCode::Storage)
       e.message += "; WAL needs a database file on a local filesystem";
