@@ -87,7 +87,6 @@ Match::Match(const MatchConfig& config, physics::World world, const Map& map, pr
     header.tick_rate_hz = static_cast<std::uint32_t>(config.tick.rate_hz);
     recording_ = std::make_unique<RecordingWriter>(std::move(header), config.max_recording_bytes);
   }
-  if (config.rules.min_players <= 0) enter_phase(MatchPhase::Warmup);
 }
 
 Match::Match(Match&&) noexcept = default;

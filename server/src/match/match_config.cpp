@@ -163,24 +163,6 @@ std::vector<Field> fields_of(MatchConfig& config) {
 
 }  // namespace
 
-const char* name(GameMode mode) {
-  return mode == GameMode::TeamDeathmatch ? "tdm" : "ffa";
-}
-
-const char* name(MatchPhase phase) {
-  switch (phase) {
-    case MatchPhase::Waiting:
-      return "waiting";
-    case MatchPhase::Warmup:
-      return "warmup";
-    case MatchPhase::Running:
-      return "running";
-    case MatchPhase::Ended:
-      return "ended";
-  }
-  return "unknown";
-}
-
 bool is_printable_utf8(std::string_view text) {
   std::size_t at = 0;
   while (at < text.size()) {
@@ -216,29 +198,6 @@ bool is_printable_utf8(std::string_view text) {
     at += length;
   }
   return true;
-}
-
-std::string RulesConfig::validate() const {
-  if (mode != GameMode::FreeForAll && mode != GameMode::TeamDeathmatch) {
-    return "match rules mode must be ffa or tdm";
-  }
-  if (min_players < 1 || min_players > 64) {
-    return range_error("match", "rules min_players", "1..64", static_cast<long long>(min_players));
-  }
-  if (!within(warmup_s, 0, 600)) return range_error("match", "rules warmup_s", "0..600", warmup_s);
-  if (frag_limit < 0 || frag_limit > 1000) {
-    return range_error("match", "rules frag_limit", "0..1000", static_cast<long long>(frag_limit));
-  }
-  if (!within(time_limit_s, 0, 86400)) {
-    return range_error("match", "rules time_limit_s", "0..86400", time_limit_s);
-  }
-  if (!within(respawn_delay_s, 0, 60)) {
-    return range_error("match", "rules respawn_delay_s", "0..60", respawn_delay_s);
-  }
-  if (!within(spawn_protection_s, 0, 10)) {
-    return range_error("match", "rules spawn_protection_s", "0..10", spawn_protection_s);
-  }
-  return {};
 }
 
 std::string MatchConfig::validate() const {

@@ -205,7 +205,8 @@ class Match {
   int connected_count() const;
   int max_players() const { return config_.max_players; }
   std::optional<std::uint32_t> entity_of(std::uint64_t account) const;
-  /// Everyone who played while the match was running, including those who left, by entity.
+  /// Every seated player, and everyone who left after playing while the match was running, by
+  /// entity.
   std::vector<PlayerScore> scoreboard() const;
   /// Team scores by wire::Team (index 1 red, 2 blue; 0 unused), team deathmatch.
   std::array<int, 3> team_scores() const { return team_scores_; }
