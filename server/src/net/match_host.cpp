@@ -73,7 +73,9 @@ MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel, Se
 
 MatchHost::~MatchHost() = default;
 
-void MatchHost::start() { asio::co_spawn(strand_, tick_loop(), asio::detached); }
+void MatchHost::start() {
+  asio::co_spawn(strand_, tick_loop(shared_from_this()), asio::detached);
+}
 
 void MatchHost::end(std::function<void(EndedMatch)> done) {
   asio::post(strand_, [self = shared_from_this(), done = std::move(done)] {
@@ -201,7 +203,10 @@ void MatchHost::report_phases(MetricsSink& sink) const {
   }
 }
 
-asio::awaitable<void> MatchHost::tick_loop() {
+asio::awaitable<void> MatchHost::tick_loop(std::shared_ptr<MatchHost> self) {
+  // `self` keeps the host alive while the loop runs: the tick that ends the match hands it to
+  // the registry, which lets go of it.
+  (void)self;
   while (!ended_) {
     tick(steady_now_us());
     if (ended_) break;

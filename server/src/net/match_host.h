@@ -120,7 +120,7 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
     }
   };
 
-  boost::asio::awaitable<void> tick_loop();
+  boost::asio::awaitable<void> tick_loop(std::shared_ptr<MatchHost> self);
   void tick(proto::TimeUs now);
   /// The match as it ended, with the recording; every connected stretch stops at `now`.
   EndedMatch ended_match(bool aborted, proto::TimeUs now);
