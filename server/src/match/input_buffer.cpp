@@ -91,15 +91,23 @@ InputBuffer::InputBuffer(const InputBufferConfig& config) : config_(config) {
   pending_.reserve(config_.max_depth + 1);
 }
 
+std::vector<PlayerInput>::const_iterator InputBuffer::slot_of(std::uint32_t sequence) const {
+  return std::lower_bound(
+      pending_.begin(), pending_.end(), sequence,
+      [](const PlayerInput& kept, std::uint32_t wanted) { return kept.sequence < wanted; });
+}
+
+bool InputBuffer::is_new(std::uint32_t sequence) const {
+  if (sequence <= last_.sequence) return false;
+  const auto at = slot_of(sequence);
+  return at == pending_.end() || at->sequence != sequence;
+}
+
 void InputBuffer::offer(const PlayerInput& input, InputDropCounters& drops) {
   const auto count = [&drops](InputDrop reason) { ++drops[static_cast<std::size_t>(reason)]; };
-  if (input.sequence <= last_.sequence) return count(InputDrop::Stale);
+  if (!is_new(input.sequence)) return count(InputDrop::Stale);
   if (input.sequence - last_.sequence > kMaxSequenceLead) return count(InputDrop::TooFarAhead);
-  const auto at = std::lower_bound(
-      pending_.begin(), pending_.end(), input.sequence,
-      [](const PlayerInput& kept, std::uint32_t sequence) { return kept.sequence < sequence; });
-  if (at != pending_.end() && at->sequence == input.sequence) return count(InputDrop::Stale);
-  pending_.insert(at, input);
+  pending_.insert(slot_of(input.sequence), input);
   if (pending_.size() > config_.max_depth) {
     pending_.erase(pending_.begin());
     count(InputDrop::Skipped);

@@ -260,8 +260,8 @@ void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload
       drop(reason);
       continue;
     }
-    if (input.sequence <= player->inputs.last_applied_sequence()) {
-      drop(InputDrop::Stale);  // the redundancy; not counted against the rate
+    if (!player->inputs.is_new(input.sequence)) {
+      drop(InputDrop::Stale);  // the redundancy: not counted against the rate
       continue;
     }
     if (player->inputs_in_window >= allowed) {
@@ -269,11 +269,8 @@ void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload
       note_violation(*player, Violation::InputRate);
       continue;
     }
-    const std::uint64_t stale_before = counters_.input_drops[static_cast<std::size_t>(InputDrop::Stale)];
+    ++player->inputs_in_window;
     player->inputs.offer(input, counters_.input_drops);
-    if (counters_.input_drops[static_cast<std::size_t>(InputDrop::Stale)] == stale_before) {
-      ++player->inputs_in_window;
-    }
   }
   if (message.ack_snapshot_tick() != 0) player->snapshots->acknowledge(message.ack_snapshot_tick());
 }

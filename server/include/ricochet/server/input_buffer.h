@@ -84,11 +84,16 @@ class InputBuffer {
 
   /// Sequence of the last input applied (0: none yet): echoed in ServerPayload.
   std::uint32_t last_applied_sequence() const { return last_.sequence; }
+  /// Neither applied nor waiting: offer() would not count it as stale.
+  bool is_new(std::uint32_t sequence) const;
   std::size_t buffered() const { return pending_.size(); }
   /// Forgets everything: a reconnected client restarts its sequence at 1.
   void reset();
 
  private:
+  /// Where `sequence` is, or would go, in pending_.
+  std::vector<PlayerInput>::const_iterator slot_of(std::uint32_t sequence) const;
+
   InputBufferConfig config_;
   std::vector<PlayerInput> pending_;  ///< sorted by sequence, all > last_.sequence
   PlayerInput last_;
