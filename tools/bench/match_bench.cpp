@@ -198,15 +198,7 @@ std::string run(const server::Map& map, int players, const Options& options) {
     tick_ms.push_back(elapsed_ms);
     payload_bytes += bytes;
     for (const auto& state : match.entity_states()) projectiles += (state.flags & server::kEntityKindMask) != 0;
-    const server::TickProfile& profile = match.profile();
-    sum.apply_inputs_ms += profile.apply_inputs_ms;
-    sum.rules_ms += profile.rules_ms;
-    sum.movement_ms += profile.movement_ms;
-    sum.combat_ms += profile.combat_ms;
-    sum.physics_ms += profile.physics_ms;
-    sum.history_ms += profile.history_ms;
-    sum.snapshots_ms += profile.snapshots_ms;
-    sum.send_ms += profile.send_ms;
+    sum += match.profile();
   }
   double total = 0;
   for (double ms : tick_ms) total += ms;

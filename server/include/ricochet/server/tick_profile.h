@@ -27,6 +27,22 @@ struct TickProfile {
   double snapshots_ms = 0;     ///< quantisation and one delta-coded snapshot per player
   double send_ms = 0;          ///< events and payloads serialised into the outbox
   double total_ms = 0;
+
+  /// Adds another call's steps and phase times: sums over many ticks (benches, metrics).
+  TickProfile& operator+=(const TickProfile& other) {
+    steps += other.steps;
+    snapshot = snapshot || other.snapshot;
+    apply_inputs_ms += other.apply_inputs_ms;
+    rules_ms += other.rules_ms;
+    movement_ms += other.movement_ms;
+    combat_ms += other.combat_ms;
+    physics_ms += other.physics_ms;
+    history_ms += other.history_ms;
+    snapshots_ms += other.snapshots_ms;
+    send_ms += other.send_ms;
+    total_ms += other.total_ms;
+    return *this;
+  }
 };
 
 }  // namespace ricochet::server
