@@ -2,6 +2,7 @@
 /// and writes the stream (PROTOCOL.md Snapshots §stream).
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <optional>
@@ -45,6 +46,12 @@ std::size_t header_bytes(std::uint32_t tick, std::uint32_t baseline_age, std::si
   return bytes;
 }
 
+/// Copies `bytes` into a protobuf bytes field, keeping its capacity (the iterator form of
+/// assign copies one char at a time).
+void assign_bytes(std::string& field, const std::vector<std::uint8_t>& bytes) {
+  field.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+}
+
 /// QuantizedEntity's ==, one field after another, positions (the likeliest to differ) first;
 /// the defaulted one calls memcmp per array.
 bool same_state(const QuantizedEntity& a, const QuantizedEntity& b) {
@@ -61,16 +68,80 @@ bool same_state(const QuantizedEntity& a, const QuantizedEntity& b) {
          a.orientation[2] == b.orientation[2] && a.flags == b.flags;
 }
 
+/// The deltas of one tick's changed entities, per world index, each against the baseline state
+/// and age it was worked out for, with its fields written for the orders an encode last chose
+/// (layout::DeltaBody). Every encoder has one of its own; a SnapshotEncodeCache holds one that
+/// its encoders share, so that clients holding the same baseline state of an entity at the same
+/// age share its delta, change and bits instead of working them out again.
+class DeltaTable {
+ public:
+  struct Way {
+    std::uint64_t generation = 0;
+    layout::Prediction prediction;
+    QuantizedEntity baseline;
+    layout::Delta delta;
+    double change_m = 0;
+    bool has_body = false;
+    std::uint64_t body_orders = 0;  ///< layout::field_orders_key of the orders `body` has
+    layout::DeltaBody body;
+  };
+
+  /// Forgets every delta (nothing is cleared: each remembers the generation it was made in).
+  void reset(std::size_t world_size) {
+    ++generation_;
+    if (ways_.size() < world_size * kWays) ways_.resize(world_size * kWays);
+  }
+
+  Way* find(std::size_t world_index, const QuantizedEntity& baseline,
+            const layout::Prediction& prediction) {
+    for (std::size_t w = 0; w < kWays; ++w) {
+      Way& way = ways_[world_index * kWays + w];
+      if (way.generation == generation_ && way.prediction == prediction &&
+          same_state(way.baseline, baseline)) {
+        return &way;
+      }
+    }
+    return nullptr;
+  }
+
+  /// A way for a delta not found: a free one, else the last (the first keeps the commonest),
+  /// holding this baseline's delta.
+  Way& claim(std::size_t world_index, const QuantizedEntity& baseline, const QuantizedEntity& now,
+             const layout::FieldWidths& widths, const layout::Prediction& prediction,
+             double change_m) {
+    Way* ways = &ways_[world_index * kWays];
+    Way* way = &ways[kWays - 1];
+    for (std::size_t w = 0; w + 1 < kWays; ++w) {
+      if (ways[w].generation != generation_) {
+        way = &ways[w];
+        break;
+      }
+    }
+    way->generation = generation_;
+    way->prediction = prediction;
+    way->baseline = baseline;
+    way->delta = layout::make_delta(baseline, now, widths, prediction);
+    way->change_m = change_m;
+    way->has_body = false;
+    return *way;
+  }
+
+ private:
+  static constexpr std::size_t kWays = 2;
+  std::uint64_t generation_ = 0;
+  std::vector<Way> ways_;
+};
+
 /// An entity that differs from the baseline: gone, new or changed.
 struct Candidate {
   enum class Kind : std::uint8_t { Removed, Added, Changed };
   Kind kind = Kind::Changed;
+  bool selected = false;
   std::uint32_t baseline_index = 0;  ///< Removed, Changed
   std::uint32_t world_index = 0;     ///< Added, Changed
   float priority = 0;
-  int bits = 0;  ///< estimate, for the budget
-  bool selected = false;
-  layout::Delta delta;  ///< Changed: what it writes
+  int bits = 0;                      ///< estimate, for the budget
+  DeltaTable::Way* way = nullptr;    ///< Changed: its delta
 
   static Candidate of(Kind kind, std::size_t baseline_index, std::size_t world_index,
                       float priority = 0) {
@@ -83,60 +154,10 @@ struct Candidate {
   }
 };
 
-/// The deltas of one tick's changed entities, per world index, each against the baseline state
-/// and age it was worked out for: clients holding the same baseline state of an entity at the
-/// same age share its delta and change instead of working them out again.
-class SharedDeltas {
- public:
-  /// Forgets every delta (nothing is cleared: each remembers the generation it was made in).
-  void reset(std::size_t world_size) {
-    ++generation_;
-    if (ways_.size() < world_size * kWays) ways_.resize(world_size * kWays);
-  }
-
-  struct Way {
-    std::uint64_t generation = 0;
-    layout::Prediction prediction;
-    QuantizedEntity baseline;
-    layout::Delta delta;
-    double change_m = 0;
-  };
-
-  const Way* find(std::size_t world_index, const QuantizedEntity& baseline,
-                  const layout::Prediction& prediction) const {
-    for (std::size_t w = 0; w < kWays; ++w) {
-      const Way& way = ways_[world_index * kWays + w];
-      if (way.generation == generation_ && way.prediction == prediction &&
-          same_state(way.baseline, baseline)) {
-        return &way;
-      }
-    }
-    return nullptr;
-  }
-
-  /// A way for a delta not found: a free one, else the last (the first keeps the commonest).
-  Way& claim(std::size_t world_index) {
-    Way* ways = &ways_[world_index * kWays];
-    for (std::size_t w = 0; w + 1 < kWays; ++w) {
-      if (ways[w].generation != generation_) return ways[w];
-    }
-    return ways[kWays - 1];
-  }
-  std::uint64_t generation() const { return generation_; }
-
- private:
-  static constexpr std::size_t kWays = 2;
-  std::uint64_t generation_ = 0;
-  std::vector<Way> ways_;
-};
-
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
 struct EncodeBuffers {
   std::vector<Candidate> candidates;
-  std::vector<std::uint32_t> by_priority;
-  std::vector<std::pair<float, std::uint32_t>> priority_keys;  ///< select's sort
-  std::array<std::vector<std::uint64_t>, 3> position, velocity;  ///< estimate_costs' codes
-  std::vector<std::uint64_t> orientation;
+  std::vector<std::pair<float, std::uint32_t>> drop_heap;  ///< DropOrder's
   std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;  ///< write's
   std::vector<std::uint32_t> removed_before;
   std::vector<const QuantizedEntity*> added;
@@ -153,7 +174,7 @@ class EncodePass {
   EncodePass(const QuantizationSpec& spec, const SnapshotEncoderOptions& options,
              std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
              std::span<const QuantizedEntity> world, const layout::FieldWidths& widths,
-             EncodeBuffers& buffers, SharedDeltas* shared_deltas)
+             EncodeBuffers& buffers, DeltaTable& deltas)
       : spec_(spec),
         options_(options),
         baseline_(baseline),
@@ -162,8 +183,7 @@ class EncodePass {
         prediction_(layout::make_prediction(baseline_age, spec)),
         buffers_(buffers),
         candidates_(buffers.candidates),
-        by_priority_(buffers.by_priority),
-        shared_deltas_(shared_deltas) {
+        deltas_(deltas) {
     candidates_.clear();
   }
 
@@ -192,8 +212,9 @@ class EncodePass {
   }
 
  private:
-  /// Fills by_priority_, highest priority first, ties by candidate index; once per pass.
-  void sort_by_priority();
+  /// Unselects the selected candidate of lowest priority (of equal ones, the last) and
+  /// returns it; the first call orders the selected candidates, which must not be empty.
+  Candidate& drop_lowest();
   float distance_weight(const QuantizedEntity& entity, std::array<float, 3> viewer_m) const;
   double change_m(const QuantizedEntity& then, const QuantizedEntity& now) const;
 
@@ -206,15 +227,17 @@ class EncodePass {
   layout::DeltaOrders orders_;
   EncodeBuffers& buffers_;
   std::vector<Candidate>& candidates_;
-  std::vector<std::uint32_t>& by_priority_;  ///< candidate indices, highest priority first
   std::size_t selected_count_ = 0;
-  bool any_nan_priority_ = false;
-  bool sorted_ = false;  ///< by_priority_ is filled
-  SharedDeltas* shared_deltas_;  ///< the tick's, or null
+  bool drop_heap_built_ = false;  ///< buffers_.drop_heap holds the selected candidates
+  DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
 };
 
 float EncodePass::distance_weight(const QuantizedEntity& entity,
                                   std::array<float, 3> viewer_m) const {
+  // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
+  if (!std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2])) {
+    return 1.0f;
+  }
   double squared = 0;
   for (int a = 0; a < 3; ++a) {
     const double d = spec_.bounds.min_m[a] +
@@ -247,7 +270,6 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
     const float before =
         p < carried.size() && carried[p].first == entity.id ? carried[p].second : 0;
     candidate.priority = before + static_cast<float>(change) * distance_weight(entity, viewer_m);
-    any_nan_priority_ = any_nan_priority_ || std::isnan(candidate.priority);
     candidates_.push_back(candidate);
   };
   std::size_t i = 0, j = 0;
@@ -261,25 +283,12 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
     } else {
       if (!same_state(world_[i], baseline_[j])) {
         Candidate candidate = Candidate::of(Candidate::Kind::Changed, j, i);
-        const SharedDeltas::Way* shared =
-            shared_deltas_ ? shared_deltas_->find(i, baseline_[j], prediction_) : nullptr;
-        double change = 0;
-        if (shared) {
-          candidate.delta = shared->delta;
-          change = shared->change_m;
-        } else {
-          candidate.delta = layout::make_delta(baseline_[j], world_[i], widths_, prediction_);
-          change = change_m(baseline_[j], world_[i]);
-          if (shared_deltas_) {
-            SharedDeltas::Way& way = shared_deltas_->claim(i);
-            way.generation = shared_deltas_->generation();
-            way.prediction = prediction_;
-            way.baseline = baseline_[j];
-            way.delta = candidate.delta;
-            way.change_m = change;
-          }
+        candidate.way = deltas_.find(i, baseline_[j], prediction_);
+        if (!candidate.way) {
+          candidate.way = &deltas_.claim(i, baseline_[j], world_[i], widths_, prediction_,
+                                         change_m(baseline_[j], world_[i]));
         }
-        add_world_candidate(candidate, change);
+        add_world_candidate(candidate, candidate.way->change_m);
       }
       ++i;
       ++j;
@@ -288,39 +297,44 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
 }
 
 void EncodePass::estimate_costs() {
-  std::array<std::vector<std::uint64_t>, 3>& position = buffers_.position;
-  std::array<std::vector<std::uint64_t>, 3>& velocity = buffers_.velocity;
-  std::vector<std::uint64_t>& orientation = buffers_.orientation;
-  for (int a = 0; a < 3; ++a) {
-    position[a].clear();
-    velocity[a].clear();
-  }
-  orientation.clear();
+  std::array<layout::OrderTally, 3> position, velocity;
+  layout::OrderTally orientation;
   std::size_t changed = 0;
-  for (Candidate& c : candidates_) {
+  for (const Candidate& c : candidates_) {
     if (c.kind != Candidate::Kind::Changed) continue;
     ++changed;
-    const layout::Delta& delta = c.delta;
+    const layout::Delta& delta = c.way->delta;
     for (int a = 0; a < 3; ++a) {
-      if (delta.mask & layout::kPositionChanged) position[a].push_back(delta.position[a]);
-      if (delta.mask & layout::kVelocityChanged) velocity[a].push_back(delta.velocity[a]);
+      if (delta.mask & layout::kPositionChanged) position[a].add(delta.position[a]);
+      if (delta.mask & layout::kVelocityChanged) velocity[a].add(delta.velocity[a]);
       if ((delta.mask & layout::kOrientationChanged) && delta.same_largest) {
-        orientation.push_back(delta.orientation[a]);
+        orientation.add(delta.orientation[a]);
       }
     }
   }
   for (int a = 0; a < 3; ++a) {
-    orders_.position[a] = layout::best_order(position[a]);
-    orders_.velocity[a] = layout::best_order(velocity[a]);
+    orders_.position[a] = position[a].best();
+    orders_.velocity[a] = velocity[a].best();
   }
-  orders_.orientation = layout::best_order(orientation);
+  orders_.orientation = orientation.best();
 
   const int gap_estimate = exp_golomb_bits(changed == 0 ? 0 : baseline_.size() / changed, 0);
+  const std::uint64_t orders_key = layout::field_orders_key(orders_);
   for (Candidate& c : candidates_) {
     switch (c.kind) {
-      case Candidate::Kind::Changed:
-        c.bits = layout::delta_bits(c.delta, orders_, widths_) + gap_estimate;
+      case Candidate::Kind::Changed: {
+        // Written once per orders: write copies these bits, and so may other clients' encodes.
+        DeltaTable::Way& way = *c.way;
+        if (!way.has_body || way.body_orders != orders_key) {
+          layout::write_delta_body(way.body, way.delta, orders_, widths_);
+          way.body_orders = orders_key;
+          way.has_body = true;
+        }
+        c.bits = (way.body.overflow ? layout::delta_bits(way.delta, orders_, widths_)
+                                    : layout::kMaskEstimateBits + way.body.bits) +
+                 gap_estimate;
         break;
+      }
       case Candidate::Kind::Removed:
         c.bits = 2 * bits_for_count(baseline_.size() + 1) + 1;
         break;
@@ -333,47 +347,40 @@ void EncodePass::estimate_costs() {
 }
 
 void EncodePass::select(std::size_t budget_bits) {
+  // Greedy by priority, highest first, stopping at the first that does not fit: the same as
+  // taking everything and leaving out the lowest priorities until the rest fits, which needs
+  // the order of only the few left out.
   std::size_t total_bits = 0;
-  for (const Candidate& c : candidates_) total_bits += static_cast<std::size_t>(c.bits);
-  if (total_bits <= budget_bits) {
-    // Everything fits: the greedy pass below would take every candidate in any order, so the
-    // order is worked out only if write overshoots.
-    for (Candidate& c : candidates_) c.selected = true;
-    selected_count_ = candidates_.size();
-    return;
+  for (Candidate& c : candidates_) {
+    total_bits += static_cast<std::size_t>(c.bits);
+    c.selected = true;
   }
-  sort_by_priority();
-  std::size_t used = 0;
-  for (const std::uint32_t k : by_priority_) {
-    if (used + candidates_[k].bits > budget_bits) break;
-    used += candidates_[k].bits;
-    candidates_[k].selected = true;
-    ++selected_count_;
-  }
+  selected_count_ = candidates_.size();
+  while (total_bits > budget_bits) total_bits -= static_cast<std::size_t>(drop_lowest().bits);
 }
 
-void EncodePass::sort_by_priority() {
-  if (sorted_) return;
-  sorted_ = true;
-  by_priority_.resize(candidates_.size());
-  if (any_nan_priority_) {
-    for (std::uint32_t k = 0; k < by_priority_.size(); ++k) by_priority_[k] = k;
-    std::stable_sort(by_priority_.begin(), by_priority_.end(),
-                     [&](std::uint32_t a, std::uint32_t b) {
-                       return candidates_[a].priority > candidates_[b].priority;
-                     });
-    return;
-  }
-  // Without NaN the order is total, so sorting by (priority, index) gives exactly the stable
-  // sort's order, without its buffer; the keys sit beside the indices so the compares stay in
-  // one array.
-  std::vector<std::pair<float, std::uint32_t>>& keys = buffers_.priority_keys;
-  keys.resize(candidates_.size());
-  for (std::uint32_t k = 0; k < keys.size(); ++k) keys[k] = {candidates_[k].priority, k};
-  std::sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
+Candidate& EncodePass::drop_lowest() {
+  // A heap whose top is the lowest priority, ties broken towards the higher index: priorities
+  // are never NaN (distance_weight), so this order is total.
+  std::vector<std::pair<float, std::uint32_t>>& heap = buffers_.drop_heap;
+  const auto dropped_later = [](const auto& a, const auto& b) {
     return a.first > b.first || (a.first == b.first && a.second < b.second);
-  });
-  for (std::size_t k = 0; k < keys.size(); ++k) by_priority_[k] = keys[k].second;
+  };
+  if (!drop_heap_built_) {
+    drop_heap_built_ = true;
+    heap.clear();
+    for (std::uint32_t k = 0; k < candidates_.size(); ++k) {
+      if (candidates_[k].selected) heap.emplace_back(candidates_[k].priority, k);
+    }
+    std::make_heap(heap.begin(), heap.end(), dropped_later);
+  }
+  assert(!heap.empty());
+  std::pop_heap(heap.begin(), heap.end(), dropped_later);
+  Candidate& dropped = candidates_[heap.back().second];
+  heap.pop_back();
+  dropped.selected = false;
+  --selected_count_;
+  return dropped;
 }
 
 bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
@@ -453,20 +460,21 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     std::uint8_t previous_mask = layout::kInitialFieldMask;
     for (std::size_t k = 0; k < changed.size(); ++k) {
       layout::write_code(stream, changed_gaps[k], chosen.gap);
-      layout::write_delta(stream, changed[k]->delta, chosen, widths_, previous_mask);
+      const DeltaTable::Way& way = *changed[k]->way;
+      assert(way.has_body && way.body_orders == layout::field_orders_key(chosen));
+      if (way.body.overflow) {
+        layout::write_delta(stream, way.delta, chosen, widths_, previous_mask);
+      } else {
+        layout::write_delta(stream, way.delta.mask, way.body, previous_mask);
+      }
     }
   }
   if (stream.bytes().size() <= stream_budget_bytes || selected_count_ == 0) return true;
 
   // Overshoot: leave out about as many of the lowest priorities as the excess needs.
-  sort_by_priority();
   std::size_t excess_bits = (stream.bytes().size() - stream_budget_bytes) * 8;
-  for (auto k = by_priority_.rbegin(); k != by_priority_.rend() && excess_bits > 0; ++k) {
-    Candidate& c = candidates_[*k];
-    if (!c.selected) continue;
-    c.selected = false;
-    --selected_count_;
-    excess_bits -= std::min<std::size_t>(excess_bits, static_cast<std::size_t>(c.bits));
+  while (excess_bits > 0 && selected_count_ > 0) {
+    excess_bits -= std::min<std::size_t>(excess_bits, static_cast<std::size_t>(drop_lowest().bits));
   }
   return false;
 }
@@ -513,20 +521,25 @@ std::size_t EncodePass::carry_priorities(
 
 }  // namespace
 
-/// One stream a cache holds: what an encode wrote against a baseline when everything pending
-/// was sent, and what any encode of the same tick, world, baseline and age needs to write the
-/// same.
+/// One stream a cache holds: what an encode wrote when everything pending was sent, against a
+/// baseline that was itself a whole world the cache saw (or no baseline), and what another
+/// encode of the same tick against the same baseline and age needs to write the same.
 struct SharedStream {
-  const QuantizedEntity* world = nullptr;  ///< the world's first entity, its identity
-  std::size_t world_size = 0;
+  /// The baseline's world token (SnapshotEncoder::Sent::world_token); 0 for no baseline.
+  std::uint64_t baseline_token = 0;
   std::uint32_t baseline_age = 0;
   layout::Prediction prediction;
-  std::vector<QuantizedEntity> baseline;
   std::size_t candidate_bits = 0;  ///< the estimates of every pending entity, summed
   std::uint32_t pending = 0;
   std::vector<std::uint8_t> stream;
-  std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
 };
+
+/// Tokens naming a world a cache saw, unique in the process so that views of different caches
+/// (or of a cache since destroyed) never match.
+std::uint64_t next_world_token() {
+  static std::atomic<std::uint64_t> last{0};
+  return last.fetch_add(1, std::memory_order_relaxed) + 1;
+}
 
 struct SnapshotEncodeCache::Streams {
   bool has_tick = false;
@@ -537,7 +550,10 @@ struct SnapshotEncodeCache::Streams {
   std::vector<SharedStream> entries;
   const QuantizedEntity* world = nullptr;  ///< this tick's, its identity
   std::size_t world_size = 0;
-  SharedDeltas deltas;
+  /// Names this tick's world: a client sent all of it holds a view equal to it, and two views
+  /// with one token are equal without comparing them.
+  std::uint64_t world_token = 0;
+  DeltaTable deltas;
 
   explicit Streams(std::size_t max_streams) : entries(max_streams) {}
 
@@ -553,20 +569,18 @@ struct SnapshotEncodeCache::Streams {
     world = world_now.data();
     world_size = world_now.size();
     widths = encoder_widths;
+    world_token = next_world_token();
     used = 0;
     next_replaced = 0;
     deltas.reset(world_size);
   }
 
-  SharedStream* find(std::span<const QuantizedEntity> world,
-                     std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
-                     const layout::Prediction& prediction) {
+  const SharedStream* find(std::uint64_t baseline_token, std::uint32_t baseline_age,
+                           const layout::Prediction& prediction) const {
     for (std::size_t k = 0; k < used; ++k) {
-      SharedStream& entry = entries[k];
-      if (entry.world == world.data() && entry.world_size == world.size() &&
-          entry.baseline_age == baseline_age && entry.prediction == prediction &&
-          std::equal(baseline.begin(), baseline.end(), entry.baseline.begin(),
-                     entry.baseline.end(), same_state)) {
+      const SharedStream& entry = entries[k];
+      if (entry.baseline_token == baseline_token && entry.baseline_age == baseline_age &&
+          entry.prediction == prediction) {
         return &entry;
       }
     }
@@ -591,6 +605,7 @@ struct SnapshotEncoder::Scratch {
   explicit Scratch(const QuantizationSpec& spec) : widths(spec) {}
   layout::FieldWidths widths;
   EncodeBuffers buffers;
+  DeltaTable deltas;  ///< when encoding without a cache
 };
 
 std::string SnapshotEncoderOptions::validate() const {
@@ -662,13 +677,16 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
 
   // Another client of this tick with this baseline, for whom everything fitted: when it all
   // fits this budget too, select takes every candidate whatever their priorities, write writes
-  // that client's stream, and nothing is left to carry.
+  // that client's stream, and nothing is left to carry. Baselines are matched by token, so
+  // only one that was a whole world (or none) can share a stream.
   SnapshotEncodeCache::Streams* shared = cache ? cache->streams_.get() : nullptr;
   const SharedStream* reused = nullptr;
   const layout::Prediction prediction = layout::make_prediction(baseline_age, spec_);
-  if (shared) {
-    shared->begin(tick, world, scratch_->widths);
-    const SharedStream* found = shared->find(world, baseline, baseline_age, prediction);
+  const std::uint64_t baseline_token = has_baseline ? acked.world_token : 0;
+  const bool shareable = shared && (!has_baseline || baseline_token != 0);
+  if (shared) shared->begin(tick, world, scratch_->widths);
+  if (shareable) {
+    const SharedStream* found = shared->find(baseline_token, baseline_age, prediction);
     if (found && found->candidate_bits <= select_budget_bits &&
         found->stream.size() <= stream_budget_bytes) {
       reused = found;
@@ -681,13 +699,15 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   std::size_t pending = 0, sent = 0;
   if (reused) {
     ++cache->hits_;
-    next_view_.assign(reused->view.begin(), reused->view.end());
+    next_view_.assign(world.begin(), world.end());  // everything sent: the client holds the world
     priority_.clear();
     pending = sent = reused->pending;
-    out.set_entities(reused->stream.data(), reused->stream.size());
+    assign_bytes(*out.mutable_entities(), reused->stream);
   } else {
+    DeltaTable& deltas = shared ? shared->deltas : scratch_->deltas;
+    if (!shared) deltas.reset(world.size());
     EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
-                    scratch_->buffers, shared ? &shared->deltas : nullptr);
+                    scratch_->buffers, deltas);
     pass.find_pending(priority_, viewer_m);
     pass.estimate_costs();
     pass.select(select_budget_bits);
@@ -696,22 +716,17 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
     pass.build_view(next_view_);
     pending = pass.pending();
     sent = pass.carry_priorities(priority_);
-    out.set_entities(stream_.bytes().data(), stream_.bytes().size());
-    if (shared) {
-      ++cache->misses_;
-      // Everything sent means the first write fitted (a miss leaves something out).
-      if (sent == pending) {
-        SharedStream& entry = shared->claim();
-        entry.world = world.data();
-        entry.world_size = world.size();
-        entry.baseline_age = baseline_age;
-        entry.prediction = prediction;
-        entry.baseline.assign(baseline.begin(), baseline.end());
-        entry.candidate_bits = pass.candidate_bits();
-        entry.pending = static_cast<std::uint32_t>(pending);
-        entry.stream.assign(stream_.bytes().begin(), stream_.bytes().end());
-        entry.view.assign(next_view_.begin(), next_view_.end());
-      }
+    assign_bytes(*out.mutable_entities(), stream_.bytes());
+    if (shared) ++cache->misses_;
+    // Everything sent means the first write fitted (a miss leaves something out).
+    if (shareable && sent == pending) {
+      SharedStream& entry = shared->claim();
+      entry.baseline_token = baseline_token;
+      entry.baseline_age = baseline_age;
+      entry.prediction = prediction;
+      entry.candidate_bits = pass.candidate_bits();
+      entry.pending = static_cast<std::uint32_t>(pending);
+      entry.stream.assign(stream_.bytes().begin(), stream_.bytes().end());
     }
   }
 
@@ -719,6 +734,7 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   Sent& entry = slot(tick);
   entry.valid = true;
   entry.tick = tick;
+  entry.world_token = shared && sent == pending ? shared->world_token : 0;
   entry.view.swap(next_view_);
   has_sent_ = true;
   last_tick_ = tick;

@@ -148,15 +148,13 @@ bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& en
 
 namespace {
 
-/// Walks the fields of a delta once, so writing and counting cannot disagree: `code(value,
-/// order)` for each Exp-Golomb field, `raw(value, bits)` for each fixed-width one.
+/// Walks the fields of a delta after its mask once, so that writing, counting and copying cannot
+/// disagree: `code(value, order)` for each Exp-Golomb field, `raw(value, bits)` for each
+/// fixed-width one.
 template <class Code, class Raw>
-void visit_delta(const Delta& delta, const DeltaOrders& orders, const FieldWidths& widths,
-                 std::uint8_t& previous_mask, Code&& code, Raw&& raw) {
+void visit_fields(const Delta& delta, const DeltaOrders& orders, const FieldWidths& widths,
+                  Code&& code, Raw&& raw) {
   const std::uint8_t mask = delta.mask;
-  raw(mask == previous_mask ? 1 : 0, 1);
-  if (mask != previous_mask) raw(mask, kFieldMaskBits);
-  previous_mask = mask;
   if (mask & kVelocityChanged) {
     for (int a = 0; a < 3; ++a) code(delta.velocity[a], orders.velocity[a]);
   }
@@ -175,24 +173,84 @@ void visit_delta(const Delta& delta, const DeltaOrders& orders, const FieldWidth
   if (mask & kFlagsChanged) raw(delta.flags, 8);
 }
 
+void write_mask(BitWriter& out, std::uint8_t mask, std::uint8_t& previous_mask) {
+  out.write_bool(mask == previous_mask);
+  if (mask != previous_mask) out.write_bits(mask, kFieldMaskBits);
+  previous_mask = mask;
+}
+
+/// Appends the low `bits` bits of value (0..64) to the body, most significant first.
+void append(DeltaBody& body, std::uint64_t value, int bits) {
+  if (bits == 0 || body.overflow) return;
+  if (body.bits + bits > DeltaBody::kMaxBits) {
+    body.overflow = true;
+    return;
+  }
+  if (bits < 64) value &= (std::uint64_t{1} << bits) - 1;
+  const auto word = static_cast<std::size_t>(body.bits / 64);
+  const int room = 64 - body.bits % 64;
+  if (bits <= room) {
+    body.words[word] |= value << (room - bits);
+  } else {
+    body.words[word] |= value >> (bits - room);
+    body.words[word + 1] |= value << (64 - (bits - room));
+  }
+  body.bits += bits;
+}
+
+/// BitWriter::write_exp_golomb's bits, appended to a body.
+void append_exp_golomb(DeltaBody& body, std::uint64_t value, int order) {
+  const std::uint64_t shifted = value + (std::uint64_t{1} << order);
+  const int width = std::bit_width(shifted);
+  const int zeros = width - order - 1;
+  if (zeros + width <= 64) {
+    append(body, shifted, zeros + width);
+    return;
+  }
+  append(body, 0, zeros);
+  append(body, shifted, width);
+}
+
 }  // namespace
 
 void write_delta(BitWriter& out, const Delta& delta, const DeltaOrders& orders,
                  const FieldWidths& widths, std::uint8_t& previous_mask) {
-  visit_delta(
-      delta, orders, widths, previous_mask,
+  write_mask(out, delta.mask, previous_mask);
+  visit_fields(
+      delta, orders, widths,
       [&out](std::uint64_t value, int order) { write_code(out, value, order); },
       [&out](std::uint64_t value, int bits) { out.write_bits(value, bits); });
 }
 
 int delta_bits(const Delta& delta, const DeltaOrders& orders, const FieldWidths& widths) {
-  int bits = 0;
-  std::uint8_t no_mask = 0xFF;  // never equal: the mask counts in full
-  visit_delta(
-      delta, orders, widths, no_mask,
+  int bits = kMaskEstimateBits;
+  visit_fields(
+      delta, orders, widths,
       [&bits](std::uint64_t value, int order) { bits += code_bits(value, order); },
       [&bits](std::uint64_t, int width) { bits += width; });
   return bits;
+}
+
+void write_delta_body(DeltaBody& body, const Delta& delta, const DeltaOrders& orders,
+                      const FieldWidths& widths) {
+  body = DeltaBody{};
+  visit_fields(
+      delta, orders, widths,
+      [&body](std::uint64_t value, int order) {
+        if (order != kAllZeroOrder) append_exp_golomb(body, value, order);
+      },
+      [&body](std::uint64_t value, int bits) { append(body, value, bits); });
+}
+
+void write_delta(BitWriter& out, std::uint8_t mask, const DeltaBody& body,
+                 std::uint8_t& previous_mask) {
+  write_mask(out, mask, previous_mask);
+  if (body.bits > 64) {
+    out.write_bits(body.words[0], 64);
+    out.write_bits(body.words[1] >> (128 - body.bits), body.bits - 64);
+  } else if (body.bits > 0) {
+    out.write_bits(body.words[0] >> (64 - body.bits), body.bits);
+  }
 }
 
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,

@@ -101,8 +101,37 @@ bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& en
 /// 0 and 4 bits; updated), then each marked field's delta.
 void write_delta(BitWriter& out, const Delta& delta, const DeltaOrders& orders,
                  const FieldWidths& widths, std::uint8_t& previous_mask);
-/// Bits write_delta takes (without the gap), its mask counted as 5 bits.
+/// Bits write_delta takes (without the gap), its mask counted as kMaskEstimateBits.
 int delta_bits(const Delta& delta, const DeltaOrders& orders, const FieldWidths& widths);
+/// What an estimate counts for a mask, not knowing whether it repeats the previous one.
+inline constexpr int kMaskEstimateBits = 1 + kFieldMaskBits;
+
+/// The fields write_delta writes after the mask, written once for one set of orders (the gap
+/// order aside), so that an encoder counts a delta and then copies its bits into the stream,
+/// and the encoders of other clients holding the same baseline copy them too. A delta longer
+/// than kMaxBits (a teleport among small changes) overflows and is written field by field.
+struct DeltaBody {
+  static constexpr int kMaxBits = 128;
+  std::array<std::uint64_t, 2> words{};  ///< the bits from bit 63 of words[0] on
+  int bits = 0;
+  bool overflow = false;
+};
+/// Writes `delta`'s fields with the velocity, position and orientation orders of `orders`.
+void write_delta_body(DeltaBody& body, const Delta& delta, const DeltaOrders& orders,
+                      const FieldWidths& widths);
+/// write_delta from a body that did not overflow: the mask, then the body's bits.
+void write_delta(BitWriter& out, std::uint8_t mask, const DeltaBody& body,
+                 std::uint8_t& previous_mask);
+/// The orders that write a delta's fields (all but the gap order) packed in one integer: two
+/// sets of orders with the same key write every delta's fields alike.
+inline std::uint64_t field_orders_key(const DeltaOrders& orders) {
+  std::uint64_t key = static_cast<std::uint64_t>(orders.orientation);
+  for (int a = 0; a < 3; ++a) {
+    key = (key << 6) | static_cast<std::uint64_t>(orders.velocity[a]);
+    key = (key << 6) | static_cast<std::uint64_t>(orders.position[a]);
+  }
+  return key;
+}
 
 enum class DeltaStatus : std::uint8_t { Ok, EmptyChange, OutOfRange };
 /// Applies the delta read from `in` to `entity` (holding the baseline); the reader may fail.

@@ -44,6 +44,7 @@ TEST(SnapshotEncodeCache, CachedEncodesWriteExactlyTheUncachedBytes) {
   for (std::uint32_t tick = 1; tick <= 300; ++tick) {
     if (tick % 50 != 0) {  // every 50th tick nothing moves
       test::perturb(world, spec, random);
+      if (tick % 3 == 0) test::teleport(world, spec, random);
       if (random() % 10 == 0) world.erase(world.begin() + static_cast<std::ptrdiff_t>(random() % world.size()));
       if (random() % 10 == 0) world.push_back(test::random_entity(next_id++, spec, random, true));
     }

@@ -209,6 +209,31 @@ TEST(SnapshotCodec, StarvedEntitiesAreSentSoonerAndTheClientConverges) {
 
 /// Entities gliding at constant velocity move exactly as predicted: each costs its run length
 /// and a repeated mask, about two bits, though every one of them changes every tick.
+/// Small changes everywhere and a respawn now and then: the respawned entity's delta is long
+/// (written field by field rather than copied), and it still decodes to the server state.
+TEST(SnapshotCodec, ATeleportAmongSmallChangesDecodesToTheServerState) {
+  const QuantizationSpec spec = test_spec();
+  std::mt19937 random(7);
+  std::vector<QuantizedEntity> world = test::random_world(80, spec, random);
+  SnapshotEncoder encoder(spec);
+  SnapshotDecoder decoder(spec);
+  wire::Snapshot snapshot;
+  int complete = 0;
+  for (std::uint32_t tick = 1; tick <= 200; ++tick) {
+    test::perturb(world, spec, random);
+    test::teleport(world, spec, random);
+    if (tick > 3) encoder.acknowledge(tick - 3);
+    encoder.encode(tick, world, kOrigin, kBudget, snapshot);
+    const SnapshotDecodeResult result = decoder.decode(snapshot);
+    ASSERT_TRUE(result.ok) << result.message;
+    if (encoder.last_report().deferred == 0) {
+      ASSERT_EQ(decoded(result), world) << "tick " << tick;
+      ++complete;
+    }
+  }
+  EXPECT_GT(complete, 150);
+}
+
 TEST(SnapshotCodec, ConstantVelocityIsPredictedAndNearlyFree) {
   const QuantizationSpec spec = test_spec();  // 1 mm, 0.01 m/s, 60 Hz
   std::vector<QuantizedEntity> world(200);

@@ -57,6 +57,19 @@ inline void perturb(std::vector<QuantizedEntity>& world, const QuantizationSpec&
   }
 }
 
+/// Moves one entity anywhere with any velocity (a respawn): its delta is far longer than the
+/// others', which is the case the encoder writes field by field (layout::DeltaBody overflow).
+inline void teleport(std::vector<QuantizedEntity>& world, const QuantizationSpec& spec,
+                     std::mt19937& random) {
+  if (world.empty()) return;
+  QuantizedEntity& e = world[random() % world.size()];
+  const QuantizedEntity moved = random_entity(e.id, spec, random, e.orientation_largest != 3);
+  e.position = moved.position;
+  for (int a = 0; a < 3; ++a) {
+    e.velocity[a] = random() % 2 ? spec.velocity_limit() : -spec.velocity_limit();
+  }
+}
+
 inline std::vector<QuantizedEntity> random_world(std::size_t count, const QuantizationSpec& spec,
                                                  std::mt19937& random) {
   std::vector<QuantizedEntity> world;

@@ -85,11 +85,14 @@ class BitWriter {
  private:
   /// Moves the oldest 32 pending bits into bytes_ as 4 bytes.
   void flush_word() {
-    bytes_.resize(flushed_bytes_);  // drops what bytes() appended of the pending bits
+    // Also drops what bytes() appended of the pending bits.
+    bytes_.resize(flushed_bytes_ + 4);
     const auto word = static_cast<std::uint32_t>(pending_ >> (pending_bits_ - 32));
-    for (int shift = 24; shift >= 0; shift -= 8) {
-      bytes_.push_back(static_cast<std::uint8_t>(word >> shift));
-    }
+    std::uint8_t* out = bytes_.data() + flushed_bytes_;
+    out[0] = static_cast<std::uint8_t>(word >> 24);
+    out[1] = static_cast<std::uint8_t>(word >> 16);
+    out[2] = static_cast<std::uint8_t>(word >> 8);
+    out[3] = static_cast<std::uint8_t>(word);
     flushed_bytes_ += 4;
     pending_bits_ -= 32;
   }

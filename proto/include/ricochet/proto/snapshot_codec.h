@@ -53,12 +53,14 @@ struct SnapshotEncodeReport {
 
 /// Work the encoders of one match share within a tick. The match makes one and passes it to
 /// every client's SnapshotEncoder::encode of a tick, with the same world each time. A client
-/// whose baseline holds exactly the entities, and is exactly as old, as that of a client encoded
-/// before it this tick, and for whom everything pending fits the budget, is sent a copy of that
+/// sent everything holds the world of that tick, which the cache names by a token; a client
+/// whose baseline is such a world (or who has none), as old as that of a client encoded before
+/// it this tick, and for whom everything pending fits the budget, is sent a copy of that
 /// client's stream instead of encoding it again. Any other client is encoded as usual, except
 /// that a changed entity whose baseline state and age another client of the tick had reuses
-/// that client's delta. Either way the bytes are the ones encode writes without the cache.
-/// Allocates nothing once its buffers have grown to the world's size.
+/// that client's delta, and its bits when the field orders agree. Either way the bytes are the
+/// ones encode writes without the cache. Allocates nothing once its buffers have grown to the
+/// world's size.
 class SnapshotEncodeCache {
  public:
   /// max_streams: distinct (baseline, age) streams remembered per tick, 1..64; past that the
@@ -115,6 +117,8 @@ class SnapshotEncoder {
     bool valid = false;
     std::uint32_t tick = 0;
     std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
+    /// Nonzero when `view` is the whole world a SnapshotEncodeCache saw under this token.
+    std::uint64_t world_token = 0;
   };
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
   void encode_with(std::uint32_t tick, std::span<const QuantizedEntity> world,
