@@ -4,12 +4,6 @@
 
 namespace ricochet::proto {
 
-int exp_golomb_bits(std::uint64_t value, int order) {
-  const std::uint64_t shifted = value + (std::uint64_t{1} << order);
-  const int width = std::bit_width(shifted);
-  return 2 * width - order - 1;
-}
-
 const std::vector<std::uint8_t>& BitWriter::bytes() const {
   bytes_.resize(flushed_bytes_);
   for (int left = pending_bits_; left > 0; left -= 8) {
@@ -20,8 +14,7 @@ const std::vector<std::uint8_t>& BitWriter::bytes() const {
 }
 
 void BitWriter::clear() {
-  bytes_.clear();
-  flushed_bytes_ = 0;
+  flushed_bytes_ = 0;  // bytes_ keeps its size as room for the next stream
   pending_ = 0;
   pending_bits_ = 0;
   bit_count_ = 0;

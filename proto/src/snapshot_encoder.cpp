@@ -480,7 +480,6 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
 }
 
 void EncodePass::build_view(std::vector<QuantizedEntity>& view) {
-  view.clear();
   std::vector<std::uint8_t>& removed = buffers_.view_removed;
   std::vector<std::int64_t>& change_of = buffers_.view_change_of;
   std::vector<std::uint32_t>& added = buffers_.view_added;
@@ -493,16 +492,18 @@ void EncodePass::build_view(std::vector<QuantizedEntity>& view) {
     if (c.kind == Candidate::Kind::Changed) change_of[c.baseline_index] = c.world_index;
     if (c.kind == Candidate::Kind::Added) added.push_back(c.world_index);
   }
+  std::size_t removed_count = 0;
+  for (const std::uint8_t gone : removed) removed_count += gone;
+  view.resize(baseline_.size() - removed_count + added.size());
+  QuantizedEntity* out = view.data();
   std::size_t a = 0;
   for (std::size_t k = 0; k < baseline_.size(); ++k) {
     if (removed[k]) continue;
-    while (a < added.size() && world_[added[a]].id < baseline_[k].id) {
-      view.push_back(world_[added[a++]]);
-    }
-    view.push_back(change_of[k] >= 0 ? world_[static_cast<std::size_t>(change_of[k])]
-                                     : baseline_[k]);
+    while (a < added.size() && world_[added[a]].id < baseline_[k].id) *out++ = world_[added[a++]];
+    *out++ = change_of[k] >= 0 ? world_[static_cast<std::size_t>(change_of[k])] : baseline_[k];
   }
-  while (a < added.size()) view.push_back(world_[added[a++]]);
+  while (a < added.size()) *out++ = world_[added[a++]];
+  assert(out == view.data() + view.size());
 }
 
 std::size_t EncodePass::carry_priorities(

@@ -24,18 +24,6 @@ FieldWidths::FieldWidths(const QuantizationSpec& spec)
   orientation = bits_for_count(2 * static_cast<std::uint64_t>(orientation_limit) + 1);
 }
 
-void write_code(BitWriter& out, std::uint64_t value, int order) {
-  if (order != kAllZeroOrder) out.write_exp_golomb(value, order);
-}
-
-int code_bits(std::uint64_t value, int order) {
-  return order == kAllZeroOrder ? 0 : exp_golomb_bits(value, order);
-}
-
-std::uint64_t read_code(BitReader& in, int order) {
-  return order == kAllZeroOrder ? 0 : in.read_exp_golomb(order);
-}
-
 Prediction make_prediction(std::uint32_t baseline_age, const QuantizationSpec& spec) {
   if (baseline_age == 0 || baseline_age > kMaxPredictionAge) return {};
   const std::int64_t scale = spec.prediction_scale();
@@ -173,43 +161,49 @@ void visit_fields(const Delta& delta, const DeltaOrders& orders, const FieldWidt
   if (mask & kFlagsChanged) raw(delta.flags, 8);
 }
 
-void write_mask(BitWriter& out, std::uint8_t mask, std::uint8_t& previous_mask) {
-  out.write_bool(mask == previous_mask);
-  if (mask != previous_mask) out.write_bits(mask, kFieldMaskBits);
-  previous_mask = mask;
-}
+/// A DeltaBody being written: its bits, newest lowest, in one 128-bit accumulator.
+class BodyWriter {
+ public:
+  /// Appends the low `bits` bits of value (0..64).
+  void append(std::uint64_t value, int bits) {
+    if (bits == 0) return;
+    if (bits_ + bits > DeltaBody::kMaxBits) {
+      overflow_ = true;
+      return;
+    }
+    if (bits < 64) value &= (std::uint64_t{1} << bits) - 1;
+    accumulator_ = (accumulator_ << bits) | value;
+    bits_ += bits;
+  }
+  /// BitWriter::write_exp_golomb's bits.
+  void append_exp_golomb(std::uint64_t value, int order) {
+    const std::uint64_t shifted = value + (std::uint64_t{1} << order);
+    const int width = std::bit_width(shifted);
+    const int zeros = width - order - 1;
+    if (zeros + width <= 64) {
+      append(shifted, zeros + width);
+      return;
+    }
+    append(0, zeros);
+    append(shifted, width);
+  }
+  DeltaBody finish() const {
+    DeltaBody body;
+    body.overflow = overflow_;
+    if (overflow_) return body;
+    body.bits = bits_;
+    const Accumulator aligned = bits_ == 0 ? 0 : accumulator_ << (DeltaBody::kMaxBits - bits_);
+    body.words = {static_cast<std::uint64_t>(aligned >> 64), static_cast<std::uint64_t>(aligned)};
+    return body;
+  }
 
-/// Appends the low `bits` bits of value (0..64) to the body, most significant first.
-void append(DeltaBody& body, std::uint64_t value, int bits) {
-  if (bits == 0 || body.overflow) return;
-  if (body.bits + bits > DeltaBody::kMaxBits) {
-    body.overflow = true;
-    return;
-  }
-  if (bits < 64) value &= (std::uint64_t{1} << bits) - 1;
-  const auto word = static_cast<std::size_t>(body.bits / 64);
-  const int room = 64 - body.bits % 64;
-  if (bits <= room) {
-    body.words[word] |= value << (room - bits);
-  } else {
-    body.words[word] |= value >> (bits - room);
-    body.words[word + 1] |= value << (64 - (bits - room));
-  }
-  body.bits += bits;
-}
-
-/// BitWriter::write_exp_golomb's bits, appended to a body.
-void append_exp_golomb(DeltaBody& body, std::uint64_t value, int order) {
-  const std::uint64_t shifted = value + (std::uint64_t{1} << order);
-  const int width = std::bit_width(shifted);
-  const int zeros = width - order - 1;
-  if (zeros + width <= 64) {
-    append(body, shifted, zeros + width);
-    return;
-  }
-  append(body, 0, zeros);
-  append(body, shifted, width);
-}
+ private:
+  __extension__ typedef unsigned __int128 Accumulator;  // GCC and Clang
+  static_assert(DeltaBody::kMaxBits == 128);
+  Accumulator accumulator_ = 0;
+  int bits_ = 0;
+  bool overflow_ = false;
+};
 
 }  // namespace
 
@@ -233,24 +227,14 @@ int delta_bits(const Delta& delta, const DeltaOrders& orders, const FieldWidths&
 
 void write_delta_body(DeltaBody& body, const Delta& delta, const DeltaOrders& orders,
                       const FieldWidths& widths) {
-  body = DeltaBody{};
+  BodyWriter writer;
   visit_fields(
       delta, orders, widths,
-      [&body](std::uint64_t value, int order) {
-        if (order != kAllZeroOrder) append_exp_golomb(body, value, order);
+      [&writer](std::uint64_t value, int order) {
+        if (order != kAllZeroOrder) writer.append_exp_golomb(value, order);
       },
-      [&body](std::uint64_t value, int bits) { append(body, value, bits); });
-}
-
-void write_delta(BitWriter& out, std::uint8_t mask, const DeltaBody& body,
-                 std::uint8_t& previous_mask) {
-  write_mask(out, mask, previous_mask);
-  if (body.bits > 64) {
-    out.write_bits(body.words[0], 64);
-    out.write_bits(body.words[1] >> (128 - body.bits), body.bits - 64);
-  } else if (body.bits > 0) {
-    out.write_bits(body.words[0] >> (64 - body.bits), body.bits);
-  }
+      [&writer](std::uint64_t value, int bits) { writer.append(value, bits); });
+  body = writer.finish();
 }
 
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,

@@ -16,9 +16,15 @@ inline constexpr int kOrderBits = 5;
 inline constexpr int kAllZeroOrder = 31;
 
 /// An Exp-Golomb code of `order`, or nothing for kAllZeroOrder (value must then be 0).
-void write_code(BitWriter& out, std::uint64_t value, int order);
-int code_bits(std::uint64_t value, int order);
-std::uint64_t read_code(BitReader& in, int order);
+inline void write_code(BitWriter& out, std::uint64_t value, int order) {
+  if (order != kAllZeroOrder) out.write_exp_golomb(value, order);
+}
+inline int code_bits(std::uint64_t value, int order) {
+  return order == kAllZeroOrder ? 0 : exp_golomb_bits(value, order);
+}
+inline std::uint64_t read_code(BitReader& in, int order) {
+  return order == kAllZeroOrder ? 0 : in.read_exp_golomb(order);
+}
 
 /// Bit of each field in a changed entity's 4-bit mask, in the order the fields follow it.
 enum FieldBit : std::uint8_t {
@@ -119,9 +125,26 @@ struct DeltaBody {
 /// Writes `delta`'s fields with the velocity, position and orientation orders of `orders`.
 void write_delta_body(DeltaBody& body, const Delta& delta, const DeltaOrders& orders,
                       const FieldWidths& widths);
+/// The mask: 1 when it equals previous_mask, else 0 and its 4 bits; previous_mask updated.
+inline void write_mask(BitWriter& out, std::uint8_t mask, std::uint8_t& previous_mask) {
+  if (mask == previous_mask) {
+    out.write_bits(1, 1);
+  } else {
+    out.write_bits(mask, 1 + kFieldMaskBits);  // a 0, then the mask
+    previous_mask = mask;
+  }
+}
 /// write_delta from a body that did not overflow: the mask, then the body's bits.
-void write_delta(BitWriter& out, std::uint8_t mask, const DeltaBody& body,
-                 std::uint8_t& previous_mask);
+inline void write_delta(BitWriter& out, std::uint8_t mask, const DeltaBody& body,
+                        std::uint8_t& previous_mask) {
+  write_mask(out, mask, previous_mask);
+  if (body.bits > 64) {
+    out.write_bits(body.words[0], 64);
+    out.write_bits(body.words[1] >> (128 - body.bits), body.bits - 64);
+  } else if (body.bits > 0) {
+    out.write_bits(body.words[0] >> (64 - body.bits), body.bits);
+  }
+}
 /// The orders that write a delta's fields (all but the gap order) packed in one integer: two
 /// sets of orders with the same key write every delta's fields alike.
 inline std::uint64_t field_orders_key(const DeltaOrders& orders) {

@@ -13,6 +13,7 @@
 /// than kMaxExpGolombWidth allows, sets a sticky failure flag and yields 0, so a decoder can read a
 /// whole section and check failed() once.
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -44,7 +45,9 @@ constexpr int bits_for_count(std::uint64_t count) {
 }
 
 /// Bits the order-k Exp-Golomb code of `value` takes.
-int exp_golomb_bits(std::uint64_t value, int order);
+inline int exp_golomb_bits(std::uint64_t value, int order) {
+  return 2 * std::bit_width(value + (std::uint64_t{1} << order)) - order - 1;
+}
 
 class BitWriter {
  public:
@@ -85,8 +88,11 @@ class BitWriter {
  private:
   /// Moves the oldest 32 pending bits into bytes_ as 4 bytes.
   void flush_word() {
-    // Also drops what bytes() appended of the pending bits.
-    bytes_.resize(flushed_bytes_ + 4);
+    // bytes_ past flushed_bytes_ is scratch (what bytes() appended, or room from before a
+    // clear); it grows by doubling, so a stream of n bytes resizes it O(log n) times.
+    if (bytes_.size() < flushed_bytes_ + 4) {
+      bytes_.resize(std::max<std::size_t>(64, 2 * bytes_.size()));
+    }
     const auto word = static_cast<std::uint32_t>(pending_ >> (pending_bits_ - 32));
     std::uint8_t* out = bytes_.data() + flushed_bytes_;
     out[0] = static_cast<std::uint8_t>(word >> 24);
