@@ -243,6 +243,13 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   EXPECT_EQ(stats.value().matches, 1);  // an aborted match counts in the totals
   EXPECT_EQ(stats.value().wins, 0);
   EXPECT_GT(stats.value().seconds_played, 0.3);
+  // Alice's match is recorded; the second match, which nobody joined, leaves no file.
+  std::vector<std::string> recordings;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_.path() / "recordings")) {
+    recordings.push_back(entry.path().filename().string());
+  }
+  ASSERT_EQ(recordings.size(), 1u);
+  EXPECT_EQ(recordings[0].rfind("match-1-", 0), 0u) << recordings[0];
 }
 
 /// GET `path` from the admin port; the response body.

@@ -97,7 +97,8 @@ EndedMatch MatchHost::ended_match(bool aborted, proto::TimeUs now) {
   EndedMatch ended;
   ended.id = id_;
   ended.end_reason = match_.end_reason();
-  ended.recording = match_.take_recording();
+  // A match nobody ever joined has nothing to replay; its recording is not kept.
+  if (!played_.empty()) ended.recording = match_.take_recording();
   db::MatchRecord& record = ended.record;
   record.map = map_name_;
   record.mode = server::name(mode_);

@@ -53,7 +53,8 @@ struct EndedMatch {
   db::MatchRecord record;              ///< players empty when nobody played; aborted when stopped
   std::vector<std::string> usernames;  ///< one per record.players entry
   wire::MatchEndReason end_reason = wire::MATCH_END_REASON_SERVER_SHUTDOWN;
-  std::vector<std::uint8_t> recording;  ///< the finished recording (empty when recording is off)
+  /// The finished recording; empty when recording is off or nobody ever joined.
+  std::vector<std::uint8_t> recording;
 };
 
 /// Called once, on the match's strand, when the match ended by itself (frag or time limit),
