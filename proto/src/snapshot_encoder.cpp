@@ -68,15 +68,48 @@ bool same_state(const QuantizedEntity& a, const QuantizedEntity& b) {
          a.orientation[2] == b.orientation[2] && a.flags == b.flags;
 }
 
+/// The order tallies of changed entities' fields, from which an encode chooses its orders, one
+/// delta added or taken back at a time.
+struct FieldTallies {
+  std::array<layout::OrderTally, 3> position, velocity;
+  layout::OrderTally orientation;
+
+  void add(const layout::Delta& delta) { visit(delta, &layout::OrderTally::add); }
+  void remove(const layout::Delta& delta) { visit(delta, &layout::OrderTally::remove); }
+  void choose(layout::DeltaOrders& orders) const {
+    for (int a = 0; a < 3; ++a) {
+      orders.position[a] = position[a].best();
+      orders.velocity[a] = velocity[a].best();
+    }
+    orders.orientation = orientation.best();
+  }
+
+ private:
+  void visit(const layout::Delta& delta, void (layout::OrderTally::*op)(std::uint64_t)) {
+    for (int a = 0; a < 3; ++a) {
+      if (delta.mask & layout::kPositionChanged) (position[a].*op)(delta.position[a]);
+      if (delta.mask & layout::kVelocityChanged) (velocity[a].*op)(delta.velocity[a]);
+      if ((delta.mask & layout::kOrientationChanged) && delta.same_largest) {
+        (orientation.*op)(delta.orientation[a]);
+      }
+    }
+  }
+};
+
 /// The deltas of one tick's changed entities, per world index, each against the baseline state
 /// and age it was worked out for, with its fields written for the orders an encode last chose
 /// (layout::DeltaBody). Every encoder has one of its own; a SnapshotEncodeCache holds one that
 /// its encoders share, so that clients holding the same baseline state of an entity at the same
 /// age share its delta, change and bits instead of working them out again.
+///
+/// The table also tallies the fields of every delta it holds, per prediction (baseline age):
+/// a client's tally is its group's minus the deltas it does not use, which are few when the
+/// clients hold much the same baselines, instead of a sum over all its changed entities.
 class DeltaTable {
  public:
   struct Way {
     std::uint64_t generation = 0;
+    std::int32_t group = -1;  ///< whose tallies hold this delta; -1: none
     layout::Prediction prediction;
     QuantizedEntity baseline;
     layout::Delta delta;
@@ -90,6 +123,25 @@ class DeltaTable {
   void reset(std::size_t world_size) {
     ++generation_;
     if (ways_.size() < world_size * kWays) ways_.resize(world_size * kWays);
+  }
+
+  static constexpr std::size_t kWays = 2;
+  /// The kWays ways of a world index.
+  const Way* ways_of(std::size_t world_index) const { return &ways_[world_index * kWays]; }
+  std::uint64_t generation() const { return generation_; }
+
+  /// The group of `prediction` this generation, or -1 when it has none.
+  std::int32_t group_of(const layout::Prediction& prediction) const {
+    for (std::size_t g = 0; g < kGroups; ++g) {
+      if (groups_[g].generation == generation_ && groups_[g].prediction == prediction) {
+        return static_cast<std::int32_t>(g);
+      }
+    }
+    return -1;
+  }
+  /// Every delta of the group's prediction in the table, tallied.
+  const FieldTallies& tallies(std::int32_t group) const {
+    return groups_[static_cast<std::size_t>(group)].tallies;
   }
 
   Way* find(std::size_t world_index, const QuantizedEntity& baseline,
@@ -117,19 +169,47 @@ class DeltaTable {
         break;
       }
     }
+    if (way->generation == generation_ && way->group >= 0) {
+      groups_[static_cast<std::size_t>(way->group)].tallies.remove(way->delta);
+    }
     way->generation = generation_;
     way->prediction = prediction;
     way->baseline = baseline;
     way->delta = layout::make_delta(baseline, now, widths, prediction);
     way->change_m = change_m;
     way->has_body = false;
+    way->group = claim_group(prediction);
+    if (way->group >= 0) groups_[static_cast<std::size_t>(way->group)].tallies.add(way->delta);
     return *way;
   }
 
  private:
-  static constexpr std::size_t kWays = 2;
+  /// Baseline ages tallied per generation; deltas of further ages are tallied by their encodes.
+  static constexpr std::size_t kGroups = 4;
+  struct Group {
+    std::uint64_t generation = 0;
+    layout::Prediction prediction;
+    FieldTallies tallies;
+  };
+
+  /// The group of `prediction`, opened if there is room (a group, once full, stays so for the
+  /// generation, so a prediction either has every one of its deltas tallied or none).
+  std::int32_t claim_group(const layout::Prediction& prediction) {
+    if (const std::int32_t found = group_of(prediction); found >= 0) return found;
+    for (std::size_t g = 0; g < kGroups; ++g) {
+      if (groups_[g].generation != generation_) {
+        groups_[g].generation = generation_;
+        groups_[g].prediction = prediction;
+        groups_[g].tallies = FieldTallies{};
+        return static_cast<std::int32_t>(g);
+      }
+    }
+    return -1;
+  }
+
   std::uint64_t generation_ = 0;
   std::vector<Way> ways_;
+  std::array<Group, kGroups> groups_;
 };
 
 /// An entity that differs from the baseline: gone, new or changed.
@@ -157,7 +237,8 @@ struct Candidate {
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
 struct EncodeBuffers {
   std::vector<Candidate> candidates;
-  std::vector<std::pair<float, std::uint32_t>> drop_heap;  ///< DropOrder's
+  std::vector<std::pair<float, std::uint32_t>> drop_heap;  ///< drop_lowest's
+  FieldTallies tallies;                                    ///< estimate_costs'
   std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;  ///< write's
   std::vector<std::uint32_t> removed_before;
   std::vector<const QuantizedEntity*> added;
@@ -297,26 +378,38 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
 }
 
 void EncodePass::estimate_costs() {
-  std::array<layout::OrderTally, 3> position, velocity;
-  layout::OrderTally orientation;
   std::size_t changed = 0;
-  for (const Candidate& c : candidates_) {
-    if (c.kind != Candidate::Kind::Changed) continue;
-    ++changed;
-    const layout::Delta& delta = c.way->delta;
-    for (int a = 0; a < 3; ++a) {
-      if (delta.mask & layout::kPositionChanged) position[a].add(delta.position[a]);
-      if (delta.mask & layout::kVelocityChanged) velocity[a].add(delta.velocity[a]);
-      if ((delta.mask & layout::kOrientationChanged) && delta.same_largest) {
-        orientation.add(delta.orientation[a]);
+  for (const Candidate& c : candidates_) changed += c.kind == Candidate::Kind::Changed;
+  // The orders come from the tally of every changed candidate's delta: the group's tally (every
+  // delta of this prediction in the table) without the deltas this client does not use.
+  const std::int32_t group = deltas_.group_of(prediction_);
+  FieldTallies& tallies = buffers_.tallies;
+  if (group >= 0) {
+    tallies = deltas_.tallies(group);
+    const std::uint64_t generation = deltas_.generation();
+    auto c = candidates_.begin();
+    for (std::size_t i = 0; i < world_.size(); ++i) {
+      while (c != candidates_.end() && (c->kind == Candidate::Kind::Removed || c->world_index < i)) {
+        ++c;
+      }
+      const DeltaTable::Way* used =
+          c != candidates_.end() && c->world_index == i && c->kind == Candidate::Kind::Changed
+              ? c->way
+              : nullptr;
+      const DeltaTable::Way* ways = deltas_.ways_of(i);
+      for (std::size_t w = 0; w < DeltaTable::kWays; ++w) {
+        if (ways[w].generation == generation && ways[w].group == group && &ways[w] != used) {
+          tallies.remove(ways[w].delta);
+        }
       }
     }
+  } else {
+    tallies = FieldTallies{};
+    for (const Candidate& c : candidates_) {
+      if (c.kind == Candidate::Kind::Changed) tallies.add(c.way->delta);
+    }
   }
-  for (int a = 0; a < 3; ++a) {
-    orders_.position[a] = position[a].best();
-    orders_.velocity[a] = velocity[a].best();
-  }
-  orders_.orientation = orientation.best();
+  tallies.choose(orders_);
 
   const int gap_estimate = exp_golomb_bits(changed == 0 ? 0 : baseline_.size() / changed, 0);
   const std::uint64_t orders_key = layout::field_orders_key(orders_);

@@ -32,14 +32,14 @@ int best_order_by_trial(std::span<const std::uint64_t> values) {
 
 int OrderTally::best() const {
   if (count_ == 0) return 0;
-  if (all_zero_) return kAllZeroOrder;
+  if (nonzero_ == 0) return kAllZeroOrder;
   int best = 0;
   std::int64_t best_bits = 0;
   std::int64_t wide = 0;    // sum of bit_width(v + 2^order) over values wider than order
   std::int64_t narrow = 0;  // values no wider than order
   for (int order = 0; order < kOrders; ++order) {
     wide += wide_step_[order];
-    narrow += static_cast<std::int64_t>(width_count_[order]);
+    narrow += width_count_[order];
     const std::int64_t k1 = order + 1;
     const std::int64_t bits = 2 * (wide + narrow * k1) - count_ * k1;
     if (order == 0 || bits < best_bits) {
