@@ -119,10 +119,33 @@ class DeltaTable {
     layout::DeltaBody body;
   };
 
-  /// Forgets every delta (nothing is cleared: each remembers the generation it was made in).
-  void reset(std::size_t world_size) {
+  /// Forgets every delta (nothing is cleared: each remembers the generation it was made in)
+  /// and takes the positions of `world`, whose entities the deltas will be of.
+  void reset(std::span<const QuantizedEntity> world, const QuantizationSpec& spec) {
     ++generation_;
-    if (ways_.size() < world_size * kWays) ways_.resize(world_size * kWays);
+    if (ways_.size() < world.size() * kWays) ways_.resize(world.size() * kWays);
+    positions_m_.resize(world.size());
+    for (std::size_t i = 0; i < world.size(); ++i) {
+      for (int a = 0; a < 3; ++a) {
+        positions_m_[i][a] =
+            spec.bounds.min_m[a] + static_cast<double>(world[i].position[a]) * spec.position_step_m;
+      }
+    }
+  }
+  /// Where the world's entity `world_index` is, m (dequantised as the priorities need it).
+  const std::array<double, 3>& position_m(std::size_t world_index) const {
+    return positions_m_[world_index];
+  }
+  /// The world's entity `world_index` written as a new entity, once per generation.
+  const layout::AbsoluteBody& absolute(std::size_t world_index, const QuantizedEntity& entity,
+                                       const layout::FieldWidths& widths) {
+    if (absolutes_.size() <= world_index) absolutes_.resize(positions_m_.size());
+    Absolute& absolute = absolutes_[world_index];
+    if (absolute.generation != generation_) {
+      absolute.generation = generation_;
+      layout::write_absolute_body(absolute.body, entity, widths);
+    }
+    return absolute.body;
   }
 
   static constexpr std::size_t kWays = 2;
@@ -209,6 +232,12 @@ class DeltaTable {
 
   std::uint64_t generation_ = 0;
   std::vector<Way> ways_;
+  std::vector<std::array<double, 3>> positions_m_;
+  struct Absolute {
+    std::uint64_t generation = 0;
+    layout::AbsoluteBody body;
+  };
+  std::vector<Absolute> absolutes_;
   std::array<Group, kGroups> groups_;
 };
 
@@ -241,7 +270,7 @@ struct EncodeBuffers {
   FieldTallies tallies;                                    ///< estimate_costs'
   std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;  ///< write's
   std::vector<std::uint32_t> removed_before;
-  std::vector<const QuantizedEntity*> added;
+  std::vector<std::uint32_t> added;
   std::vector<const Candidate*> changed;
   std::vector<std::uint8_t> view_removed;  ///< build_view's
   std::vector<std::int64_t> view_change_of;
@@ -296,7 +325,8 @@ class EncodePass {
   /// Unselects the selected candidate of lowest priority (of equal ones, the last) and
   /// returns it; the first call orders the selected candidates, which must not be empty.
   Candidate& drop_lowest();
-  float distance_weight(const QuantizedEntity& entity, std::array<float, 3> viewer_m) const;
+  /// The weight of world entity `world_index` at its distance from the viewer.
+  float distance_weight(std::size_t world_index, std::array<float, 3> viewer_m) const;
   double change_m(const QuantizedEntity& then, const QuantizedEntity& now) const;
 
   const QuantizationSpec& spec_;
@@ -313,16 +343,11 @@ class EncodePass {
   DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
 };
 
-float EncodePass::distance_weight(const QuantizedEntity& entity,
-                                  std::array<float, 3> viewer_m) const {
-  // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
-  if (!std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2])) {
-    return 1.0f;
-  }
+float EncodePass::distance_weight(std::size_t world_index, std::array<float, 3> viewer_m) const {
+  const std::array<double, 3>& position_m = deltas_.position_m(world_index);
   double squared = 0;
   for (int a = 0; a < 3; ++a) {
-    const double d = spec_.bounds.min_m[a] +
-                     static_cast<double>(entity.position[a]) * spec_.position_step_m - viewer_m[a];
+    const double d = position_m[a] - viewer_m[a];
     squared += d * d;
   }
   return static_cast<float>(1.0 / (1.0 + std::sqrt(squared) / options_.distance_scale_m));
@@ -344,13 +369,17 @@ double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& 
 
 void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                               std::array<float, 3> viewer_m) {
+  // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
+  const bool viewer_nowhere =
+      !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
   std::size_t p = 0;
   auto add_world_candidate = [&](Candidate candidate, double change) {
     const QuantizedEntity& entity = world_[candidate.world_index];
     while (p < carried.size() && carried[p].first < entity.id) ++p;
     const float before =
         p < carried.size() && carried[p].first == entity.id ? carried[p].second : 0;
-    candidate.priority = before + static_cast<float>(change) * distance_weight(entity, viewer_m);
+    const float weight = viewer_nowhere ? 1.0f : distance_weight(candidate.world_index, viewer_m);
+    candidate.priority = before + static_cast<float>(change) * weight;
     candidates_.push_back(candidate);
   };
   std::size_t i = 0, j = 0;
@@ -506,7 +535,7 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     for (const std::uint64_t gap : removed_gaps) layout::write_code(stream, gap, order);
   }
   // New entities: id gaps, each followed by the entity's absolute state.
-  std::vector<const QuantizedEntity*>& added = buffers_.added;
+  std::vector<std::uint32_t>& added = buffers_.added;  // world indices
   added.clear();
   {
     std::int64_t previous = -1;
@@ -515,7 +544,7 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
       const QuantizedEntity& entity = world_[c.world_index];
       added_gaps.push_back(static_cast<std::uint64_t>(entity.id - previous - 1));
       previous = entity.id;
-      added.push_back(&entity);
+      added.push_back(c.world_index);
     }
   }
   stream.write_exp_golomb(added.size(), 0);
@@ -524,7 +553,9 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     stream.write_bits(static_cast<std::uint64_t>(order), layout::kOrderBits);
     for (std::size_t k = 0; k < added.size(); ++k) {
       layout::write_code(stream, added_gaps[k], order);
-      layout::write_absolute(stream, *added[k], widths_);
+      // Written once per tick, copied to every client the entity is new to.
+      const QuantizedEntity& entity = world_[added[k]];
+      layout::write_absolute(stream, deltas_.absolute(added[k], entity, widths_));
     }
   }
   // Changes, as gaps between indices among the kept baseline entities.
@@ -653,7 +684,7 @@ struct SnapshotEncodeCache::Streams {
 
   /// Forgets the previous tick's streams when `tick` is a new one.
   void begin(std::uint32_t tick_now, std::span<const QuantizedEntity> world_now,
-             const layout::FieldWidths& encoder_widths) {
+             const layout::FieldWidths& encoder_widths, const QuantizationSpec& spec) {
     if (has_tick && tick == tick_now && world == world_now.data() &&
         world_size == world_now.size() && widths == encoder_widths) {
       return;
@@ -666,7 +697,7 @@ struct SnapshotEncodeCache::Streams {
     world_token = next_world_token();
     used = 0;
     next_replaced = 0;
-    deltas.reset(world_size);
+    deltas.reset(world_now, spec);
   }
 
   const SharedStream* find(std::uint64_t baseline_token, std::uint32_t baseline_age,
@@ -778,7 +809,7 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   const layout::Prediction prediction = layout::make_prediction(baseline_age, spec_);
   const std::uint64_t baseline_token = has_baseline ? acked.world_token : 0;
   const bool shareable = shared && (!has_baseline || baseline_token != 0);
-  if (shared) shared->begin(tick, world, scratch_->widths);
+  if (shared) shared->begin(tick, world, scratch_->widths, spec_);
   if (shareable) {
     const SharedStream* found = shared->find(baseline_token, baseline_age, prediction);
     if (found && found->candidate_bits <= select_budget_bits &&
@@ -799,7 +830,7 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
     assign_bytes(*out.mutable_entities(), reused->stream);
   } else {
     DeltaTable& deltas = shared ? shared->deltas : scratch_->deltas;
-    if (!shared) deltas.reset(world.size());
+    if (!shared) deltas.reset(world, spec_);
     EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
                     scratch_->buffers, deltas);
     pass.find_pending(priority_, viewer_m);

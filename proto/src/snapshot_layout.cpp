@@ -1,5 +1,7 @@
 #include "snapshot_layout.h"
 
+#include <cassert>
+
 namespace ricochet::proto::snapshot_layout {
 
 namespace {
@@ -75,26 +77,29 @@ Delta make_delta(const QuantizedEntity& baseline, const QuantizedEntity& current
   return delta;
 }
 
-void write_absolute(BitWriter& out, const QuantizedEntity& entity, const FieldWidths& widths) {
-  for (int a = 0; a < 3; ++a) out.write_bits(entity.position[a], widths.position[a]);
-  out.write_bool(!velocity_is_zero(entity));
+/// Walks a new entity's fields once, so that writing and copying cannot disagree: `raw(value,
+/// bits)` for each.
+template <class Raw>
+void visit_absolute(const QuantizedEntity& entity, const FieldWidths& widths, Raw&& raw) {
+  for (int a = 0; a < 3; ++a) raw(entity.position[a], widths.position[a]);
+  raw(velocity_is_zero(entity) ? 0 : 1, 1);
   if (!velocity_is_zero(entity)) {
     for (int a = 0; a < 3; ++a) {
-      out.write_bits(static_cast<std::uint64_t>(entity.velocity[a] + widths.velocity_limit),
-                     widths.velocity);
+      raw(static_cast<std::uint64_t>(entity.velocity[a] + widths.velocity_limit), widths.velocity);
     }
   }
-  out.write_bool(!is_identity(entity));
+  raw(is_identity(entity) ? 0 : 1, 1);
   if (!is_identity(entity)) {
-    out.write_bits(entity.orientation_largest, 2);
+    raw(entity.orientation_largest, 2);
     for (int k = 0; k < 3; ++k) {
-      out.write_bits(static_cast<std::uint64_t>(entity.orientation[k] + widths.orientation_limit),
-                     widths.orientation);
+      raw(static_cast<std::uint64_t>(entity.orientation[k] + widths.orientation_limit),
+          widths.orientation);
     }
   }
-  out.write_bool(entity.flags != 0);
-  if (entity.flags != 0) out.write_bits(entity.flags, 8);
+  raw(entity.flags != 0 ? 1 : 0, 1);
+  if (entity.flags != 0) raw(entity.flags, 8);
 }
+
 
 int absolute_bits(const QuantizedEntity& entity, const FieldWidths& widths) {
   int bits = widths.position[0] + widths.position[1] + widths.position[2] + 3;
@@ -187,6 +192,7 @@ class BodyWriter {
     append(0, zeros);
     append(shifted, width);
   }
+  int bits() const { return bits_; }
   DeltaBody finish() const {
     DeltaBody body;
     body.overflow = overflow_;
@@ -235,6 +241,20 @@ void write_delta_body(DeltaBody& body, const Delta& delta, const DeltaOrders& or
       },
       [&writer](std::uint64_t value, int bits) { writer.append(value, bits); });
   body = writer.finish();
+}
+
+void write_absolute_body(AbsoluteBody& body, const QuantizedEntity& entity,
+                         const FieldWidths& widths) {
+  // The fields fill the head until the next would not fit, then the tail (which may overflow).
+  BodyWriter head, tail;
+  bool in_tail = false;
+  visit_absolute(entity, widths, [&](std::uint64_t value, int bits) {
+    in_tail = in_tail || head.bits() + bits > DeltaBody::kMaxBits;
+    (in_tail ? tail : head).append(value, bits);
+  });
+  body.head = head.finish();
+  body.tail = tail.finish();
+  assert(!body.tail.overflow);  // at most 247 bits from a valid spec (snapshot_layout.h)
 }
 
 DeltaStatus read_delta(BitReader& in, const DeltaOrders& orders, const FieldWidths& widths,

@@ -97,8 +97,7 @@ struct Delta {
 Delta make_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
                  const FieldWidths& widths, const Prediction& prediction);
 
-/// A new entity's state, without its id.
-void write_absolute(BitWriter& out, const QuantizedEntity& entity, const FieldWidths& widths);
+/// Bits of a new entity's state, without its id (written by write_absolute_body below).
 int absolute_bits(const QuantizedEntity& entity, const FieldWidths& widths);
 /// Fills every field but the id; false on a value out of range (the reader may also fail).
 bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& entity);
@@ -134,16 +133,35 @@ inline void write_mask(BitWriter& out, std::uint8_t mask, std::uint8_t& previous
     previous_mask = mask;
   }
 }
-/// write_delta from a body that did not overflow: the mask, then the body's bits.
-inline void write_delta(BitWriter& out, std::uint8_t mask, const DeltaBody& body,
-                        std::uint8_t& previous_mask) {
-  write_mask(out, mask, previous_mask);
+/// Copies a body that did not overflow.
+inline void write_body(BitWriter& out, const DeltaBody& body) {
   if (body.bits > 64) {
     out.write_bits(body.words[0], 64);
     out.write_bits(body.words[1] >> (128 - body.bits), body.bits - 64);
   } else if (body.bits > 0) {
     out.write_bits(body.words[0] >> (64 - body.bits), body.bits);
   }
+}
+/// write_delta from a body that did not overflow: the mask, then the body's bits.
+inline void write_delta(BitWriter& out, std::uint8_t mask, const DeltaBody& body,
+                        std::uint8_t& previous_mask) {
+  write_mask(out, mask, previous_mask);
+  write_body(out, body);
+}
+
+/// A new entity's state without its id, written once so that every client it is new to gets a
+/// copy: the fields that fit DeltaBody::kMaxBits in `head`, the rest in `tail`. The state of a
+/// valid spec takes at most 247 bits (31 per position and velocity axis, 16 per orientation
+/// component, 13 of flags, booleans and the largest component: quantize.h's limits), so it
+/// always fits.
+struct AbsoluteBody {
+  DeltaBody head, tail;
+};
+void write_absolute_body(AbsoluteBody& body, const QuantizedEntity& entity,
+                         const FieldWidths& widths);
+inline void write_absolute(BitWriter& out, const AbsoluteBody& body) {
+  write_body(out, body.head);
+  write_body(out, body.tail);
 }
 /// The orders that write a delta's fields (all but the gap order) packed in one integer: two
 /// sets of orders with the same key write every delta's fields alike.

@@ -46,6 +46,28 @@ TEST(SnapshotCodec, AFullSnapshotRoundTripsBitForBit) {
   }
 }
 
+/// The widest fields a valid spec allows (2^31 position steps per axis, velocities of nearly
+/// 2^30 steps, 16-bit orientation components): new entities still round-trip.
+TEST(SnapshotCodec, TheWidestSpecRoundTrips) {
+  QuantizationSpec spec;
+  spec.bounds = {{-1000.0f, -1000.0f, -1000.0f}, {1000.0f, 1000.0f, 1000.0f}};
+  spec.position_step_m = 0.000001f;  // 2e9 steps per axis
+  spec.velocity_step_mps = 0.0000001f;
+  spec.max_speed_mps = 100.0f;  // 1e9 steps
+  spec.orientation_bits = 16;
+  ASSERT_EQ(spec.validate(), "");
+  std::mt19937 random(5);
+  const std::vector<QuantizedEntity> world = random_world(20, spec, random);
+  SnapshotEncoder encoder(spec);
+  SnapshotDecoder decoder(spec);
+  wire::Snapshot snapshot;
+  encoder.encode(1, world, kOrigin, kBudget, snapshot);
+  EXPECT_EQ(encoder.last_report().deferred, 0u);
+  const SnapshotDecodeResult result = decoder.decode(snapshot);
+  ASSERT_TRUE(result.ok) << result.message;
+  EXPECT_EQ(decoded(result), world);
+}
+
 /// A client over a lossy link: snapshots and acks are lost, acks arrive late, entities move,
 /// join and leave. Whenever the encoder sent everything, the client holds the world exactly.
 TEST(SnapshotCodec, DeltasOverALossyLinkDecodeToTheServerState) {
