@@ -110,13 +110,36 @@ class DeltaTable {
   struct Way {
     std::uint64_t generation = 0;
     std::int32_t group = -1;  ///< whose tallies hold this delta; -1: none
+    std::uint32_t listed = 0;  ///< bit g: in group g's list this generation
+    std::uint64_t used_by = 0;  ///< the last pass (begin_pass) that took this delta
     layout::Prediction prediction;
     QuantizedEntity baseline;
     layout::Delta delta;
     double change_m = 0;
-    bool has_body = false;
-    std::uint64_t body_orders = 0;  ///< layout::field_orders_key of the orders `body` has
-    layout::DeltaBody body;
+    /// The fields written for the two sets of orders last asked for (clients of one tick mostly
+    /// choose one or two), each with its layout::field_orders_key.
+    struct Body {
+      bool valid = false;
+      std::uint64_t orders = 0;
+      layout::DeltaBody bits;
+    };
+    std::array<Body, 2> bodies;
+    std::uint8_t next_body = 0;  ///< the one replaced next
+
+    /// The fields written with `orders` (whose key is `orders_key`), written now if neither body
+    /// has them.
+    const layout::DeltaBody& body(const layout::DeltaOrders& orders, std::uint64_t orders_key,
+                                  const layout::FieldWidths& widths) {
+      for (Body& body : bodies) {
+        if (body.valid && body.orders == orders_key) return body.bits;
+      }
+      Body& body = bodies[next_body];
+      next_body ^= 1;
+      layout::write_delta_body(body.bits, delta, orders, widths);
+      body.orders = orders_key;
+      body.valid = true;
+      return body.bits;
+    }
   };
 
   /// Forgets every delta (nothing is cleared: each remembers the generation it was made in)
@@ -149,9 +172,9 @@ class DeltaTable {
   }
 
   static constexpr std::size_t kWays = 2;
-  /// The kWays ways of a world index.
-  const Way* ways_of(std::size_t world_index) const { return &ways_[world_index * kWays]; }
   std::uint64_t generation() const { return generation_; }
+  /// A number for one encode's pass, to mark the deltas it takes (Way::used_by).
+  std::uint64_t begin_pass() { return ++passes_; }
 
   /// The group of `prediction` this generation, or -1 when it has none.
   std::int32_t group_of(const layout::Prediction& prediction) const {
@@ -162,9 +185,17 @@ class DeltaTable {
     }
     return -1;
   }
-  /// Every delta of the group's prediction in the table, tallied.
-  const FieldTallies& tallies(std::int32_t group) const {
-    return groups_[static_cast<std::size_t>(group)].tallies;
+  /// The tallies of the deltas of the group's prediction that `pass` took: the group's tally
+  /// of all of them, less those it did not take.
+  void tallies_of_pass(std::int32_t group, std::uint64_t pass, FieldTallies& out) const {
+    const Group& g = groups_[static_cast<std::size_t>(group)];
+    out = g.tallies;
+    for (const Way* way : g.ways) {
+      // A way listed once may since hold another prediction's delta.
+      if (way->generation == generation_ && way->group == group && way->used_by != pass) {
+        out.remove(way->delta);
+      }
+    }
   }
 
   Way* find(std::size_t world_index, const QuantizedEntity& baseline,
@@ -195,14 +226,24 @@ class DeltaTable {
     if (way->generation == generation_ && way->group >= 0) {
       groups_[static_cast<std::size_t>(way->group)].tallies.remove(way->delta);
     }
-    way->generation = generation_;
     way->prediction = prediction;
     way->baseline = baseline;
     way->delta = layout::make_delta(baseline, now, widths, prediction);
     way->change_m = change_m;
-    way->has_body = false;
+    way->bodies[0].valid = way->bodies[1].valid = false;
+    way->next_body = 0;
+    if (way->generation != generation_) way->listed = 0;
+    way->generation = generation_;
     way->group = claim_group(prediction);
-    if (way->group >= 0) groups_[static_cast<std::size_t>(way->group)].tallies.add(way->delta);
+    if (way->group >= 0) {
+      Group& group = groups_[static_cast<std::size_t>(way->group)];
+      group.tallies.add(way->delta);
+      const std::uint32_t bit = 1u << way->group;
+      if (!(way->listed & bit)) {
+        way->listed |= bit;
+        group.ways.push_back(way);
+      }
+    }
     return *way;
   }
 
@@ -213,6 +254,7 @@ class DeltaTable {
     std::uint64_t generation = 0;
     layout::Prediction prediction;
     FieldTallies tallies;
+    std::vector<Way*> ways;  ///< every way given to the group this generation, once
   };
 
   /// The group of `prediction`, opened if there is room (a group, once full, stays so for the
@@ -224,6 +266,7 @@ class DeltaTable {
         groups_[g].generation = generation_;
         groups_[g].prediction = prediction;
         groups_[g].tallies = FieldTallies{};
+        groups_[g].ways.clear();
         return static_cast<std::int32_t>(g);
       }
     }
@@ -231,6 +274,7 @@ class DeltaTable {
   }
 
   std::uint64_t generation_ = 0;
+  std::uint64_t passes_ = 0;
   std::vector<Way> ways_;
   std::vector<std::array<double, 3>> positions_m_;
   struct Absolute {
@@ -251,6 +295,8 @@ struct Candidate {
   float priority = 0;
   int bits = 0;                      ///< estimate, for the budget
   DeltaTable::Way* way = nullptr;    ///< Changed: its delta
+  /// Changed: its fields written with this encode's orders (estimate_costs).
+  const layout::DeltaBody* body = nullptr;
 
   static Candidate of(Kind kind, std::size_t baseline_index, std::size_t world_index,
                       float priority = 0) {
@@ -293,7 +339,8 @@ class EncodePass {
         prediction_(layout::make_prediction(baseline_age, spec)),
         buffers_(buffers),
         candidates_(buffers.candidates),
-        deltas_(deltas) {
+        deltas_(deltas),
+        pass_(deltas.begin_pass()) {
     candidates_.clear();
   }
 
@@ -341,6 +388,7 @@ class EncodePass {
   std::size_t selected_count_ = 0;
   bool drop_heap_built_ = false;  ///< buffers_.drop_heap holds the selected candidates
   DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
+  std::uint64_t pass_;  ///< marks the deltas this pass takes
 };
 
 float EncodePass::distance_weight(std::size_t world_index, std::array<float, 3> viewer_m) const {
@@ -398,6 +446,7 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
           candidate.way = &deltas_.claim(i, baseline_[j], world_[i], widths_, prediction_,
                                          change_m(baseline_[j], world_[i]));
         }
+        candidate.way->used_by = pass_;
         add_world_candidate(candidate, candidate.way->change_m);
       }
       ++i;
@@ -414,24 +463,7 @@ void EncodePass::estimate_costs() {
   const std::int32_t group = deltas_.group_of(prediction_);
   FieldTallies& tallies = buffers_.tallies;
   if (group >= 0) {
-    tallies = deltas_.tallies(group);
-    const std::uint64_t generation = deltas_.generation();
-    auto c = candidates_.begin();
-    for (std::size_t i = 0; i < world_.size(); ++i) {
-      while (c != candidates_.end() && (c->kind == Candidate::Kind::Removed || c->world_index < i)) {
-        ++c;
-      }
-      const DeltaTable::Way* used =
-          c != candidates_.end() && c->world_index == i && c->kind == Candidate::Kind::Changed
-              ? c->way
-              : nullptr;
-      const DeltaTable::Way* ways = deltas_.ways_of(i);
-      for (std::size_t w = 0; w < DeltaTable::kWays; ++w) {
-        if (ways[w].generation == generation && ways[w].group == group && &ways[w] != used) {
-          tallies.remove(ways[w].delta);
-        }
-      }
-    }
+    deltas_.tallies_of_pass(group, pass_, tallies);
   } else {
     tallies = FieldTallies{};
     for (const Candidate& c : candidates_) {
@@ -446,14 +478,9 @@ void EncodePass::estimate_costs() {
     switch (c.kind) {
       case Candidate::Kind::Changed: {
         // Written once per orders: write copies these bits, and so may other clients' encodes.
-        DeltaTable::Way& way = *c.way;
-        if (!way.has_body || way.body_orders != orders_key) {
-          layout::write_delta_body(way.body, way.delta, orders_, widths_);
-          way.body_orders = orders_key;
-          way.has_body = true;
-        }
-        c.bits = (way.body.overflow ? layout::delta_bits(way.delta, orders_, widths_)
-                                    : layout::kMaskEstimateBits + way.body.bits) +
+        c.body = &c.way->body(orders_, orders_key, widths_);
+        c.bits = (c.body->overflow ? layout::delta_bits(c.way->delta, orders_, widths_)
+                                   : layout::kMaskEstimateBits + c.body->bits) +
                  gap_estimate;
         break;
       }
@@ -584,12 +611,11 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     std::uint8_t previous_mask = layout::kInitialFieldMask;
     for (std::size_t k = 0; k < changed.size(); ++k) {
       layout::write_code(stream, changed_gaps[k], chosen.gap);
-      const DeltaTable::Way& way = *changed[k]->way;
-      assert(way.has_body && way.body_orders == layout::field_orders_key(chosen));
-      if (way.body.overflow) {
-        layout::write_delta(stream, way.delta, chosen, widths_, previous_mask);
+      const Candidate& c = *changed[k];
+      if (c.body->overflow) {
+        layout::write_delta(stream, c.way->delta, chosen, widths_, previous_mask);
       } else {
-        layout::write_delta(stream, way.delta.mask, way.body, previous_mask);
+        layout::write_delta(stream, c.way->delta.mask, *c.body, previous_mask);
       }
     }
   }
