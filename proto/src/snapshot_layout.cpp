@@ -170,7 +170,7 @@ void visit_fields(const Delta& delta, const DeltaOrders& orders, const FieldWidt
 class BodyWriter {
  public:
   /// Appends the low `bits` bits of value (0..64).
-  void append(std::uint64_t value, int bits) {
+  void write_bits(std::uint64_t value, int bits) {
     if (bits == 0) return;
     if (bits_ + bits > DeltaBody::kMaxBits) {
       overflow_ = true;
@@ -179,18 +179,6 @@ class BodyWriter {
     if (bits < 64) value &= (std::uint64_t{1} << bits) - 1;
     accumulator_ = (accumulator_ << bits) | value;
     bits_ += bits;
-  }
-  /// BitWriter::write_exp_golomb's bits.
-  void append_exp_golomb(std::uint64_t value, int order) {
-    const std::uint64_t shifted = value + (std::uint64_t{1} << order);
-    const int width = std::bit_width(shifted);
-    const int zeros = width - order - 1;
-    if (zeros + width <= 64) {
-      append(shifted, zeros + width);
-      return;
-    }
-    append(0, zeros);
-    append(shifted, width);
   }
   int bits() const { return bits_; }
   DeltaBody finish() const {
@@ -237,9 +225,9 @@ void write_delta_body(DeltaBody& body, const Delta& delta, const DeltaOrders& or
   visit_fields(
       delta, orders, widths,
       [&writer](std::uint64_t value, int order) {
-        if (order != kAllZeroOrder) writer.append_exp_golomb(value, order);
+        if (order != kAllZeroOrder) write_exp_golomb_to(writer, value, order);
       },
-      [&writer](std::uint64_t value, int bits) { writer.append(value, bits); });
+      [&writer](std::uint64_t value, int bits) { writer.write_bits(value, bits); });
   body = writer.finish();
 }
 
@@ -250,7 +238,7 @@ void write_absolute_body(AbsoluteBody& body, const QuantizedEntity& entity,
   bool in_tail = false;
   visit_absolute(entity, widths, [&](std::uint64_t value, int bits) {
     in_tail = in_tail || head.bits() + bits > DeltaBody::kMaxBits;
-    (in_tail ? tail : head).append(value, bits);
+    (in_tail ? tail : head).write_bits(value, bits);
   });
   body.head = head.finish();
   body.tail = tail.finish();

@@ -49,6 +49,22 @@ inline int exp_golomb_bits(std::uint64_t value, int order) {
   return 2 * std::bit_width(value + (std::uint64_t{1} << order)) - order - 1;
 }
 
+/// Writes the order-k Exp-Golomb code of `value` through `out.write_bits(value, bits)` (bits
+/// 0..64): BitWriter's, or any writer that packs bits the same way.
+template <class Writer>
+void write_exp_golomb_to(Writer& out, std::uint64_t value, int order) {
+  const std::uint64_t shifted = value + (std::uint64_t{1} << order);
+  const int width = std::bit_width(shifted);
+  const int zeros = width - order - 1;
+  // The zeros are the leading bits of `shifted` written wider, when that fits one call.
+  if (zeros + width <= 64) {
+    out.write_bits(shifted, zeros + width);
+    return;
+  }
+  out.write_bits(0, zeros);
+  out.write_bits(shifted, width);
+}
+
 class BitWriter {
  public:
   /// Appends the low `bits` bits of value (0 <= bits <= 64), most significant first.
@@ -65,18 +81,7 @@ class BitWriter {
     if (pending_bits_ >= 32) flush_word();
   }
   void write_bool(bool value) { write_bits(value ? 1 : 0, 1); }
-  void write_exp_golomb(std::uint64_t value, int order) {
-    const std::uint64_t shifted = value + (std::uint64_t{1} << order);
-    const int width = std::bit_width(shifted);
-    const int zeros = width - order - 1;
-    // The zeros are the leading bits of `shifted` written wider, when that fits one call.
-    if (zeros + width <= 64) {
-      write_bits(shifted, zeros + width);
-      return;
-    }
-    write_bits(0, zeros);
-    write_bits(shifted, width);
-  }
+  void write_exp_golomb(std::uint64_t value, int order) { write_exp_golomb_to(*this, value, order); }
   void write_signed_exp_golomb(std::int64_t value, int order) {
     write_exp_golomb(zigzag(value), order);
   }
