@@ -419,6 +419,7 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
       io_, game_endpoint_, std::move(grant),
       guarded([this](proto::ClientEvent& event) { on_game_event(event); }));
   game_ = game;
+  record_.local_ports.push_back(game->local_port());
   transition(BotState::Handshaking, "joined match " + std::to_string(match_id_) +
                                         ", game channel from local port " +
                                         std::to_string(game->local_port()));

@@ -51,7 +51,8 @@ const char* name(BotState state);
 /// What a bot saw of the match, for its owner (tests check it against the server's results).
 struct BotRecord {
   std::uint64_t account_id = 0;
-  std::vector<std::uint32_t> entity_ids;  ///< own entity of each game connection, in order
+  std::vector<std::uint32_t> entity_ids;   ///< own entity of each game connection, in order
+  std::vector<std::uint16_t> local_ports;  ///< local UDP port of each game connection, in order
   /// The Kill events of the current (or last) match's running phase, as received.
   std::vector<wire::Kill> kills;
   /// Per game connection: the first MatchState after arrival (the server's scores) and what
