@@ -407,11 +407,8 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
   game_endpoint_ = {control_endpoint_.address(), static_cast<std::uint16_t>(reply.udp_port())};
 
   close_game(false);
-  decoder_.emplace(*spec);
-  view_.emplace(*spec);
-  gaps_.emplace(static_cast<double>(reply.tick_rate_hz()) / reply.snapshot_rate_hz());
-  inputs_ = InputHistory{};
-  status_.Clear();
+  feed_.emplace(*spec, static_cast<double>(reply.tick_rate_hz()) / reply.snapshot_rate_hz(),
+                "bot " + config_.name);
   arrived_ = false;
   entity_recorded_ = false;
   match_over_ = false;
@@ -448,44 +445,16 @@ void Bot::on_game_event(proto::ClientEvent& event) {
 }
 
 void Bot::on_payload(std::span<const std::uint8_t> bytes, proto::TimeUs now) {
-  wire::ServerPayload payload;
-  if (!payload.ParseFromArray(bytes.data(), static_cast<int>(bytes.size()))) {
-    ++metrics_.bad_payloads;
-    spdlog::debug("bot {}: a payload of {} bytes is not a ServerPayload", config_.name,
-                  bytes.size());
-    return;
-  }
-  if (payload.has_snapshot() && payload.snapshot().tick() != payload.server_tick()) {
-    ++metrics_.bad_payloads;
-    spdlog::debug("bot {}: snapshot tick {} differs from server_tick {}", config_.name,
-                  payload.snapshot().tick(), payload.server_tick());
-    return;
-  }
-  if (!inputs_.acknowledge(payload.last_input_sequence())) {
-    ++metrics_.bad_payloads;
-    spdlog::debug("bot {}: the server acknowledged input {} of {} sent", config_.name,
-                  payload.last_input_sequence(), inputs_.last_sequence());
-  }
-  own_entity_id_ = payload.your_entity_id();
-  if (!entity_recorded_ && own_entity_id_ != 0) {
+  const bool snapshot = feed_->read_payload(bytes);
+  if (feed_->own_entity_id() != 0) own_entity_id_ = feed_->own_entity_id();
+  if (!entity_recorded_ && feed_->own_entity_id() != 0) {
     entity_recorded_ = true;
     record_.entity_ids.push_back(own_entity_id_);
     if (arrived_ && record_.arrivals.back().entity_id == 0) {
       record_.arrivals.back().entity_id = own_entity_id_;
     }
   }
-  status_ = payload.status();
-  if (!payload.has_snapshot()) return;
-  const proto::SnapshotDecodeResult decoded = decoder_->decode(payload.snapshot());
-  if (!decoded.ok) {
-    ++metrics_.snapshots_refused;
-    spdlog::debug("bot {}: snapshot {} refused ({}): {}", config_.name, payload.server_tick(),
-                  name(decoded.reason), decoded.message);
-    return;
-  }
-  view_->apply_snapshot(decoded.tick, own_entity_id_, decoded.entities);
-  gaps_->on_snapshot(decoded.tick);
-  ++metrics_.snapshots;
+  if (!snapshot) return;
   if (metrics_.first_snapshot_ms < 0) {
     metrics_.first_snapshot_ms = seconds_between(started_at_us_, now) * 1000;
   }
@@ -496,15 +465,9 @@ void Bot::on_payload(std::span<const std::uint8_t> bytes, proto::TimeUs now) {
 }
 
 void Bot::on_reliable(std::span<const std::uint8_t> bytes) {
-  wire::GameEvent event;
-  if (!event.ParseFromArray(bytes.data(), static_cast<int>(bytes.size())) ||
-      event.event_case() == wire::GameEvent::EVENT_NOT_SET) {
-    ++metrics_.bad_events;
-    spdlog::debug("bot {}: a reliable message of {} bytes is not a GameEvent", config_.name,
-                  bytes.size());
-    return;
-  }
-  view_->apply_event(event);
+  const std::optional<wire::GameEvent> read = feed_->read_event(bytes);
+  if (!read) return;
+  const wire::GameEvent& event = *read;
   switch (event.event_case()) {
     case wire::GameEvent::kKill:
       on_kill(event.kill());
@@ -593,13 +556,11 @@ void Bot::on_game_lost(proto::DisconnectReason reason) {
 void Bot::close_game(bool tell_server) {
   tick_timer_.cancel();
   if (!game_) return;
+  const proto::TimeUs now = steady_now_us();
+  add_connection(metrics_, now);
   const auto game = std::move(game_);
   game_.reset();
-  const proto::TimeUs now = steady_now_us();
-  metrics_.add_transport(game->transport().counters(),
-                         connected_at_us_ > 0 ? seconds_between(connected_at_us_, now) : 0.0);
-  if (gaps_) metrics_.snapshots_lost += gaps_->lost();
-  gaps_.reset();
+  feed_.reset();
   connected_at_us_ = 0;
   if (tell_server) {
     game->disconnect(now);
@@ -638,15 +599,10 @@ void Bot::tick() {
                      std::to_string(config_.rebind_after_s) + " s)");
   }
 
-  wire::Input input = brain_.decide(*view_, status_, seconds_between(started_at_us_, now));
+  wire::Input input =
+      brain_.decide(feed_->view(), feed_->status(), seconds_between(started_at_us_, now));
   if (input.weapon_slot() != 0) ++metrics_.weapon_switches;
-  // The bot shows the newest snapshot as is: that is the view lag compensation rewinds to.
-  input.set_view_tick(view_->tick());
-  inputs_.push(std::move(input));
-  wire::ClientPayload payload;
-  inputs_.fill(payload);
-  payload.set_ack_snapshot_tick(decoder_->has_snapshot() ? decoder_->newest_tick() : 0);
-  const std::string bytes = payload.SerializeAsString();
+  const std::string bytes = feed_->write_payload(std::move(input));
   if (game->send(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
                  now)) {
     ++metrics_.inputs_sent;
@@ -654,14 +610,24 @@ void Bot::tick() {
   if (game_ == game) schedule_tick(now);
 }
 
-BotMetrics Bot::metrics() const {
-  BotMetrics out = metrics_;
+void Bot::add_connection(BotMetrics& out, proto::TimeUs now) const {
   if (game_) {
-    const proto::TimeUs now = steady_now_us();
     out.add_transport(game_->transport().counters(),
                       connected_at_us_ > 0 ? seconds_between(connected_at_us_, now) : 0.0);
   }
-  if (gaps_) out.snapshots_lost += gaps_->lost();
+  if (feed_) {
+    const FeedCounts& counts = feed_->counts();
+    out.snapshots += counts.snapshots;
+    out.snapshots_refused += counts.snapshots_refused;
+    out.bad_payloads += counts.bad_payloads;
+    out.bad_events += counts.bad_events;
+    out.snapshots_lost += feed_->gaps().lost();
+  }
+}
+
+BotMetrics Bot::metrics() const {
+  BotMetrics out = metrics_;
+  add_connection(out, steady_now_us());
   return out;
 }
 

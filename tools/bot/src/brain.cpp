@@ -136,9 +136,15 @@ wire::Input Brain::decide(const WorldView& view, const wire::PlayerStatus& statu
   if (!self || !status.alive() || (self->flags & kFlagDead)) return input;
 
   if (now_s >= error_until_s_) {
-    std::normal_distribution<float> error(0.0f, static_cast<float>(1.0 - skill_) * kMaxAimErrorRad);
-    yaw_error_ = error(random_);
-    pitch_error_ = 0.5f * error(random_);
+    const float sigma = static_cast<float>(1.0 - skill_) * kMaxAimErrorRad;
+    if (sigma > 0) {
+      std::normal_distribution<float> error(0.0f, sigma);
+      yaw_error_ = error(random_);
+      pitch_error_ = 0.5f * error(random_);
+    } else {
+      yaw_error_ = 0;
+      pitch_error_ = 0;
+    }
     error_until_s_ = now_s + kAimRedrawS;
   }
   if (now_s >= preference_until_s_) {

@@ -28,10 +28,8 @@
 #include "ricochet/bot/bot_metrics.h"
 #include "ricochet/bot/brain.h"
 #include "ricochet/bot/control_client.h"
+#include "ricochet/bot/game_feed.h"
 #include "ricochet/bot/game_session.h"
-#include "ricochet/bot/input_history.h"
-#include "ricochet/bot/world_view.h"
-#include "ricochet/proto/snapshot_codec.h"
 #include "ricochet/wire/control.pb.h"
 #include "ricochet/wire/game.pb.h"
 
@@ -118,6 +116,8 @@ class Bot {
   void on_game_event(proto::ClientEvent& event);
   void on_payload(std::span<const std::uint8_t> bytes, proto::TimeUs now);
   void on_reliable(std::span<const std::uint8_t> bytes);
+  /// Adds the current connection's counts (transport, feed) to `out`.
+  void add_connection(BotMetrics& out, proto::TimeUs now) const;
   void on_kill(const wire::Kill& kill);
   void on_game_lost(proto::DisconnectReason reason);
   void close_game(bool tell_server);
@@ -143,15 +143,12 @@ class Bot {
   int failed_attempts_ = 0;
 
   std::shared_ptr<GameSession> game_;
-  std::optional<proto::SnapshotDecoder> decoder_;
-  std::optional<WorldView> view_;
-  std::optional<SnapshotGapCounter> gaps_;
-  InputHistory inputs_;
+  std::optional<GameFeed> feed_;  ///< the current game connection's
   Brain brain_;
-  wire::PlayerStatus status_;
-  bool arrived_ = false;             ///< the first MatchState of this connection was seen
-  bool entity_recorded_ = false;     ///< this connection's entity is in record_.entity_ids
-  std::uint32_t own_entity_id_ = 0;  ///< from payloads (or our own PlayerJoined before the first)
+  bool arrived_ = false;          ///< the first MatchState of this connection was seen
+  bool entity_recorded_ = false;  ///< this connection's entity is in record_.entity_ids
+  /// From payloads, or our own PlayerJoined before the first; kept across reconnects.
+  std::uint32_t own_entity_id_ = 0;
   bool match_over_ = false;
   std::uint32_t tick_rate_hz_ = 60;
   proto::TimeUs tick_period_us_ = 16'667;

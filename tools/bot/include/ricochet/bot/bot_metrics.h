@@ -62,7 +62,8 @@ struct BotMetrics {
 
   /// Adds one finished game connection's transport counters.
   void add_transport(const proto::TransportCounters& counters, double connected_for_s);
-  /// Sums another bot's metrics into this one (samples are appended).
+  /// Sums another bot's metrics into this one (samples are appended; first_snapshot_ms and
+  /// last_reconnect_ms keep the largest, the worst bot's).
   void merge(const BotMetrics& other);
   /// One JSON object (no newline): the counts and the rates per second of connection.
   std::string to_json() const;
