@@ -78,11 +78,13 @@ TEST(GameFeed, RefusesWhatMakesNoSenseAndCountsIt) {
   EXPECT_FALSE(feed.read_payload(bytes_of(mismatch.SerializeAsString())));
   EXPECT_EQ(feed.counts().bad_payloads, 2u);
 
-  // An acknowledgement of an input never sent is counted; the snapshot is still used.
-  EXPECT_TRUE(feed.read_payload(bytes_of(server.payload(7, 99))));
-  EXPECT_EQ(feed.counts().bad_payloads, 3u);
-  EXPECT_FALSE(feed.read_payload(bytes_of(server.payload(7))));  // stale
+  const std::string seven = server.payload(7);
+  EXPECT_TRUE(feed.read_payload(bytes_of(seven)));
+  EXPECT_FALSE(feed.read_payload(bytes_of(seven)));  // a duplicate: stale
   EXPECT_EQ(feed.counts().snapshots_refused, 1u);
+  // An acknowledgement of an input never sent is counted; the snapshot is still used.
+  EXPECT_TRUE(feed.read_payload(bytes_of(server.payload(8, 99))));
+  EXPECT_EQ(feed.counts().bad_payloads, 3u);
 
   EXPECT_FALSE(feed.read_event(bytes_of("")));  // no event set
   EXPECT_FALSE(feed.read_event(bytes_of(std::string("\x0a\xff", 2))));
