@@ -139,7 +139,7 @@ void ControlClient::dispatch(const wire::ServerMessage& message) {
 void ControlClient::fail(const std::string& reason) {
   if (closed_) return;
   const bool was_ready = ready_;
-  auto callbacks = std::move(callbacks_);
+  const Callbacks callbacks = callbacks_;
   close();
   if (!was_ready) {
     if (callbacks.on_ready) callbacks.on_ready(reason);
@@ -150,8 +150,8 @@ void ControlClient::fail(const std::string& reason) {
 
 void ControlClient::close() {
   if (closed_) return;
+  // The callbacks stay (one of them may be the caller): closed_ stops every further call.
   closed_ = true;
-  callbacks_ = {};
   pending_.clear();
   boost::system::error_code ignored;
   stream_.lowest_layer().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);

@@ -103,27 +103,30 @@ bool GameSession::send(std::span<const std::uint8_t> payload, proto::TimeUs now)
 
 void GameSession::disconnect(proto::TimeUs now) {
   if (closed_) return;
-  on_event_ = {};
   client_.disconnect(now);
-  flush();
+  send_queued();  // the disconnect packets; the event it queues is nobody's news
   abandon();
 }
 
 void GameSession::abandon() {
   if (closed_) return;
+  // on_event_ stays (it may be the caller): closed_ stops every further event.
   closed_ = true;
-  on_event_ = {};
   boost::system::error_code ignored;
   socket_.close(ignored);
 }
 
-void GameSession::flush() {
+void GameSession::send_queued() {
   proto::Transmit transmit;
   while (!closed_ && client_.poll_transmit(transmit)) {
     boost::system::error_code error;
     socket_.send_to(asio::buffer(transmit.bytes), server_, 0, error);
     if (error) ++send_failures_;
   }
+}
+
+void GameSession::flush() {
+  send_queued();
   proto::ClientEvent event;
   while (!closed_ && client_.poll_event(event)) {
     if (on_event_) on_event_(event);

@@ -54,6 +54,8 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
  private:
   void wait_readable();
   void drain(proto::TimeUs now);
+  void send_queued();
+  /// Sends what the transport queued, then hands its events to on_event_.
   void flush();
 
   boost::asio::ip::udp::socket socket_;
