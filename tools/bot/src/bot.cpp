@@ -15,7 +15,8 @@ namespace asio = boost::asio;
 namespace {
 
 constexpr double kConnectTimeoutS = 10;  ///< TCP connect and TLS handshake
-constexpr double kSignInTimeoutS = 20;   ///< register and login (two Argon2id hashes)
+/// Register and login: two Argon2id hashes, queued on the server behind every other bot's.
+constexpr double kSignInTimeoutS = 60;
 constexpr double kRequestTimeoutS = 10;  ///< list and join
 constexpr double kResultsTimeoutS = 15;  ///< from MatchEnded to MatchResults
 constexpr double kNoRoomRetryS = 1;      ///< listing again when no match has room
@@ -157,7 +158,7 @@ void Bot::finish(std::string_view reason, std::string error) {
   if (auto callback = std::move(on_done_)) callback();
 }
 
-void Bot::fail_attempt(const std::string& reason) {
+void Bot::fail_attempt(const std::string& reason, Retry retry) {
   if (state_ == BotState::Done) return;
   if (++failed_attempts_ > config_.max_reconnect_attempts) {
     return finish("giving up", "gave up after " + std::to_string(config_.max_reconnect_attempts) +
@@ -166,18 +167,21 @@ void Bot::fail_attempt(const std::string& reason) {
   close_game(false);
   spdlog::warn("bot {}: {} (attempt {} of {})", config_.name, reason, failed_attempts_,
                config_.max_reconnect_attempts);
-  const bool control_up = control_ && control_->is_open();
-  if (!control_up && control_) {
+  if (retry == Retry::NewConnection && control_) {
+    // A reply may still be on its way; a new connection cannot mistake it for its own.
     control_->close();
     control_.reset();
   }
   transition(BotState::Reconnecting, reason);
-  arm(backoff_s(failed_attempts_), [this, control_up] {
-    if (control_up && control_ && control_->is_open()) {
-      find_match();
-    } else {
+  arm(backoff_s(failed_attempts_), [this] {
+    if (!control_ || !control_->is_open()) {
       transition(BotState::Connecting, "retrying the control channel");
       connect_control();
+    } else if (!signed_in_) {
+      transition(BotState::SigningIn, "retrying the sign-in");
+      sign_in();
+    } else {
+      find_match();
     }
   });
 }
@@ -189,7 +193,7 @@ void Bot::reconnect(const std::string& reason) {
   if (control_ && control_->is_open()) {
     find_match();
   } else {
-    fail_attempt("the control channel is down; " + reason);
+    fail_attempt("the control channel is down; " + reason, Retry::NewConnection);
   }
 }
 
@@ -197,6 +201,7 @@ void Bot::reconnect(const std::string& reason) {
 
 void Bot::connect_control() {
   if (control_) control_->close();
+  signed_in_ = false;
   control_ = std::make_shared<ControlClient>(
       io_, tls_, trust_,
       ControlClient::Callbacks{
@@ -204,13 +209,15 @@ void Bot::connect_control() {
           guarded([this](const wire::ServerMessage& message) { on_control_push(message); }),
           guarded([this](const std::string& reason) { on_control_closed(reason); })});
   control_->connect(control_endpoint_);
-  arm(kConnectTimeoutS, [this] { fail_attempt("timed out connecting to the control channel"); });
+  arm(kConnectTimeoutS, [this] {
+    fail_attempt("timed out connecting to the control channel", Retry::NewConnection);
+  });
 }
 
 void Bot::on_control_ready(const std::string& error) {
   if (!error.empty()) {
     if (control_ && control_->untrusted()) return finish("server not trusted", error);
-    return fail_attempt(error);
+    return fail_attempt(error, Retry::NewConnection);
   }
   transition(BotState::SigningIn, "TLS 1.3 up, server certificate trusted");
   sign_in();
@@ -243,13 +250,13 @@ void Bot::on_control_closed(const std::string& reason) {
     case BotState::Done:
       break;
     default:
-      fail_attempt("control channel lost: " + reason);
+      fail_attempt("control channel lost: " + reason, Retry::NewConnection);
       break;
   }
 }
 
 void Bot::sign_in() {
-  arm(kSignInTimeoutS, [this] { fail_attempt("timed out signing in"); });
+  arm(kSignInTimeoutS, [this] { fail_attempt("timed out signing in", Retry::NewConnection); });
   if (!session_token_.empty()) {
     wire::ClientMessage resume;
     resume.mutable_resume()->set_session_token(session_token_);
@@ -267,14 +274,14 @@ void Bot::sign_in() {
   wire::ClientMessage registration;
   registration.mutable_register_account()->set_username(config_.name);
   registration.mutable_register_account()->set_password(config_.password);
-  control_->request(std::move(registration), guarded([this](const wire::ServerMessage& reply) {
-                      if (reply.has_register_account() || is_error(reply, wire::DUPLICATE_USERNAME))
-                        return log_in();
-                      if (is_error(reply, wire::SERVER_BUSY))
-                        return fail_attempt("registration: " + describe(reply));
-                      finish("registration refused",
-                             "cannot register " + config_.name + ": " + describe(reply));
-                    }));
+  control_->request(
+      std::move(registration), guarded([this](const wire::ServerMessage& reply) {
+        if (reply.has_register_account() || is_error(reply, wire::DUPLICATE_USERNAME))
+          return log_in();
+        if (is_error(reply, wire::SERVER_BUSY))
+          return fail_attempt("registration: " + describe(reply), Retry::SameConnection);
+        finish("registration refused", "cannot register " + config_.name + ": " + describe(reply));
+      }));
 }
 
 void Bot::log_in() {
@@ -288,13 +295,14 @@ void Bot::log_in() {
 void Bot::on_session(const wire::ServerMessage& reply) {
   if (!reply.has_session()) {
     if (is_error(reply, wire::SERVER_BUSY) || is_error(reply, wire::LOGIN_RATE_LIMITED)) {
-      return fail_attempt("login: " + describe(reply));
+      return fail_attempt("login: " + describe(reply), Retry::SameConnection);
     }
     return finish("login refused", "cannot log in as " + config_.name + ": " + describe(reply) +
                                        (is_error(reply, wire::WRONG_CREDENTIALS)
                                             ? " (the account exists with another --password)"
                                             : ""));
   }
+  signed_in_ = true;
   record_.account_id = reply.session().account_id();
   if (!reply.session().session_token().empty()) session_token_ = reply.session().session_token();
   transition(BotState::Joining, "logged in as account " + std::to_string(record_.account_id));
@@ -302,15 +310,18 @@ void Bot::on_session(const wire::ServerMessage& reply) {
 }
 
 void Bot::find_match() {
-  if (!control_ || !control_->is_open()) return fail_attempt("the control channel is down");
-  arm(kRequestTimeoutS, [this] { fail_attempt("timed out joining a match"); });
+  if (!control_ || !control_->is_open())
+    return fail_attempt("the control channel is down", Retry::NewConnection);
+  arm(kRequestTimeoutS,
+      [this] { fail_attempt("timed out joining a match", Retry::NewConnection); });
   if (match_id_ != 0) return join(match_id_);
   if (config_.match_id != 0) return join(config_.match_id);
   wire::ClientMessage list;
   list.mutable_list_matches();
   control_->request(std::move(list), guarded([this](const wire::ServerMessage& reply) {
                       if (!reply.has_list_matches())
-                        return fail_attempt("list_matches: " + describe(reply));
+                        return fail_attempt("list_matches: " + describe(reply),
+                                            Retry::SameConnection);
                       for (const wire::MatchInfo& match : reply.list_matches().matches()) {
                         if (match.match_id() != 0 && match.players() < match.max_players()) {
                           return join(match.match_id());
@@ -351,7 +362,7 @@ void Bot::on_join(const wire::ServerMessage& reply) {
                       guarded([this](const wire::ServerMessage&) { find_match(); }));
     return;
   }
-  fail_attempt("join_match: " + describe(reply));
+  fail_attempt("join_match: " + describe(reply), Retry::SameConnection);
 }
 
 void Bot::schedule_ping() {
@@ -377,7 +388,7 @@ void Bot::after_match() {
   if (control_ && control_->is_open()) {
     find_match();
   } else {
-    fail_attempt("the control channel is down after the match");
+    fail_attempt("the control channel is down after the match", Retry::NewConnection);
   }
 }
 
@@ -386,13 +397,13 @@ void Bot::after_match() {
 void Bot::open_game(const wire::JoinMatchReply& reply) {
   if (const std::string problem = check_join(reply); !problem.empty()) {
     ++metrics_.bad_control;
-    return fail_attempt("unusable join reply: " + problem);
+    return fail_attempt("unusable join reply: " + problem, Retry::SameConnection);
   }
   std::string error;
   const auto spec = proto::from_wire(reply.quantization(), error);
   if (!spec) {
     ++metrics_.bad_control;
-    return fail_attempt("unusable join reply: quantization " + error);
+    return fail_attempt("unusable join reply: quantization " + error, Retry::SameConnection);
   }
   proto::TokenGrant grant;
   grant.connect_token.assign(reply.connect_token().begin(), reply.connect_token().end());
@@ -420,7 +431,8 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
   transition(BotState::Handshaking, "joined match " + std::to_string(match_id_) +
                                         ", game channel from local port " +
                                         std::to_string(game->local_port()));
-  arm(reply.timeout_s() + 1.0, [this] { fail_attempt("timed out in the game handshake"); });
+  arm(reply.timeout_s() + 1.0,
+      [this] { fail_attempt("timed out in the game handshake", Retry::SameConnection); });
   game->start();
   const proto::TimeUs now = steady_now_us();
   next_tick_us_ = now;
@@ -549,7 +561,7 @@ void Bot::on_game_lost(proto::DisconnectReason reason) {
     });
     return;
   }
-  if (state_ == BotState::Handshaking) return fail_attempt(why);
+  if (state_ == BotState::Handshaking) return fail_attempt(why, Retry::SameConnection);
   reconnect(why);
 }
 

@@ -41,7 +41,12 @@ void ControlClient::on_connected(const boost::system::error_code& error) {
 
 void ControlClient::on_handshake(const boost::system::error_code& error) {
   if (closed_) return;
-  if (error) return fail("TLS handshake failed: " + error.message());
+  if (error) {
+    // A server over its connection caps closes right after the TCP accept, before TLS.
+    return fail("TLS handshake failed: " + error.message() +
+                " (a server at its connection cap closes before TLS: see its "
+                "control.max_connections_per_address and control.max_connections)");
+  }
   X509* certificate = SSL_get1_peer_certificate(stream_.native_handle());
   const std::string fingerprint = certificate_fingerprint_sha256(certificate);
   X509_free(certificate);

@@ -93,7 +93,11 @@ class Bot {
   void transition(BotState to, std::string_view reason);
   /// Runs `on_expiry` after `seconds` unless re-armed or cancelled first.
   void arm(double seconds, std::function<void()> on_expiry);
-  void fail_attempt(const std::string& reason);
+  /// How a failed attempt is retried: on the same control connection (it is idle: the reply
+  /// came, or none was pending), or on a new one (a reply may still be on its way, or the
+  /// connection is gone).
+  enum class Retry : std::uint8_t { SameConnection, NewConnection };
+  void fail_attempt(const std::string& reason, Retry retry);
   void reconnect(const std::string& reason);
   void finish(std::string_view reason, std::string error = {});
 
@@ -138,6 +142,7 @@ class Bot {
 
   std::shared_ptr<ControlClient> control_;
   std::string session_token_;
+  bool signed_in_ = false;      ///< on the current control connection
   std::uint32_t match_id_ = 0;  ///< the match the bot is seated in (0: none)
   bool awaiting_results_ = false;
   int failed_attempts_ = 0;
