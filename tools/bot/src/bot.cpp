@@ -626,6 +626,7 @@ void Bot::add_connection(BotMetrics& out, proto::TimeUs now) const {
   if (game_) {
     out.add_transport(game_->transport().counters(),
                       connected_at_us_ > 0 ? seconds_between(connected_at_us_, now) : 0.0);
+    out.send_failures += game_->send_failures();
   }
   if (feed_) {
     const FeedCounts& counts = feed_->counts();

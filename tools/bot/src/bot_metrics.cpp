@@ -43,6 +43,7 @@ void BotMetrics::merge(const BotMetrics& other) {
   snapshots_refused += other.snapshots_refused;
   bad_control += other.bad_control;
   transport_drops += other.transport_drops;
+  send_failures += other.send_failures;
   kills += other.kills;
   deaths += other.deaths;
   kill_events += other.kill_events;
@@ -69,7 +70,7 @@ std::string BotMetrics::to_json() const {
   double rtt_mean = 0;
   for (const double sample : rtt_ms) rtt_mean += sample;
   if (!rtt_ms.empty()) rtt_mean /= static_cast<double>(rtt_ms.size());
-  char text[1536];
+  char text[2048];
   std::snprintf(
       text, sizeof text,
       "{\"connected_s\":%.3f,\"rtt_ms_mean\":%.3f,\"rtt_ms_p50\":%.3f,\"rtt_ms_p99\":%.3f,"
@@ -80,7 +81,8 @@ std::string BotMetrics::to_json() const {
       "\"last_reconnect_ms\":%.3f,\"kills\":%d,\"deaths\":%d,\"kill_events\":%d,"
       "\"hits_dealt\":%d,\"reconnects\":%d,\"matches\":%d,\"inputs_sent\":%llu,"
       "\"weapon_switches\":%llu,\"bad_payloads\":%llu,\"bad_events\":%llu,"
-      "\"snapshots_refused\":%llu,\"bad_control\":%llu,\"transport_drops\":%llu}",
+      "\"snapshots_refused\":%llu,\"bad_control\":%llu,\"transport_drops\":%llu,"
+      "\"send_failures\":%llu}",
       connected_s, rtt_mean, percentile(rtt_ms, 50), percentile(rtt_ms, 99), rtt_ms.size(),
       static_cast<unsigned long long>(snapshots), static_cast<double>(snapshots) * per_s,
       static_cast<unsigned long long>(snapshots_lost), loss,
@@ -94,7 +96,8 @@ std::string BotMetrics::to_json() const {
       static_cast<unsigned long long>(bad_payloads), static_cast<unsigned long long>(bad_events),
       static_cast<unsigned long long>(snapshots_refused),
       static_cast<unsigned long long>(bad_control),
-      static_cast<unsigned long long>(transport_drops));
+      static_cast<unsigned long long>(transport_drops),
+      static_cast<unsigned long long>(send_failures));
   return text;
 }
 

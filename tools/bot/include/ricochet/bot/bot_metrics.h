@@ -49,6 +49,7 @@ struct BotMetrics {
   std::uint64_t snapshots_refused = 0;  ///< the decoder's refusals (any reason)
   std::uint64_t bad_control = 0;        ///< control frames or replies that make no sense
   std::uint64_t transport_drops = 0;    ///< datagrams the game client dropped (any reason)
+  std::uint64_t send_failures = 0;      ///< datagrams the socket could not take (lost)
 
   // The game as the bot saw it (the running phase only, where the match counts).
   int kills = 0;        ///< Kill events naming this bot's entity as killer of another

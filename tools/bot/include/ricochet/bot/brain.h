@@ -26,9 +26,6 @@ class Brain {
   /// now_s: the bot's clock, s.
   wire::Input decide(const WorldView& view, const wire::PlayerStatus& status, double now_s);
 
-  /// The weapon last asked for (slot 1..3).
-  std::uint32_t weapon_slot() const { return slot_; }
-
  private:
   struct Aim {
     float yaw = 0;
