@@ -25,9 +25,10 @@ std::string check_name(const char* field, const std::string& value) {
 std::string check_player(std::size_t index, const PlayerResult& p) {
   const std::string who =
       "player " + std::to_string(index) + " (account " + std::to_string(p.account) + "): ";
+  // The score may be negative: a suicide, a death by the world or a team kill costs a point
+  // (PROTOCOL.md Gameplay, Scoring). The counts cannot be.
   const std::pair<const char*, std::int32_t> counters[] = {{"kills", p.kills},
                                                            {"deaths", p.deaths},
-                                                           {"score", p.score},
                                                            {"shots", p.shots},
                                                            {"hits", p.hits}};
   for (const auto& [name, value] : counters)
@@ -49,9 +50,6 @@ std::string check_teams(const MatchRecord& match) {
   const TeamScores& scores = match.team_scores;
   if (!teams && (scores.red != 0 || scores.blue != 0))
     return "an ffa match has no team scores, got red " + std::to_string(scores.red) + " and blue " +
-           std::to_string(scores.blue);
-  if (teams && (scores.red < 0 || scores.blue < 0))
-    return "tdm team scores must be >= 0, got red " + std::to_string(scores.red) + " and blue " +
            std::to_string(scores.blue);
   for (std::size_t i = 0; i < match.players.size(); ++i) {
     const std::int32_t team = match.players[i].team;

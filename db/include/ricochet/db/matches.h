@@ -5,7 +5,8 @@
 ///   record_match  refuses a record with missing or out-of-range fields, a mode other than
 ///                 "ffa" or "tdm", a team that does not fit the mode (ffa: all 0; tdm: every
 ///                 player 1 or 2), team scores in ffa, or an unknown or repeated player
-///                 (InvalidMatch); otherwise, in one transaction, reads each player's rating,
+///                 (InvalidMatch); scores may be negative (suicides and team kills cost a
+///                 point), counts may not. Otherwise, in one transaction, reads each player's rating,
 ///                 computes the new ones (rating.h) and the winners and has the store write it
 ///                 all. Winners: ffa, everyone with the top score; tdm, every player of the team
 ///                 with the top team score; ties all win.

@@ -1,0 +1,138 @@
+#pragma once
+/// The real ricochet-server binary as a child process, for end-to-end tests: a temporary data
+/// directory, a configuration on 127.0.0.1 with every port 0 (the kernel picks free ones), its
+/// log in a file. The bound ports and the certificate fingerprint are read from the start-up
+/// lines the server logs once it listens ("control TLS 1.3 on ADDR:PORT, game UDP on ..." and
+/// "fingerprint (pin it in clients): ...").
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "temp_dir.h"
+
+namespace ricochet::test {
+
+class ServerProcess {
+ public:
+  /// `matches_toml`: the body of the [matches] table (maps, seed, limits ...).
+  explicit ServerProcess(const std::string& matches_toml, int shutdown_grace_s = 10)
+      : dir_("ricochet-e2e") {
+    std::ofstream config(config_path());
+    config << "[server]\ndata_dir = \"" << (dir_.path() / "data").string()
+           << "\"\nthreads = 2\nshutdown_grace_s = " << shutdown_grace_s
+           << "\n[control]\nbind = \"127.0.0.1\"\nport = 0\n"
+           << "[game]\nbind = \"127.0.0.1\"\nport = 0\n"
+           << "[admin]\nbind = \"127.0.0.1\"\nport = 0\n"
+           << "[matches]\n"
+           << matches_toml << "\n";
+    config.close();
+    // Everything the child needs is made before fork(): it only redirects and execs.
+    const std::string log = log_path().string();
+    const std::string path = config_path().string();
+    const int log_fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (log_fd < 0) throw std::runtime_error("cannot create " + log);
+    const pid_t parent = getpid();
+    pid_ = fork();
+    if (pid_ < 0) throw std::runtime_error("fork failed");
+    if (pid_ == 0) {
+      // A test killed by its timeout takes its server with it.
+      if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(125);
+      if (dup2(log_fd, STDOUT_FILENO) < 0 || dup2(log_fd, STDERR_FILENO) < 0) _exit(126);
+      execl(RICOCHET_SERVER_BINARY, RICOCHET_SERVER_BINARY, "--config", path.c_str(),
+            static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    close(log_fd);
+  }
+  ~ServerProcess() {
+    if (pid_ > 0 && !exit_status_) {
+      kill(pid_, SIGKILL);
+      int status = 0;
+      waitpid(pid_, &status, 0);
+    }
+  }
+  ServerProcess(const ServerProcess&) = delete;
+  ServerProcess& operator=(const ServerProcess&) = delete;
+
+  /// Waits for the start-up lines; false when they did not come within `limit` (or the server
+  /// exited).
+  bool wait_listening(std::chrono::milliseconds limit = std::chrono::seconds(20)) {
+    const std::regex ports(
+        R"(control TLS 1\.3 on 127\.0\.0\.1:(\d+), game UDP on 127\.0\.0\.1:(\d+), admin HTTP)");
+    const std::regex fingerprint(R"(fingerprint \(pin it in clients\): ([0-9A-F:]{95}))");
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < deadline) {
+      const std::string text = log();
+      std::smatch port_match;
+      std::smatch fingerprint_match;
+      if (std::regex_search(text, port_match, ports) &&
+          std::regex_search(text, fingerprint_match, fingerprint)) {
+        control_port_ = static_cast<std::uint16_t>(std::stoi(port_match[1].str()));
+        game_port_ = static_cast<std::uint16_t>(std::stoi(port_match[2].str()));
+        fingerprint_ = fingerprint_match[1].str();
+        return true;
+      }
+      if (wait_exit(std::chrono::milliseconds(0))) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  void terminate() { kill(pid_, SIGTERM); }
+  /// The exit code once the server exited (128 + signal when a signal killed it); nullopt when
+  /// it is still running after `limit`.
+  std::optional<int> wait_exit(std::chrono::milliseconds limit) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (!exit_status_) {
+      int status = 0;
+      const pid_t done = waitpid(pid_, &status, WNOHANG);
+      if (done == pid_) {
+        exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        break;
+      }
+      if (std::chrono::steady_clock::now() >= deadline) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return exit_status_;
+  }
+
+  std::uint16_t control_port() const { return control_port_; }
+  std::uint16_t game_port() const { return game_port_; }
+  const std::string& fingerprint() const { return fingerprint_; }
+  std::filesystem::path db_path() const { return dir_.path() / "data" / "ricochet.db"; }
+  const std::filesystem::path& dir() const { return dir_.path(); }
+  std::string log() const {
+    std::ifstream in(log_path());
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }
+
+ private:
+  std::filesystem::path config_path() const { return dir_.path() / "server.toml"; }
+  std::filesystem::path log_path() const { return dir_.path() / "server.log"; }
+
+  TempDir dir_;
+  pid_t pid_ = -1;
+  std::optional<int> exit_status_;
+  std::uint16_t control_port_ = 0;
+  std::uint16_t game_port_ = 0;
+  std::string fingerprint_;
+};
+
+}  // namespace ricochet::test

@@ -1,0 +1,181 @@
+#pragma once
+/// One bot: a small object pumped by an io_context with timers and callbacks, never a blocking
+/// call, so many share one loop. Its life is an explicit state machine; every transition is
+/// logged once with its reason:
+///
+///   Connecting ─TLS up, server trusted─▶ SigningIn ─logged in─▶ Joining ─join reply─▶ Handshaking
+///   Handshaking ─connected─▶ Playing ─game channel lost, rebind─▶ Reconnecting ─join reply─▶
+///   Handshaking Playing ─match ended─▶ Joining (after its MatchResults: the next match of the
+///   rotation) Reconnecting ─control channel lost─▶ Connecting (after a back-off) any ─stop(), a
+///   fatal refusal, too many failed reconnects, matches done─▶ Done
+///
+/// Each waiting state has a deadline (a state timer); missing it is a failed attempt.
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ip/udp.hpp>
+#include <boost/asio/ssl/context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ricochet/bot/bot_config.h"
+#include "ricochet/bot/bot_metrics.h"
+#include "ricochet/bot/brain.h"
+#include "ricochet/bot/control_client.h"
+#include "ricochet/bot/game_feed.h"
+#include "ricochet/bot/game_session.h"
+#include "ricochet/wire/control.pb.h"
+#include "ricochet/wire/game.pb.h"
+
+namespace ricochet::bot {
+
+enum class BotState : std::uint8_t {
+  Connecting,
+  SigningIn,
+  Joining,
+  Handshaking,
+  Playing,
+  Reconnecting,
+  Done,
+};
+const char* name(BotState state);
+
+/// What a bot saw of the match, for its owner (tests check it against the server's results).
+struct BotRecord {
+  std::uint64_t account_id = 0;
+  std::vector<std::uint32_t> entity_ids;   ///< own entity of each game connection, in order
+  std::vector<std::uint16_t> local_ports;  ///< local UDP port of each game connection, in order
+  /// The Kill events of the current (or last) match's running phase, as received.
+  std::vector<wire::Kill> kills;
+  /// Per game connection: the first MatchState after arrival (the server's scores) and what
+  /// the bot had counted itself from this match's Kill events until then.
+  struct Arrival {
+    std::uint32_t entity_id = 0;  ///< the bot's entity on that connection (0: no payload yet)
+    wire::MatchState state;       ///< the first MatchState of the connection
+    int kills_counted = 0;
+    int deaths_counted = 0;
+    int score_counted = 0;
+  };
+  std::vector<Arrival> arrivals;
+  std::vector<wire::MatchResults> results;
+  std::vector<wire::MatchEndReason> match_ended;  ///< MatchEnded events, in order
+  std::string error;  ///< why the bot is Done, when it is not a normal end
+};
+
+class Bot {
+ public:
+  /// `tls` and `trust` are shared by the bots of a process and must outlive this bot.
+  Bot(boost::asio::io_context& io, boost::asio::ssl::context& tls, ServerTrust& trust,
+      BotConfig config);
+  ~Bot();
+  Bot(const Bot&) = delete;
+  Bot& operator=(const Bot&) = delete;
+
+  void start();
+  /// Ends everything (disconnect packets on the game channel) and moves to Done.
+  void stop(std::string_view reason);
+
+  BotState state() const { return state_; }
+  const BotConfig& config() const { return config_; }
+  /// Metrics so far (the current connection's transport counters included).
+  BotMetrics metrics() const;
+  const BotRecord& record() const { return record_; }
+  /// Called once when the bot reaches Done.
+  void on_done(std::function<void()> callback) { on_done_ = std::move(callback); }
+
+ private:
+  void transition(BotState to, std::string_view reason);
+  /// Runs `on_expiry` after `seconds` unless re-armed or cancelled first.
+  void arm(double seconds, std::function<void()> on_expiry);
+  /// How a failed attempt is retried: on the same control connection (it is idle: the reply
+  /// came, or none was pending), or on a new one (a reply may still be on its way, or the
+  /// connection is gone).
+  enum class Retry : std::uint8_t { SameConnection, NewConnection };
+  void fail_attempt(const std::string& reason, Retry retry);
+  void reconnect(const std::string& reason);
+  void finish(std::string_view reason, std::string error = {});
+
+  // Control channel.
+  void connect_control();
+  void on_control_ready(const std::string& error);
+  void on_control_push(const wire::ServerMessage& message);
+  void on_control_closed(const std::string& reason);
+  void sign_in();
+  void log_in();
+  void on_session(const wire::ServerMessage& reply);
+  void find_match();
+  void join(std::uint32_t match_id);
+  void on_join(const wire::ServerMessage& reply);
+  void schedule_ping();
+  void after_match();
+
+  // Game channel.
+  void open_game(const wire::JoinMatchReply& reply);
+  void on_game_event(proto::ClientEvent& event);
+  void on_payload(std::span<const std::uint8_t> bytes, proto::TimeUs now);
+  void on_reliable(std::span<const std::uint8_t> bytes);
+  /// Adds the current connection's counts (transport, feed) to `out`.
+  void add_connection(BotMetrics& out, proto::TimeUs now) const;
+  void on_kill(const wire::Kill& kill);
+  void on_game_lost(proto::DisconnectReason reason);
+  void close_game(bool tell_server);
+  void tick();
+  void schedule_tick(proto::TimeUs now);
+  /// Wraps a handler so that it does nothing once this bot is destroyed.
+  template <class Handler>
+  auto guarded(Handler handler);
+
+  boost::asio::io_context& io_;
+  boost::asio::ssl::context& tls_;
+  ServerTrust& trust_;
+  BotConfig config_;
+  boost::asio::ip::tcp::endpoint control_endpoint_;
+  boost::asio::ip::udp::endpoint game_endpoint_;
+  BotState state_ = BotState::Connecting;
+  std::function<void()> on_done_;
+
+  std::shared_ptr<ControlClient> control_;
+  std::string session_token_;
+  bool signed_in_ = false;      ///< on the current control connection
+  std::uint32_t match_id_ = 0;  ///< the match the bot is seated in (0: none)
+  bool awaiting_results_ = false;
+  int failed_attempts_ = 0;
+
+  std::shared_ptr<GameSession> game_;
+  std::optional<GameFeed> feed_;  ///< the current game connection's
+  Brain brain_;
+  bool arrived_ = false;          ///< the first MatchState of this connection was seen
+  bool entity_recorded_ = false;  ///< this connection's entity is in record_.entity_ids
+  /// From payloads, or our own PlayerJoined before the first; kept across reconnects.
+  std::uint32_t own_entity_id_ = 0;
+  bool match_over_ = false;
+  std::uint32_t tick_rate_hz_ = 60;
+  proto::TimeUs tick_period_us_ = 16'667;
+  proto::TimeUs next_tick_us_ = 0;
+  proto::TimeUs connected_at_us_ = 0;
+  proto::TimeUs lost_at_us_ = -1;
+  proto::TimeUs next_rtt_sample_us_ = 0;
+  /// The match phase from MatchState events, kept across reconnects (a new connection's
+  /// arrival does not change it).
+  wire::MatchPhase phase_ = wire::MATCH_PHASE_UNSPECIFIED;
+  // This match's running phase as the bot counted it from Kill events.
+  int match_kills_ = 0;
+  int match_deaths_ = 0;
+  int score_counted_ = 0;
+
+  proto::TimeUs started_at_us_ = 0;
+  BotMetrics metrics_;
+  BotRecord record_;
+  boost::asio::steady_timer deadline_;
+  boost::asio::steady_timer tick_timer_;
+  boost::asio::steady_timer ping_timer_;
+  std::shared_ptr<bool> alive_;  ///< handlers hold a weak_ptr: a destroyed bot is not touched
+};
+
+}  // namespace ricochet::bot

@@ -1,0 +1,34 @@
+#pragma once
+/// What one bot is told: where the server is, how to trust it, who to be, which match to join
+/// and how to play. Defaults are usable against a local server; validate() explains what is wrong.
+
+#include <cstdint>
+#include <string>
+
+namespace ricochet::bot {
+
+struct BotConfig {
+  /// The server's IP address (numeric IPv4 or IPv6); the game channel is on the same host.
+  std::string host = "127.0.0.1";
+  std::uint16_t control_port = 7777;  ///< TLS control channel, TCP
+  /// Pinned certificate SHA-256 fingerprint ("AA:BB:...", 32 pairs); empty: trust_file decides.
+  std::string fingerprint;
+  /// Trust on first use: the file is created with the first fingerprint seen; a later mismatch
+  /// refuses the server. Used when fingerprint is empty.
+  std::string trust_file;
+  std::string name = "bot";               ///< account name, 3..24 of [A-Za-z0-9_.-]
+  std::string password = "ricochet-bot";  ///< 8..1024 bytes; the account is registered if new
+  std::uint32_t match_id = 0;             ///< 0: the first listed match with room
+  double skill = 0.5;                     ///< 0..1: 1 aims exactly, 0 with the largest aim error
+  std::uint64_t seed = 1;                 ///< the behaviour's random numbers
+  /// s of game connection after which the bot moves to a new local port (an address change)
+  /// and reconnects with a fresh token; 0: never.
+  double rebind_after_s = 0;
+  int matches = 0;  ///< matches to finish (MatchResults received) before stopping; 0: no limit
+  int max_reconnect_attempts = 5;  ///< failed reconnects in a row before giving up, 1..1000
+
+  /// Empty when usable; otherwise the first wrong field, its allowed range and its value.
+  std::string validate() const;
+};
+
+}  // namespace ricochet::bot

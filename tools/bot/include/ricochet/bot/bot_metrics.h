@@ -1,0 +1,76 @@
+#pragma once
+/// What a player feels, measured by a bot: round trip, snapshot rate and loss, bandwidth, time to
+/// the first snapshot, kills and deaths it saw, and what it refused from the server. Sans-IO:
+/// every time is passed in.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ricochet/proto/transport_counters.h"
+
+namespace ricochet::bot {
+
+/// Counts the snapshots a connection missed: gaps in ServerPayload.server_tick larger than the
+/// snapshot interval (tick_rate / snapshot_rate ticks).
+class SnapshotGapCounter {
+ public:
+  /// ticks_per_snapshot: > 0.
+  explicit SnapshotGapCounter(double ticks_per_snapshot) : interval_(ticks_per_snapshot) {}
+  /// One snapshot decoded at `tick` (ticks arrive increasing: the decoder refuses stale ones).
+  void on_snapshot(std::uint32_t tick);
+  std::uint64_t received() const { return received_; }
+  std::uint64_t lost() const { return lost_; }
+
+ private:
+  double interval_;
+  bool has_last_ = false;
+  std::uint32_t last_tick_ = 0;
+  std::uint64_t received_ = 0;
+  std::uint64_t lost_ = 0;
+};
+
+struct BotMetrics {
+  // Game channel, all connections together.
+  std::uint64_t packets_in = 0;
+  std::uint64_t packets_out = 0;
+  std::uint64_t bytes_in = 0;
+  std::uint64_t bytes_out = 0;
+  double connected_s = 0;            ///< s the game channel was connected
+  std::uint64_t snapshots = 0;       ///< decoded
+  std::uint64_t snapshots_lost = 0;  ///< gaps in server_tick (SnapshotGapCounter)
+  std::vector<double> rtt_ms;        ///< the transport's smoothed round trip, one sample per second
+  double first_snapshot_ms = -1;     ///< from start() to the first decoded snapshot; -1: none
+  double last_reconnect_ms = -1;  ///< from losing the game channel to its next snapshot; -1: none
+
+  // What the bot refused (untrusted input, counted and logged, never trusted).
+  std::uint64_t bad_payloads = 0;       ///< unreliable bytes that are not a ServerPayload
+  std::uint64_t bad_events = 0;         ///< reliable messages that are not a GameEvent
+  std::uint64_t snapshots_refused = 0;  ///< the decoder's refusals (any reason)
+  std::uint64_t bad_control = 0;        ///< control frames or replies that make no sense
+  std::uint64_t transport_drops = 0;    ///< datagrams the game client dropped (any reason)
+  std::uint64_t send_failures = 0;      ///< datagrams the socket could not take (lost)
+
+  // The game as the bot saw it (the running phase only, where the match counts).
+  int kills = 0;        ///< Kill events naming this bot's entity as killer of another
+  int deaths = 0;       ///< Kill events naming this bot's entity as victim
+  int kill_events = 0;  ///< every Kill event seen
+  int hits_dealt = 0;   ///< Hit events with this bot as attacker
+  int reconnects = 0;   ///< game connections after the first
+  int matches = 0;      ///< MatchResults received
+  std::uint64_t inputs_sent = 0;
+  std::uint64_t weapon_switches = 0;
+
+  /// Adds one finished game connection's transport counters.
+  void add_transport(const proto::TransportCounters& counters, double connected_for_s);
+  /// Sums another bot's metrics into this one (samples are appended; first_snapshot_ms and
+  /// last_reconnect_ms keep the largest, the worst bot's).
+  void merge(const BotMetrics& other);
+  /// One JSON object (no newline): the counts and the rates per second of connection.
+  std::string to_json() const;
+};
+
+/// The p-th percentile (0..100, nearest rank) of `samples`; 0 when empty.
+double percentile(std::vector<double> samples, double p);
+
+}  // namespace ricochet::bot

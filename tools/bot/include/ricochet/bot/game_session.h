@@ -1,0 +1,71 @@
+#pragma once
+/// One game connection over a real UDP socket: proto::GameClient (the sans-IO client end of the
+/// game channel) driven by an io_context, on a socket of its own bound to a fresh local port.
+/// It reads the clock only where IO happens and passes that time into the transport.
+/// A reconnect (new token, or a new address) is a new GameSession.
+
+#include <array>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+
+#include "ricochet/proto/clock.h"
+#include "ricochet/proto/game_client.h"
+
+namespace ricochet::bot {
+
+/// The io layer's clock: steady, in µs.
+proto::TimeUs steady_now_us();
+
+/// The transport's view of a UDP endpoint.
+proto::Address to_address(const boost::asio::ip::udp::endpoint& endpoint);
+
+class GameSession : public std::enable_shared_from_this<GameSession> {
+ public:
+  using EventHandler = std::function<void(proto::ClientEvent& event)>;
+
+  /// Binds a new socket (any free port on the local address of the server's family); the
+  /// connection request goes out at once.
+  GameSession(boost::asio::io_context& io, const boost::asio::ip::udp::endpoint& server,
+              proto::TokenGrant grant, EventHandler on_event);
+  GameSession(const GameSession&) = delete;
+  GameSession& operator=(const GameSession&) = delete;
+
+  /// Starts reading datagrams.
+  void start();
+  /// Resends, keep-alives and timeouts; call at least every 100 ms.
+  void update(proto::TimeUs now);
+  /// One unreliable payload (Connected only); false when it was not sent.
+  bool send(std::span<const std::uint8_t> payload, proto::TimeUs now);
+  /// Tells the server (three disconnect packets) when connected, then closes the socket.
+  void disconnect(proto::TimeUs now);
+  /// Closes the socket without a word to the server (what an address change looks like).
+  void abandon();
+
+  proto::ConnectionState state() const { return client_.state(); }
+  const proto::GameClient& transport() const { return client_; }
+  std::uint16_t local_port() const { return local_port_; }
+  /// Datagrams the socket could not send at once (full buffer); they are lost.
+  std::uint64_t send_failures() const { return send_failures_; }
+
+ private:
+  void wait_readable();
+  void drain(proto::TimeUs now);
+  void send_queued();
+  /// Sends what the transport queued, then hands its events to on_event_.
+  void flush();
+
+  boost::asio::ip::udp::socket socket_;
+  boost::asio::ip::udp::endpoint server_;
+  proto::GameClient client_;
+  EventHandler on_event_;
+  std::array<std::uint8_t, 2048> buffer_{};
+  std::uint16_t local_port_ = 0;
+  std::uint64_t send_failures_ = 0;
+  bool closed_ = false;
+};
+
+}  // namespace ricochet::bot

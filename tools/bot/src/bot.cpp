@@ -1,0 +1,647 @@
+#include "ricochet/bot/bot.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "ricochet/proto/connect_token.h"
+
+namespace ricochet::bot {
+
+namespace asio = boost::asio;
+
+namespace {
+
+constexpr double kConnectTimeoutS = 10;  ///< TCP connect and TLS handshake
+/// Register and login: two Argon2id hashes, queued on the server behind every other bot's.
+constexpr double kSignInTimeoutS = 60;
+constexpr double kRequestTimeoutS = 10;  ///< list and join
+constexpr double kResultsTimeoutS = 15;  ///< from MatchEnded to MatchResults
+constexpr double kNoRoomRetryS = 1;      ///< listing again when no match has room
+constexpr double kPingIntervalS = 30;    ///< keeps the control channel from idling out (120 s)
+constexpr proto::TimeUs kRttSampleUs = proto::kMicrosPerSecond;
+constexpr std::size_t kMaxRttSamples = 86400;
+
+double seconds_between(proto::TimeUs from, proto::TimeUs to) {
+  return static_cast<double>(to - from) / static_cast<double>(proto::kMicrosPerSecond);
+}
+
+double backoff_s(int attempt) {
+  return std::min(8.0, 0.5 * std::pow(2.0, attempt - 1));
+}
+
+bool is_error(const wire::ServerMessage& reply, wire::ErrorCode code) {
+  return reply.has_error() && reply.error().code() == code;
+}
+
+std::string describe(const wire::ServerMessage& reply) {
+  if (!reply.has_error()) return "an unexpected reply";
+  return std::string(wire::ErrorCode_Name(reply.error().code())) + ": " + reply.error().message();
+}
+
+/// Empty when the join reply can be used; otherwise what is wrong with it.
+std::string check_join(const wire::JoinMatchReply& join) {
+  if (join.connect_token().size() != proto::kConnectTokenBytes) {
+    return "connect token of " + std::to_string(join.connect_token().size()) + " bytes, expected " +
+           std::to_string(proto::kConnectTokenBytes);
+  }
+  if (join.client_to_server_key().size() != proto::kKeyBytes ||
+      join.server_to_client_key().size() != proto::kKeyBytes) {
+    return "session keys must be 32 bytes each";
+  }
+  if (join.udp_port() == 0 || join.udp_port() > 65535) {
+    return "udp_port must be 1..65535, got " + std::to_string(join.udp_port());
+  }
+  if (join.timeout_s() < proto::kMinTimeoutS || join.timeout_s() > proto::kMaxTimeoutS) {
+    return "timeout_s must be 1..60, got " + std::to_string(join.timeout_s());
+  }
+  if (join.tick_rate_hz() < 10 || join.tick_rate_hz() > 128) {
+    return "tick_rate_hz must be 10..128, got " + std::to_string(join.tick_rate_hz());
+  }
+  if (join.snapshot_rate_hz() < 1 || join.snapshot_rate_hz() > join.tick_rate_hz()) {
+    return "snapshot_rate_hz must be 1..tick_rate_hz, got " +
+           std::to_string(join.snapshot_rate_hz());
+  }
+  return {};
+}
+
+}  // namespace
+
+const char* name(BotState state) {
+  switch (state) {
+    case BotState::Connecting:
+      return "connecting";
+    case BotState::SigningIn:
+      return "signing_in";
+    case BotState::Joining:
+      return "joining";
+    case BotState::Handshaking:
+      return "handshaking";
+    case BotState::Playing:
+      return "playing";
+    case BotState::Reconnecting:
+      return "reconnecting";
+    case BotState::Done:
+      return "done";
+  }
+  return "unknown";
+}
+
+template <class Handler>
+auto Bot::guarded(Handler handler) {
+  return [alive = std::weak_ptr<bool>(alive_), handler = std::move(handler)](auto&&... args) {
+    if (alive.expired()) return;
+    handler(std::forward<decltype(args)>(args)...);
+  };
+}
+
+Bot::Bot(asio::io_context& io, asio::ssl::context& tls, ServerTrust& trust, BotConfig config)
+    : io_(io),
+      tls_(tls),
+      trust_(trust),
+      config_(std::move(config)),
+      brain_(config_.skill, config_.seed),
+      deadline_(io),
+      tick_timer_(io),
+      ping_timer_(io),
+      alive_(std::make_shared<bool>(true)) {
+  control_endpoint_ = {asio::ip::make_address(config_.host), config_.control_port};
+}
+
+Bot::~Bot() {
+  if (control_) control_->close();
+  if (game_) game_->abandon();
+}
+
+void Bot::transition(BotState to, std::string_view reason) {
+  if (to == state_) {
+    spdlog::debug("bot {}: {} ({})", config_.name, name(state_), reason);
+    return;
+  }
+  spdlog::info("bot {}: {} -> {} ({})", config_.name, name(state_), name(to), reason);
+  state_ = to;
+}
+
+void Bot::arm(double seconds, std::function<void()> on_expiry) {
+  deadline_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(seconds * 1e6)));
+  deadline_.async_wait(
+      guarded([on_expiry = std::move(on_expiry)](const boost::system::error_code& error) {
+        if (!error) on_expiry();
+      }));
+}
+
+void Bot::start() {
+  started_at_us_ = steady_now_us();
+  spdlog::info("bot {}: connecting to {}", config_.name, config_.host);
+  connect_control();
+  schedule_ping();
+}
+
+void Bot::stop(std::string_view reason) {
+  finish(reason);
+}
+
+void Bot::finish(std::string_view reason, std::string error) {
+  if (state_ == BotState::Done) return;
+  deadline_.cancel();
+  ping_timer_.cancel();
+  close_game(true);
+  if (control_) {
+    control_->close();
+    control_.reset();
+  }
+  if (!error.empty()) spdlog::error("bot {}: {}", config_.name, error);
+  record_.error = std::move(error);
+  transition(BotState::Done, reason);
+  if (auto callback = std::move(on_done_)) callback();
+}
+
+void Bot::fail_attempt(const std::string& reason, Retry retry) {
+  if (state_ == BotState::Done) return;
+  if (++failed_attempts_ > config_.max_reconnect_attempts) {
+    return finish("giving up", "gave up after " + std::to_string(config_.max_reconnect_attempts) +
+                                   " failed attempts in a row; the last: " + reason);
+  }
+  close_game(false);
+  spdlog::warn("bot {}: {} (attempt {} of {})", config_.name, reason, failed_attempts_,
+               config_.max_reconnect_attempts);
+  if (retry == Retry::NewConnection && control_) {
+    // A reply may still be on its way; a new connection cannot mistake it for its own.
+    control_->close();
+    control_.reset();
+  }
+  transition(BotState::Reconnecting, reason);
+  arm(backoff_s(failed_attempts_), [this] {
+    if (!control_ || !control_->is_open()) {
+      transition(BotState::Connecting, "retrying the control channel");
+      connect_control();
+    } else if (!signed_in_) {
+      transition(BotState::SigningIn, "retrying the sign-in");
+      sign_in();
+    } else {
+      find_match();
+    }
+  });
+}
+
+void Bot::reconnect(const std::string& reason) {
+  close_game(false);
+  lost_at_us_ = steady_now_us();
+  transition(BotState::Reconnecting, reason);
+  if (control_ && control_->is_open()) {
+    find_match();
+  } else {
+    fail_attempt("the control channel is down; " + reason, Retry::NewConnection);
+  }
+}
+
+// --- control channel ---
+
+void Bot::connect_control() {
+  if (control_) control_->close();
+  signed_in_ = false;
+  control_ = std::make_shared<ControlClient>(
+      io_, tls_, trust_,
+      ControlClient::Callbacks{
+          guarded([this](const std::string& error) { on_control_ready(error); }),
+          guarded([this](const wire::ServerMessage& message) { on_control_push(message); }),
+          guarded([this](const std::string& reason) { on_control_closed(reason); })});
+  control_->connect(control_endpoint_);
+  arm(kConnectTimeoutS, [this] {
+    fail_attempt("timed out connecting to the control channel", Retry::NewConnection);
+  });
+}
+
+void Bot::on_control_ready(const std::string& error) {
+  if (!error.empty()) {
+    if (control_ && control_->untrusted()) return finish("server not trusted", error);
+    return fail_attempt(error, Retry::NewConnection);
+  }
+  transition(BotState::SigningIn, "TLS 1.3 up, server certificate trusted");
+  sign_in();
+}
+
+void Bot::on_control_push(const wire::ServerMessage& message) {
+  if (message.has_match_results()) {
+    record_.results.push_back(message.match_results());
+    ++metrics_.matches;
+    spdlog::info("bot {}: results of match {} ({} players{})", config_.name,
+                 message.match_results().match_id(), message.match_results().players_size(),
+                 message.match_results().aborted() ? ", aborted" : "");
+    if (awaiting_results_) after_match();
+  } else if (message.has_error()) {
+    spdlog::warn("bot {}: the server says {}", config_.name, describe(message));
+  } else {
+    ++metrics_.bad_control;
+    spdlog::debug("bot {}: unexpected message with request id 0", config_.name);
+  }
+}
+
+void Bot::on_control_closed(const std::string& reason) {
+  control_.reset();
+  switch (state_) {
+    case BotState::Playing:
+    case BotState::Handshaking:
+      // The game channel does not need it; a later reconnect opens a new one.
+      spdlog::warn("bot {}: control channel lost ({}); playing on", config_.name, reason);
+      break;
+    case BotState::Done:
+      break;
+    default:
+      fail_attempt("control channel lost: " + reason, Retry::NewConnection);
+      break;
+  }
+}
+
+void Bot::sign_in() {
+  arm(kSignInTimeoutS, [this] { fail_attempt("timed out signing in", Retry::NewConnection); });
+  if (!session_token_.empty()) {
+    wire::ClientMessage resume;
+    resume.mutable_resume()->set_session_token(session_token_);
+    control_->request(
+        std::move(resume), guarded([this](const wire::ServerMessage& reply) {
+          if (is_error(reply, wire::UNKNOWN_SESSION) || is_error(reply, wire::EXPIRED_SESSION)) {
+            session_token_.clear();
+            return sign_in();
+          }
+          on_session(reply);
+        }));
+    return;
+  }
+  // Register first: a name already taken costs no failed login (those are rate limited).
+  wire::ClientMessage registration;
+  registration.mutable_register_account()->set_username(config_.name);
+  registration.mutable_register_account()->set_password(config_.password);
+  control_->request(
+      std::move(registration), guarded([this](const wire::ServerMessage& reply) {
+        if (reply.has_register_account() || is_error(reply, wire::DUPLICATE_USERNAME))
+          return log_in();
+        if (is_error(reply, wire::SERVER_BUSY))
+          return fail_attempt("registration: " + describe(reply), Retry::SameConnection);
+        finish("registration refused", "cannot register " + config_.name + ": " + describe(reply));
+      }));
+}
+
+void Bot::log_in() {
+  wire::ClientMessage login;
+  login.mutable_login()->set_username(config_.name);
+  login.mutable_login()->set_password(config_.password);
+  control_->request(std::move(login),
+                    guarded([this](const wire::ServerMessage& reply) { on_session(reply); }));
+}
+
+void Bot::on_session(const wire::ServerMessage& reply) {
+  if (!reply.has_session()) {
+    if (is_error(reply, wire::SERVER_BUSY) || is_error(reply, wire::LOGIN_RATE_LIMITED)) {
+      return fail_attempt("login: " + describe(reply), Retry::SameConnection);
+    }
+    return finish("login refused", "cannot log in as " + config_.name + ": " + describe(reply) +
+                                       (is_error(reply, wire::WRONG_CREDENTIALS)
+                                            ? " (the account exists with another --password)"
+                                            : ""));
+  }
+  signed_in_ = true;
+  record_.account_id = reply.session().account_id();
+  if (!reply.session().session_token().empty()) session_token_ = reply.session().session_token();
+  transition(BotState::Joining, "logged in as account " + std::to_string(record_.account_id));
+  find_match();
+}
+
+void Bot::find_match() {
+  if (!control_ || !control_->is_open())
+    return fail_attempt("the control channel is down", Retry::NewConnection);
+  arm(kRequestTimeoutS,
+      [this] { fail_attempt("timed out joining a match", Retry::NewConnection); });
+  if (match_id_ != 0) return join(match_id_);
+  if (config_.match_id != 0) return join(config_.match_id);
+  wire::ClientMessage list;
+  list.mutable_list_matches();
+  control_->request(std::move(list), guarded([this](const wire::ServerMessage& reply) {
+                      if (!reply.has_list_matches())
+                        return fail_attempt("list_matches: " + describe(reply),
+                                            Retry::SameConnection);
+                      for (const wire::MatchInfo& match : reply.list_matches().matches()) {
+                        if (match.match_id() != 0 && match.players() < match.max_players()) {
+                          return join(match.match_id());
+                        }
+                      }
+                      spdlog::info("bot {}: no match has room; listing again in {} s", config_.name,
+                                   kNoRoomRetryS);
+                      arm(kNoRoomRetryS, [this] { find_match(); });
+                    }));
+}
+
+void Bot::join(std::uint32_t match_id) {
+  wire::ClientMessage request;
+  request.mutable_join_match()->set_match_id(match_id);
+  control_->request(std::move(request),
+                    guarded([this](const wire::ServerMessage& reply) { on_join(reply); }));
+}
+
+void Bot::on_join(const wire::ServerMessage& reply) {
+  if (reply.has_join_match()) return open_game(reply.join_match());
+  if (is_error(reply, wire::MATCH_NOT_FOUND) && match_id_ != 0) {
+    // The match we held a seat in is over (a rotation); find another.
+    match_id_ = 0;
+    return find_match();
+  }
+  if (config_.match_id != 0 &&
+      (is_error(reply, wire::MATCH_NOT_FOUND) || is_error(reply, wire::MATCH_FULL))) {
+    return finish("cannot join",
+                  "cannot join match " + std::to_string(config_.match_id) + ": " + describe(reply));
+  }
+  if (is_error(reply, wire::MATCH_FULL)) {
+    return arm(kNoRoomRetryS, [this] { find_match(); });
+  }
+  if (is_error(reply, wire::ALREADY_IN_MATCH)) {
+    wire::ClientMessage leave;
+    leave.mutable_leave_match();
+    control_->request(std::move(leave),
+                      guarded([this](const wire::ServerMessage&) { find_match(); }));
+    return;
+  }
+  fail_attempt("join_match: " + describe(reply), Retry::SameConnection);
+}
+
+void Bot::schedule_ping() {
+  ping_timer_.expires_after(std::chrono::seconds(static_cast<int>(kPingIntervalS)));
+  ping_timer_.async_wait(guarded([this](const boost::system::error_code& error) {
+    if (error || state_ == BotState::Done) return;
+    if (control_ && control_->is_open()) {
+      wire::ClientMessage ping;
+      ping.mutable_ping()->set_client_time_us(static_cast<std::uint64_t>(steady_now_us()));
+      control_->request(std::move(ping), {});
+    }
+    schedule_ping();
+  }));
+}
+
+void Bot::after_match() {
+  awaiting_results_ = false;
+  match_id_ = 0;  // the seat ended with the match; the rotation opens the next one
+  if (config_.matches > 0 && metrics_.matches >= config_.matches) {
+    return finish("finished " + std::to_string(metrics_.matches) + " matches");
+  }
+  transition(BotState::Joining, "the next match");
+  if (control_ && control_->is_open()) {
+    find_match();
+  } else {
+    fail_attempt("the control channel is down after the match", Retry::NewConnection);
+  }
+}
+
+// --- game channel ---
+
+void Bot::open_game(const wire::JoinMatchReply& reply) {
+  if (const std::string problem = check_join(reply); !problem.empty()) {
+    ++metrics_.bad_control;
+    return fail_attempt("unusable join reply: " + problem, Retry::SameConnection);
+  }
+  std::string error;
+  const auto spec = proto::from_wire(reply.quantization(), error);
+  if (!spec) {
+    ++metrics_.bad_control;
+    return fail_attempt("unusable join reply: quantization " + error, Retry::SameConnection);
+  }
+  proto::TokenGrant grant;
+  grant.connect_token.assign(reply.connect_token().begin(), reply.connect_token().end());
+  std::copy_n(reply.client_to_server_key().begin(), proto::kKeyBytes,
+              grant.client_to_server.begin());
+  std::copy_n(reply.server_to_client_key().begin(), proto::kKeyBytes,
+              grant.server_to_client.begin());
+  grant.timeout_s = reply.timeout_s();
+  match_id_ = reply.match_id();
+  tick_rate_hz_ = reply.tick_rate_hz();
+  tick_period_us_ = proto::kMicrosPerSecond / tick_rate_hz_;
+  game_endpoint_ = {control_endpoint_.address(), static_cast<std::uint16_t>(reply.udp_port())};
+
+  close_game(false);
+  feed_.emplace(*spec, static_cast<double>(reply.tick_rate_hz()) / reply.snapshot_rate_hz(),
+                "bot " + config_.name);
+  arrived_ = false;
+  entity_recorded_ = false;
+  match_over_ = false;
+  auto game = std::make_shared<GameSession>(
+      io_, game_endpoint_, std::move(grant),
+      guarded([this](proto::ClientEvent& event) { on_game_event(event); }));
+  game_ = game;
+  record_.local_ports.push_back(game->local_port());
+  transition(BotState::Handshaking, "joined match " + std::to_string(match_id_) +
+                                        ", game channel from local port " +
+                                        std::to_string(game->local_port()));
+  arm(reply.timeout_s() + 1.0,
+      [this] { fail_attempt("timed out in the game handshake", Retry::SameConnection); });
+  game->start();
+  const proto::TimeUs now = steady_now_us();
+  next_tick_us_ = now;
+  if (game_ == game) schedule_tick(now);
+}
+
+void Bot::on_game_event(proto::ClientEvent& event) {
+  if (auto* payload = std::get_if<proto::ClientUnreliable>(&event)) {
+    on_payload(payload->bytes, steady_now_us());
+  } else if (auto* reliable = std::get_if<proto::ClientReliable>(&event)) {
+    on_reliable(reliable->bytes);
+  } else if (auto* lost = std::get_if<proto::ClientDisconnected>(&event)) {
+    on_game_lost(lost->reason);
+  } else if (std::holds_alternative<proto::ClientConnected>(event)) {
+    deadline_.cancel();
+    failed_attempts_ = 0;
+    connected_at_us_ = steady_now_us();
+    next_rtt_sample_us_ = connected_at_us_ + kRttSampleUs;
+    if (!record_.entity_ids.empty()) ++metrics_.reconnects;
+    transition(BotState::Playing, "game channel connected");
+  }
+}
+
+void Bot::on_payload(std::span<const std::uint8_t> bytes, proto::TimeUs now) {
+  const bool snapshot = feed_->read_payload(bytes);
+  if (feed_->own_entity_id() != 0) own_entity_id_ = feed_->own_entity_id();
+  if (!entity_recorded_ && feed_->own_entity_id() != 0) {
+    entity_recorded_ = true;
+    record_.entity_ids.push_back(own_entity_id_);
+    if (arrived_ && record_.arrivals.back().entity_id == 0) {
+      record_.arrivals.back().entity_id = own_entity_id_;
+    }
+  }
+  if (!snapshot) return;
+  if (metrics_.first_snapshot_ms < 0) {
+    metrics_.first_snapshot_ms = seconds_between(started_at_us_, now) * 1000;
+  }
+  if (lost_at_us_ >= 0) {
+    metrics_.last_reconnect_ms = seconds_between(lost_at_us_, now) * 1000;
+    lost_at_us_ = -1;
+  }
+}
+
+void Bot::on_reliable(std::span<const std::uint8_t> bytes) {
+  const std::optional<wire::GameEvent> read = feed_->read_event(bytes);
+  if (!read) return;
+  const wire::GameEvent& event = *read;
+  switch (event.event_case()) {
+    case wire::GameEvent::kKill:
+      on_kill(event.kill());
+      break;
+    case wire::GameEvent::kHit:
+      if (own_entity_id_ != 0 && event.hit().attacker_entity_id() == own_entity_id_) {
+        ++metrics_.hits_dealt;
+      }
+      break;
+    case wire::GameEvent::kPlayerJoined:
+      // Our own PlayerJoined comes last of the ones sent on arrival, before any payload.
+      if (event.player_joined().name() == config_.name && own_entity_id_ == 0) {
+        own_entity_id_ = event.player_joined().entity_id();
+      }
+      break;
+    case wire::GameEvent::kMatchState: {
+      const wire::MatchPhase phase = event.match_state().phase();
+      if (phase == wire::MATCH_PHASE_RUNNING && phase_ != wire::MATCH_PHASE_RUNNING) {
+        // Entering running resets every score. (A reconnect's arrival in a running match
+        // does not: the phase did not change.)
+        match_kills_ = 0;
+        match_deaths_ = 0;
+        score_counted_ = 0;
+        record_.kills.clear();
+      }
+      phase_ = phase;
+      if (!arrived_) {
+        arrived_ = true;
+        record_.arrivals.push_back({entity_recorded_ ? own_entity_id_ : 0, event.match_state(),
+                                    match_kills_, match_deaths_, score_counted_});
+      }
+      break;
+    }
+    case wire::GameEvent::kMatchEnded:
+      record_.match_ended.push_back(event.match_ended().reason());
+      match_over_ = true;
+      spdlog::info("bot {}: match {} ended ({})", config_.name, match_id_,
+                   wire::MatchEndReason_Name(event.match_ended().reason()));
+      break;
+    case wire::GameEvent::kChat:
+      spdlog::debug("bot {}: chat from {}: {}", config_.name, event.chat().name(),
+                    event.chat().text());
+      break;
+    default:
+      break;
+  }
+}
+
+void Bot::on_kill(const wire::Kill& kill) {
+  ++metrics_.kill_events;
+  if (phase_ != wire::MATCH_PHASE_RUNNING) return;
+  record_.kills.push_back(kill);
+  const std::uint32_t me = own_entity_id_;
+  if (me == 0) return;
+  if (kill.victim_entity_id() == me) {
+    ++metrics_.deaths;
+    ++match_deaths_;
+    // A suicide or a death by the world costs a point.
+    if (kill.killer_entity_id() == me || kill.killer_entity_id() == 0) --score_counted_;
+  } else if (kill.killer_entity_id() == me) {
+    ++metrics_.kills;
+    ++match_kills_;
+    ++score_counted_;
+  }
+}
+
+void Bot::on_game_lost(proto::DisconnectReason reason) {
+  const std::string why = "game channel ended: " + std::string(proto::name(reason));
+  if (match_over_) {
+    close_game(false);
+    const bool have_results =
+        !record_.results.empty() && record_.results.back().match_id() == match_id_;
+    if (have_results) return after_match();
+    awaiting_results_ = true;
+    transition(BotState::Joining, why + ", waiting for the match results");
+    arm(kResultsTimeoutS, [this] {
+      spdlog::warn("bot {}: no MatchResults within {} s", config_.name, kResultsTimeoutS);
+      after_match();
+    });
+    return;
+  }
+  if (state_ == BotState::Handshaking) return fail_attempt(why, Retry::SameConnection);
+  reconnect(why);
+}
+
+void Bot::close_game(bool tell_server) {
+  tick_timer_.cancel();
+  if (!game_) return;
+  const proto::TimeUs now = steady_now_us();
+  add_connection(metrics_, now);
+  const auto game = std::move(game_);
+  game_.reset();
+  feed_.reset();
+  connected_at_us_ = 0;
+  if (tell_server) {
+    game->disconnect(now);
+  } else {
+    game->abandon();
+  }
+}
+
+void Bot::schedule_tick(proto::TimeUs now) {
+  next_tick_us_ += tick_period_us_;
+  // After a stall, start again from now instead of sending a burst.
+  if (next_tick_us_ < now - tick_period_us_) next_tick_us_ = now + tick_period_us_;
+  tick_timer_.expires_at(asio::steady_timer::time_point(std::chrono::microseconds(next_tick_us_)));
+  tick_timer_.async_wait(guarded([this](const boost::system::error_code& error) {
+    if (!error) tick();
+  }));
+}
+
+void Bot::tick() {
+  const auto game = game_;
+  if (!game) return;
+  const proto::TimeUs now = steady_now_us();
+  game->update(now);
+  if (game_ != game) return;  // the update ended the connection
+  if (state_ != BotState::Playing) return schedule_tick(now);
+
+  if (now >= next_rtt_sample_us_) {
+    if (game->transport().rtt_us() > 0 && metrics_.rtt_ms.size() < kMaxRttSamples) {
+      metrics_.rtt_ms.push_back(static_cast<double>(game->transport().rtt_us()) / 1000.0);
+    }
+    next_rtt_sample_us_ = now + kRttSampleUs;
+  }
+  if (config_.rebind_after_s > 0 && connected_at_us_ > 0 &&
+      seconds_between(connected_at_us_, now) >= config_.rebind_after_s) {
+    return reconnect("moving to a new local port (rebind after " +
+                     std::to_string(config_.rebind_after_s) + " s)");
+  }
+
+  wire::Input input =
+      brain_.decide(feed_->view(), feed_->status(), seconds_between(started_at_us_, now));
+  if (input.weapon_slot() != 0) ++metrics_.weapon_switches;
+  const std::string bytes = feed_->write_payload(std::move(input));
+  if (game->send(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
+                 now)) {
+    ++metrics_.inputs_sent;
+  }
+  if (game_ == game) schedule_tick(now);
+}
+
+void Bot::add_connection(BotMetrics& out, proto::TimeUs now) const {
+  if (game_) {
+    out.add_transport(game_->transport().counters(),
+                      connected_at_us_ > 0 ? seconds_between(connected_at_us_, now) : 0.0);
+    out.send_failures += game_->send_failures();
+  }
+  if (feed_) {
+    const FeedCounts& counts = feed_->counts();
+    out.snapshots += counts.snapshots;
+    out.snapshots_refused += counts.snapshots_refused;
+    out.bad_payloads += counts.bad_payloads;
+    out.bad_events += counts.bad_events;
+    out.snapshots_lost += feed_->gaps().lost();
+  }
+}
+
+BotMetrics Bot::metrics() const {
+  BotMetrics out = metrics_;
+  add_connection(out, steady_now_us());
+  return out;
+}
+
+}  // namespace ricochet::bot

@@ -1,0 +1,51 @@
+#include "ricochet/bot/bot_config.h"
+
+#include <boost/asio/ip/address.hpp>
+
+#include "ricochet/bot/server_trust.h"
+
+namespace ricochet::bot {
+namespace {
+
+bool valid_username(const std::string& name) {
+  if (name.size() < 3 || name.size() > 24) return false;
+  for (const char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '.' || c == '-';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string BotConfig::validate() const {
+  boost::system::error_code error;
+  boost::asio::ip::make_address(host, error);
+  if (error) return "host must be a numeric IPv4 or IPv6 address, got \"" + host + "\"";
+  if (control_port == 0) return "control_port must be 1..65535, got 0";
+  if (!fingerprint.empty() && !normalize_fingerprint(fingerprint)) {
+    return "fingerprint must be 32 hex pairs separated by ':' (as the server logs it), got \"" +
+           fingerprint + "\"";
+  }
+  if (fingerprint.empty() && trust_file.empty()) {
+    return "set fingerprint (pin the server's certificate) or trust_file (trust on first use)";
+  }
+  if (!valid_username(name)) {
+    return "name must be 3..24 characters of [A-Za-z0-9_.-], got \"" + name + "\"";
+  }
+  if (password.size() < 8 || password.size() > 1024) {
+    return "password must be 8..1024 bytes, got " + std::to_string(password.size());
+  }
+  if (!(skill >= 0 && skill <= 1)) return "skill must be 0..1, got " + std::to_string(skill);
+  if (!(rebind_after_s >= 0 && rebind_after_s <= 86400)) {
+    return "rebind_after_s must be 0..86400, got " + std::to_string(rebind_after_s);
+  }
+  if (matches < 0) return "matches must be >= 0, got " + std::to_string(matches);
+  if (max_reconnect_attempts < 1 || max_reconnect_attempts > 1000) {
+    return "max_reconnect_attempts must be 1..1000, got " + std::to_string(max_reconnect_attempts);
+  }
+  return {};
+}
+
+}  // namespace ricochet::bot

@@ -1,0 +1,104 @@
+#include "ricochet/bot/bot_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace ricochet::bot {
+
+void SnapshotGapCounter::on_snapshot(std::uint32_t tick) {
+  ++received_;
+  if (has_last_ && tick > last_tick_) {
+    const double steps = std::round(static_cast<double>(tick - last_tick_) / interval_);
+    if (steps > 1) lost_ += static_cast<std::uint64_t>(steps - 1);
+  }
+  has_last_ = true;
+  last_tick_ = tick;
+}
+
+void BotMetrics::add_transport(const proto::TransportCounters& counters, double connected_for_s) {
+  packets_in += counters.packets_in;
+  packets_out += counters.packets_out;
+  bytes_in += counters.bytes_in;
+  bytes_out += counters.bytes_out;
+  transport_drops += counters.dropped_total();
+  connected_s += connected_for_s;
+}
+
+void BotMetrics::merge(const BotMetrics& other) {
+  packets_in += other.packets_in;
+  packets_out += other.packets_out;
+  bytes_in += other.bytes_in;
+  bytes_out += other.bytes_out;
+  connected_s += other.connected_s;
+  snapshots += other.snapshots;
+  snapshots_lost += other.snapshots_lost;
+  rtt_ms.insert(rtt_ms.end(), other.rtt_ms.begin(), other.rtt_ms.end());
+  if (other.first_snapshot_ms >= 0) {
+    first_snapshot_ms = std::max(first_snapshot_ms, other.first_snapshot_ms);
+  }
+  last_reconnect_ms = std::max(last_reconnect_ms, other.last_reconnect_ms);
+  bad_payloads += other.bad_payloads;
+  bad_events += other.bad_events;
+  snapshots_refused += other.snapshots_refused;
+  bad_control += other.bad_control;
+  transport_drops += other.transport_drops;
+  send_failures += other.send_failures;
+  kills += other.kills;
+  deaths += other.deaths;
+  kill_events += other.kill_events;
+  hits_dealt += other.hits_dealt;
+  reconnects += other.reconnects;
+  matches += other.matches;
+  inputs_sent += other.inputs_sent;
+  weapon_switches += other.weapon_switches;
+}
+
+double percentile(std::vector<double> samples, double p) {
+  if (samples.empty()) return 0;
+  std::sort(samples.begin(), samples.end());
+  const double rank = std::ceil(p / 100.0 * static_cast<double>(samples.size()));
+  const std::size_t index =
+      static_cast<std::size_t>(std::clamp(rank, 1.0, static_cast<double>(samples.size()))) - 1;
+  return samples[index];
+}
+
+std::string BotMetrics::to_json() const {
+  const double per_s = connected_s > 0 ? 1.0 / connected_s : 0.0;
+  const double expected = static_cast<double>(snapshots + snapshots_lost);
+  const double loss = expected > 0 ? static_cast<double>(snapshots_lost) / expected : 0.0;
+  double rtt_mean = 0;
+  for (const double sample : rtt_ms) rtt_mean += sample;
+  if (!rtt_ms.empty()) rtt_mean /= static_cast<double>(rtt_ms.size());
+  char text[2048];
+  std::snprintf(
+      text, sizeof text,
+      "{\"connected_s\":%.3f,\"rtt_ms_mean\":%.3f,\"rtt_ms_p50\":%.3f,\"rtt_ms_p99\":%.3f,"
+      "\"rtt_samples\":%zu,\"snapshots\":%llu,\"snapshots_per_s\":%.2f,\"snapshots_lost\":%llu,"
+      "\"snapshot_loss\":%.5f,\"packets_in_per_s\":%.2f,\"packets_out_per_s\":%.2f,"
+      "\"bytes_in_per_s\":%.1f,\"bytes_out_per_s\":%.1f,\"packets_in\":%llu,\"packets_out\":%llu,"
+      "\"bytes_in\":%llu,\"bytes_out\":%llu,\"first_snapshot_ms\":%.3f,"
+      "\"last_reconnect_ms\":%.3f,\"kills\":%d,\"deaths\":%d,\"kill_events\":%d,"
+      "\"hits_dealt\":%d,\"reconnects\":%d,\"matches\":%d,\"inputs_sent\":%llu,"
+      "\"weapon_switches\":%llu,\"bad_payloads\":%llu,\"bad_events\":%llu,"
+      "\"snapshots_refused\":%llu,\"bad_control\":%llu,\"transport_drops\":%llu,"
+      "\"send_failures\":%llu}",
+      connected_s, rtt_mean, percentile(rtt_ms, 50), percentile(rtt_ms, 99), rtt_ms.size(),
+      static_cast<unsigned long long>(snapshots), static_cast<double>(snapshots) * per_s,
+      static_cast<unsigned long long>(snapshots_lost), loss,
+      static_cast<double>(packets_in) * per_s, static_cast<double>(packets_out) * per_s,
+      static_cast<double>(bytes_in) * per_s, static_cast<double>(bytes_out) * per_s,
+      static_cast<unsigned long long>(packets_in), static_cast<unsigned long long>(packets_out),
+      static_cast<unsigned long long>(bytes_in), static_cast<unsigned long long>(bytes_out),
+      first_snapshot_ms, last_reconnect_ms, kills, deaths, kill_events, hits_dealt, reconnects,
+      matches, static_cast<unsigned long long>(inputs_sent),
+      static_cast<unsigned long long>(weapon_switches),
+      static_cast<unsigned long long>(bad_payloads), static_cast<unsigned long long>(bad_events),
+      static_cast<unsigned long long>(snapshots_refused),
+      static_cast<unsigned long long>(bad_control),
+      static_cast<unsigned long long>(transport_drops),
+      static_cast<unsigned long long>(send_failures));
+  return text;
+}
+
+}  // namespace ricochet::bot

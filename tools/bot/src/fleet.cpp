@@ -1,0 +1,112 @@
+#include "ricochet/bot/fleet.h"
+
+#include <cstdio>
+
+namespace ricochet::bot {
+namespace {
+
+ServerTrust make_trust(const BotConfig& config) {
+  if (!config.fingerprint.empty()) {
+    return ServerTrust::pinned(normalize_fingerprint(config.fingerprint).value_or(""));
+  }
+  return ServerTrust::on_first_use(config.trust_file);
+}
+
+std::string json_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(c));
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string FleetConfig::validate() const {
+  if (bots < 1 || bots > 10000) return "bots must be 1..10000, got " + std::to_string(bots);
+  if (start_spacing.count() < 0 || start_spacing.count() > 60000) {
+    return "start_spacing must be 0..60000 ms, got " + std::to_string(start_spacing.count());
+  }
+  BotConfig widest = bot;
+  if (bots > 1) {
+    widest.name += '-';
+    widest.name += std::to_string(bots);
+  }
+  return widest.validate();
+}
+
+Fleet::Fleet(boost::asio::io_context& io, FleetConfig config)
+    : io_(io),
+      config_(std::move(config)),
+      tls_(make_control_tls_context()),
+      trust_(make_trust(config_.bot)),
+      starter_(io) {
+  for (int k = 1; k <= config_.bots; ++k) {
+    BotConfig bot = config_.bot;
+    if (config_.bots > 1) {
+      bot.name += '-';
+      bot.name += std::to_string(k);
+    }
+    bot.seed = config_.bot.seed + static_cast<std::uint64_t>(k) - 1;
+    bots_.push_back(std::make_unique<Bot>(io_, tls_, trust_, std::move(bot)));
+    bots_.back()->on_done([this] {
+      if (++done_count_ == bots_.size() && on_done_) on_done_();
+    });
+  }
+}
+
+void Fleet::start() {
+  if (started_ >= bots_.size()) return;
+  bots_[started_++]->start();
+  if (started_ >= bots_.size()) return;
+  starter_.expires_after(config_.start_spacing);
+  starter_.async_wait([this](const boost::system::error_code& error) {
+    if (!error) start();
+  });
+}
+
+void Fleet::stop(std::string_view reason) {
+  starter_.cancel();
+  started_ = bots_.size();
+  for (const auto& bot : bots_) bot->stop(reason);
+}
+
+std::string Fleet::report_json() const {
+  BotMetrics total;
+  std::string per_bot;
+  for (const auto& bot : bots_) {
+    const BotMetrics metrics = bot->metrics();
+    total.merge(metrics);
+    if (!per_bot.empty()) per_bot += ',';
+    per_bot += "{\"name\":";
+    per_bot += json_string(bot->config().name);
+    per_bot += ",\"state\":\"";
+    per_bot += name(bot->state());
+    per_bot += "\",\"error\":";
+    per_bot += json_string(bot->record().error);
+    per_bot += ",\"metrics\":";
+    per_bot += metrics.to_json();
+    per_bot += '}';
+  }
+  std::string out = "{\"bots\":";
+  out += std::to_string(bots_.size());
+  out += ",\"done\":";
+  out += std::to_string(done_count_);
+  out += ",\"total\":";
+  out += total.to_json();
+  out += ",\"per_bot\":[";
+  out += per_bot;
+  out += "]}";
+  return out;
+}
+
+}  // namespace ricochet::bot
