@@ -23,10 +23,12 @@
 #include "ricochet/server/recording.h"
 #include "ricochet/server/match_replay.h"
 #include "ricochet/server/replay.h"
+#include "ricochet/tools/json_text.h"
 
 namespace {
 
 using namespace ricochet::server;
+using ricochet::tools::json_string;
 
 /// The whole file, or nothing and `error` set.
 std::optional<std::vector<std::uint8_t>> read_file(const std::string& path, std::string& error) {
@@ -48,23 +50,6 @@ std::optional<std::vector<std::uint8_t>> read_file(const std::string& path, std:
     return std::nullopt;
   }
   return bytes;
-}
-
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(c));
-      out += escaped;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 void print_text(const std::string& file, const ReplayReport& report,

@@ -2,31 +2,18 @@
 
 #include <cstdio>
 
+#include "ricochet/tools/json_text.h"
+
 namespace ricochet::bot {
 namespace {
+
+using tools::json_string;
 
 ServerTrust make_trust(const BotConfig& config) {
   if (!config.fingerprint.empty()) {
     return ServerTrust::pinned(normalize_fingerprint(config.fingerprint).value_or(""));
   }
   return ServerTrust::on_first_use(config.trust_file);
-}
-
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(c));
-      out += escaped;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 }  // namespace
