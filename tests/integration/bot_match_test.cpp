@@ -13,6 +13,10 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include <sys/wait.h>
 
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
@@ -25,11 +29,13 @@ namespace {
 using namespace std::chrono_literals;
 namespace asio = boost::asio;
 
-/// The [matches] table: one free-for-all match on the arena, no warm-up, no frag limit, seeded.
-std::string matches_toml(int min_players, double time_limit_s) {
+/// The [matches] table: one free-for-all match on the arena, no warm-up, no frag limit, seeded,
+/// recorded when `record`.
+std::string matches_toml(int min_players, double time_limit_s, bool record = false) {
   std::string toml = "count = 1\nmax_players = 16\nmaps = [\"" RICOCHET_SOURCE_DIR
-                     "/server/maps/arena.toml\"]\nseed = 42\nwarmup_s = 0\nfrag_limit = 0\n"
-                     "record = false\nmin_players = ";
+                     "/server/maps/arena.toml\"]\nseed = 42\nwarmup_s = 0\nfrag_limit = 0\n";
+  toml += record ? "record = true\n" : "record = false\n";
+  toml += "min_players = ";
   toml += std::to_string(min_players);
   toml += "\ntime_limit_s = ";
   toml += std::to_string(time_limit_s);
@@ -75,6 +81,28 @@ const wire::PlayerScore* score_of(const wire::MatchState& state, std::uint32_t e
   return nullptr;
 }
 
+/// `ricochet-replay --json FILE`: its exit code and what it printed.
+std::pair<int, std::string> replay(const std::filesystem::path& file) {
+  const std::string command =
+      std::string(RICOCHET_REPLAY_BINARY) + " --json '" + file.string() + "' 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string output;
+  char chunk[4096];
+  while (const std::size_t size = std::fread(chunk, 1, sizeof chunk, pipe)) output.append(chunk, size);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+/// The number after `"key":` in the replay's score object of `account` (-1 when absent).
+long long replay_score(const std::string& json, std::uint64_t account, const std::string& key) {
+  const auto at = json.find("{\"account\":" + std::to_string(account) + ",");
+  if (at == std::string::npos) return -1;
+  const auto field = json.find("\"" + key + "\":", at);
+  if (field == std::string::npos) return -1;
+  return std::stoll(json.substr(field + key.size() + 3));
+}
+
 std::unique_ptr<db::Store> open_database(const std::filesystem::path& path) {
   auto store = db::open_sqlite_store({.path = path.string()});
   if (!store.ok()) return nullptr;
@@ -82,7 +110,7 @@ std::unique_ptr<db::Store> open_database(const std::filesystem::path& path) {
 }
 
 TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
-  ServerProcess server(matches_toml(8, 10.0));
+  ServerProcess server(matches_toml(8, 10.0, /*record=*/true));
   ASSERT_TRUE(server.wait_listening()) << server.log();
   asio::io_context io;
   bot::FleetConfig config;
@@ -150,6 +178,25 @@ TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
   const auto matches = store->match_count();
   ASSERT_TRUE(matches.ok());
   EXPECT_GE(matches.value(), 1);
+
+  // The match's recording (the one match played: the next of the rotation, which nobody
+  // joined, keeps none) replays bit-exactly with ricochet-replay, to the same scores.
+  std::vector<std::filesystem::path> recordings;
+  for (const auto& entry : std::filesystem::directory_iterator(server.dir() / "data" / "recordings")) {
+    if (entry.path().extension() == ".rcr") recordings.push_back(entry.path());
+  }
+  ASSERT_EQ(recordings.size(), 1u);
+  const auto [exit_code, json] = replay(recordings[0]);
+  EXPECT_EQ(exit_code, 0) << json;
+  EXPECT_NE(json.find("\"complete\":true"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"hashes_differing\":0,"), std::string::npos) << json;
+  EXPECT_EQ(json.find("\"hashes_checked\":0,"), std::string::npos) << json;
+  for (const auto& each : fleet.bots()) {
+    const wire::PlayerMatchResult* mine = result_of(each->record().results.at(0), each->record().account_id);
+    ASSERT_NE(mine, nullptr);
+    EXPECT_EQ(replay_score(json, each->record().account_id, "kills"), mine->kills()) << json;
+    EXPECT_EQ(replay_score(json, each->record().account_id, "deaths"), mine->deaths()) << json;
+  }
   if (HasFailure()) std::cout << "server log:\n" << server.log();
 }
 
