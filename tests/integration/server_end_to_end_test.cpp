@@ -50,6 +50,28 @@ server::ServerConfig test_config(const std::filesystem::path& data_dir) {
   return config;
 }
 
+/// A player's totals in the database at `db_path` once the server has stopped; nothing, and a
+/// test failure naming why, when they cannot be read.
+std::optional<db::PlayerStats> stats_of(const std::string& db_path, const std::string& username) {
+  auto store = db::open_sqlite_store({.path = db_path});
+  if (!store) {
+    ADD_FAILURE() << store.error().message;
+    return std::nullopt;
+  }
+  const auto account = store.value()->find_account_by_key(username);
+  if (!account.ok() || !account.value().has_value()) {
+    ADD_FAILURE() << "no account " << username;
+    return std::nullopt;
+  }
+  db::Matches matches(*store.value());
+  auto stats = matches.player_stats(account.value()->account.id);
+  if (!stats) {
+    ADD_FAILURE() << stats.error().message;
+    return std::nullopt;
+  }
+  return stats.value();
+}
+
 /// One player: a signed-in control connection and, once joined, a game connection.
 struct Player {
   explicit Player(std::uint16_t control_port) : control(control_port) {}
@@ -233,16 +255,11 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   EXPECT_EQ(server_->wait(), 0);
   server_.reset();
 
-  auto store = db::open_sqlite_store({.path = dir_.file("ricochet.db")});
-  ASSERT_TRUE(store) << store.error().message;
-  db::Matches matches(*store.value());
-  const auto account = store.value()->find_account_by_key("alice");
-  ASSERT_TRUE(account.ok() && account.value().has_value());
-  const auto stats = matches.player_stats(account.value()->account.id);
-  ASSERT_TRUE(stats) << stats.error().message;
-  EXPECT_EQ(stats.value().matches, 1);  // an aborted match counts in the totals
-  EXPECT_EQ(stats.value().wins, 0);
-  EXPECT_GT(stats.value().seconds_played, 0.3);
+  const std::optional<db::PlayerStats> stats = stats_of(dir_.file("ricochet.db"), "alice");
+  ASSERT_TRUE(stats);
+  EXPECT_EQ(stats->matches, 1);  // an aborted match counts in the totals
+  EXPECT_EQ(stats->wins, 0);
+  EXPECT_GT(stats->seconds_played, 0.3);
   // Alice's match is recorded; the second match, which nobody joined, leaves no file.
   std::vector<std::string> recordings;
   for (const auto& entry : std::filesystem::directory_iterator(dir_.path() / "recordings")) {
@@ -436,18 +453,13 @@ TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotatio
   server->stop();
   EXPECT_EQ(server->wait(), 0);
   server.reset();
-  auto store = db::open_sqlite_store({.path = dir.file("ricochet.db")});
-  ASSERT_TRUE(store) << store.error().message;
-  db::Matches matches(*store.value());
-  const auto account = store.value()->find_account_by_key("alice");
-  ASSERT_TRUE(account.ok() && account.value().has_value());
-  const auto stats = matches.player_stats(account.value()->account.id);
-  ASSERT_TRUE(stats) << stats.error().message;
+  const std::optional<db::PlayerStats> stats = stats_of(dir.file("ricochet.db"), "alice");
+  ASSERT_TRUE(stats);
   // The first match, and the second, stopped by the server (aborted: counted, but no win).
-  EXPECT_EQ(stats.value().matches, 2);
-  EXPECT_EQ(stats.value().wins, 1);
-  EXPECT_GE(stats.value().shots, player.shots());
-  EXPECT_GT(stats.value().seconds_played, player.seconds_played());
+  EXPECT_EQ(stats->matches, 2);
+  EXPECT_EQ(stats->wins, 1);
+  EXPECT_GE(stats->shots, player.shots());
+  EXPECT_GT(stats->seconds_played, player.seconds_played());
 }
 
 TEST(ServerMatchEnd, ATeamDeathmatchEndsWithTheTeamsScoresAndEveryPlayerOnATeam) {
