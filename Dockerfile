@@ -3,10 +3,13 @@
 #   podman run -p 7777:7777/tcp -p 7778:7778/udp -p 9100:9100/tcp -v ricochet-data:/var/lib/ricochet ricochet
 #   podman run --rm ricochet ricochet-server --help        (every option and its default)
 #   podman run --rm ricochet physics-bench --bodies 256 --steps 60
+#   podman run --rm --network host ricochet ricochet-bot --port 7777 --trust-file /tmp/fp --bots 8
+#   podman run --rm -v ricochet-data:/var/lib/ricochet ricochet ricochet-replay FILE
 #   (in our sandbox `podman run` fails on setrlimit; use the script's `-- COMMAND`, which runs it with buildah)
 #
-# Stage 1 builds Release with CMake + Ninja; stage 2 is a slim runtime with only the binaries, the
-# sample map and the runtime libraries they link against.
+# Stage 1 builds Release with CMake + Ninja; stage 2 is a slim runtime with only the binaries (the
+# server, the bot, the replayer, two benches), the sample maps and the runtime libraries they
+# link against.
 
 ############################ build stage ############################
 FROM debian:bookworm AS build
@@ -20,12 +23,14 @@ COPY . /src
 WORKDIR /src
 
 # CMake targets to build; space separated.
-ARG RICOCHET_TARGETS="ricochet-server physics-bench db-bench"
+ARG RICOCHET_TARGETS="ricochet-server ricochet-bot ricochet-replay physics-bench db-bench"
 RUN cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release \
  && cmake --build build/release --target ${RICOCHET_TARGETS}
 
 # Everything the runtime stage needs, in one place.
 RUN install -D -m 0755 build/release/server/ricochet-server /out/bin/ricochet-server \
+ && install -D -m 0755 build/release/tools/bot/ricochet-bot /out/bin/ricochet-bot \
+ && install -D -m 0755 build/release/tools/replay/ricochet-replay /out/bin/ricochet-replay \
  && install -D -m 0755 build/release/tools/bench/physics-bench /out/bin/physics-bench \
  && install -D -m 0755 build/release/tools/bench/db-bench /out/bin/db-bench \
  && install -D -m 0644 -t /out/share/ricochet/maps \
