@@ -101,14 +101,6 @@ void visit_absolute(const QuantizedEntity& entity, const FieldWidths& widths, Ra
 }
 
 
-int absolute_bits(const QuantizedEntity& entity, const FieldWidths& widths) {
-  int bits = widths.position[0] + widths.position[1] + widths.position[2] + 3;
-  if (!velocity_is_zero(entity)) bits += 3 * widths.velocity;
-  if (!is_identity(entity)) bits += 2 + 3 * widths.orientation;
-  if (entity.flags != 0) bits += 8;
-  return bits;
-}
-
 bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& entity) {
   bool in_range = true;
   for (int a = 0; a < 3; ++a) {

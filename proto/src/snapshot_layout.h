@@ -97,8 +97,6 @@ struct Delta {
 Delta make_delta(const QuantizedEntity& baseline, const QuantizedEntity& current,
                  const FieldWidths& widths, const Prediction& prediction);
 
-/// Bits of a new entity's state, without its id (written by write_absolute_body below).
-int absolute_bits(const QuantizedEntity& entity, const FieldWidths& widths);
 /// Fills every field but the id; false on a value out of range (the reader may also fail).
 bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& entity);
 
