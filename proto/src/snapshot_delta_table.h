@@ -72,21 +72,22 @@ class DeltaTable {
  public:
   struct Way {
     std::uint64_t generation = 0;
-    std::int32_t group = -1;  ///< whose tallies hold this delta; -1: none
-    std::uint32_t listed = 0;  ///< bit g: in group g's list this generation
+    std::int32_t group = -1;    ///< whose tallies hold this delta; -1: none
+    std::uint32_t listed = 0;   ///< bit g: in group g's list this generation
     std::uint64_t used_by = 0;  ///< the last pass (begin_pass) that took this delta
     layout::Prediction prediction;
     QuantizedEntity baseline;
     layout::Delta delta;
     double change_m = 0;
-    /// The fields written for the two sets of orders last asked for (clients of one tick mostly
-    /// choose one or two), each with its layout::field_orders_key.
+    /// The fields written for the kBodies sets of orders last asked for (clients of one tick
+    /// mostly choose one or two), each with its layout::field_orders_key.
     struct Body {
       bool valid = false;
       std::uint64_t orders = 0;
       layout::DeltaBody bits;
     };
-    std::array<Body, 2> bodies;
+    static constexpr std::uint8_t kBodies = 4;
+    std::array<Body, kBodies> bodies;
     std::uint8_t next_body = 0;  ///< the one replaced next
 
     /// The fields written with `orders` (whose key is `orders_key`), written now if neither body
@@ -97,7 +98,7 @@ class DeltaTable {
         if (body.valid && body.orders == orders_key) return body.bits;
       }
       Body& body = bodies[next_body];
-      next_body ^= 1;
+      next_body = static_cast<std::uint8_t>((next_body + 1) % kBodies);
       layout::write_delta_body(body.bits, delta, orders, widths);
       body.orders = orders_key;
       body.valid = true;
@@ -193,7 +194,7 @@ class DeltaTable {
     way->baseline = baseline;
     way->delta = layout::make_delta(baseline, now, widths, prediction);
     way->change_m = change_m;
-    way->bodies[0].valid = way->bodies[1].valid = false;
+    for (Way::Body& body : way->bodies) body.valid = false;
     way->next_body = 0;
     if (way->generation != generation_) way->listed = 0;
     way->generation = generation_;

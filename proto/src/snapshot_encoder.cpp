@@ -59,34 +59,20 @@ struct Candidate {
   std::uint32_t baseline_index = 0;  ///< Removed, Changed
   std::uint32_t world_index = 0;     ///< Added, Changed
   float priority = 0;
-  int bits = 0;                      ///< estimate, for the budget
-  DeltaTable::Way* way = nullptr;    ///< Changed: its delta
+  int bits = 0;                    ///< estimate, for the budget
+  DeltaTable::Way* way = nullptr;  ///< Changed: its delta
   /// Changed: its fields written with this encode's orders (estimate_costs).
   const layout::DeltaBody* body = nullptr;
-
-  static Candidate of(Kind kind, std::size_t baseline_index, std::size_t world_index,
-                      float priority = 0) {
-    Candidate candidate;
-    candidate.kind = kind;
-    candidate.baseline_index = static_cast<std::uint32_t>(baseline_index);
-    candidate.world_index = static_cast<std::uint32_t>(world_index);
-    candidate.priority = priority;
-    return candidate;
-  }
 };
 
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
 struct EncodeBuffers {
   std::vector<Candidate> candidates;
-  std::vector<std::pair<float, std::uint32_t>> drop_heap;  ///< drop_lowest's
-  FieldTallies tallies;                                    ///< estimate_costs'
+  std::vector<std::pair<float, std::uint32_t>> drop_heap;             ///< drop_lowest's
+  FieldTallies tallies;                                               ///< estimate_costs'
   std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;  ///< write's
-  std::vector<std::uint32_t> removed_before;
   std::vector<std::uint32_t> added;
   std::vector<const Candidate*> changed;
-  std::vector<std::uint8_t> view_removed;  ///< build_view's
-  std::vector<std::int64_t> view_change_of;
-  std::vector<std::uint32_t> view_added;
 };
 
 /// One encode: the baseline and the world, what differs, what goes in, the stream and the view
@@ -153,11 +139,12 @@ class EncodePass {
   std::vector<Candidate>& candidates_;
   std::size_t selected_count_ = 0;
   bool drop_heap_built_ = false;  ///< buffers_.drop_heap holds the selected candidates
-  DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
-  std::uint64_t pass_;  ///< marks the deltas this pass takes
+  DeltaTable& deltas_;            ///< the encoder's own, or the tick's shared one
+  std::uint64_t pass_;            ///< marks the deltas this pass takes
 };
 
-float EncodePass::distance_weight(std::size_t world_index, std::array<float, 3> viewer_m) const {
+inline float EncodePass::distance_weight(std::size_t world_index,
+                                         std::array<float, 3> viewer_m) const {
   const std::array<double, 3>& position_m = deltas_.position_m(world_index);
   double squared = 0;
   for (int a = 0; a < 3; ++a) {
@@ -187,33 +174,40 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
   const bool viewer_nowhere =
       !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
   std::size_t p = 0;
-  auto add_world_candidate = [&](Candidate candidate, double change) {
-    const QuantizedEntity& entity = world_[candidate.world_index];
-    while (p < carried.size() && carried[p].first < entity.id) ++p;
-    const float before =
-        p < carried.size() && carried[p].first == entity.id ? carried[p].second : 0;
-    const float weight = viewer_nowhere ? 1.0f : distance_weight(candidate.world_index, viewer_m);
+  // A world entity's candidate, its priority what it carried plus its change at its distance.
+  auto add_world_candidate = [&](Candidate::Kind kind, std::size_t j, std::size_t i,
+                                 DeltaTable::Way* way, double change) {
+    const std::uint32_t id = world_[i].id;
+    while (p < carried.size() && carried[p].first < id) ++p;
+    const float before = p < carried.size() && carried[p].first == id ? carried[p].second : 0;
+    const float weight = viewer_nowhere ? 1.0f : distance_weight(i, viewer_m);
+    Candidate& candidate = candidates_.emplace_back();
+    candidate.kind = kind;
+    candidate.baseline_index = static_cast<std::uint32_t>(j);
+    candidate.world_index = static_cast<std::uint32_t>(i);
+    candidate.way = way;
     candidate.priority = before + static_cast<float>(change) * weight;
-    candidates_.push_back(candidate);
   };
   std::size_t i = 0, j = 0;
   while (i < world_.size() || j < baseline_.size()) {
     if (i == world_.size() || (j < baseline_.size() && baseline_[j].id < world_[i].id)) {
-      candidates_.push_back(Candidate::of(Candidate::Kind::Removed, j, 0, kRemovalPriority));
+      Candidate& candidate = candidates_.emplace_back();
+      candidate.kind = Candidate::Kind::Removed;
+      candidate.baseline_index = static_cast<std::uint32_t>(j);
+      candidate.priority = kRemovalPriority;
       ++j;
     } else if (j == baseline_.size() || world_[i].id < baseline_[j].id) {
-      add_world_candidate(Candidate::of(Candidate::Kind::Added, 0, i), kNewEntityChange_m);
+      add_world_candidate(Candidate::Kind::Added, 0, i, nullptr, kNewEntityChange_m);
       ++i;
     } else {
       if (!same_state(world_[i], baseline_[j])) {
-        Candidate candidate = Candidate::of(Candidate::Kind::Changed, j, i);
-        candidate.way = deltas_.find(i, baseline_[j], prediction_);
-        if (!candidate.way) {
-          candidate.way = &deltas_.claim(i, baseline_[j], world_[i], widths_, prediction_,
-                                         change_m(baseline_[j], world_[i]));
+        DeltaTable::Way* way = deltas_.find(i, baseline_[j], prediction_);
+        if (!way) {
+          way = &deltas_.claim(i, baseline_[j], world_[i], widths_, prediction_,
+                               change_m(baseline_[j], world_[i]));
         }
-        candidate.way->used_by = pass_;
-        add_world_candidate(candidate, candidate.way->change_m);
+        way->used_by = pass_;
+        add_world_candidate(Candidate::Kind::Changed, j, i, way, way->change_m);
       }
       ++i;
       ++j;
@@ -303,25 +297,46 @@ Candidate& EncodePass::drop_lowest() {
 
 bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
   stream.clear();
-  // Removals, as gaps between baseline indices.
+  // One walk over the candidates (in id order, so in baseline order too) gathers the selected
+  // ones of each kind with their gaps: removals between baseline indices, new entities between
+  // ids, changes between indices among the kept baseline entities.
   std::vector<std::uint64_t>& removed_gaps = buffers_.removed_gaps;
   std::vector<std::uint64_t>& added_gaps = buffers_.added_gaps;
   std::vector<std::uint64_t>& changed_gaps = buffers_.changed_gaps;
+  std::vector<std::uint32_t>& added = buffers_.added;  // world indices
+  std::vector<const Candidate*>& changed = buffers_.changed;
   removed_gaps.clear();
   added_gaps.clear();
   changed_gaps.clear();
-  std::vector<std::uint32_t>& removed_before = buffers_.removed_before;
-  removed_before.assign(baseline_.size() + 1, 0);
+  added.clear();
+  changed.clear();
   {
-    std::int64_t previous = -1;
+    std::int64_t previous_removed = -1, previous_added = -1, previous_kept = -1;
+    std::int64_t removed_before = 0;  // selected removals of lower baseline index
     for (const Candidate& c : candidates_) {
-      if (!c.selected || c.kind != Candidate::Kind::Removed) continue;
-      removed_gaps.push_back(static_cast<std::uint64_t>(c.baseline_index - previous - 1));
-      previous = c.baseline_index;
-      removed_before[c.baseline_index + 1] = 1;
-    }
-    for (std::size_t k = 1; k < removed_before.size(); ++k) {
-      removed_before[k] += removed_before[k - 1];
+      if (!c.selected) continue;
+      switch (c.kind) {
+        case Candidate::Kind::Removed:
+          removed_gaps.push_back(
+              static_cast<std::uint64_t>(c.baseline_index - previous_removed - 1));
+          previous_removed = c.baseline_index;
+          ++removed_before;
+          break;
+        case Candidate::Kind::Added: {
+          const std::int64_t id = world_[c.world_index].id;
+          added_gaps.push_back(static_cast<std::uint64_t>(id - previous_added - 1));
+          previous_added = id;
+          added.push_back(c.world_index);
+          break;
+        }
+        case Candidate::Kind::Changed: {
+          const std::int64_t kept_index = c.baseline_index - removed_before;
+          changed_gaps.push_back(static_cast<std::uint64_t>(kept_index - previous_kept - 1));
+          previous_kept = kept_index;
+          changed.push_back(&c);
+          break;
+        }
+      }
     }
   }
   stream.write_exp_golomb(removed_gaps.size(), 0);
@@ -331,18 +346,6 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     for (const std::uint64_t gap : removed_gaps) layout::write_code(stream, gap, order);
   }
   // New entities: id gaps, each followed by the entity's absolute state.
-  std::vector<std::uint32_t>& added = buffers_.added;  // world indices
-  added.clear();
-  {
-    std::int64_t previous = -1;
-    for (const Candidate& c : candidates_) {
-      if (!c.selected || c.kind != Candidate::Kind::Added) continue;
-      const QuantizedEntity& entity = world_[c.world_index];
-      added_gaps.push_back(static_cast<std::uint64_t>(entity.id - previous - 1));
-      previous = entity.id;
-      added.push_back(c.world_index);
-    }
-  }
   stream.write_exp_golomb(added.size(), 0);
   if (!added.empty()) {
     const int order = layout::best_order(added_gaps);
@@ -355,18 +358,6 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
     }
   }
   // Changes, as gaps between indices among the kept baseline entities.
-  std::vector<const Candidate*>& changed = buffers_.changed;
-  changed.clear();
-  {
-    std::int64_t previous = -1;
-    for (const Candidate& c : candidates_) {
-      if (!c.selected || c.kind != Candidate::Kind::Changed) continue;
-      const std::int64_t kept_index = c.baseline_index - removed_before[c.baseline_index];
-      changed_gaps.push_back(static_cast<std::uint64_t>(kept_index - previous - 1));
-      previous = kept_index;
-      changed.push_back(&c);
-    }
-  }
   stream.write_exp_golomb(changed.size(), 0);
   if (!changed.empty()) {
     layout::DeltaOrders chosen = orders_;
@@ -399,30 +390,33 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
 }
 
 void EncodePass::build_view(std::vector<QuantizedEntity>& view) {
-  std::vector<std::uint8_t>& removed = buffers_.view_removed;
-  std::vector<std::int64_t>& change_of = buffers_.view_change_of;
-  std::vector<std::uint32_t>& added = buffers_.view_added;
-  removed.assign(baseline_.size(), 0);
-  change_of.assign(baseline_.size(), -1);
-  added.clear();
-  for (const Candidate& c : candidates_) {
-    if (!c.selected) continue;
-    if (c.kind == Candidate::Kind::Removed) removed[c.baseline_index] = 1;
-    if (c.kind == Candidate::Kind::Changed) change_of[c.baseline_index] = c.world_index;
-    if (c.kind == Candidate::Kind::Added) added.push_back(c.world_index);
-  }
-  std::size_t removed_count = 0;
-  for (const std::uint8_t gone : removed) removed_count += gone;
-  view.resize(baseline_.size() - removed_count + added.size());
-  QuantizedEntity* out = view.data();
-  std::size_t a = 0;
+  // Baseline and candidates merged by id: the candidates (in id order) are every difference.
+  view.clear();
+  std::size_t next = 0;
+  const auto new_before = [&](std::uint32_t id) {
+    return next < candidates_.size() && candidates_[next].kind == Candidate::Kind::Added &&
+           world_[candidates_[next].world_index].id < id;
+  };
   for (std::size_t k = 0; k < baseline_.size(); ++k) {
-    if (removed[k]) continue;
-    while (a < added.size() && world_[added[a]].id < baseline_[k].id) *out++ = world_[added[a++]];
-    *out++ = change_of[k] >= 0 ? world_[static_cast<std::size_t>(change_of[k])] : baseline_[k];
+    for (; new_before(baseline_[k].id); ++next) {
+      if (candidates_[next].selected) view.push_back(world_[candidates_[next].world_index]);
+    }
+    if (next < candidates_.size() && candidates_[next].kind != Candidate::Kind::Added &&
+        candidates_[next].baseline_index == k) {
+      const Candidate& c = candidates_[next++];
+      if (c.kind == Candidate::Kind::Changed && c.selected) {
+        view.push_back(world_[c.world_index]);
+      } else if (!c.selected) {
+        view.push_back(baseline_[k]);  // left out: the client keeps its baseline state
+      }
+    } else {
+      view.push_back(baseline_[k]);
+    }
   }
-  while (a < added.size()) *out++ = world_[added[a++]];
-  assert(out == view.data() + view.size());
+  for (; next < candidates_.size(); ++next) {  // new entities after the last baseline one
+    assert(candidates_[next].kind == Candidate::Kind::Added);
+    if (candidates_[next].selected) view.push_back(world_[candidates_[next].world_index]);
+  }
 }
 
 std::size_t EncodePass::carry_priorities(
