@@ -6,7 +6,7 @@ namespace ricochet::proto {
 
 const std::vector<std::uint8_t>& BitWriter::bytes() const {
   bytes_.resize(flushed_bytes_);
-  for (int left = pending_bits_; left > 0; left -= 8) {
+  for (int left = 64 - free_bits_; left > 0; left -= 8) {
     const std::uint64_t top = left >= 8 ? pending_ >> (left - 8) : pending_ << (8 - left);
     bytes_.push_back(static_cast<std::uint8_t>(top));
   }
@@ -16,7 +16,7 @@ const std::vector<std::uint8_t>& BitWriter::bytes() const {
 void BitWriter::clear() {
   flushed_bytes_ = 0;  // bytes_ keeps its size as room for the next stream
   pending_ = 0;
-  pending_bits_ = 0;
+  free_bits_ = 64;
   bit_count_ = 0;
 }
 

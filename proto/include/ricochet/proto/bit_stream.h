@@ -17,6 +17,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -70,18 +71,24 @@ class BitWriter {
   /// Appends the low `bits` bits of value (0 <= bits <= 64), most significant first.
   void write_bits(std::uint64_t value, int bits) {
     if (bits <= 0) return;
-    if (bits > 32) {  // the high part first, then the low 32 bits
-      write_bits(value >> 32, bits - 32);
-      bits = 32;
-    }
-    // Fewer than 32 bits are pending, so all of them and these fit the 64-bit accumulator.
-    pending_ = (pending_ << bits) | (value & ((std::uint64_t{1} << bits) - 1));
-    pending_bits_ += bits;
+    if (bits < 64) value &= (std::uint64_t{1} << bits) - 1;
     bit_count_ += static_cast<std::size_t>(bits);
-    if (pending_bits_ >= 32) flush_word();
+    if (bits < free_bits_) {
+      pending_ = (pending_ << bits) | value;
+      free_bits_ -= bits;
+      return;
+    }
+    // The accumulator fills up: its bits and value's top ones go out as 8 bytes.
+    const int rest = bits - free_bits_;  // 0..63 bits of value left over
+    const std::uint64_t word = (free_bits_ < 64 ? pending_ << free_bits_ : 0) | (value >> rest);
+    flush_word(word);
+    pending_ = rest == 0 ? 0 : value & ((std::uint64_t{1} << rest) - 1);
+    free_bits_ = 64 - rest;
   }
   void write_bool(bool value) { write_bits(value ? 1 : 0, 1); }
-  void write_exp_golomb(std::uint64_t value, int order) { write_exp_golomb_to(*this, value, order); }
+  void write_exp_golomb(std::uint64_t value, int order) {
+    write_exp_golomb_to(*this, value, order);
+  }
   void write_signed_exp_golomb(std::int64_t value, int order) {
     write_exp_golomb(zigzag(value), order);
   }
@@ -91,29 +98,26 @@ class BitWriter {
   void clear();
 
  private:
-  /// Moves the oldest 32 pending bits into bytes_ as 4 bytes.
-  void flush_word() {
+  /// Appends `word` as 8 bytes, most significant first.
+  void flush_word(std::uint64_t word) {
     // bytes_ past flushed_bytes_ is scratch (what bytes() appended, or room from before a
     // clear); it grows by doubling, so a stream of n bytes resizes it O(log n) times.
-    if (bytes_.size() < flushed_bytes_ + 4) {
+    if (bytes_.size() < flushed_bytes_ + 8) {
       bytes_.resize(std::max<std::size_t>(64, 2 * bytes_.size()));
     }
-    const auto word = static_cast<std::uint32_t>(pending_ >> (pending_bits_ - 32));
-    std::uint8_t* out = bytes_.data() + flushed_bytes_;
-    out[0] = static_cast<std::uint8_t>(word >> 24);
-    out[1] = static_cast<std::uint8_t>(word >> 16);
-    out[2] = static_cast<std::uint8_t>(word >> 8);
-    out[3] = static_cast<std::uint8_t>(word);
-    flushed_bytes_ += 4;
-    pending_bits_ -= 32;
+    static_assert(std::endian::native == std::endian::little ||
+                  std::endian::native == std::endian::big);
+    if constexpr (std::endian::native == std::endian::little) word = __builtin_bswap64(word);
+    std::memcpy(bytes_.data() + flushed_bytes_, &word, sizeof word);
+    flushed_bytes_ += 8;
   }
 
   /// The first flushed_bytes_ bytes are written; bytes() appends the pending bits after them,
   /// which is why it is mutable (the bits written are the same either way).
   mutable std::vector<std::uint8_t> bytes_;
   std::size_t flushed_bytes_ = 0;
-  std::uint64_t pending_ = 0;  ///< its low pending_bits_ bits follow bytes_[flushed_bytes_ - 1]
-  int pending_bits_ = 0;       ///< 0..31 between calls
+  std::uint64_t pending_ = 0;  ///< its low 64 - free_bits_ bits follow bytes_[flushed_bytes_ - 1]
+  int free_bits_ = 64;         ///< 1..64 between calls
   std::size_t bit_count_ = 0;
 };
 
