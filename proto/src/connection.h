@@ -54,6 +54,8 @@ class Connection {
   bool timed_out(TimeUs now) const { return now - last_received_ >= timing_.timeout_us; }
   std::uint64_t reliable_resends() const { return sender_.resends(); }
   TimeUs rtt_us() const { return sent_.rtt_us(); }
+  /// The peer's sequences accepted so far (ReplayWindow::missing and late).
+  const ReplayWindow& received() const { return replay_; }
   std::size_t reliable_pending() const { return sender_.pending(); }
 
  private:

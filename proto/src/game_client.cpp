@@ -239,4 +239,10 @@ const TransportCounters& GameClient::counters() const {
   return state_->counters;
 }
 
+GameClient::ReceiveStats GameClient::receive_stats() const {
+  const ReplayWindow& received = state_->connection.received();
+  if (!received.any_received()) return {};
+  return {received.newest() + 1, received.missing(), received.late()};
+}
+
 }  // namespace ricochet::proto

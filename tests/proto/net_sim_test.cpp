@@ -102,6 +102,13 @@ TEST(NetSim, ConnectsAndDeliversReliablesInOrderOnceAt20PercentLoss200msAndJitte
     EXPECT_GT(peer.client->counters().dropped(DropReason::Replayed), 0u) << "duplicates refused";
     EXPECT_GT(peer.client->rtt_us(), 300 * kMs);
     EXPECT_LT(peer.client->rtt_us(), 600 * kMs);
+    // The server's packets by sequence: about a fifth never came, and jitter reordered some.
+    const GameClient::ReceiveStats received = peer.client->receive_stats();
+    EXPECT_GT(received.sent, 100u);
+    const double loss = static_cast<double>(received.missing) / static_cast<double>(received.sent);
+    EXPECT_GT(loss, 0.12);
+    EXPECT_LT(loss, 0.28);
+    EXPECT_GT(received.late, 0u);
   }
   EXPECT_EQ(run.world.server.counters().dropped(DropReason::ForgedMac), 0u);
   EXPECT_EQ(run.world.server.counters().connected, 4u);

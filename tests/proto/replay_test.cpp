@@ -21,6 +21,22 @@ TEST(ReplayWindow, AcceptsEachSequenceOnceInAnyOrderWithin256) {
   EXPECT_TRUE(window.already_received(9));
 }
 
+TEST(ReplayWindow, CountsTheSequencesBelowTheNewestThatNeverCameAndThoseThatCameLate) {
+  ReplayWindow window;
+  // 0 lost; 1, 2; 3 and 4 lost; 6 before 5; 5 late; 8, then 7 late.
+  window.mark_received(1);
+  EXPECT_EQ(window.missing(), 1u) << "sequences start at 0";
+  window.mark_received(2);
+  window.mark_received(6);
+  EXPECT_EQ(window.missing(), 4u);
+  window.mark_received(5);
+  window.mark_received(8);
+  window.mark_received(7);
+  EXPECT_EQ(window.missing(), 3u);  // 0, 3, 4
+  EXPECT_EQ(window.late(), 2u);     // 5, 7
+  EXPECT_EQ(window.newest(), 8u);
+}
+
 TEST(ReplayWindow, AckHeaderNamesTheNewestAndTheBitsBehindIt) {
   ReplayWindow window;
   for (std::uint64_t sequence : {70000u, 69999u, 69997u, 69968u}) window.mark_received(sequence);

@@ -1,7 +1,7 @@
 #pragma once
-/// The client end of the game channel as a sans-IO state machine (PROTOCOL.md Game channel transport):
-/// SendingRequest → SendingResponse → Connected → Disconnected(reason). Used by the bot client
-/// and the tests. One GameClient per connect token; a reconnect takes a new token and a new
+/// The client end of the game channel as a sans-IO state machine (PROTOCOL.md Game channel
+/// transport): SendingRequest → SendingResponse → Connected → Disconnected(reason). Used by the bot
+/// client and the tests. One GameClient per connect token; a reconnect takes a new token and a new
 /// GameClient. Not thread-safe.
 
 #include <cstdint>
@@ -75,6 +75,16 @@ class GameClient {
   std::optional<DisconnectReason> disconnect_reason() const;
   TimeUs rtt_us() const;
   const TransportCounters& counters() const;
+
+  /// The server's packets on this connection, by sequence: every packet it sends (payload,
+  /// keep-alive, disconnect) takes the next one, so missing / sent is the link's loss towards
+  /// the client, whatever the packets carried (a tick without a snapshot is not a loss).
+  struct ReceiveStats {
+    std::uint64_t sent = 0;     ///< the newest sequence accepted + 1; 0 before any
+    std::uint64_t missing = 0;  ///< of those, never accepted (lost, or too late for the window)
+    std::uint64_t late = 0;     ///< accepted after a newer one
+  };
+  ReceiveStats receive_stats() const;
 
  private:
   struct State;

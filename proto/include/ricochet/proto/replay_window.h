@@ -1,7 +1,7 @@
 #pragma once
-/// The 256-entry replay window (PROTOCOL.md Game channel transport §replay): a packet is accepted once, and
-/// never when it is 256 or more sequences older than the newest accepted one. The same window
-/// gives the 16-bit ack and 32 ack bits this end puts in every packet it sends.
+/// The 256-entry replay window (PROTOCOL.md Game channel transport §replay): a packet is accepted
+/// once, and never when it is 256 or more sequences older than the newest accepted one. The same
+/// window gives the 16-bit ack and 32 ack bits this end puts in every packet it sends.
 
 #include <array>
 #include <cstdint>
@@ -23,10 +23,24 @@ class ReplayWindow {
   }
   /// Call only after the packet authenticated.
   void mark_received(std::uint64_t sequence) {
+    if (!any_) {
+      missing_ = sequence;  // the peer's sequences start at 0
+    } else if (sequence > newest_) {
+      missing_ += sequence - newest_ - 1;
+    } else {
+      --missing_;  // a gap below the newest filled
+      ++late_;
+    }
     if (!any_ || sequence > newest_) newest_ = sequence;
     any_ = true;
     slots_[sequence % kSize] = sequence;
   }
+  /// Sequences below the newest accepted one never accepted: lost on the way, too late for the
+  /// window, or still on their way. Every packet the peer sends takes the next sequence, so
+  /// missing() / (newest() + 1) is the link's loss towards this end, whatever the packets held.
+  std::uint64_t missing() const { return missing_; }
+  /// Packets accepted after a newer one (reordered or delayed on the way).
+  std::uint64_t late() const { return late_; }
   /// Ack of the newest accepted sequence; bit i set when newest - 1 - i was accepted.
   AckHeader ack_header() const {
     AckHeader ack;
@@ -50,6 +64,8 @@ class ReplayWindow {
   }();
   std::uint64_t newest_ = 0;
   bool any_ = false;
+  std::uint64_t missing_ = 0;
+  std::uint64_t late_ = 0;
 };
 
 }  // namespace ricochet::proto
