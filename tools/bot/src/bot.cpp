@@ -108,6 +108,7 @@ Bot::Bot(asio::io_context& io, asio::ssl::context& tls, ServerTrust& trust, BotC
       ping_timer_(io),
       alive_(std::make_shared<bool>(true)) {
   control_endpoint_ = {asio::ip::make_address(config_.host), config_.control_port};
+  if (!config_.bind_address.empty()) local_address_ = asio::ip::make_address(config_.bind_address);
 }
 
 Bot::~Bot() {
@@ -152,7 +153,10 @@ void Bot::finish(std::string_view reason, std::string error) {
     control_->close();
     control_.reset();
   }
-  if (!error.empty()) spdlog::error("bot {}: {}", config_.name, error);
+  if (!error.empty()) {
+    spdlog::error("bot {}: {}", config_.name, error);
+    if (on_failure_) on_failure_(error);
+  }
   record_.error = std::move(error);
   transition(BotState::Done, reason);
   if (auto callback = std::move(on_done_)) callback();
@@ -160,6 +164,7 @@ void Bot::finish(std::string_view reason, std::string error) {
 
 void Bot::fail_attempt(const std::string& reason, Retry retry) {
   if (state_ == BotState::Done) return;
+  if (on_failure_) on_failure_(reason);
   if (++failed_attempts_ > config_.max_reconnect_attempts) {
     return finish("giving up", "gave up after " + std::to_string(config_.max_reconnect_attempts) +
                                    " failed attempts in a row; the last: " + reason);
@@ -208,7 +213,7 @@ void Bot::connect_control() {
           guarded([this](const std::string& error) { on_control_ready(error); }),
           guarded([this](const wire::ServerMessage& message) { on_control_push(message); }),
           guarded([this](const std::string& reason) { on_control_closed(reason); })});
-  control_->connect(control_endpoint_);
+  control_->connect(control_endpoint_, local_address_);
   arm(kConnectTimeoutS, [this] {
     fail_attempt("timed out connecting to the control channel", Retry::NewConnection);
   });
@@ -423,9 +428,15 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
   arrived_ = false;
   entity_recorded_ = false;
   match_over_ = false;
-  auto game = std::make_shared<GameSession>(
-      io_, game_endpoint_, std::move(grant),
-      guarded([this](proto::ClientEvent& event) { on_game_event(event); }));
+  std::shared_ptr<GameSession> game;
+  try {
+    game = std::make_shared<GameSession>(
+        io_, game_endpoint_, std::move(grant),
+        guarded([this](proto::ClientEvent& event) { on_game_event(event); }), local_address_);
+  } catch (const boost::system::system_error& error) {
+    return fail_attempt(std::string("cannot open a UDP socket: ") + error.what(),
+                        Retry::SameConnection);
+  }
   game_ = game;
   record_.local_ports.push_back(game->local_port());
   transition(BotState::Handshaking, "joined match " + std::to_string(match_id_) +

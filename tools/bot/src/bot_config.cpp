@@ -24,6 +24,13 @@ std::string BotConfig::validate() const {
   boost::asio::ip::make_address(host, error);
   if (error) return "host must be a numeric IPv4 or IPv6 address, got \"" + host + "\"";
   if (control_port == 0) return "control_port must be 1..65535, got 0";
+  if (!bind_address.empty()) {
+    const auto local = boost::asio::ip::make_address(bind_address, error);
+    if (error || local.is_v4() != boost::asio::ip::make_address(host).is_v4()) {
+      return "bind_address must be a numeric address of the host's family, got \"" +
+             bind_address + "\"";
+    }
+  }
   if (!fingerprint.empty() && !normalize_fingerprint(fingerprint)) {
     return "fingerprint must be 32 hex pairs separated by ':' (as the server logs it), got \"" +
            fingerprint + "\"";

@@ -39,7 +39,9 @@ proto::ClientConnectInfo connect_info(const asio::ip::udp::endpoint& server,
   return info;
 }
 
-asio::ip::udp::endpoint any_local(const asio::ip::udp::endpoint& server) {
+asio::ip::udp::endpoint local_endpoint(const asio::ip::udp::endpoint& server,
+                                       const asio::ip::address& local) {
+  if (!local.is_unspecified()) return {local, 0};
   return {server.address().is_v4() ? asio::ip::address(asio::ip::address_v4::any())
                                    : asio::ip::address(asio::ip::address_v6::any()),
           0};
@@ -48,8 +50,9 @@ asio::ip::udp::endpoint any_local(const asio::ip::udp::endpoint& server) {
 }  // namespace
 
 GameSession::GameSession(asio::io_context& io, const asio::ip::udp::endpoint& server,
-                         proto::TokenGrant grant, EventHandler on_event)
-    : socket_(io, any_local(server)),
+                         proto::TokenGrant grant, EventHandler on_event,
+                         const asio::ip::address& local)
+    : socket_(io, local_endpoint(server, local)),
       server_(server),
       client_(connect_info(server, std::move(grant)), steady_now_us()),
       on_event_(std::move(on_event)) {

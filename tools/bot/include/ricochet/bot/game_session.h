@@ -27,10 +27,11 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
  public:
   using EventHandler = std::function<void(proto::ClientEvent& event)>;
 
-  /// Binds a new socket (any free port on the local address of the server's family); the
-  /// connection request goes out at once.
+  /// Binds a new socket (any free port on `local`, or on the any address of the server's family
+  /// when `local` is unspecified); the connection request goes out at once.
   GameSession(boost::asio::io_context& io, const boost::asio::ip::udp::endpoint& server,
-              proto::TokenGrant grant, EventHandler on_event);
+              proto::TokenGrant grant, EventHandler on_event,
+              const boost::asio::ip::address& local = {});
   GameSession(const GameSession&) = delete;
   GameSession& operator=(const GameSession&) = delete;
 
