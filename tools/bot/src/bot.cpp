@@ -573,6 +573,7 @@ void Bot::on_game_lost(proto::DisconnectReason reason) {
     return;
   }
   if (state_ == BotState::Handshaking) return fail_attempt(why, Retry::SameConnection);
+  if (on_failure_) on_failure_(why);
   reconnect(why);
 }
 
