@@ -447,6 +447,13 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
   game->start();
   const proto::TimeUs now = steady_now_us();
   next_tick_us_ = now;
+  if (config_.tick_phases > 0) {
+    // On the shared grid: the last grid point of this bot's phase at or before now.
+    const proto::TimeUs phase = tick_period_us_ *
+                                static_cast<proto::TimeUs>(config_.seed % config_.tick_phases) /
+                                config_.tick_phases;
+    next_tick_us_ = (now - phase) / tick_period_us_ * tick_period_us_ + phase;
+  }
   if (game_ == game) schedule_tick(now);
 }
 
@@ -595,8 +602,10 @@ void Bot::close_game(bool tell_server) {
 
 void Bot::schedule_tick(proto::TimeUs now) {
   next_tick_us_ += tick_period_us_;
-  // After a stall, start again from now instead of sending a burst.
-  if (next_tick_us_ < now - tick_period_us_) next_tick_us_ = now + tick_period_us_;
+  // After a stall, start again from now (on the grid, if any) instead of sending a burst.
+  if (next_tick_us_ < now - tick_period_us_) {
+    next_tick_us_ += (now - next_tick_us_) / tick_period_us_ * tick_period_us_ + tick_period_us_;
+  }
   tick_timer_.expires_at(asio::steady_timer::time_point(std::chrono::microseconds(next_tick_us_)));
   tick_timer_.async_wait(guarded([this](const boost::system::error_code& error) {
     if (!error) tick();

@@ -44,6 +44,9 @@ std::string BotConfig::validate() const {
   if (password.size() < 8 || password.size() > 1024) {
     return "password must be 8..1024 bytes, got " + std::to_string(password.size());
   }
+  if (tick_phases < 0 || tick_phases > 64) {
+    return "tick_phases must be 0..64, got " + std::to_string(tick_phases);
+  }
   if (!(skill >= 0 && skill <= 1)) return "skill must be 0..1, got " + std::to_string(skill);
   if (!(rebind_after_s >= 0 && rebind_after_s <= 86400)) {
     return "rebind_after_s must be 0..86400, got " + std::to_string(rebind_after_s);

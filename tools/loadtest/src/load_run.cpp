@@ -18,6 +18,9 @@ namespace asio = boost::asio;
 namespace {
 
 constexpr double kScrapeTimeoutS = 5;
+/// The bots' input ticks fall on 8 phases of a shared grid: 8 timer wake-ups per tick for the
+/// whole process (not one per bot), and bursts at the server of an eighth of the bots.
+constexpr int kTickPhases = 8;
 
 std::chrono::microseconds micros(double seconds) {
   return std::chrono::microseconds(static_cast<std::int64_t>(seconds * 1e6));
@@ -82,6 +85,7 @@ void LoadRun::begin_step() {
   fleet.bot.seed = static_cast<std::uint64_t>(bots_started_) + 1;
   fleet.bot.predict = !config_.cheap;
   fleet.bot.max_reconnect_attempts = 20;
+  fleet.bot.tick_phases = kTickPhases;
   fleet.bots = added;
   fleet.start_spacing =
       std::chrono::milliseconds(static_cast<std::int64_t>(std::lround(1000.0 / config_.ramp_per_s)));

@@ -57,6 +57,20 @@ std::string report_json(const LoadRun& run, const LoadTestConfig& config,
   return out;
 }
 
+/// One JSON line per step, each with when and how it was measured (for results/*.jsonl).
+std::string steps_lines(const LoadRun& run, const LoadTestConfig& config,
+                        const ReportContext& context) {
+  std::string out;
+  for (const StepSummary& step : run.steps()) {
+    out += "{\"bench\":\"capacity\",\"measured_at_utc\":" + json_string(context.measured_at_utc) +
+           ",\"command\":" + json_string(context.command) +
+           ",\"match_size\":" + std::to_string(config.match_size) +
+           ",\"cheap\":" + (config.cheap ? "true" : "false") + ',' + step.to_json().substr(1) +
+           '\n';
+  }
+  return out;
+}
+
 bool write_file(const fs::path& path, const std::string& text, std::string& error) {
   std::ofstream file(path);
   file << text;
@@ -167,7 +181,8 @@ std::string write_report(const LoadRun& run, const LoadTestConfig& config,
       !write_file(dir / "matches.dat", matches_table(run.match_rows(), blocks), error) ||
       !write_file(dir / "errors.dat", errors_table(final_errors(run)), error) ||
       !write_file(dir / "connect.dat", connect_table(run.connect_ms()), error) ||
-      !write_file(dir / "sweep.dat", sweep_table(run.steps()), error)) {
+      !write_file(dir / "sweep.dat", sweep_table(run.steps()), error) ||
+      !write_file(dir / "steps.jsonl", steps_lines(run, config, context), error)) {
     return error;
   }
   return {};

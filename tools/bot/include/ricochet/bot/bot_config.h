@@ -15,6 +15,10 @@ struct BotConfig {
   /// system's choice. Load tests spread bots over 127.0.0.x so each address stays within the
   /// server's per-address limits.
   std::string bind_address;
+  /// 0: input ticks count from the game connection's start; N (1..64): each tick falls on phase
+  /// seed % N of a tick-rate grid on the steady clock, shared by every bot of the process, so
+  /// that a thousand bots wake their loop N times per tick instead of a thousand.
+  int tick_phases = 0;
   /// Pinned certificate SHA-256 fingerprint ("AA:BB:...", 32 pairs); empty: trust_file decides.
   std::string fingerprint;
   /// Trust on first use: the file is created with the first fingerprint seen; a later mismatch
