@@ -249,10 +249,11 @@ void MatchHost::tick(proto::TimeUs now) {
 }
 
 void MatchHost::drain_outbox() {
+  // One post for the tick's whole outbox: its snapshots leave the socket together.
+  std::vector<Outgoing> batch;
   Outgoing outgoing;
-  while (match_.poll_outbox(outgoing)) {
-    channel_.send(outgoing.account, outgoing.reliable, std::move(outgoing.bytes));
-  }
+  while (match_.poll_outbox(outgoing)) batch.push_back(std::move(outgoing));
+  if (!batch.empty()) channel_.send_all(std::move(batch));
 }
 
 void MatchHost::observe_profile(const TickProfile& profile) {
