@@ -7,8 +7,17 @@
 # the server's core not saturated and every bot connected (report.json "capacity_bots").
 #
 #   tools/bench/capacity.sh [--sweep 100,200,400] [--duration 60s] [--out DIR] [--build DIR]
-#                           [--perf] [--no-append] [-- extra ricochet-loadtest options]
+#                           [--server-bin PATH] [--nice N | --rt] [--perf] [--no-append]
+#                           [-- extra ricochet-loadtest options]
 #
+# --nice N (root, e.g. -10) runs both at that niceness: on a machine where others compile, the
+# pinned server and generator then get the CPU they ask for instead of a fair share with the
+# compilers (their CPU time is measured either way; their tick times are not comparable
+# otherwise).
+# --rt (root) runs both under SCHED_FIFO priority 1 instead: nothing at normal priority preempts
+# them mid-tick (a preempted tick's wall time is the preemption's), and the kernel's RT throttle
+# (sched_rt_runtime_us) still leaves the other work 5 % of each core should one saturate.
+# --server-bin runs another ricochet-server binary (an A/B against an older build).
 # --perf also records `perf stat` of the server over the whole run (syscalls per second, context
 # switches) into DIR/perf-stat.txt. Needs a machine with 2 or more cores.
 set -euo pipefail
@@ -18,6 +27,9 @@ sweep="100,200,400,600,800,1000"
 duration="60s"
 out=""
 build="build/release"
+server_bin=""
+niceness=0
+priority=()
 perf=0
 append=1
 extra=()
@@ -27,17 +39,24 @@ while [[ $# -gt 0 ]]; do
     --duration) duration="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
+    --server-bin) server_bin="$2"; shift 2 ;;
+    --nice) niceness="$2"; shift 2 ;;
+    --rt) priority=(chrt -f 1); shift ;;
     --perf) perf=1; shift ;;
     --no-append) append=0; shift ;;
     --) shift; extra=("$@"); break ;;
     *) echo "capacity.sh: unknown option $1 (see the header of $0)" >&2; exit 2 ;;
   esac
 done
+if ! [[ "$niceness" =~ ^-?[0-9]+$ ]]; then
+  echo "capacity.sh: --nice must be an integer (-20..19), got '$niceness'" >&2
+  exit 2
+fi
 if ! [[ "$sweep" =~ ^[0-9]+(,[0-9]+)*$ ]]; then
   echo "capacity.sh: --sweep must be bot counts separated by commas, got '$sweep'" >&2
   exit 2
 fi
-server_bin="$build/server/ricochet-server"
+[[ -n "$server_bin" ]] || server_bin="$build/server/ricochet-server"
 loadtest_bin="$build/tools/loadtest/ricochet-loadtest"
 for binary in "$server_bin" "$loadtest_bin"; do
   [[ -x "$binary" ]] || { echo "capacity.sh: $binary missing: cmake --build $build --target ricochet-server ricochet-loadtest" >&2; exit 2; }
@@ -66,7 +85,7 @@ trap cleanup EXIT
 # Loopback only; every port chosen free by the kernel. The login hashing is at its minimum cost
 # (db.password_hashing: a load test's thousands of sign-ins are not what is measured); every
 # other limit is the server's default but the game client count, raised to fit the sweep.
-taskset -c 0 "$server_bin" --data-dir "$data" --threads 1 \
+nice -n "$niceness" "${priority[@]}" taskset -c 0 "$server_bin" --data-dir "$data" --threads 1 \
   --control-bind 127.0.0.1 --control-port 0 --game-bind 127.0.0.1 --game-port 0 \
   --admin-bind 127.0.0.1 --admin-port 0 \
   --matches "$matches" --match-max-players 16 --max-clients 4096 \
@@ -100,7 +119,7 @@ if [[ $perf -eq 1 ]]; then
 fi
 
 echo "capacity.sh: server pid $server_pid on core 0 ($matches matches of 16), generator on core 1, sweep $sweep, out $out" >&2
-taskset -c 1 "$loadtest_bin" --server 127.0.0.1 --port "$control_port" --admin-port "$admin_port" \
+nice -n "$niceness" "${priority[@]}" taskset -c 1 "$loadtest_bin" --server 127.0.0.1 --port "$control_port" --admin-port "$admin_port" \
   --fingerprint "$fingerprint" --server-pid "$server_pid" --match-size 16 \
   --sweep "$sweep" --duration "$duration" --out "$out" "${extra[@]}"
 
