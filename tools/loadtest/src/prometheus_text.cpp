@@ -41,6 +41,7 @@ class LineReader {
                                    line_[pos_] == '-')) {
       ++pos_;
     }
+    while (at(' ') || at('\t')) ++pos_;
     if (pos_ != line_.size()) return fail(error, "unexpected text after the value");
     return true;
   }
