@@ -68,7 +68,10 @@ TEST(ServerFigures, ReadsTheMatchesQuantilesOverrunsAndTraffic) {
       "ricochet_match_overruns_total{match=\"1\"} 3\nricochet_match_overruns_total{match=\"2\"} 1\n"
       "ricochet_game_packets_total{direction=\"in\"} 100\n"
       "ricochet_game_packets_total{direction=\"out\"} 90\n"
-      "ricochet_game_dropped_total{reason=\"a\"} 1\nricochet_game_dropped_total{reason=\"b\"} 2\n");
+      "ricochet_game_dropped_total{reason=\"a\"} 1\nricochet_game_dropped_total{reason=\"b\"} 2\n"
+      "ricochet_tick_phase_seconds_sum{match=\"1\",phase=\"physics\"} 0.5\n"
+      "ricochet_tick_phase_seconds_sum{match=\"2\",phase=\"physics\"} 0.25\n"
+      "ricochet_tick_phase_seconds_count{match=\"2\",phase=\"physics\"} 100\n");
   const ServerFigures figures = read_server_figures(samples);
   EXPECT_EQ(figures.pid, 4242);
   EXPECT_EQ(figures.matches, 2);
@@ -77,6 +80,7 @@ TEST(ServerFigures, ReadsTheMatchesQuantilesOverrunsAndTraffic) {
   EXPECT_EQ(figures.packets_in, 100);
   EXPECT_EQ(figures.packets_out, 90);
   EXPECT_EQ(figures.game_dropped, 3);
+  EXPECT_EQ(figures.phase_seconds, (std::map<std::string, double>{{"physics", 0.75}}));
   ASSERT_EQ(figures.by_match.size(), 2u);  // the match labelled "x" is skipped
   // Match 2 has nobody connected: its slow ticks are not the players'.
   const auto worst = figures.worst_tick_ms();

@@ -215,6 +215,7 @@ void LoadRun::on_scrape(MetricsResponse response) {
       sample.dropped_steps = std::max(0.0, figures.dropped_steps - dropped_base_);
       totals.server_packets_in = figures.packets_in;
       totals.server_packets_out = figures.packets_out;
+      totals.phase_seconds = figures.phase_seconds;
       if (server_pid_ == 0) server_pid_ = figures.pid;
     }
   }
@@ -390,6 +391,11 @@ StepSummary LoadRun::summarise(const Step& step) const {
     out.server_cpu_percent = safe_ratio(to.server_cpu_s - from.server_cpu_s, wall) * 100;
   }
   out.generator_cpu_percent = safe_ratio(to.generator_cpu_s - from.generator_cpu_s, wall) * 100;
+  for (const auto& [phase, seconds] : to.phase_seconds) {
+    const auto before = from.phase_seconds.find(phase);
+    const double start = before == from.phase_seconds.end() ? 0.0 : before->second;
+    out.server_phase_percent[phase] = safe_ratio(seconds - start, wall) * 100;
+  }
   if (from.server_packets_in >= 0 && to.server_packets_in >= 0) {
     out.server_packets_in_per_s = safe_ratio(to.server_packets_in - from.server_packets_in, wall);
     out.server_packets_out_per_s =

@@ -58,6 +58,16 @@ std::string StepSummary::to_json() const {
   out += meets_capacity() ? "true" : "false";
   out += ",\"generator_saturated\":";
   out += generator_saturated() ? "true" : "false";
+  out += ",\"server_phase_percent\":{";
+  bool first_phase = true;
+  for (const auto& [phase, percent] : server_phase_percent) {
+    if (!first_phase) out += ',';
+    first_phase = false;
+    char value[32];
+    std::snprintf(value, sizeof value, "%.3f", std::isfinite(percent) ? percent : 0.0);
+    out += tools::json_string(phase) + ':' + value;
+  }
+  out += '}';
   out += ",\"errors\":{";
   bool first = true;
   for (const auto& [kind, n] : errors) {

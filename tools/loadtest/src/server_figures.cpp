@@ -70,6 +70,9 @@ ServerFigures read_server_figures(const std::vector<MetricSample>& samples) {
       if (const auto id = match_id(sample)) out.by_match[*id].overruns = sample.value;
     } else if (name == "ricochet_match_players" && sample.label("state") == "connected") {
       if (const auto id = match_id(sample)) out.by_match[*id].connected = as_int(sample.value);
+    } else if (name == "ricochet_tick_phase_seconds_sum") {
+      const std::string_view phase = sample.label("phase");
+      if (!phase.empty()) out.phase_seconds[std::string(phase)] += sample.value;
     } else if (name == "ricochet_tick_seconds") {
       const int index = quantile_index(sample.label("quantile"));
       const auto id = match_id(sample);

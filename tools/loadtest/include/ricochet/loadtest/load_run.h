@@ -11,6 +11,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -63,6 +64,7 @@ class LoadRun {
     double generator_cpu_s = 0;
     double server_packets_in = -1;  ///< -1: not scraped
     double server_packets_out = -1;
+    std::map<std::string, double> phase_seconds;  ///< empty: not scraped
   };
   struct Step {
     int target = 0;

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,10 @@ struct StepSummary {
   double connect_ms_p99 = 0;
   double connect_ms_max = 0;
   ErrorCounts errors;  ///< since the run started, by kind
+  /// Server tick time per phase over the window, all matches, in % of one core ("total": the
+  /// whole ticks; the rest of server_cpu_percent is the network, the transport and the
+  /// control channel).
+  std::map<std::string, double> server_phase_percent;
 
   /// The capacity criteria: p99 tick ≤ 4 ms, no overrun, snapshot loss ≤ 1 %, server core not
   /// saturated (< 90 %), every bot connected.

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "ricochet/loadtest/prometheus_text.h"
@@ -31,6 +32,9 @@ struct ServerFigures {
   double game_dropped = 0;     ///< game datagrams dropped, every reason
   double control_refused = 0;  ///< control connections, frames and messages refused
   std::map<std::uint32_t, MatchFigures> by_match;
+  /// Tick time spent in each phase (ricochet_tick_phase_seconds_sum), all matches, s since
+  /// they opened; "total" is the whole tick.
+  std::map<std::string, double> phase_seconds;
 
   /// The largest of each quantile over the matches with players connected (all zeros: none).
   std::array<double, 4> worst_tick_ms() const;
