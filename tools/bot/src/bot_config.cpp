@@ -5,9 +5,7 @@
 #include "ricochet/bot/server_trust.h"
 
 namespace ricochet::bot {
-namespace {
-
-bool valid_username(const std::string& name) {
+bool valid_account_name(const std::string& name) {
   if (name.size() < 3 || name.size() > 24) return false;
   for (const char c : name) {
     const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
@@ -16,8 +14,6 @@ bool valid_username(const std::string& name) {
   }
   return true;
 }
-
-}  // namespace
 
 std::string BotConfig::validate() const {
   boost::system::error_code error;
@@ -38,7 +34,7 @@ std::string BotConfig::validate() const {
   if (fingerprint.empty() && trust_file.empty()) {
     return "set fingerprint (pin the server's certificate) or trust_file (trust on first use)";
   }
-  if (!valid_username(name)) {
+  if (!valid_account_name(name)) {
     return "name must be 3..24 characters of [A-Za-z0-9_.-], got \"" + name + "\"";
   }
   if (password.size() < 8 || password.size() > 1024) {

@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "ricochet/bot/bot_config.h"
+
 namespace ricochet::loadtest {
 
 namespace {
@@ -14,14 +16,10 @@ std::string number(double value) {
   return text;
 }
 
+/// The prefix makes names <prefix>s<step>-<k>: the longest, of step 99 and bot 99999, must be an
+/// account name.
 bool valid_prefix(const std::string& name) {
-  if (name.empty() || name.size() > 12) return false;
-  for (const char c : name) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                    c == '_' || c == '.' || c == '-';
-    if (!ok) return false;
-  }
-  return true;
+  return !name.empty() && name.size() <= 12 && bot::valid_account_name(name + "s99-99999");
 }
 
 }  // namespace

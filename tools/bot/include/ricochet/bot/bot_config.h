@@ -40,4 +40,7 @@ struct BotConfig {
   std::string validate() const;
 };
 
+/// An account name the server takes: 3..24 characters of [A-Za-z0-9_.-].
+bool valid_account_name(const std::string& name);
+
 }  // namespace ricochet::bot
