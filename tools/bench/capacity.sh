@@ -23,6 +23,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
+invocation=("$@")
+loadavg="$(cut -d' ' -f1-3 /proc/loadavg)"
 sweep="100,200,400,600,800,1000"
 duration="60s"
 out=""
@@ -129,8 +131,12 @@ if [[ -n "$perf_pid" ]]; then
   perf_pid=""
 fi
 if [[ $append -eq 1 ]]; then
+  # Each line also says how it was run: this script's options, the commit, the machine's load.
   mkdir -p tools/bench/results
-  cat "$out/steps.jsonl" >> tools/bench/results/capacity.jsonl
+  script="tools/bench/capacity.sh ${invocation[*]}"
+  script="${script//\"/}"
+  sed "s|^{|{\"script\":\"$script\",\"git\":\"$(git rev-parse --short HEAD)\",\"loadavg_at_start\":\"$loadavg\",\"nproc\":$(nproc),|" \
+    "$out/steps.jsonl" >> tools/bench/results/capacity.jsonl
 fi
 grep -o '"capacity_bots":[0-9]*' "$out/report.json" >&2
 echo "capacity.sh: report $out/report.json, plots $out/*.png" >&2
