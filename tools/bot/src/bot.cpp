@@ -428,16 +428,17 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
   arrived_ = false;
   entity_recorded_ = false;
   match_over_ = false;
-  std::shared_ptr<GameSession> game;
-  try {
-    game = std::make_shared<GameSession>(
-        io_, game_endpoint_, std::move(grant),
-        guarded([this](proto::ClientEvent& event) { on_game_event(event); }), local_address_);
-  } catch (const boost::system::system_error& error) {
-    return fail_attempt(std::string("cannot open a UDP socket: ") + error.what(),
-                        Retry::SameConnection);
-  }
+  auto game = std::make_shared<GameSession>(
+      io_, game_endpoint_, std::move(grant),
+      guarded([this](proto::ClientEvent& event) { on_game_event(event); }));
   game_ = game;
+  if (!local_address_.is_unspecified()) {
+    if (std::string error = game->bind_local(local_address_); !error.empty()) {
+      game_.reset();
+      feed_.reset();
+      return fail_attempt(error, Retry::SameConnection);
+    }
+  }
   record_.local_ports.push_back(game->local_port());
   transition(BotState::Handshaking, "joined match " + std::to_string(match_id_) +
                                         ", game channel from local port " +

@@ -39,9 +39,7 @@ proto::ClientConnectInfo connect_info(const asio::ip::udp::endpoint& server,
   return info;
 }
 
-asio::ip::udp::endpoint local_endpoint(const asio::ip::udp::endpoint& server,
-                                       const asio::ip::address& local) {
-  if (!local.is_unspecified()) return {local, 0};
+asio::ip::udp::endpoint any_local(const asio::ip::udp::endpoint& server) {
   return {server.address().is_v4() ? asio::ip::address(asio::ip::address_v4::any())
                                    : asio::ip::address(asio::ip::address_v6::any()),
           0};
@@ -50,14 +48,24 @@ asio::ip::udp::endpoint local_endpoint(const asio::ip::udp::endpoint& server,
 }  // namespace
 
 GameSession::GameSession(asio::io_context& io, const asio::ip::udp::endpoint& server,
-                         proto::TokenGrant grant, EventHandler on_event,
-                         const asio::ip::address& local)
-    : socket_(io, local_endpoint(server, local)),
+                         proto::TokenGrant grant, EventHandler on_event)
+    : socket_(io, any_local(server)),
       server_(server),
       client_(connect_info(server, std::move(grant)), steady_now_us()),
       on_event_(std::move(on_event)) {
   socket_.non_blocking(true);
   local_port_ = socket_.local_endpoint().port();
+}
+
+std::string GameSession::bind_local(const asio::ip::address& local) {
+  boost::system::error_code error;
+  socket_.close(error);
+  socket_.open(local.is_v4() ? asio::ip::udp::v4() : asio::ip::udp::v6(), error);
+  if (!error) socket_.bind({local, 0}, error);
+  if (!error) socket_.non_blocking(true, error);
+  if (error) return "cannot bind a UDP socket to " + local.to_string() + ": " + error.message();
+  local_port_ = socket_.local_endpoint().port();
+  return {};
 }
 
 void GameSession::start() {

@@ -40,7 +40,7 @@ std::string error_kind(std::string_view reason) {
       {"control channel lost", "control_lost"},
       {"the control channel is down", "control_lost"},
       {"cannot connect", "connect_failed"},
-      {"cannot open a UDP socket", "udp_socket"},
+      {"cannot bind a UDP socket", "udp_socket"},
       {"unusable join reply", "bad_join_reply"},
   }};
   for (const auto& [prefix, kind] : kPrefixes) {

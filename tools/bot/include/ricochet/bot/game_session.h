@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <string>
 
 #include "ricochet/proto/clock.h"
 #include "ricochet/proto/game_client.h"
@@ -27,14 +28,16 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
  public:
   using EventHandler = std::function<void(proto::ClientEvent& event)>;
 
-  /// Binds a new socket (any free port on `local`, or on the any address of the server's family
-  /// when `local` is unspecified); the connection request goes out at once.
+  /// Binds a new socket (any free port on the local address of the server's family); the
+  /// connection request goes out at once.
   GameSession(boost::asio::io_context& io, const boost::asio::ip::udp::endpoint& server,
-              proto::TokenGrant grant, EventHandler on_event,
-              const boost::asio::ip::address& local = {});
+              proto::TokenGrant grant, EventHandler on_event);
   GameSession(const GameSession&) = delete;
   GameSession& operator=(const GameSession&) = delete;
 
+  /// Moves the socket to any free port on `local` (an address of the server's family); before
+  /// start() only. Empty on success, else why the socket could not be bound.
+  std::string bind_local(const boost::asio::ip::address& local);
   /// Starts reading datagrams.
   void start();
   /// Resends, keep-alives and timeouts; call at least every 100 ms.
