@@ -11,7 +11,6 @@
 #include <functional>
 #include <memory>
 #include <span>
-#include <string>
 
 #include "ricochet/proto/clock.h"
 #include "ricochet/proto/game_client.h"
