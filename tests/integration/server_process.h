@@ -29,8 +29,10 @@ namespace ricochet::test {
 
 class ServerProcess {
  public:
-  /// `matches_toml`: the body of the [matches] table (maps, seed, limits ...).
-  explicit ServerProcess(const std::string& matches_toml, int shutdown_grace_s = 10)
+  /// `matches_toml`: the body of the [matches] table (maps, seed, limits ...); `more_toml`:
+  /// further tables, written after it.
+  explicit ServerProcess(const std::string& matches_toml, int shutdown_grace_s = 10,
+                         const std::string& more_toml = "")
       : dir_("ricochet-e2e") {
     std::ofstream config(config_path());
     config << "[server]\ndata_dir = \"" << (dir_.path() / "data").string()
@@ -39,7 +41,8 @@ class ServerProcess {
            << "[game]\nbind = \"127.0.0.1\"\nport = 0\n"
            << "[admin]\nbind = \"127.0.0.1\"\nport = 0\n"
            << "[matches]\n"
-           << matches_toml << "\n";
+           << matches_toml << "\n"
+           << more_toml << "\n";
     config.close();
     // Everything the child needs is made before fork(): it only redirects and execs.
     const std::string log = log_path().string();
@@ -73,7 +76,7 @@ class ServerProcess {
   /// exited).
   bool wait_listening(std::chrono::milliseconds limit = std::chrono::seconds(20)) {
     const std::regex ports(
-        R"(control TLS 1\.3 on 127\.0\.0\.1:(\d+), game UDP on 127\.0\.0\.1:(\d+), admin HTTP)");
+        R"(control TLS 1\.3 on 127\.0\.0\.1:(\d+), game UDP on 127\.0\.0\.1:(\d+), admin HTTP on 127\.0\.0\.1:(\d+))");
     const std::regex fingerprint(R"(fingerprint \(pin it in clients\): ([0-9A-F:]{95}))");
     const auto deadline = std::chrono::steady_clock::now() + limit;
     while (std::chrono::steady_clock::now() < deadline) {
@@ -84,6 +87,7 @@ class ServerProcess {
           std::regex_search(text, fingerprint_match, fingerprint)) {
         control_port_ = static_cast<std::uint16_t>(std::stoi(port_match[1].str()));
         game_port_ = static_cast<std::uint16_t>(std::stoi(port_match[2].str()));
+        admin_port_ = static_cast<std::uint16_t>(std::stoi(port_match[3].str()));
         fingerprint_ = fingerprint_match[1].str();
         return true;
       }
@@ -113,6 +117,7 @@ class ServerProcess {
 
   std::uint16_t control_port() const { return control_port_; }
   std::uint16_t game_port() const { return game_port_; }
+  std::uint16_t admin_port() const { return admin_port_; }
   const std::string& fingerprint() const { return fingerprint_; }
   std::filesystem::path db_path() const { return dir_.path() / "data" / "ricochet.db"; }
   const std::filesystem::path& dir() const { return dir_.path(); }
@@ -132,6 +137,7 @@ class ServerProcess {
   std::optional<int> exit_status_;
   std::uint16_t control_port_ = 0;
   std::uint16_t game_port_ = 0;
+  std::uint16_t admin_port_ = 0;
   std::string fingerprint_;
 };
 

@@ -63,6 +63,7 @@ TEST(ServerConfig, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(config.matches.max_players, 16);
   EXPECT_EQ(config.log.level, LogLevel::Info);
   EXPECT_EQ(config.log.format, LogFormat::Text);
+  EXPECT_EQ(config.db.password_hashing, PasswordHashing::Interactive);
   EXPECT_GE(config.worker_threads(), 1);
   EXPECT_EQ(config.db_file(), "data/ricochet.db");
   EXPECT_EQ(config.snapshot_budget_bytes(), 1066);  // 512 kbps at 60 Hz
@@ -176,6 +177,8 @@ TEST(ServerConfig, EveryRangeMessageNamesTheKeyTheRangeAndTheValue) {
        "--log-level: log.level must be one of trace|debug|info|warn|error|critical|off, got "
        "\"loud\""},
       {{"--log-format", "xml"}, "--log-format: log.format must be one of text|json, got \"xml\""},
+      {{"--password-hashing", "none"},
+       "--password-hashing: db.password_hashing must be one of interactive|minimum, got \"none\""},
       {{"--tick-rate-hz", "fast"},
        "--tick-rate-hz: game.tick_rate_hz must be an integer 10..128, got \"fast\""},
       {{"--tick-rate-hz", "99999999999"},
@@ -352,6 +355,7 @@ TEST(ServerConfig, HelpListsEveryFlagWithItsDefault) {
                                "--admin-port INT=9100",
                                "--log-level CHOICE=info",
                                "--log-format CHOICE=text",
+                               "--password-hashing CHOICE=interactive",
                                "--shutdown-grace-s INT=10",
                                "--tls-cert TEXT=\"\"",
                                "--matches INT=4",

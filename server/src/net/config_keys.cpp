@@ -28,6 +28,16 @@ const char* name(LogLevel level) {
   return "unknown";
 }
 
+const char* name(PasswordHashing hashing) {
+  switch (hashing) {
+    case PasswordHashing::Interactive:
+      return "interactive";
+    case PasswordHashing::Minimum:
+      return "minimum";
+  }
+  return "unknown";
+}
+
 const char* name(LogFormat format) {
   switch (format) {
     case LogFormat::Text:
@@ -110,6 +120,7 @@ constexpr std::array kLogLevels = {LogLevel::Trace, LogLevel::Debug, LogLevel::I
                                    LogLevel::Warn,  LogLevel::Error, LogLevel::Critical,
                                    LogLevel::Off};
 constexpr std::array kLogFormats = {LogFormat::Text, LogFormat::Json};
+constexpr std::array kPasswordHashings = {PasswordHashing::Interactive, PasswordHashing::Minimum};
 
 using S = ServerConfig;
 constexpr int kMaxPort = 65535;
@@ -141,6 +152,20 @@ const std::array kKeys = {
         .help = "SQLite database file; a relative path is under server.data_dir",
         .kind = Kind::Text,
         .text = &text_of<&S::db, &DbConfig::path>},
+    Key{.section = "db",
+        .name = "password_hashing",
+        .flag = "--password-hashing",
+        .help = "Argon2id cost of each password hash: interactive (64 MiB, ~100 ms; keep it for "
+                "real accounts) or minimum (load tests only: thousands of bots signing in)",
+        .kind = Kind::Choice,
+        .choices = "interactive|minimum",
+        .get_choice = [](const ServerConfig& c) -> std::string_view {
+          return name(c.db.password_hashing);
+        },
+        .set_choice =
+            [](ServerConfig& c, std::string_view text) {
+              return parse_enum(kPasswordHashings, text, c.db.password_hashing);
+            }},
     Key{.section = "tls",
         .name = "cert_file",
         .flag = "--tls-cert",

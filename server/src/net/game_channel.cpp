@@ -1,6 +1,5 @@
 #include "game_channel.h"
 
-#include <array>
 #include <utility>
 
 #include <boost/asio/as_tuple.hpp>
@@ -16,33 +15,6 @@
 namespace ricochet::server {
 namespace asio = boost::asio;
 using asio::ip::udp;
-
-namespace {
-
-proto::Address to_address(const udp::endpoint& endpoint) {
-  proto::Address address;
-  address.port = endpoint.port();
-  const asio::ip::address ip = endpoint.address();
-  if (ip.is_v4()) {
-    const auto bytes = ip.to_v4().to_bytes();
-    std::copy(bytes.begin(), bytes.end(), address.ip.begin());
-  } else {
-    address.v6 = true;
-    address.ip = ip.to_v6().to_bytes();
-  }
-  return address;
-}
-
-udp::endpoint to_endpoint(const proto::Address& address) {
-  if (!address.v6) {
-    asio::ip::address_v4::bytes_type bytes;
-    std::copy_n(address.ip.begin(), bytes.size(), bytes.begin());
-    return {asio::ip::address_v4(bytes), address.port};
-  }
-  return {asio::ip::address_v6(address.ip), address.port};
-}
-
-}  // namespace
 
 GameChannel::GameChannel(asio::io_context& io, GameChannelConfig config)
     : config_(std::move(config)),
@@ -89,15 +61,23 @@ void GameChannel::stop(std::function<void()> done) {
 }
 
 void GameChannel::send(std::uint64_t account, bool reliable, std::vector<std::uint8_t> bytes) {
-  asio::post(strand_, [this, account, reliable, bytes = std::move(bytes)] {
+  std::vector<Outgoing> one;
+  one.push_back({account, reliable, std::move(bytes)});
+  send_all(std::move(one));
+}
+
+void GameChannel::send_all(std::vector<Outgoing> messages) {
+  asio::post(strand_, [this, messages = std::move(messages)] {
     if (stopping_) return;
-    const auto found = client_of_account_.find(account);
-    if (found == client_of_account_.end()) return;
     const proto::TimeUs now = steady_now_us();
-    if (reliable) {
-      transport_.send_reliable(found->second, bytes, now);
-    } else {
-      transport_.send_unreliable(found->second, bytes, now);
+    for (const Outgoing& message : messages) {
+      const auto found = client_of_account_.find(message.account);
+      if (found == client_of_account_.end()) continue;
+      if (message.reliable) {
+        transport_.send_reliable(found->second, message.bytes, now);
+      } else {
+        transport_.send_unreliable(found->second, message.bytes, now);
+      }
     }
     drain();
   });
@@ -122,21 +102,33 @@ proto::TransportCounters GameChannel::counters() const {
 }
 
 asio::awaitable<void> GameChannel::receive_loop() {
-  std::array<std::uint8_t, proto::kMaxDatagramBytes + 1> buffer{};
-  udp::endpoint from;
   while (!stopping_) {
-    auto [error, size] = co_await socket_.async_receive_from(
-        asio::buffer(buffer), from, asio::as_tuple(asio::use_awaitable));
+    auto [error] = co_await socket_.async_wait(udp::socket::wait_read,
+                                               asio::as_tuple(asio::use_awaitable));
     if (error == asio::error::operation_aborted || stopping_) break;
     if (error) {
-      // ICMP port unreachable from a client that went away, and the like: not fatal.
-      spdlog::debug("game channel: receive failed: {}", error.message());
+      spdlog::debug("game channel: waiting for datagrams failed: {}", error.message());
       continue;
     }
-    // A datagram larger than the buffer arrives truncated to kMaxDatagramBytes + 1 bytes, which
-    // the transport drops as Oversized.
-    transport_.receive(to_address(from), std::span(buffer.data(), size), steady_now_us());
+    receive_waiting();
     drain();
+  }
+}
+
+void GameChannel::receive_waiting() {
+  // At most 16 batches (1024 datagrams) per wake-up, so a flood cannot hold the strand.
+  for (int batch = 0; batch < 16 && !stopping_; ++batch) {
+    std::string error;
+    const std::size_t count = receiver_.receive(socket_.native_handle(), error);
+    if (!error.empty()) {
+      // ICMP port unreachable from a client that went away, and the like: not fatal.
+      spdlog::debug("game channel: receive failed: {}", error);
+    }
+    const proto::TimeUs now = steady_now_us();
+    for (std::size_t i = 0; i < count; ++i) {
+      transport_.receive(receiver_.from(i), receiver_.bytes(i), now);
+    }
+    if (count < kDatagramBatch) break;
   }
 }
 
@@ -181,13 +173,11 @@ void GameChannel::drain() {
     }
   }
   proto::Transmit transmit;
-  while (transport_.poll_transmit(transmit)) {
-    if (!socket_.is_open()) continue;
-    boost::system::error_code error;
-    socket_.send_to(asio::buffer(transmit.bytes), to_endpoint(transmit.to), 0, error);
-    if (error && error != asio::error::would_block) {
-      spdlog::debug("game channel: send to {} failed: {}", transmit.to.to_string(), error.message());
-    }
+  while (transport_.poll_transmit(transmit)) sender_.add(std::move(transmit));
+  if (!socket_.is_open()) return sender_.discard();
+  std::string error;
+  if (const std::size_t lost = sender_.flush(socket_.native_handle(), error); lost > 0) {
+    spdlog::debug("game channel: {} datagrams not sent: {}", lost, error);
   }
 }
 

@@ -24,7 +24,9 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 
+#include "datagram_batch.h"
 #include "ricochet/proto/game_server.h"
+#include "ricochet/server/match.h"
 
 namespace ricochet::server {
 
@@ -65,6 +67,9 @@ class GameChannel {
 
   /// Thread-safe: queue bytes for the account's connection (dropped when it has none).
   void send(std::uint64_t account, bool reliable, std::vector<std::uint8_t> bytes);
+  /// Thread-safe: send() of each, in order, with one post (a match's tick) and the datagrams
+  /// leaving in as few sendmmsg calls as fit.
+  void send_all(std::vector<Outgoing> messages);
   /// Thread-safe: ends the account's connection (the one exit, with its reason), after sending
   /// the reliable messages queued for it (a match's MatchEnded) once.
   void kick(std::uint64_t account, proto::DisconnectReason reason);
@@ -78,6 +83,8 @@ class GameChannel {
   boost::asio::awaitable<void> update_loop();
   /// Drains the GameServer's events and datagrams after every call into it.
   void drain();
+  /// Reads every datagram waiting (bounded per wake-up) into the GameServer.
+  void receive_waiting();
   void publish_counters();
 
   GameChannelConfig config_;
@@ -86,6 +93,8 @@ class GameChannel {
   boost::asio::ip::udp::socket socket_;
   boost::asio::steady_timer update_timer_;
   proto::GameServer transport_;
+  DatagramReceiver receiver_;
+  DatagramSender sender_;
   std::unordered_map<std::uint64_t, proto::ClientId> client_of_account_;
   std::unordered_map<proto::ClientId, std::uint64_t> account_of_client_;
   bool stopping_ = false;

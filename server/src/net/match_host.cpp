@@ -30,6 +30,8 @@ constexpr std::array<const char*, 9> kPhaseNames = {"apply_inputs", "rules",   "
                                                     "combat",       "physics", "history",
                                                     "snapshots",    "send",    "total"};
 constexpr const char* kPhaseHelp = "Time one tick spends in each phase, per match";
+constexpr std::size_t kTickWindowTicks = 600;  ///< 10 s at 60 Hz
+constexpr std::array<const char*, 4> kTickQuantiles = {"0.5", "0.95", "0.99", "1"};
 
 std::array<double, kPhaseNames.size()> phase_ms(const TickProfile& profile) {
   return {profile.apply_inputs_ms, profile.rules_ms,   profile.movement_ms,
@@ -60,7 +62,8 @@ MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel, Se
       tick_rate_hz_(match_.config().tick.rate_hz),
       snapshot_rate_hz_(match_.config().snapshot_rate_hz),
       quantization_(match_.config().quantization),
-      started_unix_ms_(unix_now_ms()) {
+      started_unix_ms_(unix_now_ms()),
+      tick_window_(kTickWindowTicks) {
   // 10 µs .. ~20 ms: a 60 Hz tick has 16.7 ms.
   const std::vector<double> bounds = exponential_buckets(0.00001, 2, 12);
   for (std::size_t phase = 0; phase < kPhaseNames.size(); ++phase) {
@@ -202,6 +205,16 @@ void MatchHost::report_phases(MetricsSink& sink) const {
                    {{"match", std::to_string(id_)}, {"phase", kPhaseNames[phase]}},
                    phase_histograms_[phase]->snapshot());
   }
+  std::array<double, 4> quantiles{};
+  {
+    const std::lock_guard lock(stats_mutex_);
+    quantiles = tick_window_.quantiles();
+  }
+  for (std::size_t i = 0; i < quantiles.size(); ++i) {
+    sink.gauge("ricochet_tick_seconds",
+               "Tick time quantiles over the match's last 600 ticks (1: the max), per match",
+               {{"match", std::to_string(id_)}, {"quantile", kTickQuantiles[i]}}, quantiles[i]);
+  }
 }
 
 asio::awaitable<void> MatchHost::tick_loop(std::shared_ptr<MatchHost> self) {
@@ -236,10 +249,11 @@ void MatchHost::tick(proto::TimeUs now) {
 }
 
 void MatchHost::drain_outbox() {
+  // One post for the tick's whole outbox: its snapshots leave the socket together.
+  std::vector<Outgoing> batch;
   Outgoing outgoing;
-  while (match_.poll_outbox(outgoing)) {
-    channel_.send(outgoing.account, outgoing.reliable, std::move(outgoing.bytes));
-  }
+  while (match_.poll_outbox(outgoing)) batch.push_back(std::move(outgoing));
+  if (!batch.empty()) channel_.send_all(std::move(batch));
 }
 
 void MatchHost::observe_profile(const TickProfile& profile) {
@@ -247,6 +261,8 @@ void MatchHost::observe_profile(const TickProfile& profile) {
   for (std::size_t phase = 0; phase < ms.size(); ++phase) {
     phase_histograms_[phase]->observe(ms[phase] / 1000.0);
   }
+  const std::lock_guard lock(stats_mutex_);
+  tick_window_.record(profile.total_ms / 1000.0);
 }
 
 void MatchHost::sweep_departed() {

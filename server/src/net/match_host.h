@@ -28,6 +28,7 @@
 #include "ricochet/db/records.h"
 #include "ricochet/server/match.h"
 #include "ricochet/server/metrics.h"
+#include "tick_window.h"
 
 namespace ricochet::server {
 
@@ -102,8 +103,9 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   int snapshot_rate_hz() const { return snapshot_rate_hz_; }
   const proto::QuantizationSpec& quantization() const { return quantization_; }
   MatchHostStats stats() const;
-  /// Reports the per-phase tick histograms (ricochet_tick_phase_seconds{match, phase}); they
-  /// go with the host.
+  /// Reports the per-phase tick histograms (ricochet_tick_phase_seconds{match, phase}; they
+  /// go with the host) and the quantiles of the last ticks (ricochet_tick_seconds{match,
+  /// quantile}).
   void report_phases(MetricsSink& sink) const;
 
  private:
@@ -153,6 +155,7 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   std::vector<std::unique_ptr<Histogram>> phase_histograms_;  ///< by kPhaseNames
   mutable std::mutex stats_mutex_;
   MatchHostStats stats_;
+  TickWindow tick_window_;  ///< the tick's total time; guarded by stats_mutex_
 };
 
 }  // namespace ricochet::server

@@ -34,7 +34,11 @@ using Clock = std::chrono::steady_clock;
 std::unique_ptr<db::DbWorker> open_database(const ServerConfig& config) {
   auto store = db::open_sqlite_store(db::SqliteOptions{.path = config.db_file()});
   if (!store) throw std::runtime_error("cannot open the database: " + store.error().message);
-  return std::make_unique<db::DbWorker>(std::move(store).value());
+  db::DbWorkerOptions options;
+  options.accounts.cost = config.db.password_hashing == PasswordHashing::Minimum
+                              ? db::PasswordCost::Minimum
+                              : db::PasswordCost::Interactive;
+  return std::make_unique<db::DbWorker>(std::move(store).value(), std::move(options));
 }
 
 Map load_map(const std::string& path) {

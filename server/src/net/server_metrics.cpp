@@ -1,6 +1,8 @@
 // What /metrics reports about the running server, read at scrape time from the copies each
 // part publishes (the game channel after every update, each match after every tick, the control
 // channel's atomic counters, the DB worker's queue), so a scrape never touches game state.
+#include <unistd.h>
+
 #include <string>
 
 #include "control_server.h"
@@ -146,6 +148,9 @@ void Server::register_metrics() {
     sink.gauge("ricochet_db_queue_depth", "Jobs waiting for the DB thread", {},
                static_cast<double>(db_->queued()));
     sink.gauge("ricochet_up", "1 while the server is ready", {}, ready() ? 1 : 0);
+    sink.gauge("ricochet_process_id",
+               "The server's process id (a load test on this host reads its CPU and RSS in /proc)",
+               {}, static_cast<double>(getpid()));
   });
 }
 

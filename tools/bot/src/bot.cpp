@@ -108,6 +108,7 @@ Bot::Bot(asio::io_context& io, asio::ssl::context& tls, ServerTrust& trust, BotC
       ping_timer_(io),
       alive_(std::make_shared<bool>(true)) {
   control_endpoint_ = {asio::ip::make_address(config_.host), config_.control_port};
+  if (!config_.bind_address.empty()) local_address_ = asio::ip::make_address(config_.bind_address);
 }
 
 Bot::~Bot() {
@@ -152,7 +153,10 @@ void Bot::finish(std::string_view reason, std::string error) {
     control_->close();
     control_.reset();
   }
-  if (!error.empty()) spdlog::error("bot {}: {}", config_.name, error);
+  if (!error.empty()) {
+    spdlog::error("bot {}: {}", config_.name, error);
+    if (on_failure_) on_failure_(error);
+  }
   record_.error = std::move(error);
   transition(BotState::Done, reason);
   if (auto callback = std::move(on_done_)) callback();
@@ -160,6 +164,7 @@ void Bot::finish(std::string_view reason, std::string error) {
 
 void Bot::fail_attempt(const std::string& reason, Retry retry) {
   if (state_ == BotState::Done) return;
+  if (on_failure_) on_failure_(reason);
   if (++failed_attempts_ > config_.max_reconnect_attempts) {
     return finish("giving up", "gave up after " + std::to_string(config_.max_reconnect_attempts) +
                                    " failed attempts in a row; the last: " + reason);
@@ -208,7 +213,7 @@ void Bot::connect_control() {
           guarded([this](const std::string& error) { on_control_ready(error); }),
           guarded([this](const wire::ServerMessage& message) { on_control_push(message); }),
           guarded([this](const std::string& reason) { on_control_closed(reason); })});
-  control_->connect(control_endpoint_);
+  control_->connect(control_endpoint_, local_address_);
   arm(kConnectTimeoutS, [this] {
     fail_attempt("timed out connecting to the control channel", Retry::NewConnection);
   });
@@ -427,6 +432,13 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
       io_, game_endpoint_, std::move(grant),
       guarded([this](proto::ClientEvent& event) { on_game_event(event); }));
   game_ = game;
+  if (!local_address_.is_unspecified()) {
+    if (std::string error = game->bind_local(local_address_); !error.empty()) {
+      game_.reset();
+      feed_.reset();
+      return fail_attempt(error, Retry::SameConnection);
+    }
+  }
   record_.local_ports.push_back(game->local_port());
   transition(BotState::Handshaking, "joined match " + std::to_string(match_id_) +
                                         ", game channel from local port " +
@@ -436,6 +448,13 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
   game->start();
   const proto::TimeUs now = steady_now_us();
   next_tick_us_ = now;
+  if (config_.tick_phases > 0) {
+    // On the shared grid: the last grid point of this bot's phase at or before now.
+    const proto::TimeUs phase = tick_period_us_ *
+                                static_cast<proto::TimeUs>(config_.seed % config_.tick_phases) /
+                                config_.tick_phases;
+    next_tick_us_ = (now - phase) / tick_period_us_ * tick_period_us_ + phase;
+  }
   if (game_ == game) schedule_tick(now);
 }
 
@@ -562,6 +581,7 @@ void Bot::on_game_lost(proto::DisconnectReason reason) {
     return;
   }
   if (state_ == BotState::Handshaking) return fail_attempt(why, Retry::SameConnection);
+  if (on_failure_) on_failure_(why);
   reconnect(why);
 }
 
@@ -583,8 +603,10 @@ void Bot::close_game(bool tell_server) {
 
 void Bot::schedule_tick(proto::TimeUs now) {
   next_tick_us_ += tick_period_us_;
-  // After a stall, start again from now instead of sending a burst.
-  if (next_tick_us_ < now - tick_period_us_) next_tick_us_ = now + tick_period_us_;
+  // After a stall, start again from now (on the grid, if any) instead of sending a burst.
+  if (next_tick_us_ < now - tick_period_us_) {
+    next_tick_us_ += (now - next_tick_us_) / tick_period_us_ * tick_period_us_ + tick_period_us_;
+  }
   tick_timer_.expires_at(asio::steady_timer::time_point(std::chrono::microseconds(next_tick_us_)));
   tick_timer_.async_wait(guarded([this](const boost::system::error_code& error) {
     if (!error) tick();

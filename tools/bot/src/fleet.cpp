@@ -23,6 +23,11 @@ std::string FleetConfig::validate() const {
   if (start_spacing.count() < 0 || start_spacing.count() > 60000) {
     return "start_spacing must be 0..60000 ms, got " + std::to_string(start_spacing.count());
   }
+  for (const std::string& address : bind_addresses) {
+    BotConfig bound = bot;
+    bound.bind_address = address;
+    if (std::string problem = bound.validate(); !problem.empty()) return problem;
+  }
   BotConfig widest = bot;
   if (bots > 1) {
     widest.name += '-';
@@ -44,6 +49,10 @@ Fleet::Fleet(boost::asio::io_context& io, FleetConfig config)
       bot.name += std::to_string(k);
     }
     bot.seed = config_.bot.seed + static_cast<std::uint64_t>(k) - 1;
+    if (!config_.bind_addresses.empty()) {
+      bot.bind_address = config_.bind_addresses[static_cast<std::size_t>(k - 1) %
+                                                config_.bind_addresses.size()];
+    }
     bots_.push_back(std::make_unique<Bot>(io_, tls_, trust_, std::move(bot)));
     bots_.back()->on_done([this] {
       if (++done_count_ == bots_.size() && on_done_) on_done_();

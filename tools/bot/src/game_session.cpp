@@ -57,6 +57,17 @@ GameSession::GameSession(asio::io_context& io, const asio::ip::udp::endpoint& se
   local_port_ = socket_.local_endpoint().port();
 }
 
+std::string GameSession::bind_local(const asio::ip::address& local) {
+  boost::system::error_code error;
+  socket_.close(error);
+  socket_.open(local.is_v4() ? asio::ip::udp::v4() : asio::ip::udp::v6(), error);
+  if (!error) socket_.bind({local, 0}, error);
+  if (!error) socket_.non_blocking(true, error);
+  if (error) return "cannot bind a UDP socket to " + local.to_string() + ": " + error.message();
+  local_port_ = socket_.local_endpoint().port();
+  return {};
+}
+
 void GameSession::start() {
   flush();
   wait_readable();

@@ -29,9 +29,15 @@ struct ProcessConfig {
   int shutdown_grace_s = 10;      ///< SIGINT/SIGTERM: seconds to end matches and flush results
 };
 
+/// Argon2id work per password hash: interactive (64 MiB, ~100 ms) protects the accounts;
+/// minimum (a few µs) exists only for load tests whose thousands of bots sign in at once.
+enum class PasswordHashing : std::uint8_t { Interactive, Minimum };
+const char* name(PasswordHashing hashing);
+
 /// [db]
 struct DbConfig {
   std::string path = "ricochet.db";  ///< SQLite file; relative paths are under data_dir
+  PasswordHashing password_hashing = PasswordHashing::Interactive;
 };
 
 /// [tls]

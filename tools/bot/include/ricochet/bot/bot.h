@@ -88,6 +88,11 @@ class Bot {
   const BotRecord& record() const { return record_; }
   /// Called once when the bot reaches Done.
   void on_done(std::function<void()> callback) { on_done_ = std::move(callback); }
+  /// Called with the reason of every failed attempt and of an end in error (load tests count
+  /// them by kind).
+  void on_failure(std::function<void(std::string_view reason)> callback) {
+    on_failure_ = std::move(callback);
+  }
 
  private:
   void transition(BotState to, std::string_view reason);
@@ -136,9 +141,11 @@ class Bot {
   ServerTrust& trust_;
   BotConfig config_;
   boost::asio::ip::tcp::endpoint control_endpoint_;
+  boost::asio::ip::address local_address_;  ///< config_.bind_address; unspecified: any
   boost::asio::ip::udp::endpoint game_endpoint_;
   BotState state_ = BotState::Connecting;
   std::function<void()> on_done_;
+  std::function<void(std::string_view)> on_failure_;
 
   std::shared_ptr<ControlClient> control_;
   std::string session_token_;

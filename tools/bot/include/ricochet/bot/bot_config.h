@@ -11,6 +11,14 @@ struct BotConfig {
   /// The server's IP address (numeric IPv4 or IPv6); the game channel is on the same host.
   std::string host = "127.0.0.1";
   std::uint16_t control_port = 7777;  ///< TLS control channel, TCP
+  /// Local address both channels' sockets bind to (numeric, of the server's family); empty: the
+  /// system's choice. Load tests spread bots over 127.0.0.x so each address stays within the
+  /// server's per-address limits.
+  std::string bind_address;
+  /// 0: input ticks count from the game connection's start; N (1..64): each tick falls on phase
+  /// seed % N of a tick-rate grid on the steady clock, shared by every bot of the process, so
+  /// that a thousand bots wake their loop N times per tick instead of a thousand.
+  int tick_phases = 0;
   /// Pinned certificate SHA-256 fingerprint ("AA:BB:...", 32 pairs); empty: trust_file decides.
   std::string fingerprint;
   /// Trust on first use: the file is created with the first fingerprint seen; a later mismatch
@@ -26,9 +34,13 @@ struct BotConfig {
   double rebind_after_s = 0;
   int matches = 0;  ///< matches to finish (MatchResults received) before stopping; 0: no limit
   int max_reconnect_attempts = 5;  ///< failed reconnects in a row before giving up, 1..1000
+  bool predict = true;  ///< false: cheap mode, no prediction or interpolation (load tests)
 
   /// Empty when usable; otherwise the first wrong field, its allowed range and its value.
   std::string validate() const;
 };
+
+/// An account name the server takes: 3..24 characters of [A-Za-z0-9_.-].
+bool valid_account_name(const std::string& name);
 
 }  // namespace ricochet::bot

@@ -43,7 +43,9 @@ class ControlClient : public std::enable_shared_from_this<ControlClient> {
   ControlClient(const ControlClient&) = delete;
   ControlClient& operator=(const ControlClient&) = delete;
 
-  void connect(const boost::asio::ip::tcp::endpoint& server);
+  /// `local`: the address to connect from (any free port on it); unspecified: the system's.
+  void connect(const boost::asio::ip::tcp::endpoint& server,
+               const boost::asio::ip::address& local = {});
   /// Numbers `message`, sends it, and calls `on_reply` with the server's answer.
   void request(wire::ClientMessage message, ReplyHandler on_reply);
   /// Ends the connection at once; no callback is called after this.

@@ -21,6 +21,8 @@ struct FleetConfig {
   BotConfig bot;  ///< every bot's, with the name and seed made per bot
   int bots = 1;   ///< 1..10000; with 1 the name is used as is
   std::chrono::milliseconds start_spacing{20};  ///< between two bots' starts
+  /// Local addresses the bots bind to, bot k to [(k - 1) % size]; empty: bot.bind_address.
+  std::vector<std::string> bind_addresses;
 
   std::string validate() const;
 };

@@ -34,6 +34,9 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
   GameSession(const GameSession&) = delete;
   GameSession& operator=(const GameSession&) = delete;
 
+  /// Moves the socket to any free port on `local` (an address of the server's family); before
+  /// start() only. Empty on success, else why the socket could not be bound.
+  std::string bind_local(const boost::asio::ip::address& local);
   /// Starts reading datagrams.
   void start();
   /// Resends, keep-alives and timeouts; call at least every 100 ms.

@@ -1,0 +1,52 @@
+#pragma once
+/// What one load test is told: the server on this host, how many bots and how fast they come,
+/// how long to measure, where to write. validate() explains what is wrong.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ricochet::loadtest {
+
+struct LoadTestConfig {
+  /// The server's address: loopback only (127.0.0.0/8), since the tool reads the server's
+  /// /proc entry and spreads its bots over loopback source addresses.
+  std::string server = "127.0.0.1";
+  std::uint16_t control_port = 7777;  ///< TLS control channel
+  std::uint16_t admin_port = 9100;    ///< admin HTTP (/metrics), on the same address
+  std::string fingerprint;            ///< pinned certificate fingerprint; empty: trust_file
+  std::string trust_file;             ///< trust on first use; empty: DIR/server.fp
+  int bots = 16;                      ///< 1..10000 (the largest step with --sweep)
+  std::vector<int> sweep;             ///< increasing bot counts; empty: one run of `bots`
+  int match_size = 16;                ///< 1..64 players per match the server is expected to host
+  double duration_s = 60;             ///< measured, after the ramp (each step with --sweep)
+  double ramp_per_s = 50;             ///< bots started per second, 0.1..1000
+  double settle_s = 5;                ///< after the last start, before measuring, 0..600
+  int bots_per_address = 8;           ///< bots per loopback source address, 1..16
+  bool cheap = true;                  ///< bots skip prediction and interpolation
+  double skill = 0.5;                 ///< 0..1
+  std::string name = "load";          ///< account prefix, 1..12 of [A-Za-z0-9_.-]
+  std::string password = "ricochet-load";
+  double scrape_interval_s = 1;       ///< /metrics and /proc, 0.2..60
+  int server_pid = 0;                 ///< 0: read ricochet_process_id from /metrics
+  std::string out = "loadtest-out";   ///< directory written (created)
+  bool plots = true;                  ///< run gnuplot for the PNGs
+  bool progress = true;               ///< one line per scrape on stderr
+
+  /// Empty when usable; otherwise the first wrong field, its allowed range and its value.
+  std::string validate() const;
+  /// The bot counts run: `sweep`, or `bots` alone.
+  std::vector<int> steps() const;
+};
+
+/// "60", "60s", "1.5m", "250ms" → seconds; nullopt when malformed or negative.
+std::optional<double> parse_duration_s(const std::string& text);
+/// "100,200,400" → {100, 200, 400}; nullopt when malformed, empty or not increasing.
+std::optional<std::vector<int>> parse_bot_counts(const std::string& text);
+/// True for a numeric IPv4 address in 127.0.0.0/8.
+bool is_loopback_v4(const std::string& address);
+/// `count` loopback source addresses 127.0.1.1, 127.0.1.2, ... (254 per third octet).
+std::vector<std::string> source_addresses(int count);
+
+}  // namespace ricochet::loadtest

@@ -1,0 +1,23 @@
+#pragma once
+/// GET /metrics from the server's admin HTTP port on the load test's io_context: connect, one
+/// HTTP/1.0 request, read to the end, within a deadline. Never blocks the loop.
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <functional>
+#include <string>
+
+namespace ricochet::loadtest {
+
+struct MetricsResponse {
+  std::string body;   ///< the exposition text, when error is empty
+  std::string error;  ///< why there is no body ("connection refused", "HTTP 503", "timed out")
+  double elapsed_ms = 0;
+};
+
+/// Calls `done` once, on `io`, with the body of GET /metrics or the reason there is none.
+/// `timeout_s` > 0; the body is refused beyond kMaxMetricsBytes.
+void fetch_metrics(boost::asio::io_context& io, const boost::asio::ip::tcp::endpoint& admin,
+                   double timeout_s, std::function<void(MetricsResponse)> done);
+
+}  // namespace ricochet::loadtest

@@ -1,0 +1,93 @@
+#pragma once
+/// What a load test saw, sample by sample (one per scrape), and the summary of each step's
+/// measured window: the figures report.json carries and the plots draw.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "ricochet/loadtest/error_kinds.h"
+
+namespace ricochet::loadtest {
+
+/// One scrape of the server and one look at every bot.
+struct RunSample {
+  double t_s = 0;       ///< since the run started
+  int step_bots = 0;    ///< the step's target bot count
+  bool measuring = false;
+  int playing = 0;      ///< bots with a connected game channel
+  int joining = 0;      ///< bots on their way (connecting, signing in, joining, handshaking)
+  int done = 0;         ///< bots that stopped (gave up)
+  bool server_ok = false;  ///< the scrape succeeded
+  int matches = 0;
+  int server_players = 0;
+  std::array<double, 4> tick_ms{};  ///< worst match's p50, p95, p99, max (last 600 ticks), ms
+  double tick_p99_mean_ms = 0;      ///< mean over matches with players of their p99
+  double overruns = 0;              ///< since the run started, all matches
+  double dropped_steps = 0;         ///< since the run started
+  double server_cpu_percent = 0;    ///< since the previous sample (100: one core)
+  double server_rss_mb = 0;
+  double generator_cpu_percent = 0;
+  double generator_rss_mb = 0;
+  double kbps_in_per_client = 0;   ///< bots' received game bytes since the previous sample
+  double kbps_out_per_client = 0;  ///< bots' sent game bytes since the previous sample
+  double server_packets_in_per_s = 0;
+  double server_packets_out_per_s = 0;
+  double rtt_ms_p50 = 0;  ///< over the bots' latest RTT samples
+  double rtt_ms_p99 = 0;
+  double snapshot_loss = 0;  ///< since the previous sample, 0..1
+  std::uint64_t errors = 0;  ///< since the run started, every kind
+  double scrape_ms = 0;      ///< how long GET /metrics took
+};
+
+/// One match's tick quantiles at one sample.
+struct MatchTickRow {
+  double t_s = 0;
+  std::uint32_t match = 0;
+  std::array<double, 4> tick_ms{};
+};
+
+/// A step's measured window.
+struct StepSummary {
+  int bots = 0;
+  int bots_connected = 0;  ///< playing at the end of the window
+  int bots_gave_up = 0;
+  int matches = 0;
+  double measured_s = 0;
+  double ramp_s = 0;  ///< from the step's first start to the window's start
+  std::array<double, 4> server_tick_ms{};  ///< the window's worst of each quantile, ms
+  double server_tick_ms_p99_mean = 0;      ///< mean over samples of the mean match p99
+  double overruns = 0;                     ///< during the window
+  double dropped_steps = 0;
+  double snapshot_loss = 0;  ///< bots' lost / (received + lost) during the window
+  double snapshots_per_s_per_bot = 0;
+  double rtt_ms_p50 = 0;  ///< pooled over the window's samples
+  double rtt_ms_p99 = 0;
+  double kbps_in_per_client = 0;
+  double kbps_out_per_client = 0;
+  double server_cpu_percent = 0;  ///< over the window
+  double server_rss_mb = 0;       ///< the window's largest
+  double generator_cpu_percent = 0;
+  double generator_rss_mb = 0;
+  double server_packets_in_per_s = 0;
+  double server_packets_out_per_s = 0;
+  double connect_ms_p50 = 0;  ///< this step's bots: start to first snapshot
+  double connect_ms_p99 = 0;
+  double connect_ms_max = 0;
+  ErrorCounts errors;  ///< since the run started, by kind
+  /// Server tick time per phase over the window, all matches, in % of one core ("total": the
+  /// whole ticks; the rest of server_cpu_percent is the network, the transport and the
+  /// control channel).
+  std::map<std::string, double> server_phase_percent;
+
+  /// The capacity criteria: p99 tick ≤ 4 ms, no overrun, snapshot loss ≤ 1 %, server core not
+  /// saturated (< 90 %), every bot connected.
+  bool meets_capacity() const;
+  bool generator_saturated() const { return generator_cpu_percent >= 90; }
+  /// One JSON object (no newline).
+  std::string to_json() const;
+};
+
+}  // namespace ricochet::loadtest

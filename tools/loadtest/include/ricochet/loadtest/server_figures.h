@@ -1,0 +1,47 @@
+#pragma once
+/// The server's own figures, read from one /metrics scrape: per-match tick quantiles over the
+/// match's last 600 ticks, overruns, players, traffic and refusals.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "ricochet/loadtest/prometheus_text.h"
+
+namespace ricochet::loadtest {
+
+struct MatchFigures {
+  std::array<double, 4> tick_ms{};  ///< p50, p95, p99, max over the last 600 ticks, ms
+  int connected = 0;                ///< players connected
+  double overruns = 0;              ///< ticks that hit the catch-up cap, since the match opened
+};
+
+struct ServerFigures {
+  int pid = 0;  ///< ricochet_process_id; 0: not reported
+  int matches = 0;
+  int players = 0;             ///< seated in any match
+  int game_connected = 0;      ///< game connections connected
+  double overruns = 0;         ///< all matches now listed
+  double dropped_steps = 0;    ///< all matches now listed
+  double packets_in = 0;       ///< game channel, since start
+  double packets_out = 0;
+  double bytes_in = 0;
+  double bytes_out = 0;
+  double game_dropped = 0;     ///< game datagrams dropped, every reason
+  double control_refused = 0;  ///< control connections, frames and messages refused
+  std::map<std::uint32_t, MatchFigures> by_match;
+  /// Tick time spent in each phase (ricochet_tick_phase_seconds_sum), all matches, s since
+  /// they opened; "total" is the whole tick.
+  std::map<std::string, double> phase_seconds;
+
+  /// The largest of each quantile over the matches with players connected (all zeros: none).
+  std::array<double, 4> worst_tick_ms() const;
+};
+
+/// What the samples say; unknown metrics are ignored, a match label that is not a number is
+/// skipped.
+ServerFigures read_server_figures(const std::vector<MetricSample>& samples);
+
+}  // namespace ricochet::loadtest

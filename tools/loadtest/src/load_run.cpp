@@ -1,0 +1,407 @@
+#include "ricochet/loadtest/load_run.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <variant>
+
+#include "ricochet/bot/bot_metrics.h"
+#include "ricochet/loadtest/prometheus_text.h"
+#include "ricochet/loadtest/server_figures.h"
+
+namespace ricochet::loadtest {
+
+namespace asio = boost::asio;
+
+namespace {
+
+constexpr double kScrapeTimeoutS = 5;
+/// The bots' input ticks fall on 8 phases of a shared grid: 8 timer wake-ups per tick for the
+/// whole process (not one per bot), and bursts at the server of an eighth of the bots.
+constexpr int kTickPhases = 8;
+
+std::chrono::microseconds micros(double seconds) {
+  return std::chrono::microseconds(static_cast<std::int64_t>(seconds * 1e6));
+}
+
+double safe_ratio(double numerator, double denominator) {
+  return denominator > 0 ? numerator / denominator : 0.0;
+}
+
+}  // namespace
+
+const char* name(RunPhase phase) {
+  switch (phase) {
+    case RunPhase::Ramping:
+      return "ramping";
+    case RunPhase::Measuring:
+      return "measuring";
+    case RunPhase::Finished:
+      return "finished";
+  }
+  return "unknown";
+}
+
+LoadRun::LoadRun(asio::io_context& io, LoadTestConfig config)
+    : io_(io),
+      config_(std::move(config)),
+      targets_(config_.steps()),
+      addresses_(source_addresses(
+          (targets_.back() + config_.bots_per_address - 1) / config_.bots_per_address)),
+      admin_(asio::ip::make_address(config_.server), config_.admin_port),
+      phase_timer_(io),
+      scrape_timer_(io),
+      server_pid_(config_.server_pid),
+      alive_(std::make_shared<bool>(true)) {}
+
+LoadRun::~LoadRun() = default;
+
+double LoadRun::now_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_at_).count();
+}
+
+void LoadRun::start() {
+  started_at_ = std::chrono::steady_clock::now();
+  schedule_scrape();
+  begin_step();
+}
+
+void LoadRun::begin_step() {
+  const int target = targets_[steps_.size()];
+  const int added = target - bots_started_;
+  Step step;
+  step.target = target;
+  step.started_t_s = now_s();
+  bot::FleetConfig fleet;
+  fleet.bot.host = config_.server;
+  fleet.bot.control_port = config_.control_port;
+  fleet.bot.fingerprint = config_.fingerprint;
+  fleet.bot.trust_file = config_.trust_file;
+  fleet.bot.name = config_.name + "s" + std::to_string(steps_.size() + 1);
+  fleet.bot.password = config_.password;
+  fleet.bot.skill = config_.skill;
+  fleet.bot.seed = static_cast<std::uint64_t>(bots_started_) + 1;
+  fleet.bot.predict = !config_.cheap;
+  fleet.bot.max_reconnect_attempts = 20;
+  fleet.bot.tick_phases = kTickPhases;
+  fleet.bots = added;
+  fleet.start_spacing =
+      std::chrono::milliseconds(static_cast<std::int64_t>(std::lround(1000.0 / config_.ramp_per_s)));
+  // Bot k of the run binds to address k % addresses (consecutive starts come from different
+  // addresses, so no address meets the server's per-address rates during the ramp).
+  for (int k = 0; k < added; ++k) {
+    const auto global = static_cast<std::size_t>(bots_started_ + k);
+    fleet.bind_addresses.push_back(addresses_[global % addresses_.size()]);
+  }
+  step.fleet = std::make_unique<bot::Fleet>(io_, std::move(fleet));
+  for (const auto& each : step.fleet->bots()) {
+    each->on_failure([this](std::string_view reason) { count(error_kind(reason)); });
+  }
+  step.fleet->start();
+  bots_started_ = target;
+  steps_.push_back(std::move(step));
+  phase_ = RunPhase::Ramping;
+  const double ramp_s = static_cast<double>(added) / config_.ramp_per_s + config_.settle_s;
+  std::fprintf(stderr, "ricochet-loadtest: step %zu: %d bots (+%d over %.1f s, then %.0f s "
+               "settling), then %.0f s measured\n",
+               steps_.size(), target, added, ramp_s - config_.settle_s, config_.settle_s,
+               config_.duration_s);
+  phase_timer_.expires_after(micros(ramp_s));
+  phase_timer_.async_wait([this](const boost::system::error_code& error) {
+    if (!error) begin_measuring();
+  });
+}
+
+void LoadRun::begin_measuring() {
+  phase_ = RunPhase::Measuring;
+  steps_.back().first_window_sample = samples_.size();
+  phase_timer_.expires_after(micros(config_.duration_s));
+  phase_timer_.async_wait([this](const boost::system::error_code& error) {
+    if (!error) end_step();
+  });
+}
+
+void LoadRun::end_step() {
+  summaries_.push_back(summarise(steps_.back()));
+  const StepSummary& done = summaries_.back();
+  std::fprintf(stderr,
+               "ricochet-loadtest: step %zu done: %d of %d bots connected, tick p99 %.2f ms, "
+               "overruns %.0f, loss %.2f %%, server cpu %.0f %%, generator cpu %.0f %%%s\n",
+               steps_.size(), done.bots_connected, done.bots, done.server_tick_ms[2],
+               done.overruns, done.snapshot_loss * 100, done.server_cpu_percent,
+               done.generator_cpu_percent,
+               done.meets_capacity() ? " (meets the capacity criteria)" : "");
+  if (steps_.size() < targets_.size()) return begin_step();
+  stop_reason_ = "every step measured";
+  finish();
+}
+
+void LoadRun::stop(std::string_view reason) {
+  if (phase_ == RunPhase::Finished) return;
+  stop_reason_ = std::string(reason);
+  if (phase_ == RunPhase::Measuring && !steps_.empty() &&
+      summaries_.size() < steps_.size()) {
+    summaries_.push_back(summarise(steps_.back()));
+  }
+  finish();
+}
+
+void LoadRun::finish() {
+  phase_ = RunPhase::Finished;
+  phase_timer_.cancel();
+  scrape_timer_.cancel();
+  alive_.reset();  // a scrape in flight completes into nothing
+  for (Step& step : steps_) step.fleet->stop(stop_reason_);
+  std::fprintf(stderr, "ricochet-loadtest: finished (%s)\n", stop_reason_.c_str());
+  if (auto callback = std::move(on_finished_)) callback();
+}
+
+void LoadRun::schedule_scrape() {
+  ++scrapes_;
+  scrape_timer_.expires_at(started_at_ + micros(config_.scrape_interval_s * static_cast<double>(scrapes_)));
+  scrape_timer_.async_wait([this](const boost::system::error_code& error) {
+    if (error || phase_ == RunPhase::Finished) return;
+    schedule_scrape();
+    if (scrape_in_flight_) return count("metrics_scrape_late");  // the previous is still out
+    scrape_in_flight_ = true;
+    fetch_metrics(io_, admin_, kScrapeTimeoutS,
+                  [this, alive = std::weak_ptr<bool>(alive_)](MetricsResponse response) {
+                    if (alive.expired()) return;
+                    scrape_in_flight_ = false;
+                    on_scrape(std::move(response));
+                  });
+  });
+}
+
+void LoadRun::on_scrape(MetricsResponse response) {
+  RunSample sample;
+  Totals totals;
+  sample.t_s = totals.t_s = now_s();
+  sample.step_bots = steps_.empty() ? 0 : steps_.back().target;
+  sample.measuring = phase_ == RunPhase::Measuring;
+  sample.scrape_ms = response.elapsed_ms;
+  const Totals* previous = totals_.empty() ? nullptr : &totals_.back();
+
+  // The server's figures.
+  if (!response.error.empty()) {
+    count("metrics_unavailable");
+  } else {
+    auto parsed = parse_prometheus_text(response.body);
+    if (const auto* problem = std::get_if<std::string>(&parsed)) {
+      count("metrics_malformed");
+      std::fprintf(stderr, "ricochet-loadtest: /metrics refused: %s\n", problem->c_str());
+    } else {
+      const ServerFigures figures = read_server_figures(std::get<std::vector<MetricSample>>(parsed));
+      sample.server_ok = true;
+      sample.matches = figures.matches;
+      sample.server_players = figures.players;
+      sample.tick_ms = figures.worst_tick_ms();
+      double p99_sum = 0;
+      int with_players = 0;
+      for (const auto& [id, match] : figures.by_match) {
+        if (match.connected == 0) continue;
+        p99_sum += match.tick_ms[2];
+        ++with_players;
+        match_rows_.push_back({sample.t_s, id, match.tick_ms});
+      }
+      sample.tick_p99_mean_ms = safe_ratio(p99_sum, with_players);
+      if (overruns_base_ < 0) {
+        overruns_base_ = figures.overruns;
+        dropped_base_ = figures.dropped_steps;
+      }
+      sample.overruns = std::max(0.0, figures.overruns - overruns_base_);
+      sample.dropped_steps = std::max(0.0, figures.dropped_steps - dropped_base_);
+      totals.server_packets_in = figures.packets_in;
+      totals.server_packets_out = figures.packets_out;
+      totals.phase_seconds = figures.phase_seconds;
+      if (server_pid_ == 0) server_pid_ = figures.pid;
+    }
+  }
+
+  // /proc: the server's and our own.
+  std::string error;
+  if (server_pid_ > 0) {
+    if (const auto proc = read_proc(server_pid_, error)) {
+      totals.server_cpu_s = proc->cpu_s;
+      sample.server_rss_mb = proc->rss_bytes / 1e6;
+    } else {
+      count("server_proc_unreadable");
+    }
+  }
+  if (const auto self = read_proc(static_cast<int>(getpid()), error)) {
+    totals.generator_cpu_s = self->cpu_s;
+    sample.generator_rss_mb = self->rss_bytes / 1e6;
+  }
+
+  // The bots.
+  std::vector<double> rtts;
+  bot_counters_.clear();
+  for (const Step& step : steps_) {
+    for (const auto& each : step.fleet->bots()) {
+      switch (each->state()) {
+        case bot::BotState::Playing:
+          ++sample.playing;
+          break;
+        case bot::BotState::Done:
+          ++sample.done;
+          break;
+        default:
+          ++sample.joining;
+          break;
+      }
+      const bot::BotMetrics metrics = each->metrics();
+      totals.bytes_in += static_cast<double>(metrics.bytes_in);
+      totals.bytes_out += static_cast<double>(metrics.bytes_out);
+      totals.snapshots += static_cast<double>(metrics.snapshots);
+      totals.snapshots_lost += static_cast<double>(metrics.snapshots_lost);
+      if (each->state() == bot::BotState::Playing && !metrics.rtt_ms.empty()) {
+        rtts.push_back(metrics.rtt_ms.back());
+      }
+      bot_counters_["send_failures"] += metrics.send_failures;
+      bot_counters_["snapshots_refused"] += metrics.snapshots_refused;
+      bot_counters_["bad_payloads"] += metrics.bad_payloads;
+      bot_counters_["bad_events"] += metrics.bad_events;
+      bot_counters_["bad_control"] += metrics.bad_control;
+    }
+  }
+  for (const auto& [kind, n] : errors_) sample.errors += n;
+  for (const auto& [kind, n] : bot_counters_) sample.errors += n;
+  sample.rtt_ms_p50 = bot::percentile(rtts, 50);
+  sample.rtt_ms_p99 = bot::percentile(rtts, 99);
+  if (sample.measuring && !steps_.empty()) {
+    std::vector<double>& pooled = steps_.back().rtt_ms;
+    pooled.insert(pooled.end(), rtts.begin(), rtts.end());
+  }
+
+  if (previous) {
+    const double wall = totals.t_s - previous->t_s;
+    const double clients = std::max(1, sample.playing);
+    sample.kbps_in_per_client = safe_ratio((totals.bytes_in - previous->bytes_in) * 8 / 1000, wall) / clients;
+    sample.kbps_out_per_client =
+        safe_ratio((totals.bytes_out - previous->bytes_out) * 8 / 1000, wall) / clients;
+    const double received = totals.snapshots - previous->snapshots;
+    const double lost = totals.snapshots_lost - previous->snapshots_lost;
+    sample.snapshot_loss = safe_ratio(lost, received + lost);
+    if (totals.server_cpu_s >= 0 && previous->server_cpu_s >= 0) {
+      sample.server_cpu_percent = (totals.server_cpu_s - previous->server_cpu_s) / wall * 100;
+    }
+    sample.generator_cpu_percent = (totals.generator_cpu_s - previous->generator_cpu_s) / wall * 100;
+    if (totals.server_packets_in >= 0 && previous->server_packets_in >= 0) {
+      sample.server_packets_in_per_s =
+          safe_ratio(totals.server_packets_in - previous->server_packets_in, wall);
+      sample.server_packets_out_per_s =
+          safe_ratio(totals.server_packets_out - previous->server_packets_out, wall);
+    }
+  }
+  samples_.push_back(sample);
+  totals_.push_back(totals);
+  if (config_.progress) print_progress(sample);
+}
+
+void LoadRun::print_progress(const RunSample& s) const {
+  std::string kinds;
+  ErrorCounts all = errors_;
+  for (const auto& [kind, n] : bot_counters_) {
+    if (n > 0) all[kind] += n;
+  }
+  for (const auto& [kind, n] : all) {
+    if (n == 0) continue;
+    if (!kinds.empty()) kinds += ", ";
+    kinds += kind + " " + std::to_string(n);
+  }
+  std::fprintf(stderr,
+               "[%6.1fs %-9s] bots %d playing, %d joining, %d gave up of %d | matches %d | tick "
+               "ms p99 %.2f max %.2f | overruns %.0f | server cpu %.0f%% rss %.0f MB | gen cpu "
+               "%.0f%% | kbps/client in %.0f out %.0f | rtt p99 %.1f ms | loss %.2f%% | errors "
+               "%llu%s%s%s\n",
+               s.t_s, name(phase_), s.playing, s.joining, s.done, s.step_bots, s.matches,
+               s.tick_ms[2], s.tick_ms[3], s.overruns, s.server_cpu_percent, s.server_rss_mb,
+               s.generator_cpu_percent, s.kbps_in_per_client, s.kbps_out_per_client,
+               s.rtt_ms_p99, s.snapshot_loss * 100, static_cast<unsigned long long>(s.errors),
+               kinds.empty() ? "" : " (", kinds.c_str(), kinds.empty() ? "" : ")");
+}
+
+std::vector<double> LoadRun::connect_ms() const {
+  std::vector<double> out;
+  for (const Step& step : steps_) {
+    for (const auto& each : step.fleet->bots()) {
+      const double ms = each->metrics().first_snapshot_ms;
+      if (ms >= 0) out.push_back(ms);
+    }
+  }
+  return out;
+}
+
+StepSummary LoadRun::summarise(const Step& step) const {
+  StepSummary out;
+  out.bots = step.target;
+  out.errors = errors_;
+  for (const auto& [kind, n] : bot_counters_) {
+    if (n > 0) out.errors[kind] += n;
+  }
+  std::vector<double> connect;
+  for (const auto& each : step.fleet->bots()) {
+    const double ms = each->metrics().first_snapshot_ms;
+    if (ms >= 0) connect.push_back(ms);
+  }
+  out.connect_ms_p50 = bot::percentile(connect, 50);
+  out.connect_ms_p99 = bot::percentile(connect, 99);
+  out.connect_ms_max = bot::percentile(connect, 100);
+  out.rtt_ms_p50 = bot::percentile(step.rtt_ms, 50);
+  out.rtt_ms_p99 = bot::percentile(step.rtt_ms, 99);
+  const std::size_t first = step.first_window_sample;
+  if (first >= samples_.size()) return out;  // stopped before a sample of the window
+  const std::size_t last = samples_.size() - 1;
+  const RunSample& end = samples_[last];
+  out.bots_connected = end.playing;
+  out.bots_gave_up = end.done;
+  out.matches = end.matches;
+  out.ramp_s = samples_[first].t_s - step.started_t_s;
+  double p99_mean_sum = 0;
+  int count = 0;
+  for (std::size_t i = first; i <= last; ++i) {
+    const RunSample& s = samples_[i];
+    for (std::size_t q = 0; q < out.server_tick_ms.size(); ++q) {
+      out.server_tick_ms[q] = std::max(out.server_tick_ms[q], s.tick_ms[q]);
+    }
+    out.server_rss_mb = std::max(out.server_rss_mb, s.server_rss_mb);
+    out.generator_rss_mb = std::max(out.generator_rss_mb, s.generator_rss_mb);
+    p99_mean_sum += s.tick_p99_mean_ms;
+    ++count;
+  }
+  out.server_tick_ms_p99_mean = safe_ratio(p99_mean_sum, count);
+  // Deltas over the window: from the sample before its first (the window's start) to its last.
+  const std::size_t base = first > 0 ? first - 1 : first;
+  const Totals& from = totals_[base];
+  const Totals& to = totals_[last];
+  const double wall = to.t_s - from.t_s;
+  out.measured_s = wall;
+  out.overruns = end.overruns - samples_[base].overruns;
+  out.dropped_steps = end.dropped_steps - samples_[base].dropped_steps;
+  const double received = to.snapshots - from.snapshots;
+  const double lost = to.snapshots_lost - from.snapshots_lost;
+  out.snapshot_loss = safe_ratio(lost, received + lost);
+  const double clients = std::max(1, end.playing);
+  out.snapshots_per_s_per_bot = safe_ratio(received, wall) / clients;
+  out.kbps_in_per_client = safe_ratio((to.bytes_in - from.bytes_in) * 8 / 1000, wall) / clients;
+  out.kbps_out_per_client = safe_ratio((to.bytes_out - from.bytes_out) * 8 / 1000, wall) / clients;
+  if (from.server_cpu_s >= 0 && to.server_cpu_s >= 0) {
+    out.server_cpu_percent = safe_ratio(to.server_cpu_s - from.server_cpu_s, wall) * 100;
+  }
+  out.generator_cpu_percent = safe_ratio(to.generator_cpu_s - from.generator_cpu_s, wall) * 100;
+  for (const auto& [phase, seconds] : to.phase_seconds) {
+    const auto before = from.phase_seconds.find(phase);
+    const double start = before == from.phase_seconds.end() ? 0.0 : before->second;
+    out.server_phase_percent[phase] = safe_ratio(seconds - start, wall) * 100;
+  }
+  if (from.server_packets_in >= 0 && to.server_packets_in >= 0) {
+    out.server_packets_in_per_s = safe_ratio(to.server_packets_in - from.server_packets_in, wall);
+    out.server_packets_out_per_s =
+        safe_ratio(to.server_packets_out - from.server_packets_out, wall);
+  }
+  return out;
+}
+
+}  // namespace ricochet::loadtest

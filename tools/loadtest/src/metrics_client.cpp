@@ -1,0 +1,104 @@
+#include "ricochet/loadtest/metrics_client.h"
+
+#include <boost/asio/read.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/write.hpp>
+#include <chrono>
+#include <memory>
+
+#include "ricochet/loadtest/prometheus_text.h"
+
+namespace ricochet::loadtest {
+
+namespace asio = boost::asio;
+
+namespace {
+
+class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
+ public:
+  MetricsFetch(asio::io_context& io, std::function<void(MetricsResponse)> done)
+      : socket_(io), timer_(io), done_(std::move(done)), started_(std::chrono::steady_clock::now()) {}
+
+  void start(const asio::ip::tcp::endpoint& admin, double timeout_s) {
+    timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(timeout_s * 1e6)));
+    timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
+      if (!error) self->finish("timed out");
+    });
+    socket_.async_connect(admin, [self = shared_from_this()](const boost::system::error_code& e) {
+      if (e) return self->finish("cannot connect: " + e.message());
+      self->send();
+    });
+  }
+
+ private:
+  void send() {
+    asio::async_write(socket_, asio::buffer(kRequest),
+                      [self = shared_from_this()](const boost::system::error_code& e, std::size_t) {
+                        if (e) return self->finish("cannot send the request: " + e.message());
+                        self->read();
+                      });
+  }
+
+  void read() {
+    socket_.async_read_some(
+        asio::buffer(chunk_), [self = shared_from_this()](const boost::system::error_code& e,
+                                                          std::size_t size) {
+          self->text_.append(self->chunk_.data(), size);
+          if (self->text_.size() > kMaxMetricsBytes + 4096) {
+            return self->finish("the response is larger than the 32 MiB accepted");
+          }
+          if (e == asio::error::eof) return self->parse();
+          if (e) return self->finish("cannot read the response: " + e.message());
+          self->read();
+        });
+  }
+
+  void parse() {
+    const std::size_t header_end = text_.find("\r\n\r\n");
+    if (text_.rfind("HTTP/1.", 0) != 0 || header_end == std::string::npos || text_.size() < 12) {
+      return finish("the response is not HTTP");
+    }
+    const std::string status = text_.substr(9, 3);
+    if (status != "200") return finish("HTTP " + status + " from /metrics");
+    MetricsResponse response;
+    response.body = text_.substr(header_end + 4);
+    deliver(std::move(response));
+  }
+
+  void finish(std::string error) {
+    MetricsResponse response;
+    response.error = std::move(error);
+    deliver(std::move(response));
+  }
+
+  void deliver(MetricsResponse response) {
+    if (!done_) return;
+    boost::system::error_code ignored;
+    timer_.cancel();
+    socket_.close(ignored);
+    response.elapsed_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started_)
+            .count();
+    auto done = std::move(done_);
+    done_ = nullptr;
+    done(std::move(response));
+  }
+
+  static constexpr std::string_view kRequest =
+      "GET /metrics HTTP/1.0\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  asio::ip::tcp::socket socket_;
+  asio::steady_timer timer_;
+  std::function<void(MetricsResponse)> done_;
+  std::chrono::steady_clock::time_point started_;
+  std::array<char, 65536> chunk_{};
+  std::string text_;
+};
+
+}  // namespace
+
+void fetch_metrics(asio::io_context& io, const asio::ip::tcp::endpoint& admin, double timeout_s,
+                   std::function<void(MetricsResponse)> done) {
+  std::make_shared<MetricsFetch>(io, std::move(done))->start(admin, timeout_s);
+}
+
+}  // namespace ricochet::loadtest

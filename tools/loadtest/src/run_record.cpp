@@ -1,0 +1,82 @@
+#include "ricochet/loadtest/run_record.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "ricochet/tools/json_text.h"
+
+namespace ricochet::loadtest {
+
+namespace {
+
+/// `"key":value` with a finite number (JSON has no NaN or infinity: those become 0).
+void field(std::string& out, const char* key, double value) {
+  if (!std::isfinite(value)) value = 0;
+  char text[64];
+  std::snprintf(text, sizeof text, "\"%s\":%.6g,", key, value);
+  out += text;
+}
+
+}  // namespace
+
+bool StepSummary::meets_capacity() const {
+  return measured_s > 0 && bots_connected == bots && server_tick_ms[2] <= 4.0 && overruns == 0 &&
+         snapshot_loss <= 0.01 && server_cpu_percent < 90;
+}
+
+std::string StepSummary::to_json() const {
+  std::string out = "{";
+  field(out, "bots", bots);
+  field(out, "bots_connected", bots_connected);
+  field(out, "bots_gave_up", bots_gave_up);
+  field(out, "matches", matches);
+  field(out, "measured_s", measured_s);
+  field(out, "ramp_s", ramp_s);
+  field(out, "server_tick_ms_p50", server_tick_ms[0]);
+  field(out, "server_tick_ms_p95", server_tick_ms[1]);
+  field(out, "server_tick_ms_p99", server_tick_ms[2]);
+  field(out, "server_tick_ms_max", server_tick_ms[3]);
+  field(out, "server_tick_ms_p99_mean_match", server_tick_ms_p99_mean);
+  field(out, "overruns", overruns);
+  field(out, "dropped_steps", dropped_steps);
+  field(out, "snapshot_loss", snapshot_loss);
+  field(out, "snapshots_per_s_per_bot", snapshots_per_s_per_bot);
+  field(out, "rtt_ms_p50", rtt_ms_p50);
+  field(out, "rtt_ms_p99", rtt_ms_p99);
+  field(out, "kbps_in_per_client", kbps_in_per_client);
+  field(out, "kbps_out_per_client", kbps_out_per_client);
+  field(out, "server_cpu_percent", server_cpu_percent);
+  field(out, "server_rss_mb", server_rss_mb);
+  field(out, "generator_cpu_percent", generator_cpu_percent);
+  field(out, "generator_rss_mb", generator_rss_mb);
+  field(out, "server_packets_in_per_s", server_packets_in_per_s);
+  field(out, "server_packets_out_per_s", server_packets_out_per_s);
+  field(out, "connect_ms_p50", connect_ms_p50);
+  field(out, "connect_ms_p99", connect_ms_p99);
+  field(out, "connect_ms_max", connect_ms_max);
+  out += "\"meets_capacity\":";
+  out += meets_capacity() ? "true" : "false";
+  out += ",\"generator_saturated\":";
+  out += generator_saturated() ? "true" : "false";
+  out += ",\"server_phase_percent\":{";
+  bool first_phase = true;
+  for (const auto& [phase, percent] : server_phase_percent) {
+    if (!first_phase) out += ',';
+    first_phase = false;
+    char value[32];
+    std::snprintf(value, sizeof value, "%.3f", std::isfinite(percent) ? percent : 0.0);
+    out += tools::json_string(phase) + ':' + value;
+  }
+  out += '}';
+  out += ",\"errors\":{";
+  bool first = true;
+  for (const auto& [kind, n] : errors) {
+    if (!first) out += ',';
+    first = false;
+    out += tools::json_string(kind) + ':' + std::to_string(n);
+  }
+  out += "}}";
+  return out;
+}
+
+}  // namespace ricochet::loadtest
