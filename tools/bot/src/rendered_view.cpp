@@ -4,7 +4,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <variant>
+#include <vector>
 
 namespace ricochet::bot {
 
