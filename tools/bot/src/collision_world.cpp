@@ -38,6 +38,12 @@ std::optional<std::string> check_floats(const Field& field, int count, float lim
   return std::nullopt;
 }
 
+/// The error when a world has more than `limit` of something.
+std::optional<std::string> too_many(int count, int limit, const char* what) {
+  if (count <= limit) return std::nullopt;
+  return "at most " + std::to_string(limit) + " " + what + ", got " + std::to_string(count);
+}
+
 Vec3 vec3(const google::protobuf::RepeatedField<float>& field, int at = 0) {
   return Vec3(Real(field[at]), Real(field[at + 1]), Real(field[at + 2]));
 }
@@ -61,10 +67,7 @@ std::optional<std::string> check_motion(const wire::MovementRules& in,
 }
 
 std::optional<std::string> add_planes(const wire::CollisionWorld& in, physics::World& world) {
-  if (in.planes_size() > Limits::kMaxPlanes) {
-    return "at most " + std::to_string(Limits::kMaxPlanes) + " planes, got " +
-           std::to_string(in.planes_size());
-  }
+  if (auto e = too_many(in.planes_size(), Limits::kMaxPlanes, "planes")) return e;
   for (int i = 0; i < in.planes_size(); ++i) {
     const wire::CollisionPlane& plane = in.planes(i);
     const std::string what = "plane " + std::to_string(i + 1);
@@ -84,10 +87,7 @@ std::optional<std::string> add_planes(const wire::CollisionWorld& in, physics::W
 }
 
 std::optional<std::string> add_boxes(const wire::CollisionWorld& in, physics::World& world) {
-  if (in.boxes_size() > Limits::kMaxBoxes) {
-    return "at most " + std::to_string(Limits::kMaxBoxes) + " boxes, got " +
-           std::to_string(in.boxes_size());
-  }
+  if (auto e = too_many(in.boxes_size(), Limits::kMaxBoxes, "boxes")) return e;
   for (int i = 0; i < in.boxes_size(); ++i) {
     const wire::CollisionBox& box = in.boxes(i);
     const std::string what = "box " + std::to_string(i + 1);
@@ -123,10 +123,7 @@ std::optional<std::string> add_boxes(const wire::CollisionWorld& in, physics::Wo
 }
 
 std::optional<std::string> add_meshes(const wire::CollisionWorld& in, physics::World& world) {
-  if (in.meshes_size() > Limits::kMaxMeshes) {
-    return "at most " + std::to_string(Limits::kMaxMeshes) + " meshes, got " +
-           std::to_string(in.meshes_size());
-  }
+  if (auto e = too_many(in.meshes_size(), Limits::kMaxMeshes, "meshes")) return e;
   std::size_t vertices = 0;
   std::size_t triangles = 0;
   for (int i = 0; i < in.meshes_size(); ++i) {

@@ -15,12 +15,6 @@ namespace {
 constexpr double kSnapDelays = 2;
 constexpr double kPull = 0.1;
 
-float distance2(const Vec3& a, const Vec3& b) {
-  float d2 = 0;
-  for (int axis = 0; axis < 3; ++axis) d2 += (a[axis] - b[axis]) * (a[axis] - b[axis]);
-  return d2;
-}
-
 }  // namespace
 
 Interpolator::Interpolator(std::uint32_t tick_rate_hz, std::uint32_t snapshot_rate_hz)
@@ -79,7 +73,7 @@ void Interpolator::interpolate() {
       const SeenEntity& from = a.entities[i++];
       const SeenEntity& to = b.entities[j++];
       SeenEntity mixed = t < 0.5f ? from : to;
-      if (distance2(from.position_m, to.position_m) <= kJumpM * kJumpM) {
+      if (distance_m(from.position_m, to.position_m) <= kJumpM) {
         for (int axis = 0; axis < 3; ++axis) {
           mixed.position_m[axis] = from.position_m[axis] + t * (to.position_m[axis] - from.position_m[axis]);
           mixed.velocity_mps[axis] =

@@ -85,12 +85,8 @@ void Predictor::reconcile(const SeenEntity* own, std::uint32_t acknowledged,
   }
   bool reset = !active_;
   if (active_) {
-    double d2 = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double d = double(own->position_m[axis]) - double(seed_position_[axis]);
-      d2 += d * d;
-    }
-    if (d2 <= kResetDistanceM * kResetDistanceM) stats_.travelled_m += std::sqrt(d2);
+    const double moved = distance_m(own->position_m, seed_position_);
+    if (moved <= kResetDistanceM) stats_.travelled_m += moved;
   }
   seed_position_ = own->position_m;
   if (!reset && acknowledged > measured_up_to_) {
@@ -102,12 +98,7 @@ void Predictor::reconcile(const SeenEntity* own, std::uint32_t acknowledged,
       proto::EntityState state;
       state.position_m = to_view(predicted_.front().position);
       const proto::EntityState gridded = proto::dequantize(proto::quantize(state, spec_), spec_);
-      double d2 = 0;
-      for (int axis = 0; axis < 3; ++axis) {
-        const double d = double(gridded.position_m[axis]) - double(own->position_m[axis]);
-        d2 += d * d;
-      }
-      const double error = std::sqrt(d2);
+      const double error = distance_m(gridded.position_m, own->position_m);
       if (error > kResetDistanceM) {
         reset = true;
       } else {

@@ -12,8 +12,9 @@
 ///
 /// Life events are not errors: while the own entity is dead, absent or away the predictor is
 /// idle and shows the server's state; the first snapshot after (a respawn, a reconnect) and any
-/// gap larger than kResetDistanceM (a teleport; more than a full-speed run for 250 ms plus a
-/// jump can be) re-seed it from the server's state and count a reset.
+/// gap larger than kResetDistanceM (a teleport: three times the error bound of a bad mobile
+/// link, tests/integration/bot_match_test.cpp) re-seed it from the server's state and count a
+/// reset.
 
 #include <cstddef>
 #include <cstdint>

@@ -9,6 +9,7 @@
 /// show()s the interpolated others and the predicted own player instead.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -22,6 +23,16 @@
 namespace ricochet::bot {
 
 using Vec3 = std::array<float, 3>;
+
+/// |a - b|, m, in double.
+inline double distance_m(const Vec3& a, const Vec3& b) {
+  double d2 = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double d = double(a[axis]) - double(b[axis]);
+    d2 += d * d;
+  }
+  return std::sqrt(d2);
+}
 
 /// EntityState.flags bits set by the match (PROTOCOL.md Entities in snapshots).
 inline constexpr std::uint8_t kFlagGrounded = 1u << 0;
