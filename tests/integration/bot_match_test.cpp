@@ -20,6 +20,7 @@
 
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
+#include "ricochet/bot/predictor.h"
 #include "ricochet/db/store.h"
 #include "server_process.h"
 
@@ -367,9 +368,12 @@ TEST(BotMatch, ABotOnABadLinkStillPlaysWithABoundedPredictionError) {
   ASSERT_EQ(server.wait_exit(25s), std::optional<int>(0)) << server.log();
 
   for (const auto& each : bots) {
+    std::cout << "[ figures  ] " << each->config().name << " " << each->metrics().to_json()
+              << std::endl;
+  }
+  for (const auto& each : bots) {
     const bot::BotMetrics metrics = each->metrics();
     const std::string& name = each->config().name;
-    std::cout << "[ figures  ] " << name << " " << metrics.to_json() << std::endl;
     EXPECT_TRUE(each->record().error.empty()) << name << ": " << each->record().error;
     ASSERT_EQ(each->record().results.size(), 1u) << name;
     EXPECT_EQ(metrics.worlds_refused, 0u) << name;
@@ -381,6 +385,19 @@ TEST(BotMatch, ABotOnABadLinkStillPlaysWithABoundedPredictionError) {
     EXPECT_GT(mine->shots(), 0) << name;
     if (!each->config().predict) {
       EXPECT_TRUE(metrics.prediction_error_m.empty()) << name;
+      continue;
+    }
+    // The bound assumes the bot sends its input every tick. A bot that cannot keep its 60 Hz
+    // (a sanitizer build on a loaded machine: its timer skips late ticks, so the server repeats
+    // inputs for it) measures its own stalls too; it must still predict, with corrections (not
+    // resets) only.
+    const double inputs_per_s = static_cast<double>(metrics.inputs_sent) / metrics.connected_s;
+    if (inputs_per_s < 0.9 * 60) {
+      std::cout << "[ figures  ] " << name << " sent " << inputs_per_s
+                << " inputs/s of 60: its stalls, not only the link, are in its error" << std::endl;
+      ASSERT_GT(metrics.prediction_error_m.size(), 50u) << name;
+      EXPECT_LT(bot::percentile(metrics.prediction_error_m, 99), bot::Predictor::kResetDistanceM)
+          << name;
       continue;
     }
     ASSERT_GT(metrics.prediction_error_m.size(), 200u) << name;
