@@ -50,6 +50,22 @@ int main(int argc, char** argv) {
   app.add_option("--max-reconnects", bot.max_reconnect_attempts,
                  "failed attempts in a row before a bot gives up")
       ->capture_default_str();
+  app.add_option("--sim-latency-ms", bot.link.latency_ms,
+                 "simulated one-way latency of the game channel, each way, 0..5000")
+      ->capture_default_str();
+  app.add_option("--sim-jitter-ms", bot.link.jitter_ms,
+                 "simulated jitter: each datagram's delay is latency +- up to this (uniform)")
+      ->capture_default_str();
+  app.add_option("--sim-loss", bot.link.loss, "simulated loss probability each way, 0..1")
+      ->capture_default_str();
+  app.add_option("--sim-duplicate", bot.link.duplicate,
+                 "simulated probability a datagram arrives twice, 0..1")
+      ->capture_default_str();
+  app.add_option("--sim-reorder", bot.link.reorder,
+                 "simulated probability a datagram is held back behind later ones, 0..1")
+      ->capture_default_str();
+  bool cheap = false;
+  app.add_flag("--cheap", cheap, "no prediction or interpolation (load tests)");
   app.add_option("--duration-s", duration_s, "stop after this many seconds; 0: no limit")
       ->capture_default_str();
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error|off (on stderr)")
@@ -57,6 +73,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   config.start_spacing = std::chrono::milliseconds(spacing_ms);
+  bot.predict = !cheap;
   if (const std::string problem = config.validate(); !problem.empty()) {
     std::fprintf(stderr, "ricochet-bot: %s\n", problem.c_str());
     return 2;

@@ -6,12 +6,14 @@
 /// channel connects).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "ricochet/proto/quantize.h"
 #include "ricochet/proto/token_grant.h"
+#include "ricochet/wire/world.pb.h"
 
 namespace ricochet::server {
 
@@ -38,6 +40,8 @@ struct JoinGrant {
   proto::QuantizationSpec quantization;  ///< what the client builds its snapshot decoder from
   int tick_rate_hz = 60;
   int snapshot_rate_hz = 60;
+  /// The map's collision world and movement rules, for prediction; nullptr: none is sent.
+  std::shared_ptr<const wire::CollisionWorld> world;
 };
 
 enum class DirectoryErrorCode {

@@ -1,5 +1,7 @@
 #include "match_registry.h"
 
+#include "collision_world.h"
+
 #include <algorithm>
 #include <optional>
 #include <random>
@@ -72,11 +74,13 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
         release(account, match_id, seat);
       },
       [this, id](EndedMatch ended) { match_ended(id, std::move(ended)); });
+  std::shared_ptr<const wire::CollisionWorld> world =
+      collision_world(maps_[map], match_config.movement);
   const std::lock_guard lock(mutex_);
   // Checked again: the registry may have closed or filled while the world was built.
   if (auto refused = refuse_open()) return *refused;
   host->start();
-  hosts_.emplace(id, Hosted{host, map});
+  hosts_.emplace(id, Hosted{host, map, std::move(world)});
   spdlog::info("match {} '{}' open: {} on map {} for {} players, seed {}", id, name,
                server::name(match_config.rules.mode), host->map_name(), max_players,
                match_config.rules.seed);
@@ -170,6 +174,7 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
   grant.quantization = host->second.host->quantization();
   grant.tick_rate_hz = host->second.host->tick_rate_hz();
   grant.snapshot_rate_hz = host->second.host->snapshot_rate_hz();
+  grant.world = host->second.world;
   grant.token = proto::issue_connect_token(config_.token_key, proto::kProtocolId, account,
                                            match_id, now, config_.token_lifetime_us,
                                            config_.token_timeout_s);

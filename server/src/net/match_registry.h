@@ -120,6 +120,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   struct Hosted {
     std::shared_ptr<MatchHost> host;
     std::size_t map = 0;  ///< index in the rotation
+    std::shared_ptr<const wire::CollisionWorld> world;  ///< what its join replies carry
   };
   std::map<std::uint32_t, Hosted> hosts_;
   std::unordered_map<std::uint64_t, Seat> seats_;

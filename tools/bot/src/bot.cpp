@@ -425,12 +425,14 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
   close_game(false);
   feed_.emplace(*spec, static_cast<double>(reply.tick_rate_hz()) / reply.snapshot_rate_hz(),
                 "bot " + config_.name);
+  if (config_.predict) rendered_.emplace(reply, *spec, "bot " + config_.name);
   arrived_ = false;
   entity_recorded_ = false;
   match_over_ = false;
   auto game = std::make_shared<GameSession>(
       io_, game_endpoint_, std::move(grant),
-      guarded([this](proto::ClientEvent& event) { on_game_event(event); }));
+      guarded([this](proto::ClientEvent& event) { on_game_event(event); }), config_.link,
+      config_.seed);
   game_ = game;
   if (!local_address_.is_unspecified()) {
     if (std::string error = game->bind_local(local_address_); !error.empty()) {
@@ -486,6 +488,7 @@ void Bot::on_payload(std::span<const std::uint8_t> bytes, proto::TimeUs now) {
     }
   }
   if (!snapshot) return;
+  if (rendered_) rendered_->on_snapshot(*feed_, seconds_between(started_at_us_, now));
   if (metrics_.first_snapshot_ms < 0) {
     metrics_.first_snapshot_ms = seconds_between(started_at_us_, now) * 1000;
   }
@@ -567,10 +570,12 @@ void Bot::on_kill(const wire::Kill& kill) {
 
 void Bot::on_game_lost(proto::DisconnectReason reason) {
   const std::string why = "game channel ended: " + std::string(proto::name(reason));
-  if (match_over_) {
+  const bool have_results =
+      !record_.results.empty() && record_.results.back().match_id() == match_id_;
+  // On a lossy link the MatchEnded event may never arrive before the server closes the game
+  // connection; the match's results on the control channel say the same.
+  if (match_over_ || have_results) {
     close_game(false);
-    const bool have_results =
-        !record_.results.empty() && record_.results.back().match_id() == match_id_;
     if (have_results) return after_match();
     awaiting_results_ = true;
     transition(BotState::Joining, why + ", waiting for the match results");
@@ -593,6 +598,7 @@ void Bot::close_game(bool tell_server) {
   const auto game = std::move(game_);
   game_.reset();
   feed_.reset();
+  rendered_.reset();
   connected_at_us_ = 0;
   if (tell_server) {
     game->disconnect(now);
@@ -633,10 +639,13 @@ void Bot::tick() {
                      std::to_string(config_.rebind_after_s) + " s)");
   }
 
-  wire::Input input =
-      brain_.decide(feed_->view(), feed_->status(), seconds_between(started_at_us_, now));
+  const double now_s = seconds_between(started_at_us_, now);
+  const WorldView& seen = rendered_ ? rendered_->render(feed_->view(), now_s) : feed_->view();
+  wire::Input input = brain_.decide(seen, feed_->status(), now_s);
   if (input.weapon_slot() != 0) ++metrics_.weapon_switches;
+  if (rendered_) rendered_->stamp(input);
   const std::string bytes = feed_->write_payload(std::move(input));
+  if (rendered_) rendered_->on_input(feed_->inputs().unacknowledged().back());
   if (game->send(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
                  now)) {
     ++metrics_.inputs_sent;
@@ -657,6 +666,14 @@ void Bot::add_connection(BotMetrics& out, proto::TimeUs now) const {
     out.bad_payloads += counts.bad_payloads;
     out.bad_events += counts.bad_events;
     out.snapshots_lost += feed_->gaps().lost();
+  }
+  if (rendered_) rendered_->add_to(out);
+  if (game_) {
+    const LinkCounters up = game_->link_up();
+    const LinkCounters down = game_->link_down();
+    out.sim_dropped += up.dropped + down.dropped;
+    out.sim_duplicated += up.duplicated + down.duplicated;
+    out.sim_reordered += up.reordered + down.reordered;
   }
 }
 

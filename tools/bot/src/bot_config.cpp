@@ -51,7 +51,7 @@ std::string BotConfig::validate() const {
   if (max_reconnect_attempts < 1 || max_reconnect_attempts > 1000) {
     return "max_reconnect_attempts must be 1..1000, got " + std::to_string(max_reconnect_attempts);
   }
-  return {};
+  return link.validate();
 }
 
 }  // namespace ricochet::bot

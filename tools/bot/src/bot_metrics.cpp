@@ -52,6 +52,15 @@ void BotMetrics::merge(const BotMetrics& other) {
   matches += other.matches;
   inputs_sent += other.inputs_sent;
   weapon_switches += other.weapon_switches;
+  prediction_error_m.insert(prediction_error_m.end(), other.prediction_error_m.begin(),
+                            other.prediction_error_m.end());
+  prediction_resets += other.prediction_resets;
+  prediction_replayed += other.prediction_replayed;
+  own_travelled_m += other.own_travelled_m;
+  worlds_refused += other.worlds_refused;
+  sim_dropped += other.sim_dropped;
+  sim_duplicated += other.sim_duplicated;
+  sim_reordered += other.sim_reordered;
 }
 
 double percentile(std::vector<double> samples, double p) {
@@ -98,7 +107,25 @@ std::string BotMetrics::to_json() const {
       static_cast<unsigned long long>(bad_control),
       static_cast<unsigned long long>(transport_drops),
       static_cast<unsigned long long>(send_failures));
-  return text;
+  std::string out = text;
+  out.pop_back();  // the closing brace: the prediction and simulator figures follow
+  double error_max = 0;
+  for (const double sample : prediction_error_m) error_max = std::max(error_max, sample);
+  std::snprintf(text, sizeof text,
+                ",\"prediction_samples\":%zu,\"prediction_error_m_p50\":%.6f,"
+                "\"prediction_error_m_p99\":%.6f,\"prediction_error_m_max\":%.6f,"
+                "\"prediction_resets\":%llu,\"prediction_replayed\":%llu,\"own_travelled_m\":%.2f,"
+                "\"worlds_refused\":%llu,\"sim_dropped\":%llu,\"sim_duplicated\":%llu,"
+                "\"sim_reordered\":%llu}",
+                prediction_error_m.size(), percentile(prediction_error_m, 50),
+                percentile(prediction_error_m, 99), error_max,
+                static_cast<unsigned long long>(prediction_resets),
+                static_cast<unsigned long long>(prediction_replayed), own_travelled_m,
+                static_cast<unsigned long long>(worlds_refused),
+                static_cast<unsigned long long>(sim_dropped),
+                static_cast<unsigned long long>(sim_duplicated),
+                static_cast<unsigned long long>(sim_reordered));
+  return out + text;
 }
 
 }  // namespace ricochet::bot

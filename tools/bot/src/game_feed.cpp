@@ -55,8 +55,9 @@ std::optional<wire::GameEvent> GameFeed::read_event(std::span<const std::uint8_t
 }
 
 std::string GameFeed::write_payload(wire::Input input) {
-  // The bot shows the newest snapshot as is: that is the view lag compensation rewinds to.
-  input.set_view_tick(view_.tick());
+  // Unless the caller rendered something else (rendered_view.h), the bot shows the newest
+  // snapshot as is: that is the view lag compensation rewinds to.
+  if (input.view_tick() == 0) input.set_view_tick(view_.tick());
   inputs_.push(std::move(input));
   wire::ClientPayload payload;
   inputs_.fill(payload);

@@ -48,13 +48,19 @@ asio::ip::udp::endpoint any_local(const asio::ip::udp::endpoint& server) {
 }  // namespace
 
 GameSession::GameSession(asio::io_context& io, const asio::ip::udp::endpoint& server,
-                         proto::TokenGrant grant, EventHandler on_event)
+                         proto::TokenGrant grant, EventHandler on_event, const LinkConfig& link,
+                         std::uint64_t link_seed)
     : socket_(io, any_local(server)),
       server_(server),
       client_(connect_info(server, std::move(grant)), steady_now_us()),
-      on_event_(std::move(on_event)) {
+      on_event_(std::move(on_event)),
+      link_timer_(io) {
   socket_.non_blocking(true);
   local_port_ = socket_.local_endpoint().port();
+  if (link.active()) {
+    up_.emplace(link, link_seed);
+    down_.emplace(link, link_seed ^ 0x9E3779B97F4A7C15ull);
+  }
 }
 
 std::string GameSession::bind_local(const asio::ip::address& local) {
@@ -69,7 +75,7 @@ std::string GameSession::bind_local(const asio::ip::address& local) {
 }
 
 void GameSession::start() {
-  flush();
+  flush(steady_now_us());
   wait_readable();
 }
 
@@ -94,28 +100,58 @@ void GameSession::drain(proto::TimeUs now) {
       spdlog::debug("game: receive failed: {}", error.message());
       continue;
     }
+    if (down_ && from == server_) {
+      down_->send({buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(size)}, now);
+      continue;
+    }
     client_.receive(to_address(from), std::span<const std::uint8_t>(buffer_.data(), size), now);
   }
-  flush();
+  flush(now);
+}
+
+void GameSession::pump_links(proto::TimeUs now) {
+  if (!up_ || closed_) return;
+  std::vector<std::uint8_t> datagram;
+  while (up_->poll(now, datagram)) transmit(datagram);
+  bool received = false;
+  while (!closed_ && down_->poll(now, datagram)) {
+    client_.receive(to_address(server_), datagram, now);
+    received = true;
+  }
+  if (received) flush(now);  // replies (acks) go into the up link, events out
+  if (closed_) return;
+  std::optional<proto::TimeUs> due = up_->next_due();
+  if (const auto down_due = down_->next_due()) due = due ? std::min(*due, *down_due) : *down_due;
+  if (!due || *due == link_armed_for_) return;
+  link_armed_for_ = *due;
+  link_timer_.expires_at(asio::steady_timer::time_point(std::chrono::microseconds(*due)));
+  link_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
+    if (error || self->closed_) return;
+    self->link_armed_for_ = -1;
+    self->pump_links(steady_now_us());
+  });
 }
 
 void GameSession::update(proto::TimeUs now) {
   if (closed_) return;
   client_.update(now);
-  flush();
+  flush(now);
 }
 
 bool GameSession::send(std::span<const std::uint8_t> payload, proto::TimeUs now) {
   if (closed_) return false;
   const bool sent = client_.send_unreliable(payload, now);
-  flush();
+  flush(now);
   return sent;
 }
 
 void GameSession::disconnect(proto::TimeUs now) {
   if (closed_) return;
   client_.disconnect(now);
-  send_queued();  // the disconnect packets; the event it queues is nobody's news
+  // The disconnect packets, straight out (a link would still hold them when the socket closes);
+  // the event it queues is nobody's news.
+  up_.reset();
+  send_queued(now);
   abandon();
 }
 
@@ -125,19 +161,29 @@ void GameSession::abandon() {
   closed_ = true;
   boost::system::error_code ignored;
   socket_.close(ignored);
+  link_timer_.cancel();
 }
 
-void GameSession::send_queued() {
-  proto::Transmit transmit;
-  while (!closed_ && client_.poll_transmit(transmit)) {
-    boost::system::error_code error;
-    socket_.send_to(asio::buffer(transmit.bytes), server_, 0, error);
-    if (error) ++send_failures_;
+void GameSession::transmit(std::span<const std::uint8_t> bytes) {
+  boost::system::error_code error;
+  socket_.send_to(asio::buffer(bytes.data(), bytes.size()), server_, 0, error);
+  if (error) ++send_failures_;
+}
+
+void GameSession::send_queued(proto::TimeUs now) {
+  proto::Transmit out;
+  while (!closed_ && client_.poll_transmit(out)) {
+    if (up_) {
+      up_->send(std::move(out.bytes), now);
+    } else {
+      transmit(out.bytes);
+    }
   }
 }
 
-void GameSession::flush() {
-  send_queued();
+void GameSession::flush(proto::TimeUs now) {
+  send_queued(now);
+  if (up_) pump_links(now);
   proto::ClientEvent event;
   while (!closed_ && client_.poll_event(event)) {
     if (on_event_) on_event_(event);

@@ -30,6 +30,7 @@
 #include "ricochet/bot/control_client.h"
 #include "ricochet/bot/game_feed.h"
 #include "ricochet/bot/game_session.h"
+#include "ricochet/bot/rendered_view.h"
 #include "ricochet/wire/control.pb.h"
 #include "ricochet/wire/game.pb.h"
 
@@ -156,6 +157,8 @@ class Bot {
 
   std::shared_ptr<GameSession> game_;
   std::optional<GameFeed> feed_;  ///< the current game connection's
+  /// The current connection's interpolation and prediction; empty in cheap mode (predict off).
+  std::optional<RenderedView> rendered_;
   Brain brain_;
   bool arrived_ = false;          ///< the first MatchState of this connection was seen
   bool entity_recorded_ = false;  ///< this connection's entity is in record_.entity_ids

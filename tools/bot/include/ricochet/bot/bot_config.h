@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include "ricochet/bot/link_simulator.h"
+
 namespace ricochet::bot {
 
 struct BotConfig {
@@ -29,6 +31,8 @@ struct BotConfig {
   std::uint32_t match_id = 0;             ///< 0: the first listed match with room
   double skill = 0.5;                     ///< 0..1: 1 aims exactly, 0 with the largest aim error
   std::uint64_t seed = 1;                 ///< the behaviour's random numbers
+  /// The game channel's simulated link, each direction (seeded from `seed`); inactive: none.
+  LinkConfig link;
   /// s of game connection after which the bot moves to a new local port (an address change)
   /// and reconnects with a fresh token; 0: never.
   double rebind_after_s = 0;

@@ -61,6 +61,18 @@ struct BotMetrics {
   std::uint64_t inputs_sent = 0;
   std::uint64_t weapon_switches = 0;
 
+  // Prediction (predictor.h): empty in cheap mode and without a usable collision world.
+  std::vector<double> prediction_error_m;  ///< one sample per newly acknowledged input, m
+  std::uint64_t prediction_resets = 0;     ///< re-seeds from the server (spawns, deaths, jumps)
+  std::uint64_t prediction_replayed = 0;   ///< inputs replayed on corrections
+  double own_travelled_m = 0;  ///< how far the server moved the bot's player (while predicting)
+  std::uint64_t worlds_refused = 0;        ///< join replies whose collision world was unusable
+
+  // The network simulator (link_simulator.h), both directions.
+  std::uint64_t sim_dropped = 0;
+  std::uint64_t sim_duplicated = 0;
+  std::uint64_t sim_reordered = 0;
+
   /// Adds one finished game connection's transport counters.
   void add_transport(const proto::TransportCounters& counters, double connected_for_s);
   /// Sums another bot's metrics into this one (samples are appended; first_snapshot_ms and

@@ -38,7 +38,8 @@ class GameFeed {
   /// One reliable message: the event when it is one (already applied to the view).
   std::optional<wire::GameEvent> read_event(std::span<const std::uint8_t> bytes);
   /// The ClientPayload to send this tick: `input` numbered next, with the newest few before it
-  /// and the newest snapshot tick decoded as the acknowledgement.
+  /// and the newest snapshot tick decoded as the acknowledgement. An input without a view_tick
+  /// claims the newest snapshot's tick.
   std::string write_payload(wire::Input input);
 
   const WorldView& view() const { return view_; }

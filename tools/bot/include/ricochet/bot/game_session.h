@@ -2,15 +2,22 @@
 /// One game connection over a real UDP socket: proto::GameClient (the sans-IO client end of the
 /// game channel) driven by an io_context, on a socket of its own bound to a fresh local port.
 /// It reads the clock only where IO happens and passes that time into the transport.
-/// A reconnect (new token, or a new address) is a new GameSession.
+/// A reconnect (new token, or a new address) is a new GameSession. With an active LinkConfig
+/// every datagram each way goes through a LinkSimulator (its own seeded generator per
+/// direction), released by a timer when due.
 
 #include <array>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
+#include <vector>
+
+#include "ricochet/bot/link_simulator.h"
 
 #include "ricochet/proto/clock.h"
 #include "ricochet/proto/game_client.h"
@@ -28,9 +35,11 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
   using EventHandler = std::function<void(proto::ClientEvent& event)>;
 
   /// Binds a new socket (any free port on the local address of the server's family); the
-  /// connection request goes out at once.
+  /// connection request goes out at once (through the link, when one is simulated). `link`
+  /// must be valid; `link_seed` seeds its generators.
   GameSession(boost::asio::io_context& io, const boost::asio::ip::udp::endpoint& server,
-              proto::TokenGrant grant, EventHandler on_event);
+              proto::TokenGrant grant, EventHandler on_event, const LinkConfig& link = {},
+              std::uint64_t link_seed = 1);
   GameSession(const GameSession&) = delete;
   GameSession& operator=(const GameSession&) = delete;
 
@@ -53,13 +62,20 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
   std::uint16_t local_port() const { return local_port_; }
   /// Datagrams the socket could not send at once (full buffer); they are lost.
   std::uint64_t send_failures() const { return send_failures_; }
+  /// The simulated link's counters, client to server and back (zero without one).
+  LinkCounters link_up() const { return up_ ? up_->counters() : LinkCounters{}; }
+  LinkCounters link_down() const { return down_ ? down_->counters() : LinkCounters{}; }
 
  private:
   void wait_readable();
   void drain(proto::TimeUs now);
-  void send_queued();
+  void send_queued(proto::TimeUs now);
   /// Sends what the transport queued, then hands its events to on_event_.
-  void flush();
+  void flush(proto::TimeUs now);
+  /// One datagram out of the socket, now.
+  void transmit(std::span<const std::uint8_t> bytes);
+  /// Moves what the simulated links have due by `now` on, and re-arms the link timer.
+  void pump_links(proto::TimeUs now);
 
   boost::asio::ip::udp::socket socket_;
   boost::asio::ip::udp::endpoint server_;
@@ -69,6 +85,10 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
   std::uint16_t local_port_ = 0;
   std::uint64_t send_failures_ = 0;
   bool closed_ = false;
+  std::optional<LinkSimulator> up_;    ///< client to server
+  std::optional<LinkSimulator> down_;  ///< server to client
+  boost::asio::steady_timer link_timer_;
+  proto::TimeUs link_armed_for_ = -1;  ///< the due time the timer waits for; -1: idle
 };
 
 }  // namespace ricochet::bot

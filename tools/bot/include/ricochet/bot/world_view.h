@@ -5,14 +5,16 @@
 /// pickup positions; a Pickup event names the entity that took it, which stood within 1 m of it,
 /// so the view learns a pickup's place from the taker's position in the newest snapshot.
 ///
-/// The view shows the newest snapshot as is (no interpolation, no prediction). Prediction would
-/// replace own() by the snapshot's own state with InputHistory::unacknowledged() replayed on it.
+/// The view shows the newest snapshot as is; a RenderedView (rendered_view.h) copies it and
+/// show()s the interpolated others and the predicted own player instead.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "ricochet/proto/quantize.h"
@@ -21,6 +23,16 @@
 namespace ricochet::bot {
 
 using Vec3 = std::array<float, 3>;
+
+/// |a - b|, m, in double.
+inline double distance_m(const Vec3& a, const Vec3& b) {
+  double d2 = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double d = double(a[axis]) - double(b[axis]);
+    d2 += d * d;
+  }
+  return std::sqrt(d2);
+}
 
 /// EntityState.flags bits set by the match (PROTOCOL.md Entities in snapshots).
 inline constexpr std::uint8_t kFlagGrounded = 1u << 0;
@@ -57,6 +69,12 @@ class WorldView {
   /// A decoded snapshot of `tick` (entities sorted by id) and the payload's own entity.
   void apply_snapshot(std::uint32_t tick, std::uint32_t own_entity_id,
                       std::span<const proto::QuantizedEntity> entities);
+  /// Replaces the entities (sorted by id) and the tick shown: what the bot renders instead of
+  /// the newest snapshot.
+  void show(std::uint32_t tick, std::vector<SeenEntity> entities) {
+    tick_ = tick;
+    entities_ = std::move(entities);
+  }
   /// A reliable game event (already parsed; its values are checked here before use).
   void apply_event(const wire::GameEvent& event);
 
