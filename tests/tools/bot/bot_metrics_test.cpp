@@ -24,12 +24,15 @@ TEST(BotMetrics, RatesArePerSecondOfConnectionAndTheJsonIsOneLine) {
   metrics.add_transport(counters, 10.0);
   metrics.snapshots = 590;
   metrics.snapshots_lost = 10;
+  metrics.server_packets = 1000;
+  metrics.server_packets_missing = 20;
   metrics.rtt_ms = {1, 2, 3, 100};
   const std::string json = metrics.to_json();
   EXPECT_EQ(json.find('\n'), std::string::npos);
   EXPECT_NE(json.find("\"packets_in_per_s\":60.00"), std::string::npos) << json;
   EXPECT_NE(json.find("\"bytes_in_per_s\":6000.0"), std::string::npos) << json;
   EXPECT_NE(json.find("\"snapshot_loss\":0.01667"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"packet_loss\":0.02000"), std::string::npos) << json;
   EXPECT_NE(json.find("\"rtt_ms_p99\":100.000"), std::string::npos) << json;
   EXPECT_NE(json.find("\"rtt_ms_p50\":2.000"), std::string::npos) << json;
 
@@ -37,6 +40,7 @@ TEST(BotMetrics, RatesArePerSecondOfConnectionAndTheJsonIsOneLine) {
   total.merge(metrics);
   total.merge(metrics);
   EXPECT_EQ(total.packets_in, 1200u);
+  EXPECT_EQ(total.server_packets_missing, 40u);
   EXPECT_EQ(total.rtt_ms.size(), 8u);
 }
 

@@ -658,6 +658,9 @@ void Bot::add_connection(BotMetrics& out, proto::TimeUs now) const {
     out.add_transport(game_->transport().counters(),
                       connected_at_us_ > 0 ? seconds_between(connected_at_us_, now) : 0.0);
     out.send_failures += game_->send_failures();
+    const proto::GameClient::ReceiveStats received = game_->transport().receive_stats();
+    out.server_packets += received.sent;
+    out.server_packets_missing += received.missing;
   }
   if (feed_) {
     const FeedCounts& counts = feed_->counts();

@@ -33,6 +33,8 @@ void BotMetrics::merge(const BotMetrics& other) {
   connected_s += other.connected_s;
   snapshots += other.snapshots;
   snapshots_lost += other.snapshots_lost;
+  server_packets += other.server_packets;
+  server_packets_missing += other.server_packets_missing;
   rtt_ms.insert(rtt_ms.end(), other.rtt_ms.begin(), other.rtt_ms.end());
   if (other.first_snapshot_ms >= 0) {
     first_snapshot_ms = std::max(first_snapshot_ms, other.first_snapshot_ms);
@@ -76,6 +78,9 @@ std::string BotMetrics::to_json() const {
   const double per_s = connected_s > 0 ? 1.0 / connected_s : 0.0;
   const double expected = static_cast<double>(snapshots + snapshots_lost);
   const double loss = expected > 0 ? static_cast<double>(snapshots_lost) / expected : 0.0;
+  const double packet_loss = server_packets > 0 ? static_cast<double>(server_packets_missing) /
+                                                      static_cast<double>(server_packets)
+                                                : 0.0;
   double rtt_mean = 0;
   for (const double sample : rtt_ms) rtt_mean += sample;
   if (!rtt_ms.empty()) rtt_mean /= static_cast<double>(rtt_ms.size());
@@ -84,7 +89,8 @@ std::string BotMetrics::to_json() const {
       text, sizeof text,
       "{\"connected_s\":%.3f,\"rtt_ms_mean\":%.3f,\"rtt_ms_p50\":%.3f,\"rtt_ms_p99\":%.3f,"
       "\"rtt_samples\":%zu,\"snapshots\":%llu,\"snapshots_per_s\":%.2f,\"snapshots_lost\":%llu,"
-      "\"snapshot_loss\":%.5f,\"packets_in_per_s\":%.2f,\"packets_out_per_s\":%.2f,"
+      "\"snapshot_loss\":%.5f,\"packet_loss\":%.5f,\"server_packets_missing\":%llu,"
+      "\"packets_in_per_s\":%.2f,\"packets_out_per_s\":%.2f,"
       "\"bytes_in_per_s\":%.1f,\"bytes_out_per_s\":%.1f,\"packets_in\":%llu,\"packets_out\":%llu,"
       "\"bytes_in\":%llu,\"bytes_out\":%llu,\"first_snapshot_ms\":%.3f,"
       "\"last_reconnect_ms\":%.3f,\"kills\":%d,\"deaths\":%d,\"kill_events\":%d,"
@@ -94,7 +100,8 @@ std::string BotMetrics::to_json() const {
       "\"send_failures\":%llu}",
       connected_s, rtt_mean, percentile(rtt_ms, 50), percentile(rtt_ms, 99), rtt_ms.size(),
       static_cast<unsigned long long>(snapshots), static_cast<double>(snapshots) * per_s,
-      static_cast<unsigned long long>(snapshots_lost), loss,
+      static_cast<unsigned long long>(snapshots_lost), loss, packet_loss,
+      static_cast<unsigned long long>(server_packets_missing),
       static_cast<double>(packets_in) * per_s, static_cast<double>(packets_out) * per_s,
       static_cast<double>(bytes_in) * per_s, static_cast<double>(bytes_out) * per_s,
       static_cast<unsigned long long>(packets_in), static_cast<unsigned long long>(packets_out),

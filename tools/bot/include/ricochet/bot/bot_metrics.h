@@ -39,6 +39,11 @@ struct BotMetrics {
   double connected_s = 0;            ///< s the game channel was connected
   std::uint64_t snapshots = 0;       ///< decoded
   std::uint64_t snapshots_lost = 0;  ///< gaps in server_tick (SnapshotGapCounter)
+  /// The server's packets by sequence (GameClient::receive_stats): what it sent up to the newest
+  /// that came, and of those the ones that never came. Unlike snapshots_lost, a tick the server
+  /// sent no snapshot for (a catch-up step) is not counted.
+  std::uint64_t server_packets = 0;
+  std::uint64_t server_packets_missing = 0;
   std::vector<double> rtt_ms;        ///< the transport's smoothed round trip, one sample per second
   double first_snapshot_ms = -1;     ///< from start() to the first decoded snapshot; -1: none
   double last_reconnect_ms = -1;  ///< from losing the game channel to its next snapshot; -1: none
