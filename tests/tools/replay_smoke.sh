@@ -5,7 +5,7 @@
 set -euo pipefail
 bench=$1 replay=$2 map=$3 dir=$4
 rm -rf "$dir" && mkdir -p "$dir"
-"$bench" --players 4 --seconds 1 --map "$map" --record "$dir/match.rcr" > "$dir/bench.jsonl"
+"$bench" --players 4 --seconds 1 --lag-shots 2000 --map "$map" --record "$dir/match.rcr" > "$dir/bench.jsonl"
 grep -q '"replay_hashes_match":true' "$dir/bench.jsonl"
 "$replay" "$dir/match.rcr" --export "$dir/positions.csv" | tee "$dir/replay.txt"
 grep -q '^all [1-9][0-9]* hashes match' "$dir/replay.txt"

@@ -20,7 +20,7 @@
 ///
 ///   match-bench [--players 16,32,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
 ///               [--map server/maps/foundry.toml] [--record FILE] [--out FILE]
-///               [--clock steady|thread-cpu]
+///               [--clock steady|thread-cpu] [--lag-shots 200000]
 /// --clock thread-cpu times the ticks by this thread's CPU time instead of the wall: the figure
 /// to quote from a machine shared with other work (JSON "clock" says which).
 /// --record writes the last player count's recording to FILE (for ricochet-replay).
@@ -73,6 +73,7 @@ struct Options {
   std::string out;
   std::string record;
   std::string clock = "steady";  ///< what times a tick: steady (wall) or thread-cpu
+  int lag_shots = 200000;        ///< lag-compensated shots timed after the matches
 };
 
 /// The scripted fighters: each strafes, aims at the nearest other living player (where the
@@ -309,10 +310,10 @@ std::string lag_shots(const server::Map& map, const Options& options) {
     }
     lag.record(tick, samples);
   }
-  constexpr int kShots = 200000;
+  const int shots = options.lag_shots;
   int hits = 0;
   const std::int64_t started = steady_ns();
-  for (int k = 0; k < kShots; ++k) {
+  for (int k = 0; k < shots; ++k) {
     const int shooter = k % kPlayers;
     const int target = (k * 7 + 3) % kPlayers;
     const auto& from = samples[static_cast<std::size_t>(shooter)].position_m;
@@ -332,7 +333,7 @@ std::string lag_shots(const server::Map& map, const Options& options) {
   std::snprintf(line, sizeof line,
                 "{\"bench\":\"lag_compensated_shots\",\"map\":\"%s\",\"players\":%d,\"shots\":%d,"
                 "\"player_hits\":%d,\"us_per_shot\":%.3f,\"lag_shots_per_s_per_core\":%.0f}",
-                map.name.c_str(), kPlayers, kShots, hits, seconds * 1e6 / kShots, kShots / seconds);
+                map.name.c_str(), kPlayers, shots, hits, seconds * 1e6 / shots, shots / seconds);
   return line;
 }
 
@@ -346,6 +347,8 @@ int main(int argc, char** argv) {
   app.add_option("--rate", options.rate_hz, "tick and snapshot rate, Hz")->check(CLI::Range(10, 128));
   app.add_option("--ack-delay-ms", options.ack_delay_ms, "how late clients acknowledge snapshots")->check(CLI::Range(0, 1000));
   app.add_option("--map", options.map, "map file");
+  app.add_option("--lag-shots", options.lag_shots, "lag-compensated shots to time")
+      ->check(CLI::Range(1, 100000000));
   app.add_option("--out", options.out, "also append the JSON lines to this file");
   app.add_option("--record", options.record, "write the (last) match's recording to this file");
   app.add_option("--clock", options.clock,
