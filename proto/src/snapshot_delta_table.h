@@ -75,6 +75,9 @@ class DeltaTable {
     std::int32_t group = -1;    ///< whose tallies hold this delta; -1: none
     std::uint32_t listed = 0;   ///< bit g: in group g's list this generation
     std::uint64_t used_by = 0;  ///< the last pass (begin_pass) that took this delta
+    /// Which claim put the delta here (unique in the table): a way remembered with its stamp
+    /// still holds that delta while the stamps agree.
+    std::uint64_t stamp = 0;
     layout::Prediction prediction;
     QuantizedEntity baseline;
     layout::Delta delta;
@@ -190,6 +193,7 @@ class DeltaTable {
     if (way->generation == generation_ && way->group >= 0) {
       groups_[static_cast<std::size_t>(way->group)].tallies.remove(way->delta);
     }
+    way->stamp = ++claims_;
     way->prediction = prediction;
     way->baseline = baseline;
     way->delta = layout::make_delta(baseline, now, widths, prediction);
@@ -239,6 +243,7 @@ class DeltaTable {
 
   std::uint64_t generation_ = 0;
   std::uint64_t passes_ = 0;
+  std::uint64_t claims_ = 0;
   std::vector<Way> ways_;
   std::vector<std::array<double, 3>> positions_m_;
   struct Absolute {

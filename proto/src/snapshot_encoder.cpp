@@ -65,6 +65,32 @@ struct Candidate {
   const layout::DeltaBody* body = nullptr;
 };
 
+/// A baseline as a world the SnapshotEncodeCache saw, but for the few entities the client holds
+/// at older states or not at all (SnapshotEncoder::Sent), by their indices in that world.
+struct BaselineExceptions {
+  std::span<const std::uint32_t> held;    ///< sorted
+  std::span<const std::uint32_t> absent;  ///< sorted
+};
+
+/// One step of the walk of a tick's world against an earlier world by id.
+struct WalkStep {
+  enum class Kind : std::uint8_t { Removed, Added, Kept };
+  Kind kind = Kind::Kept;
+  std::uint32_t baseline_index = 0;  ///< Removed, Kept: in the earlier world
+  std::uint32_t world_index = 0;     ///< Added, Kept
+  /// Kept: its delta when the entity changed (while way->stamp == stamp), else null.
+  DeltaTable::Way* way = nullptr;
+  std::uint64_t stamp = 0;
+};
+
+/// The walk of one tick's world against the world a baseline token names, at one prediction:
+/// worked out once per tick, then followed by every client whose baseline is that world.
+struct SharedWalk {
+  std::uint64_t baseline_token = 0;
+  layout::Prediction prediction;
+  std::vector<WalkStep> steps;
+};
+
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
 struct EncodeBuffers {
   std::vector<Candidate> candidates;
@@ -101,6 +127,14 @@ class EncodePass {
   /// delta.
   void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                     std::array<float, 3> viewer_m);
+  /// The same for a baseline that is the world `walk` was recorded against, with `exceptions`:
+  /// follows the walk, comparing only the held entities.
+  void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
+                    std::array<float, 3> viewer_m, const SharedWalk& walk,
+                    BaselineExceptions exceptions);
+  /// Records the walk of the world against `earlier` (a world the cache saw) into `walk`, with
+  /// the delta of every changed entity.
+  void record_walk(std::span<const QuantizedEntity> earlier, SharedWalk& walk);
   /// Chooses the field orders over all candidates and estimates each candidate's bits.
   void estimate_costs();
   /// Selects everything that fits budget_bits by priority, highest first.
@@ -108,8 +142,11 @@ class EncodePass {
   /// Writes the selected candidates; false if the stream exceeds stream_budget_bytes, after
   /// leaving out about as many of the lowest priorities as the excess needs (call again).
   bool write(BitWriter& stream, std::size_t stream_budget_bytes);
-  /// The entity set the client holds after decoding the stream.
-  void build_view(std::vector<QuantizedEntity>& view);
+  /// The entity set the client holds after decoding the stream. When no removal was left out it
+  /// is the world but for the deferred entities, whose world indices go to `held` (changed:
+  /// the client holds its baseline state) and `absent` (new: not held at all); true then.
+  bool build_view(std::vector<QuantizedEntity>& view, std::vector<std::uint32_t>& held,
+                  std::vector<std::uint32_t>& absent);
   /// Deferred entities' priorities, sorted by id; returns how many candidates were sent.
   std::size_t carry_priorities(std::vector<std::pair<std::uint32_t, float>>& carried) const;
   std::size_t pending() const { return candidates_.size(); }
@@ -127,6 +164,15 @@ class EncodePass {
   /// The weight of world entity `world_index` at its distance from the viewer.
   float distance_weight(std::size_t world_index, std::array<float, 3> viewer_m) const;
   double change_m(const QuantizedEntity& then, const QuantizedEntity& now) const;
+  /// The delta of world entity i from `then`, found or claimed.
+  DeltaTable::Way& delta_of(std::size_t i, const QuantizedEntity& then);
+  /// Adds a candidate for world entity i (its priority what it carried plus `change` at its
+  /// distance); p_ follows the carried priorities, which ids increase through.
+  void add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i, DeltaTable::Way* way,
+                           double change);
+  void add_removed(std::size_t j);
+  /// Baseline entity j, still in the world at i: a candidate with its delta when it changed.
+  void compare_kept(std::size_t i, std::size_t j);
 
   const QuantizationSpec& spec_;
   const SnapshotEncoderOptions& options_;
@@ -139,8 +185,12 @@ class EncodePass {
   std::vector<Candidate>& candidates_;
   std::size_t selected_count_ = 0;
   bool drop_heap_built_ = false;  ///< buffers_.drop_heap holds the selected candidates
-  DeltaTable& deltas_;            ///< the encoder's own, or the tick's shared one
-  std::uint64_t pass_;            ///< marks the deltas this pass takes
+  std::span<const std::pair<std::uint32_t, float>> carried_;  ///< find_pending's
+  std::size_t carried_next_ = 0;
+  bool viewer_nowhere_ = false;
+  std::array<float, 3> viewer_m_{};
+  DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
+  std::uint64_t pass_;  ///< marks the deltas this pass takes
 };
 
 inline float EncodePass::distance_weight(std::size_t world_index,
@@ -168,49 +218,117 @@ double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& 
          (turned ? kOrientationChange_m : 0) + (then.flags != now.flags ? kFlagsChange_m : 0);
 }
 
+DeltaTable::Way& EncodePass::delta_of(std::size_t i, const QuantizedEntity& then) {
+  if (DeltaTable::Way* way = deltas_.find(i, then, prediction_)) return *way;
+  return deltas_.claim(i, then, world_[i], widths_, prediction_, change_m(then, world_[i]));
+}
+
+void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i,
+                                     DeltaTable::Way* way, double change) {
+  const std::uint32_t id = world_[i].id;
+  std::size_t& p = carried_next_;
+  while (p < carried_.size() && carried_[p].first < id) ++p;
+  const float before = p < carried_.size() && carried_[p].first == id ? carried_[p].second : 0;
+  const float weight = viewer_nowhere_ ? 1.0f : distance_weight(i, viewer_m_);
+  Candidate& candidate = candidates_.emplace_back();
+  candidate.kind = kind;
+  candidate.baseline_index = static_cast<std::uint32_t>(j);
+  candidate.world_index = static_cast<std::uint32_t>(i);
+  candidate.way = way;
+  candidate.priority = before + static_cast<float>(change) * weight;
+}
+
+void EncodePass::add_removed(std::size_t j) {
+  Candidate& candidate = candidates_.emplace_back();
+  candidate.kind = Candidate::Kind::Removed;
+  candidate.baseline_index = static_cast<std::uint32_t>(j);
+  candidate.priority = kRemovalPriority;
+}
+
+void EncodePass::compare_kept(std::size_t i, std::size_t j) {
+  if (same_state(world_[i], baseline_[j])) return;
+  DeltaTable::Way& way = delta_of(i, baseline_[j]);
+  way.used_by = pass_;
+  add_world_candidate(Candidate::Kind::Changed, j, i, &way, way.change_m);
+}
+
 void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                               std::array<float, 3> viewer_m) {
+  carried_ = carried;
+  viewer_m_ = viewer_m;
   // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
-  const bool viewer_nowhere =
+  viewer_nowhere_ =
       !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
-  std::size_t p = 0;
-  // A world entity's candidate, its priority what it carried plus its change at its distance.
-  auto add_world_candidate = [&](Candidate::Kind kind, std::size_t j, std::size_t i,
-                                 DeltaTable::Way* way, double change) {
-    const std::uint32_t id = world_[i].id;
-    while (p < carried.size() && carried[p].first < id) ++p;
-    const float before = p < carried.size() && carried[p].first == id ? carried[p].second : 0;
-    const float weight = viewer_nowhere ? 1.0f : distance_weight(i, viewer_m);
-    Candidate& candidate = candidates_.emplace_back();
-    candidate.kind = kind;
-    candidate.baseline_index = static_cast<std::uint32_t>(j);
-    candidate.world_index = static_cast<std::uint32_t>(i);
-    candidate.way = way;
-    candidate.priority = before + static_cast<float>(change) * weight;
-  };
   std::size_t i = 0, j = 0;
   while (i < world_.size() || j < baseline_.size()) {
     if (i == world_.size() || (j < baseline_.size() && baseline_[j].id < world_[i].id)) {
-      Candidate& candidate = candidates_.emplace_back();
-      candidate.kind = Candidate::Kind::Removed;
-      candidate.baseline_index = static_cast<std::uint32_t>(j);
-      candidate.priority = kRemovalPriority;
-      ++j;
+      add_removed(j++);
     } else if (j == baseline_.size() || world_[i].id < baseline_[j].id) {
-      add_world_candidate(Candidate::Kind::Added, 0, i, nullptr, kNewEntityChange_m);
-      ++i;
+      add_world_candidate(Candidate::Kind::Added, 0, i++, nullptr, kNewEntityChange_m);
     } else {
-      if (!same_state(world_[i], baseline_[j])) {
-        DeltaTable::Way* way = deltas_.find(i, baseline_[j], prediction_);
-        if (!way) {
-          way = &deltas_.claim(i, baseline_[j], world_[i], widths_, prediction_,
-                               change_m(baseline_[j], world_[i]));
-        }
-        way->used_by = pass_;
-        add_world_candidate(Candidate::Kind::Changed, j, i, way, way->change_m);
+      compare_kept(i++, j++);
+    }
+  }
+}
+
+void EncodePass::record_walk(std::span<const QuantizedEntity> earlier, SharedWalk& walk) {
+  walk.steps.clear();
+  std::size_t i = 0, k = 0;
+  while (i < world_.size() || k < earlier.size()) {
+    WalkStep& step = walk.steps.emplace_back();
+    if (i == world_.size() || (k < earlier.size() && earlier[k].id < world_[i].id)) {
+      step.kind = WalkStep::Kind::Removed;
+      step.baseline_index = static_cast<std::uint32_t>(k++);
+    } else if (k == earlier.size() || world_[i].id < earlier[k].id) {
+      step.kind = WalkStep::Kind::Added;
+      step.world_index = static_cast<std::uint32_t>(i++);
+    } else {
+      step.kind = WalkStep::Kind::Kept;
+      step.baseline_index = static_cast<std::uint32_t>(k);
+      step.world_index = static_cast<std::uint32_t>(i);
+      if (!same_state(world_[i], earlier[k])) {
+        step.way = &delta_of(i, earlier[k]);
+        step.stamp = step.way->stamp;
       }
       ++i;
-      ++j;
+      ++k;
+    }
+  }
+}
+
+void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
+                              std::array<float, 3> viewer_m, const SharedWalk& walk,
+                              BaselineExceptions exceptions) {
+  carried_ = carried;
+  viewer_m_ = viewer_m;
+  viewer_nowhere_ =
+      !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
+  // The walk's baseline indices are the earlier world's; the client's own skip what it lacks.
+  std::size_t h = 0, a = 0;
+  for (const WalkStep& step : walk.steps) {
+    if (step.kind == WalkStep::Kind::Added) {
+      add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr, kNewEntityChange_m);
+      continue;
+    }
+    const std::uint32_t k = step.baseline_index;
+    while (a < exceptions.absent.size() && exceptions.absent[a] < k) ++a;
+    const bool absent = a < exceptions.absent.size() && exceptions.absent[a] == k;
+    const std::size_t j = k - a;  // the client's own index
+    if (step.kind == WalkStep::Kind::Removed) {
+      if (!absent) add_removed(j);
+      continue;
+    }
+    while (h < exceptions.held.size() && exceptions.held[h] < k) ++h;
+    if (absent) {
+      add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr, kNewEntityChange_m);
+    } else if (h < exceptions.held.size() && exceptions.held[h] == k) {
+      compare_kept(step.world_index, j);
+    } else if (step.way && step.way->stamp == step.stamp) {
+      step.way->used_by = pass_;
+      add_world_candidate(Candidate::Kind::Changed, j, step.world_index, step.way,
+                          step.way->change_m);
+    } else if (step.way) {
+      compare_kept(step.world_index, j);  // its way since given to another delta
     }
   }
 }
@@ -389,7 +507,39 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
   return false;
 }
 
-void EncodePass::build_view(std::vector<QuantizedEntity>& view) {
+bool EncodePass::build_view(std::vector<QuantizedEntity>& view, std::vector<std::uint32_t>& held,
+                            std::vector<std::uint32_t>& absent) {
+  held.clear();
+  absent.clear();
+  bool removal_deferred = false;
+  for (const Candidate& c : candidates_) {
+    removal_deferred |= !c.selected && c.kind == Candidate::Kind::Removed;
+  }
+  if (!removal_deferred) {
+    // The world, the deferred changes at their baseline states, the deferred new ones left out.
+    view.assign(world_.begin(), world_.end());
+    for (const Candidate& c : candidates_) {
+      if (c.selected) continue;
+      if (c.kind == Candidate::Kind::Changed) {
+        view[c.world_index] = baseline_[c.baseline_index];
+        held.push_back(c.world_index);
+      } else {
+        absent.push_back(c.world_index);
+      }
+    }
+    if (!absent.empty()) {
+      std::size_t kept = 0, next = 0;
+      for (std::size_t i = 0; i < view.size(); ++i) {
+        if (next < absent.size() && absent[next] == i) {
+          ++next;
+        } else {
+          view[kept++] = view[i];
+        }
+      }
+      view.resize(kept);
+    }
+    return true;
+  }
   // Baseline and candidates merged by id: the candidates (in id order) are every difference.
   view.clear();
   std::size_t next = 0;
@@ -417,6 +567,7 @@ void EncodePass::build_view(std::vector<QuantizedEntity>& view) {
     assert(candidates_[next].kind == Candidate::Kind::Added);
     if (candidates_[next].selected) view.push_back(world_[candidates_[next].world_index]);
   }
+  return false;
 }
 
 std::size_t EncodePass::carry_priorities(
@@ -462,6 +613,17 @@ struct SnapshotEncodeCache::Streams {
   std::size_t used = 0;                       ///< of entries, this tick's
   std::size_t next_replaced = 0;              ///< when all are used
   std::vector<SharedStream> entries;
+  /// The worlds of recent ticks, by tick, that walks are recorded against.
+  struct PastWorld {
+    std::uint64_t token = 0;
+    std::vector<QuantizedEntity> entities;
+  };
+  static constexpr std::size_t kPastWorlds = 32;
+  std::vector<PastWorld> past_worlds = std::vector<PastWorld>(kPastWorlds);
+  /// This tick's walks against the worlds of baseline tokens, as many as entries.
+  std::size_t walks_used = 0;
+  std::size_t next_walk_replaced = 0;
+  std::vector<SharedWalk> walks;
   const QuantizedEntity* world = nullptr;  ///< this tick's, its identity
   std::size_t world_size = 0;
   /// Names this tick's world: a client sent all of it holds a view equal to it, and two views
@@ -469,7 +631,7 @@ struct SnapshotEncodeCache::Streams {
   std::uint64_t world_token = 0;
   DeltaTable deltas;
 
-  explicit Streams(std::size_t max_streams) : entries(max_streams) {}
+  explicit Streams(std::size_t max_streams) : entries(max_streams), walks(max_streams) {}
 
   /// Forgets the previous tick's streams when `tick` is a new one.
   void begin(std::uint32_t tick_now, std::span<const QuantizedEntity> world_now,
@@ -484,8 +646,13 @@ struct SnapshotEncodeCache::Streams {
     world_size = world_now.size();
     widths = encoder_widths;
     world_token = next_world_token();
+    PastWorld& past = past_worlds[tick % past_worlds.size()];
+    past.token = world_token;
+    past.entities.assign(world_now.begin(), world_now.end());
     used = 0;
     next_replaced = 0;
+    walks_used = 0;
+    next_walk_replaced = 0;
     deltas.reset(world_now, spec);
   }
 
@@ -499,6 +666,34 @@ struct SnapshotEncodeCache::Streams {
       }
     }
     return nullptr;
+  }
+
+  /// This tick's walk against the world of `baseline_token` at `prediction`, or null.
+  SharedWalk* find_walk(std::uint64_t baseline_token, const layout::Prediction& prediction) {
+    for (std::size_t k = 0; k < walks_used; ++k) {
+      if (walks[k].baseline_token == baseline_token && walks[k].prediction == prediction) {
+        return &walks[k];
+      }
+    }
+    return nullptr;
+  }
+  SharedWalk& claim_walk(std::uint64_t baseline_token, const layout::Prediction& prediction) {
+    SharedWalk* walk = nullptr;
+    if (walks_used < walks.size()) {
+      walk = &walks[walks_used++];
+    } else {
+      walk = &walks[next_walk_replaced];
+      next_walk_replaced = (next_walk_replaced + 1) % walks.size();
+    }
+    walk->baseline_token = baseline_token;
+    walk->prediction = prediction;
+    return *walk;
+  }
+  /// The world of `tick` when it still is the one named `token`, or null.
+  const std::vector<QuantizedEntity>* past_world(std::uint32_t past_tick,
+                                                 std::uint64_t token) const {
+    const PastWorld& past = past_worlds[past_tick % past_worlds.size()];
+    return past.token == token ? &past.entities : nullptr;
   }
 
   SharedStream& claim() {
@@ -597,7 +792,9 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   const SharedStream* reused = nullptr;
   const layout::Prediction prediction = layout::make_prediction(baseline_age, spec_);
   const std::uint64_t baseline_token = has_baseline ? acked.world_token : 0;
-  const bool shareable = shared && (!has_baseline || baseline_token != 0);
+  const bool shareable =
+      shared &&
+      (!has_baseline || (baseline_token != 0 && acked.held.empty() && acked.absent.empty()));
   if (shared) shared->begin(tick, world, scratch_->widths, spec_);
   if (shareable) {
     const SharedStream* found = shared->find(baseline_token, baseline_age, prediction);
@@ -611,9 +808,12 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   out.set_tick(tick);
   out.set_baseline_age(baseline_age);
   std::size_t pending = 0, sent = 0;
+  bool world_but_exceptions = true;  // the view: this world but for next_held_, next_absent_
   if (reused) {
     ++cache->hits_;
     next_view_.assign(world.begin(), world.end());  // everything sent: the client holds the world
+    next_held_.clear();
+    next_absent_.clear();
     priority_.clear();
     pending = sent = reused->pending;
     assign_bytes(*out.mutable_entities(), reused->stream);
@@ -622,12 +822,29 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
     if (!shared) deltas.reset(world, spec_);
     EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
                     scratch_->buffers, deltas);
-    pass.find_pending(priority_, viewer_m);
+    // A baseline that is a world the cache saw (but for a few entities) follows the walk
+    // against that world, recorded by the first client of the tick to need it.
+    SharedWalk* walk = nullptr;
+    if (shared && baseline_token != 0) {
+      walk = shared->find_walk(baseline_token, prediction);
+      const std::vector<QuantizedEntity>* earlier =
+          walk ? nullptr : shared->past_world(acked_tick_, baseline_token);
+      if (earlier) {
+        walk = &shared->claim_walk(baseline_token, prediction);
+        pass.record_walk(*earlier, *walk);
+      }
+    }
+    if (walk) {
+      ++cache->walks_followed_;
+      pass.find_pending(priority_, viewer_m, *walk, {acked.held, acked.absent});
+    } else {
+      pass.find_pending(priority_, viewer_m);
+    }
     pass.estimate_costs();
     pass.select(select_budget_bits);
     bool fits = false;
     while (!fits) fits = pass.write(stream_, stream_budget_bytes);  // each miss leaves some out
-    pass.build_view(next_view_);
+    world_but_exceptions = pass.build_view(next_view_, next_held_, next_absent_);
     pending = pass.pending();
     sent = pass.carry_priorities(priority_);
     assign_bytes(*out.mutable_entities(), stream_.bytes());
@@ -648,8 +865,10 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   Sent& entry = slot(tick);
   entry.valid = true;
   entry.tick = tick;
-  entry.world_token = shared && sent == pending ? shared->world_token : 0;
+  entry.world_token = shared && world_but_exceptions ? shared->world_token : 0;
   entry.view.swap(next_view_);
+  entry.held.swap(next_held_);
+  entry.absent.swap(next_absent_);
   has_sent_ = true;
   last_tick_ = tick;
 

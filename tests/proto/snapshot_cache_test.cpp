@@ -45,7 +45,8 @@ TEST(SnapshotEncodeCache, CachedEncodesWriteExactlyTheUncachedBytes) {
     if (tick % 50 != 0) {  // every 50th tick nothing moves
       test::perturb(world, spec, random);
       if (tick % 3 == 0) test::teleport(world, spec, random);
-      if (random() % 10 == 0) world.erase(world.begin() + static_cast<std::ptrdiff_t>(random() % world.size()));
+      if (random() % 10 == 0)
+        world.erase(world.begin() + static_cast<std::ptrdiff_t>(random() % world.size()));
       if (random() % 10 == 0) world.push_back(test::random_entity(next_id++, spec, random, true));
     }
     for (Client& client : clients) {
@@ -72,6 +73,56 @@ TEST(SnapshotEncodeCache, CachedEncodesWriteExactlyTheUncachedBytes) {
   // The scene exercises both paths.
   EXPECT_GT(cache.hits(), 1000u);
   EXPECT_GT(cache.misses(), 300u);
+}
+
+/// A crowded world (entities spawning every tick) against budgets that just miss it: every
+/// client leaves a few changed and new entities out, each its own by distance, so later
+/// baselines are one world with exceptions per client and follow the walk against that world.
+TEST(SnapshotEncodeCache, ClientsHoldingAWorldButAFewEntitiesFollowOneWalkAndWriteTheSameBytes) {
+  const QuantizationSpec spec = test::test_spec();
+  std::mt19937 random(20261202);
+  std::vector<QuantizedEntity> world = test::random_world(140, spec, random);
+  std::vector<Client> clients;
+  for (int k = 0; k < 24; ++k) {
+    Client client{SnapshotEncoder(spec), SnapshotEncoder(spec), 0, 0, {}};
+    client.ack_delay_ticks = k < 20 ? 6 : 9;  // two groups of one baseline age each
+    client.budget_bytes = 700 + 40 * static_cast<std::size_t>(k % 5);
+    client.viewer_m = {static_cast<float>(k % 6) * 12 - 30, 1, static_cast<float>(k % 4) * 16 - 24};
+    clients.push_back(std::move(client));
+  }
+  SnapshotEncodeCache cache;
+  wire::Snapshot plain_out, cached_out;
+  std::string plain_bytes, cached_bytes;
+  std::uint32_t next_id = 1000;
+  std::uint64_t deferred = 0;
+  for (std::uint32_t tick = 1; tick <= 240; ++tick) {
+    test::perturb(world, spec, random);
+    for (int spawn = 0; spawn < 3; ++spawn) {
+      world.push_back(test::random_entity(next_id++, spec, random, false));
+    }
+    while (world.size() > 150) {
+      world.erase(world.begin() + static_cast<std::ptrdiff_t>(random() % world.size()));
+    }
+    for (Client& client : clients) {
+      if (tick > client.ack_delay_ticks && random() % 16 != 0) {
+        client.plain.acknowledge(tick - client.ack_delay_ticks);
+        client.cached.acknowledge(tick - client.ack_delay_ticks);
+      }
+      client.plain.encode(tick, world, client.viewer_m, client.budget_bytes, plain_out);
+      client.cached.encode(tick, world, client.viewer_m, client.budget_bytes, cached_out, cache);
+      ASSERT_TRUE(plain_out.SerializeToString(&plain_bytes));
+      ASSERT_TRUE(cached_out.SerializeToString(&cached_bytes));
+      ASSERT_EQ(plain_bytes, cached_bytes) << "tick " << tick;
+      const SnapshotEncodeReport& a = client.plain.last_report();
+      const SnapshotEncodeReport& b = client.cached.last_report();
+      ASSERT_EQ(a.pending, b.pending);
+      ASSERT_EQ(a.sent, b.sent);
+      ASSERT_EQ(a.bytes, b.bytes);
+      deferred += a.deferred;
+    }
+  }
+  EXPECT_GT(deferred, 24u * 100u);  // the budgets did leave entities out
+  EXPECT_GT(cache.walks_followed(), cache.misses() / 2);
 }
 
 }  // namespace

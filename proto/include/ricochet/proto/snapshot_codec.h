@@ -58,9 +58,11 @@ struct SnapshotEncodeReport {
 /// it this tick, and for whom everything pending fits the budget, is sent a copy of that
 /// client's stream instead of encoding it again. Any other client is encoded as usual, except
 /// that a changed entity whose baseline state and age another client of the tick had reuses
-/// that client's delta, and its bits when the field orders agree. Either way the bytes are the
-/// ones encode writes without the cache. Allocates nothing once its buffers have grown to the
-/// world's size.
+/// that client's delta, and its bits when the field orders agree; and that a client left
+/// something out holds that tick's world but for those entities, so that later its baseline's
+/// differences come from one walk of the world against that world (kept for 32 ticks), with
+/// only the entities it holds otherwise compared. Either way the bytes are the ones encode
+/// writes without the cache. Allocates nothing once its buffers have grown to the world's size.
 class SnapshotEncodeCache {
  public:
   /// max_streams: distinct (baseline, age) streams remembered per tick, 1..64; past that the
@@ -73,6 +75,9 @@ class SnapshotEncodeCache {
   /// Encodes answered with a copy, and encodes that wrote their own stream, since construction.
   std::uint64_t hits() const { return hits_; }
   std::uint64_t misses() const { return misses_; }
+  /// Of the misses, those whose baseline was a world the cache saw but for a few entities, and
+  /// so followed that world's walk instead of comparing every entity with their baseline.
+  std::uint64_t walks_followed() const { return walks_followed_; }
 
  private:
   friend class SnapshotEncoder;
@@ -80,6 +85,7 @@ class SnapshotEncodeCache {
   std::unique_ptr<Streams> streams_;
   std::uint64_t hits_ = 0;
   std::uint64_t misses_ = 0;
+  std::uint64_t walks_followed_ = 0;
 };
 
 class SnapshotEncoder {
@@ -117,8 +123,11 @@ class SnapshotEncoder {
     bool valid = false;
     std::uint32_t tick = 0;
     std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
-    /// Nonzero when `view` is the whole world a SnapshotEncodeCache saw under this token.
+    /// Nonzero when `view` is the world a SnapshotEncodeCache saw under this token but for the
+    /// entities at that world's indices `held` (sorted), which it holds at older states, and
+    /// `absent` (sorted), which it does not hold.
     std::uint64_t world_token = 0;
+    std::vector<std::uint32_t> held, absent;
   };
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
   void encode_with(std::uint32_t tick, std::span<const QuantizedEntity> world,
@@ -138,6 +147,7 @@ class SnapshotEncoder {
   /// Accumulated priority of the entities left out last time, sorted by id.
   std::vector<std::pair<std::uint32_t, float>> priority_;
   std::vector<QuantizedEntity> next_view_;
+  std::vector<std::uint32_t> next_held_, next_absent_;
   BitWriter stream_;
   std::unique_ptr<Scratch> scratch_;
   SnapshotEncodeReport report_;
