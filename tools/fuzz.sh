@@ -2,9 +2,10 @@
 # The libFuzzer targets (tests/fuzz): builds them with clang, libFuzzer, ASan and UBSan into
 # build/fuzz, then fuzzes each target NAME_fuzz on a temporary copy of its seed corpus
 # tests/fuzz/corpus/NAME/, so the repo's corpora stay as they are.
-#   tools/fuzz.sh [--seconds N] [--only NAME] [-flag=value ...]
-#                          fuzz every target (or one) for N seconds each (default 30); -flag=value
-#                          goes to libFuzzer (-runs=100000, -fork=2 ...)
+#   tools/fuzz.sh [--seconds N] [--jobs J] [--only NAME] [-flag=value ...]
+#                          fuzz every target (or one) for N seconds each (default 30), J targets
+#                          at a time (default: the number of cores); -flag=value goes to
+#                          libFuzzer (-runs=100000, -fork=2 ...)
 #   tools/fuzz.sh --seeds  rewrite every corpus that has a writer (tests/fuzz/NAME_seeds.cpp),
 #                          after a format change
 # Exits non-zero when a fuzzer finds a crash, a leak or a timeout, and prints the reproducer's
@@ -13,6 +14,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds=30
+jobs=$(nproc)
 seeds=0
 only=
 passthrough=()
@@ -20,16 +22,22 @@ while (($#)); do
   case $1 in
     --seconds) seconds=${2:-}; shift 2 || shift ;;
     --seconds=*) seconds=${1#*=}; shift ;;
+    --jobs) jobs=${2:-}; shift 2 || shift ;;
+    --jobs=*) jobs=${1#*=}; shift ;;
     --only) only=${2:-}; shift 2 || shift ;;
     --only=*) only=${1#*=}; shift ;;
     --seeds) seeds=1; shift ;;
-    -h | --help) sed -n '2,11p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,12p' "$0"; exit 0 ;;
     -*=*) passthrough+=("$1"); shift ;;
     *) echo "fuzz.sh: unknown argument '$1' (see tools/fuzz.sh --help)" >&2; exit 2 ;;
   esac
 done
 if ! [[ $seconds =~ ^[0-9]+$ ]] || ((seconds == 0)); then
   echo "fuzz.sh: --seconds wants a whole number of seconds > 0, got '$seconds'" >&2
+  exit 2
+fi
+if ! [[ $jobs =~ ^[0-9]+$ ]] || ((jobs == 0)); then
+  echo "fuzz.sh: --jobs wants a whole number > 0, got '$jobs'" >&2
   exit 2
 fi
 
@@ -66,21 +74,25 @@ fi
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-failed=0
-for name in "${names[@]}"; do
-  corpus=tests/fuzz/corpus/$name
+
+# fuzz_one NAME: fuzzes one target on a copy of its corpus; prints its summary into
+# $work/NAME.out (so that targets run side by side never interleave their lines); fails when the
+# fuzzer found something.
+fuzz_one() {
+  local name=$1
+  local corpus=tests/fuzz/corpus/$name
   if [[ ! -d $corpus ]] || [[ -z $(ls -A "$corpus") ]]; then
     echo "fuzz.sh: $name has no seed corpus in $corpus" >&2
-    failed=1
-    continue
+    return 1
   fi
   mkdir -p "$work/$name"
   cp "$corpus"/* "$work/$name"/
+  local artifacts
   artifacts="$dir/artifacts/$name-$(date +%Y%m%d-%H%M%S)"
   mkdir -p "$artifacts"
-  log="$dir/last-run-$name.log"
+  local log="$dir/last-run-$name.log"
   echo "fuzz.sh: $name for ${seconds} s on a copy of $corpus ($(ls "$corpus" | wc -l) seeds)"
-  status=0
+  local status=0
   "$dir/${name}_fuzz" -max_total_time="$seconds" -max_len=65536 -timeout=10 \
     -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$artifacts/" "${passthrough[@]}" \
     "$work/$name" >"$log" 2>&1 || status=$?
@@ -93,10 +105,30 @@ for name in "${names[@]}"; do
       [[ -e $reproducer ]] || continue
       echo "fuzz.sh: reproducer $reproducer (replay: $dir/${name}_fuzz $reproducer)" >&2
     done
-    failed=1
-    continue
+    return 1
   fi
   rmdir "$artifacts" 2>/dev/null || true
   echo "fuzz.sh: $name: no crash found; $(ls "$work/$name" | wc -l) inputs in the final corpus"
+}
+
+# Up to $jobs targets at a time; each one's summary is printed when it ends.
+failed=0
+declare -A running=()  # pid -> name
+report() {  # report PID STATUS
+  local name=${running[$1]}
+  unset "running[$1]"
+  cat "$work/$name.out"
+  if (($2 != 0)); then failed=1; fi
+}
+wait_for_one() {
+  local pid status=0
+  wait -n -p pid "${!running[@]}" || status=$?
+  report "$pid" "$status"
+}
+for name in "${names[@]}"; do
+  while ((${#running[@]} >= jobs)); do wait_for_one; done
+  fuzz_one "$name" >"$work/$name.out" 2>&1 &
+  running[$!]=$name
 done
+while ((${#running[@]} > 0)); do wait_for_one; done
 exit "$failed"
