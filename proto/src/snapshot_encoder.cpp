@@ -161,8 +161,10 @@ class EncodePass {
   /// Unselects the selected candidate of lowest priority (of equal ones, the last) and
   /// returns it; the first call orders the selected candidates, which must not be empty.
   Candidate& drop_lowest();
-  /// The weight of world entity `world_index` at its distance from the viewer.
-  float distance_weight(std::size_t world_index, std::array<float, 3> viewer_m) const;
+  /// The weight of world entity `world_index` at its distance from the viewer (viewer_m_).
+  float distance_weight(std::size_t world_index) const;
+  /// Where the pass looks from (find_pending's viewer), and at what scale, for the weights.
+  void look_from(std::array<float, 3> viewer_m);
   double change_m(const QuantizedEntity& then, const QuantizedEntity& now) const;
   /// The delta of world entity i from `then`, found or claimed.
   DeltaTable::Way& delta_of(std::size_t i, const QuantizedEntity& then);
@@ -188,20 +190,20 @@ class EncodePass {
   std::span<const std::pair<std::uint32_t, float>> carried_;  ///< find_pending's
   std::size_t carried_next_ = 0;
   bool viewer_nowhere_ = false;
-  std::array<float, 3> viewer_m_{};
+  std::array<double, 3> viewer_m_{};
+  double distance_scale_m_ = 1;
   DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
   std::uint64_t pass_;  ///< marks the deltas this pass takes
 };
 
-inline float EncodePass::distance_weight(std::size_t world_index,
-                                         std::array<float, 3> viewer_m) const {
+inline float EncodePass::distance_weight(std::size_t world_index) const {
   const std::array<double, 3>& position_m = deltas_.position_m(world_index);
   double squared = 0;
   for (int a = 0; a < 3; ++a) {
-    const double d = position_m[a] - viewer_m[a];
+    const double d = position_m[a] - viewer_m_[a];
     squared += d * d;
   }
-  return static_cast<float>(1.0 / (1.0 + std::sqrt(squared) / options_.distance_scale_m));
+  return static_cast<float>(1.0 / (1.0 + std::sqrt(squared) / distance_scale_m_));
 }
 
 double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& now) const {
@@ -229,20 +231,27 @@ void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::s
   std::size_t& p = carried_next_;
   while (p < carried_.size() && carried_[p].first < id) ++p;
   const float before = p < carried_.size() && carried_[p].first == id ? carried_[p].second : 0;
-  const float weight = viewer_nowhere_ ? 1.0f : distance_weight(i, viewer_m_);
-  Candidate& candidate = candidates_.emplace_back();
-  candidate.kind = kind;
-  candidate.baseline_index = static_cast<std::uint32_t>(j);
-  candidate.world_index = static_cast<std::uint32_t>(i);
-  candidate.way = way;
-  candidate.priority = before + static_cast<float>(change) * weight;
+  const float weight = viewer_nowhere_ ? 1.0f : distance_weight(i);
+  candidates_.push_back({.kind = kind,
+                         .baseline_index = static_cast<std::uint32_t>(j),
+                         .world_index = static_cast<std::uint32_t>(i),
+                         .priority = before + static_cast<float>(change) * weight,
+                         .way = way});
+}
+
+void EncodePass::look_from(std::array<float, 3> viewer_m) {
+  // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
+  viewer_nowhere_ =
+      !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
+  for (int a = 0; a < 3; ++a) viewer_m_[a] = viewer_m[a];
+  distance_scale_m_ = options_.distance_scale_m;
+  candidates_.reserve(world_.size() + baseline_.size());
 }
 
 void EncodePass::add_removed(std::size_t j) {
-  Candidate& candidate = candidates_.emplace_back();
-  candidate.kind = Candidate::Kind::Removed;
-  candidate.baseline_index = static_cast<std::uint32_t>(j);
-  candidate.priority = kRemovalPriority;
+  candidates_.push_back({.kind = Candidate::Kind::Removed,
+                         .baseline_index = static_cast<std::uint32_t>(j),
+                         .priority = kRemovalPriority});
 }
 
 void EncodePass::compare_kept(std::size_t i, std::size_t j) {
@@ -255,10 +264,7 @@ void EncodePass::compare_kept(std::size_t i, std::size_t j) {
 void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                               std::array<float, 3> viewer_m) {
   carried_ = carried;
-  viewer_m_ = viewer_m;
-  // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
-  viewer_nowhere_ =
-      !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
+  look_from(viewer_m);
   std::size_t i = 0, j = 0;
   while (i < world_.size() || j < baseline_.size()) {
     if (i == world_.size() || (j < baseline_.size() && baseline_[j].id < world_[i].id)) {
@@ -300,9 +306,7 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
                               std::array<float, 3> viewer_m, const SharedWalk& walk,
                               BaselineExceptions exceptions) {
   carried_ = carried;
-  viewer_m_ = viewer_m;
-  viewer_nowhere_ =
-      !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
+  look_from(viewer_m);
   // The walk's baseline indices are the earlier world's; the client's own skip what it lacks.
   std::size_t h = 0, a = 0;
   for (const WalkStep& step : walk.steps) {
