@@ -144,8 +144,14 @@ asio::awaitable<void> GameChannel::update_loop() {
 }
 
 void GameChannel::drain() {
+  // Payloads are handed on together, but never after an event that came after them.
+  std::vector<GamePayload> payloads;
+  const auto route_payloads = [&] {
+    if (!payloads.empty()) router_->payloads(std::exchange(payloads, {}));
+  };
   proto::ServerEvent event;
   while (transport_.poll_event(event)) {
+    if (!std::holds_alternative<proto::ServerUnreliable>(event)) route_payloads();
     if (auto* connected = std::get_if<proto::ServerConnected>(&event)) {
       client_of_account_[connected->account_id] = connected->client;
       account_of_client_[connected->client] = connected->account_id;
@@ -164,14 +170,15 @@ void GameChannel::drain() {
     } else if (auto* payload = std::get_if<proto::ServerUnreliable>(&event)) {
       const auto found = account_of_client_.find(payload->client);
       if (found != account_of_client_.end()) {
-        router_->payload(found->second, std::move(payload->bytes),
-                         transport_.rtt_us(payload->client));
+        payloads.push_back(
+            {found->second, std::move(payload->bytes), transport_.rtt_us(payload->client)});
       }
     } else if (auto* message = std::get_if<proto::ServerReliable>(&event)) {
       const auto found = account_of_client_.find(message->client);
       if (found != account_of_client_.end()) router_->reliable(found->second, std::move(message->bytes));
     }
   }
+  route_payloads();
   proto::Transmit transmit;
   while (transport_.poll_transmit(transmit)) sender_.add(std::move(transmit));
   if (!socket_.is_open()) return sender_.discard();

@@ -30,6 +30,14 @@
 
 namespace ricochet::server {
 
+/// A game payload of a connected account, as the channel hands it on.
+struct GamePayload {
+  std::uint64_t account = 0;
+  std::vector<std::uint8_t> bytes;
+  /// The connection's smoothed round trip (GameServer::rtt_us; 0 until measured).
+  proto::TimeUs rtt_us = 0;
+};
+
 /// Where the game channel's events go. Called on the channel's strand; implementations post
 /// onward and return at once.
 class GameRouter {
@@ -37,9 +45,10 @@ class GameRouter {
   virtual ~GameRouter() = default;
   virtual void connected(std::uint64_t account, std::uint32_t match_id) = 0;
   virtual void disconnected(std::uint64_t account, proto::DisconnectReason reason) = 0;
-  /// `rtt_us`: the connection's smoothed round trip (GameServer::rtt_us; 0 until measured).
-  virtual void payload(std::uint64_t account, std::vector<std::uint8_t> bytes,
-                       proto::TimeUs rtt_us) = 0;
+  /// The payloads of one wake-up of the channel, in the order they came (and after every
+  /// connected or disconnected event that came before them), so that each match can be handed
+  /// its players' inputs at once.
+  virtual void payloads(std::vector<GamePayload> batch) = 0;
   virtual void reliable(std::uint64_t account, std::vector<std::uint8_t> bytes) = 0;
 };
 

@@ -164,12 +164,13 @@ void MatchHost::disconnect(std::uint64_t account) {
   });
 }
 
-void MatchHost::receive(std::uint64_t account, std::vector<std::uint8_t> payload,
-                        proto::TimeUs rtt_us) {
-  asio::post(strand_, [self = shared_from_this(), account, payload = std::move(payload), rtt_us] {
+void MatchHost::receive(std::vector<GamePayload> payloads) {
+  asio::post(strand_, [self = shared_from_this(), payloads = std::move(payloads)] {
     if (self->ended_) return;
-    self->match_.set_latency(account, rtt_us / 2);
-    self->match_.receive(account, payload);
+    for (const GamePayload& payload : payloads) {
+      self->match_.set_latency(payload.account, payload.rtt_us / 2);
+      self->match_.receive(payload.account, payload.bytes);
+    }
   });
 }
 

@@ -87,9 +87,9 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   /// `seat`: the registry's generation of the account's seat, handed back in SeatReleased.
   void connect(std::uint64_t account, std::string name, std::uint64_t seat);
   void disconnect(std::uint64_t account);
-  /// `rtt_us`: the transport's smoothed round trip (0: not measured yet); half of it is the
-  /// latency lag compensation rewinds by.
-  void receive(std::uint64_t account, std::vector<std::uint8_t> payload, proto::TimeUs rtt_us);
+  /// Payloads of seated players, in order, in one post. Half of each one's round trip
+  /// (GamePayload::rtt_us; 0: not measured yet) is the latency lag compensation rewinds by.
+  void receive(std::vector<GamePayload> payloads);
   void chat(std::uint64_t account, std::string text);
   /// The account left (its seat is already released and its connection kicked).
   void leave(std::uint64_t account);

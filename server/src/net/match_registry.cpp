@@ -240,9 +240,23 @@ void MatchRegistry::disconnected(std::uint64_t account, proto::DisconnectReason 
   }
 }
 
-void MatchRegistry::payload(std::uint64_t account, std::vector<std::uint8_t> bytes,
-                            proto::TimeUs rtt_us) {
-  if (const auto host = host_of(account)) host->receive(account, std::move(bytes), rtt_us);
+void MatchRegistry::payloads(std::vector<GamePayload> batch) {
+  // Sorted by match under one lock, then one post per match (a wake-up mostly brings the
+  // inputs of a few matches: the linear search is over those).
+  std::vector<std::pair<std::shared_ptr<MatchHost>, std::vector<GamePayload>>> by_host;
+  {
+    const std::lock_guard lock(mutex_);
+    for (GamePayload& payload : batch) {
+      const auto seat = seats_.find(payload.account);
+      if (seat == seats_.end()) continue;
+      const std::shared_ptr<MatchHost>& host = hosts_.at(seat->second.match_id).host;
+      auto share = std::find_if(by_host.begin(), by_host.end(),
+                                [&](const auto& entry) { return entry.first == host; });
+      if (share == by_host.end()) share = by_host.insert(by_host.end(), {host, {}});
+      share->second.push_back(std::move(payload));
+    }
+  }
+  for (auto& [host, payloads] : by_host) host->receive(std::move(payloads));
 }
 
 void MatchRegistry::reliable(std::uint64_t account, std::vector<std::uint8_t> bytes) {

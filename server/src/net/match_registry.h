@@ -83,8 +83,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   // GameRouter
   void connected(std::uint64_t account, std::uint32_t match_id) override;
   void disconnected(std::uint64_t account, proto::DisconnectReason reason) override;
-  void payload(std::uint64_t account, std::vector<std::uint8_t> bytes,
-               proto::TimeUs rtt_us) override;
+  void payloads(std::vector<GamePayload> batch) override;
   void reliable(std::uint64_t account, std::vector<std::uint8_t> bytes) override;
 
  private:
