@@ -3,6 +3,7 @@
 // and a closed registry refuses joins and creates. Over a real GameChannel on 127.0.0.1:0 (no
 // client connects; the registry is driven through its MatchDirectory face).
 #include <chrono>
+#include <map>
 #include <memory>
 #include <thread>
 #include <variant>
@@ -95,6 +96,28 @@ TEST_F(MatchRegistryTest, JoiningReservesASeatAndIssuesAnOpenableToken) {
   // Joining the same match again is a reconnect: a new token, still one seat.
   ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(7, "seven", match)));
   EXPECT_EQ(players_in(match), 1);
+}
+
+TEST_F(MatchRegistryTest, AWakeUpsPayloadsReachEachPlayersMatchAndNoOther) {
+  const std::uint32_t first = open("a", 4);
+  const std::uint32_t second = open("b", 4);
+  for (const std::uint64_t account : {1, 2}) {
+    ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(account, "p", first)));
+  }
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "p", second)));
+  // Seated but never connected over the game channel: each match counts what it is handed as
+  // from an unknown player. Account 99 has no seat, so no match is handed its payload.
+  std::vector<GamePayload> batch;
+  for (const std::uint64_t account : {1, 3, 99, 2, 1}) batch.push_back({account, {0x0a, 0x00}, 0});
+  registry_->payloads(std::move(batch));
+  io_.run_for(100ms);  // the posts, and a few ticks that publish the counters
+  std::map<std::uint32_t, std::uint64_t> handed;
+  for (const auto& host : registry_->hosts()) {
+    const auto& drops = host->stats().counters.input_drops;
+    handed[host->id()] = drops[static_cast<std::size_t>(InputDrop::UnknownPlayer)];
+  }
+  EXPECT_EQ(handed[first], 3u);
+  EXPECT_EQ(handed[second], 1u);
 }
 
 TEST_F(MatchRegistryTest, AFullMatchRefusesAndLeavingGivesTheSeatBack) {
