@@ -23,6 +23,32 @@ struct Client {
   std::array<float, 3> viewer_m{};
 };
 
+/// One tick of one client on both encoders: the acknowledgement unless it is lost (one in
+/// `loss_one_in`), then both encodes, whose bytes and reports must agree.
+void encode_both(Client& client, std::uint32_t tick, const std::vector<QuantizedEntity>& world,
+                 SnapshotEncodeCache& cache, std::mt19937& random, unsigned loss_one_in) {
+  if (tick > client.ack_delay_ticks && random() % loss_one_in != 0) {
+    client.plain.acknowledge(tick - client.ack_delay_ticks);
+    client.cached.acknowledge(tick - client.ack_delay_ticks);
+  }
+  wire::Snapshot plain_out, cached_out;
+  client.plain.encode(tick, world, client.viewer_m, client.budget_bytes, plain_out);
+  client.cached.encode(tick, world, client.viewer_m, client.budget_bytes, cached_out, cache);
+  std::string plain_bytes, cached_bytes;
+  ASSERT_TRUE(plain_out.SerializeToString(&plain_bytes));
+  ASSERT_TRUE(cached_out.SerializeToString(&cached_bytes));
+  ASSERT_EQ(plain_bytes, cached_bytes) << "tick " << tick;
+  const SnapshotEncodeReport& a = client.plain.last_report();
+  const SnapshotEncodeReport& b = client.cached.last_report();
+  ASSERT_EQ(a.has_baseline, b.has_baseline);
+  ASSERT_EQ(a.baseline_tick, b.baseline_tick);
+  ASSERT_EQ(a.entities, b.entities);
+  ASSERT_EQ(a.pending, b.pending);
+  ASSERT_EQ(a.sent, b.sent);
+  ASSERT_EQ(a.deferred, b.deferred);
+  ASSERT_EQ(a.bytes, b.bytes);
+}
+
 /// Entities move, join and leave; clients in groups acknowledge at the same delay (so they share
 /// baselines), some lose acknowledgements, budgets go from tight (entities deferred) to roomy.
 TEST(SnapshotEncodeCache, CachedEncodesWriteExactlyTheUncachedBytes) {
@@ -38,8 +64,6 @@ TEST(SnapshotEncodeCache, CachedEncodesWriteExactlyTheUncachedBytes) {
     clients.push_back(std::move(client));
   }
   SnapshotEncodeCache cache;
-  wire::Snapshot plain_out, cached_out;
-  std::string plain_bytes, cached_bytes;
   std::uint32_t next_id = 1000;
   for (std::uint32_t tick = 1; tick <= 300; ++tick) {
     if (tick % 50 != 0) {  // every 50th tick nothing moves
@@ -50,24 +74,7 @@ TEST(SnapshotEncodeCache, CachedEncodesWriteExactlyTheUncachedBytes) {
       if (random() % 10 == 0) world.push_back(test::random_entity(next_id++, spec, random, true));
     }
     for (Client& client : clients) {
-      if (tick > client.ack_delay_ticks && random() % 8 != 0) {
-        client.plain.acknowledge(tick - client.ack_delay_ticks);
-        client.cached.acknowledge(tick - client.ack_delay_ticks);
-      }
-      client.plain.encode(tick, world, client.viewer_m, client.budget_bytes, plain_out);
-      client.cached.encode(tick, world, client.viewer_m, client.budget_bytes, cached_out, cache);
-      ASSERT_TRUE(plain_out.SerializeToString(&plain_bytes));
-      ASSERT_TRUE(cached_out.SerializeToString(&cached_bytes));
-      ASSERT_EQ(plain_bytes, cached_bytes) << "tick " << tick;
-      const SnapshotEncodeReport& a = client.plain.last_report();
-      const SnapshotEncodeReport& b = client.cached.last_report();
-      ASSERT_EQ(a.has_baseline, b.has_baseline);
-      ASSERT_EQ(a.baseline_tick, b.baseline_tick);
-      ASSERT_EQ(a.entities, b.entities);
-      ASSERT_EQ(a.pending, b.pending);
-      ASSERT_EQ(a.sent, b.sent);
-      ASSERT_EQ(a.deferred, b.deferred);
-      ASSERT_EQ(a.bytes, b.bytes);
+      ASSERT_NO_FATAL_FAILURE(encode_both(client, tick, world, cache, random, 8));
     }
   }
   // The scene exercises both paths.
@@ -91,8 +98,6 @@ TEST(SnapshotEncodeCache, ClientsHoldingAWorldButAFewEntitiesFollowOneWalkAndWri
     clients.push_back(std::move(client));
   }
   SnapshotEncodeCache cache;
-  wire::Snapshot plain_out, cached_out;
-  std::string plain_bytes, cached_bytes;
   std::uint32_t next_id = 1000;
   std::uint64_t deferred = 0;
   for (std::uint32_t tick = 1; tick <= 240; ++tick) {
@@ -104,21 +109,8 @@ TEST(SnapshotEncodeCache, ClientsHoldingAWorldButAFewEntitiesFollowOneWalkAndWri
       world.erase(world.begin() + static_cast<std::ptrdiff_t>(random() % world.size()));
     }
     for (Client& client : clients) {
-      if (tick > client.ack_delay_ticks && random() % 16 != 0) {
-        client.plain.acknowledge(tick - client.ack_delay_ticks);
-        client.cached.acknowledge(tick - client.ack_delay_ticks);
-      }
-      client.plain.encode(tick, world, client.viewer_m, client.budget_bytes, plain_out);
-      client.cached.encode(tick, world, client.viewer_m, client.budget_bytes, cached_out, cache);
-      ASSERT_TRUE(plain_out.SerializeToString(&plain_bytes));
-      ASSERT_TRUE(cached_out.SerializeToString(&cached_bytes));
-      ASSERT_EQ(plain_bytes, cached_bytes) << "tick " << tick;
-      const SnapshotEncodeReport& a = client.plain.last_report();
-      const SnapshotEncodeReport& b = client.cached.last_report();
-      ASSERT_EQ(a.pending, b.pending);
-      ASSERT_EQ(a.sent, b.sent);
-      ASSERT_EQ(a.bytes, b.bytes);
-      deferred += a.deferred;
+      ASSERT_NO_FATAL_FAILURE(encode_both(client, tick, world, cache, random, 16));
+      deferred += client.plain.last_report().deferred;
     }
   }
   EXPECT_GT(deferred, 24u * 100u);  // the budgets did leave entities out
