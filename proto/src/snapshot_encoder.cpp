@@ -163,13 +163,14 @@ class EncodePass {
   Candidate& drop_lowest();
   /// The weight of world entity `world_index` at its distance from the viewer (viewer_m_).
   float distance_weight(std::size_t world_index) const;
-  /// Where the pass looks from (find_pending's viewer), and at what scale, for the weights.
-  void look_from(std::array<float, 3> viewer_m);
+  /// What find_pending weighs candidates by: the priorities carried from before and the viewer.
+  void look_from(std::span<const std::pair<std::uint32_t, float>> carried,
+                 std::array<float, 3> viewer_m);
   double change_m(const QuantizedEntity& then, const QuantizedEntity& now) const;
   /// The delta of world entity i from `then`, found or claimed.
   DeltaTable::Way& delta_of(std::size_t i, const QuantizedEntity& then);
   /// Adds a candidate for world entity i (its priority what it carried plus `change` at its
-  /// distance); p_ follows the carried priorities, which ids increase through.
+  /// distance); carried_next_ follows the carried priorities, which ids increase through.
   void add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i, DeltaTable::Way* way,
                            double change);
   void add_removed(std::size_t j);
@@ -191,7 +192,6 @@ class EncodePass {
   std::size_t carried_next_ = 0;
   bool viewer_nowhere_ = false;
   std::array<double, 3> viewer_m_{};
-  double distance_scale_m_ = 1;
   DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
   std::uint64_t pass_;  ///< marks the deltas this pass takes
 };
@@ -203,7 +203,7 @@ inline float EncodePass::distance_weight(std::size_t world_index) const {
     const double d = position_m[a] - viewer_m_[a];
     squared += d * d;
   }
-  return static_cast<float>(1.0 / (1.0 + std::sqrt(squared) / distance_scale_m_));
+  return static_cast<float>(1.0 / (1.0 + std::sqrt(squared) / options_.distance_scale_m));
 }
 
 double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& now) const {
@@ -239,12 +239,13 @@ void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::s
                          .way = way});
 }
 
-void EncodePass::look_from(std::array<float, 3> viewer_m) {
+void EncodePass::look_from(std::span<const std::pair<std::uint32_t, float>> carried,
+                           std::array<float, 3> viewer_m) {
+  carried_ = carried;
   // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
   viewer_nowhere_ =
       !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
   for (int a = 0; a < 3; ++a) viewer_m_[a] = viewer_m[a];
-  distance_scale_m_ = options_.distance_scale_m;
   candidates_.reserve(world_.size() + baseline_.size());
 }
 
@@ -263,8 +264,7 @@ void EncodePass::compare_kept(std::size_t i, std::size_t j) {
 
 void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                               std::array<float, 3> viewer_m) {
-  carried_ = carried;
-  look_from(viewer_m);
+  look_from(carried, viewer_m);
   std::size_t i = 0, j = 0;
   while (i < world_.size() || j < baseline_.size()) {
     if (i == world_.size() || (j < baseline_.size() && baseline_[j].id < world_[i].id)) {
@@ -305,8 +305,7 @@ void EncodePass::record_walk(std::span<const QuantizedEntity> earlier, SharedWal
 void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                               std::array<float, 3> viewer_m, const SharedWalk& walk,
                               BaselineExceptions exceptions) {
-  carried_ = carried;
-  look_from(viewer_m);
+  look_from(carried, viewer_m);
   // The walk's baseline indices are the earlier world's; the client's own skip what it lacks.
   std::size_t h = 0, a = 0;
   for (const WalkStep& step : walk.steps) {
@@ -682,16 +681,10 @@ struct SnapshotEncodeCache::Streams {
     return nullptr;
   }
   SharedWalk& claim_walk(std::uint64_t baseline_token, const layout::Prediction& prediction) {
-    SharedWalk* walk = nullptr;
-    if (walks_used < walks.size()) {
-      walk = &walks[walks_used++];
-    } else {
-      walk = &walks[next_walk_replaced];
-      next_walk_replaced = (next_walk_replaced + 1) % walks.size();
-    }
-    walk->baseline_token = baseline_token;
-    walk->prediction = prediction;
-    return *walk;
+    SharedWalk& walk = claim_slot(walks, walks_used, next_walk_replaced);
+    walk.baseline_token = baseline_token;
+    walk.prediction = prediction;
+    return walk;
   }
   /// The world of `tick` when it still is the one named `token`, or null.
   const std::vector<QuantizedEntity>* past_world(std::uint32_t past_tick,
@@ -700,11 +693,15 @@ struct SnapshotEncodeCache::Streams {
     return past.token == token ? &past.entities : nullptr;
   }
 
-  SharedStream& claim() {
-    if (used < entries.size()) return entries[used++];
-    SharedStream& entry = entries[next_replaced];
-    next_replaced = (next_replaced + 1) % entries.size();
-    return entry;
+  SharedStream& claim() { return claim_slot(entries, used, next_replaced); }
+
+  /// The next unused of `slots` this tick, else the one used longest ago.
+  template <typename Slot>
+  static Slot& claim_slot(std::vector<Slot>& slots, std::size_t& used, std::size_t& next_replaced) {
+    if (used < slots.size()) return slots[used++];
+    Slot& slot = slots[next_replaced];
+    next_replaced = (next_replaced + 1) % slots.size();
+    return slot;
   }
 };
 
