@@ -58,7 +58,9 @@ struct Candidate {
   bool selected = false;
   std::uint32_t baseline_index = 0;  ///< Removed, Changed
   std::uint32_t world_index = 0;     ///< Added, Changed
+  /// What it carried from before, until weigh_priorities adds this tick's change at its distance.
   float priority = 0;
+  float change_m = 0;              ///< Added, Changed: this tick's change (PROTOCOL.md §8)
   int bits = 0;                    ///< estimate, for the budget
   DeltaTable::Way* way = nullptr;  ///< Changed: its delta
   /// Changed: its fields written with this encode's orders (estimate_costs).
@@ -161,6 +163,9 @@ class EncodePass {
   /// Unselects the selected candidate of lowest priority (of equal ones, the last) and
   /// returns it; the first call orders the selected candidates, which must not be empty.
   Candidate& drop_lowest();
+  /// Adds each candidate's change at its distance to what it carried: only an encode that
+  /// leaves something out needs its priorities.
+  void weigh_priorities();
   /// The weight of world entity `world_index` at its distance from the viewer (viewer_m_).
   float distance_weight(std::size_t world_index) const;
   /// What find_pending weighs candidates by: the priorities carried from before and the viewer.
@@ -169,8 +174,9 @@ class EncodePass {
   double change_m(const QuantizedEntity& then, const QuantizedEntity& now) const;
   /// The delta of world entity i from `then`, found or claimed.
   DeltaTable::Way& delta_of(std::size_t i, const QuantizedEntity& then);
-  /// Adds a candidate for world entity i (its priority what it carried plus `change` at its
-  /// distance); carried_next_ follows the carried priorities, which ids increase through.
+  /// Adds a candidate for world entity i with what it carried and its `change` (weighed by
+  /// distance only if something is left out); carried_next_ follows the carried priorities,
+  /// which ids increase through.
   void add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i, DeltaTable::Way* way,
                            double change);
   void add_removed(std::size_t j);
@@ -231,11 +237,11 @@ void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::s
   std::size_t& p = carried_next_;
   while (p < carried_.size() && carried_[p].first < id) ++p;
   const float before = p < carried_.size() && carried_[p].first == id ? carried_[p].second : 0;
-  const float weight = viewer_nowhere_ ? 1.0f : distance_weight(i);
   candidates_.push_back({.kind = kind,
                          .baseline_index = static_cast<std::uint32_t>(j),
                          .world_index = static_cast<std::uint32_t>(i),
-                         .priority = before + static_cast<float>(change) * weight,
+                         .priority = before,
+                         .change_m = static_cast<float>(change),
                          .way = way});
 }
 
@@ -392,6 +398,14 @@ void EncodePass::select(std::size_t budget_bits) {
   while (total_bits > budget_bits) total_bits -= static_cast<std::size_t>(drop_lowest().bits);
 }
 
+void EncodePass::weigh_priorities() {
+  for (Candidate& c : candidates_) {
+    if (c.kind == Candidate::Kind::Removed) continue;
+    const float weight = viewer_nowhere_ ? 1.0f : distance_weight(c.world_index);
+    c.priority += c.change_m * weight;
+  }
+}
+
 Candidate& EncodePass::drop_lowest() {
   // A heap whose top is the lowest priority, ties broken towards the higher index: priorities
   // are never NaN (distance_weight), so this order is total.
@@ -401,6 +415,7 @@ Candidate& EncodePass::drop_lowest() {
   };
   if (!drop_heap_built_) {
     drop_heap_built_ = true;
+    weigh_priorities();
     heap.clear();
     for (std::uint32_t k = 0; k < candidates_.size(); ++k) {
       if (candidates_[k].selected) heap.emplace_back(candidates_[k].priority, k);
@@ -575,6 +590,7 @@ bool EncodePass::build_view(std::vector<QuantizedEntity>& view, std::vector<std:
 
 std::size_t EncodePass::carry_priorities(
     std::vector<std::pair<std::uint32_t, float>>& carried) const {
+  // Something was left out only by drop_lowest, which weighed the priorities first.
   carried.clear();
   std::size_t sent = 0;
   for (const Candidate& c : candidates_) {
