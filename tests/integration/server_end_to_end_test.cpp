@@ -536,5 +536,24 @@ TEST(ServerStart, APortInUseIsAClearErrorAndTheServerStopsAtOnce) {
   EXPECT_LT(std::chrono::steady_clock::now() - started, 3s);  // no grace period to wait out
 }
 
+TEST(ServerStart, APortsFileThatCannotBeWrittenIsAClearErrorAndTheServerStopsAtOnce) {
+  const TempDir dir("ricochet-e2e-ports-file");
+  server::ServerConfig config = test_config(dir.path());
+  config.server.ports_file = (dir.path() / "no-such-directory" / "ports.json").string();
+  const auto started = std::chrono::steady_clock::now();
+  {
+    server::Server server(config);
+    try {
+      server.start();
+      ADD_FAILURE() << "start() wrote a ports file into a missing directory";
+    } catch (const std::runtime_error& error) {
+      EXPECT_NE(std::string(error.what()).find("cannot write the ports file"), std::string::npos)
+          << error.what();
+    }
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - started, 3s);
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "no-such-directory"));
+}
+
 }  // namespace
 }  // namespace ricochet::test

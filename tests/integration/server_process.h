@@ -1,9 +1,10 @@
 #pragma once
 /// The real ricochet-server binary as a child process, for end-to-end tests: a temporary data
 /// directory, a configuration on 127.0.0.1 with every port 0 (the kernel picks free ones), its
-/// log in a file. The bound ports and the certificate fingerprint are read from the start-up
-/// lines the server logs once it listens ("control TLS 1.3 on ADDR:PORT, game UDP on ..." and
-/// "fingerprint (pin it in clients): ...").
+/// log in a file. The bound ports, the certificate fingerprint and the pid are read from the
+/// ports file the server writes once it listens (server.ports_file), and must agree with the
+/// start-up lines it logs ("control TLS 1.3 on ADDR:PORT, game UDP on ..." and "fingerprint
+/// (pin it in clients): ...").
 
 #include <fcntl.h>
 #include <signal.h>
@@ -36,6 +37,7 @@ class ServerProcess {
       : dir_("ricochet-e2e") {
     std::ofstream config(config_path());
     config << "[server]\ndata_dir = \"" << (dir_.path() / "data").string()
+           << "\"\nports_file = \"" << ports_path().string()
            << "\"\nthreads = 2\nshutdown_grace_s = " << shutdown_grace_s
            << "\n[control]\nbind = \"127.0.0.1\"\nport = 0\n"
            << "[game]\nbind = \"127.0.0.1\"\nport = 0\n"
@@ -72,9 +74,11 @@ class ServerProcess {
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;
 
-  /// Waits for the start-up lines; false when they did not come within `limit` (or the server
-  /// exited).
+  /// Waits for the ports file and the start-up lines; false when they did not come within
+  /// `limit` (or the server exited); throws when the file and the log disagree.
   bool wait_listening(std::chrono::milliseconds limit = std::chrono::seconds(20)) {
+    const std::regex file_fields(
+        R"re(^\{"control_port":(\d+),"game_port":(\d+),"admin_port":(\d+),"fingerprint":"([0-9A-F:]{95})","pid":(\d+)\}\n$)re");
     const std::regex ports(
         R"(control TLS 1\.3 on 127\.0\.0\.1:(\d+), game UDP on 127\.0\.0\.1:(\d+), admin HTTP on 127\.0\.0\.1:(\d+))");
     const std::regex fingerprint(R"(fingerprint \(pin it in clients\): ([0-9A-F:]{95}))");
@@ -83,12 +87,20 @@ class ServerProcess {
       const std::string text = log();
       std::smatch port_match;
       std::smatch fingerprint_match;
+      std::smatch file_match;
+      const std::string file = read_file(ports_path());
       if (std::regex_search(text, port_match, ports) &&
-          std::regex_search(text, fingerprint_match, fingerprint)) {
-        control_port_ = static_cast<std::uint16_t>(std::stoi(port_match[1].str()));
-        game_port_ = static_cast<std::uint16_t>(std::stoi(port_match[2].str()));
-        admin_port_ = static_cast<std::uint16_t>(std::stoi(port_match[3].str()));
-        fingerprint_ = fingerprint_match[1].str();
+          std::regex_search(text, fingerprint_match, fingerprint) &&
+          std::regex_match(file, file_match, file_fields)) {
+        if (file_match[1] != port_match[1] || file_match[2] != port_match[2] ||
+            file_match[3] != port_match[3] || file_match[4] != fingerprint_match[1] ||
+            std::stoi(file_match[5].str()) != pid_) {
+          throw std::runtime_error("the ports file " + file + " disagrees with the log " + text);
+        }
+        control_port_ = static_cast<std::uint16_t>(std::stoi(file_match[1].str()));
+        game_port_ = static_cast<std::uint16_t>(std::stoi(file_match[2].str()));
+        admin_port_ = static_cast<std::uint16_t>(std::stoi(file_match[3].str()));
+        fingerprint_ = file_match[4].str();
         return true;
       }
       if (wait_exit(std::chrono::milliseconds(0))) return false;
@@ -121,14 +133,16 @@ class ServerProcess {
   const std::string& fingerprint() const { return fingerprint_; }
   std::filesystem::path db_path() const { return dir_.path() / "data" / "ricochet.db"; }
   const std::filesystem::path& dir() const { return dir_.path(); }
-  std::string log() const {
-    std::ifstream in(log_path());
+  std::string log() const { return read_file(log_path()); }
+
+ private:
+  static std::string read_file(const std::filesystem::path& path) {
+    std::ifstream in(path);
     std::stringstream text;
     text << in.rdbuf();
     return text.str();
   }
-
- private:
+  std::filesystem::path ports_path() const { return dir_.path() / "ports.json"; }
   std::filesystem::path config_path() const { return dir_.path() / "server.toml"; }
   std::filesystem::path log_path() const { return dir_.path() / "server.log"; }
 

@@ -295,6 +295,16 @@ TEST(ServerConfig, MatchRulesLoadFromTheFile) {
   EXPECT_EQ(ServerConfig{}.recordings_path(), "data/recordings");
 }
 
+TEST(ServerConfig, ThePortsFileIsNoneUnlessAskedAndUnderTheDataDirWhenRelative) {
+  EXPECT_EQ(ServerConfig{}.ports_file_path(), "");
+  ParseOutcome relative = parse({"--data-dir", "/tmp/r", "--ports-file", "ports.json"});
+  ASSERT_TRUE(relative.config) << relative.text;
+  EXPECT_EQ(relative.config->ports_file_path(), "/tmp/r/ports.json");
+  ParseOutcome absolute = parse({"--ports-file", "/run/ricochet/ports.json"});
+  ASSERT_TRUE(absolute.config) << absolute.text;
+  EXPECT_EQ(absolute.config->ports_file_path(), "/run/ricochet/ports.json");
+}
+
 TEST(ServerConfig, WrongTypesOfTheMatchRulesAreNamed) {
   EXPECT_EQ(problems_of("[matches]\nmaps = \"a.toml\"\n"),
             std::vector<std::string>{"test.toml:2:8: matches.maps must be an array of strings, "

@@ -89,30 +89,28 @@ trap cleanup EXIT
 # other limit is the server's default but the game client count, raised to fit the sweep.
 nice -n "$niceness" "${priority[@]}" taskset -c 0 "$server_bin" --data-dir "$data" --threads 1 \
   --control-bind 127.0.0.1 --control-port 0 --game-bind 127.0.0.1 --game-port 0 \
-  --admin-bind 127.0.0.1 --admin-port 0 \
+  --admin-bind 127.0.0.1 --admin-port 0 --ports-file ports.json \
   --matches "$matches" --match-max-players 16 --max-clients 4096 \
   --maps server/maps/foundry.toml --tick-rate-hz 60 --snapshot-rate-hz 60 \
   --time-limit-s 0 --frag-limit 0 --warmup-s 0 --password-hashing minimum \
   --log-level info > "$out/server.log" 2>&1 &
 server_pid=$!
 
-# The bound ports and the fingerprint come from the start-up lines (logged at info).
-ports="" fingerprint=""
+# The bound ports and the fingerprint come from the ports file, written once it listens.
+ports=""
 for _ in $(seq 1 100); do
-  if [[ -z "$ports" ]]; then
-    ports=$(grep -o 'control TLS 1.3 on 127.0.0.1:[0-9]*, game UDP on 127.0.0.1:[0-9]*, admin HTTP on 127.0.0.1:[0-9]*' "$out/server.log" || true)
-  fi
-  fingerprint=$(grep -o 'SHA-256 [0-9A-F:]\{95\}' "$out/server.log" | head -1 | cut -d' ' -f2 || true)
-  [[ -n "$ports" && -n "$fingerprint" ]] && break
+  ports=$(cat "$data/ports.json" 2>/dev/null || true)
+  [[ -n "$ports" ]] && break
   kill -0 "$server_pid" 2>/dev/null || { echo "capacity.sh: the server exited; see $out/server.log" >&2; exit 1; }
   sleep 0.1
 done
-if [[ -z "$ports" || -z "$fingerprint" ]]; then
-  echo "capacity.sh: no start-up lines from the server in 10 s; see $out/server.log" >&2
+if [[ -z "$ports" ]]; then
+  echo "capacity.sh: no ports file from the server in 10 s; see $out/server.log" >&2
   exit 1
 fi
-control_port=$(sed -E 's/.*control TLS 1.3 on 127.0.0.1:([0-9]+),.*/\1/' <<<"$ports")
-admin_port=$(sed -E 's/.*admin HTTP on 127.0.0.1:([0-9]+).*/\1/' <<<"$ports")
+control_port=$(sed -E 's/.*"control_port":([0-9]+).*/\1/' <<<"$ports")
+admin_port=$(sed -E 's/.*"admin_port":([0-9]+).*/\1/' <<<"$ports")
+fingerprint=$(sed -E 's/.*"fingerprint":"([0-9A-F:]+)".*/\1/' <<<"$ports")
 
 if [[ $perf -eq 1 ]]; then
   perf stat -e task-clock,context-switches,cpu-migrations,raw_syscalls:sys_enter \

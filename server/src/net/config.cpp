@@ -203,16 +203,22 @@ int ServerConfig::snapshot_rate_hz() const {
   return game.snapshot_rate_hz == 0 ? game.tick_rate_hz : game.snapshot_rate_hz;
 }
 
-std::string ServerConfig::db_file() const {
-  const std::filesystem::path path{db.path};
-  if (path.is_absolute()) return path.string();
+namespace {
+/// `path` itself when absolute, else under data_dir.
+std::string under_data_dir(const ProcessConfig& server, const std::string& path) {
+  if (std::filesystem::path{path}.is_absolute()) return path;
   return (std::filesystem::path{server.data_dir} / path).string();
 }
+}  // namespace
+
+std::string ServerConfig::db_file() const { return under_data_dir(server, db.path); }
 
 std::string ServerConfig::recordings_path() const {
-  const std::filesystem::path path{matches.recordings_dir};
-  if (path.is_absolute()) return path.string();
-  return (std::filesystem::path{server.data_dir} / path).string();
+  return under_data_dir(server, matches.recordings_dir);
+}
+
+std::string ServerConfig::ports_file_path() const {
+  return server.ports_file.empty() ? std::string{} : under_data_dir(server, server.ports_file);
 }
 
 std::vector<std::string> apply_config_toml(std::string_view toml_text, std::string_view source_name,

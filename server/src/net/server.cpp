@@ -3,10 +3,13 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <future>
 #include <optional>
 #include <stdexcept>
 #include <utility>
+
+#include <unistd.h>
 
 #include <boost/system/system_error.hpp>
 #include <spdlog/spdlog.h>
@@ -153,6 +156,11 @@ Server::~Server() {
 }
 
 void Server::start() {
+  // A ports file left by an earlier run would name its ports until this one listens.
+  if (const std::string ports_file = config_.ports_file_path(); !ports_file.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(ports_file, ignored);
+  }
   try {
     game_->start(*matches_);
   } catch (const boost::system::system_error& error) {
@@ -180,6 +188,7 @@ void Server::start() {
     throw std::runtime_error("cannot bind the admin port " + config_.admin.bind + ":" +
                              std::to_string(config_.admin.port) + ": " + error.message());
   }
+  write_ports_file();
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
   ready_ = true;
@@ -188,6 +197,26 @@ void Server::start() {
                RICOCHET_VERSION, config_.control.bind, control_port(), config_.game.bind,
                game_port(), config_.admin.bind, admin_port(), config_.matches.count, threads);
   spdlog::info("TLS certificate SHA-256 fingerprint (pin it in clients): {}", fingerprint());
+}
+
+void Server::write_ports_file() const {
+  const std::string path = config_.ports_file_path();
+  if (path.empty()) return;
+  // Written beside and renamed into place, so a reader never sees half a line.
+  const std::string partial = path + ".partial";
+  {
+    std::ofstream file(partial, std::ios::trunc);
+    file << "{\"control_port\":" << control_port() << ",\"game_port\":" << game_port()
+         << ",\"admin_port\":" << admin_port() << ",\"fingerprint\":\"" << fingerprint()
+         << "\",\"pid\":" << getpid() << "}\n";
+    file.close();
+    if (!file) throw std::runtime_error("cannot write the ports file " + partial);
+  }
+  std::error_code error;
+  std::filesystem::rename(partial, path, error);
+  if (error) {
+    throw std::runtime_error("cannot rename " + partial + " to " + path + ": " + error.message());
+  }
 }
 
 void Server::stop() {

@@ -79,6 +79,9 @@ class Server {
   MetricsRegistry& metrics() { return metrics_; }
 
  private:
+  /// server.ports_file, when asked for: one JSON line, renamed into place; throws when it
+  /// cannot be written.
+  void write_ports_file() const;
   /// The graceful stop, on the stopping thread.
   void shut_down();
   void end_matches(std::chrono::steady_clock::time_point deadline);

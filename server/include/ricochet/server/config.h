@@ -27,6 +27,10 @@ struct ProcessConfig {
   std::string data_dir = "data";  ///< the database, the generated TLS pair; created if missing
   int threads = 0;                ///< match worker threads; 0: one per core
   int shutdown_grace_s = 10;      ///< SIGINT/SIGTERM: seconds to end matches and flush results
+  /// Written once every socket listens: the bound ports, the certificate fingerprint and the
+  /// process id as one JSON line, for scripts and tests (ports 0 let the kernel choose). Under
+  /// data_dir unless absolute; empty: none.
+  std::string ports_file;
 };
 
 /// Argon2id work per password hash: interactive (64 MiB, ~100 ms) protects the accounts;
@@ -133,6 +137,8 @@ struct ServerConfig {
   std::string db_file() const;
   /// matches.recordings_dir, under data_dir unless absolute.
   std::string recordings_path() const;
+  /// server.ports_file, under data_dir unless absolute; empty when none is asked for.
+  std::string ports_file_path() const;
   /// Bytes of one snapshot payload from the bandwidth budget at the snapshot rate, at most
   /// kMaxSnapshotBytes (one datagram); validate() keeps it at least kMinSnapshotBytes.
   int snapshot_budget_bytes() const;
