@@ -516,42 +516,36 @@ TEST(ServerMatchEnd, ATeamDeathmatchEndsWithTheTeamsScoresAndEveryPlayerOnATeam)
   EXPECT_EQ(server->wait(), 0);
 }
 
+/// Starts a server on `config` that must refuse to start with an error containing `expected`,
+/// and stop at once (no grace period to wait out).
+void expect_start_refused(const server::ServerConfig& config, const std::string& expected) {
+  const auto started = std::chrono::steady_clock::now();
+  {
+    server::Server server(config);
+    try {
+      server.start();
+      ADD_FAILURE() << "start() succeeded; expected \"" << expected << "\"";
+    } catch (const std::runtime_error& error) {
+      EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
+    }
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - started, 3s);
+}
+
 TEST(ServerStart, APortInUseIsAClearErrorAndTheServerStopsAtOnce) {
   const TempDir dir("ricochet-e2e-port");
   boost::asio::io_context io;
   boost::asio::ip::tcp::acceptor taken(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
   server::ServerConfig config = test_config(dir.path());
   config.control.port = taken.local_endpoint().port();
-  const auto started = std::chrono::steady_clock::now();
-  {
-    server::Server server(config);
-    try {
-      server.start();
-      ADD_FAILURE() << "start() bound a port that is in use";
-    } catch (const std::runtime_error& error) {
-      EXPECT_NE(std::string(error.what()).find("control channel (TLS) on 127.0.0.1:"), std::string::npos)
-          << error.what();
-    }
-  }
-  EXPECT_LT(std::chrono::steady_clock::now() - started, 3s);  // no grace period to wait out
+  expect_start_refused(config, "control channel (TLS) on 127.0.0.1:");
 }
 
 TEST(ServerStart, APortsFileThatCannotBeWrittenIsAClearErrorAndTheServerStopsAtOnce) {
   const TempDir dir("ricochet-e2e-ports-file");
   server::ServerConfig config = test_config(dir.path());
   config.server.ports_file = (dir.path() / "no-such-directory" / "ports.json").string();
-  const auto started = std::chrono::steady_clock::now();
-  {
-    server::Server server(config);
-    try {
-      server.start();
-      ADD_FAILURE() << "start() wrote a ports file into a missing directory";
-    } catch (const std::runtime_error& error) {
-      EXPECT_NE(std::string(error.what()).find("cannot write the ports file"), std::string::npos)
-          << error.what();
-    }
-  }
-  EXPECT_LT(std::chrono::steady_clock::now() - started, 3s);
+  expect_start_refused(config, "cannot write the ports file");
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "no-such-directory"));
 }
 
