@@ -20,38 +20,6 @@ void BitWriter::clear() {
   bit_count_ = 0;
 }
 
-std::uint64_t BitReader::read_bits(int bits) {
-  if (failed_ || static_cast<std::size_t>(bits) > bytes_.size() * 8 - position_) {
-    failed_ = true;
-    return 0;
-  }
-  std::uint64_t value = 0;
-  for (int i = 0; i < bits; ++i) {
-    const std::uint8_t byte = bytes_[position_ / 8];
-    value = (value << 1) | ((byte >> (7 - position_ % 8)) & 1u);
-    ++position_;
-  }
-  return value;
-}
-
-std::uint64_t BitReader::read_exp_golomb(int order) {
-  int zeros = 0;
-  while (!failed_ && read_bits(1) == 0) {
-    if (++zeros + order + 1 > kMaxExpGolombWidth) failed_ = malformed_ = true;
-  }
-  if (failed_) return 0;
-  // The leading 1 was read; the remaining zeros + order bits follow.
-  const int rest = zeros + order;
-  if (rest + 1 > kMaxExpGolombWidth) {
-    failed_ = malformed_ = true;
-    return 0;
-  }
-  const std::uint64_t low = read_bits(rest);
-  if (failed_) return 0;
-  const std::uint64_t shifted = (std::uint64_t{1} << rest) | low;
-  return shifted - (std::uint64_t{1} << order);
-}
-
 bool BitReader::only_padding_left() const {
   if (failed_) return false;
   const std::size_t left = bytes_.size() * 8 - position_;

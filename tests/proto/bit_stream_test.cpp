@@ -130,6 +130,74 @@ TEST(BitStream, PaddingMustBeZero) {
   EXPECT_TRUE(clean_reader.only_padding_left());
 }
 
+/// The reader as first written, one bit at a time: the word-at-a-time BitReader must read the
+/// same values and fail the same way on any input.
+class BitByBitReader {
+ public:
+  explicit BitByBitReader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+  std::uint64_t read_bits(int bits) {
+    if (failed_ || static_cast<std::size_t>(bits) > bytes_.size() * 8 - position_) {
+      failed_ = true;
+      return 0;
+    }
+    std::uint64_t value = 0;
+    for (int i = 0; i < bits; ++i, ++position_) {
+      value = (value << 1) | ((bytes_[position_ / 8] >> (7 - position_ % 8)) & 1u);
+    }
+    return value;
+  }
+  std::uint64_t read_exp_golomb(int order) {
+    int zeros = 0;
+    while (!failed_ && read_bits(1) == 0) {
+      if (++zeros + order + 1 > kMaxExpGolombWidth) failed_ = malformed_ = true;
+    }
+    if (failed_) return 0;
+    const int rest = zeros + order;
+    if (rest + 1 > kMaxExpGolombWidth) {
+      failed_ = malformed_ = true;
+      return 0;
+    }
+    const std::uint64_t low = read_bits(rest);
+    if (failed_) return 0;
+    return ((std::uint64_t{1} << rest) | low) - (std::uint64_t{1} << order);
+  }
+  bool failed() const { return failed_; }
+  bool malformed() const { return malformed_; }
+  std::size_t bits_left() const { return failed_ ? 0 : bytes_.size() * 8 - position_; }
+
+ private:
+  std::span<const std::uint8_t> bytes_;
+  std::size_t position_ = 0;
+  bool failed_ = false;
+  bool malformed_ = false;
+};
+
+TEST(BitStream, ReaderMatchesTheBitByBitReaderOnAnyInput) {
+  std::mt19937_64 random(19);
+  for (int trial = 0; trial < 3000; ++trial) {
+    // Sparse bytes make long runs of zeros (long and over-long Exp-Golomb prefixes).
+    std::vector<std::uint8_t> bytes(random() % 24);
+    for (std::uint8_t& byte : bytes) {
+      byte = random() % 3 == 0 ? static_cast<std::uint8_t>(random()) : 0;
+    }
+    BitReader reader(bytes);
+    BitByBitReader expected(bytes);
+    for (int step = 0; step < 40; ++step) {
+      if (random() % 2 == 0) {
+        const int bits = static_cast<int>(random() % 65);
+        ASSERT_EQ(reader.read_bits(bits), expected.read_bits(bits)) << trial << "/" << step;
+      } else {
+        const int order = static_cast<int>(random() % 32);
+        ASSERT_EQ(reader.read_exp_golomb(order), expected.read_exp_golomb(order))
+            << trial << "/" << step;
+      }
+      ASSERT_EQ(reader.failed(), expected.failed()) << trial << "/" << step;
+      ASSERT_EQ(reader.malformed(), expected.malformed()) << trial << "/" << step;
+      ASSERT_EQ(reader.bits_left(), expected.bits_left()) << trial << "/" << step;
+    }
+  }
+}
+
 TEST(BitStream, BitsForCount) {
   EXPECT_EQ(bits_for_count(0), 0);
   EXPECT_EQ(bits_for_count(1), 0);

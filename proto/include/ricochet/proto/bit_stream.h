@@ -138,10 +138,77 @@ class BitReader {
   bool only_padding_left() const;
 
  private:
+  /// The next 64 bits from position_, zeros past the end of the input.
+  std::uint64_t peek64() const;
+
   std::span<const std::uint8_t> bytes_;
   std::size_t position_ = 0;  ///< bits read
   bool failed_ = false;
   bool malformed_ = false;
 };
+
+inline std::uint64_t BitReader::peek64() const {
+  const std::size_t byte = position_ / 8;
+  const int shift = static_cast<int>(position_ % 8);
+  std::uint64_t word = 0;
+  if (byte + 8 <= bytes_.size()) {
+    std::memcpy(&word, bytes_.data() + byte, sizeof word);
+    if constexpr (std::endian::native == std::endian::little) word = __builtin_bswap64(word);
+  } else {
+    for (std::size_t k = byte; k < byte + 8; ++k) {
+      word = (word << 8) | (k < bytes_.size() ? bytes_[k] : 0u);
+    }
+  }
+  if (shift != 0) {
+    const std::uint64_t next = byte + 8 < bytes_.size() ? bytes_[byte + 8] : 0u;
+    word = (word << shift) | (next >> (8 - shift));
+  }
+  return word;
+}
+
+inline std::uint64_t BitReader::read_bits(int bits) {
+  if (failed_ || static_cast<std::size_t>(bits) > bytes_.size() * 8 - position_) {
+    failed_ = true;
+    return 0;
+  }
+  if (bits == 0) return 0;
+  const std::uint64_t value = peek64() >> (64 - bits);
+  position_ += static_cast<std::size_t>(bits);
+  return value;
+}
+
+inline std::uint64_t BitReader::read_exp_golomb(int order) {
+  if (failed_) return 0;
+  const std::size_t left = bytes_.size() * 8 - position_;
+  // The zeros before the leading 1: more than `most_zeros` make the code malformed. A code
+  // that ends before its 1 is truncated, and malformed too once the zeros read and the one
+  // missing bit are more than `most_zeros` (as a reader taking one bit at a time finds it).
+  const std::int64_t most_zeros = kMaxExpGolombWidth - order - 1;
+  const std::uint64_t next = peek64();
+  const std::size_t zeros = std::min<std::size_t>(next == 0 ? 64 : std::countl_zero(next), left);
+  if (zeros == left) {
+    failed_ = true;
+    malformed_ = static_cast<std::int64_t>(left) >= most_zeros;
+    return 0;
+  }
+  if (static_cast<std::int64_t>(zeros) > most_zeros) {
+    failed_ = malformed_ = true;
+    return 0;
+  }
+  // The code is the zeros, then v + 2^order in zeros + order + 1 bits.
+  const std::size_t width = 2 * zeros + static_cast<std::size_t>(order) + 1;
+  if (width > left) {
+    failed_ = true;
+    return 0;
+  }
+  const std::uint64_t base = std::uint64_t{1} << order;
+  if (width <= 64) {  // all of it in the bits peeked
+    position_ += width;
+    return (next >> (64 - width)) - base;
+  }
+  position_ += zeros + 1;  // the zeros and the leading 1; the rest follows
+  const int rest = static_cast<int>(zeros) + order;
+  return ((std::uint64_t{1} << rest) | read_bits(rest)) - base;
+}
 
 }  // namespace ricochet::proto
