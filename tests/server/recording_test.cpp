@@ -505,5 +505,35 @@ TEST(RecordingTest, BytesPerPlayerMinuteOfAScripted60HzStream) {
   EXPECT_EQ(read_ok(bytes).ticks.size(), kTicks);
 }
 
+
+TEST(RecordingTest, ARecordingOfManyBlocksRoundTripsAndItsSizeIsCountedAsItGrows) {
+  // The writer keeps the file in blocks of 256 KiB that never move; this one spans several.
+  const Recording recording = random_recording(7, 4000);
+  RecordingWriter writer(recording.header, 64u << 20);
+  std::size_t next_hash = 0;
+  std::size_t last_bytes = writer.bytes();
+  for (const RecordedTick& tick : recording.ticks) {
+    writer.begin_tick(tick.tick);
+    for (const RecordedEvent& event : tick.events) writer.add_event(event);
+    for (const RecordedInput& input : tick.inputs) writer.add_input(input);
+    writer.end_tick();
+    if (next_hash < recording.hashes.size() && recording.hashes[next_hash].tick == tick.tick) {
+      writer.add_hash(tick.tick, recording.hashes[next_hash++].hash);
+    }
+    ASSERT_GE(writer.bytes(), last_bytes);
+    last_bytes = writer.bytes();
+  }
+  const std::size_t counted = writer.bytes();
+  const auto bytes = writer.finish();
+  ASSERT_GT(bytes.size(), std::size_t{3} << 18) << "spans more than three blocks";
+  EXPECT_GE(bytes.size(), counted);
+  const Recording back = read_ok(bytes);
+  EXPECT_TRUE(back.complete);
+  EXPECT_FALSE(back.truncated);
+  EXPECT_EQ(back.ticks.size(), recording.ticks.size());
+  EXPECT_EQ(back.hashes.size(), recording.hashes.size());
+  expect_prefix(recording, back);
+}
+
 }  // namespace
 }  // namespace ricochet::server

@@ -15,6 +15,8 @@ namespace {
 
 /// Room kept for the last chunk's framing and the footer, so finish() stays within max_bytes.
 constexpr std::size_t kFinishReserve = 2 * rf::kFrameBytes + rf::kMaxFooterBytes;
+/// The file grows in blocks of this many bytes (about 16 tick chunks).
+constexpr std::size_t kBlockBytes = 256 * 1024;
 
 bool same_bits(float a, float b) {
   return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
@@ -82,8 +84,8 @@ bool bit_identical(const RecordedInput& a, const RecordedInput& b) {
 
 RecordingWriter::RecordingWriter(RecordingHeader header, std::size_t max_bytes)
     : max_bytes_(max_bytes) {
-  out_.assign(rf::kMagic.begin(), rf::kMagic.end());
-  out_.push_back(rf::kVersion);
+  framed_.assign(rf::kMagic.begin(), rf::kMagic.end());
+  framed_.push_back(rf::kVersion);
   std::vector<std::uint8_t> payload;
   rf::put_string(payload, header.server_version);
   rf::put_varint(payload, header.map_files.size());
@@ -96,7 +98,8 @@ RecordingWriter::RecordingWriter(RecordingHeader header, std::size_t max_bytes)
   rf::put_u64(payload, header.seed);
   rf::put_varint(payload, header.hash_interval_ticks);
   rf::put_varint(payload, header.tick_rate_hz);
-  rf::put_chunk(out_, rf::kChunkHeader, payload);
+  rf::put_chunk(framed_, rf::kChunkHeader, payload);
+  append(framed_);
   if (std::string error = rf::check_header(header); !error.empty()) {
     stop("the header is not recordable: " + error);
   }
@@ -181,7 +184,16 @@ void RecordingWriter::add_hash(std::uint32_t tick, std::uint64_t hash) {
 
 void RecordingWriter::end_tick() { open_ = false; }
 
-std::size_t RecordingWriter::bytes() const { return out_.size() + chunk_.size(); }
+std::size_t RecordingWriter::bytes() const { return file_bytes_ + chunk_.size(); }
+
+void RecordingWriter::append(std::span<const std::uint8_t> bytes) {
+  if (blocks_.empty() || blocks_.back().capacity() - blocks_.back().size() < bytes.size()) {
+    blocks_.emplace_back().reserve(std::max(kBlockBytes, bytes.size()));
+  }
+  blocks_.back().insert(blocks_.back().end(), bytes.begin(), bytes.end());
+  file_bytes_ += bytes.size();
+  file_crc_ = rf::crc32(bytes, file_crc_);
+}
 
 void RecordingWriter::encode_pending() {
   has_pending_ = false;
@@ -225,7 +237,7 @@ void RecordingWriter::encode_pending() {
   if (flags & rf::kTickChanges) rf::put_bytes(record_, changes_);
   if (flags & rf::kTickHash) rf::put_u64(record_, pending_hash_);
 
-  if (out_.size() + chunk_.size() + record_.size() + kFinishReserve > max_bytes_) {
+  if (file_bytes_ + chunk_.size() + record_.size() + kFinishReserve > max_bytes_) {
     std::string reason = "the recording reached its limit of ";
     reason += std::to_string(max_bytes_) + " bytes at tick " + std::to_string(pending_.tick);
     stop(std::move(reason));
@@ -252,7 +264,9 @@ void RecordingWriter::encode_pending() {
 
 void RecordingWriter::flush_chunk() {
   if (chunk_.empty()) return;
-  rf::put_chunk(out_, rf::kChunkTicks, chunk_);
+  framed_.clear();
+  rf::put_chunk(framed_, rf::kChunkTicks, chunk_);
+  append(framed_);
   chunk_.clear();
   ++chunk_count_;
 }
@@ -269,12 +283,18 @@ std::vector<std::uint8_t> RecordingWriter::finish() {
   rf::put_varint(footer, last_encoded_);
   rf::put_varint(footer, chunk_count_);
   footer.push_back(full() ? 1 : 0);
-  rf::put_u32(footer, rf::crc32(out_));
-  rf::put_chunk(out_, rf::kChunkFooter, footer);
+  rf::put_u32(footer, file_crc_);
+  std::vector<std::uint8_t> file;
+  file.reserve(file_bytes_ + rf::kFrameBytes + footer.size());
+  for (const std::vector<std::uint8_t>& block : blocks_) {
+    file.insert(file.end(), block.begin(), block.end());
+  }
+  blocks_.clear();
+  rf::put_chunk(file, rf::kChunkFooter, footer);
   finished_ = true;
   has_pending_ = false;
   open_ = false;
-  return std::move(out_);
+  return file;
 }
 
 }  // namespace ricochet::server

@@ -123,10 +123,18 @@ class RecordingWriter {
  private:
   void encode_pending();
   void flush_chunk();
+  /// Appends framed bytes to the file, in blocks that never move (a vector that doubled would
+  /// copy the whole recording in one tick: 32 MiB at the 64 MiB limit).
+  void append(std::span<const std::uint8_t> bytes);
   void stop(std::string reason);
 
   std::size_t max_bytes_;
-  std::vector<std::uint8_t> out_;    ///< magic, header chunk and the full tick chunks
+  /// The file so far: magic, header chunk and the full tick chunks, in blocks of at least
+  /// kBlockBytes, each filled within the capacity it was made with.
+  std::vector<std::vector<std::uint8_t>> blocks_;
+  std::size_t file_bytes_ = 0;     ///< in blocks_
+  std::uint32_t file_crc_ = 0;     ///< CRC-32 of blocks_, for the footer
+  std::vector<std::uint8_t> framed_;  ///< scratch: one framed chunk
   std::vector<std::uint8_t> chunk_;  ///< the tick chunk being filled (payload only)
   std::vector<std::uint8_t> record_;  ///< scratch: one tick record
   std::vector<std::uint8_t> changes_; ///< scratch: its change masks and fields
