@@ -20,10 +20,12 @@
 ///
 ///   match-bench [--players 16,32,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
 ///               [--map server/maps/foundry.toml] [--record FILE] [--out FILE]
-///               [--clock steady|thread-cpu] [--lag-shots 200000]
+///               [--clock steady|thread-cpu] [--lag-shots 200000] [--ticks-out FILE] [--ticks-out FILE]
 /// --clock thread-cpu times the ticks by this thread's CPU time instead of the wall: the figure
 /// to quote from a machine shared with other work (JSON "clock" says which).
 /// --record writes the last player count's recording to FILE (for ricochet-replay).
+/// --ticks-out appends one JSON line per measured tick to FILE: players, tick, ms, the phases,
+/// entities; where a tail comes from (a burst of new projectiles, a phase's spike).
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -72,6 +74,7 @@ struct Options {
   std::string map = "server/maps/foundry.toml";
   std::string out;
   std::string record;
+  std::string ticks_out;         ///< one JSON line per measured tick, appended
   std::string clock = "steady";  ///< what times a tick: steady (wall) or thread-cpu
   int lag_shots = 200000;        ///< lag-compensated shots timed after the matches
 };
@@ -124,6 +127,21 @@ class Fighters {
     return payload.SerializeAsString();
   }
 };
+
+/// One measured tick as a JSON line: its time, the profile's phases and the entity count.
+void write_tick(std::ofstream& out, int players, int tick, double elapsed_ms,
+                const server::Match& match) {
+  const server::TickProfile& p = match.profile();
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "{\"players\":%d,\"tick\":%d,\"ms\":%.4f,\"apply_inputs\":%.4f,\"rules\":%.4f,"
+                "\"movement\":%.4f,\"combat\":%.4f,\"physics\":%.4f,\"history\":%.4f,"
+                "\"snapshots\":%.4f,\"send\":%.4f,\"entities\":%zu}",
+                players, tick, elapsed_ms, p.apply_inputs_ms, p.rules_ms, p.movement_ms,
+                p.combat_ms, p.physics_ms, p.history_ms, p.snapshots_ms, p.send_ms,
+                match.entity_states().size());
+  out << line << '\n';
+}
 
 /// FNV-1a over every byte the match sends, to show an optimisation leaves the output unchanged.
 class Fnv1a {
@@ -185,6 +203,8 @@ std::string run(const server::Map& map, int players, const Options& options) {
   std::uint64_t kills_before = 0;
   server::Outgoing outgoing;
   Fnv1a payload_hash;
+  std::ofstream ticks_out;
+  if (!options.ticks_out.empty()) ticks_out.open(options.ticks_out, std::ios::app);
   for (int t = 1; t <= warmup + ticks; ++t) {
     const proto::TimeUs now = t * tick_us;
     const std::uint32_t ack = match.tick_number() > ack_delay_ticks ? match.tick_number() - ack_delay_ticks : 0;
@@ -214,6 +234,7 @@ std::string run(const server::Map& map, int players, const Options& options) {
     payload_bytes += bytes;
     for (const auto& state : match.entity_states()) projectiles += (state.flags & server::kEntityKindMask) != 0;
     sum += match.profile();
+    if (ticks_out) write_tick(ticks_out, players, t - warmup, elapsed_ms, match);
   }
   double total = 0;
   for (double ms : tick_ms) total += ms;
@@ -351,6 +372,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000000));
   app.add_option("--out", options.out, "also append the JSON lines to this file");
   app.add_option("--record", options.record, "write the (last) match's recording to this file");
+  app.add_option("--ticks-out", options.ticks_out,
+                 "append one JSON line per measured tick (time, phases, entities) to this file");
   app.add_option("--clock", options.clock,
                  "what times each tick: steady (wall time) or thread-cpu (this thread's CPU time, "
                  "which leaves out other processes on a shared machine)")
