@@ -110,6 +110,49 @@ std::unique_ptr<db::Store> open_database(const std::filesystem::path& path) {
   return std::move(store).value();
 }
 
+TEST(BotMatch, BotsSharingOneGameSocketPlayAMatchFromAnAddressEach) {
+  // The load test's mode: one UDP socket for every bot's game channel, a loopback source
+  // address per connection, the bots' inputs of one tick in one sendmmsg.
+  ServerProcess server(matches_toml(4, 4.0));
+  ASSERT_TRUE(server.wait_listening()) << server.log();
+  asio::io_context io;
+  bot::FleetConfig config;
+  config.bot = bot_config(server, "shared");
+  config.bot.tick_phases = 1;  // every bot ticks on one grid, so their sends leave together
+  config.bots = 4;
+  config.shared_game_port = true;
+  bot::Fleet fleet(io, config);
+  ASSERT_EQ(fleet.start(), "");
+  ASSERT_TRUE(run_until(
+      io, [&] { return fleet.done(); }, 40s))
+      << fleet.report_json();
+  const bot::SharedGamePort* port = fleet.shared_port();
+  ASSERT_NE(port, nullptr);
+  std::uint64_t packets_out = 0;
+  for (const auto& each : fleet.bots()) {
+    const std::string& name = each->config().name;
+    const bot::BotRecord& record = each->record();
+    const bot::BotMetrics metrics = each->metrics();
+    EXPECT_TRUE(record.error.empty()) << name << ": " << record.error;
+    ASSERT_EQ(record.results.size(), 1u) << name;
+    // Four players in the results: the server saw four clients, one per source address.
+    EXPECT_EQ(record.results[0].players_size(), 4) << name;
+    EXPECT_GT(metrics.snapshots, 100u) << name;
+    EXPECT_EQ(metrics.send_failures, 0u) << name;
+    ASSERT_FALSE(record.local_ports.empty()) << name;
+    EXPECT_EQ(record.local_ports.back(), port->port()) << name;
+    packets_out += metrics.packets_out;
+  }
+  std::cout << "[ figures  ] shared port: " << packets_out << " datagrams out in "
+            << port->send_calls() << " sendmmsg calls, " << port->receive_calls()
+            << " recvmmsg calls, receive buffer " << port->receive_buffer_bytes() << " bytes"
+            << std::endl;
+  EXPECT_LE(2 * port->send_calls(), packets_out) << "the bots' sends were not batched";
+  EXPECT_EQ(port->send_failures(), 0u);
+  server.terminate();
+  EXPECT_EQ(server.wait_exit(25s), std::optional<int>(0)) << server.log();
+}
+
 TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
   ServerProcess server(matches_toml(8, 10.0, /*record=*/true));
   ASSERT_TRUE(server.wait_listening()) << server.log();
@@ -118,7 +161,7 @@ TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
   config.bot = bot_config(server, "eight");
   config.bots = 8;
   bot::Fleet fleet(io, config);
-  fleet.start();
+  ASSERT_EQ(fleet.start(), "");
   ASSERT_TRUE(run_until(
       io, [&] { return fleet.done(); }, 50s))
       << fleet.report_json();
@@ -263,7 +306,7 @@ TEST(BotMatch, SigtermDuringAMatchExitsZeroAndRecordsTheAbortedMatch) {
   config.bot.max_reconnect_attempts = 2;
   config.bots = 4;
   bot::Fleet fleet(io, config);
-  fleet.start();
+  ASSERT_EQ(fleet.start(), "");
   const auto everyone_sees_the_match = [&] {
     for (const auto& each : fleet.bots()) {
       if (each->state() != bot::BotState::Playing || each->metrics().snapshots == 0) return false;

@@ -102,7 +102,10 @@ int main(int argc, char** argv) {
     signals.cancel();
     duration.cancel();
   });
-  fleet.start();
+  if (std::string error = fleet.start(); !error.empty()) {
+    std::fprintf(stderr, "ricochet-bot: %s\n", error.c_str());
+    return 1;
+  }
   io.run();
 
   std::cout << fleet.report_json() << std::endl;

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   std::string sweep;
   std::string log_level = "off";
   bool predict = false;
+  bool socket_per_bot = false;
   bool no_plots = false;
   bool quiet = false;
 
@@ -64,6 +65,9 @@ int main(int argc, char** argv) {
   app.add_option("--bots-per-address", config.bots_per_address,
                  "bots per loopback source address (127.0.1.1, 127.0.1.2, ...)")
       ->capture_default_str();
+  app.add_flag("--socket-per-bot", socket_per_bot,
+               "a UDP socket per bot's game channel (default: one socket for all, a loopback "
+               "source address per bot and batched system calls)");
   app.add_flag("--predict", predict,
                "full bots with prediction and interpolation (default: cheap bots, which send "
                "the same inputs at less CPU)");
@@ -104,6 +108,7 @@ int main(int argc, char** argv) {
     config.sweep = *counts;
   }
   config.cheap = !predict;
+  config.shared_game_port = !socket_per_bot;
   config.plots = !no_plots;
   config.progress = !quiet;
   if (config.fingerprint.empty() && config.trust_file.empty()) {

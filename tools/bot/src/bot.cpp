@@ -434,7 +434,13 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
       guarded([this](proto::ClientEvent& event) { on_game_event(event); }), config_.link,
       config_.seed);
   game_ = game;
-  if (!local_address_.is_unspecified()) {
+  if (shared_port_ && config_.rebind_after_s == 0) {
+    if (std::string error = game->use_shared_port(shared_port_); !error.empty()) {
+      game_.reset();
+      feed_.reset();
+      return fail_attempt(error, Retry::SameConnection);
+    }
+  } else if (!local_address_.is_unspecified()) {
     if (std::string error = game->bind_local(local_address_); !error.empty()) {
       game_.reset();
       feed_.reset();

@@ -23,6 +23,9 @@ std::string FleetConfig::validate() const {
   if (start_spacing.count() < 0 || start_spacing.count() > 60000) {
     return "start_spacing must be 0..60000 ms, got " + std::to_string(start_spacing.count());
   }
+  if (shared_game_port && bot.host.rfind("127.", 0) != 0) {
+    return "a shared game port needs an IPv4 loopback server (127.0.0.0/8), got " + bot.host;
+  }
   for (const std::string& address : bind_addresses) {
     BotConfig bound = bot;
     bound.bind_address = address;
@@ -60,13 +63,24 @@ Fleet::Fleet(boost::asio::io_context& io, FleetConfig config)
   }
 }
 
-void Fleet::start() {
+std::string Fleet::start() {
+  if (config_.shared_game_port && !shared_port_) {
+    std::string error;
+    shared_port_ = SharedGamePort::open(io_, error);
+    if (!shared_port_) return error;
+    for (const auto& bot : bots_) bot->share_game_port(shared_port_);
+  }
+  start_next();
+  return {};
+}
+
+void Fleet::start_next() {
   if (started_ >= bots_.size()) return;
   bots_[started_++]->start();
   if (started_ >= bots_.size()) return;
   starter_.expires_after(config_.start_spacing);
   starter_.async_wait([this](const boost::system::error_code& error) {
-    if (!error) start();
+    if (!error) start_next();
   });
 }
 

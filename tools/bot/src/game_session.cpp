@@ -74,9 +74,34 @@ std::string GameSession::bind_local(const asio::ip::address& local) {
   return {};
 }
 
+std::string GameSession::use_shared_port(std::shared_ptr<SharedGamePort> port) {
+  if (!server_.address().is_v4() || !server_.address().is_loopback()) {
+    return "a shared game socket needs an IPv4 loopback server, got " + server_.address().to_string();
+  }
+  const auto address = port->attach(weak_from_this());
+  if (!address) return "the shared game socket ran out of source addresses";
+  boost::system::error_code ignored;
+  socket_.close(ignored);
+  shared_port_ = std::move(port);
+  shared_address_ = *address;
+  local_port_ = shared_port_->port();
+  return {};
+}
+
 void GameSession::start() {
   flush(steady_now_us());
-  wait_readable();
+  if (!shared_port_) wait_readable();
+}
+
+void GameSession::receive_datagram(const asio::ip::udp::endpoint& from,
+                                   std::span<const std::uint8_t> bytes, proto::TimeUs now) {
+  if (closed_) return;
+  if (down_ && from == server_) {
+    down_->send({bytes.begin(), bytes.end()}, now);
+  } else {
+    client_.receive(to_address(from), bytes, now);
+  }
+  flush(now);
 }
 
 void GameSession::wait_readable() {
@@ -161,10 +186,15 @@ void GameSession::abandon() {
   closed_ = true;
   boost::system::error_code ignored;
   socket_.close(ignored);
+  if (shared_port_) shared_port_->detach(shared_address_);
   link_timer_.cancel();
 }
 
 void GameSession::transmit(std::span<const std::uint8_t> bytes) {
+  if (shared_port_) {
+    if (!shared_port_->send(shared_address_, server_, bytes)) ++send_failures_;
+    return;
+  }
   boost::system::error_code error;
   socket_.send_to(asio::buffer(bytes.data(), bytes.size()), server_, 0, error);
   if (error) ++send_failures_;

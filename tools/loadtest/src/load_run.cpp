@@ -86,6 +86,7 @@ void LoadRun::begin_step() {
   fleet.bot.predict = !config_.cheap;
   fleet.bot.max_reconnect_attempts = 20;
   fleet.bot.tick_phases = kTickPhases;
+  fleet.shared_game_port = config_.shared_game_port;
   fleet.bots = added;
   fleet.start_spacing =
       std::chrono::milliseconds(static_cast<std::int64_t>(std::lround(1000.0 / config_.ramp_per_s)));
@@ -99,7 +100,11 @@ void LoadRun::begin_step() {
   for (const auto& each : step.fleet->bots()) {
     each->on_failure([this](std::string_view reason) { count(error_kind(reason)); });
   }
-  step.fleet->start();
+  if (std::string error = step.fleet->start(); !error.empty()) {
+    count("shared_game_port");
+    std::fprintf(stderr, "ricochet-loadtest: %s\n", error.c_str());
+    return stop(error);
+  }
   bots_started_ = target;
   steps_.push_back(std::move(step));
   phase_ = RunPhase::Ramping;

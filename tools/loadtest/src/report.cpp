@@ -36,6 +36,7 @@ std::string report_json(const LoadRun& run, const LoadTestConfig& config,
                     ",\"stop_reason\":" + json_string(run.stop_reason()) +
                     ",\"match_size\":" + std::to_string(config.match_size) +
                     ",\"cheap\":" + (config.cheap ? "true" : "false") +
+                    ",\"shared_game_port\":" + (config.shared_game_port ? "true" : "false") +
                     ",\"ramp_per_s\":" + std::to_string(config.ramp_per_s) +
                     ",\"bots_per_address\":" + std::to_string(config.bots_per_address) +
                     ",\"capacity_bots\":" + std::to_string(capacity_bots(steps)) +

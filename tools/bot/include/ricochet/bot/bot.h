@@ -78,6 +78,9 @@ class Bot {
   Bot(const Bot&) = delete;
   Bot& operator=(const Bot&) = delete;
 
+  /// Puts every later game connection on `port` (a socket shared by the bots of a process),
+  /// unless the bot moves its address on purpose (rebind_after_s). Before start().
+  void share_game_port(std::shared_ptr<SharedGamePort> port) { shared_port_ = std::move(port); }
   void start();
   /// Ends everything (disconnect packets on the game channel) and moves to Done.
   void stop(std::string_view reason);
@@ -155,6 +158,7 @@ class Bot {
   bool awaiting_results_ = false;
   int failed_attempts_ = 0;
 
+  std::shared_ptr<SharedGamePort> shared_port_;  ///< null: a socket per game connection
   std::shared_ptr<GameSession> game_;
   std::optional<GameFeed> feed_;  ///< the current game connection's
   /// The current connection's interpolation and prediction; empty in cheap mode (predict off).

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "ricochet/bot/link_simulator.h"
+#include "ricochet/bot/shared_game_port.h"
 
 #include "ricochet/proto/clock.h"
 #include "ricochet/proto/game_client.h"
@@ -46,6 +47,12 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
   /// Moves the socket to any free port on `local` (an address of the server's family); before
   /// start() only. Empty on success, else why the socket could not be bound.
   std::string bind_local(const boost::asio::ip::address& local);
+  /// Moves the game channel onto `port` (one socket shared by many bots), from a fresh address
+  /// of its own; before start() only. Empty on success, else why not.
+  std::string use_shared_port(std::shared_ptr<SharedGamePort> port);
+  /// A datagram the shared port read for this session.
+  void receive_datagram(const boost::asio::ip::udp::endpoint& from,
+                        std::span<const std::uint8_t> bytes, proto::TimeUs now);
   /// Starts reading datagrams.
   void start();
   /// Resends, keep-alives and timeouts; call at least every 100 ms.
@@ -72,12 +79,14 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
   void send_queued(proto::TimeUs now);
   /// Sends what the transport queued, then hands its events to on_event_.
   void flush(proto::TimeUs now);
-  /// One datagram out of the socket, now.
+  /// One datagram out of the socket, now (or queued on the shared port for this loop turn).
   void transmit(std::span<const std::uint8_t> bytes);
   /// Moves what the simulated links have due by `now` on, and re-arms the link timer.
   void pump_links(proto::TimeUs now);
 
-  boost::asio::ip::udp::socket socket_;
+  boost::asio::ip::udp::socket socket_;  ///< closed when shared_port_ carries the channel
+  std::shared_ptr<SharedGamePort> shared_port_;
+  boost::asio::ip::address_v4 shared_address_;  ///< this session's source on shared_port_
   boost::asio::ip::udp::endpoint server_;
   proto::GameClient client_;
   EventHandler on_event_;

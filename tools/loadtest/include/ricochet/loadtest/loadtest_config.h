@@ -25,6 +25,9 @@ struct LoadTestConfig {
   double settle_s = 5;                ///< after the last start, before measuring, 0..600
   int bots_per_address = 8;           ///< bots per loopback source address, 1..16
   bool cheap = true;                  ///< bots skip prediction and interpolation
+  /// Every bot's game channel on one UDP socket (bot::SharedGamePort: a loopback source address
+  /// per connection, sendmmsg/recvmmsg); false: a socket per bot.
+  bool shared_game_port = true;
   double skill = 0.5;                 ///< 0..1
   std::string name = "load";          ///< account prefix, 1..12 of [A-Za-z0-9_.-]
   std::string password = "ricochet-load";
