@@ -84,6 +84,10 @@ std::string GameServerConfig::validate() const {
   return {};
 }
 
+/// How often update() forgets expired used tokens and refilled address budgets, µs: each sweep
+/// visits every entry, and a thousand clients' tokens are alive for their whole lifetime.
+constexpr TimeUs kSweepIntervalUs = 100 * kMicrosPerMilli;
+
 struct GameServer::State {
   GameServerConfig config;
   Key challenge_key = random_key();
@@ -91,8 +95,9 @@ struct GameServer::State {
   std::uint64_t handshake_sequence = 0;
   ClientId next_client = 1;
   std::unordered_map<Address, Handshake, AddressHash> handshakes;
-  std::unordered_map<ClientId, Client> clients;
-  std::unordered_map<Address, ClientId, AddressHash> client_by_address;
+  std::unordered_map<ClientId, Client> clients;  ///< its nodes never move
+  /// The clients of `clients` by address: a datagram finds its client with one lookup.
+  std::unordered_map<Address, Client*, AddressHash> client_by_address;
   std::unordered_map<std::uint64_t, ClientId> client_by_account;
   std::unordered_map<TokenMac, UsedToken, TokenMacHash> used_tokens;
   std::unordered_map<Address, TokenBucket, AddressHash> address_budgets;
@@ -100,6 +105,7 @@ struct GameServer::State {
   std::deque<ServerEvent> events;
   TransportCounters counters;
   std::uint64_t resends_of_gone_clients = 0;  ///< keeps counters.reliable_resends monotonic
+  TimeUs next_sweep = 0;                      ///< of used tokens and address budgets, by update()
 
   void drop(DropReason reason, const Address& from) {
     ++counters.drops[static_cast<std::size_t>(reason)];
@@ -123,13 +129,16 @@ struct GameServer::State {
             config.reliable_resend_us, config.max_reliable_pending};
   }
 
-  /// Rate limit before any parsing: per client when the address is connected, else per address.
-  bool within_budget(const Address& from, TimeUs now) {
+  /// Rate limit before any parsing: per client when the address is connected (`client` set to
+  /// it), else per address.
+  bool within_budget(const Address& from, TimeUs now, Client*& client) {
     if (auto it = client_by_address.find(from); it != client_by_address.end()) {
-      if (clients.at(it->second).budget.take(now)) return true;
+      client = it->second;
+      if (client->budget.take(now)) return true;
       drop(DropReason::ClientRateLimited, from);
       return false;
     }
+    client = nullptr;
     auto it = address_budgets.find(from);
     if (it == address_budgets.end()) {
       if (address_budgets.size() >= static_cast<std::size_t>(config.max_tracked_addresses)) {
@@ -286,9 +295,8 @@ void GameServer::State::complete_handshake(const Address& from, Handshake& hands
   ++counters.connections_total;
   events.push_back(ServerConnected{id, account_id, client.match_id, from});
   send(from, client.connection.make_keep_alive(now));
-  client_by_address[from] = id;
   client_by_account[account_id] = id;
-  clients.emplace(id, std::move(client));
+  client_by_address[from] = &clients.emplace(id, std::move(client)).first->second;
   update_gauges();
 }
 
@@ -317,7 +325,7 @@ void GameServer::State::on_client_packet(Client& client, const EncryptedHeader& 
       return;
     }
     case PacketType::Payload: {
-      auto payload = read_payload_body(body);
+      auto payload = read_payload_body(std::move(body));
       if (!payload.ok()) return drop(*payload.error, client.address);
       client.connection.on_ack(payload.value.ack, now);
       if (!client.connection.on_reliable(payload.value.reliable)) {
@@ -328,7 +336,8 @@ void GameServer::State::on_client_packet(Client& client, const EncryptedHeader& 
         events.push_back(ServerReliable{client.id, std::move(message)});
       }
       if (!payload.value.unreliable.empty()) {
-        events.push_back(ServerUnreliable{client.id, std::move(payload.value.unreliable)});
+        events.push_back(ServerUnreliable{client.id, std::move(payload.value.unreliable),
+                                          client.account_id, client.connection.rtt_us()});
       }
       return;
     }
@@ -382,15 +391,14 @@ void GameServer::receive(const Address& from, std::span<const std::uint8_t> data
   s.counters.bytes_in += datagram.size();
   if (datagram.empty()) return s.drop(DropReason::Empty, from);
   if (datagram.size() > kMaxDatagramBytes) return s.drop(DropReason::Oversized, from);
-  if (!s.within_budget(from, now)) return;
+  Client* client = nullptr;
+  if (!s.within_budget(from, now, client)) return;
   if (datagram[0] == static_cast<std::uint8_t>(PacketType::ConnectionRequest)) {
     return s.on_request(from, datagram, now);
   }
   auto header = read_encrypted_header(datagram);
   if (!header.ok()) return s.drop(*header.error, from);
-  if (auto client = s.client_by_address.find(from); client != s.client_by_address.end()) {
-    return s.on_client_packet(s.clients.at(client->second), header.value, datagram, now);
-  }
+  if (client) return s.on_client_packet(*client, header.value, datagram, now);
   if (s.handshakes.contains(from)) return s.on_handshake_packet(from, header.value, datagram, now);
   s.drop(DropReason::UnknownAddress, from);
 }
@@ -407,7 +415,9 @@ void GameServer::update(TimeUs now) {
     }
   }
   std::vector<ClientId> silent;
+  s.counters.reliable_resends = s.resends_of_gone_clients;
   for (auto& [id, client] : s.clients) {
+    s.counters.reliable_resends += client.connection.reliable_resends();
     if (client.connection.timed_out(now)) {
       silent.push_back(id);
     } else if (client.connection.reliable_due(now)) {
@@ -417,13 +427,14 @@ void GameServer::update(TimeUs now) {
     }
   }
   for (ClientId id : silent) s.remove_client(id, DisconnectReason::TimedOut, false, now);
-  std::erase_if(s.used_tokens, [&](const auto& entry) { return entry.second.expires_at <= now; });
-  for (auto it = s.address_budgets.begin(); it != s.address_budgets.end();) {
-    it = it->second.full(now) ? s.address_budgets.erase(it) : std::next(it);
-  }
-  s.counters.reliable_resends = s.resends_of_gone_clients;
-  for (const auto& [id, client] : s.clients) {
-    s.counters.reliable_resends += client.connection.reliable_resends();
+  if (now >= s.next_sweep) {
+    // Memory only: an expired token is refused before this table is read, and a full budget is
+    // a fresh one.
+    s.next_sweep = now + kSweepIntervalUs;
+    std::erase_if(s.used_tokens, [&](const auto& entry) { return entry.second.expires_at <= now; });
+    for (auto it = s.address_budgets.begin(); it != s.address_budgets.end();) {
+      it = it->second.full(now) ? s.address_budgets.erase(it) : std::next(it);
+    }
   }
   s.update_gauges();
 }

@@ -240,8 +240,10 @@ std::vector<std::uint8_t> write_payload_body(const PayloadBody& body) {
   return out;
 }
 
-Parsed<PayloadBody> read_payload_body(std::span<const std::uint8_t> body) {
-  ByteReader reader(body);
+namespace {
+
+/// Reads a payload body up to its unreliable bytes, which are left in `reader`.
+Parsed<PayloadBody> read_payload_head(ByteReader& reader) {
   Parsed<PayloadBody> out;
   out.value.ack = read_ack(reader);
   const std::size_t count = reader.u8();
@@ -259,8 +261,27 @@ Parsed<PayloadBody> read_payload_body(std::span<const std::uint8_t> body) {
     message.bytes.assign(bytes.begin(), bytes.end());
     out.value.reliable.push_back(std::move(message));
   }
+  return out;
+}
+
+}  // namespace
+
+Parsed<PayloadBody> read_payload_body(std::span<const std::uint8_t> body) {
+  ByteReader reader(body);
+  Parsed<PayloadBody> out = read_payload_head(reader);
+  if (!out.ok()) return out;
   auto rest = reader.rest();
   out.value.unreliable.assign(rest.begin(), rest.end());
+  return out;
+}
+
+Parsed<PayloadBody> read_payload_body(std::vector<std::uint8_t>&& body) {
+  ByteReader reader(body);
+  Parsed<PayloadBody> out = read_payload_head(reader);
+  if (!out.ok()) return out;
+  const std::size_t head_bytes = body.size() - reader.remaining();
+  body.erase(body.begin(), body.begin() + static_cast<std::ptrdiff_t>(head_bytes));
+  out.value.unreliable = std::move(body);
   return out;
 }
 

@@ -252,6 +252,10 @@ TEST_F(TransportTest, RefusesForgedMacsReplaysAndPacketsOutOfState) {
   auto events = server_events();
   ASSERT_EQ(events.size(), 2u);  // connected, one payload
   EXPECT_EQ(std::get<ServerUnreliable>(events[1]).bytes, (std::vector<std::uint8_t>{1, 2, 3}));
+  EXPECT_EQ(std::get<ServerUnreliable>(events[1]).account_id,
+            std::get<ServerConnected>(events[0]).account_id);
+  EXPECT_EQ(std::get<ServerUnreliable>(events[1]).rtt_us,
+            server->rtt_us(std::get<ServerConnected>(events[0]).client));
 }
 
 TEST_F(TransportTest, RateLimitsUnconnectedAddressesAndConnectedClients) {
@@ -304,6 +308,9 @@ TEST_F(TransportTest, CapsTrackedAddressesAndHalfOpenHandshakes) {
   ASSERT_FALSE(server_transitions.empty());
   EXPECT_EQ(server_transitions.back().to, ConnectionState::Disconnected);
   EXPECT_EQ(server_transitions.back().reason, "handshake timed out");
+  // That update also forgot the budgets of a and b, refilled by then: c is tracked now.
+  server->receive(c, std::vector<std::uint8_t>(10, 1), kT0 + 5 * kMicrosPerSecond);
+  EXPECT_EQ(drops(DropReason::AddressTableFull), 1u);
 }
 
 TEST_F(TransportTest, AFullServerDeniesWithAPacketOnlyTheTokenHolderCanRead) {

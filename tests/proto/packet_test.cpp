@@ -109,11 +109,21 @@ TEST(PayloadBody, CarriesReliableMessagesAndTheUnreliableRest) {
   body.ack = {1000, 0xF0F0F0F0};
   body.reliable = {{3, {1, 2}}, {4, std::vector<std::uint8_t>(kMaxReliableMessageBytes, 9)}};
   body.unreliable = {7, 7, 7};
-  auto parsed = read_payload_body(write_payload_body(body));
-  ASSERT_TRUE(parsed.ok());
-  EXPECT_EQ(parsed.value.ack, body.ack);
-  EXPECT_EQ(parsed.value.reliable, body.reliable);
-  EXPECT_EQ(parsed.value.unreliable, body.unreliable);
+  const std::vector<std::uint8_t> bytes = write_payload_body(body);
+  // From a span (copying the rest) and from a body it takes (keeping the rest in its buffer).
+  for (auto parsed : {read_payload_body(std::span<const std::uint8_t>(bytes)),
+                      read_payload_body(std::vector<std::uint8_t>(bytes))}) {
+    ASSERT_TRUE(parsed.ok());
+    EXPECT_EQ(parsed.value.ack, body.ack);
+    EXPECT_EQ(parsed.value.reliable, body.reliable);
+    EXPECT_EQ(parsed.value.unreliable, body.unreliable);
+  }
+  body.reliable.clear();
+  body.unreliable.clear();
+  auto bare = read_payload_body(write_payload_body(body));
+  ASSERT_TRUE(bare.ok());
+  EXPECT_TRUE(bare.value.reliable.empty());
+  EXPECT_TRUE(bare.value.unreliable.empty());
 }
 
 TEST(PayloadBody, RefusesLengthsPastTheEndEmptyAndOversizedMessages) {
@@ -132,6 +142,9 @@ TEST(PayloadBody, RefusesLengthsPastTheEndEmptyAndOversizedMessages) {
   huge[kPayloadFixedBytes + 3] = 0x7F;
   EXPECT_EQ(read_payload_body(huge).error, DropReason::Malformed);
   EXPECT_EQ(read_payload_body(std::vector<std::uint8_t>(3)).error, DropReason::Truncated);
+  // The same refusals from a body the reader takes.
+  EXPECT_EQ(read_payload_body(std::vector<std::uint8_t>(cut)).error, DropReason::Truncated);
+  EXPECT_EQ(read_payload_body(std::vector<std::uint8_t>(huge)).error, DropReason::Malformed);
 }
 
 TEST(PacketSizes, EveryHandshakeReplyIsSmallerThanTheRequest) {

@@ -1,13 +1,13 @@
 #include "game_channel.h"
 
-#include <utility>
+#include <spdlog/spdlog.h>
 
 #include <boost/asio/as_tuple.hpp>
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/use_awaitable.hpp>
-#include <spdlog/spdlog.h>
+#include <utility>
 
 #include "ricochet/proto/packet.h"
 #include "steady_time.h"
@@ -103,8 +103,8 @@ proto::TransportCounters GameChannel::counters() const {
 
 asio::awaitable<void> GameChannel::receive_loop() {
   while (!stopping_) {
-    auto [error] = co_await socket_.async_wait(udp::socket::wait_read,
-                                               asio::as_tuple(asio::use_awaitable));
+    auto [error] =
+        co_await socket_.async_wait(udp::socket::wait_read, asio::as_tuple(asio::use_awaitable));
     if (error == asio::error::operation_aborted || stopping_) break;
     if (error) {
       spdlog::debug("game channel: waiting for datagrams failed: {}", error.message());
@@ -168,14 +168,12 @@ void GameChannel::drain() {
         router_->disconnected(gone->account_id, gone->reason);
       }
     } else if (auto* payload = std::get_if<proto::ServerUnreliable>(&event)) {
-      const auto found = account_of_client_.find(payload->client);
-      if (found != account_of_client_.end()) {
-        payloads.push_back(
-            {found->second, std::move(payload->bytes), transport_.rtt_us(payload->client)});
-      }
+      // Only a connected client's payloads come, after its ServerConnected and before its end.
+      payloads.push_back({payload->account_id, std::move(payload->bytes), payload->rtt_us});
     } else if (auto* message = std::get_if<proto::ServerReliable>(&event)) {
       const auto found = account_of_client_.find(message->client);
-      if (found != account_of_client_.end()) router_->reliable(found->second, std::move(message->bytes));
+      if (found != account_of_client_.end())
+        router_->reliable(found->second, std::move(message->bytes));
     }
   }
   route_payloads();

@@ -1,6 +1,6 @@
 #pragma once
-/// The server end of the game channel as a sans-IO state machine (PROTOCOL.md Game channel transport): bytes
-/// and time in, datagrams and events out. It knows no socket and reads no clock.
+/// The server end of the game channel as a sans-IO state machine (PROTOCOL.md Game channel
+/// transport): bytes and time in, datagrams and events out. It knows no socket and reads no clock.
 ///
 /// Use: for every datagram call receive(); call update() at least every keep-alive interval
 /// (10 ms..100 ms); after every call drain poll_transmit() into the socket and poll_event()
@@ -56,6 +56,8 @@ struct ServerDisconnected {
 struct ServerUnreliable {
   ClientId client = 0;
   std::vector<std::uint8_t> bytes;
+  std::uint64_t account_id = 0;  ///< the client's, so the application needs no lookup
+  TimeUs rtt_us = 0;             ///< the client's round-trip estimate when the packet came
 };
 struct ServerReliable {
   ClientId client = 0;
