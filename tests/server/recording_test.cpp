@@ -146,18 +146,22 @@ Recording random_recording(std::uint32_t seed, int ticks) {
   return recording;
 }
 
+/// Writes one tick of `recording`, then the hash recorded at it if `next_hash` names one.
+void write_tick(RecordingWriter& writer, const Recording& recording, const RecordedTick& tick,
+                std::size_t& next_hash) {
+  writer.begin_tick(tick.tick);
+  for (const RecordedEvent& event : tick.events) writer.add_event(event);
+  for (const RecordedInput& input : tick.inputs) writer.add_input(input);
+  writer.end_tick();
+  if (next_hash < recording.hashes.size() && recording.hashes[next_hash].tick == tick.tick) {
+    writer.add_hash(tick.tick, recording.hashes[next_hash++].hash);
+  }
+}
+
 std::vector<std::uint8_t> write(const Recording& recording, std::size_t max_bytes = 64u << 20) {
   RecordingWriter writer(recording.header, max_bytes);
   std::size_t next_hash = 0;
-  for (const RecordedTick& tick : recording.ticks) {
-    writer.begin_tick(tick.tick);
-    for (const RecordedEvent& event : tick.events) writer.add_event(event);
-    for (const RecordedInput& input : tick.inputs) writer.add_input(input);
-    writer.end_tick();
-    if (next_hash < recording.hashes.size() && recording.hashes[next_hash].tick == tick.tick) {
-      writer.add_hash(tick.tick, recording.hashes[next_hash++].hash);
-    }
-  }
+  for (const RecordedTick& tick : recording.ticks) write_tick(writer, recording, tick, next_hash);
   EXPECT_TRUE(writer.stopped_reason().empty() || max_bytes < (64u << 20))
       << writer.stopped_reason();
   return writer.finish();
@@ -513,13 +517,7 @@ TEST(RecordingTest, ARecordingOfManyBlocksRoundTripsAndItsSizeIsCountedAsItGrows
   std::size_t next_hash = 0;
   std::size_t last_bytes = writer.bytes();
   for (const RecordedTick& tick : recording.ticks) {
-    writer.begin_tick(tick.tick);
-    for (const RecordedEvent& event : tick.events) writer.add_event(event);
-    for (const RecordedInput& input : tick.inputs) writer.add_input(input);
-    writer.end_tick();
-    if (next_hash < recording.hashes.size() && recording.hashes[next_hash].tick == tick.tick) {
-      writer.add_hash(tick.tick, recording.hashes[next_hash++].hash);
-    }
+    write_tick(writer, recording, tick, next_hash);
     ASSERT_GE(writer.bytes(), last_bytes);
     last_bytes = writer.bytes();
   }
