@@ -22,6 +22,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <variant>
 #include <vector>
 
@@ -87,6 +88,7 @@ class TransportBench {
     for (std::size_t k = 0; k < clients; ++k) {
       Peer& peer = peers_[k];
       peer.address = client_address(k);
+      peer_of_[peer.address] = k;
       const proto::TokenGrant grant =
           proto::issue_connect_token(token_key(), proto::kProtocolId, kFirstAccount + k, 1, now_,
                                      30 * proto::kMicrosPerSecond, 10);
@@ -179,6 +181,7 @@ class TransportBench {
     config.protocol_id = proto::kProtocolId;
     config.token_key = token_key();
     config.max_clients = static_cast<int>(clients);
+    config.max_half_open = static_cast<int>(clients);  // everyone connects in the same round
     return config;
   }
 
@@ -188,14 +191,11 @@ class TransportBench {
     return drops;
   }
 
-  /// Datagrams the server queued go to their clients' inboxes (peers by address: index order).
+  /// Datagrams the server queued go to their clients' inboxes.
   void deliver_outgoing() {
     for (proto::Transmit& transmit : outgoing_) {
-      for (Peer& peer : peers_) {
-        if (peer.address == transmit.to) {
-          peer.inbox.push_back(std::move(transmit.bytes));
-          break;
-        }
+      if (const auto peer = peer_of_.find(transmit.to); peer != peer_of_.end()) {
+        peers_[peer->second].inbox.push_back(std::move(transmit.bytes));
       }
     }
     outgoing_.clear();
@@ -244,6 +244,7 @@ class TransportBench {
   static constexpr std::uint64_t kFirstAccount = 1000;
   std::vector<Peer> peers_;
   std::vector<proto::ClientId> ids_;  ///< the server's id of each peer's connection
+  std::unordered_map<proto::Address, std::size_t, proto::AddressHash> peer_of_;
   std::vector<proto::Transmit> outgoing_;
   std::vector<proto::Transmit> arriving_;  ///< the clients' datagrams of a tick, by sender
   proto::TimeUs now_ = 1'000'000;
