@@ -127,7 +127,7 @@ class TransportBench {
       // The clients' inputs (not timed), then the server takes them as the game channel does.
       arriving_.clear();
       for (Peer& peer : peers_) {
-        take_inbox(peer, result);
+        result.snapshots_taken += take_inbox(peer);
         peer.client->update(now_);
         peer.client->send_unreliable(input, now_);
         proto::Transmit transmit;
@@ -201,13 +201,16 @@ class TransportBench {
     outgoing_.clear();
   }
 
-  void take_inbox(Peer& peer, Result& result) {
+  /// The peer's client takes its inbox; returns the payloads it received.
+  std::uint64_t take_inbox(Peer& peer) {
     for (const auto& bytes : peer.inbox) peer.client->receive(kServerAddress, bytes, now_);
     peer.inbox.clear();
+    std::uint64_t payloads = 0;
     proto::ClientEvent event;
     while (peer.client->poll_event(event)) {
-      result.snapshots_taken += std::holds_alternative<proto::ClientUnreliable>(event);
+      payloads += std::holds_alternative<proto::ClientUnreliable>(event);
     }
+    return payloads;
   }
 
   /// Handshake traffic both ways until nothing is left to deliver.
@@ -226,10 +229,7 @@ class TransportBench {
         moved = true;
       }
       deliver_outgoing();
-      for (Peer& peer : peers_) {
-        for (const auto& bytes : peer.inbox) peer.client->receive(kServerAddress, bytes, now_);
-        peer.inbox.clear();
-      }
+      for (Peer& peer : peers_) take_inbox(peer);
       proto::ServerEvent event;
       while (server_.poll_event(event)) {
         if (auto* connected = std::get_if<proto::ServerConnected>(&event)) {

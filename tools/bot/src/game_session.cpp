@@ -76,7 +76,8 @@ std::string GameSession::bind_local(const asio::ip::address& local) {
 
 std::string GameSession::use_shared_port(std::shared_ptr<SharedGamePort> port) {
   if (!server_.address().is_v4() || !server_.address().is_loopback()) {
-    return "a shared game socket needs an IPv4 loopback server, got " + server_.address().to_string();
+    return "a shared game socket needs an IPv4 loopback server, got " +
+           server_.address().to_string();
   }
   const auto address = port->attach(weak_from_this());
   if (!address) return "the shared game socket ran out of source addresses";
@@ -96,12 +97,17 @@ void GameSession::start() {
 void GameSession::receive_datagram(const asio::ip::udp::endpoint& from,
                                    std::span<const std::uint8_t> bytes, proto::TimeUs now) {
   if (closed_) return;
+  take(from, bytes, now);
+  flush(now);
+}
+
+void GameSession::take(const asio::ip::udp::endpoint& from, std::span<const std::uint8_t> bytes,
+                       proto::TimeUs now) {
   if (down_ && from == server_) {
-    down_->send({bytes.begin(), bytes.end()}, now);
+    down_->send({bytes.begin(), bytes.end()}, now);  // through the simulated link first
   } else {
     client_.receive(to_address(from), bytes, now);
   }
-  flush(now);
 }
 
 void GameSession::wait_readable() {
@@ -125,11 +131,7 @@ void GameSession::drain(proto::TimeUs now) {
       spdlog::debug("game: receive failed: {}", error.message());
       continue;
     }
-    if (down_ && from == server_) {
-      down_->send({buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(size)}, now);
-      continue;
-    }
-    client_.receive(to_address(from), std::span<const std::uint8_t>(buffer_.data(), size), now);
+    take(from, std::span<const std::uint8_t>(buffer_.data(), size), now);
   }
   flush(now);
 }

@@ -19,7 +19,6 @@
 
 #include "ricochet/bot/link_simulator.h"
 #include "ricochet/bot/shared_game_port.h"
-
 #include "ricochet/proto/clock.h"
 #include "ricochet/proto/game_client.h"
 
@@ -76,6 +75,10 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
  private:
   void wait_readable();
   void drain(proto::TimeUs now);
+  /// One datagram from the socket: into the simulated downlink when there is one, else to the
+  /// transport.
+  void take(const boost::asio::ip::udp::endpoint& from, std::span<const std::uint8_t> bytes,
+            proto::TimeUs now);
   void send_queued(proto::TimeUs now);
   /// Sends what the transport queued, then hands its events to on_event_.
   void flush(proto::TimeUs now);
