@@ -60,19 +60,38 @@ struct Candidate {
   std::uint32_t world_index = 0;     ///< Added, Changed
   /// What it carried from before, until weigh_priorities adds this tick's change at its distance.
   float priority = 0;
-  float change_m = 0;              ///< Added, Changed: this tick's change (PROTOCOL.md §8)
-  int bits = 0;                    ///< estimate, for the budget
-  DeltaTable::Way* way = nullptr;  ///< Changed: its delta
+  float change_m = 0;                     ///< Added, Changed: this tick's change (PROTOCOL.md §8)
+  int bits = 0;                           ///< estimate, for the budget
+  DeltaTable::Way* way = nullptr;         ///< Changed: its delta
+  const QuantizedEntity* then = nullptr;  ///< Changed: the client's baseline state
   /// Changed: its fields written with this encode's orders (estimate_costs).
   const layout::DeltaBody* body = nullptr;
 };
 
 /// A baseline as a world the SnapshotEncodeCache saw, but for the few entities the client holds
 /// at older states or not at all (SnapshotEncoder::Sent), by their indices in that world.
-struct BaselineExceptions {
-  std::span<const std::uint32_t> held;    ///< sorted
-  std::span<const std::uint32_t> absent;  ///< sorted
+struct WorldBaseline {
+  std::span<const QuantizedEntity> world;
+  std::span<const std::uint32_t> held;           ///< sorted
+  std::span<const QuantizedEntity> held_states;  ///< the client's, one per `held`
+  std::span<const std::uint32_t> absent;         ///< sorted
 };
+
+/// The entities a client holds whose baseline is `baseline`: its world with the held entities
+/// at their older states and the absent ones left out.
+void hold(const WorldBaseline& baseline, std::vector<QuantizedEntity>& view) {
+  view.clear();
+  std::size_t h = 0, a = 0;
+  for (std::uint32_t k = 0; k < baseline.world.size(); ++k) {
+    if (a < baseline.absent.size() && baseline.absent[a] == k) {
+      ++a;
+    } else if (h < baseline.held.size() && baseline.held[h] == k) {
+      view.push_back(baseline.held_states[h++]);
+    } else {
+      view.push_back(baseline.world[k]);
+    }
+  }
+}
 
 /// One step of the walk of a tick's world against an earlier world by id.
 struct WalkStep {
@@ -107,13 +126,16 @@ struct EncodeBuffers {
 /// the client will hold. Each step is one method; SnapshotEncoder::encode calls them in order.
 class EncodePass {
  public:
+  /// baseline: the client's entities, or empty when it is a world but for exceptions, whose
+  /// walk find_pending follows (then of baseline_size entities).
   EncodePass(const QuantizationSpec& spec, const SnapshotEncoderOptions& options,
-             std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
-             std::span<const QuantizedEntity> world, const layout::FieldWidths& widths,
-             EncodeBuffers& buffers, DeltaTable& deltas)
+             std::span<const QuantizedEntity> baseline, std::size_t baseline_size,
+             std::uint32_t baseline_age, std::span<const QuantizedEntity> world,
+             const layout::FieldWidths& widths, EncodeBuffers& buffers, DeltaTable& deltas)
       : spec_(spec),
         options_(options),
         baseline_(baseline),
+        baseline_size_(baseline_size),
         world_(world),
         widths_(widths),
         prediction_(layout::make_prediction(baseline_age, spec)),
@@ -129,11 +151,11 @@ class EncodePass {
   /// delta.
   void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                     std::array<float, 3> viewer_m);
-  /// The same for a baseline that is the world `walk` was recorded against, with `exceptions`:
+  /// The same for a baseline that is the world `walk` was recorded against but for exceptions:
   /// follows the walk, comparing only the held entities.
   void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                     std::array<float, 3> viewer_m, const SharedWalk& walk,
-                    BaselineExceptions exceptions);
+                    const WorldBaseline& baseline);
   /// Records the walk of the world against `earlier` (a world the cache saw) into `walk`, with
   /// the delta of every changed entity.
   void record_walk(std::span<const QuantizedEntity> earlier, SharedWalk& walk);
@@ -144,11 +166,18 @@ class EncodePass {
   /// Writes the selected candidates; false if the stream exceeds stream_budget_bytes, after
   /// leaving out about as many of the lowest priorities as the excess needs (call again).
   bool write(BitWriter& stream, std::size_t stream_budget_bytes);
-  /// The entity set the client holds after decoding the stream. When no removal was left out it
-  /// is the world but for the deferred entities, whose world indices go to `held` (changed:
-  /// the client holds its baseline state) and `absent` (new: not held at all); true then.
-  bool build_view(std::vector<QuantizedEntity>& view, std::vector<std::uint32_t>& held,
-                  std::vector<std::uint32_t>& absent);
+  /// Whether a removal was left out (practically never: removals go first). Otherwise the
+  /// client holds the world after decoding the stream but for the deferred entities.
+  bool removal_deferred() const;
+  /// The deferred entities by world index: `held` (changed: the client keeps `held_states`,
+  /// their baseline states) and `absent` (new: not held at all).
+  void list_deferred(std::vector<std::uint32_t>& held, std::vector<QuantizedEntity>& held_states,
+                     std::vector<std::uint32_t>& absent) const;
+  /// The entity set the client holds after decoding the stream, merged from the baseline
+  /// (which must be whole: use_baseline) and the candidates.
+  void merge_view(std::vector<QuantizedEntity>& view) const;
+  /// The client's whole baseline, for merge_view after following a walk.
+  void use_baseline(std::span<const QuantizedEntity> baseline) { baseline_ = baseline; }
   /// Deferred entities' priorities, sorted by id; returns how many candidates were sent.
   std::size_t carry_priorities(std::vector<std::pair<std::uint32_t, float>>& carried) const;
   std::size_t pending() const { return candidates_.size(); }
@@ -178,14 +207,16 @@ class EncodePass {
   /// distance only if something is left out); carried_next_ follows the carried priorities,
   /// which ids increase through.
   void add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i, DeltaTable::Way* way,
-                           double change);
+                           double change, const QuantizedEntity* then);
   void add_removed(std::size_t j);
-  /// Baseline entity j, still in the world at i: a candidate with its delta when it changed.
-  void compare_kept(std::size_t i, std::size_t j);
+  /// Baseline entity j, `then`, still in the world at i: a candidate with its delta when it
+  /// changed.
+  void compare_kept(std::size_t i, std::size_t j, const QuantizedEntity& then);
 
   const QuantizationSpec& spec_;
   const SnapshotEncoderOptions& options_;
   std::span<const QuantizedEntity> baseline_;
+  std::size_t baseline_size_;
   std::span<const QuantizedEntity> world_;
   const layout::FieldWidths& widths_;
   layout::Prediction prediction_;
@@ -232,7 +263,8 @@ DeltaTable::Way& EncodePass::delta_of(std::size_t i, const QuantizedEntity& then
 }
 
 void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i,
-                                     DeltaTable::Way* way, double change) {
+                                     DeltaTable::Way* way, double change,
+                                     const QuantizedEntity* then) {
   const std::uint32_t id = world_[i].id;
   std::size_t& p = carried_next_;
   while (p < carried_.size() && carried_[p].first < id) ++p;
@@ -242,7 +274,8 @@ void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::s
                          .world_index = static_cast<std::uint32_t>(i),
                          .priority = before,
                          .change_m = static_cast<float>(change),
-                         .way = way});
+                         .way = way,
+                         .then = then});
 }
 
 void EncodePass::look_from(std::span<const std::pair<std::uint32_t, float>> carried,
@@ -252,7 +285,7 @@ void EncodePass::look_from(std::span<const std::pair<std::uint32_t, float>> carr
   viewer_nowhere_ =
       !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
   for (int a = 0; a < 3; ++a) viewer_m_[a] = viewer_m[a];
-  candidates_.reserve(world_.size() + baseline_.size());
+  candidates_.reserve(world_.size() + baseline_size_);
 }
 
 void EncodePass::add_removed(std::size_t j) {
@@ -261,11 +294,11 @@ void EncodePass::add_removed(std::size_t j) {
                          .priority = kRemovalPriority});
 }
 
-void EncodePass::compare_kept(std::size_t i, std::size_t j) {
-  if (same_state(world_[i], baseline_[j])) return;
-  DeltaTable::Way& way = delta_of(i, baseline_[j]);
+void EncodePass::compare_kept(std::size_t i, std::size_t j, const QuantizedEntity& then) {
+  if (same_state(world_[i], then)) return;
+  DeltaTable::Way& way = delta_of(i, then);
   way.used_by = pass_;
-  add_world_candidate(Candidate::Kind::Changed, j, i, &way, way.change_m);
+  add_world_candidate(Candidate::Kind::Changed, j, i, &way, way.change_m, &then);
 }
 
 void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
@@ -276,9 +309,11 @@ void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> c
     if (i == world_.size() || (j < baseline_.size() && baseline_[j].id < world_[i].id)) {
       add_removed(j++);
     } else if (j == baseline_.size() || world_[i].id < baseline_[j].id) {
-      add_world_candidate(Candidate::Kind::Added, 0, i++, nullptr, kNewEntityChange_m);
+      add_world_candidate(Candidate::Kind::Added, 0, i++, nullptr, kNewEntityChange_m, nullptr);
     } else {
-      compare_kept(i++, j++);
+      compare_kept(i, j, baseline_[j]);
+      ++i;
+      ++j;
     }
   }
 }
@@ -310,34 +345,37 @@ void EncodePass::record_walk(std::span<const QuantizedEntity> earlier, SharedWal
 
 void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                               std::array<float, 3> viewer_m, const SharedWalk& walk,
-                              BaselineExceptions exceptions) {
+                              const WorldBaseline& baseline) {
   look_from(carried, viewer_m);
   // The walk's baseline indices are the earlier world's; the client's own skip what it lacks.
   std::size_t h = 0, a = 0;
   for (const WalkStep& step : walk.steps) {
     if (step.kind == WalkStep::Kind::Added) {
-      add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr, kNewEntityChange_m);
+      add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr, kNewEntityChange_m,
+                          nullptr);
       continue;
     }
     const std::uint32_t k = step.baseline_index;
-    while (a < exceptions.absent.size() && exceptions.absent[a] < k) ++a;
-    const bool absent = a < exceptions.absent.size() && exceptions.absent[a] == k;
+    while (a < baseline.absent.size() && baseline.absent[a] < k) ++a;
+    const bool absent = a < baseline.absent.size() && baseline.absent[a] == k;
     const std::size_t j = k - a;  // the client's own index
     if (step.kind == WalkStep::Kind::Removed) {
       if (!absent) add_removed(j);
       continue;
     }
-    while (h < exceptions.held.size() && exceptions.held[h] < k) ++h;
+    while (h < baseline.held.size() && baseline.held[h] < k) ++h;
     if (absent) {
-      add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr, kNewEntityChange_m);
-    } else if (h < exceptions.held.size() && exceptions.held[h] == k) {
-      compare_kept(step.world_index, j);
+      add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr, kNewEntityChange_m,
+                          nullptr);
+    } else if (h < baseline.held.size() && baseline.held[h] == k) {
+      compare_kept(step.world_index, j, baseline.held_states[h]);
     } else if (step.way && step.way->stamp == step.stamp) {
       step.way->used_by = pass_;
       add_world_candidate(Candidate::Kind::Changed, j, step.world_index, step.way,
-                          step.way->change_m);
+                          step.way->change_m, &baseline.world[k]);
     } else if (step.way) {
-      compare_kept(step.world_index, j);  // its way since given to another delta
+      // Its way since given to another delta.
+      compare_kept(step.world_index, j, baseline.world[k]);
     }
   }
 }
@@ -359,7 +397,7 @@ void EncodePass::estimate_costs() {
   }
   tallies.choose(orders_);
 
-  const int gap_estimate = exp_golomb_bits(changed == 0 ? 0 : baseline_.size() / changed, 0);
+  const int gap_estimate = exp_golomb_bits(changed == 0 ? 0 : baseline_size_ / changed, 0);
   const std::uint64_t orders_key = layout::field_orders_key(orders_);
   for (Candidate& c : candidates_) {
     switch (c.kind) {
@@ -372,7 +410,7 @@ void EncodePass::estimate_costs() {
         break;
       }
       case Candidate::Kind::Removed:
-        c.bits = 2 * bits_for_count(baseline_.size() + 1) + 1;
+        c.bits = 2 * bits_for_count(baseline_size_ + 1) + 1;
         break;
       case Candidate::Kind::Added: {
         // The state's bits, written once per tick for every client the entity is new to.
@@ -525,39 +563,31 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
   return false;
 }
 
-bool EncodePass::build_view(std::vector<QuantizedEntity>& view, std::vector<std::uint32_t>& held,
-                            std::vector<std::uint32_t>& absent) {
+bool EncodePass::removal_deferred() const {
+  return std::any_of(candidates_.begin(), candidates_.end(), [](const Candidate& c) {
+    return !c.selected && c.kind == Candidate::Kind::Removed;
+  });
+}
+
+void EncodePass::list_deferred(std::vector<std::uint32_t>& held,
+                               std::vector<QuantizedEntity>& held_states,
+                               std::vector<std::uint32_t>& absent) const {
   held.clear();
+  held_states.clear();
   absent.clear();
-  bool removal_deferred = false;
   for (const Candidate& c : candidates_) {
-    removal_deferred |= !c.selected && c.kind == Candidate::Kind::Removed;
-  }
-  if (!removal_deferred) {
-    // The world, the deferred changes at their baseline states, the deferred new ones left out.
-    view.assign(world_.begin(), world_.end());
-    for (const Candidate& c : candidates_) {
-      if (c.selected) continue;
-      if (c.kind == Candidate::Kind::Changed) {
-        view[c.world_index] = baseline_[c.baseline_index];
-        held.push_back(c.world_index);
-      } else {
-        absent.push_back(c.world_index);
-      }
+    if (c.selected) continue;
+    if (c.kind == Candidate::Kind::Changed) {
+      held.push_back(c.world_index);
+      held_states.push_back(*c.then);
+    } else {
+      absent.push_back(c.world_index);
     }
-    if (!absent.empty()) {
-      std::size_t kept = 0, next = 0;
-      for (std::size_t i = 0; i < view.size(); ++i) {
-        if (next < absent.size() && absent[next] == i) {
-          ++next;
-        } else {
-          view[kept++] = view[i];
-        }
-      }
-      view.resize(kept);
-    }
-    return true;
   }
+}
+
+void EncodePass::merge_view(std::vector<QuantizedEntity>& view) const {
+  assert(baseline_.size() == baseline_size_);
   // Baseline and candidates merged by id: the candidates (in id order) are every difference.
   view.clear();
   std::size_t next = 0;
@@ -585,7 +615,6 @@ bool EncodePass::build_view(std::vector<QuantizedEntity>& view, std::vector<std:
     assert(candidates_[next].kind == Candidate::Kind::Added);
     if (candidates_[next].selected) view.push_back(world_[candidates_[next].world_index]);
   }
-  return false;
 }
 
 std::size_t EncodePass::carry_priorities(
@@ -632,13 +661,10 @@ struct SnapshotEncodeCache::Streams {
   std::size_t used = 0;                       ///< of entries, this tick's
   std::size_t next_replaced = 0;              ///< when all are used
   std::vector<SharedStream> entries;
-  /// The worlds of recent ticks, by tick, that walks are recorded against.
-  struct PastWorld {
-    std::uint64_t token = 0;
-    std::vector<QuantizedEntity> entities;
-  };
-  static constexpr std::size_t kPastWorlds = 32;
-  std::vector<PastWorld> past_worlds = std::vector<PastWorld>(kPastWorlds);
+  /// Copies of this and earlier ticks' worlds, held by the clients left holding them
+  /// (SnapshotEncoder::Sent::world); one no client holds any more is reused.
+  std::vector<std::shared_ptr<std::vector<QuantizedEntity>>> worlds;
+  std::shared_ptr<const std::vector<QuantizedEntity>> world_now;  ///< this tick's copy
   /// This tick's walks against the worlds of baseline tokens, as many as entries.
   std::size_t walks_used = 0;
   std::size_t next_walk_replaced = 0;
@@ -665,9 +691,7 @@ struct SnapshotEncodeCache::Streams {
     world_size = world_now.size();
     widths = encoder_widths;
     world_token = next_world_token();
-    PastWorld& past = past_worlds[tick % past_worlds.size()];
-    past.token = world_token;
-    past.entities.assign(world_now.begin(), world_now.end());
+    this->world_now = copy_of(world_now);
     used = 0;
     next_replaced = 0;
     walks_used = 0;
@@ -702,11 +726,18 @@ struct SnapshotEncodeCache::Streams {
     walk.prediction = prediction;
     return walk;
   }
-  /// The world of `tick` when it still is the one named `token`, or null.
-  const std::vector<QuantizedEntity>* past_world(std::uint32_t past_tick,
-                                                 std::uint64_t token) const {
-    const PastWorld& past = past_worlds[past_tick % past_worlds.size()];
-    return past.token == token ? &past.entities : nullptr;
+  /// A copy of `world` in a vector no client holds any more, or a new one.
+  std::shared_ptr<const std::vector<QuantizedEntity>> copy_of(
+      std::span<const QuantizedEntity> world) {
+    // Each copy is held here and by the clients holding it: a count of 1 is here alone. The
+    // previous tick's copy (world_now) counts too, so it is never the one reused.
+    auto unheld = std::find_if(worlds.begin(), worlds.end(),
+                               [](const auto& copy) { return copy.use_count() == 1; });
+    if (unheld == worlds.end()) {
+      unheld = worlds.insert(worlds.end(), std::make_shared<std::vector<QuantizedEntity>>());
+    }
+    (*unheld)->assign(world.begin(), world.end());
+    return *unheld;
   }
 
   SharedStream& claim() { return claim_slot(entries, used, next_replaced); }
@@ -731,7 +762,8 @@ struct SnapshotEncoder::Scratch {
   explicit Scratch(const QuantizationSpec& spec) : widths(spec) {}
   layout::FieldWidths widths;
   EncodeBuffers buffers;
-  DeltaTable deltas;  ///< when encoding without a cache
+  DeltaTable deltas;                      ///< when encoding without a cache
+  std::vector<QuantizedEntity> baseline;  ///< a world baseline made whole, when needed
 };
 
 std::string SnapshotEncoderOptions::validate() const {
@@ -785,12 +817,20 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   assert(std::is_sorted(world.begin(), world.end(),
                         [](const auto& a, const auto& b) { return a.id < b.id; }));
 
-  // The baseline: the newest acknowledged snapshot, while the ring still holds it.
+  // The baseline: the newest acknowledged snapshot, while the ring still holds it; either a
+  // view of the client's own or a world but for exceptions.
   const Sent& acked = slot(acked_tick_);
   const bool has_baseline = has_ack_ && acked.valid && acked.tick == acked_tick_;
-  const std::span<const QuantizedEntity> baseline =
-      has_baseline ? std::span<const QuantizedEntity>(acked.view)
-                   : std::span<const QuantizedEntity>();
+  const bool baseline_is_world = has_baseline && acked.world_token != 0;
+  const WorldBaseline world_baseline =
+      baseline_is_world ? WorldBaseline{*acked.world, acked.held, acked.held_states, acked.absent}
+                        : WorldBaseline{};
+  std::span<const QuantizedEntity> baseline = has_baseline && !baseline_is_world
+                                                  ? std::span<const QuantizedEntity>(acked.view)
+                                                  : std::span<const QuantizedEntity>();
+  const std::size_t baseline_size = baseline_is_world
+                                        ? world_baseline.world.size() - world_baseline.absent.size()
+                                        : baseline.size();
   const std::uint32_t baseline_age = has_baseline ? tick - acked_tick_ : 0;
 
   const std::size_t header = header_bytes(tick, baseline_age, budget_bytes);
@@ -825,35 +865,36 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   out.set_tick(tick);
   out.set_baseline_age(baseline_age);
   std::size_t pending = 0, sent = 0;
-  bool world_but_exceptions = true;  // the view: this world but for next_held_, next_absent_
+  // The view: this world but for next_held_ (at next_held_states_) and next_absent_.
+  bool world_but_exceptions = true;
+  next_held_.clear();
+  next_held_states_.clear();
+  next_absent_.clear();
   if (reused) {
     ++cache->hits_;
-    next_view_.assign(world.begin(), world.end());  // everything sent: the client holds the world
-    next_held_.clear();
-    next_absent_.clear();
     priority_.clear();
     pending = sent = reused->pending;
     assign_bytes(*out.mutable_entities(), reused->stream);
   } else {
     DeltaTable& deltas = shared ? shared->deltas : scratch_->deltas;
     if (!shared) deltas.reset(world, spec_);
-    EncodePass pass(spec_, options_, baseline, baseline_age, world, scratch_->widths,
-                    scratch_->buffers, deltas);
     // A baseline that is a world the cache saw (but for a few entities) follows the walk
-    // against that world, recorded by the first client of the tick to need it.
-    SharedWalk* walk = nullptr;
-    if (shared && baseline_token != 0) {
-      walk = shared->find_walk(baseline_token, prediction);
-      const std::vector<QuantizedEntity>* earlier =
-          walk ? nullptr : shared->past_world(acked_tick_, baseline_token);
-      if (earlier) {
-        walk = &shared->claim_walk(baseline_token, prediction);
-        pass.record_walk(*earlier, *walk);
-      }
+    // against that world, recorded by the first client of the tick to need it. Without a cache
+    // it is the world made whole.
+    if (baseline_is_world && !shared) {
+      hold(world_baseline, scratch_->baseline);
+      baseline = scratch_->baseline;
     }
-    if (walk) {
+    EncodePass pass(spec_, options_, baseline, baseline_size, baseline_age, world, scratch_->widths,
+                    scratch_->buffers, deltas);
+    if (baseline_is_world && shared) {
+      SharedWalk* walk = shared->find_walk(baseline_token, prediction);
+      if (!walk) {
+        walk = &shared->claim_walk(baseline_token, prediction);
+        pass.record_walk(world_baseline.world, *walk);
+      }
       ++cache->walks_followed_;
-      pass.find_pending(priority_, viewer_m, *walk, {acked.held, acked.absent});
+      pass.find_pending(priority_, viewer_m, *walk, world_baseline);
     } else {
       pass.find_pending(priority_, viewer_m);
     }
@@ -861,7 +902,16 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
     pass.select(select_budget_bits);
     bool fits = false;
     while (!fits) fits = pass.write(stream_, stream_budget_bytes);  // each miss leaves some out
-    world_but_exceptions = pass.build_view(next_view_, next_held_, next_absent_);
+    if (pass.removal_deferred()) {
+      if (baseline.size() != baseline_size) {  // followed a walk: make the baseline whole
+        hold(world_baseline, scratch_->baseline);
+        pass.use_baseline(scratch_->baseline);
+      }
+      pass.merge_view(next_view_);
+      world_but_exceptions = false;
+    } else {
+      pass.list_deferred(next_held_, next_held_states_, next_absent_);
+    }
     pending = pass.pending();
     sent = pass.carry_priorities(priority_);
     assign_bytes(*out.mutable_entities(), stream_.bytes());
@@ -879,12 +929,23 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   }
 
   // Remember what the client will hold; this may overwrite the baseline's slot, used no more.
+  // Without a cache the view is the client's own.
+  if (world_but_exceptions && !shared) {
+    hold({world, next_held_, next_held_states_, next_absent_}, next_view_);
+    world_but_exceptions = false;
+  }
   Sent& entry = slot(tick);
   entry.valid = true;
   entry.tick = tick;
-  entry.world_token = shared && world_but_exceptions ? shared->world_token : 0;
-  entry.view.swap(next_view_);
+  entry.world_token = world_but_exceptions ? shared->world_token : 0;
+  entry.world = world_but_exceptions ? shared->world_now : nullptr;
+  if (world_but_exceptions) {
+    entry.view.clear();
+  } else {
+    entry.view.swap(next_view_);
+  }
   entry.held.swap(next_held_);
+  entry.held_states.swap(next_held_states_);
   entry.absent.swap(next_absent_);
   has_sent_ = true;
   last_tick_ = tick;

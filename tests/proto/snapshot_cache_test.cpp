@@ -117,5 +117,58 @@ TEST(SnapshotEncodeCache, ClientsHoldingAWorldButAFewEntitiesFollowOneWalkAndWri
   EXPECT_GT(cache.walks_followed(), cache.misses() / 2);
 }
 
+/// Clients whose baselines are a shared world but for exceptions, on the rare paths: encodes
+/// that now and then go without the cache (the baseline is then made whole from the shared
+/// world), and budgets too small for every removal of a tick that removes many at once (the view
+/// is then merged from the baseline made whole).
+TEST(SnapshotEncodeCache,
+     WorldBaselinesMadeWholeWithoutTheCacheOrForDeferredRemovalsWriteTheSameBytes) {
+  const QuantizationSpec spec = test::test_spec();
+  std::mt19937 random(20261203);
+  std::vector<QuantizedEntity> world = test::random_world(100, spec, random);
+  std::vector<Client> clients;
+  for (int k = 0; k < 12; ++k) {
+    Client client{SnapshotEncoder(spec), SnapshotEncoder(spec), 0, 0, {}};
+    client.ack_delay_ticks = 2 + static_cast<std::uint32_t>(k % 2);
+    client.budget_bytes = 300 + 100 * static_cast<std::size_t>(k % 4);
+    client.viewer_m = {static_cast<float>(k % 4) * 12 - 20, 1, static_cast<float>(k % 3) * 16 - 16};
+    clients.push_back(std::move(client));
+  }
+  SnapshotEncodeCache cache;
+  std::uint32_t next_id = 1000;
+  for (std::uint32_t tick = 1; tick <= 200; ++tick) {
+    test::perturb(world, spec, random);
+    world.push_back(test::random_entity(next_id++, spec, random, false));
+    // Now and then many removals at once, more than some clients' budgets hold that tick.
+    const bool mass_removal = tick % 25 == 0;
+    if (mass_removal) {
+      for (int k = 0; k < 20; ++k) {
+        world.erase(world.begin() + static_cast<std::ptrdiff_t>(random() % world.size()));
+      }
+    }
+    for (std::size_t c = 0; c < clients.size(); ++c) {
+      Client& client = clients[c];
+      if (tick > client.ack_delay_ticks) {
+        client.plain.acknowledge(tick - client.ack_delay_ticks);
+        client.cached.acknowledge(tick - client.ack_delay_ticks);
+      }
+      const std::size_t budget_bytes = mass_removal && c % 3 == 0 ? 24 : client.budget_bytes;
+      wire::Snapshot plain_out, cached_out;
+      client.plain.encode(tick, world, client.viewer_m, budget_bytes, plain_out);
+      if ((tick + c) % 7 == 0) {
+        client.cached.encode(tick, world, client.viewer_m, budget_bytes, cached_out);
+      } else {
+        client.cached.encode(tick, world, client.viewer_m, budget_bytes, cached_out, cache);
+      }
+      std::string plain_bytes, cached_bytes;
+      ASSERT_TRUE(plain_out.SerializeToString(&plain_bytes));
+      ASSERT_TRUE(cached_out.SerializeToString(&cached_bytes));
+      ASSERT_EQ(plain_bytes, cached_bytes) << "tick " << tick << " client " << c;
+      ASSERT_EQ(client.plain.last_report().deferred, client.cached.last_report().deferred);
+    }
+  }
+  EXPECT_GT(cache.walks_followed(), 500u);
+}
+
 }  // namespace
 }  // namespace ricochet::proto

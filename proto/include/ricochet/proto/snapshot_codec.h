@@ -60,9 +60,11 @@ struct SnapshotEncodeReport {
 /// that a changed entity whose baseline state and age another client of the tick had reuses
 /// that client's delta, and its bits when the field orders agree; and that a client left
 /// something out holds that tick's world but for those entities, so that later its baseline's
-/// differences come from one walk of the world against that world (kept for 32 ticks), with
-/// only the entities it holds otherwise compared. Either way the bytes are the ones encode
-/// writes without the cache. Allocates nothing once its buffers have grown to the world's size.
+/// differences come from one walk of the world against that world, with only the entities it
+/// holds otherwise compared. A tick's world is copied once and shared by every client left
+/// holding it (not copied per client). Either way the bytes are the ones encode writes without
+/// the cache. Allocates nothing once its buffers have grown to the world's size and its worlds
+/// to the ticks the clients hold.
 class SnapshotEncodeCache {
  public:
   /// max_streams: distinct (baseline, age) streams remembered per tick, 1..64; past that the
@@ -119,15 +121,19 @@ class SnapshotEncoder {
   const QuantizationSpec& spec() const { return spec_; }
 
  private:
+  /// What the client holds after decoding a snapshot. With world_token 0 it is `view`.
+  /// Otherwise it is the world a SnapshotEncodeCache saw under that token, `world` (one copy,
+  /// shared by every client sent it), but for the entities at that world's indices `held`
+  /// (sorted), which the client holds at the older `held_states`, and `absent` (sorted), which
+  /// it does not hold.
   struct Sent {
     bool valid = false;
     std::uint32_t tick = 0;
-    std::vector<QuantizedEntity> view;  ///< what the client holds after decoding it
-    /// Nonzero when `view` is the world a SnapshotEncodeCache saw under this token but for the
-    /// entities at that world's indices `held` (sorted), which it holds at older states, and
-    /// `absent` (sorted), which it does not hold.
+    std::vector<QuantizedEntity> view;
     std::uint64_t world_token = 0;
+    std::shared_ptr<const std::vector<QuantizedEntity>> world;
     std::vector<std::uint32_t> held, absent;
+    std::vector<QuantizedEntity> held_states;
   };
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
   void encode_with(std::uint32_t tick, std::span<const QuantizedEntity> world,
@@ -148,6 +154,7 @@ class SnapshotEncoder {
   std::vector<std::pair<std::uint32_t, float>> priority_;
   std::vector<QuantizedEntity> next_view_;
   std::vector<std::uint32_t> next_held_, next_absent_;
+  std::vector<QuantizedEntity> next_held_states_;
   BitWriter stream_;
   std::unique_ptr<Scratch> scratch_;
   SnapshotEncodeReport report_;
