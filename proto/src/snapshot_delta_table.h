@@ -3,6 +3,7 @@
 /// field orders from (FieldTallies): private to the snapshot encoder.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -92,44 +93,61 @@ class DeltaTable {
     static constexpr std::uint8_t kBodies = 4;
     std::array<Body, kBodies> bodies;
     std::uint8_t next_body = 0;  ///< the one replaced next
-
-    /// The fields written with `orders` (whose key is `orders_key`), written now if neither body
-    /// has them.
-    const layout::DeltaBody& body(const layout::DeltaOrders& orders, std::uint64_t orders_key,
-                                  const layout::FieldWidths& widths) {
-      for (Body& body : bodies) {
-        if (body.valid && body.orders == orders_key) return body.bits;
-      }
-      Body& body = bodies[next_body];
-      next_body = static_cast<std::uint8_t>((next_body + 1) % kBodies);
-      layout::write_delta_body(body.bits, delta, orders, widths);
-      body.orders = orders_key;
-      body.valid = true;
-      return body.bits;
-    }
   };
+
+  /// The fields of `way`'s delta written with `orders` (whose key is `orders_key`), written now
+  /// if no body has them.
+  const layout::DeltaBody& body(Way& way, const layout::DeltaOrders& orders,
+                                std::uint64_t orders_key, const layout::FieldWidths& widths) {
+    for (const Way::Body& body : way.bodies) {
+      if (body.valid && body.orders == orders_key) return body.bits;
+    }
+    Way::Body& body = way.bodies[way.next_body];
+    way.next_body = static_cast<std::uint8_t>((way.next_body + 1) % Way::kBodies);
+    replaced_ += body.valid;
+    layout::write_delta_body(body.bits, way.delta, orders, widths);
+    body.orders = orders_key;
+    body.valid = true;
+    return body.bits;
+  }
+  /// How many deltas and bodies of this generation were replaced by others: while it stays the
+  /// same, every Way and DeltaBody handed out this generation still holds what it held.
+  std::uint64_t replaced() const { return replaced_; }
 
   /// Forgets every delta (nothing is cleared: each remembers the generation it was made in)
   /// and takes the positions of `world`, whose entities the deltas will be of.
   void reset(std::span<const QuantizedEntity> world, const QuantizationSpec& spec) {
     ++generation_;
     if (ways_.size() < world.size() * kWays) ways_.resize(world.size() * kWays);
-    positions_m_.resize(world.size());
-    for (std::size_t i = 0; i < world.size(); ++i) {
-      for (int a = 0; a < 3; ++a) {
-        positions_m_[i][a] =
-            spec.bounds.min_m[a] + static_cast<double>(world[i].position[a]) * spec.position_step_m;
+    for (int a = 0; a < 3; ++a) {
+      std::vector<float>& axis = positions_m_[a];
+      axis.resize(world.size());
+      for (std::size_t i = 0; i < world.size(); ++i) {
+        axis[i] =
+            static_cast<float>(spec.bounds.min_m[a] +
+                               static_cast<double>(world[i].position[a]) * spec.position_step_m);
       }
     }
   }
-  /// Where the world's entity `world_index` is, m (dequantised as the priorities need it).
-  const std::array<double, 3>& position_m(std::size_t world_index) const {
-    return positions_m_[world_index];
+  /// The weight 1 / (1 + d / scale_m) of every world entity at its distance d from `viewer_m`
+  /// (finite), in one pass over the positions that the compiler vectorises.
+  void distance_weights(std::array<float, 3> viewer_m, float scale_m,
+                        std::vector<float>& weights) const {
+    const std::size_t count = positions_m_[0].size();
+    weights.resize(count);
+    const float* x = positions_m_[0].data();
+    const float* y = positions_m_[1].data();
+    const float* z = positions_m_[2].data();
+    float* out = weights.data();
+    for (std::size_t i = 0; i < count; ++i) {
+      const float dx = x[i] - viewer_m[0], dy = y[i] - viewer_m[1], dz = z[i] - viewer_m[2];
+      out[i] = 1.0f / (1.0f + std::sqrt(dx * dx + dy * dy + dz * dz) / scale_m);
+    }
   }
   /// The world's entity `world_index` written as a new entity, once per generation.
   const layout::AbsoluteBody& absolute(std::size_t world_index, const QuantizedEntity& entity,
                                        const layout::FieldWidths& widths) {
-    if (absolutes_.size() <= world_index) absolutes_.resize(positions_m_.size());
+    if (absolutes_.size() <= world_index) absolutes_.resize(positions_m_[0].size());
     Absolute& absolute = absolutes_[world_index];
     if (absolute.generation != generation_) {
       absolute.generation = generation_;
@@ -190,8 +208,9 @@ class DeltaTable {
         break;
       }
     }
-    if (way->generation == generation_ && way->group >= 0) {
-      groups_[static_cast<std::size_t>(way->group)].tallies.remove(way->delta);
+    if (way->generation == generation_) {
+      ++replaced_;
+      if (way->group >= 0) groups_[static_cast<std::size_t>(way->group)].tallies.remove(way->delta);
     }
     way->stamp = ++claims_;
     way->prediction = prediction;
@@ -244,8 +263,10 @@ class DeltaTable {
   std::uint64_t generation_ = 0;
   std::uint64_t passes_ = 0;
   std::uint64_t claims_ = 0;
+  std::uint64_t replaced_ = 0;
   std::vector<Way> ways_;
-  std::vector<std::array<double, 3>> positions_m_;
+  /// The world's positions dequantised, m, per axis.
+  std::array<std::vector<float>, 3> positions_m_;
   struct Absolute {
     std::uint64_t generation = 0;
     layout::AbsoluteBody body;

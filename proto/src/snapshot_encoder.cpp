@@ -110,13 +110,22 @@ struct SharedWalk {
   std::uint64_t baseline_token = 0;
   layout::Prediction prediction;
   std::vector<WalkStep> steps;
+  /// What find_pending and estimate_costs gave the first follower holding the whole world (no
+  /// exceptions), for every later such follower to start from.
+  struct WholeWorldStart {
+    bool valid = false;
+    std::vector<Candidate> candidates;  ///< with nothing carried in their priorities
+    layout::DeltaOrders orders;
+    std::uint64_t replaced = 0;  ///< DeltaTable::replaced() when kept
+  } whole_world_start;
 };
 
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
 struct EncodeBuffers {
   std::vector<Candidate> candidates;
-  std::vector<std::pair<float, std::uint32_t>> drop_heap;             ///< drop_lowest's
-  FieldTallies tallies;                                               ///< estimate_costs'
+  std::vector<std::pair<float, std::uint32_t>> drop_heap;  ///< drop_lowest's
+  std::vector<float> weights;                              ///< weigh_priorities': per world entity
+  FieldTallies tallies;                                    ///< estimate_costs'
   std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;  ///< write's
   std::vector<std::uint32_t> added;
   std::vector<const Candidate*> changed;
@@ -161,6 +170,16 @@ class EncodePass {
   void record_walk(std::span<const QuantizedEntity> earlier, SharedWalk& walk);
   /// Chooses the field orders over all candidates and estimates each candidate's bits.
   void estimate_costs();
+  /// Keeps what find_pending and estimate_costs found for a follower of the walk holding the
+  /// whole world, for the next such follower.
+  void keep_start(SharedWalk::WholeWorldStart& start) const;
+  /// Starts from what another follower holding the same whole world kept, with this client's
+  /// carried priorities, instead of find_pending and estimate_costs: the same candidates,
+  /// orders and bits, since their deltas and bodies are what they were (DeltaTable::replaced).
+  /// False, with nothing done, when some may have been replaced.
+  bool take_start(const SharedWalk::WholeWorldStart& start,
+                  std::span<const std::pair<std::uint32_t, float>> carried,
+                  std::array<float, 3> viewer_m);
   /// Selects everything that fits budget_bits by priority, highest first.
   void select(std::size_t budget_bits);
   /// Writes the selected candidates; false if the stream exceeds stream_budget_bytes, after
@@ -195,8 +214,6 @@ class EncodePass {
   /// Adds each candidate's change at its distance to what it carried: only an encode that
   /// leaves something out needs its priorities.
   void weigh_priorities();
-  /// The weight of world entity `world_index` at its distance from the viewer (viewer_m_).
-  float distance_weight(std::size_t world_index) const;
   /// What find_pending weighs candidates by: the priorities carried from before and the viewer.
   void look_from(std::span<const std::pair<std::uint32_t, float>> carried,
                  std::array<float, 3> viewer_m);
@@ -228,20 +245,10 @@ class EncodePass {
   std::span<const std::pair<std::uint32_t, float>> carried_;  ///< find_pending's
   std::size_t carried_next_ = 0;
   bool viewer_nowhere_ = false;
-  std::array<double, 3> viewer_m_{};
+  std::array<float, 3> viewer_m_{};
   DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
   std::uint64_t pass_;  ///< marks the deltas this pass takes
 };
-
-inline float EncodePass::distance_weight(std::size_t world_index) const {
-  const std::array<double, 3>& position_m = deltas_.position_m(world_index);
-  double squared = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double d = position_m[a] - viewer_m_[a];
-    squared += d * d;
-  }
-  return static_cast<float>(1.0 / (1.0 + std::sqrt(squared) / options_.distance_scale_m));
-}
 
 double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& now) const {
   double moved_m = 0, velocity_mps = 0;
@@ -284,7 +291,7 @@ void EncodePass::look_from(std::span<const std::pair<std::uint32_t, float>> carr
   // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
   viewer_nowhere_ =
       !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
-  for (int a = 0; a < 3; ++a) viewer_m_[a] = viewer_m[a];
+  viewer_m_ = viewer_m;
   candidates_.reserve(world_.size() + baseline_size_);
 }
 
@@ -403,7 +410,7 @@ void EncodePass::estimate_costs() {
     switch (c.kind) {
       case Candidate::Kind::Changed: {
         // Written once per orders: write copies these bits, and so may other clients' encodes.
-        c.body = &c.way->body(orders_, orders_key, widths_);
+        c.body = &deltas_.body(*c.way, orders_, orders_key, widths_);
         c.bits = (c.body->overflow ? layout::delta_bits(c.way->delta, orders_, widths_)
                                    : layout::kMaskEstimateBits + c.body->bits) +
                  gap_estimate;
@@ -423,6 +430,35 @@ void EncodePass::estimate_costs() {
   }
 }
 
+void EncodePass::keep_start(SharedWalk::WholeWorldStart& start) const {
+  start.valid = true;
+  start.candidates.assign(candidates_.begin(), candidates_.end());
+  for (Candidate& c : start.candidates) {
+    if (c.kind != Candidate::Kind::Removed) c.priority = 0;
+  }
+  start.orders = orders_;
+  start.replaced = deltas_.replaced();
+}
+
+bool EncodePass::take_start(const SharedWalk::WholeWorldStart& start,
+                            std::span<const std::pair<std::uint32_t, float>> carried,
+                            std::array<float, 3> viewer_m) {
+  if (!start.valid || start.replaced != deltas_.replaced()) return false;
+  look_from(carried, viewer_m);
+  candidates_.assign(start.candidates.begin(), start.candidates.end());
+  orders_ = start.orders;
+  // The carried priorities, by id: candidates follow the world's order.
+  std::size_t p = 0;
+  for (Candidate& c : candidates_) {
+    if (p == carried.size()) break;
+    if (c.kind == Candidate::Kind::Removed) continue;
+    const std::uint32_t id = world_[c.world_index].id;
+    while (p < carried.size() && carried[p].first < id) ++p;
+    if (p < carried.size() && carried[p].first == id) c.priority = carried[p].second;
+  }
+  return true;
+}
+
 void EncodePass::select(std::size_t budget_bits) {
   // Greedy by priority, highest first, stopping at the first that does not fit: the same as
   // taking everything and leaving out the lowest priorities until the rest fits, which needs
@@ -437,9 +473,11 @@ void EncodePass::select(std::size_t budget_bits) {
 }
 
 void EncodePass::weigh_priorities() {
+  std::vector<float>& weights = buffers_.weights;
+  if (!viewer_nowhere_) deltas_.distance_weights(viewer_m_, options_.distance_scale_m, weights);
   for (Candidate& c : candidates_) {
     if (c.kind == Candidate::Kind::Removed) continue;
-    const float weight = viewer_nowhere_ ? 1.0f : distance_weight(c.world_index);
+    const float weight = viewer_nowhere_ ? 1.0f : weights[c.world_index];
     c.priority += c.change_m * weight;
   }
 }
@@ -724,6 +762,7 @@ struct SnapshotEncodeCache::Streams {
     SharedWalk& walk = claim_slot(walks, walks_used, next_walk_replaced);
     walk.baseline_token = baseline_token;
     walk.prediction = prediction;
+    walk.whole_world_start.valid = false;
     return walk;
   }
   /// A copy of `world` in a vector no client holds any more, or a new one.
@@ -894,11 +933,16 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
         pass.record_walk(world_baseline.world, *walk);
       }
       ++cache->walks_followed_;
-      pass.find_pending(priority_, viewer_m, *walk, world_baseline);
+      const bool whole_world = acked.held.empty() && acked.absent.empty();
+      if (!whole_world || !pass.take_start(walk->whole_world_start, priority_, viewer_m)) {
+        pass.find_pending(priority_, viewer_m, *walk, world_baseline);
+        pass.estimate_costs();
+        if (whole_world) pass.keep_start(walk->whole_world_start);
+      }
     } else {
       pass.find_pending(priority_, viewer_m);
+      pass.estimate_costs();
     }
-    pass.estimate_costs();
     pass.select(select_budget_bits);
     bool fits = false;
     while (!fits) fits = pass.write(stream_, stream_budget_bytes);  // each miss leaves some out

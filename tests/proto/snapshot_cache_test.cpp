@@ -117,6 +117,33 @@ TEST(SnapshotEncodeCache, ClientsHoldingAWorldButAFewEntitiesFollowOneWalkAndWri
   EXPECT_GT(cache.walks_followed(), cache.misses() / 2);
 }
 
+/// Clients whose baseline is a whole world (every fourth tick is roomy, and they acknowledge two
+/// ticks late) but whose last encode left entities out: the first of them on a tight tick keeps
+/// its start, and the others start from it with their own carried priorities and viewers.
+TEST(SnapshotEncodeCache, BoundClientsHoldingTheWholeWorldWeighTheirOwnCarriedPriorities) {
+  const QuantizationSpec spec = test::test_spec();
+  std::mt19937 random(20261204);
+  std::vector<QuantizedEntity> world = test::random_world(120, spec, random);
+  std::vector<Client> clients;
+  for (int k = 0; k < 16; ++k) {
+    Client client{SnapshotEncoder(spec), SnapshotEncoder(spec), 2, 0, {}};
+    client.viewer_m = {static_cast<float>(k % 4) * 14 - 21, 1, static_cast<float>(k / 4) * 14 - 21};
+    clients.push_back(std::move(client));
+  }
+  SnapshotEncodeCache cache;
+  std::uint64_t deferred = 0;
+  for (std::uint32_t tick = 1; tick <= 200; ++tick) {
+    test::perturb(world, spec, random);
+    for (Client& client : clients) {
+      client.budget_bytes = tick % 4 == 0 ? 1100 : 260 + 8 * (tick % 3);
+      ASSERT_NO_FATAL_FAILURE(encode_both(client, tick, world, cache, random, 1u << 30));
+      deferred += client.plain.last_report().deferred;
+    }
+  }
+  EXPECT_GT(deferred, 16u * 100u);
+  EXPECT_GT(cache.walks_followed(), 16u * 50u);
+}
+
 /// Clients whose baselines are a shared world but for exceptions, on the rare paths: encodes
 /// that now and then go without the cache (the baseline is then made whole from the shared
 /// world), and budgets too small for every removal of a tick that removes many at once (the view
