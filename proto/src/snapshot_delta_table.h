@@ -99,9 +99,7 @@ class DeltaTable {
   /// if no body has them.
   const layout::DeltaBody& body(Way& way, const layout::DeltaOrders& orders,
                                 std::uint64_t orders_key, const layout::FieldWidths& widths) {
-    for (const Way::Body& body : way.bodies) {
-      if (body.valid && body.orders == orders_key) return body.bits;
-    }
+    if (const layout::DeltaBody* written = find_body(way, orders_key)) return *written;
     Way::Body& body = way.bodies[way.next_body];
     way.next_body = static_cast<std::uint8_t>((way.next_body + 1) % Way::kBodies);
     replaced_ += body.valid;
@@ -109,6 +107,13 @@ class DeltaTable {
     body.orders = orders_key;
     body.valid = true;
     return body.bits;
+  }
+  /// The fields of `way`'s delta written with the orders of `orders_key`, or null.
+  static const layout::DeltaBody* find_body(const Way& way, std::uint64_t orders_key) {
+    for (const Way::Body& body : way.bodies) {
+      if (body.valid && body.orders == orders_key) return &body.bits;
+    }
+    return nullptr;
   }
   /// How many deltas and bodies of this generation were replaced by others: while it stays the
   /// same, every Way and DeltaBody handed out this generation still holds what it held.

@@ -110,12 +110,20 @@ struct SharedWalk {
   std::uint64_t baseline_token = 0;
   layout::Prediction prediction;
   std::vector<WalkStep> steps;
-  /// What find_pending and estimate_costs gave the first follower holding the whole world (no
-  /// exceptions), for every later such follower to start from.
+  /// What find_pending and estimate_costs give a follower holding the whole world (no
+  /// exceptions), worked out once, for every later follower to start from.
   struct WholeWorldStart {
     bool valid = false;
     std::vector<Candidate> candidates;  ///< with nothing carried in their priorities
+    std::vector<std::uint64_t> stamps;  ///< per candidate, a changed one's way's stamp
+    /// Per index of the walk's earlier world: its candidate, or -1; its world index, or -1
+    /// when it was removed.
+    std::vector<std::int32_t> candidate_of, world_of;
+    FieldTallies tallies;  ///< of the changed candidates' deltas
+    std::size_t changed = 0;
+    int gap_estimate = 0;  ///< in the changed candidates' bits
     layout::DeltaOrders orders;
+    std::uint64_t orders_key = 0;
     std::uint64_t replaced = 0;  ///< DeltaTable::replaced() when kept
   } whole_world_start;
 };
@@ -160,24 +168,24 @@ class EncodePass {
   /// delta.
   void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                     std::array<float, 3> viewer_m);
-  /// The same for a baseline that is the world `walk` was recorded against but for exceptions:
-  /// follows the walk, comparing only the held entities.
+  /// The same for a baseline that is the whole world `walk` was recorded against, `earlier`:
+  /// follows the walk.
   void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                     std::array<float, 3> viewer_m, const SharedWalk& walk,
-                    const WorldBaseline& baseline);
+                    std::span<const QuantizedEntity> earlier);
   /// Records the walk of the world against `earlier` (a world the cache saw) into `walk`, with
   /// the delta of every changed entity.
   void record_walk(std::span<const QuantizedEntity> earlier, SharedWalk& walk);
   /// Chooses the field orders over all candidates and estimates each candidate's bits.
   void estimate_costs();
-  /// Keeps what find_pending and estimate_costs found for a follower of the walk holding the
-  /// whole world, for the next such follower.
-  void keep_start(SharedWalk::WholeWorldStart& start) const;
-  /// Starts from what another follower holding the same whole world kept, with this client's
-  /// carried priorities, instead of find_pending and estimate_costs: the same candidates,
-  /// orders and bits, since their deltas and bodies are what they were (DeltaTable::replaced).
-  /// False, with nothing done, when some may have been replaced.
-  bool take_start(const SharedWalk::WholeWorldStart& start,
+  /// Keeps what find_pending and estimate_costs found for a follower of `walk` holding the
+  /// whole world, for the followers after it.
+  void keep_start(const SharedWalk& walk, SharedWalk::WholeWorldStart& start) const;
+  /// Instead of find_pending and estimate_costs for a follower of the walk: the kept start
+  /// edited at the client's exceptions, with its carried priorities, the orders of its own
+  /// tally (the start's less the deltas the exceptions take out, plus theirs), and the start's
+  /// bits where those orders are the start's and the deltas and bodies are what they were.
+  void take_start(const SharedWalk::WholeWorldStart& start, const WorldBaseline& baseline,
                   std::span<const std::pair<std::uint32_t, float>> carried,
                   std::array<float, 3> viewer_m);
   /// Selects everything that fits budget_bits by priority, highest first.
@@ -211,6 +219,10 @@ class EncodePass {
   /// Unselects the selected candidate of lowest priority (of equal ones, the last) and
   /// returns it; the first call orders the selected candidates, which must not be empty.
   Candidate& drop_lowest();
+  /// Sets a candidate's bits for the orders_ (whose key is orders_key) and a gap estimate.
+  void cost(Candidate& c, std::uint64_t orders_key, int gap_estimate);
+  /// What the client carried for the entity `id`; ids must increase from call to call.
+  float carried_priority(std::uint32_t id);
   /// Adds each candidate's change at its distance to what it carried: only an encode that
   /// leaves something out needs its priorities.
   void weigh_priorities();
@@ -246,8 +258,20 @@ class EncodePass {
   std::size_t carried_next_ = 0;
   bool viewer_nowhere_ = false;
   std::array<float, 3> viewer_m_{};
-  DeltaTable& deltas_;  ///< the encoder's own, or the tick's shared one
-  std::uint64_t pass_;  ///< marks the deltas this pass takes
+  DeltaTable& deltas_;    ///< the encoder's own, or the tick's shared one
+  std::uint64_t pass_;    ///< marks the deltas this pass takes
+  int gap_estimate_ = 0;  ///< estimate_costs'
+  /// take_start's: an exception's edit of the start (W: the walk's earlier world).
+  struct Edit {
+    std::uint32_t k = 0;  ///< index in W
+    std::uint32_t id = 0;
+    bool absent = false;             ///< else held
+    std::int32_t start_index = -1;   ///< the start's candidate for it
+    std::int32_t world_index = -1;   ///< -1: removed
+    DeltaTable::Way* way = nullptr;  ///< held and changed: its delta
+    const QuantizedEntity* then = nullptr;
+  };
+  std::vector<Edit> edits_;
 };
 
 double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& now) const {
@@ -272,17 +296,19 @@ DeltaTable::Way& EncodePass::delta_of(std::size_t i, const QuantizedEntity& then
 void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i,
                                      DeltaTable::Way* way, double change,
                                      const QuantizedEntity* then) {
-  const std::uint32_t id = world_[i].id;
-  std::size_t& p = carried_next_;
-  while (p < carried_.size() && carried_[p].first < id) ++p;
-  const float before = p < carried_.size() && carried_[p].first == id ? carried_[p].second : 0;
   candidates_.push_back({.kind = kind,
                          .baseline_index = static_cast<std::uint32_t>(j),
                          .world_index = static_cast<std::uint32_t>(i),
-                         .priority = before,
+                         .priority = carried_priority(world_[i].id),
                          .change_m = static_cast<float>(change),
                          .way = way,
                          .then = then});
+}
+
+float EncodePass::carried_priority(std::uint32_t id) {
+  std::size_t& p = carried_next_;
+  while (p < carried_.size() && carried_[p].first < id) ++p;
+  return p < carried_.size() && carried_[p].first == id ? carried_[p].second : 0;
 }
 
 void EncodePass::look_from(std::span<const std::pair<std::uint32_t, float>> carried,
@@ -352,37 +378,27 @@ void EncodePass::record_walk(std::span<const QuantizedEntity> earlier, SharedWal
 
 void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
                               std::array<float, 3> viewer_m, const SharedWalk& walk,
-                              const WorldBaseline& baseline) {
+                              std::span<const QuantizedEntity> earlier) {
   look_from(carried, viewer_m);
-  // The walk's baseline indices are the earlier world's; the client's own skip what it lacks.
-  std::size_t h = 0, a = 0;
   for (const WalkStep& step : walk.steps) {
-    if (step.kind == WalkStep::Kind::Added) {
-      add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr, kNewEntityChange_m,
-                          nullptr);
-      continue;
-    }
-    const std::uint32_t k = step.baseline_index;
-    while (a < baseline.absent.size() && baseline.absent[a] < k) ++a;
-    const bool absent = a < baseline.absent.size() && baseline.absent[a] == k;
-    const std::size_t j = k - a;  // the client's own index
-    if (step.kind == WalkStep::Kind::Removed) {
-      if (!absent) add_removed(j);
-      continue;
-    }
-    while (h < baseline.held.size() && baseline.held[h] < k) ++h;
-    if (absent) {
-      add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr, kNewEntityChange_m,
-                          nullptr);
-    } else if (h < baseline.held.size() && baseline.held[h] == k) {
-      compare_kept(step.world_index, j, baseline.held_states[h]);
-    } else if (step.way && step.way->stamp == step.stamp) {
-      step.way->used_by = pass_;
-      add_world_candidate(Candidate::Kind::Changed, j, step.world_index, step.way,
-                          step.way->change_m, &baseline.world[k]);
-    } else if (step.way) {
-      // Its way since given to another delta.
-      compare_kept(step.world_index, j, baseline.world[k]);
+    switch (step.kind) {
+      case WalkStep::Kind::Added:
+        add_world_candidate(Candidate::Kind::Added, 0, step.world_index, nullptr,
+                            kNewEntityChange_m, nullptr);
+        break;
+      case WalkStep::Kind::Removed:
+        add_removed(step.baseline_index);
+        break;
+      case WalkStep::Kind::Kept:
+        if (step.way && step.way->stamp == step.stamp) {
+          step.way->used_by = pass_;
+          add_world_candidate(Candidate::Kind::Changed, step.baseline_index, step.world_index,
+                              step.way, step.way->change_m, &earlier[step.baseline_index]);
+        } else if (step.way) {
+          // Its way since given to another delta.
+          compare_kept(step.world_index, step.baseline_index, earlier[step.baseline_index]);
+        }
+        break;
     }
   }
 }
@@ -404,59 +420,185 @@ void EncodePass::estimate_costs() {
   }
   tallies.choose(orders_);
 
-  const int gap_estimate = exp_golomb_bits(changed == 0 ? 0 : baseline_size_ / changed, 0);
+  gap_estimate_ = exp_golomb_bits(changed == 0 ? 0 : baseline_size_ / changed, 0);
   const std::uint64_t orders_key = layout::field_orders_key(orders_);
-  for (Candidate& c : candidates_) {
-    switch (c.kind) {
-      case Candidate::Kind::Changed: {
-        // Written once per orders: write copies these bits, and so may other clients' encodes.
-        c.body = &deltas_.body(*c.way, orders_, orders_key, widths_);
-        c.bits = (c.body->overflow ? layout::delta_bits(c.way->delta, orders_, widths_)
-                                   : layout::kMaskEstimateBits + c.body->bits) +
-                 gap_estimate;
-        break;
-      }
-      case Candidate::Kind::Removed:
-        c.bits = 2 * bits_for_count(baseline_size_ + 1) + 1;
-        break;
-      case Candidate::Kind::Added: {
-        // The state's bits, written once per tick for every client the entity is new to.
-        const layout::AbsoluteBody& body =
-            deltas_.absolute(c.world_index, world_[c.world_index], widths_);
-        c.bits = body.head.bits + body.tail.bits + 2 * bits_for_count(world_.size() + 1) + 1;
-        break;
-      }
+  for (Candidate& c : candidates_) cost(c, orders_key, gap_estimate_);
+}
+
+void EncodePass::cost(Candidate& c, std::uint64_t orders_key, int gap_estimate) {
+  switch (c.kind) {
+    case Candidate::Kind::Changed: {
+      // Written once per orders: write copies these bits, and so may other clients' encodes.
+      c.body = &deltas_.body(*c.way, orders_, orders_key, widths_);
+      c.bits = (c.body->overflow ? layout::delta_bits(c.way->delta, orders_, widths_)
+                                 : layout::kMaskEstimateBits + c.body->bits) +
+               gap_estimate;
+      break;
+    }
+    case Candidate::Kind::Removed:
+      c.bits = 2 * bits_for_count(baseline_size_ + 1) + 1;
+      break;
+    case Candidate::Kind::Added: {
+      // The state's bits, written once per tick for every client the entity is new to.
+      const layout::AbsoluteBody& body =
+          deltas_.absolute(c.world_index, world_[c.world_index], widths_);
+      c.bits = body.head.bits + body.tail.bits + 2 * bits_for_count(world_.size() + 1) + 1;
+      break;
     }
   }
 }
 
-void EncodePass::keep_start(SharedWalk::WholeWorldStart& start) const {
+void EncodePass::keep_start(const SharedWalk& walk, SharedWalk::WholeWorldStart& start) const {
   start.valid = true;
   start.candidates.assign(candidates_.begin(), candidates_.end());
-  for (Candidate& c : start.candidates) {
+  start.stamps.resize(candidates_.size());
+  start.candidate_of.assign(baseline_size_, -1);
+  start.world_of.assign(baseline_size_, -1);
+  start.changed = 0;
+  for (std::size_t n = 0; n < start.candidates.size(); ++n) {
+    Candidate& c = start.candidates[n];
     if (c.kind != Candidate::Kind::Removed) c.priority = 0;
+    if (c.kind != Candidate::Kind::Added)
+      start.candidate_of[c.baseline_index] = static_cast<std::int32_t>(n);
+    if (c.kind == Candidate::Kind::Changed) {
+      start.stamps[n] = c.way->stamp;
+      c.bits -= gap_estimate_;
+      ++start.changed;
+    }
   }
+  for (const WalkStep& step : walk.steps) {
+    if (step.kind == WalkStep::Kind::Kept) {
+      start.world_of[step.baseline_index] = static_cast<std::int32_t>(step.world_index);
+    }
+  }
+  start.tallies = buffers_.tallies;
+  start.gap_estimate = gap_estimate_;
   start.orders = orders_;
+  start.orders_key = layout::field_orders_key(orders_);
   start.replaced = deltas_.replaced();
 }
 
-bool EncodePass::take_start(const SharedWalk::WholeWorldStart& start,
+void EncodePass::take_start(const SharedWalk::WholeWorldStart& start, const WorldBaseline& baseline,
                             std::span<const std::pair<std::uint32_t, float>> carried,
                             std::array<float, 3> viewer_m) {
-  if (!start.valid || start.replaced != deltas_.replaced()) return false;
+  candidates_.clear();  // the buffers may hold the start's own pass
   look_from(carried, viewer_m);
-  candidates_.assign(start.candidates.begin(), start.candidates.end());
-  orders_ = start.orders;
-  // The carried priorities, by id: candidates follow the world's order.
-  std::size_t p = 0;
-  for (Candidate& c : candidates_) {
-    if (p == carried.size()) break;
-    if (c.kind == Candidate::Kind::Removed) continue;
-    const std::uint32_t id = world_[c.world_index].id;
-    while (p < carried.size() && carried[p].first < id) ++p;
-    if (p < carried.size() && carried[p].first == id) c.priority = carried[p].second;
+  // Nothing replaced since the start was kept: its deltas and bodies are what they were.
+  const bool as_kept = deltas_.replaced() == start.replaced;
+  if (as_kept && baseline.held.empty() && baseline.absent.empty()) {
+    // The whole world: the start as it is, with this client's carried priorities.
+    candidates_.assign(start.candidates.begin(), start.candidates.end());
+    orders_ = start.orders;
+    gap_estimate_ = start.gap_estimate;
+    for (Candidate& c : candidates_) {
+      if (c.kind == Candidate::Kind::Changed) c.bits += gap_estimate_;
+      if (c.kind != Candidate::Kind::Removed && carried_next_ < carried_.size()) {
+        c.priority = carried_priority(world_[c.world_index].id);
+      }
+    }
+    return;
   }
-  return true;
+  // A start candidate's way, claimed again if it has since been given to another delta (the
+  // same baseline state and world state give the same delta).
+  const auto way_of = [&](std::size_t n) -> DeltaTable::Way& {
+    const Candidate& c = start.candidates[n];
+    if (as_kept || c.way->stamp == start.stamps[n]) return *c.way;
+    return delta_of(c.world_index, *c.then);
+  };
+
+  // The exceptions' edits, in W's order, and the tally and changed count they leave.
+  FieldTallies& tallies = buffers_.tallies;
+  tallies = start.tallies;
+  std::size_t changed = start.changed;
+  edits_.clear();
+  std::size_t h = 0, a = 0;
+  while (h < baseline.held.size() || a < baseline.absent.size()) {
+    Edit edit;
+    edit.absent = h == baseline.held.size() ||
+                  (a < baseline.absent.size() && baseline.absent[a] < baseline.held[h]);
+    edit.k = edit.absent ? baseline.absent[a] : baseline.held[h];
+    edit.id = baseline.world[edit.k].id;
+    edit.start_index = start.candidate_of[edit.k];
+    edit.world_index = start.world_of[edit.k];
+    if (edit.start_index >= 0 &&
+        start.candidates[static_cast<std::size_t>(edit.start_index)].kind ==
+            Candidate::Kind::Changed) {
+      tallies.remove(way_of(static_cast<std::size_t>(edit.start_index)).delta);
+      --changed;
+    }
+    if (!edit.absent && edit.world_index >= 0) {
+      const QuantizedEntity& then = baseline.held_states[h];
+      const auto i = static_cast<std::size_t>(edit.world_index);
+      if (!same_state(world_[i], then)) {
+        edit.way = &delta_of(i, then);
+        edit.then = &then;
+        tallies.add(edit.way->delta);
+        ++changed;
+      }
+    }
+    edit.absent ? ++a : ++h;
+    edits_.push_back(edit);
+  }
+  tallies.choose(orders_);
+  const std::uint64_t orders_key = layout::field_orders_key(orders_);
+  const bool start_orders = orders_key == start.orders_key;
+  gap_estimate_ = exp_golomb_bits(changed == 0 ? 0 : baseline_size_ / changed, 0);
+
+  // The start's candidates in id order with the edits in their places; a baseline index counts
+  // only the entities the client holds.
+  std::size_t absent_before = 0;
+  const auto apply = [&](const Edit& edit) {
+    const std::size_t j = edit.k - absent_before;
+    if (edit.absent) {
+      if (edit.world_index >= 0) {
+        add_world_candidate(Candidate::Kind::Added, 0, static_cast<std::size_t>(edit.world_index),
+                            nullptr, kNewEntityChange_m, nullptr);
+        cost(candidates_.back(), orders_key, gap_estimate_);
+      }
+      ++absent_before;
+    } else if (edit.world_index < 0) {
+      add_removed(j);
+      cost(candidates_.back(), orders_key, gap_estimate_);
+    } else if (edit.way) {
+      add_world_candidate(Candidate::Kind::Changed, j, static_cast<std::size_t>(edit.world_index),
+                          edit.way, edit.way->change_m, edit.then);
+      cost(candidates_.back(), orders_key, gap_estimate_);
+    }
+  };
+  std::size_t e = 0;
+  for (std::size_t n = 0; n < start.candidates.size(); ++n) {
+    const Candidate& from = start.candidates[n];
+    const std::uint32_t id = from.kind == Candidate::Kind::Removed
+                                 ? baseline.world[from.baseline_index].id
+                                 : world_[from.world_index].id;
+    while (e < edits_.size() && edits_[e].id < id) apply(edits_[e++]);
+    if (e < edits_.size() && edits_[e].id == id) {
+      apply(edits_[e++]);
+      continue;
+    }
+    Candidate& c = candidates_.emplace_back(from);
+    switch (c.kind) {
+      case Candidate::Kind::Removed:
+        c.baseline_index -= static_cast<std::uint32_t>(absent_before);
+        cost(c, orders_key, gap_estimate_);
+        break;
+      case Candidate::Kind::Added:
+        c.priority = carried_priority(id);
+        break;
+      case Candidate::Kind::Changed:
+        c.baseline_index -= static_cast<std::uint32_t>(absent_before);
+        c.priority = carried_priority(id);
+        c.way = &way_of(n);
+        if (start_orders && (as_kept || (c.way == from.way && c.way->stamp == start.stamps[n] &&
+                                         deltas_.find_body(*c.way, orders_key) == c.body))) {
+          c.bits += gap_estimate_;
+        } else {
+          cost(c, orders_key, gap_estimate_);
+        }
+        break;
+    }
+  }
+  while (e < edits_.size()) apply(edits_[e++]);
 }
 
 void EncodePass::select(std::size_t budget_bits) {
@@ -934,10 +1076,22 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
       }
       ++cache->walks_followed_;
       const bool whole_world = acked.held.empty() && acked.absent.empty();
-      if (!whole_world || !pass.take_start(walk->whole_world_start, priority_, viewer_m)) {
-        pass.find_pending(priority_, viewer_m, *walk, world_baseline);
+      if (walk->whole_world_start.valid) {
+        pass.take_start(walk->whole_world_start, world_baseline, priority_, viewer_m);
+      } else if (whole_world) {
+        pass.find_pending(priority_, viewer_m, *walk, world_baseline.world);
         pass.estimate_costs();
-        if (whole_world) pass.keep_start(walk->whole_world_start);
+        pass.keep_start(*walk, walk->whole_world_start);
+      } else {
+        // The start is a follower holding the whole world, worked out first.
+        {
+          EncodePass start(spec_, options_, {}, world_baseline.world.size(), baseline_age, world,
+                           scratch_->widths, scratch_->buffers, deltas);
+          start.find_pending({}, viewer_m, *walk, world_baseline.world);
+          start.estimate_costs();
+          start.keep_start(*walk, walk->whole_world_start);
+        }
+        pass.take_start(walk->whole_world_start, world_baseline, priority_, viewer_m);
       }
     } else {
       pass.find_pending(priority_, viewer_m);
