@@ -23,6 +23,18 @@ struct Client {
   std::array<float, 3> viewer_m{};
 };
 
+/// `count` clients of `spec`, each set up by `setup(index, client)`.
+template <class Setup>
+std::vector<Client> make_clients(const QuantizationSpec& spec, int count, Setup setup) {
+  std::vector<Client> clients;
+  for (int k = 0; k < count; ++k) {
+    Client client{SnapshotEncoder(spec), SnapshotEncoder(spec), 0, 0, {}};
+    setup(k, client);
+    clients.push_back(std::move(client));
+  }
+  return clients;
+}
+
 /// One tick of one client on both encoders: the acknowledgement unless it is lost (one in
 /// `loss_one_in`), then both encodes, whose bytes and reports must agree.
 void encode_both(Client& client, std::uint32_t tick, const std::vector<QuantizedEntity>& world,
@@ -55,14 +67,11 @@ TEST(SnapshotEncodeCache, CachedEncodesWriteExactlyTheUncachedBytes) {
   const QuantizationSpec spec = test::test_spec();
   std::mt19937 random(20261201);
   std::vector<QuantizedEntity> world = test::random_world(120, spec, random);
-  std::vector<Client> clients;
-  for (int k = 0; k < 16; ++k) {
-    Client client{SnapshotEncoder(spec), SnapshotEncoder(spec), 0, 0, {}};
+  std::vector<Client> clients = make_clients(spec, 16, [](int k, Client& client) {
     client.ack_delay_ticks = static_cast<std::uint32_t>(1 + k % 3 * 2);
     client.budget_bytes = k % 4 == 3 ? 200 : 1100;
     client.viewer_m = {static_cast<float>(k % 5) * 10 - 20, 1, static_cast<float>(k % 7) * 8 - 24};
-    clients.push_back(std::move(client));
-  }
+  });
   SnapshotEncodeCache cache;
   std::uint32_t next_id = 1000;
   for (std::uint32_t tick = 1; tick <= 300; ++tick) {
@@ -89,14 +98,11 @@ TEST(SnapshotEncodeCache, ClientsHoldingAWorldButAFewEntitiesFollowOneWalkAndWri
   const QuantizationSpec spec = test::test_spec();
   std::mt19937 random(20261202);
   std::vector<QuantizedEntity> world = test::random_world(140, spec, random);
-  std::vector<Client> clients;
-  for (int k = 0; k < 24; ++k) {
-    Client client{SnapshotEncoder(spec), SnapshotEncoder(spec), 0, 0, {}};
+  std::vector<Client> clients = make_clients(spec, 24, [](int k, Client& client) {
     client.ack_delay_ticks = k < 20 ? 6 : 9;  // two groups of one baseline age each
     client.budget_bytes = 700 + 40 * static_cast<std::size_t>(k % 5);
     client.viewer_m = {static_cast<float>(k % 6) * 12 - 30, 1, static_cast<float>(k % 4) * 16 - 24};
-    clients.push_back(std::move(client));
-  }
+  });
   SnapshotEncodeCache cache;
   std::uint32_t next_id = 1000;
   std::uint64_t deferred = 0;
@@ -124,12 +130,10 @@ TEST(SnapshotEncodeCache, BoundClientsHoldingTheWholeWorldWeighTheirOwnCarriedPr
   const QuantizationSpec spec = test::test_spec();
   std::mt19937 random(20261204);
   std::vector<QuantizedEntity> world = test::random_world(120, spec, random);
-  std::vector<Client> clients;
-  for (int k = 0; k < 16; ++k) {
-    Client client{SnapshotEncoder(spec), SnapshotEncoder(spec), 2, 0, {}};
+  std::vector<Client> clients = make_clients(spec, 16, [](int k, Client& client) {
+    client.ack_delay_ticks = 2;
     client.viewer_m = {static_cast<float>(k % 4) * 14 - 21, 1, static_cast<float>(k / 4) * 14 - 21};
-    clients.push_back(std::move(client));
-  }
+  });
   SnapshotEncodeCache cache;
   std::uint64_t deferred = 0;
   for (std::uint32_t tick = 1; tick <= 200; ++tick) {
@@ -153,14 +157,11 @@ TEST(SnapshotEncodeCache,
   const QuantizationSpec spec = test::test_spec();
   std::mt19937 random(20261203);
   std::vector<QuantizedEntity> world = test::random_world(100, spec, random);
-  std::vector<Client> clients;
-  for (int k = 0; k < 12; ++k) {
-    Client client{SnapshotEncoder(spec), SnapshotEncoder(spec), 0, 0, {}};
+  std::vector<Client> clients = make_clients(spec, 12, [](int k, Client& client) {
     client.ack_delay_ticks = 2 + static_cast<std::uint32_t>(k % 2);
     client.budget_bytes = 300 + 100 * static_cast<std::size_t>(k % 4);
     client.viewer_m = {static_cast<float>(k % 4) * 12 - 20, 1, static_cast<float>(k % 3) * 16 - 16};
-    clients.push_back(std::move(client));
-  }
+  });
   SnapshotEncodeCache cache;
   std::uint32_t next_id = 1000;
   for (std::uint32_t tick = 1; tick <= 200; ++tick) {
