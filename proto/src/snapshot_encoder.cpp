@@ -128,11 +128,24 @@ struct SharedWalk {
   } whole_world_start;
 };
 
+/// One of a client's exceptions, as take_start edits the walk's start with it (W: the walk's
+/// earlier world).
+struct StartEdit {
+  std::uint32_t k = 0;  ///< index in W
+  std::uint32_t id = 0;
+  bool absent = false;             ///< else held
+  std::int32_t start_index = -1;   ///< the start's candidate for it
+  std::int32_t world_index = -1;   ///< -1: removed
+  DeltaTable::Way* way = nullptr;  ///< held and changed: its delta
+  const QuantizedEntity* then = nullptr;
+};
+
 /// The buffers of one encode (SnapshotEncoder::Scratch holds them between encodes).
 struct EncodeBuffers {
   std::vector<Candidate> candidates;
   std::vector<std::pair<float, std::uint32_t>> drop_heap;  ///< drop_lowest's
   std::vector<float> weights;                              ///< weigh_priorities': per world entity
+  std::vector<StartEdit> edits;                            ///< take_start's
   FieldTallies tallies;                                    ///< estimate_costs'
   std::vector<std::uint64_t> removed_gaps, added_gaps, changed_gaps;  ///< write's
   std::vector<std::uint32_t> added;
@@ -261,17 +274,6 @@ class EncodePass {
   DeltaTable& deltas_;    ///< the encoder's own, or the tick's shared one
   std::uint64_t pass_;    ///< marks the deltas this pass takes
   int gap_estimate_ = 0;  ///< estimate_costs'
-  /// take_start's: an exception's edit of the start (W: the walk's earlier world).
-  struct Edit {
-    std::uint32_t k = 0;  ///< index in W
-    std::uint32_t id = 0;
-    bool absent = false;             ///< else held
-    std::int32_t start_index = -1;   ///< the start's candidate for it
-    std::int32_t world_index = -1;   ///< -1: removed
-    DeltaTable::Way* way = nullptr;  ///< held and changed: its delta
-    const QuantizedEntity* then = nullptr;
-  };
-  std::vector<Edit> edits_;
 };
 
 double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& now) const {
@@ -510,10 +512,11 @@ void EncodePass::take_start(const SharedWalk::WholeWorldStart& start, const Worl
   FieldTallies& tallies = buffers_.tallies;
   tallies = start.tallies;
   std::size_t changed = start.changed;
-  edits_.clear();
+  std::vector<StartEdit>& edits = buffers_.edits;
+  edits.clear();
   std::size_t h = 0, a = 0;
   while (h < baseline.held.size() || a < baseline.absent.size()) {
-    Edit edit;
+    StartEdit edit;
     edit.absent = h == baseline.held.size() ||
                   (a < baseline.absent.size() && baseline.absent[a] < baseline.held[h]);
     edit.k = edit.absent ? baseline.absent[a] : baseline.held[h];
@@ -537,7 +540,7 @@ void EncodePass::take_start(const SharedWalk::WholeWorldStart& start, const Worl
       }
     }
     edit.absent ? ++a : ++h;
-    edits_.push_back(edit);
+    edits.push_back(edit);
   }
   tallies.choose(orders_);
   const std::uint64_t orders_key = layout::field_orders_key(orders_);
@@ -547,7 +550,7 @@ void EncodePass::take_start(const SharedWalk::WholeWorldStart& start, const Worl
   // The start's candidates in id order with the edits in their places; a baseline index counts
   // only the entities the client holds.
   std::size_t absent_before = 0;
-  const auto apply = [&](const Edit& edit) {
+  const auto apply = [&](const StartEdit& edit) {
     const std::size_t j = edit.k - absent_before;
     if (edit.absent) {
       if (edit.world_index >= 0) {
@@ -571,9 +574,9 @@ void EncodePass::take_start(const SharedWalk::WholeWorldStart& start, const Worl
     const std::uint32_t id = from.kind == Candidate::Kind::Removed
                                  ? baseline.world[from.baseline_index].id
                                  : world_[from.world_index].id;
-    while (e < edits_.size() && edits_[e].id < id) apply(edits_[e++]);
-    if (e < edits_.size() && edits_[e].id == id) {
-      apply(edits_[e++]);
+    while (e < edits.size() && edits[e].id < id) apply(edits[e++]);
+    if (e < edits.size() && edits[e].id == id) {
+      apply(edits[e++]);
       continue;
     }
     Candidate& c = candidates_.emplace_back(from);
@@ -598,7 +601,7 @@ void EncodePass::take_start(const SharedWalk::WholeWorldStart& start, const Worl
         break;
     }
   }
-  while (e < edits_.size()) apply(edits_[e++]);
+  while (e < edits.size()) apply(edits[e++]);
 }
 
 void EncodePass::select(std::size_t budget_bits) {
