@@ -1,14 +1,17 @@
 #include "ricochet/proto/ack_window.h"
 
+#include <bit>
+
 namespace ricochet::proto {
 
 void SentPacketWindow::on_sent(std::uint64_t sequence, TimeUs now,
                                std::vector<std::uint16_t> reliable_ids) {
-  Entry& entry = entries_[sequence % kSize];
+  const std::size_t slot = sequence % kSize;
+  Entry& entry = entries_[slot];
   entry.sequence = sequence;
   entry.sent_at = now;
-  entry.acked = false;
   entry.reliable_ids = std::move(reliable_ids);
+  awaiting_[slot / 64] |= std::uint64_t{1} << (slot % 64);
 }
 
 void SentPacketWindow::on_ack(const AckHeader& ack, std::uint64_t next_sequence, TimeUs now,
@@ -21,21 +24,24 @@ void SentPacketWindow::on_ack(const AckHeader& ack, std::uint64_t next_sequence,
     newest -= 0x10000;
   }
   acknowledge(newest, now, acked_ids);
-  for (std::uint64_t i = 0; i < 32 && i < newest; ++i) {
-    if (ack.ack_bits & (std::uint32_t{1} << i)) acknowledge(newest - 1 - i, now, acked_ids);
+  for (std::uint32_t bits = ack.ack_bits; bits != 0; bits &= bits - 1) {
+    const std::uint64_t i = static_cast<std::uint64_t>(std::countr_zero(bits));
+    if (i >= newest) break;
+    acknowledge(newest - 1 - i, now, acked_ids);
   }
 }
 
 bool SentPacketWindow::acked(std::uint64_t sequence) const {
-  const Entry& entry = entries_[sequence % kSize];
-  return entry.sequence == sequence && entry.acked;
+  return entries_[sequence % kSize].sequence == sequence && !awaiting(sequence % kSize);
 }
 
 void SentPacketWindow::acknowledge(std::uint64_t sequence, TimeUs now,
                                    std::vector<std::uint16_t>& acked_ids) {
-  Entry& entry = entries_[sequence % kSize];
-  if (entry.sequence != sequence || entry.acked) return;
-  entry.acked = true;
+  const std::size_t slot = sequence % kSize;
+  if (!awaiting(slot)) return;
+  Entry& entry = entries_[slot];
+  if (entry.sequence != sequence) return;
+  awaiting_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
   acked_ids.insert(acked_ids.end(), entry.reliable_ids.begin(), entry.reliable_ids.end());
   const TimeUs sample = now - entry.sent_at;
   rtt_us_ = rtt_us_ == 0 ? sample : rtt_us_ + (sample - rtt_us_) / 8;

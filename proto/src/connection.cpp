@@ -22,13 +22,17 @@ std::optional<DropReason> Connection::open(const EncryptedHeader& header,
   return std::nullopt;
 }
 
-std::vector<std::uint8_t> Connection::seal(PacketType type, std::span<const std::uint8_t> body,
-                                           TimeUs now) {
+std::uint64_t Connection::take_sequence(TimeUs now) {
   const std::uint64_t sequence = next_sequence_++;
   sent_.on_sent(sequence, now, std::move(pending_ids_));
   pending_ids_.clear();
   last_sent_ = now;
-  return seal_packet(type, sequence, protocol_id_, send_key_, body);
+  return sequence;
+}
+
+std::vector<std::uint8_t> Connection::seal(PacketType type, std::span<const std::uint8_t> body,
+                                           TimeUs now) {
+  return seal_packet(type, take_sequence(now), protocol_id_, send_key_, body);
 }
 
 std::vector<std::uint8_t> Connection::make_keep_alive(TimeUs now) {
@@ -37,13 +41,23 @@ std::vector<std::uint8_t> Connection::make_keep_alive(TimeUs now) {
 
 std::vector<std::uint8_t> Connection::make_payload(std::span<const std::uint8_t> unreliable,
                                                    TimeUs now) {
-  PayloadBody body;
-  body.ack = replay_.ack_header();
+  const AckHeader ack = replay_.ack_header();
   const std::size_t budget = kMaxBodyBytes - kPayloadFixedBytes - unreliable.size();
-  body.reliable = sender_.take_due(now, timing_.reliable_resend_us, budget);
-  for (const ReliableMessage& message : body.reliable) pending_ids_.push_back(message.id);
-  body.unreliable.assign(unreliable.begin(), unreliable.end());
-  return seal(PacketType::Payload, write_payload_body(body), now);
+  const std::vector<ReliableMessage> reliable =
+      sender_.take_due(now, timing_.reliable_resend_us, budget);
+  std::size_t reliable_bytes = 0;
+  for (const ReliableMessage& message : reliable) {
+    pending_ids_.push_back(message.id);
+    reliable_bytes += kReliableMessageHeaderBytes + message.bytes.size();
+  }
+  // Header, body and tag in one buffer, the body encrypted where it was written.
+  std::vector<std::uint8_t> packet;
+  packet.reserve(kEncryptedHeaderBytes + kPayloadFixedBytes + reliable_bytes + unreliable.size() +
+                 kMacBytes);
+  begin_packet(PacketType::Payload, take_sequence(now), packet);
+  append_payload_body(ack, reliable, unreliable, packet);
+  seal_packet_in_place(protocol_id_, send_key_, packet);
+  return packet;
 }
 
 std::vector<std::uint8_t> Connection::make_disconnect(DisconnectReason reason, TimeUs now) {

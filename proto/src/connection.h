@@ -59,6 +59,9 @@ class Connection {
   std::size_t reliable_pending() const { return sender_.pending(); }
 
  private:
+  /// The sequence of the packet being sent now, recorded as sent with pending_ids_.
+  std::uint64_t take_sequence(TimeUs now);
+
   std::uint64_t protocol_id_;
   Key send_key_;
   Key receive_key_;

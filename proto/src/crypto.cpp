@@ -57,6 +57,17 @@ void seal_chacha(std::span<const std::uint8_t> plaintext, std::span<const std::u
                                             nonce.data(), key.data());
 }
 
+void seal_chacha_in_place(std::span<std::uint8_t> text, std::span<const std::uint8_t> ad,
+                          std::uint64_t nonce_sequence, const Key& key, std::uint8_t* mac) {
+  ensure_sodium();
+  const auto nonce = packet_nonce(nonce_sequence);
+  // libsodium XORs the key stream over the message and authenticates the ciphertext, so the
+  // message may be the ciphertext's own buffer.
+  crypto_aead_chacha20poly1305_ietf_encrypt_detached(text.data(), mac, nullptr, text.data(),
+                                                     text.size(), ad.data(), ad.size(), nullptr,
+                                                     nonce.data(), key.data());
+}
+
 bool open_chacha(std::span<const std::uint8_t> ciphertext, std::span<const std::uint8_t> ad,
                  std::uint64_t nonce_sequence, const Key& key, std::vector<std::uint8_t>& out) {
   ensure_sodium();

@@ -8,9 +8,16 @@
 namespace ricochet::proto {
 namespace {
 
-std::vector<std::uint8_t> packet_ad(std::uint64_t protocol_id, std::uint8_t type) {
-  std::vector<std::uint8_t> ad = version_and_protocol(protocol_id);
-  ad.push_back(type);
+/// version | u64 protocol_id | u8 type: a packet's additional data (on the stack: it is built
+/// for every packet sealed or opened).
+std::array<std::uint8_t, kVersionBytes + 8 + 1> packet_ad(std::uint64_t protocol_id,
+                                                         std::uint8_t type) {
+  std::array<std::uint8_t, kVersionBytes + 8 + 1> ad;
+  std::copy(kVersionInfo.begin(), kVersionInfo.end(), ad.begin());
+  for (std::size_t i = 0; i < 8; ++i) {
+    ad[kVersionBytes + i] = static_cast<std::uint8_t>(protocol_id >> (8 * i));
+  }
+  ad[kVersionBytes + 8] = type;
   return ad;
 }
 
@@ -149,12 +156,28 @@ std::vector<std::uint8_t> seal_packet(PacketType type, std::uint64_t sequence,
                                       std::span<const std::uint8_t> body) {
   std::vector<std::uint8_t> out;
   out.reserve(kEncryptedHeaderBytes + body.size() + kMacBytes);
-  ByteWriter writer(out);
+  begin_packet(type, sequence, out);
+  out.insert(out.end(), body.begin(), body.end());
+  seal_packet_in_place(protocol_id, key, out);
+  return out;
+}
+
+void begin_packet(PacketType type, std::uint64_t sequence, std::vector<std::uint8_t>& packet) {
+  packet.clear();
+  ByteWriter writer(packet);
   writer.u8(static_cast<std::uint8_t>(type));
   writer.u64(sequence);
-  const auto ad = packet_ad(protocol_id, static_cast<std::uint8_t>(type));
-  seal_chacha(body, ad, sequence, key, out);
-  return out;
+}
+
+void seal_packet_in_place(std::uint64_t protocol_id, const Key& key,
+                          std::vector<std::uint8_t>& packet) {
+  ByteReader reader(std::span<const std::uint8_t>(packet).subspan(1, 8));
+  const std::uint64_t sequence = reader.u64();
+  const auto ad = packet_ad(protocol_id, packet[0]);
+  const std::size_t body_bytes = packet.size() - kEncryptedHeaderBytes;
+  packet.resize(packet.size() + kMacBytes);
+  seal_chacha_in_place(std::span(packet).subspan(kEncryptedHeaderBytes, body_bytes), ad,
+                       sequence, key, packet.data() + kEncryptedHeaderBytes + body_bytes);
 }
 
 bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id, const Key& key,
@@ -228,16 +251,21 @@ Parsed<DisconnectBody> read_disconnect_body(std::span<const std::uint8_t> body) 
 
 std::vector<std::uint8_t> write_payload_body(const PayloadBody& body) {
   std::vector<std::uint8_t> out;
+  append_payload_body(body.ack, body.reliable, body.unreliable, out);
+  return out;
+}
+
+void append_payload_body(const AckHeader& ack, std::span<const ReliableMessage> reliable,
+                         std::span<const std::uint8_t> unreliable, std::vector<std::uint8_t>& out) {
   ByteWriter writer(out);
-  write_ack(writer, body.ack);
-  writer.u8(static_cast<std::uint8_t>(body.reliable.size()));
-  for (const ReliableMessage& message : body.reliable) {
+  write_ack(writer, ack);
+  writer.u8(static_cast<std::uint8_t>(reliable.size()));
+  for (const ReliableMessage& message : reliable) {
     writer.u16(message.id);
     writer.u16(static_cast<std::uint16_t>(message.bytes.size()));
     writer.bytes(message.bytes);
   }
-  writer.bytes(body.unreliable);
-  return out;
+  writer.bytes(unreliable);
 }
 
 namespace {

@@ -53,14 +53,17 @@ ReliableReceiver::Outcome ReliableReceiver::receive(const ReliableMessage& messa
   auto& slot = window_[message.id % kWindow];
   if (slot) return Outcome::Duplicate;
   slot = message.bytes;
+  ++buffered_;
   return Outcome::Accepted;
 }
 
 bool ReliableReceiver::pop(std::vector<std::uint8_t>& out) {
+  if (buffered_ == 0) return false;
   auto& slot = window_[next_id_ % kWindow];
   if (!slot) return false;
   out = std::move(*slot);
   slot.reset();
+  --buffered_;
   ++next_id_;
   return true;
 }

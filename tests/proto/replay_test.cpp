@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <random>
+#include <set>
+
 #include "ricochet/proto/ack_window.h"
 #include "ricochet/proto/replay_window.h"
 
@@ -43,6 +46,60 @@ TEST(ReplayWindow, AckHeaderNamesTheNewestAndTheBitsBehindIt) {
   const AckHeader ack = window.ack_header();
   EXPECT_EQ(ack.ack, static_cast<std::uint16_t>(70000));
   EXPECT_EQ(ack.ack_bits, (1u << 0) | (1u << 2) | (1u << 31));
+}
+
+TEST(ReplayWindow, AgreesWithASetOfEverySequenceAcceptedUnderJumpsReorderingAndReplays) {
+  // The window is a bitmap that slides with the newest sequence; the model keeps every sequence.
+  ReplayWindow window;
+  std::set<std::uint64_t> accepted;
+  std::mt19937_64 random(7);
+  std::uint64_t next = 0;
+  for (int step = 0; step < 20000; ++step) {
+    std::uint64_t sequence = next;
+    switch (random() % 6) {
+      case 0: sequence = next + random() % 300; break;              // a jump, at times past 256
+      case 1: sequence = next > 300 ? next - random() % 300 : 0; break;  // late or replayed
+      default: break;
+    }
+    next = std::max(next, sequence + 1);
+    const std::uint64_t newest = accepted.empty() ? 0 : *accepted.rbegin();
+    const bool expected = !accepted.empty() && sequence <= newest &&
+                          (newest - sequence >= ReplayWindow::kSize || accepted.contains(sequence));
+    ASSERT_EQ(window.already_received(sequence), expected) << "step " << step;
+    if (!expected) {
+      window.mark_received(sequence);
+      accepted.insert(sequence);
+    }
+    AckHeader ack;
+    ack.ack = static_cast<std::uint16_t>(*accepted.rbegin());
+    for (std::uint64_t i = 0; i < 32 && i < *accepted.rbegin(); ++i) {
+      if (accepted.contains(*accepted.rbegin() - 1 - i)) ack.ack_bits |= 1u << i;
+    }
+    ASSERT_EQ(window.ack_header(), ack) << "step " << step;
+  }
+}
+
+TEST(SentPacketWindow, AcksRepeatedByManyPacketsAcknowledgeEachPacketOnce) {
+  SentPacketWindow sent;
+  std::vector<std::uint16_t> ids;
+  std::vector<std::uint16_t> expected;
+  for (std::uint64_t sequence = 0; sequence < 1000; ++sequence) {
+    sent.on_sent(sequence, static_cast<TimeUs>(sequence), {static_cast<std::uint16_t>(sequence)});
+    if (sequence % 5 == 3) continue;  // never acked
+    expected.push_back(static_cast<std::uint16_t>(sequence));
+    // The peer acks this one and repeats the fates of the 32 before it.
+    AckHeader ack{static_cast<std::uint16_t>(sequence), 0};
+    for (std::uint64_t i = 0; i < 32 && i < sequence; ++i) {
+      if ((sequence - 1 - i) % 5 != 3) ack.ack_bits |= 1u << i;
+    }
+    sent.on_ack(ack, sequence + 1, static_cast<TimeUs>(sequence) + 100, ids);
+  }
+  EXPECT_EQ(ids, expected);
+  EXPECT_EQ(sent.rtt_us(), 100);
+  EXPECT_TRUE(sent.acked(999));
+  EXPECT_FALSE(sent.acked(998));
+  sent.on_sent(999 + SentPacketWindow::kSize, 0, {});  // a later packet takes 999's slot
+  EXPECT_FALSE(sent.acked(999)) << "a slot reused by a later packet no longer answers";
 }
 
 TEST(SentPacketWindow, AckAcrossThe16BitWrapAcknowledgesTheRightPackets) {

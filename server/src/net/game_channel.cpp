@@ -1,6 +1,8 @@
 #include "game_channel.h"
 
+#include <netinet/in.h>
 #include <spdlog/spdlog.h>
+#include <sys/socket.h>
 
 #include <boost/asio/as_tuple.hpp>
 #include <boost/asio/co_spawn.hpp>
@@ -37,6 +39,13 @@ void GameChannel::start(GameRouter& router) {
   // is busy: 4 MiB is some 3000 full datagrams. The kernel may cap it (net.core.rmem_max).
   boost::system::error_code ignored;
   socket_.set_option(asio::socket_base::receive_buffer_size(4 << 20), ignored);
+  // Datagrams leave with Don't Fragment set and are never fragmented here (they are at most
+  // kMaxDatagramBytes, under any path's MTU), as QUIC stacks send theirs. With it Linux also
+  // stamps IPv4 packets with ID 0 instead of hashing a fresh ID for each one.
+  const int probe = endpoint.address().is_v4() ? IP_PMTUDISC_PROBE : IPV6_PMTUDISC_PROBE;
+  setsockopt(socket_.native_handle(), endpoint.address().is_v4() ? IPPROTO_IP : IPPROTO_IPV6,
+             endpoint.address().is_v4() ? IP_MTU_DISCOVER : IPV6_MTU_DISCOVER, &probe,
+             sizeof probe);
   port_ = socket_.local_endpoint().port();
   asio::co_spawn(strand_, receive_loop(), asio::detached);
   asio::co_spawn(strand_, update_loop(), asio::detached);

@@ -39,6 +39,9 @@ std::shared_ptr<SharedGamePort> SharedGamePort::open(asio::io_context& io, std::
     return nullptr;
   }
   const int on = 1;
+  // Don't Fragment, and IPv4 ID 0 rather than a hashed ID per packet (game_channel.cpp).
+  const int probe = IP_PMTUDISC_PROBE;
+  setsockopt(fd, IPPROTO_IP, IP_MTU_DISCOVER, &probe, sizeof probe);
   sockaddr_in any{};
   any.sin_family = AF_INET;
   socklen_t length = sizeof any;

@@ -82,6 +82,12 @@ Parsed<EncryptedHeader> read_encrypted_header(std::span<const std::uint8_t> data
 std::vector<std::uint8_t> seal_packet(PacketType type, std::uint64_t sequence,
                                       std::uint64_t protocol_id, const Key& key,
                                       std::span<const std::uint8_t> body);
+/// The same in one buffer: begin_packet writes the header into `packet` (emptied first), the
+/// caller appends the body, seal_packet_in_place encrypts the body where it is and appends the
+/// tag. A sent payload costs one allocation this way.
+void begin_packet(PacketType type, std::uint64_t sequence, std::vector<std::uint8_t>& packet);
+void seal_packet_in_place(std::uint64_t protocol_id, const Key& key,
+                          std::vector<std::uint8_t>& packet);
 /// Decrypts the body of a packet whose header read_encrypted_header accepted.
 bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id, const Key& key,
                  std::vector<std::uint8_t>& body);
@@ -137,6 +143,9 @@ inline constexpr std::size_t kPayloadFixedBytes = kAckHeaderBytes + 1;
 /// Largest unreliable payload in a packet without reliable messages.
 inline constexpr std::size_t kMaxUnreliableBytes = kMaxBodyBytes - kPayloadFixedBytes;
 std::vector<std::uint8_t> write_payload_body(const PayloadBody& body);
+/// Appends the body write_payload_body writes to `out`.
+void append_payload_body(const AckHeader& ack, std::span<const ReliableMessage> reliable,
+                         std::span<const std::uint8_t> unreliable, std::vector<std::uint8_t>& out);
 Parsed<PayloadBody> read_payload_body(std::span<const std::uint8_t> body);
 /// The same from a decrypted body it takes: the unreliable bytes stay in its buffer (moved to
 /// `unreliable`), which saves an allocation and a copy per packet.

@@ -56,6 +56,7 @@ class ReliableReceiver {
  private:
   std::vector<std::optional<std::vector<std::uint8_t>>> window_ =
       std::vector<std::optional<std::vector<std::uint8_t>>>(kWindow);
+  std::size_t buffered_ = 0;  ///< filled slots of window_: none on nearly every packet
   std::uint16_t next_id_ = 0;
 };
 
