@@ -123,12 +123,7 @@ EntityState dequantize(const QuantizedEntity& entity, const QuantizationSpec& sp
   EntityState out;
   out.id = entity.id;
   out.flags = entity.flags;
-  for (int a = 0; a < 3; ++a) {
-    out.position_m[a] = static_cast<float>(
-        spec.bounds.min_m[a] + static_cast<double>(entity.position[a]) * spec.position_step_m);
-    out.velocity_mps[a] =
-        static_cast<float>(static_cast<double>(entity.velocity[a]) * spec.velocity_step_mps);
-  }
+  dequantize_motion(entity, spec, out.position_m, out.velocity_mps);
   const double scale = 1.0 / (kSqrt2 * spec.orientation_limit());
   std::array<double, 4> q{};
   double sum_squared = 0;
@@ -144,6 +139,16 @@ EntityState dequantize(const QuantizedEntity& entity, const QuantizationSpec& sp
   norm = std::sqrt(norm);
   for (int i = 0; i < 4; ++i) out.orientation_xyzw[i] = static_cast<float>(q[i] / norm);
   return out;
+}
+
+void dequantize_motion(const QuantizedEntity& entity, const QuantizationSpec& spec,
+                       std::array<float, 3>& position_m, std::array<float, 3>& velocity_mps) {
+  for (int a = 0; a < 3; ++a) {
+    position_m[a] = static_cast<float>(
+        spec.bounds.min_m[a] + static_cast<double>(entity.position[a]) * spec.position_step_m);
+    velocity_mps[a] =
+        static_cast<float>(static_cast<double>(entity.velocity[a]) * spec.velocity_step_mps);
+  }
 }
 
 bool in_range(const QuantizedEntity& entity, const QuantizationSpec& spec) {

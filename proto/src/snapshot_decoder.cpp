@@ -83,22 +83,31 @@ Refusal reader_refusal(const BitReader& in, const char* what) {
 /// method in stream order; each returns the refusal that stops it, if any.
 class StreamReader {
  public:
+  /// `kept`, `added`, `removed`: the decoder's buffers, whatever they held.
   StreamReader(const QuantizationSpec& spec, const SnapshotDecoderOptions& options,
                std::span<const QuantizedEntity> baseline, std::uint32_t baseline_age,
-               const std::string& bytes)
+               const std::string& bytes, std::vector<QuantizedEntity>& kept,
+               std::vector<QuantizedEntity>& added, std::vector<std::uint8_t>& removed)
       : options_(options),
         baseline_(baseline),
         widths_(spec),
         prediction_(layout::make_prediction(baseline_age, spec)),
         reader_(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(bytes.data()),
-                                              bytes.size())) {}
+                                              bytes.size())),
+        kept_(kept),
+        added_(added),
+        removed_(removed) {
+    kept_.clear();
+    added_.clear();
+  }
 
   MaybeRefusal read_removals();
   MaybeRefusal read_additions();
   MaybeRefusal read_changes();
   MaybeRefusal check_end() const;
-  /// The kept entities (changed) and the additions merged by id into `view`.
-  MaybeRefusal merge(std::vector<QuantizedEntity>& view) const;
+  /// The kept entities (changed) and the additions merged by id into `view` (without additions,
+  /// the kept entities are swapped in).
+  MaybeRefusal merge(std::vector<QuantizedEntity>& view);
 
  private:
   /// Follows ascending indices written as gaps: first gap, then previous + 1 + gap.
@@ -111,8 +120,9 @@ class StreamReader {
   layout::FieldWidths widths_;
   layout::Prediction prediction_;
   BitReader reader_;
-  std::vector<QuantizedEntity> kept_;   ///< the baseline without the removals
-  std::vector<QuantizedEntity> added_;  ///< ids ascending
+  std::vector<QuantizedEntity>& kept_;   ///< the baseline without the removals
+  std::vector<QuantizedEntity>& added_;  ///< ids ascending
+  std::vector<std::uint8_t>& removed_;   ///< by baseline index
 };
 
 MaybeRefusal StreamReader::read_removals() {
@@ -123,7 +133,7 @@ MaybeRefusal StreamReader::read_removals() {
                    "expected at most " + std::to_string(baseline_.size()) +
                        " removals (the baseline's entities), got " + std::to_string(count)};
   }
-  std::vector<std::uint8_t> removed(baseline_.size(), 0);
+  removed_.assign(baseline_.size(), 0);
   if (count > 0) {
     const int order = static_cast<int>(reader_.read_bits(layout::kOrderBits));
     std::uint64_t index = 0;
@@ -136,12 +146,12 @@ MaybeRefusal StreamReader::read_removals() {
                                                                  std::to_string(baseline_.size()) +
                                                                  ", got " + std::to_string(index)};
       }
-      removed[index] = 1;
+      removed_[index] = 1;
     }
   }
   kept_.reserve(baseline_.size() - count);
   for (std::size_t k = 0; k < baseline_.size(); ++k) {
-    if (!removed[k]) kept_.push_back(baseline_[k]);
+    if (!removed_[k]) kept_.push_back(baseline_[k]);
   }
   return std::nullopt;
 }
@@ -230,7 +240,11 @@ MaybeRefusal StreamReader::check_end() const {
                      std::to_string(reader_.bits_left()) + " more bits"};
 }
 
-MaybeRefusal StreamReader::merge(std::vector<QuantizedEntity>& view) const {
+MaybeRefusal StreamReader::merge(std::vector<QuantizedEntity>& view) {
+  if (added_.empty()) {
+    view.swap(kept_);
+    return std::nullopt;
+  }
   view.clear();
   view.reserve(kept_.size() + added_.size());
   std::size_t k = 0, a = 0;
@@ -292,7 +306,8 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
   }
 
   // The stream, section by section, into a new view.
-  StreamReader stream(spec_, options_, baseline, in.baseline_age(), bytes);
+  StreamReader stream(spec_, options_, baseline, in.baseline_age(), bytes, kept_, added_,
+                      removed_);
   MaybeRefusal refusal = stream.read_removals();
   if (!refusal) refusal = stream.read_additions();
   if (!refusal) refusal = stream.read_changes();

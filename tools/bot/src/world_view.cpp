@@ -25,8 +25,10 @@ void WorldView::apply_snapshot(std::uint32_t tick, std::uint32_t own_entity_id,
   entities_.clear();
   entities_.reserve(entities.size());
   for (const proto::QuantizedEntity& quantized : entities) {
-    const proto::EntityState state = proto::dequantize(quantized, spec_);
-    entities_.push_back({state.id, state.position_m, state.velocity_mps, state.flags});
+    SeenEntity& seen = entities_.emplace_back();
+    seen.id = quantized.id;
+    seen.flags = quantized.flags;
+    proto::dequantize_motion(quantized, spec_, seen.position_m, seen.velocity_mps);
   }
 }
 
@@ -53,20 +55,22 @@ const SeenEntity* WorldView::nearest_enemy() const {
   const SeenEntity* self = own();
   if (!self) return nullptr;
   const auto own_team = teams_.find(own_id_);
+  const bool teamed = own_team != teams_.end() && own_team->second != wire::TEAM_NONE;
+  const auto team_mate = [&](std::uint32_t id) {
+    const auto team = teams_.find(id);
+    return team != teams_.end() && team->second == own_team->second;
+  };
   const SeenEntity* best = nullptr;
   float best_d2 = std::numeric_limits<float>::max();
   for (const SeenEntity& other : entities_) {
     if (other.id == own_id_ || !other.is_living_player()) continue;
-    if (own_team != teams_.end() && own_team->second != wire::TEAM_NONE) {
-      const auto team = teams_.find(other.id);
-      if (team != teams_.end() && team->second == own_team->second) continue;
-    }
     float d2 = 0;
     for (int a = 0; a < 3; ++a) {
       const float d = other.position_m[a] - self->position_m[a];
       d2 += d * d;
     }
-    if (d2 < best_d2) {
+    // The team is looked up only for a player nearer than the best so far.
+    if (d2 < best_d2 && !(teamed && team_mate(other.id))) {
       best_d2 = d2;
       best = &other;
     }

@@ -225,6 +225,11 @@ class SnapshotDecoder {
   SnapshotDecoderOptions options_;
   std::vector<Decoded> ring_;
   std::vector<QuantizedEntity> view_;  ///< the snapshot being decoded
+  /// The stream reader's working sets, kept so that a decode allocates nothing once they and
+  /// the ring's views have grown.
+  std::vector<QuantizedEntity> kept_;
+  std::vector<QuantizedEntity> added_;
+  std::vector<std::uint8_t> removed_;
   bool has_newest_ = false;
   std::uint32_t newest_tick_ = 0;
   std::uint64_t accepted_ = 0;
