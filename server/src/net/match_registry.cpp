@@ -267,7 +267,7 @@ void MatchRegistry::reliable(std::uint64_t account, std::vector<std::uint8_t> by
 }
 
 void MatchRegistry::expire_reservations(proto::TimeUs now) {
-  std::erase_if(seats_, [now](const auto& entry) { return !holds(entry.second, now); });
+  boost::unordered::erase_if(seats_, [now](const auto& entry) { return !holds(entry.second, now); });
 }
 
 std::optional<DirectoryError> MatchRegistry::refuse_open() const {
@@ -322,14 +322,11 @@ void MatchRegistry::match_ended(std::uint32_t match_id, EndedMatch ended) {
       map = found->second.map;
       hosts_.erase(found);
     }
-    for (auto seat = seats_.begin(); seat != seats_.end();) {
-      if (seat->second.match_id != match_id) {
-        ++seat;
-        continue;
-      }
-      seated.push_back(seat->first);
-      seat = seats_.erase(seat);
-    }
+    boost::unordered::erase_if(seats_, [&](const auto& seat) {
+      if (seat.second.match_id != match_id) return false;
+      seated.push_back(seat.first);
+      return true;
+    });
   }
   // Posted to the channel after the MatchEnded the host just sent, which goes out first; and
   // before the seat could be taken elsewhere, so no later connection of the account is hit.

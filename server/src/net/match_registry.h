@@ -22,10 +22,10 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include <boost/asio/io_context.hpp>
+#include <boost/unordered/unordered_flat_map.hpp>
 
 #include "game_channel.h"
 #include "match_directory.h"
@@ -122,7 +122,8 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
     std::shared_ptr<const wire::CollisionWorld> world;  ///< what its join replies carry
   };
   std::map<std::uint32_t, Hosted> hosts_;
-  std::unordered_map<std::uint64_t, Seat> seats_;
+  /// By account; open addressing (every datagram received looks its sender's seat up).
+  boost::unordered_flat_map<std::uint64_t, Seat> seats_;
   std::uint32_t next_match_id_ = 1;
   std::uint64_t next_generation_ = 1;
   bool closed_ = false;
