@@ -562,8 +562,8 @@ static_assert(sizeof(WorldState) == sizeof(BodyStore) + sizeof(StaticGeometry) +
 static_assert(sizeof(BodyStore) == sizeof(SlotPool) + 14 * sizeof(std::vector<int>));
 static_assert(sizeof(ProjectileStore) == sizeof(SlotPool) + 7 * sizeof(std::vector<int>));
 static_assert(sizeof(SlotPool) == 2 * sizeof(std::vector<int>) + 8);
-// Shapes and fields, plus lists and a hierarchy rebuilt from them by assign().
-static_assert(sizeof(StaticGeometry) == sizeof(SlotPool) + 4 * sizeof(std::vector<int>));
+// Shapes and fields, plus lists, primitive boxes and a hierarchy rebuilt from them by assign().
+static_assert(sizeof(StaticGeometry) == sizeof(SlotPool) + 5 * sizeof(std::vector<int>));
 static_assert(sizeof(ForceFields) == sizeof(SlotPool) + 3 * sizeof(std::vector<int>));
 
 }  // namespace

@@ -95,6 +95,7 @@ class StaticGeometry {
   std::vector<StaticShape> shapes_;  ///< per slot; a dead slot's is default
   std::vector<std::uint32_t> plane_slots_;
   std::vector<StaticPrimitive> primitives_;
+  std::vector<Aabb> primitive_boxes_;  ///< per primitive, in primitives_' order
   std::vector<Node> nodes_;
 };
 
