@@ -57,7 +57,10 @@ class MatchFixture : public ::testing::Test {
   }
   void drain() {
     Outgoing out;
+    std::size_t left = match_.outbox_size();
     while (match_.poll_outbox(out)) {
+      ASSERT_GT(left, 0u) << "outbox_size counts every message poll_outbox gives";
+      --left;
       Inbox& inbox = inboxes_[out.account];
       if (out.reliable) {
         wire::GameEvent event;
@@ -73,6 +76,8 @@ class MatchFixture : public ::testing::Test {
             out.bytes.data(), static_cast<int>(out.bytes.size())));
       }
     }
+    EXPECT_EQ(left, 0u);
+    EXPECT_EQ(match_.outbox_size(), 0u);
   }
 
   std::uint32_t join(std::uint64_t account, const std::string& name) {

@@ -252,6 +252,7 @@ void MatchHost::tick(proto::TimeUs now) {
 void MatchHost::drain_outbox() {
   // One post for the tick's whole outbox: its snapshots leave the socket together.
   std::vector<Outgoing> batch;
+  batch.reserve(match_.outbox_size());  // one allocation, not a doubling series per tick
   Outgoing outgoing;
   while (match_.poll_outbox(outgoing)) batch.push_back(std::move(outgoing));
   if (!batch.empty()) channel_.send_all(std::move(batch));

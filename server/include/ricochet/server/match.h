@@ -178,6 +178,8 @@ class Match {
   int tick(proto::TimeUs now);
   /// Takes the next message to send, oldest first; false when the outbox is empty.
   bool poll_outbox(Outgoing& out);
+  /// Messages poll_outbox still holds (to size the batch they go into).
+  std::size_t outbox_size() const { return outbox_.size() - outbox_read_; }
   /// When the next step is due: sleep until then.
   proto::TimeUs next_tick_at() const { return clock_.next_step_at(); }
 
