@@ -67,6 +67,17 @@ if [[ $(nproc) -lt 2 ]]; then
   echo "capacity.sh: needs 2 cores (server on core 0, generator on core 1), found $(nproc)" >&2
   exit 2
 fi
+# The machine's speed now: a shared VM's varies by half over minutes, which moves the capacity
+# as much. A 16-player match's mean tick (match-bench, thread CPU time, pinned to core 0) before
+# the server starts goes into every line, so that sweeps are compared at the same speed.
+calibration="null"
+if [[ -x "$build/tools/bench/match-bench" ]]; then
+  calibration=$(taskset -c 0 "$build/tools/bench/match-bench" --players 16 --seconds 5 \
+                  --lag-shots 1000 --clock thread-cpu --map server/maps/foundry.toml 2>/dev/null |
+                grep -o '"tick_ms_avg":[0-9.]*' | head -1 | cut -d: -f2)
+  [[ -n "$calibration" ]] || calibration="null"
+  echo "capacity.sh: machine speed: a 16-player match ticks in $calibration ms on average" >&2
+fi
 largest="${sweep##*,}"
 matches=$(( (largest + 15) / 16 ))
 [[ -n "$out" ]] || out="$(mktemp -d /tmp/ricochet-capacity-XXXXXX)"
@@ -138,7 +149,7 @@ if [[ $append -eq 1 ]]; then
   mkdir -p tools/bench/results
   script="tools/bench/capacity.sh ${invocation[*]}"
   script="${script//\"/}"
-  sed "s|^{|{\"script\":\"$script\",\"git\":\"$(git rev-parse --short HEAD)\",\"loadavg_at_start\":\"$loadavg\",\"nproc\":$(nproc),|" \
+  sed "s|^{|{\"script\":\"$script\",\"git\":\"$(git rev-parse --short HEAD)\",\"loadavg_at_start\":\"$loadavg\",\"calibration_match_tick_ms_avg\":$calibration,\"nproc\":$(nproc),|" \
     "$out/steps.jsonl" >> tools/bench/results/capacity.jsonl
 fi
 grep -o '"capacity_bots":[0-9]*' "$out/report.json" >&2
