@@ -12,12 +12,10 @@ namespace {
 /// for every packet sealed or opened).
 std::array<std::uint8_t, kVersionBytes + 8 + 1> packet_ad(std::uint64_t protocol_id,
                                                          std::uint8_t type) {
+  const VersionAndProtocol start = version_and_protocol(protocol_id);
   std::array<std::uint8_t, kVersionBytes + 8 + 1> ad;
-  std::copy(kVersionInfo.begin(), kVersionInfo.end(), ad.begin());
-  for (std::size_t i = 0; i < 8; ++i) {
-    ad[kVersionBytes + i] = static_cast<std::uint8_t>(protocol_id >> (8 * i));
-  }
-  ad[kVersionBytes + 8] = type;
+  std::copy(start.begin(), start.end(), ad.begin());
+  ad.back() = type;
   return ad;
 }
 
@@ -67,12 +65,12 @@ std::optional<DisconnectReason> disconnect_reason_from(std::uint8_t byte) {
 
 }  // namespace
 
-std::vector<std::uint8_t> version_and_protocol(std::uint64_t protocol_id) {
-  std::vector<std::uint8_t> out;
-  out.reserve(kVersionBytes + 8 + 1);  // + 1: room for the packet's type byte
-  ByteWriter writer(out);
-  writer.bytes(kVersionInfo);
-  writer.u64(protocol_id);
+VersionAndProtocol version_and_protocol(std::uint64_t protocol_id) {
+  VersionAndProtocol out;
+  std::copy(kVersionInfo.begin(), kVersionInfo.end(), out.begin());
+  for (std::size_t i = 0; i < 8; ++i) {
+    out[kVersionBytes + i] = static_cast<std::uint8_t>(protocol_id >> (8 * i));  // little endian
+  }
   return out;
 }
 

@@ -23,7 +23,7 @@ using namespace ricochet::proto;
 /// The same layout as the sealing in connect_token.cpp: nonce | AEAD(plaintext), with the
 /// version and protocol id as additional data.
 std::vector<std::uint8_t> seal_token(std::span<const std::uint8_t> plain) {
-  const std::vector<std::uint8_t> ad = version_and_protocol(fuzz::kProtocolId);
+  const VersionAndProtocol ad = version_and_protocol(fuzz::kProtocolId);
   XNonce nonce{};
   nonce[0] = 1;
   std::vector<std::uint8_t> token(nonce.begin(), nonce.end());

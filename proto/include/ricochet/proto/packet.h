@@ -40,7 +40,8 @@ inline constexpr int kDisconnectCopies = 3;
 
 /// version | u64 protocol_id: the additional data of connect tokens, and the start of every
 /// packet's additional data.
-std::vector<std::uint8_t> version_and_protocol(std::uint64_t protocol_id);
+using VersionAndProtocol = std::array<std::uint8_t, kVersionBytes + 8>;
+VersionAndProtocol version_and_protocol(std::uint64_t protocol_id);
 
 enum class PacketType : std::uint8_t {
   ConnectionRequest = 0,
