@@ -41,6 +41,13 @@ std::vector<std::uint8_t> Connection::make_keep_alive(TimeUs now) {
 
 std::vector<std::uint8_t> Connection::make_payload(std::span<const std::uint8_t> unreliable,
                                                    TimeUs now) {
+  std::vector<std::uint8_t> packet;
+  make_payload(unreliable, now, packet);
+  return packet;
+}
+
+void Connection::make_payload(std::span<const std::uint8_t> unreliable, TimeUs now,
+                              std::vector<std::uint8_t>& packet) {
   const AckHeader ack = replay_.ack_header();
   const std::size_t budget = kMaxBodyBytes - kPayloadFixedBytes - unreliable.size();
   const std::vector<ReliableMessage> reliable =
@@ -51,13 +58,11 @@ std::vector<std::uint8_t> Connection::make_payload(std::span<const std::uint8_t>
     reliable_bytes += kReliableMessageHeaderBytes + message.bytes.size();
   }
   // Header, body and tag in one buffer, the body encrypted where it was written.
-  std::vector<std::uint8_t> packet;
   packet.reserve(kEncryptedHeaderBytes + kPayloadFixedBytes + reliable_bytes + unreliable.size() +
                  kMacBytes);
   begin_packet(PacketType::Payload, take_sequence(now), packet);
   append_payload_body(ack, reliable, unreliable, packet);
   seal_packet_in_place(protocol_id_, send_key_, packet);
-  return packet;
 }
 
 std::vector<std::uint8_t> Connection::make_disconnect(DisconnectReason reason, TimeUs now) {

@@ -39,6 +39,9 @@ class Connection {
   /// A payload packet with `unreliable` (≤ kMaxUnreliableBytes) and the reliable messages due
   /// that fit beside it.
   std::vector<std::uint8_t> make_payload(std::span<const std::uint8_t> unreliable, TimeUs now);
+  /// The same, written into `packet` (emptied first; a buffer with room allocates nothing).
+  void make_payload(std::span<const std::uint8_t> unreliable, TimeUs now,
+                    std::vector<std::uint8_t>& packet);
   std::vector<std::uint8_t> make_disconnect(DisconnectReason reason, TimeUs now);
 
   /// The peer's ack of this end's packets: acknowledges the reliable messages they carried.

@@ -1,5 +1,6 @@
 #include "ricochet/proto/game_server.h"
 
+#include <boost/unordered/unordered_flat_map.hpp>
 #include <cstring>
 #include <stdexcept>
 
@@ -10,6 +11,7 @@
 #include "ricochet/proto/packet.h"
 #include "ricochet/proto/transport_states.h"
 #include "token_bucket.h"
+#include "transmit_queue.h"
 
 namespace ricochet::proto {
 namespace {
@@ -95,13 +97,15 @@ struct GameServer::State {
   std::uint64_t handshake_sequence = 0;
   ClientId next_client = 1;
   std::unordered_map<Address, Handshake, AddressHash> handshakes;
-  std::unordered_map<ClientId, Client> clients;  ///< its nodes never move
+  // Open addressing for what a datagram looks up: a probe of a flat array of keys instead of
+  // a bucket and a node in two cold places.
+  boost::unordered_flat_map<ClientId, std::unique_ptr<Client>> clients;  ///< Clients never move
   /// The clients of `clients` by address: a datagram finds its client with one lookup.
-  std::unordered_map<Address, Client*, AddressHash> client_by_address;
-  std::unordered_map<std::uint64_t, ClientId> client_by_account;
-  std::unordered_map<TokenMac, UsedToken, TokenMacHash> used_tokens;
-  std::unordered_map<Address, TokenBucket, AddressHash> address_budgets;
-  std::deque<Transmit> transmits;
+  boost::unordered_flat_map<Address, Client*, AddressHash> client_by_address;
+  boost::unordered_flat_map<std::uint64_t, ClientId> client_by_account;
+  boost::unordered_flat_map<TokenMac, UsedToken, TokenMacHash> used_tokens;
+  boost::unordered_flat_map<Address, TokenBucket, AddressHash> address_budgets;
+  TransmitQueue transmits;
   std::deque<ServerEvent> events;
   TransportCounters counters;
   std::uint64_t resends_of_gone_clients = 0;  ///< keeps counters.reliable_resends monotonic
@@ -116,9 +120,17 @@ struct GameServer::State {
     if (config.log.on_transition) config.log.on_transition({address, client, from, to, reason});
   }
   void send(const Address& to, std::vector<std::uint8_t> bytes) {
+    count_sent(bytes.size());
+    transmits.push(to, std::move(bytes));
+  }
+  void send_payload(Client& client, std::span<const std::uint8_t> unreliable, TimeUs now) {
+    std::vector<std::uint8_t>& packet = transmits.push(client.address);
+    client.connection.make_payload(unreliable, now, packet);
+    count_sent(packet.size());
+  }
+  void count_sent(std::size_t bytes) {
     ++counters.packets_out;
-    counters.bytes_out += bytes.size();
-    transmits.push_back({to, std::move(bytes)});
+    counters.bytes_out += bytes;
   }
   void update_gauges() {
     counters.half_open = static_cast<std::uint32_t>(handshakes.size());
@@ -296,7 +308,8 @@ void GameServer::State::complete_handshake(const Address& from, Handshake& hands
   events.push_back(ServerConnected{id, account_id, client.match_id, from});
   send(from, client.connection.make_keep_alive(now));
   client_by_account[account_id] = id;
-  client_by_address[from] = &clients.emplace(id, std::move(client)).first->second;
+  client_by_address[from] =
+      clients.emplace(id, std::make_unique<Client>(std::move(client))).first->second.get();
   update_gauges();
 }
 
@@ -356,7 +369,7 @@ void GameServer::State::remove_client(ClientId id, DisconnectReason reason, bool
                                       TimeUs now) {
   auto it = clients.find(id);
   if (it == clients.end()) return;
-  Client& client = it->second;
+  Client& client = *it->second;
   if (tell_client) {
     for (int copy = 0; copy < kDisconnectCopies; ++copy) {
       send(client.address, client.connection.make_disconnect(reason, now));
@@ -416,12 +429,13 @@ void GameServer::update(TimeUs now) {
   }
   std::vector<ClientId> silent;
   s.counters.reliable_resends = s.resends_of_gone_clients;
-  for (auto& [id, client] : s.clients) {
+  for (auto& [id, client_ptr] : s.clients) {
+    Client& client = *client_ptr;
     s.counters.reliable_resends += client.connection.reliable_resends();
     if (client.connection.timed_out(now)) {
       silent.push_back(id);
     } else if (client.connection.reliable_due(now)) {
-      s.send(client.address, client.connection.make_payload({}, now));
+      s.send_payload(client, {}, now);
     } else if (client.connection.keep_alive_due(now)) {
       s.send(client.address, client.connection.make_keep_alive(now));
     }
@@ -431,19 +445,16 @@ void GameServer::update(TimeUs now) {
     // Memory only: an expired token is refused before this table is read, and a full budget is
     // a fresh one.
     s.next_sweep = now + kSweepIntervalUs;
-    std::erase_if(s.used_tokens, [&](const auto& entry) { return entry.second.expires_at <= now; });
-    for (auto it = s.address_budgets.begin(); it != s.address_budgets.end();) {
-      it = it->second.full(now) ? s.address_budgets.erase(it) : std::next(it);
-    }
+    boost::unordered::erase_if(s.used_tokens,
+                               [&](const auto& entry) { return entry.second.expires_at <= now; });
+    boost::unordered::erase_if(s.address_budgets,
+                               [&](auto& entry) { return entry.second.full(now); });
   }
   s.update_gauges();
 }
 
 bool GameServer::poll_transmit(Transmit& out) {
-  if (state_->transmits.empty()) return false;
-  out = std::move(state_->transmits.front());
-  state_->transmits.pop_front();
-  return true;
+  return state_->transmits.pop(out);
 }
 
 bool GameServer::poll_event(ServerEvent& out) {
@@ -456,7 +467,7 @@ bool GameServer::poll_event(ServerEvent& out) {
 bool GameServer::send_unreliable(ClientId id, std::span<const std::uint8_t> payload, TimeUs now) {
   auto it = state_->clients.find(id);
   if (it == state_->clients.end() || payload.size() > kMaxUnreliableBytes) return false;
-  state_->send(it->second.address, it->second.connection.make_payload(payload, now));
+  state_->send_payload(*it->second, payload, now);
   return true;
 }
 
@@ -465,7 +476,7 @@ bool GameServer::send_reliable(ClientId id, std::span<const std::uint8_t> messag
   if (it == state_->clients.end() || message.empty() || message.size() > kMaxReliableMessageBytes) {
     return false;
   }
-  if (it->second.connection.queue_reliable(message)) return true;
+  if (it->second->connection.queue_reliable(message)) return true;
   // The client has not acked max_reliable_pending messages: it is gone or hostile.
   state_->remove_client(id, DisconnectReason::ReliableOverflow, true, now);
   return false;
@@ -491,7 +502,7 @@ std::size_t GameServer::client_count() const {
 
 TimeUs GameServer::rtt_us(ClientId client) const {
   auto it = state_->clients.find(client);
-  return it == state_->clients.end() ? 0 : it->second.connection.rtt_us();
+  return it == state_->clients.end() ? 0 : it->second->connection.rtt_us();
 }
 
 const TransportCounters& GameServer::counters() const {

@@ -186,6 +186,35 @@ TEST_F(TransportTest, UnreliablePayloadsAreLimitedToOnePacket) {
   EXPECT_FALSE(server->send_unreliable(9999, std::vector<std::uint8_t>{1}, kT0));
 }
 
+// poll_transmit swaps buffers: a caller that keeps its Transmit gets back, two packets later, the
+// buffer it handed in, so a steady stream of payloads allocates nothing; every packet still
+// opens at the client with its own bytes.
+TEST_F(TransportTest, PolledTransmitsHandTheirBuffersBackForLaterPackets) {
+  auto alice = connected_client(7, kAlice, kT0);
+  const ClientId id = connected_id(server_events());
+  server_out();
+  client_events(*alice);
+  Transmit kept;
+  std::vector<const std::uint8_t*> buffers;
+  for (std::uint8_t n = 1; n <= 6; ++n) {
+    ASSERT_TRUE(server->send_unreliable(id, std::vector<std::uint8_t>(100, n), kT0));
+    ASSERT_TRUE(server->poll_transmit(kept));
+    EXPECT_FALSE(server->poll_transmit(kept)) << "one packet per payload";
+    buffers.push_back(kept.bytes.data());
+    EXPECT_EQ(kept.to, kAlice);
+    alice->receive(kServerAddress, kept.bytes, kT0);
+    auto events = client_events(*alice);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(std::get<ClientUnreliable>(events[0]).bytes, std::vector<std::uint8_t>(100, n));
+  }
+  // The first packet's buffer went back into the queue at the second poll (the second's came
+  // fresh); from then on the two alternate.
+  EXPECT_EQ(buffers[2], buffers[0]);
+  EXPECT_EQ(buffers[3], buffers[1]);
+  EXPECT_EQ(buffers[4], buffers[0]);
+  EXPECT_NE(buffers[0], buffers[1]);
+}
+
 TEST(GameServerConfig, ValidateNamesTheFieldTheRangeAndWhatCame) {
   GameServerConfig config = sim::test_server_config();
   EXPECT_EQ(config.validate(), "");

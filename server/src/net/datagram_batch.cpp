@@ -68,14 +68,14 @@ std::span<const std::uint8_t> DatagramReceiver::bytes(std::size_t i) const {
 }
 
 std::size_t DatagramSender::flush(int fd, std::string& error) {
-  const std::size_t count = queued_.size();
+  const std::size_t count = queued_;
   addresses_.resize(count);
   iovecs_.resize(count);
   headers_.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
     socklen_t length = 0;
-    addresses_[i] = to_sockaddr(queued_[i].to, length);
-    iovecs_[i] = {queued_[i].bytes.data(), queued_[i].bytes.size()};
+    addresses_[i] = to_sockaddr(slots_[i].to, length);
+    iovecs_[i] = {slots_[i].bytes.data(), slots_[i].bytes.size()};
     headers_[i] = {};
     headers_[i].msg_hdr.msg_name = &addresses_[i];
     headers_[i].msg_hdr.msg_namelen = length;
@@ -96,7 +96,9 @@ std::size_t DatagramSender::flush(int fd, std::string& error) {
     ++lost;
     ++next;
   }
-  queued_.clear();
+  queued_ = 0;
+  // A burst larger than any steady stream (disconnect_all's copies) does not pin its memory.
+  if (slots_.size() > kSlotsKept) slots_.resize(kSlotsKept);
   return lost;
 }
 

@@ -42,19 +42,30 @@ class DatagramReceiver {
   std::array<mmsghdr, kDatagramBatch> headers_{};
 };
 
+/// Queued datagrams live in slots that keep their buffers between flushes: filled by
+/// GameServer::poll_transmit, which swaps a packet's buffer for the slot's old one, the steady
+/// stream of snapshots allocates nothing.
 class DatagramSender {
  public:
-  void add(proto::Transmit transmit) { queued_.push_back(std::move(transmit)); }
-  std::size_t queued() const { return queued_.size(); }
+  /// The slot the next datagram goes into; queued by commit().
+  proto::Transmit& next() {
+    if (queued_ == slots_.size()) slots_.emplace_back();
+    return slots_[queued_];
+  }
+  void commit() { ++queued_; }
+  std::size_t queued() const { return queued_; }
   /// Sends everything queued on `fd` (never blocking) and empties the queue. A datagram the
   /// socket refuses (a full buffer) is lost like any other; returns how many were, with the
   /// first reason in `error`.
   std::size_t flush(int fd, std::string& error);
   /// Drops what is queued (the socket is closed).
-  void discard() { queued_.clear(); }
+  void discard() { queued_ = 0; }
 
  private:
-  std::vector<proto::Transmit> queued_;
+  static constexpr std::size_t kSlotsKept = 4096;
+
+  std::vector<proto::Transmit> slots_;
+  std::size_t queued_ = 0;
   std::vector<sockaddr_storage> addresses_;
   std::vector<iovec> iovecs_;
   std::vector<mmsghdr> headers_;

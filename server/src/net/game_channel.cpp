@@ -186,8 +186,7 @@ void GameChannel::drain() {
     }
   }
   route_payloads();
-  proto::Transmit transmit;
-  while (transport_.poll_transmit(transmit)) sender_.add(std::move(transmit));
+  while (transport_.poll_transmit(sender_.next())) sender_.commit();
   if (!socket_.is_open()) return sender_.discard();
   std::string error;
   if (const std::size_t lost = sender_.flush(socket_.native_handle(), error); lost > 0) {

@@ -78,6 +78,8 @@ class GameServer {
   void receive(const Address& from, std::span<const std::uint8_t> datagram, TimeUs now);
   /// Timeouts (handshakes and clients), keep-alives when idle, reliable resends.
   void update(TimeUs now);
+  /// The next datagram to send into `out`. The server keeps `out`'s previous buffer for a later
+  /// datagram, so a caller that reuses its Transmits sends without allocating.
   bool poll_transmit(Transmit& out);
   bool poll_event(ServerEvent& out);
 
