@@ -133,21 +133,23 @@ MaybeRefusal StreamReader::read_removals() {
                    "expected at most " + std::to_string(baseline_.size()) +
                        " removals (the baseline's entities), got " + std::to_string(count)};
   }
+  if (count == 0) {  // the common case: the baseline as it is
+    kept_.assign(baseline_.begin(), baseline_.end());
+    return std::nullopt;
+  }
   removed_.assign(baseline_.size(), 0);
-  if (count > 0) {
-    const int order = static_cast<int>(reader_.read_bits(layout::kOrderBits));
-    std::uint64_t index = 0;
-    for (std::uint64_t k = 0; k < count; ++k) {
-      const std::uint64_t gap = layout::read_code(reader_, order);
-      if (reader_.failed()) return reader_refusal(reader_, "a removal");
-      index = next_index(index, gap, k == 0);
-      if (index >= baseline_.size()) {
-        return Refusal{SnapshotRejection::RemovedOutOfRange, "expected a removal index below " +
-                                                                 std::to_string(baseline_.size()) +
-                                                                 ", got " + std::to_string(index)};
-      }
-      removed_[index] = 1;
+  const int order = static_cast<int>(reader_.read_bits(layout::kOrderBits));
+  std::uint64_t index = 0;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    const std::uint64_t gap = layout::read_code(reader_, order);
+    if (reader_.failed()) return reader_refusal(reader_, "a removal");
+    index = next_index(index, gap, k == 0);
+    if (index >= baseline_.size()) {
+      return Refusal{SnapshotRejection::RemovedOutOfRange, "expected a removal index below " +
+                                                               std::to_string(baseline_.size()) +
+                                                               ", got " + std::to_string(index)};
     }
+    removed_[index] = 1;
   }
   kept_.reserve(baseline_.size() - count);
   for (std::size_t k = 0; k < baseline_.size(); ++k) {
@@ -306,8 +308,7 @@ SnapshotDecodeResult SnapshotDecoder::decode(const wire::Snapshot& in) {
   }
 
   // The stream, section by section, into a new view.
-  StreamReader stream(spec_, options_, baseline, in.baseline_age(), bytes, kept_, added_,
-                      removed_);
+  StreamReader stream(spec_, options_, baseline, in.baseline_age(), bytes, kept_, added_, removed_);
   MaybeRefusal refusal = stream.read_removals();
   if (!refusal) refusal = stream.read_additions();
   if (!refusal) refusal = stream.read_changes();

@@ -237,6 +237,33 @@ TEST_F(MatchFixture, AcknowledgedSnapshotsShrinkToDeltas) {
   EXPECT_LT(last_size, 16u);  // a resting entity against its baseline
 }
 
+// Acks reach the encoder when the next snapshot is built; between two snapshots the newest one
+// counts, whatever order the packets came in.
+TEST_F(MatchFixture, TheNewestAckBetweenTwoSnapshotsIsTheBaseline) {
+  join(11, "ann");
+  advance(kMicrosPerSecond / 4);
+  proto::SnapshotDecoder decoder(match_.config().quantization);
+  std::vector<std::uint32_t> ticks;
+  for (int k = 0; k < 3; ++k) {
+    inboxes_[11].payloads.clear();
+    advance(kTickUs);
+    ASSERT_EQ(inboxes_[11].payloads.size(), 1u);
+    ASSERT_TRUE(decoder.decode(inboxes_[11].payloads.back().snapshot()).ok);
+    ticks.push_back(decoder.newest_tick());
+  }
+  for (const std::uint32_t tick : {ticks[2], ticks[0], ticks[1]}) {  // reordered
+    wire::ClientPayload ack;
+    ack.set_ack_snapshot_tick(tick);
+    match_.receive(11, bytes(ack));
+  }
+  inboxes_[11].payloads.clear();
+  advance(kTickUs);
+  ASSERT_EQ(inboxes_[11].payloads.size(), 1u);
+  const wire::ServerPayload& next = inboxes_[11].payloads.back();
+  EXPECT_EQ(next.server_tick() - next.snapshot().baseline_age(), ticks[2]);
+  EXPECT_TRUE(decoder.decode(next.snapshot()).ok);
+}
+
 TEST_F(MatchFixture, InputsMoveThePlayerAndTheAppliedSequenceIsEchoed) {
   const std::uint32_t ann = join(11, "ann");
   advance(kMicrosPerSecond / 4);

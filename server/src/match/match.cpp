@@ -51,8 +51,7 @@ std::variant<Match, std::string> Match::create(const MatchConfig& config, const 
   if (std::string error = spec.validate(); !error.empty()) {
     return "match quantization (with the bounds of map " + map.name + "): " + error;
   }
-  physics::Result<physics::World> world =
-      physics::World::create(combat_world_def());
+  physics::Result<physics::World> world = physics::World::create(combat_world_def());
   if (!world.ok()) return "physics world: " + world.error().message;
   if (const physics::Status added = add_map_to_world(map, world.value()); !added.ok()) {
     return "map " + map.name + ": " + added.error().message;
@@ -124,6 +123,7 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
     player->inputs.reset();
     player->applied = PlayerInput{};
     player->snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
+    player->snapshot_ack = 0;
     drop_pending_events(account);  // meant for the old connection
     ++counters_.players_reconnected;
     record_event(RecordedEvent{RecordedEventKind::Connect, account, std::string(name), 0});
@@ -148,8 +148,9 @@ std::variant<Joined, JoinRefusal> Match::connect(std::uint64_t account, std::str
   player.snapshots = std::make_unique<proto::SnapshotEncoder>(config_.quantization);
   player.team = balanced_team();
   // A player coming back after leaving keeps what it scored.
-  const auto before = std::find_if(departed_.begin(), departed_.end(),
-                                   [account](const PlayerScore& s) { return s.account == account; });
+  const auto before =
+      std::find_if(departed_.begin(), departed_.end(),
+                   [account](const PlayerScore& s) { return s.account == account; });
   if (before != departed_.end()) {
     player.score = *before;
     departed_.erase(before);
@@ -180,6 +181,7 @@ void Match::disconnect(std::uint64_t account, proto::TimeUs now) {
   player->inputs.reset();  // the entity stands still while away
   player->applied = PlayerInput{};
   player->snapshots.reset();
+  player->snapshot_ack = 0;
   drop_pending_events(account);
 }
 
@@ -272,7 +274,8 @@ void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload
     ++player->inputs_in_window;
     player->inputs.offer(input, counters_.input_drops);
   }
-  if (message.ack_snapshot_tick() != 0) player->snapshots->acknowledge(message.ack_snapshot_tick());
+  // Only the newest acknowledgement counts (SnapshotEncoder::acknowledge ignores older ones).
+  player->snapshot_ack = std::max(player->snapshot_ack, message.ack_snapshot_tick());
 }
 
 void Match::set_latency(std::uint64_t account, proto::TimeUs one_way_us) {
@@ -420,17 +423,16 @@ Match::Player* Match::find_entity(std::uint32_t entity_id) {
 std::vector<PlayerScore> Match::scoreboard() const {
   std::vector<PlayerScore> out = departed_;
   for (const Player& player : players_) out.push_back(player.score);
-  std::sort(out.begin(), out.end(), [](const PlayerScore& a, const PlayerScore& b) {
-    return a.entity_id < b.entity_id;
-  });
+  std::sort(out.begin(), out.end(),
+            [](const PlayerScore& a, const PlayerScore& b) { return a.entity_id < b.entity_id; });
   return out;
 }
 
 std::optional<Match::PlayerView> Match::player_view(std::uint64_t account) const {
   const Player* player = find(account);
   if (!player) return std::nullopt;
-  return PlayerView{player->vitals, player->alive, player->team, player->weapon, player->ammo,
-                    player->violations};
+  return PlayerView{player->vitals, player->alive, player->team,
+                    player->weapon, player->ammo,  player->violations};
 }
 
 std::optional<std::uint32_t> Match::entity_of(std::uint64_t account) const {

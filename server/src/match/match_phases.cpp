@@ -3,6 +3,7 @@
 /// combat and recording phases have their own files.
 
 #include <cassert>
+#include <utility>
 
 #include "ricochet/server/match.h"
 
@@ -139,6 +140,8 @@ void Match::build_snapshots() {
     AddressedPayload& addressed = payloads_[payload_count_++];
     addressed.account = player.account;
     wire::ServerPayload& payload = addressed.payload;
+    if (player.snapshot_ack != 0)
+      player.snapshots->acknowledge(std::exchange(player.snapshot_ack, 0));
     player.snapshots->encode(tick_, quantized_, to_array(player.position_m),
                              config_.snapshot_budget_bytes - kPayloadOverheadBytes,
                              *payload.mutable_snapshot(), snapshot_cache_);

@@ -650,7 +650,7 @@ void Bot::tick() {
   wire::Input input = brain_.decide(seen, feed_->status(), now_s);
   if (input.weapon_slot() != 0) ++metrics_.weapon_switches;
   if (rendered_) rendered_->stamp(input);
-  const std::string bytes = feed_->write_payload(std::move(input));
+  const std::string& bytes = feed_->write_payload(std::move(input));
   if (rendered_) rendered_->on_input(feed_->inputs().unacknowledged().back());
   if (game->send(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
                  now)) {

@@ -54,15 +54,15 @@ std::optional<wire::GameEvent> GameFeed::read_event(std::span<const std::uint8_t
   return event;
 }
 
-std::string GameFeed::write_payload(wire::Input input) {
+const std::string& GameFeed::write_payload(wire::Input input) {
   // Unless the caller rendered something else (rendered_view.h), the bot shows the newest
   // snapshot as is: that is the view lag compensation rewinds to.
   if (input.view_tick() == 0) input.set_view_tick(view_.tick());
   inputs_.push(std::move(input));
-  wire::ClientPayload payload;
-  inputs_.fill(payload);
-  payload.set_ack_snapshot_tick(decoder_.has_snapshot() ? decoder_.newest_tick() : 0);
-  return payload.SerializeAsString();
+  inputs_.fill(payload_);
+  payload_.set_ack_snapshot_tick(decoder_.has_snapshot() ? decoder_.newest_tick() : 0);
+  payload_.SerializeToString(&payload_bytes_);
+  return payload_bytes_;
 }
 
 }  // namespace ricochet::bot

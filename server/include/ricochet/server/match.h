@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -26,8 +27,6 @@
 #include <string_view>
 #include <variant>
 #include <vector>
-
-#include <functional>
 
 #include "ricochet/physics/world.h"
 #include "ricochet/proto/clock.h"
@@ -104,7 +103,7 @@ struct MatchCounters {
   std::uint64_t players_left = 0;
   std::uint64_t players_timed_out = 0;
   std::uint64_t chat_messages = 0;
-  std::uint64_t shots_fired = 0;       ///< rifle rays, rockets and grenades
+  std::uint64_t shots_fired = 0;  ///< rifle rays, rockets and grenades
   std::uint64_t lag_compensated_shots = 0;
   std::uint64_t view_claims_clamped = 0;  ///< Input.view_tick outside the trusted window
   std::uint64_t hits = 0;                 ///< damage events on players
@@ -243,15 +242,18 @@ class Match {
     InputBuffer inputs;
     PlayerInput applied;                                ///< this step's input
     std::unique_ptr<proto::SnapshotEncoder> snapshots;  ///< per connection, none while away
-    proto::TimeUs latency_us = 0;                       ///< one way
+    /// The newest snapshot tick the client acknowledged since the last snapshot (0: none),
+    /// handed to `snapshots` when the next one is built: the encoder stays cold between ticks.
+    std::uint32_t snapshot_ack = 0;
+    proto::TimeUs latency_us = 0;  ///< one way
 
     // --- the game ---
     Team team = Team::None;
     Vitals vitals;
     bool alive = true;
-    std::uint32_t life = 0;             ///< bumps at every spawn (lag compensation)
-    std::uint32_t respawn_tick = 0;     ///< while dead
-    std::uint32_t protected_until = 0;  ///< no damage before this tick
+    std::uint32_t life = 0;                            ///< bumps at every spawn (lag compensation)
+    std::uint32_t respawn_tick = 0;                    ///< while dead
+    std::uint32_t protected_until = 0;                 ///< no damage before this tick
     physics::Vec3 position_m = physics::Vec3::Zero();  ///< after the last step (or at death)
     physics::Vec3 velocity_mps = physics::Vec3::Zero();
     WeaponKind weapon = WeaponKind::Rifle;
@@ -271,8 +273,8 @@ class Match {
     WeaponKind weapon = WeaponKind::RocketLauncher;
     std::uint32_t owner_entity = 0;
     Team owner_team = Team::None;
-    physics::ProjectileId rocket;  ///< a rocket's
-    physics::BodyId grenade;       ///< a grenade's
+    physics::ProjectileId rocket;    ///< a rocket's
+    physics::BodyId grenade;         ///< a grenade's
     std::uint32_t expires_tick = 0;  ///< fuse (grenade) or longest flight (rocket)
     physics::Vec3 position_m = physics::Vec3::Zero();
     physics::Vec3 velocity_mps = physics::Vec3::Zero();
@@ -368,10 +370,10 @@ class Match {
   int snapshot_interval_ticks_ = 1;
   int ticks_since_snapshot_ = 0;
   std::uint32_t next_entity_id_ = 1;
-  std::vector<Player> players_;            ///< sorted by entity id
-  std::vector<PlayerScore> departed_;      ///< scores of players who left while running
-  std::vector<Projectile> projectiles_;    ///< sorted by entity id
-  std::vector<PickupState> pickups_;       ///< the map's, in order
+  std::vector<Player> players_;          ///< sorted by entity id
+  std::vector<PlayerScore> departed_;    ///< scores of players who left while running
+  std::vector<Projectile> projectiles_;  ///< sorted by entity id
+  std::vector<PickupState> pickups_;     ///< the map's, in order
   MatchPhase phase_ = MatchPhase::Waiting;
   std::uint32_t phase_started_tick_ = 0;
   std::uint32_t phase_ends_tick_ = 0;  ///< 0: open-ended
@@ -383,12 +385,12 @@ class Match {
   std::vector<ExplosionTarget> explosion_targets_;
   std::vector<ExplosionEffect> explosion_effects_;
   std::vector<std::uint32_t> explosion_entities_;  ///< entity of each explosion target
-  std::vector<HistoryEntry> history_;      ///< ring by tick % history_ticks
-  std::vector<physics::BodyId> body_ids_;  ///< scratch for World::read_bodies
+  std::vector<HistoryEntry> history_;              ///< ring by tick % history_ticks
+  std::vector<physics::BodyId> body_ids_;          ///< scratch for World::read_bodies
   std::vector<physics::Vec3> positions_, velocities_;
-  std::vector<proto::QuantizedEntity> quantized_;  ///< this snapshot's world
-  proto::SnapshotEncodeCache snapshot_cache_;      ///< shared by the clients' encoders per tick
-  std::vector<RecordedInput> step_inputs_;         ///< this step's, for the recording
+  std::vector<proto::QuantizedEntity> quantized_;     ///< this snapshot's world
+  proto::SnapshotEncodeCache snapshot_cache_;         ///< shared by the clients' encoders per tick
+  std::vector<RecordedInput> step_inputs_;            ///< this step's, for the recording
   std::vector<RecordedEvent> pending_record_events_;  ///< since the last step
   std::unique_ptr<RecordingWriter> recording_;
   struct AddressedPayload {

@@ -39,8 +39,9 @@ class GameFeed {
   std::optional<wire::GameEvent> read_event(std::span<const std::uint8_t> bytes);
   /// The ClientPayload to send this tick: `input` numbered next, with the newest few before it
   /// and the newest snapshot tick decoded as the acknowledgement. An input without a view_tick
-  /// claims the newest snapshot's tick.
-  std::string write_payload(wire::Input input);
+  /// claims the newest snapshot's tick. Valid until the next call: the message and its bytes
+  /// are kept from tick to tick, so writing one allocates nothing.
+  const std::string& write_payload(wire::Input input);
 
   const WorldView& view() const { return view_; }
   const wire::PlayerStatus& status() const { return status_; }
@@ -55,6 +56,8 @@ class GameFeed {
   WorldView view_;
   SnapshotGapCounter gaps_;
   InputHistory inputs_;
+  wire::ClientPayload payload_;  ///< write_payload's, reused
+  std::string payload_bytes_;
   wire::PlayerStatus status_;
   std::uint32_t own_entity_id_ = 0;
   FeedCounts counts_;

@@ -9,11 +9,11 @@
 /// show()s the interpolated others and the predicted own player instead.
 
 #include <array>
+#include <boost/unordered/unordered_flat_map.hpp>
 #include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -87,7 +87,7 @@ class WorldView {
   const SeenEntity* nearest_enemy() const;
   /// Where players were seen to spawn (walkable places), m, at most kMaxSpawnPoints.
   const std::vector<Vec3>& spawn_points() const { return spawn_points_; }
-  const std::unordered_map<std::uint32_t, KnownPickup>& pickups() const { return pickups_; }
+  const boost::unordered_flat_map<std::uint32_t, KnownPickup>& pickups() const { return pickups_; }
   wire::MatchPhase phase() const { return phase_; }
   const proto::SnapshotBounds& bounds() const { return spec_.bounds; }
 
@@ -99,9 +99,10 @@ class WorldView {
   std::uint32_t tick_ = 0;
   std::uint32_t own_id_ = 0;
   std::vector<SeenEntity> entities_;
-  std::unordered_map<std::uint32_t, wire::Team> teams_;  ///< by entity, from Spawned
+  // Open addressing: nearest_enemy looks teams up for every player of every snapshot.
+  boost::unordered_flat_map<std::uint32_t, wire::Team> teams_;  ///< by entity, from Spawned
   std::vector<Vec3> spawn_points_;
-  std::unordered_map<std::uint32_t, KnownPickup> pickups_;  ///< by the map's pickup index
+  boost::unordered_flat_map<std::uint32_t, KnownPickup> pickups_;  ///< by the map's pickup index
   wire::MatchPhase phase_ = wire::MATCH_PHASE_UNSPECIFIED;
 };
 
