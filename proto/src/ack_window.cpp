@@ -1,5 +1,6 @@
 #include "ricochet/proto/ack_window.h"
 
+#include <algorithm>
 #include <bit>
 
 namespace ricochet::proto {
@@ -7,11 +8,12 @@ namespace ricochet::proto {
 void SentPacketWindow::on_sent(std::uint64_t sequence, TimeUs now,
                                std::vector<std::uint16_t> reliable_ids) {
   const std::size_t slot = sequence % kSize;
-  Entry& entry = entries_[slot];
-  entry.sequence = sequence;
-  entry.sent_at = now;
-  entry.reliable_ids = std::move(reliable_ids);
+  entries_[slot] = {static_cast<std::uint32_t>(sequence), static_cast<std::uint32_t>(now)};
   awaiting_[slot / 64] |= std::uint64_t{1} << (slot % 64);
+  written_[slot / 64] |= std::uint64_t{1} << (slot % 64);
+  // What left the window can no longer be acked: its messages are the resender's business.
+  std::erase_if(carried_, [&](const Carried& c) { return c.sequence + kSize <= sequence; });
+  if (!reliable_ids.empty()) carried_.push_back({sequence, std::move(reliable_ids)});
 }
 
 void SentPacketWindow::on_ack(const AckHeader& ack, std::uint64_t next_sequence, TimeUs now,
@@ -32,18 +34,28 @@ void SentPacketWindow::on_ack(const AckHeader& ack, std::uint64_t next_sequence,
 }
 
 bool SentPacketWindow::acked(std::uint64_t sequence) const {
-  return entries_[sequence % kSize].sequence == sequence && !awaiting(sequence % kSize);
+  const std::size_t slot = sequence % kSize;
+  return test(written_, slot) && !test(awaiting_, slot) &&
+         entries_[slot].sequence_low == static_cast<std::uint32_t>(sequence);
 }
 
 void SentPacketWindow::acknowledge(std::uint64_t sequence, TimeUs now,
                                    std::vector<std::uint16_t>& acked_ids) {
   const std::size_t slot = sequence % kSize;
-  if (!awaiting(slot)) return;
-  Entry& entry = entries_[slot];
-  if (entry.sequence != sequence) return;
+  if (!test(awaiting_, slot)) return;
+  const Entry& entry = entries_[slot];
+  if (entry.sequence_low != static_cast<std::uint32_t>(sequence)) return;
   awaiting_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
-  acked_ids.insert(acked_ids.end(), entry.reliable_ids.begin(), entry.reliable_ids.end());
-  const TimeUs sample = now - entry.sent_at;
+  if (!carried_.empty()) {
+    const auto carried = std::find_if(carried_.begin(), carried_.end(),
+                                      [&](const Carried& c) { return c.sequence == sequence; });
+    if (carried != carried_.end()) {
+      acked_ids.insert(acked_ids.end(), carried->reliable_ids.begin(), carried->reliable_ids.end());
+      carried_.erase(carried);
+    }
+  }
+  const TimeUs sample =
+      static_cast<std::uint32_t>(static_cast<std::uint32_t>(now) - entry.sent_at_low);
   rtt_us_ = rtt_us_ == 0 ? sample : rtt_us_ + (sample - rtt_us_) / 8;
 }
 

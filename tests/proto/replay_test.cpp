@@ -121,6 +121,37 @@ TEST(SentPacketWindow, AckAcrossThe16BitWrapAcknowledgesTheRightPackets) {
   EXPECT_TRUE(ids.empty()) << "acked once only";
 }
 
+// Entries keep the low 32 bits of the send time: a round trip across a multiple of 2^32 µs
+// (every 71 minutes of uptime) still measures what it took.
+TEST(SentPacketWindow, RoundTripAcrossThe32BitClockWrapIsExact) {
+  SentPacketWindow sent;
+  const TimeUs sent_at = (TimeUs{1} << 32) * 3 - 40;
+  sent.on_sent(7, sent_at, {});
+  std::vector<std::uint16_t> ids;
+  sent.on_ack({7, 0}, 8, sent_at + 100, ids);
+  EXPECT_TRUE(sent.acked(7));
+  EXPECT_EQ(sent.rtt_us(), 100);
+}
+
+// The reliable messages of a packet pushed out of the window unacked are not reported by any
+// later ack (the resender sends them again); those of packets in the window are, once each.
+TEST(SentPacketWindow, ReliableIdsLeaveWithTheirPacketsWindow) {
+  SentPacketWindow sent;
+  sent.on_sent(0, 0, {11});
+  sent.on_sent(1, 0, {12, 13});
+  for (std::uint64_t sequence = 2; sequence < 2 + SentPacketWindow::kSize; ++sequence) {
+    sent.on_sent(sequence, 0, {});
+  }
+  std::vector<std::uint16_t> ids;
+  const std::uint64_t next = 2 + SentPacketWindow::kSize;
+  sent.on_ack({static_cast<std::uint16_t>(next - 1), 0xFFFFFFFF}, next, 10, ids);
+  EXPECT_TRUE(ids.empty()) << "packets 0 and 1 left the window";
+  sent.on_sent(next, 0, {21});
+  sent.on_sent(next + 1, 0, {22});
+  sent.on_ack({static_cast<std::uint16_t>(next + 1), 0b1}, next + 2, 20, ids);
+  EXPECT_EQ(ids, (std::vector<std::uint16_t>{22, 21}));
+}
+
 TEST(SentPacketWindow, AckOfASequenceNeverSentIsIgnored) {
   SentPacketWindow sent;
   std::vector<std::uint16_t> ids;
