@@ -237,7 +237,7 @@ void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload
   };
   Player* player = find(account);
   if (!player || !player->connected) return drop(InputDrop::UnknownPlayer);
-  wire::ClientPayload message;
+  wire::ClientPayload& message = incoming_;
   if (payload.size() > kMaxClientPayloadBytes ||
       !message.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
     return drop(InputDrop::MalformedPayload);

@@ -9,7 +9,7 @@ GameFeed::GameFeed(const proto::QuantizationSpec& spec, double ticks_per_snapsho
     : decoder_(spec), view_(spec), gaps_(ticks_per_snapshot), log_name_(std::move(log_name)) {}
 
 bool GameFeed::read_payload(std::span<const std::uint8_t> bytes) {
-  wire::ServerPayload payload;
+  wire::ServerPayload& payload = incoming_;
   if (!payload.ParseFromArray(bytes.data(), static_cast<int>(bytes.size()))) {
     ++counts_.bad_payloads;
     spdlog::debug("{}: a payload of {} bytes is not a ServerPayload", log_name_, bytes.size());

@@ -388,6 +388,9 @@ class Match {
   std::vector<HistoryEntry> history_;              ///< ring by tick % history_ticks
   std::vector<physics::BodyId> body_ids_;          ///< scratch for World::read_bodies
   std::vector<physics::Vec3> positions_, velocities_;
+  /// The payload receive() parses into, kept: parsing clears it but keeps its inputs'
+  /// messages, so a payload allocates nothing.
+  wire::ClientPayload incoming_;
   std::vector<proto::QuantizedEntity> quantized_;     ///< this snapshot's world
   proto::SnapshotEncodeCache snapshot_cache_;         ///< shared by the clients' encoders per tick
   std::vector<RecordedInput> step_inputs_;            ///< this step's, for the recording
