@@ -3,6 +3,7 @@
 #include "connection.h"
 #include "ricochet/proto/packet.h"
 #include "ricochet/proto/transport_states.h"
+#include "transmit_queue.h"
 
 namespace ricochet::proto {
 struct GameClient::State {
@@ -15,7 +16,7 @@ struct GameClient::State {
   std::vector<std::uint8_t> request;       ///< the same bytes every time
   TimeUs last_handshake_send = 0;
   TimeUs handshake_deadline = 0;
-  std::deque<Transmit> transmits;
+  TransmitQueue transmits;
   std::deque<ClientEvent> events;
   TransportCounters counters;
 
@@ -34,9 +35,17 @@ struct GameClient::State {
     if (config.log.on_drop) config.log.on_drop(drop_reason, from);
   }
   void send(std::vector<std::uint8_t> bytes) {
+    count_sent(bytes.size());
+    transmits.push(info.server, std::move(bytes));
+  }
+  void send_payload(std::span<const std::uint8_t> unreliable, TimeUs now) {
+    std::vector<std::uint8_t>& packet = transmits.push(info.server);
+    connection.make_payload(unreliable, now, packet);
+    count_sent(packet.size());
+  }
+  void count_sent(std::size_t bytes) {
     ++counters.packets_out;
-    counters.bytes_out += bytes.size();
-    transmits.push_back({info.server, std::move(bytes)});
+    counters.bytes_out += bytes;
   }
   void enter(ConnectionState to, std::string_view why) {
     if (config.log.on_transition) config.log.on_transition({info.server, 0, state, to, why});
@@ -174,7 +183,7 @@ void GameClient::update(TimeUs now) {
     case ConnectionState::Connected:
       if (s.connection.timed_out(now)) return s.end(DisconnectReason::TimedOut);
       if (s.connection.reliable_due(now)) {
-        s.send(s.connection.make_payload({}, now));
+        s.send_payload({}, now);
       } else if (s.connection.keep_alive_due(now)) {
         s.send(s.connection.make_keep_alive(now));
       }
@@ -186,10 +195,7 @@ void GameClient::update(TimeUs now) {
 }
 
 bool GameClient::poll_transmit(Transmit& out) {
-  if (state_->transmits.empty()) return false;
-  out = std::move(state_->transmits.front());
-  state_->transmits.pop_front();
-  return true;
+  return state_->transmits.pop(out);
 }
 
 bool GameClient::poll_event(ClientEvent& out) {
@@ -203,7 +209,7 @@ bool GameClient::send_unreliable(std::span<const std::uint8_t> payload, TimeUs n
   if (state_->state != ConnectionState::Connected || payload.size() > kMaxUnreliableBytes) {
     return false;
   }
-  state_->send(state_->connection.make_payload(payload, now));
+  state_->send_payload(payload, now);
   return true;
 }
 

@@ -60,6 +60,29 @@ TEST_F(TransportTest, ReliableMessagesQueuedBeforeConnectingAreSentOnceConnected
   EXPECT_EQ(std::get<ServerReliable>(events[1]).bytes, (std::vector<std::uint8_t>{'h', 'i'}));
 }
 
+// As the server end's: a kept Transmit gets back, two payloads later, the buffer it handed in,
+// and every packet still reaches the server with its own bytes.
+TEST_F(TransportTest, TheClientsPolledTransmitsHandTheirBuffersBack) {
+  auto alice = connected_client(1, kAlice, kT0);
+  server_events();
+  server_out();
+  Transmit kept;
+  std::vector<const std::uint8_t*> buffers;
+  for (std::uint8_t n = 1; n <= 5; ++n) {
+    ASSERT_TRUE(alice->send_unreliable(std::vector<std::uint8_t>(40, n), kT0));
+    ASSERT_TRUE(alice->poll_transmit(kept));
+    EXPECT_FALSE(alice->poll_transmit(kept));
+    buffers.push_back(kept.bytes.data());
+    server->receive(kAlice, kept.bytes, kT0);
+    auto events = server_events();
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(std::get<ServerUnreliable>(events[0]).bytes, std::vector<std::uint8_t>(40, n));
+  }
+  EXPECT_EQ(buffers[2], buffers[0]);
+  EXPECT_EQ(buffers[3], buffers[1]);
+  EXPECT_NE(buffers[0], buffers[1]);
+}
+
 TEST_F(TransportTest, DisconnectBeforeConnectingSendsNothing) {
   GameClient client(sim::connect_info(3, 1, kT0), kT0);
   client_out(client);

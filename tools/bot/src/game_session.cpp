@@ -203,12 +203,11 @@ void GameSession::transmit(std::span<const std::uint8_t> bytes) {
 }
 
 void GameSession::send_queued(proto::TimeUs now) {
-  proto::Transmit out;
-  while (!closed_ && client_.poll_transmit(out)) {
+  while (!closed_ && client_.poll_transmit(outgoing_)) {
     if (up_) {
-      up_->send(std::move(out.bytes), now);
+      up_->send(std::move(outgoing_.bytes), now);
     } else {
-      transmit(out.bytes);
+      transmit(outgoing_.bytes);  // copied out: the buffer goes back to the client next poll
     }
   }
 }

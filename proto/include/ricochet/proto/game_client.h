@@ -59,6 +59,8 @@ class GameClient {
   void receive(const Address& from, std::span<const std::uint8_t> datagram, TimeUs now);
   /// Resends the request or response, keep-alives, reliable resends, timeouts.
   void update(TimeUs now);
+  /// The next datagram to send into `out`; the client keeps `out`'s previous buffer for a later
+  /// datagram (as GameServer::poll_transmit does).
   bool poll_transmit(Transmit& out);
   bool poll_event(ClientEvent& out);
 

@@ -92,6 +92,7 @@ class GameSession : public std::enable_shared_from_this<GameSession> {
   boost::asio::ip::address_v4 shared_address_;  ///< this session's source on shared_port_
   boost::asio::ip::udp::endpoint server_;
   proto::GameClient client_;
+  proto::Transmit outgoing_;  ///< polled into and kept, so its buffer is reused
   EventHandler on_event_;
   std::array<std::uint8_t, 2048> buffer_{};
   std::uint16_t local_port_ = 0;
