@@ -41,9 +41,11 @@ class TransmitQueue {
   bool empty() const { return head_ == tail_; }
 
  private:
-  /// Slots kept when the queue empties: more than a burst of every client's packet, and a
-  /// larger burst (disconnect_all's copies) does not pin its memory.
-  static constexpr std::size_t kSlotsKept = 2048;
+  /// Slots kept when the queue empties: a packet for each of the most clients a server takes
+  /// (GameServerConfig::max_clients ≤ 4096, one update's keep-alives), so that steady traffic
+  /// never shrinks and regrows the queue; a larger burst (disconnect_all's copies) does not pin
+  /// its memory.
+  static constexpr std::size_t kSlotsKept = 4096;
 
   Transmit& next_slot(const Address& to) {
     if (tail_ == slots_.size()) slots_.emplace_back();
