@@ -9,8 +9,8 @@ void SentPacketWindow::on_sent(std::uint64_t sequence, TimeUs now,
                                std::vector<std::uint16_t> reliable_ids) {
   const std::size_t slot = sequence % kSize;
   entries_[slot] = {static_cast<std::uint32_t>(sequence), static_cast<std::uint32_t>(now)};
-  awaiting_[slot / 64] |= std::uint64_t{1} << (slot % 64);
-  written_[slot / 64] |= std::uint64_t{1} << (slot % 64);
+  set(awaiting_, slot);
+  set(written_, slot);
   // What left the window can no longer be acked: its messages are the resender's business.
   std::erase_if(carried_, [&](const Carried& c) { return c.sequence + kSize <= sequence; });
   if (!reliable_ids.empty()) carried_.push_back({sequence, std::move(reliable_ids)});
@@ -45,7 +45,7 @@ void SentPacketWindow::acknowledge(std::uint64_t sequence, TimeUs now,
   if (!test(awaiting_, slot)) return;
   const Entry& entry = entries_[slot];
   if (entry.sequence_low != static_cast<std::uint32_t>(sequence)) return;
-  awaiting_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
+  clear(awaiting_, slot);
   if (!carried_.empty()) {
     const auto carried = std::find_if(carried_.begin(), carried_.end(),
                                       [&](const Carried& c) { return c.sequence == sequence; });
@@ -54,8 +54,7 @@ void SentPacketWindow::acknowledge(std::uint64_t sequence, TimeUs now,
       carried_.erase(carried);
     }
   }
-  const TimeUs sample =
-      static_cast<std::uint32_t>(static_cast<std::uint32_t>(now) - entry.sent_at_low);
+  const std::uint32_t sample = static_cast<std::uint32_t>(now) - entry.sent_at_low;  // mod 2^32
   rtt_us_ = rtt_us_ == 0 ? sample : rtt_us_ + (sample - rtt_us_) / 8;
 }
 

@@ -46,6 +46,12 @@ class SentPacketWindow {
   static bool test(const Bits& bits, std::size_t slot) {
     return (bits[slot / 64] >> (slot % 64)) & 1;
   }
+  static void set(Bits& bits, std::size_t slot) {
+    bits[slot / 64] |= std::uint64_t{1} << (slot % 64);
+  }
+  static void clear(Bits& bits, std::size_t slot) {
+    bits[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
+  }
   void acknowledge(std::uint64_t sequence, TimeUs now, std::vector<std::uint16_t>& acked_ids);
 
   std::array<Entry, kSize> entries_{};
