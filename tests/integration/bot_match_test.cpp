@@ -3,10 +3,12 @@
 // ricochet_bot plays it over real sockets. Every wait is bounded; the tests assert outcomes
 // (results, the database, exit codes), never speeds.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -15,8 +17,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <sys/wait.h>
 
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
@@ -90,7 +90,8 @@ std::pair<int, std::string> replay(const std::filesystem::path& file) {
   if (!pipe) return {-1, "popen failed"};
   std::string output;
   char chunk[4096];
-  while (const std::size_t size = std::fread(chunk, 1, sizeof chunk, pipe)) output.append(chunk, size);
+  while (const std::size_t size = std::fread(chunk, 1, sizeof chunk, pipe))
+    output.append(chunk, size);
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
@@ -226,7 +227,8 @@ TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
   // The match's recording (the one match played: the next of the rotation, which nobody
   // joined, keeps none) replays bit-exactly with ricochet-replay, to the same scores.
   std::vector<std::filesystem::path> recordings;
-  for (const auto& entry : std::filesystem::directory_iterator(server.dir() / "data" / "recordings")) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(server.dir() / "data" / "recordings")) {
     if (entry.path().extension() == ".rcr") recordings.push_back(entry.path());
   }
   ASSERT_EQ(recordings.size(), 1u);
@@ -236,7 +238,8 @@ TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
   EXPECT_NE(json.find("\"hashes_differing\":0,"), std::string::npos) << json;
   EXPECT_EQ(json.find("\"hashes_checked\":0,"), std::string::npos) << json;
   for (const auto& each : fleet.bots()) {
-    const wire::PlayerMatchResult* mine = result_of(each->record().results.at(0), each->record().account_id);
+    const wire::PlayerMatchResult* mine =
+        result_of(each->record().results.at(0), each->record().account_id);
     ASSERT_NE(mine, nullptr);
     EXPECT_EQ(replay_score(json, each->record().account_id, "kills"), mine->kills()) << json;
     EXPECT_EQ(replay_score(json, each->record().account_id, "deaths"), mine->deaths()) << json;
@@ -275,18 +278,31 @@ TEST(BotMatch, ABotThatReconnectsFromAnotherPortKeepsItsScore) {
   ASSERT_GE(record.entity_ids.size(), 2u);
   for (const std::uint32_t entity : record.entity_ids) EXPECT_EQ(entity, record.entity_ids[0]);
   // On each arrival after the first, the server's score for the entity is what the bot had
-  // counted from the Kill events before it moved.
+  // counted from the Kill events before it moved, plus any Kill events that went with the old
+  // connection (sent to it but not yet received when the bot moved: the reliable stream is per
+  // connection, and the arrival's scoreboard is the server's word). Each such event adds a kill
+  // or a death and moves the score by one; the bot counts the arrivals where that happened.
   ASSERT_GE(record.arrivals.size(), 2u);
+  int arrivals_differing = 0;
   for (std::size_t i = 1; i < record.arrivals.size(); ++i) {
     const bot::BotRecord::Arrival& arrival = record.arrivals[i];
     const wire::PlayerScore* score = score_of(arrival.state, record.entity_ids[0]);
     ASSERT_NE(score, nullptr) << "arrival " << i << ": " << arrival.state.DebugString();
-    EXPECT_EQ(score->kills(), arrival.kills_counted) << "arrival " << i;
-    EXPECT_EQ(score->deaths(), arrival.deaths_counted) << "arrival " << i;
-    EXPECT_EQ(score->score(), arrival.score_counted) << "arrival " << i;
+    const int missed_kills = score->kills() - arrival.kills_counted;
+    const int missed_deaths = score->deaths() - arrival.deaths_counted;
+    EXPECT_GE(missed_kills, 0) << "arrival " << i;
+    EXPECT_GE(missed_deaths, 0) << "arrival " << i;
+    EXPECT_LE(std::abs(score->score() - arrival.score_counted), missed_kills + missed_deaths)
+        << "arrival " << i;
+    if (missed_kills != 0 || missed_deaths != 0 || score->score() != arrival.score_counted) {
+      ++arrivals_differing;
+    }
     std::cout << "[ figures  ] arrival " << i << ": kills " << score->kills() << ", deaths "
-              << score->deaths() << ", score " << score->score() << std::endl;
+              << score->deaths() << ", score " << score->score() << "; counted "
+              << arrival.kills_counted << ", " << arrival.deaths_counted << ", "
+              << arrival.score_counted << std::endl;
   }
+  EXPECT_EQ(mover.metrics().score_resyncs, arrivals_differing);
   // The results count the whole match, across the moves.
   ASSERT_EQ(record.results.size(), 1u);
   EXPECT_FALSE(record.results[0].aborted());
@@ -386,8 +402,8 @@ TEST(BotMatch, ABotOnABadLinkStillPlaysWithABoundedPredictionError) {
   auto tls = bot::make_control_tls_context();
   auto trust = bot::ServerTrust::pinned(server.fingerprint());
   bot::BotConfig mobile_config = bot_config(server, "mobile");
-  mobile_config.link = {.latency_ms = 150, .jitter_ms = 50, .loss = 0.2, .duplicate = 0,
-                        .reorder = 0};
+  mobile_config.link = {
+      .latency_ms = 150, .jitter_ms = 50, .loss = 0.2, .duplicate = 0, .reorder = 0};
   mobile_config.skill = 1;
   std::vector<std::unique_ptr<bot::Bot>> bots;
   bots.push_back(std::make_unique<bot::Bot>(io, tls, trust, mobile_config));

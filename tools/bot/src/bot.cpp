@@ -538,6 +538,7 @@ void Bot::on_reliable(std::span<const std::uint8_t> bytes) {
         arrived_ = true;
         record_.arrivals.push_back({entity_recorded_ ? own_entity_id_ : 0, event.match_state(),
                                     match_kills_, match_deaths_, score_counted_});
+        adopt_scores(event.match_state());
       }
       break;
     }
@@ -553,6 +554,28 @@ void Bot::on_reliable(std::span<const std::uint8_t> bytes) {
       break;
     default:
       break;
+  }
+}
+
+void Bot::adopt_scores(const wire::MatchState& state) {
+  if (phase_ != wire::MATCH_PHASE_RUNNING || own_entity_id_ == 0) return;
+  for (const wire::PlayerScore& score : state.scores()) {
+    if (score.entity_id() != own_entity_id_) continue;
+    const int missed_kills = score.kills() - match_kills_;
+    const int missed_deaths = score.deaths() - match_deaths_;
+    if (missed_kills == 0 && missed_deaths == 0 && score.score() == score_counted_) return;
+    // Kill events sent to the old connection and not yet received went with it (the reliable
+    // stream is per connection); the arrival's scoreboard is the server's word.
+    ++metrics_.score_resyncs;
+    spdlog::info("bot {}: arrival scores kills {} deaths {} score {}, counted {} {} {}",
+                 config_.name, score.kills(), score.deaths(), score.score(), match_kills_,
+                 match_deaths_, score_counted_);
+    metrics_.kills += missed_kills;
+    metrics_.deaths += missed_deaths;
+    match_kills_ = score.kills();
+    match_deaths_ = score.deaths();
+    score_counted_ = score.score();
+    return;
   }
 }
 

@@ -55,7 +55,8 @@ struct BotRecord {
   /// The Kill events of the current (or last) match's running phase, as received.
   std::vector<wire::Kill> kills;
   /// Per game connection: the first MatchState after arrival (the server's scores) and what
-  /// the bot had counted itself from this match's Kill events until then.
+  /// the bot had counted from this match's Kill events until then (on top of the scores it took
+  /// at the arrival before, see BotMetrics::score_resyncs).
   struct Arrival {
     std::uint32_t entity_id = 0;  ///< the bot's entity on that connection (0: no payload yet)
     wire::MatchState state;       ///< the first MatchState of the connection
@@ -131,6 +132,8 @@ class Bot {
   void on_reliable(std::span<const std::uint8_t> bytes);
   /// Adds the current connection's counts (transport, feed) to `out`.
   void add_connection(BotMetrics& out, proto::TimeUs now) const;
+  /// On arrival: take the server's scores for our entity where they differ from our count.
+  void adopt_scores(const wire::MatchState& state);
   void on_kill(const wire::Kill& kill);
   void on_game_lost(proto::DisconnectReason reason);
   void close_game(bool tell_server);

@@ -44,8 +44,8 @@ struct BotMetrics {
   /// sent no snapshot for (a catch-up step) is not counted.
   std::uint64_t server_packets = 0;
   std::uint64_t server_packets_missing = 0;
-  std::vector<double> rtt_ms;        ///< the transport's smoothed round trip, one sample per second
-  double first_snapshot_ms = -1;     ///< from start() to the first decoded snapshot; -1: none
+  std::vector<double> rtt_ms;     ///< the transport's smoothed round trip, one sample per second
+  double first_snapshot_ms = -1;  ///< from start() to the first decoded snapshot; -1: none
   double last_reconnect_ms = -1;  ///< from losing the game channel to its next snapshot; -1: none
 
   // What the bot refused (untrusted input, counted and logged, never trusted).
@@ -62,7 +62,10 @@ struct BotMetrics {
   int kill_events = 0;  ///< every Kill event seen
   int hits_dealt = 0;   ///< Hit events with this bot as attacker
   int reconnects = 0;   ///< game connections after the first
-  int matches = 0;      ///< MatchResults received
+  /// Arrivals whose scoreboard differed from the bot's own count (Kill events that went with
+  /// an old connection); the bot took the server's figures.
+  int score_resyncs = 0;
+  int matches = 0;  ///< MatchResults received
   std::uint64_t inputs_sent = 0;
   std::uint64_t weapon_switches = 0;
 
@@ -71,7 +74,7 @@ struct BotMetrics {
   std::uint64_t prediction_resets = 0;     ///< re-seeds from the server (spawns, deaths, jumps)
   std::uint64_t prediction_replayed = 0;   ///< inputs replayed on corrections
   double own_travelled_m = 0;  ///< how far the server moved the bot's player (while predicting)
-  std::uint64_t worlds_refused = 0;        ///< join replies whose collision world was unusable
+  std::uint64_t worlds_refused = 0;  ///< join replies whose collision world was unusable
 
   // The network simulator (link_simulator.h), both directions.
   std::uint64_t sim_dropped = 0;
