@@ -19,10 +19,12 @@
 /// and 64 rewound players, interpolated between ticks): lag_shots_per_s_per_core.
 ///
 ///   match-bench [--players 16,32,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
-///               [--map server/maps/foundry.toml] [--record FILE] [--out FILE]
+///               [--map server/maps/foundry.toml] [--matches 1] [--record FILE] [--out FILE]
 ///               [--clock steady|thread-cpu] [--lag-shots 200000] [--ticks-out FILE] [--ticks-out FILE]
 /// --clock thread-cpu times the ticks by this thread's CPU time instead of the wall: the figure
 /// to quote from a machine shared with other work (JSON "clock" says which).
+/// --matches N ticks N matches in turn, as one server core does, and times every tick: a tick
+/// among 60 matches finds less of its state in the caches than a lone match's does.
 /// --record writes the last player count's recording to FILE (for ricochet-replay).
 /// --ticks-out appends one JSON line per measured tick to FILE: players, tick, ms, the phases,
 /// entities; where a tail comes from (a burst of new projectiles, a phase's spike).
@@ -77,6 +79,9 @@ struct Options {
   std::string ticks_out;         ///< one JSON line per measured tick, appended
   std::string clock = "steady";  ///< what times a tick: steady (wall) or thread-cpu
   int lag_shots = 200000;        ///< lag-compensated shots timed after the matches
+  /// Matches ticked in turn, as a server's core does: each evicts the others' state from the
+  /// caches, so a tick costs what it does among many matches rather than alone.
+  int matches = 1;
 };
 
 /// The scripted fighters: each strafes, aims at the nearest other living player (where the
@@ -164,7 +169,13 @@ double percentile(std::vector<double> sorted, double q) {
   return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(sorted.size() * q))];
 }
 
-std::string run(const server::Map& map, int players, const Options& options) {
+/// A match of the bench and what its owner keeps of it.
+struct BenchMatch {
+  server::Match match;
+  Fighters fighters;
+};
+
+server::Match create_match(const server::Map& map, int players, const Options& options) {
   server::MatchConfig config;
   config.max_players = players;
   config.tick.rate_hz = options.rate_hz;
@@ -189,7 +200,15 @@ std::string run(const server::Map& map, int players, const Options& options) {
     }
     match.set_latency(1000 + i, 30'000 + 1000 * (i % 40));
   }
-  Fighters fighters;
+  return match;
+}
+
+std::string run(const server::Map& map, int players, const Options& options) {
+  // Every match plays the same script, so each sends what the first does; the figures are over
+  // every match's ticks, the payload hash, kilobits, shots and the recording the first's.
+  std::vector<BenchMatch> benches;
+  for (int m = 0; m < options.matches; ++m) benches.push_back({create_match(map, players, options), {}});
+  server::Match& match = benches.front().match;
   const proto::TimeUs tick_us = proto::kMicrosPerSecond / options.rate_hz;
   const std::uint32_t ack_delay_ticks =
       static_cast<std::uint32_t>(options.ack_delay_ms * options.rate_hz / 1000);
@@ -205,36 +224,43 @@ std::string run(const server::Map& map, int players, const Options& options) {
   Fnv1a payload_hash;
   std::ofstream ticks_out;
   if (!options.ticks_out.empty()) ticks_out.open(options.ticks_out, std::ios::app);
+  const auto tick_clock_ns = options.clock == "thread-cpu" ? thread_cpu_ns : steady_ns;
   for (int t = 1; t <= warmup + ticks; ++t) {
     const proto::TimeUs now = t * tick_us;
-    const std::uint32_t ack = match.tick_number() > ack_delay_ticks ? match.tick_number() - ack_delay_ticks : 0;
-    // An interpolating client shows about two snapshots behind what it received.
-    const std::uint32_t view = ack > 2 ? ack - 2 : 0;
-    for (int i = 0; i < players; ++i) {
-      const std::string bytes = fighters.payload(match, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
-      match.receive(1000 + i, std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
-    }
-    const auto tick_clock_ns = options.clock == "thread-cpu" ? thread_cpu_ns : steady_ns;
-    const std::int64_t started = tick_clock_ns();
-    match.tick(now);
-    const double elapsed_ms = static_cast<double>(tick_clock_ns() - started) / 1e6;
-    std::uint64_t bytes = 0;
-    while (match.poll_outbox(outgoing)) {
-      if (!outgoing.reliable) bytes += outgoing.bytes.size();
-      payload_hash.add(outgoing.account);
-      payload_hash.add(outgoing.reliable ? 1 : 0);
-      for (const std::uint8_t byte : outgoing.bytes) payload_hash.add_byte(byte);
+    for (BenchMatch& bench : benches) {
+      server::Match& each = bench.match;
+      const bool first = &each == &match;
+      const std::uint32_t ack =
+          each.tick_number() > ack_delay_ticks ? each.tick_number() - ack_delay_ticks : 0;
+      // An interpolating client shows about two snapshots behind what it received.
+      const std::uint32_t view = ack > 2 ? ack - 2 : 0;
+      for (int i = 0; i < players; ++i) {
+        const std::string bytes = bench.fighters.payload(each, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
+        each.receive(1000 + i, std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+      }
+      const std::int64_t started = tick_clock_ns();
+      each.tick(now);
+      const double elapsed_ms = static_cast<double>(tick_clock_ns() - started) / 1e6;
+      std::uint64_t bytes = 0;
+      while (each.poll_outbox(outgoing)) {
+        if (!first) continue;
+        if (!outgoing.reliable) bytes += outgoing.bytes.size();
+        payload_hash.add(outgoing.account);
+        payload_hash.add(outgoing.reliable ? 1 : 0);
+        for (const std::uint8_t byte : outgoing.bytes) payload_hash.add_byte(byte);
+      }
+      if (t <= warmup) continue;
+      tick_ms.push_back(elapsed_ms);
+      sum += each.profile();
+      if (ticks_out) write_tick(ticks_out, players, t - warmup, elapsed_ms, each);
+      if (!first) continue;
+      payload_bytes += bytes;
+      for (const auto& state : each.entity_states()) projectiles += (state.flags & server::kEntityKindMask) != 0;
     }
     if (t == warmup) {
       shots_before = match.counters().shots_fired;
       kills_before = match.counters().kills;
     }
-    if (t <= warmup) continue;
-    tick_ms.push_back(elapsed_ms);
-    payload_bytes += bytes;
-    for (const auto& state : match.entity_states()) projectiles += (state.flags & server::kEntityKindMask) != 0;
-    sum += match.profile();
-    if (ticks_out) write_tick(ticks_out, players, t - warmup, elapsed_ms, match);
   }
   double total = 0;
   for (double ms : tick_ms) total += ms;
@@ -271,7 +297,7 @@ std::string run(const server::Map& map, int players, const Options& options) {
   const double player_minutes = players * (options.seconds + 1) / 60.0;
   char line[2048];
   std::snprintf(line, sizeof line,
-                "{\"bench\":\"match\",\"map\":\"%s\",\"players\":%d,\"rate_hz\":%d,\"seconds\":%g,"
+                "{\"bench\":\"match\",\"map\":\"%s\",\"players\":%d,\"matches\":%d,\"rate_hz\":%d,\"seconds\":%g,"
                 "\"ack_delay_ms\":%d,\"clock\":\"%s\",\"tick_ms_p50\":%.4f,\"tick_ms_p99\":%.4f,\"tick_ms_max\":%.4f,"
                 "\"tick_ms_avg\":%.4f,\"phase_ms\":{\"apply_inputs\":%.4f,\"rules\":%.4f,"
                 "\"movement\":%.4f,\"combat\":%.4f,\"physics\":%.4f,\"history\":%.4f,"
@@ -280,12 +306,12 @@ std::string run(const server::Map& map, int players, const Options& options) {
                 "\"recording_bytes_per_player_minute\":%.0f,\"replay_speed_x\":%.1f,"
                 "\"replay_hashes_match\":%s,\"matches_per_core\":%.1f,\"overruns\":%llu,"
                 "\"payload_fnv1a\":\"%016llx\"}",
-                map.name.c_str(), players, options.rate_hz, options.seconds, options.ack_delay_ms,
+                map.name.c_str(), players, options.matches, options.rate_hz, options.seconds, options.ack_delay_ms,
                 options.clock.c_str(),
                 percentile(tick_ms, 0.5), percentile(tick_ms, 0.99), percentile(tick_ms, 1.0), avg,
                 sum.apply_inputs_ms / n, sum.rules_ms / n, sum.movement_ms / n, sum.combat_ms / n,
                 sum.physics_ms / n, sum.history_ms / n, sum.snapshots_ms / n, sum.send_ms / n, kbps,
-                static_cast<double>(projectiles) / n,
+                static_cast<double>(projectiles) * options.matches / n,
                 static_cast<double>(counters.shots_fired - shots_before) / options.seconds,
                 static_cast<unsigned long long>(counters.kills - kills_before),
                 static_cast<unsigned long long>(counters.explosions),
@@ -368,6 +394,9 @@ int main(int argc, char** argv) {
   app.add_option("--rate", options.rate_hz, "tick and snapshot rate, Hz")->check(CLI::Range(10, 128));
   app.add_option("--ack-delay-ms", options.ack_delay_ms, "how late clients acknowledge snapshots")->check(CLI::Range(0, 1000));
   app.add_option("--map", options.map, "map file");
+  app.add_option("--matches", options.matches,
+                 "matches ticked in turn (each tick timed; figures over all of them)")
+      ->check(CLI::Range(1, 256));
   app.add_option("--lag-shots", options.lag_shots, "lag-compensated shots to time")
       ->check(CLI::Range(1, 100000000));
   app.add_option("--out", options.out, "also append the JSON lines to this file");
