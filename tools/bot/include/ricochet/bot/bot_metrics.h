@@ -56,7 +56,9 @@ struct BotMetrics {
   std::uint64_t transport_drops = 0;    ///< datagrams the game client dropped (any reason)
   std::uint64_t send_failures = 0;      ///< datagrams the socket could not take (lost)
 
-  // The game as the bot saw it (the running phase only, where the match counts).
+  // The game as the bot saw it (the running phase only, where the match counts). Kills and
+  // deaths include what an arrival's scoreboard showed went with an old connection
+  // (score_resyncs).
   int kills = 0;        ///< Kill events naming this bot's entity as killer of another
   int deaths = 0;       ///< Kill events naming this bot's entity as victim
   int kill_events = 0;  ///< every Kill event seen
