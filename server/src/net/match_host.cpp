@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "steady_time.h"
+#include "tick_wake.h"
 
 namespace ricochet::server {
 namespace asio = boost::asio;
@@ -225,7 +226,7 @@ asio::awaitable<void> MatchHost::tick_loop(std::shared_ptr<MatchHost> self) {
   while (!ended_) {
     tick(steady_now_us());
     if (ended_) break;
-    timer_.expires_at(steady_time_point(match_.next_tick_at()));
+    timer_.expires_at(steady_time_point(tick_wake_at(match_.next_tick_at(), tick_rate_hz_)));
     auto [error] = co_await timer_.async_wait(asio::as_tuple(asio::use_awaitable));
     if (error) break;
   }
