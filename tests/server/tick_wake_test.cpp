@@ -40,7 +40,7 @@ TEST(TickWake, NeverEarlierAndAtMostOneGrainLate) {
 
 TEST(TickWake, MatchesDueWithinOneGrainShareOneWake) {
   // 94 matches at 60 Hz whose ticks fall due spread evenly over one period: on the grid they
-  // need at most 17 distinct wake times (16.7 ms / 1 ms), not 94.
+  // need 17 or 18 distinct wake times (the grid points a 16.7 ms span holds), not 94.
   std::set<TimeUs> wakes;
   const TimeUs period = 16'667;
   for (int match = 0; match < 94; ++match) {

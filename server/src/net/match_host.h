@@ -1,8 +1,9 @@
 #pragma once
 /// One match on the network: the socket-free Match on its own strand, ticked by a timer at the
-/// times the match asks for, its outbox drained into the game channel after every tick. Every
-/// call posts to the strand, so the Match is touched by one thread at a time and never waits for
-/// another match, the socket or the database.
+/// times the match asks for (rounded up to the 1 ms grid every match shares: tick_wake.h), its
+/// outbox drained into the game channel after every tick. Every call posts to the strand, so the
+/// Match is touched by one thread at a time and never waits for another match, the socket or the
+/// database.
 ///
 ///   timer ─▶ Match::tick(now) ─▶ outbox ─▶ GameChannel::send ─▶ socket
 ///   GameRouter (registry) ─post─▶ connect / disconnect / receive / chat / leave

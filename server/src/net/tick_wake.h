@@ -5,7 +5,7 @@
 ///
 /// Every wake of an idle thread is a sleep, a timerfd_settime and a context switch: some 16 µs of
 /// a core on our VMs, more than an empty match's whole tick. A server hosting 94 matches at 60 Hz
-/// woke 5 640 times a second, one match each time, and spent 18 % of its core on nothing but that
+/// woke 5 640 times a second, one match each time, and spent a fifth of its core, mostly on that,
 /// while every match was empty (README "Capacity"). On a grid of 1 ms it wakes at most 1 000
 /// times a second whatever the number of matches.
 ///
