@@ -27,10 +27,8 @@ std::string check_player(std::size_t index, const PlayerResult& p) {
       "player " + std::to_string(index) + " (account " + std::to_string(p.account) + "): ";
   // The score may be negative: a suicide, a death by the world or a team kill costs a point
   // (PROTOCOL.md Gameplay, Scoring). The counts cannot be.
-  const std::pair<const char*, std::int32_t> counters[] = {{"kills", p.kills},
-                                                           {"deaths", p.deaths},
-                                                           {"shots", p.shots},
-                                                           {"hits", p.hits}};
+  const std::pair<const char*, std::int32_t> counters[] = {
+      {"kills", p.kills}, {"deaths", p.deaths}, {"shots", p.shots}, {"hits", p.hits}};
   for (const auto& [name, value] : counters)
     if (value < 0) return who + name + " must be >= 0, got " + std::to_string(value);
   const std::pair<const char*, double> amounts[] = {{"damage_dealt", p.damage_dealt},

@@ -43,14 +43,17 @@ std::string range_error(const char* field, const char* range, float value) {
 }  // namespace
 
 std::string CharacterMotionConfig::validate() const {
-  if (!within(max_speed_mps, 0.1f, 100)) return range_error("max_speed_mps", "0.1..100", max_speed_mps);
+  if (!within(max_speed_mps, 0.1f, 100))
+    return range_error("max_speed_mps", "0.1..100", max_speed_mps);
   if (!within(ground_acceleration, 0, 1000))
     return range_error("ground_acceleration", "0..1000", ground_acceleration);
   if (!within(air_acceleration, 0, 1000))
     return range_error("air_acceleration", "0..1000", air_acceleration);
   if (!within(friction, 0, 1000)) return range_error("friction", "0..1000", friction);
-  if (!within(stop_speed_mps, 0, 100)) return range_error("stop_speed_mps", "0..100", stop_speed_mps);
-  if (!within(jump_speed_mps, 0, 100)) return range_error("jump_speed_mps", "0..100", jump_speed_mps);
+  if (!within(stop_speed_mps, 0, 100))
+    return range_error("stop_speed_mps", "0..100", stop_speed_mps);
+  if (!within(jump_speed_mps, 0, 100))
+    return range_error("jump_speed_mps", "0..100", jump_speed_mps);
   if (!within(ground_max_slope_deg, 0, 89))
     return range_error("ground_max_slope_deg", "0..89", ground_max_slope_deg);
   if (!within(ground_probe_m, 0.001f, 1))
@@ -104,8 +107,8 @@ Vec3 character_velocity(const CharacterMotionConfig& config, const CharacterInte
   Vec3 velocity = velocity_mps;
   if (grounded) {
     velocity = apply_friction(velocity, config, dt_s);
-    velocity = accelerate(velocity, intent.wish_direction, wish_speed, config.ground_acceleration,
-                          dt_s);
+    velocity =
+        accelerate(velocity, intent.wish_direction, wish_speed, config.ground_acceleration, dt_s);
     if (intent.jump && velocity.y() < config.jump_speed_mps) velocity.y() = config.jump_speed_mps;
   } else {
     velocity =

@@ -20,7 +20,8 @@ std::string Address::to_string() const {
   }
   std::string out = "[";
   for (int group = 0; group < 8; ++group) {
-    std::snprintf(text, sizeof text, group ? ":%x" : "%x", (ip[2 * group] << 8) | ip[2 * group + 1]);
+    std::snprintf(text, sizeof text, group ? ":%x" : "%x",
+                  (ip[2 * group] << 8) | ip[2 * group + 1]);
     out += text;
   }
   std::snprintf(text, sizeof text, "]:%u", port);

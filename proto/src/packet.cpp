@@ -11,7 +11,7 @@ namespace {
 /// version | u64 protocol_id | u8 type: a packet's additional data (on the stack: it is built
 /// for every packet sealed or opened).
 std::array<std::uint8_t, kVersionBytes + 8 + 1> packet_ad(std::uint64_t protocol_id,
-                                                         std::uint8_t type) {
+                                                          std::uint8_t type) {
   const VersionAndProtocol start = version_and_protocol(protocol_id);
   std::array<std::uint8_t, kVersionBytes + 8 + 1> ad;
   std::copy(start.begin(), start.end(), ad.begin());
@@ -174,8 +174,8 @@ void seal_packet_in_place(std::uint64_t protocol_id, const Key& key,
   const auto ad = packet_ad(protocol_id, packet[0]);
   const std::size_t body_bytes = packet.size() - kEncryptedHeaderBytes;
   packet.resize(packet.size() + kMacBytes);
-  seal_chacha_in_place(std::span(packet).subspan(kEncryptedHeaderBytes, body_bytes), ad,
-                       sequence, key, packet.data() + kEncryptedHeaderBytes + body_bytes);
+  seal_chacha_in_place(std::span(packet).subspan(kEncryptedHeaderBytes, body_bytes), ad, sequence,
+                       key, packet.data() + kEncryptedHeaderBytes + body_bytes);
 }
 
 bool open_packet(std::span<const std::uint8_t> datagram, std::uint64_t protocol_id, const Key& key,

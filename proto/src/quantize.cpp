@@ -180,11 +180,13 @@ void to_wire(const QuantizationSpec& spec, wire::Quantization& out) {
 std::optional<QuantizationSpec> from_wire(const wire::Quantization& in, std::string& error) {
   if (in.bounds_min_m_size() != 3 || in.bounds_max_m_size() != 3) {
     error = "quantization bounds must have 3 values each, got " +
-            std::to_string(in.bounds_min_m_size()) + " and " + std::to_string(in.bounds_max_m_size());
+            std::to_string(in.bounds_min_m_size()) + " and " +
+            std::to_string(in.bounds_max_m_size());
     return std::nullopt;
   }
   if (in.orientation_bits() > 16) {
-    error = "quantization orientation_bits must be 4..16, got " + std::to_string(in.orientation_bits());
+    error =
+        "quantization orientation_bits must be 4..16, got " + std::to_string(in.orientation_bits());
     return std::nullopt;
   }
   QuantizationSpec spec;

@@ -100,7 +100,6 @@ void visit_absolute(const QuantizedEntity& entity, const FieldWidths& widths, Ra
   if (entity.flags != 0) raw(entity.flags, 8);
 }
 
-
 bool read_absolute(BitReader& in, const FieldWidths& widths, QuantizedEntity& entity) {
   bool in_range = true;
   for (int a = 0; a < 3; ++a) {

@@ -1,12 +1,12 @@
 // ricochet-server: parses the configuration (TOML file + flags), sets up logging, runs the
 // Server until SIGINT/SIGTERM, and exits 0 after a graceful stop within the grace period.
+#include <google/protobuf/stubs/logging.h>
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <cstdio>
 #include <exception>
-
-#include <boost/asio/io_context.hpp>
-#include <google/protobuf/stubs/logging.h>
-#include <spdlog/spdlog.h>
 
 #include "logging.h"
 #include "server.h"

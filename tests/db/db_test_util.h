@@ -11,7 +11,6 @@
 
 #include "ricochet/db/result.h"
 #include "sqlite_handle.h"
-
 #include "temp_dir.h"
 
 namespace ricochet::db::test {

@@ -112,8 +112,8 @@ TEST_F(MatchesTest, NegativeScoresAreRecorded) {
   expect_totals(b, 1, 1516);
   EXPECT_EQ(must(store_->player_stats(a), "player_stats").score, -2);
   const AccountId r = add("r"), u = add("u");
-  must(matches_.record_match(tdm_of(
-           {on_team(result(r, -1), kTeamRed), on_team(result(u, -3), kTeamBlue)}, -1, -3)),
+  must(matches_.record_match(
+           tdm_of({on_team(result(r, -1), kTeamRed), on_team(result(u, -3), kTeamBlue)}, -1, -3)),
        "tdm");
   expect_totals(r, 1, 1516);
   expect_totals(u, 0, 1484);

@@ -38,8 +38,7 @@ void check_accepted(const ricochet::wire::CollisionWorld& in, PredictionWorld& o
   const physics::CharacterIntent intent{physics::Vec3(1, 0, 0), 1, true};
   for (int k = 0; k < 60; ++k) {
     const physics::BodyState state = out.world.body_state(body.value()).value();
-    const bool grounded =
-        physics::is_grounded(out.world, body.value(), state.radius, out.motion);
+    const bool grounded = physics::is_grounded(out.world, body.value(), state.radius, out.motion);
     const physics::Vec3 v =
         physics::character_velocity(out.motion, intent, state.linear_velocity, grounded, 1.0f / 60);
     require(v.allFinite());

@@ -109,7 +109,8 @@ void check_rewrite(const Recording& recording) {
     check(a.tick == b.tick && a.inputs.size() == b.inputs.size() &&
               a.events.size() == b.events.size(),
           "rewrite changed a tick");
-    for (std::size_t j = 0; j < a.inputs.size(); ++j) check(bit_identical(a.inputs[j], b.inputs[j]), "rewrite changed an input");
+    for (std::size_t j = 0; j < a.inputs.size(); ++j)
+      check(bit_identical(a.inputs[j], b.inputs[j]), "rewrite changed an input");
     for (std::size_t j = 0; j < a.events.size(); ++j) {
       check(a.events[j].kind == b.events[j].kind && a.events[j].account == b.events[j].account &&
                 a.events[j].name == b.events[j].name &&

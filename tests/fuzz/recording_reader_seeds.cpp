@@ -47,8 +47,10 @@ std::vector<std::uint8_t> match(int players, std::uint32_t ticks, std::size_t ma
     if (tick == ticks / 2 + 1 && players > 1) {
       writer.add_event({RecordedEventKind::Leave, 10u + players - 1, "", 0});
     }
-    if (tick == ticks / 3 && players > 2) writer.add_event({RecordedEventKind::Disconnect, 11, "", 0});
-    if (tick == ticks / 3 + 2 && players > 2) writer.add_event({RecordedEventKind::TimedOut, 11, "", 0});
+    if (tick == ticks / 3 && players > 2)
+      writer.add_event({RecordedEventKind::Disconnect, 11, "", 0});
+    if (tick == ticks / 3 + 2 && players > 2)
+      writer.add_event({RecordedEventKind::TimedOut, 11, "", 0});
     if (tick == ticks) writer.add_event({RecordedEventKind::End, 0, "", 3});
     for (int p = 0; p < present && p < static_cast<int>(tick); ++p) {
       RecordedInput input;

@@ -2,15 +2,14 @@
 /// A game-channel client over a real UDP socket on 127.0.0.1: proto::GameClient (the sans-IO
 /// client end) pumped through a non-blocking socket, with every event kept for the test.
 
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
 #include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/ip/udp.hpp>
 
 #include "ricochet/proto/game_client.h"
 #include "ricochet/proto/token_grant.h"
@@ -27,8 +26,10 @@ class GameTestClient {
     socket_.non_blocking(true);
     proto::ClientConnectInfo info;
     info.grant.connect_token.assign(join.connect_token().begin(), join.connect_token().end());
-    std::copy_n(join.client_to_server_key().begin(), proto::kKeyBytes, info.grant.client_to_server.begin());
-    std::copy_n(join.server_to_client_key().begin(), proto::kKeyBytes, info.grant.server_to_client.begin());
+    std::copy_n(join.client_to_server_key().begin(), proto::kKeyBytes,
+                info.grant.client_to_server.begin());
+    std::copy_n(join.server_to_client_key().begin(), proto::kKeyBytes,
+                info.grant.server_to_client.begin());
     info.grant.timeout_s = join.timeout_s();
     info.protocol_id = proto::kProtocolId;
     info.server = proto::Address::ipv4(127, 0, 0, 1, server_port);
@@ -87,8 +88,8 @@ class GameTestClient {
     for (;;) {
       const std::size_t size = socket_.receive_from(boost::asio::buffer(buffer), from, 0, error);
       if (error) break;
-      client_->receive(proto::Address::ipv4(127, 0, 0, 1, from.port()), std::span(buffer.data(), size),
-                       now());
+      client_->receive(proto::Address::ipv4(127, 0, 0, 1, from.port()),
+                       std::span(buffer.data(), size), now());
     }
     client_->update(now());
     flush();

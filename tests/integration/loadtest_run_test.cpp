@@ -75,7 +75,8 @@ TEST(LoadTest, BotsFillTheMatchesAndTheReportHasEveryFigure) {
       "--server 127.0.0.1 --port " + std::to_string(server.control_port()) + " --admin-port " +
           std::to_string(server.admin_port()) + " --fingerprint " + server.fingerprint() +
           " --bots 24 --match-size 12 --ramp 40 --settle 2s --duration 4s --scrape-interval 0.5"
-          " --out " + out.path().string(),
+          " --out " +
+          out.path().string(),
       out.path() / "loadtest.log");
   ASSERT_EQ(code, 0) << read_text(out.path() / "loadtest.log");
 
@@ -100,9 +101,9 @@ TEST(LoadTest, BotsFillTheMatchesAndTheReportHasEveryFigure) {
   EXPECT_GT(number_field(report, "server_rss_mb").value_or(0), 1);
   EXPECT_GT(number_field(report, "connect_ms_max").value_or(0), 0);
   EXPECT_NE(report.find("\"errors\":{"), std::string::npos);
-  for (const char* png : {"tick_ms.png", "tick_p99_per_match.png", "overruns.png", "cpu_rss.png",
-                          "bandwidth.png", "rtt_loss.png", "errors.png", "connect_ms.png",
-                          "bots.png"}) {
+  for (const char* png :
+       {"tick_ms.png", "tick_p99_per_match.png", "overruns.png", "cpu_rss.png", "bandwidth.png",
+        "rtt_loss.png", "errors.png", "connect_ms.png", "bots.png"}) {
     EXPECT_TRUE(fs::exists(out.path() / png) && fs::file_size(out.path() / png) > 1000) << png;
   }
 }
@@ -114,7 +115,8 @@ TEST(LoadTest, ANoServerIsCountedNotACrash) {
   TempDir out("ricochet-loadtest");
   const int code = run_loadtest("--port " + control + " --admin-port " + admin +
                                     " --bots 3 --ramp 10 --settle 0s --duration 2s --no-plots"
-                                    " --out " + out.path().string(),
+                                    " --out " +
+                                    out.path().string(),
                                 out.path() / "loadtest.log");
   ASSERT_EQ(code, 0) << read_text(out.path() / "loadtest.log");
   const std::string report = read_text(out.path() / "report.json");

@@ -1,19 +1,19 @@
 // The server as ricochet-server runs it (Server: DB, matches, UDP, TLS, admin HTTP on their
 // threads), driven over real loopback sockets: sign in over TLS, join, connect the game channel
 // with the token, play, come back from a new address, and stop gracefully.
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cmath>
-#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
 #include <thread>
-
-#include <gtest/gtest.h>
 
 #include "control_test_client.h"
 #include "game_test_client.h"
@@ -133,7 +133,8 @@ struct Player {
         }
         if (auto* bytes = std::get_if<proto::ClientUnreliable>(&event)) {
           wire::ServerPayload payload;
-          ASSERT_TRUE(payload.ParseFromArray(bytes->bytes.data(), static_cast<int>(bytes->bytes.size())));
+          ASSERT_TRUE(
+              payload.ParseFromArray(bytes->bytes.data(), static_cast<int>(bytes->bytes.size())));
           if (payload.server_tick() >= newest.server_tick()) newest = payload;
           ++payloads;
           const proto::SnapshotDecodeResult decoded = decoder->decode(payload.snapshot());
@@ -230,14 +231,16 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   for (const proto::ClientEvent& event : alice->game->events()) {
     if (const auto* reliable = std::get_if<proto::ClientReliable>(&event)) {
       wire::GameEvent game_event;
-      ASSERT_TRUE(game_event.ParseFromArray(reliable->bytes.data(), static_cast<int>(reliable->bytes.size())));
+      ASSERT_TRUE(game_event.ParseFromArray(reliable->bytes.data(),
+                                            static_cast<int>(reliable->bytes.size())));
       told_match_ended |= game_event.has_match_ended();
     }
   }
   EXPECT_TRUE(told_match_ended);
   // The results come over the control channel, then SHUTTING_DOWN.
   const auto results = alice->control.receive(3s);
-  ASSERT_TRUE(results && results->has_match_results()) << (results ? results->DebugString() : "nothing");
+  ASSERT_TRUE(results && results->has_match_results())
+      << (results ? results->DebugString() : "nothing");
   const wire::MatchResults& match = results->match_results();
   ASSERT_EQ(match.players_size(), 1);
   EXPECT_EQ(match.mode(), "ffa");
@@ -274,7 +277,8 @@ std::string http_get(std::uint16_t port, const std::string& path) {
   boost::asio::io_context io;
   boost::asio::ip::tcp::socket socket(io);
   socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
-  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  const std::string request =
+      "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
   boost::asio::write(socket, boost::asio::buffer(request));
   std::string response;
   boost::system::error_code error;
@@ -308,9 +312,9 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
   std::vector<std::uint8_t> garbage(1200);
   for (int i = 0; i < 400; ++i) {
     for (auto& byte : garbage) byte = static_cast<std::uint8_t>(random());
-    mallory.send_raw(garbage);                                  // forged MAC / malformed
-    mallory.send_raw(std::vector<std::uint8_t>(1500, 0x55));    // oversized
-    mallory.send_raw({0x00, 0x01});                             // truncated
+    mallory.send_raw(garbage);                                // forged MAC / malformed
+    mallory.send_raw(std::vector<std::uint8_t>(1500, 0x55));  // oversized
+    mallory.send_raw({0x00, 0x01});                           // truncated
     // Paced, so that the kernel's receive buffer does not drop them before the server sees them.
     if (i % 5 == 4) std::this_thread::sleep_for(2ms);
   }
@@ -329,7 +333,8 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
   double dropped = 0;
   std::istringstream lines(page);
   for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("ricochet_game_dropped_total{", 0) == 0) dropped += std::stod(line.substr(line.rfind(' ') + 1));
+    if (line.rfind("ricochet_game_dropped_total{", 0) == 0)
+      dropped += std::stod(line.substr(line.rfind(' ') + 1));
   }
   EXPECT_GE(dropped, 900);
   EXPECT_LE(dropped, 1200 + 10);  // mallory's own handshake packets at most

@@ -36,9 +36,8 @@ class ServerProcess {
                          const std::string& more_toml = "")
       : dir_("ricochet-e2e") {
     std::ofstream config(config_path());
-    config << "[server]\ndata_dir = \"" << (dir_.path() / "data").string()
-           << "\"\nports_file = \"" << ports_path().string()
-           << "\"\nthreads = 2\nshutdown_grace_s = " << shutdown_grace_s
+    config << "[server]\ndata_dir = \"" << (dir_.path() / "data").string() << "\"\nports_file = \""
+           << ports_path().string() << "\"\nthreads = 2\nshutdown_grace_s = " << shutdown_grace_s
            << "\n[control]\nbind = \"127.0.0.1\"\nport = 0\n"
            << "[game]\nbind = \"127.0.0.1\"\nport = 0\n"
            << "[admin]\nbind = \"127.0.0.1\"\nport = 0\n"

@@ -29,9 +29,9 @@ struct Walker {
   void step(const CharacterIntent& intent) {
     const bool grounded = is_grounded(world, body, radius, config);
     const Vec3 velocity = world.body_state(body).value().linear_velocity;
-    ASSERT_TRUE(world.set_linear_velocity(
-                         body, character_velocity(config, intent, velocity, grounded, kDt))
-                    .ok());
+    ASSERT_TRUE(
+        world.set_linear_velocity(body, character_velocity(config, intent, velocity, grounded, kDt))
+            .ok());
     ASSERT_TRUE(world.step(kDt).ok());
   }
   BodyState state() const { return world.body_state(body).value(); }

@@ -1,8 +1,8 @@
 // The quantisation spec as the join reply carries it: a round trip gives the same spec, and a
 // client refuses a spec it cannot decode with (the same checks as the server's validate()).
-#include <limits>
-
 #include <gtest/gtest.h>
+
+#include <limits>
 
 #include "ricochet/proto/quantize.h"
 
@@ -57,7 +57,8 @@ TEST(QuantizationWire, OutOfRangeFieldsAreRefusedNamingTheField) {
   refused([](wire::Quantization& m) { m.set_velocity_step_mps(-1); }, "velocity_step_mps");
   refused([](wire::Quantization& m) { m.set_orientation_bits(40); }, "orientation_bits");
   refused([](wire::Quantization& m) { m.set_orientation_bits(2); }, "orientation_bits");
-  refused([](wire::Quantization& m) { m.set_tick_s(std::numeric_limits<float>::quiet_NaN()); }, "tick_s");
+  refused([](wire::Quantization& m) { m.set_tick_s(std::numeric_limits<float>::quiet_NaN()); },
+          "tick_s");
   refused([](wire::Quantization& m) { m.set_bounds_max_m(1, -5); }, "bounds");
 }
 

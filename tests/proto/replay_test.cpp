@@ -57,9 +57,14 @@ TEST(ReplayWindow, AgreesWithASetOfEverySequenceAcceptedUnderJumpsReorderingAndR
   for (int step = 0; step < 20000; ++step) {
     std::uint64_t sequence = next;
     switch (random() % 6) {
-      case 0: sequence = next + random() % 300; break;              // a jump, at times past 256
-      case 1: sequence = next > 300 ? next - random() % 300 : 0; break;  // late or replayed
-      default: break;
+      case 0:
+        sequence = next + random() % 300;
+        break;  // a jump, at times past 256
+      case 1:
+        sequence = next > 300 ? next - random() % 300 : 0;
+        break;  // late or replayed
+      default:
+        break;
     }
     next = std::max(next, sequence + 1);
     const std::uint64_t newest = accepted.empty() ? 0 : *accepted.rbegin();

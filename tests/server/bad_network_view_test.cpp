@@ -8,6 +8,8 @@
 //     behind the server in 99 % of ticks (latency plus a lost snapshot or two), and the
 //     positions it shows are within 15 m/s (faster than anyone moves) × (that lag) + 2 mm of
 //     where the players really are now; on a clear link the lag is at most two ticks.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -15,8 +17,6 @@
 #include <string>
 #include <unordered_map>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "net_sim.h"
 #include "ricochet/proto/snapshot_codec.h"
@@ -90,7 +90,8 @@ class BadNetworkView : public ::testing::Test {
       world.drain(now);
       for (const proto::EntityState& state : match.entity_states()) {
         const auto& v = state.velocity_mps;
-        fastest_mps = std::max(fastest_mps, std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2]));
+        fastest_mps = std::max(fastest_mps, std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] +
+                                                      double(v[2]) * v[2]));
       }
       if (now < 2 * proto::kMicrosPerSecond) continue;  // connecting, first snapshots
       for (const Player& player : players) {
@@ -111,11 +112,12 @@ class BadNetworkView : public ::testing::Test {
     const double p99_lag_s = p99_lag / 60.0;
     RecordProperty("p99_view_lag_ms", std::to_string(p99_lag_s * 1000));
     RecordProperty("worst_position_error_m", std::to_string(worst_error_m));
-    std::printf("view lag p99 %.0f ms (max %.0f ms), worst position error %.2f m (fastest %.1f m/s), "
-                "lost %llu of %llu datagrams\n",
-                p99_lag_s * 1000, lag_ticks.back() / 60.0 * 1000, worst_error_m, fastest_mps,
-                static_cast<unsigned long long>(world.net.lost()),
-                static_cast<unsigned long long>(world.net.sent()));
+    std::printf(
+        "view lag p99 %.0f ms (max %.0f ms), worst position error %.2f m (fastest %.1f m/s), "
+        "lost %llu of %llu datagrams\n",
+        p99_lag_s * 1000, lag_ticks.back() / 60.0 * 1000, worst_error_m, fastest_mps,
+        static_cast<unsigned long long>(world.net.lost()),
+        static_cast<unsigned long long>(world.net.sent()));
     EXPECT_LE(p99_lag_s, max_p99_lag_s);
     // Players run at 7 m/s and fall off the ramp's platform, never faster than 15 m/s, so what a
     // view shows is off by at most 15 m/s × its lag plus the quantisation.
@@ -136,7 +138,8 @@ class BadNetworkView : public ::testing::Test {
       } else if (auto* payload = std::get_if<proto::ServerUnreliable>(&event)) {
         match.receive(accounts_.at(payload->client), payload->bytes);
       } else if (auto* gone = std::get_if<proto::ServerDisconnected>(&event)) {
-        ADD_FAILURE() << "account " << gone->account_id << " disconnected: " << proto::name(gone->reason);
+        ADD_FAILURE() << "account " << gone->account_id
+                      << " disconnected: " << proto::name(gone->reason);
       }
     }
     world.server_events.clear();
@@ -169,7 +172,8 @@ class BadNetworkView : public ::testing::Test {
       const auto truth = match.states_at(decoded.tick);
       if (truth.empty()) continue;  // older than the history ring
       std::vector<proto::QuantizedEntity> expected;
-      for (const proto::EntityState& state : truth) expected.push_back(proto::quantize(state, match.config().quantization));
+      for (const proto::EntityState& state : truth)
+        expected.push_back(proto::quantize(state, match.config().quantization));
       if (expected != player.view) ++player.mismatched;
     }
     events.clear();
@@ -182,7 +186,8 @@ class BadNetworkView : public ::testing::Test {
     wire::Input input;
     input.set_sequence(++player.sequence);
     input.set_move_forward(127);
-    input.set_yaw(static_cast<float>(std::fmod(now / 1e6 * (player.account == 101 ? 1.0 : -1.5), 6.0)));
+    input.set_yaw(
+        static_cast<float>(std::fmod(now / 1e6 * (player.account == 101 ? 1.0 : -1.5), 6.0)));
     input.set_buttons(player.sequence % 90 == 0 ? 1u : 0u);
     player.recent.push_back(input);
     if (player.recent.size() > 4) player.recent.pop_front();
@@ -190,7 +195,8 @@ class BadNetworkView : public ::testing::Test {
     for (const wire::Input& recent : player.recent) *payload.add_inputs() = recent;
     payload.set_ack_snapshot_tick(player.decoder.has_snapshot() ? player.decoder.newest_tick() : 0);
     const std::string bytes = payload.SerializeAsString();
-    client.send_unreliable(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), now);
+    client.send_unreliable(
+        std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), now);
   }
 
   /// How far the positions a player sees are from where the entities are now.
@@ -198,8 +204,9 @@ class BadNetworkView : public ::testing::Test {
                              const proto::QuantizationSpec& spec) {
     double worst = 0;
     for (const proto::EntityState& now : match.entity_states()) {
-      const auto seen = std::find_if(player.view.begin(), player.view.end(),
-                                     [&now](const proto::QuantizedEntity& e) { return e.id == now.id; });
+      const auto seen =
+          std::find_if(player.view.begin(), player.view.end(),
+                       [&now](const proto::QuantizedEntity& e) { return e.id == now.id; });
       if (seen == player.view.end()) continue;  // joined after this view's tick
       const proto::EntityState shown = proto::dequantize(*seen, spec);
       double squared = 0;

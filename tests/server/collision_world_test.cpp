@@ -39,10 +39,12 @@ TEST(CollisionWorld, CarriesTheMapAndTheRules) {
   EXPECT_NEAR(sent.orientation(3), std::cos(last.yaw_rad / 2), 1e-6);  // w of a turn about +Y
   ASSERT_EQ(world->meshes_size(), static_cast<int>(map.meshes.size()));
   for (int m = 0; m < world->meshes_size(); ++m) {
-    EXPECT_EQ(world->meshes(m).vertices_m_size(), static_cast<int>(3 * map.meshes[m].vertices_m.size()));
+    EXPECT_EQ(world->meshes(m).vertices_m_size(),
+              static_cast<int>(3 * map.meshes[m].vertices_m.size()));
     EXPECT_EQ(world->meshes(m).indices_size(), static_cast<int>(map.meshes[m].indices.size()));
   }
-  EXPECT_EQ(world->player_radius_m(), static_cast<float>(player_body_def(physics::Vec3::Zero()).radius));
+  EXPECT_EQ(world->player_radius_m(),
+            static_cast<float>(player_body_def(physics::Vec3::Zero()).radius));
   EXPECT_EQ(world->player_mass_kg(), 80.0f);
   ASSERT_EQ(world->gravity_mps2_size(), 3);
   EXPECT_EQ(world->gravity_mps2(1), static_cast<float>(combat_world_def().gravity.y()));

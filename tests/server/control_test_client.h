@@ -8,12 +8,12 @@
 #include <openssl/x509.h>
 #include <stdlib.h>
 
+#include <array>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/ssl.hpp>
 #include <boost/asio/write.hpp>
-#include <array>
 #include <chrono>
 #include <filesystem>
 #include <functional>

@@ -1,8 +1,8 @@
 // Every [matches] key lands on the field of MatchConfig it configures, and what the server's
 // defaults (and any configuration validate() accepts at its limits) give is a valid MatchConfig.
-#include <gtest/gtest.h>
-
 #include "match_defaults.h"
+
+#include <gtest/gtest.h>
 
 namespace ricochet::server {
 namespace {

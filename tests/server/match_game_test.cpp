@@ -124,7 +124,8 @@ class GameFixture : public ::testing::Test {
     const physics::Vec3 eye = eye_position(position(shooter.entity));
     const float yaw = yaw_towards(eye, point);
     const float pitch = pitch_towards(eye, point);
-    const float turn = std::abs(std::remainder(yaw - shooter.input.yaw(), 2 * std::numbers::pi_v<float>));
+    const float turn =
+        std::abs(std::remainder(yaw - shooter.input.yaw(), 2 * std::numbers::pi_v<float>));
     const bool large = turn > 0.9f || std::abs(pitch - shooter.input.pitch()) > 0.9f;
     shooter.input.set_yaw(yaw);
     shooter.input.set_pitch(pitch);
@@ -221,11 +222,12 @@ TEST_F(GameFixture, RifleKillsInFiveHitsAndTheVictimRespawnsAwayFromTheKiller) {
   EXPECT_EQ(score_of(2).deaths, 1);
   EXPECT_EQ(score_of(1).damage_dealt, 100);
   EXPECT_EQ(score_of(2).damage_taken, 100);
-  EXPECT_EQ(count_events(1, [&](const wire::GameEvent& e) {
-              return e.has_kill() && e.kill().killer_entity_id() == alice.entity &&
-                     e.kill().victim_entity_id() == bob.entity &&
-                     e.kill().weapon() == wire::WEAPON_RIFLE;
-            }),
+  EXPECT_EQ(count_events(1,
+                         [&](const wire::GameEvent& e) {
+                           return e.has_kill() && e.kill().killer_entity_id() == alice.entity &&
+                                  e.kill().victim_entity_id() == bob.entity &&
+                                  e.kill().weapon() == wire::WEAPON_RIFLE;
+                         }),
             1);
   alice.input.set_buttons(0);
   const auto spawned = [&](const wire::GameEvent& e) {
@@ -322,8 +324,8 @@ TEST_F(GameFixture, RocketExplodesOnTheFloorNextToATargetAndLaunchesTheShooter) 
   Script& bob = join(2, "bob");
   step(30);
   // Aim at the floor 1.2 m in front of bob (on Alice's side).
-  physics::Vec3 spot = position(bob.entity) +
-                       (position(alice.entity) - position(bob.entity)).normalized() * 1.2f;
+  physics::Vec3 spot =
+      position(bob.entity) + (position(alice.entity) - position(bob.entity)).normalized() * 1.2f;
   spot.y() = 0;
   aim_at(alice, spot);
   alice.input.set_weapon_slot(2);
@@ -377,8 +379,8 @@ TEST_F(GameFixture, HealthPickupHealsAndComesBackOnItsTimer) {
   Map map = duel_map();
   // One 3 m to the +x side of each spawn: Alice is never hurt, so hers stays.
   for (const MapSpawn& spawn : duel_map().spawns) {
-    map.pickups.push_back(MapPickup{PickupKind::Health, spawn.position_m + physics::Vec3(3, 0, 0),
-                                    25, 2.0f});
+    map.pickups.push_back(
+        MapPickup{PickupKind::Health, spawn.position_m + physics::Vec3(3, 0, 0), 25, 2.0f});
   }
   start(quick_config(), map);
   Script& alice = join(1, "alice");
@@ -390,20 +392,23 @@ TEST_F(GameFixture, HealthPickupHealsAndComesBackOnItsTimer) {
   alice.input.set_buttons(0);
   ASSERT_EQ(health(2), 60);
   // Bob walks 3 m along +x onto the pickup by his spawn.
-  bob.input.set_yaw(yaw_towards(position(bob.entity), position(bob.entity) + physics::Vec3(3, 0, 0)));
+  bob.input.set_yaw(
+      yaw_towards(position(bob.entity), position(bob.entity) + physics::Vec3(3, 0, 0)));
   bob.input.set_move_forward(127);
   for (int k = 0; k < 120 && health(2) == 60; ++k) step(1);
   EXPECT_EQ(health(2), 85);
   EXPECT_EQ(match().counters().pickups_taken, 1u);
   bob.input.set_move_forward(0);
-  EXPECT_EQ(count_events(1, [](const wire::GameEvent& e) {
-              return e.has_pickup() && e.pickup().entity_id() != 0;
-            }),
+  EXPECT_EQ(count_events(1,
+                         [](const wire::GameEvent& e) {
+                           return e.has_pickup() && e.pickup().entity_id() != 0;
+                         }),
             1);
   step(125);
-  EXPECT_EQ(count_events(1, [](const wire::GameEvent& e) {
-              return e.has_pickup() && e.pickup().entity_id() == 0;
-            }),
+  EXPECT_EQ(count_events(1,
+                         [](const wire::GameEvent& e) {
+                           return e.has_pickup() && e.pickup().entity_id() == 0;
+                         }),
             1);  // back after 2 s
 }
 
@@ -482,12 +487,13 @@ class LagCompensatedShot : public GameFixture {
     step(30);
     aim(alice, bob.entity);  // face him first
     bob.input.set_move_right(127);
-    step(30);  // at full speed, 7 m/s
+    step(30);                               // at full speed, 7 m/s
     constexpr std::uint32_t kLagTicks = 6;  // 100 ms
     const std::uint32_t seen_tick = match().tick_number() - kLagTicks;
     physics::Vec3 seen = physics::Vec3::Zero();
     for (const proto::EntityState& state : match().states_at(seen_tick)) {
-      if (state.id == bob.entity) seen = {state.position_m[0], state.position_m[1], state.position_m[2]};
+      if (state.id == bob.entity)
+        seen = {state.position_m[0], state.position_m[1], state.position_m[2]};
     }
     const physics::Vec3 eye = eye_position(position(alice.entity));
     alice.input.set_yaw(yaw_towards(eye, seen));  // a small turn from facing him
@@ -501,9 +507,13 @@ class LagCompensatedShot : public GameFixture {
   }
 };
 
-TEST_F(LagCompensatedShot, HitsWhereTheShooterSawTheTarget) { EXPECT_TRUE(shoot_at_old_position(true)); }
+TEST_F(LagCompensatedShot, HitsWhereTheShooterSawTheTarget) {
+  EXPECT_TRUE(shoot_at_old_position(true));
+}
 
-TEST_F(LagCompensatedShot, MissesWithoutCompensation) { EXPECT_FALSE(shoot_at_old_position(false)); }
+TEST_F(LagCompensatedShot, MissesWithoutCompensation) {
+  EXPECT_FALSE(shoot_at_old_position(false));
+}
 
 TEST_F(GameFixture, ViewTickClaimsOutsideTheWindowAreClampedAndCounted) {
   start();

@@ -28,8 +28,8 @@ Map arena() {
   map.boxes.push_back(MapBox{physics::Vec3(4, 1, 0), physics::Vec3(1, 1, 1), 0.3f});
   for (int k = 0; k < 6; ++k) {
     const float angle = static_cast<float>(k) * std::numbers::pi_v<float> / 3;
-    map.spawns.push_back(MapSpawn{physics::Vec3(8 * std::cos(angle), 0.4f, 8 * std::sin(angle)),
-                                  angle, Team::None});
+    map.spawns.push_back(
+        MapSpawn{physics::Vec3(8 * std::cos(angle), 0.4f, 8 * std::sin(angle)), angle, Team::None});
   }
   map.pickups.push_back(MapPickup{PickupKind::Armor, physics::Vec3(0, 0.4f, 0), 50, 3.0f});
   map.files.push_back(MapFile{"recorded.toml", "(built in the test)"});

@@ -2,17 +2,18 @@
 // match at a time, leaving frees the seat, a reservation whose token went unused is given back,
 // and a closed registry refuses joins and creates. Over a real GameChannel on 127.0.0.1:0 (no
 // client connects; the registry is driven through its MatchDirectory face).
+#include "match_registry.h"
+
+#include <gtest/gtest.h>
+
+#include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <map>
 #include <memory>
 #include <thread>
 #include <variant>
 
-#include <boost/asio/io_context.hpp>
-#include <gtest/gtest.h>
-
 #include "game_channel.h"
-#include "match_registry.h"
 #include "ricochet/proto/connect_token.h"
 
 namespace ricochet::server {
@@ -86,8 +87,8 @@ TEST_F(MatchRegistryTest, JoiningReservesASeatAndIssuesAnOpenableToken) {
   EXPECT_EQ(grant.tick_rate_hz, 60);
   EXPECT_TRUE(grant.quantization.validate().empty());
   // Sealed under the registry's key (zero here), bound to the account and the match.
-  const auto opened = proto::open_connect_token(proto::Key{}, proto::kProtocolId,
-                                                grant.token.connect_token, grant.token.expires_at - 1);
+  const auto opened = proto::open_connect_token(
+      proto::Key{}, proto::kProtocolId, grant.token.connect_token, grant.token.expires_at - 1);
   ASSERT_TRUE(opened.ok());
   EXPECT_EQ(opened.value.contents.account_id, 7u);
   EXPECT_EQ(opened.value.contents.match_id, match);
@@ -149,7 +150,8 @@ TEST_F(MatchRegistryTest, CreateValidatesItsFieldsAndTheMatchCap) {
   EXPECT_TRUE(invalid({.name = "ok", .max_players = 65, .map = ""}));
   EXPECT_TRUE(invalid({.name = "ok", .max_players = 4, .map = "elsewhere"}));
   for (int i = 0; i < 3; ++i) {
-    EXPECT_TRUE(std::holds_alternative<MatchSummary>(registry_->create({.name = "m", .max_players = 4, .map = ""})));
+    EXPECT_TRUE(std::holds_alternative<MatchSummary>(
+        registry_->create({.name = "m", .max_players = 4, .map = ""})));
   }
   auto fourth = registry_->create({.name = "m", .max_players = 4, .map = ""});
   ASSERT_TRUE(std::holds_alternative<DirectoryError>(fourth));

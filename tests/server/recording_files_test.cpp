@@ -1,14 +1,15 @@
 // Recordings onto disk: the directory is made, the file appears whole under its name (no
 // temporary left), everything queued is written by stop(), and a directory that cannot be made
 // is an error that is counted and logged, never a crash.
+#include "recording_files.h"
+
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <vector>
 
-#include <gtest/gtest.h>
-
-#include "recording_files.h"
 #include "temp_dir.h"
 
 namespace ricochet::server {

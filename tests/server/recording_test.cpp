@@ -87,7 +87,9 @@ RecordingHeader sample_header() {
 /// A random but valid recording: players join, move, fire, leave, come back with a new sequence.
 Recording random_recording(std::uint32_t seed, int ticks) {
   std::mt19937 rng(seed);
-  const auto chance = [&](double p) { return std::uniform_real_distribution<double>(0, 1)(rng) < p; };
+  const auto chance = [&](double p) {
+    return std::uniform_real_distribution<double>(0, 1)(rng) < p;
+  };
   const auto steps = [&] { return std::uniform_int_distribution<int>(-127, 127)(rng); };
   Recording recording;
   recording.header = sample_header();
@@ -120,7 +122,8 @@ Recording random_recording(std::uint32_t seed, int ticks) {
       if (chance(0.2)) {
         in.move_right = static_cast<float>(steps()) / kMoveSteps;
         in.move_forward = static_cast<float>(steps()) / kMoveSteps;
-        const float length = std::sqrt(in.move_right * in.move_right + in.move_forward * in.move_forward);
+        const float length =
+            std::sqrt(in.move_right * in.move_right + in.move_forward * in.move_forward);
         if (length > 1) {
           in.move_right /= length;
           in.move_forward /= length;
@@ -283,7 +286,8 @@ TEST(RecordingTest, TruncationIsAnErrorInTheHeaderAndAPrefixAfterIt) {
   };
   for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
     if (!near_boundary(cut) && cut % 97 != 0) continue;
-    const std::vector<std::uint8_t> part(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(cut));
+    const std::vector<std::uint8_t> part(bytes.begin(),
+                                         bytes.begin() + static_cast<std::ptrdiff_t>(cut));
     const auto result = read_recording(part);
     if (cut < header_end) {
       const auto* error = std::get_if<RecordingError>(&result);
@@ -397,7 +401,8 @@ TEST(RecordingTest, ReaderRefusesBadValuesWithCorrectChecksums) {
 
   auto many = tick(1, rf::kTickEntities);
   rf::put_varint(many, 65);
-  EXPECT_EQ(read_error(craft({many})), "chunk 1 (ticks), tick 1: entity count must be at most 64, got 65");
+  EXPECT_EQ(read_error(craft({many})),
+            "chunk 1 (ticks), tick 1: entity count must be at most 64, got 65");
 
   auto twice = tick(1, rf::kTickEntities);
   rf::put_varint(twice, 2);
@@ -429,7 +434,8 @@ TEST(RecordingTest, ReaderRefusesBadValuesWithCorrectChecksums) {
   rf::put_varint(mask, 1);
   rf::put_varint(mask, 4);
   rf::put_varint(mask, 1u << 12);
-  EXPECT_EQ(read_error(craft({mask})), "chunk 1 (ticks), tick 1: change mask has unknown bits 4096");
+  EXPECT_EQ(read_error(craft({mask})),
+            "chunk 1 (ticks), tick 1: change mask has unknown bits 4096");
 
   auto cut = tick(1, rf::kTickHash);
   cut.push_back(1);
@@ -475,7 +481,8 @@ TEST(RecordingTest, BytesPerPlayerMinuteOfAScripted60HzStream) {
     writer.begin_tick(tick);
     if (tick == 1) {
       for (int p = 0; p < kPlayers; ++p) {
-        writer.add_event({RecordedEventKind::Connect, 100u + p, with_number("p", static_cast<std::uint64_t>(p)), 0});
+        writer.add_event({RecordedEventKind::Connect, 100u + p,
+                          with_number("p", static_cast<std::uint64_t>(p)), 0});
       }
     }
     for (int p = 0; p < kPlayers; ++p) {
@@ -503,12 +510,12 @@ TEST(RecordingTest, BytesPerPlayerMinuteOfAScripted60HzStream) {
   const auto bytes = writer.finish();
   ASSERT_TRUE(writer.stopped_reason().empty()) << writer.stopped_reason();
   const double per_player_minute = static_cast<double>(bytes.size() - empty) / kPlayers;
-  std::printf("recording: %zu bytes for %d players x 1 min at 60 Hz: %.0f bytes per player-minute\n",
-              bytes.size(), kPlayers, per_player_minute);
+  std::printf(
+      "recording: %zu bytes for %d players x 1 min at 60 Hz: %.0f bytes per player-minute\n",
+      bytes.size(), kPlayers, per_player_minute);
   EXPECT_LT(per_player_minute, 40'000) << "about 11 bytes per player tick";
   EXPECT_EQ(read_ok(bytes).ticks.size(), kTicks);
 }
-
 
 TEST(RecordingTest, ARecordingOfManyBlocksRoundTripsAndItsSizeIsCountedAsItGrows) {
   // The writer keeps the file in blocks of 256 KiB that never move; this one spans several.

@@ -20,7 +20,8 @@
 ///
 ///   match-bench [--players 16,32,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
 ///               [--map server/maps/foundry.toml] [--matches 1] [--record FILE] [--out FILE]
-///               [--clock steady|thread-cpu] [--lag-shots 200000] [--ticks-out FILE] [--ticks-out FILE]
+///               [--clock steady|thread-cpu] [--lag-shots 200000] [--ticks-out FILE] [--ticks-out
+///               FILE]
 /// --clock thread-cpu times the ticks by this thread's CPU time instead of the wall: the figure
 /// to quote from a machine shared with other work (JSON "clock" says which).
 /// --matches N ticks N matches in turn, as one server core does, and times every tick: a tick
@@ -182,7 +183,7 @@ server::Match create_match(const server::Map& map, int players, const Options& o
   config.snapshot_rate_hz = options.rate_hz;
   config.rules.min_players = 1;
   config.rules.warmup_s = 0;
-  config.rules.frag_limit = 0;    // fight for the whole run
+  config.rules.frag_limit = 0;  // fight for the whole run
   config.rules.time_limit_s = 0;
   config.rules.respawn_delay_s = 1;
   auto created = server::Match::create(config, map, 0, steady_ns);
@@ -207,7 +208,8 @@ std::string run(const server::Map& map, int players, const Options& options) {
   // Every match plays the same script, so each sends what the first does; the figures are over
   // every match's ticks, the payload hash, kilobits, shots and the recording the first's.
   std::vector<BenchMatch> benches;
-  for (int m = 0; m < options.matches; ++m) benches.push_back({create_match(map, players, options), {}});
+  for (int m = 0; m < options.matches; ++m)
+    benches.push_back({create_match(map, players, options), {}});
   server::Match& match = benches.front().match;
   const proto::TimeUs tick_us = proto::kMicrosPerSecond / options.rate_hz;
   const std::uint32_t ack_delay_ticks =
@@ -235,8 +237,10 @@ std::string run(const server::Map& map, int players, const Options& options) {
       // An interpolating client shows about two snapshots behind what it received.
       const std::uint32_t view = ack > 2 ? ack - 2 : 0;
       for (int i = 0; i < players; ++i) {
-        const std::string bytes = bench.fighters.payload(each, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
-        each.receive(1000 + i, std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+        const std::string bytes =
+            bench.fighters.payload(each, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
+        each.receive(1000 + i,
+                     std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
       }
       const std::int64_t started = tick_clock_ns();
       each.tick(now);
@@ -255,7 +259,8 @@ std::string run(const server::Map& map, int players, const Options& options) {
       if (ticks_out) write_tick(ticks_out, players, t - warmup, elapsed_ms, each);
       if (!first) continue;
       payload_bytes += bytes;
-      for (const auto& state : each.entity_states()) projectiles += (state.flags & server::kEntityKindMask) != 0;
+      for (const auto& state : each.entity_states())
+        projectiles += (state.flags & server::kEntityKindMask) != 0;
     }
     if (t == warmup) {
       shots_before = match.counters().shots_fired;
@@ -292,34 +297,38 @@ std::string run(const server::Map& map, int players, const Options& options) {
       std::fprintf(stderr, "match-bench: %s\n", std::get<std::string>(opened).c_str());
     }
   } else {
-    std::fprintf(stderr, "match-bench: recording: %s\n", std::get<server::RecordingError>(read).message.c_str());
+    std::fprintf(stderr, "match-bench: recording: %s\n",
+                 std::get<server::RecordingError>(read).message.c_str());
   }
   const double player_minutes = players * (options.seconds + 1) / 60.0;
   char line[2048];
-  std::snprintf(line, sizeof line,
-                "{\"bench\":\"match\",\"map\":\"%s\",\"players\":%d,\"matches\":%d,\"rate_hz\":%d,\"seconds\":%g,"
-                "\"ack_delay_ms\":%d,\"clock\":\"%s\",\"tick_ms_p50\":%.4f,\"tick_ms_p99\":%.4f,\"tick_ms_max\":%.4f,"
-                "\"tick_ms_avg\":%.4f,\"phase_ms\":{\"apply_inputs\":%.4f,\"rules\":%.4f,"
-                "\"movement\":%.4f,\"combat\":%.4f,\"physics\":%.4f,\"history\":%.4f,"
-                "\"snapshots\":%.4f,\"send\":%.4f},\"kbps_per_client\":%.1f,\"projectiles_avg\":%.1f,"
-                "\"shots_per_s\":%.1f,\"kills\":%llu,\"explosions\":%llu,\"recording_bytes\":%llu,"
-                "\"recording_bytes_per_player_minute\":%.0f,\"replay_speed_x\":%.1f,"
-                "\"replay_hashes_match\":%s,\"matches_per_core\":%.1f,\"overruns\":%llu,"
-                "\"payload_fnv1a\":\"%016llx\"}",
-                map.name.c_str(), players, options.matches, options.rate_hz, options.seconds, options.ack_delay_ms,
-                options.clock.c_str(),
-                percentile(tick_ms, 0.5), percentile(tick_ms, 0.99), percentile(tick_ms, 1.0), avg,
-                sum.apply_inputs_ms / n, sum.rules_ms / n, sum.movement_ms / n, sum.combat_ms / n,
-                sum.physics_ms / n, sum.history_ms / n, sum.snapshots_ms / n, sum.send_ms / n, kbps,
-                static_cast<double>(projectiles) * options.matches / n,
-                static_cast<double>(counters.shots_fired - shots_before) / options.seconds,
-                static_cast<unsigned long long>(counters.kills - kills_before),
-                static_cast<unsigned long long>(counters.explosions),
-                static_cast<unsigned long long>(recording_bytes.size()),
-                static_cast<double>(recording_bytes.size()) / player_minutes, replay_speed,
-                replay_matches ? "true" : "false", period_ms / avg,
-                static_cast<unsigned long long>(counters.overruns),
-                static_cast<unsigned long long>(payload_hash.value()));
+  std::snprintf(
+      line, sizeof line,
+      "{\"bench\":\"match\",\"map\":\"%s\",\"players\":%d,\"matches\":%d,\"rate_hz\":%d,"
+      "\"seconds\":%g,"
+      "\"ack_delay_ms\":%d,\"clock\":\"%s\",\"tick_ms_p50\":%.4f,\"tick_ms_p99\":%.4f,\"tick_ms_"
+      "max\":%.4f,"
+      "\"tick_ms_avg\":%.4f,\"phase_ms\":{\"apply_inputs\":%.4f,\"rules\":%.4f,"
+      "\"movement\":%.4f,\"combat\":%.4f,\"physics\":%.4f,\"history\":%.4f,"
+      "\"snapshots\":%.4f,\"send\":%.4f},\"kbps_per_client\":%.1f,\"projectiles_avg\":%.1f,"
+      "\"shots_per_s\":%.1f,\"kills\":%llu,\"explosions\":%llu,\"recording_bytes\":%llu,"
+      "\"recording_bytes_per_player_minute\":%.0f,\"replay_speed_x\":%.1f,"
+      "\"replay_hashes_match\":%s,\"matches_per_core\":%.1f,\"overruns\":%llu,"
+      "\"payload_fnv1a\":\"%016llx\"}",
+      map.name.c_str(), players, options.matches, options.rate_hz, options.seconds,
+      options.ack_delay_ms, options.clock.c_str(), percentile(tick_ms, 0.5),
+      percentile(tick_ms, 0.99), percentile(tick_ms, 1.0), avg, sum.apply_inputs_ms / n,
+      sum.rules_ms / n, sum.movement_ms / n, sum.combat_ms / n, sum.physics_ms / n,
+      sum.history_ms / n, sum.snapshots_ms / n, sum.send_ms / n, kbps,
+      static_cast<double>(projectiles) * options.matches / n,
+      static_cast<double>(counters.shots_fired - shots_before) / options.seconds,
+      static_cast<unsigned long long>(counters.kills - kills_before),
+      static_cast<unsigned long long>(counters.explosions),
+      static_cast<unsigned long long>(recording_bytes.size()),
+      static_cast<double>(recording_bytes.size()) / player_minutes, replay_speed,
+      replay_matches ? "true" : "false", period_ms / avg,
+      static_cast<unsigned long long>(counters.overruns),
+      static_cast<unsigned long long>(payload_hash.value()));
   return line;
 }
 
@@ -350,10 +359,13 @@ std::string lag_shots(const server::Map& map, const Options& options) {
     for (int i = 0; i < kPlayers; ++i) {
       const float t = static_cast<float>(tick) / static_cast<float>(options.rate_hz);
       samples[static_cast<std::size_t>(i)] = server::LagSample{
-          static_cast<std::uint32_t>(i + 1), ricochet::physics::BodyId{},
+          static_cast<std::uint32_t>(i + 1),
+          ricochet::physics::BodyId{},
           base[static_cast<std::size_t>(i)] +
               ricochet::physics::Vec3(std::sin(t * 3 + i) * 2, 0, std::cos(t * 2 + i) * 2),
-          0.4f, 1, true};
+          0.4f,
+          1,
+          true};
     }
     lag.record(tick, samples);
   }
@@ -389,10 +401,15 @@ std::string lag_shots(const server::Map& map, const Options& options) {
 int main(int argc, char** argv) {
   Options options;
   CLI::App app{"match-bench: one match's tick cost per phase with N players"};
-  app.add_option("--players", options.players, "player counts, one line each")->delimiter(',')->check(CLI::Range(1, 64));
-  app.add_option("--seconds", options.seconds, "measured seconds of match time")->check(CLI::Range(0.1, 600.0));
-  app.add_option("--rate", options.rate_hz, "tick and snapshot rate, Hz")->check(CLI::Range(10, 128));
-  app.add_option("--ack-delay-ms", options.ack_delay_ms, "how late clients acknowledge snapshots")->check(CLI::Range(0, 1000));
+  app.add_option("--players", options.players, "player counts, one line each")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 64));
+  app.add_option("--seconds", options.seconds, "measured seconds of match time")
+      ->check(CLI::Range(0.1, 600.0));
+  app.add_option("--rate", options.rate_hz, "tick and snapshot rate, Hz")
+      ->check(CLI::Range(10, 128));
+  app.add_option("--ack-delay-ms", options.ack_delay_ms, "how late clients acknowledge snapshots")
+      ->check(CLI::Range(0, 1000));
   app.add_option("--map", options.map, "map file");
   app.add_option("--matches", options.matches,
                  "matches ticked in turn (each tick timed; figures over all of them)")

@@ -252,7 +252,7 @@ class TransportBench {
   std::vector<proto::ClientId> ids_;  ///< the server's id of each peer's connection
   std::unordered_map<proto::Address, std::size_t, proto::AddressHash> peer_of_;
   std::vector<proto::Transmit> outgoing_;
-  std::size_t outgoing_count_ = 0;  ///< the slots of outgoing_ holding datagrams
+  std::size_t outgoing_count_ = 0;         ///< the slots of outgoing_ holding datagrams
   std::vector<proto::Transmit> arriving_;  ///< the clients' datagrams of a tick, by sender
   proto::TimeUs now_ = 1'000'000;
 };

@@ -93,8 +93,8 @@ int main(int argc, char** argv) {
     return 2;
   };
   const auto duration_s = parse_duration_s(duration);
-  if (!duration_s) return fail("--duration must be a duration like 60s, 2m or 500ms, got \"" +
-                               duration + "\"");
+  if (!duration_s)
+    return fail("--duration must be a duration like 60s, 2m or 500ms, got \"" + duration + "\"");
   config.duration_s = *duration_s;
   const auto settle_s = parse_duration_s(settle);
   if (!settle_s) return fail("--settle must be a duration like 5s, got \"" + settle + "\"");

@@ -7,6 +7,7 @@
 // Exit codes: 0 every hash matched, 1 a hash differed, 2 the file is unreadable (or its map or
 // config is refused). Links the socket-free match library only.
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -16,12 +17,10 @@
 #include <variant>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
-#include "ricochet/server/recording.h"
 #include "ricochet/server/match_replay.h"
+#include "ricochet/server/recording.h"
 #include "ricochet/server/replay.h"
 #include "ricochet/tools/json_text.h"
 
@@ -60,20 +59,20 @@ void print_text(const std::string& file, const ReplayReport& report,
   if (!report.complete) std::printf("the recording has no footer: it was cut short\n");
   if (report.truncated) std::printf("the recording stopped early (it reached its size limit)\n");
   if (report.first_mismatch) {
-    std::printf("MISMATCH at tick %u: recorded hash %016llx, replayed %016llx (%zu of %zu hashes differ)\n",
-                report.first_mismatch->tick,
-                static_cast<unsigned long long>(report.first_mismatch->recorded),
-                static_cast<unsigned long long>(report.first_mismatch->replayed),
-                report.hashes_differing, report.hashes_checked);
+    std::printf(
+        "MISMATCH at tick %u: recorded hash %016llx, replayed %016llx (%zu of %zu hashes differ)\n",
+        report.first_mismatch->tick,
+        static_cast<unsigned long long>(report.first_mismatch->recorded),
+        static_cast<unsigned long long>(report.first_mismatch->replayed), report.hashes_differing,
+        report.hashes_checked);
   } else {
     std::printf("all %zu hashes match\n", report.hashes_checked);
   }
   std::printf("%-20s %6s %5s %6s %6s %6s %5s %7s %7s\n", "player", "team", "kills", "deaths",
               "score", "shots", "hits", "dealt", "taken");
   for (const PlayerScore& s : scores) {
-    std::printf("%-20s %6d %5d %6d %6d %6d %5d %7d %7d\n", s.name.c_str(),
-                static_cast<int>(s.team), s.kills, s.deaths, s.score, s.shots, s.hits,
-                s.damage_dealt, s.damage_taken);
+    std::printf("%-20s %6d %5d %6d %6d %6d %5d %7d %7d\n", s.name.c_str(), static_cast<int>(s.team),
+                s.kills, s.deaths, s.score, s.shots, s.hits, s.damage_dealt, s.damage_taken);
   }
 }
 
@@ -127,7 +126,8 @@ int main(int argc, char** argv) {
   CLI::App app{"ricochet-replay: re-simulates a recorded match and checks its hashes"};
   app.add_option("FILE", file, "the recording")->required();
   app.add_flag("--json", json, "print the report as one JSON object");
-  app.add_option("--export", export_path, "write every step's player positions as CSV (tick,entity,x,y,z)");
+  app.add_option("--export", export_path,
+                 "write every step's player positions as CSV (tick,entity,x,y,z)");
   app.add_flag("--keep-going", keep_going, "replay to the end after a mismatch, counting them");
   CLI11_PARSE(app, argc, argv);
 
@@ -154,7 +154,8 @@ int main(int argc, char** argv) {
   ReplayOptions options;
   options.stop_at_mismatch = !keep_going;
   options.wall_clock_s = [] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
   };
   if (csv) {
     options.after_step = [&](std::uint32_t tick) {

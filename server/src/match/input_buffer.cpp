@@ -57,7 +57,8 @@ bool validate_input(const wire::Input& in, PlayerInput& out, InputDrop& reason) 
   };
   const bool in_range = move_ok(in.move_right()) && move_ok(in.move_forward()) &&
                         std::abs(in.yaw()) <= kMaxYaw && std::abs(in.pitch()) <= kMaxPitch &&
-                        (in.buttons() & ~kKnownButtons) == 0 && in.weapon_slot() <= kMaxWeaponSlot && in.view_fraction() <= 255;
+                        (in.buttons() & ~kKnownButtons) == 0 &&
+                        in.weapon_slot() <= kMaxWeaponSlot && in.view_fraction() <= 255;
   if (!in_range) {
     reason = InputDrop::OutOfRange;
     return false;

@@ -3,10 +3,10 @@
 
 #include "ricochet/server/lag_compensation.h"
 
-#include "range_check.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "range_check.h"
 
 namespace ricochet::server {
 
@@ -32,7 +32,8 @@ bool same_track(const LagSample* then, const LagSample& now) {
 }  // namespace
 
 std::string LagCompensationConfig::validate() const {
-  if (!within(history_s, 0.1f, 2)) return range_error("lag_compensation", "history_s", "0.1..2", history_s);
+  if (!within(history_s, 0.1f, 2))
+    return range_error("lag_compensation", "history_s", "0.1..2", history_s);
   if (!within(max_rewind_ms, 0, history_s * 1000)) {
     std::string range = "0..";
     range += std::to_string(std::lround(history_s * 1000));
@@ -43,7 +44,8 @@ std::string LagCompensationConfig::validate() const {
     return range_error("lag_compensation", "claim_tolerance_ms", "0..1000", claim_tolerance_ms);
   }
   if (!within(interpolation_delay_ms, 0, 250)) {
-    return range_error("lag_compensation", "interpolation_delay_ms", "0..250", interpolation_delay_ms);
+    return range_error("lag_compensation", "interpolation_delay_ms", "0..250",
+                       interpolation_delay_ms);
   }
   return {};
 }

@@ -28,9 +28,8 @@ void Match::check_inputs() {
   for (Player& player : players_) {
     const PlayerInput& input = player.applied;
     if (input.sequence == 0 && !player.aimed) continue;  // no input yet: keep the spawn's aim
-    if (!player.aimed ||
-        turn_rate_ok(player.aim_yaw_rad, player.aim_pitch_rad, input.yaw_rad, input.pitch_rad,
-                     max_turn_rad)) {
+    if (!player.aimed || turn_rate_ok(player.aim_yaw_rad, player.aim_pitch_rad, input.yaw_rad,
+                                      input.pitch_rad, max_turn_rad)) {
       player.aim_yaw_rad = input.yaw_rad;
       player.aim_pitch_rad = input.pitch_rad;
       player.aimed = true;

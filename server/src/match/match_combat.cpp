@@ -100,8 +100,8 @@ void Match::launch(Player& shooter, WeaponKind weapon, const physics::Vec3& eye,
       projectiles_.pop_back();
       return;
     }
-    const auto grenade = world_.create_body(
-        grenade_body(config, *start, aim, shooter.velocity_mps, shot.entity_id));
+    const auto grenade =
+        world_.create_body(grenade_body(config, *start, aim, shooter.velocity_mps, shot.entity_id));
     if (!grenade.ok()) return;
     shot.grenade = grenade.value();
     shot.position_m = *start;
@@ -112,14 +112,14 @@ void Match::launch(Player& shooter, WeaponKind weapon, const physics::Vec3& eye,
 void Match::resolve_projectiles() {
   // Rockets that touched something this step, in the world's (deterministic) order.
   for (const physics::ProjectileHitEvent& event : world_.projectile_hit_events()) {
-    const auto at = std::find_if(projectiles_.begin(), projectiles_.end(), [&](const Projectile& p) {
-      return p.entity_id == event.user_data && !p.rocket.is_null();
-    });
+    const auto at = std::find_if(
+        projectiles_.begin(), projectiles_.end(),
+        [&](const Projectile& p) { return p.entity_id == event.user_data && !p.rocket.is_null(); });
     if (at == projectiles_.end()) continue;
     const Projectile shot = *at;
     projectiles_.erase(at);
-    explode(shot, explosion_center(
-                      event, config_.weapons.weapons[static_cast<std::size_t>(shot.weapon)]));
+    explode(shot, explosion_center(event,
+                                   config_.weapons.weapons[static_cast<std::size_t>(shot.weapon)]));
   }
   // Fuses that ran out (grenades) and rockets that flew too long or left the world.
   for (std::size_t k = 0; k < projectiles_.size();) {
@@ -182,8 +182,8 @@ void Match::explode(const Projectile& shot, const physics::Vec3& center_m) {
 
 int Match::hurt(Player& victim, Player* attacker, WeaponKind weapon, int damage) {
   if (!victim.alive || ended() || tick_ < victim.protected_until) return 0;
-  const bool teammate = attacker && attacker != &victim && victim.team != Team::None &&
-                        attacker->team == victim.team;
+  const bool teammate =
+      attacker && attacker != &victim && victim.team != Team::None && attacker->team == victim.team;
   const int amount =
       scaled_damage(damage, damage_scale(config_.weapons, attacker == &victim, teammate));
   if (amount <= 0) return 0;
@@ -255,12 +255,11 @@ void Match::kill(Player& victim, Player* attacker, WeaponKind weapon, bool from_
 void Match::apply_hazards() {
   for (Player& player : players_) {
     if (!player.alive) continue;
-    const bool in_volume =
-        std::any_of(map_.kill_volumes.begin(), map_.kill_volumes.end(),
-                    [&](const MapKillVolume& volume) {
-                      return (player.position_m.array() >= volume.min_m.array()).all() &&
-                             (player.position_m.array() <= volume.max_m.array()).all();
-                    });
+    const bool in_volume = std::any_of(
+        map_.kill_volumes.begin(), map_.kill_volumes.end(), [&](const MapKillVolume& volume) {
+          return (player.position_m.array() >= volume.min_m.array()).all() &&
+                 (player.position_m.array() <= volume.max_m.array()).all();
+        });
     if (!in_volume && map_.contains(player.position_m)) continue;
     if (counts()) player.score.damage_taken += player.vitals.health;
     kill(player, nullptr, WeaponKind::Rifle, true);
@@ -280,8 +279,7 @@ void Match::take_pickups() {
       broadcast(event);
     }
     for (Player& player : players_) {
-      if (!player.alive ||
-          (player.position_m - pickup.spot.position_m).norm() > kPickupReach_m) {
+      if (!player.alive || (player.position_m - pickup.spot.position_m).norm() > kPickupReach_m) {
         continue;
       }
       const int amount = pickup.spot.amount;
@@ -299,7 +297,8 @@ void Match::take_pickups() {
           for (std::size_t w = 0; w < kWeaponCount; ++w) {
             const WeaponConfig& weapon = config_.weapons.weapons[w];
             used |= player.ammo[w] < weapon.ammo_max;
-            player.ammo[w] = std::min(weapon.ammo_max, player.ammo[w] + weapon.ammo_per_pickup * amount);
+            player.ammo[w] =
+                std::min(weapon.ammo_max, player.ammo[w] + weapon.ammo_per_pickup * amount);
           }
           break;
       }

@@ -2,8 +2,6 @@
 
 #include "ricochet/server/match_config.h"
 
-#include "range_check.h"
-
 #include <charconv>
 #include <cinttypes>
 #include <cmath>
@@ -11,6 +9,8 @@
 #include <cstdlib>
 #include <functional>
 #include <map>
+
+#include "range_check.h"
 
 namespace ricochet::server {
 
@@ -112,9 +112,12 @@ std::vector<Field> fields_of(MatchConfig& config) {
   RulesConfig& r = config.rules;
   f.push_back({"rules.mode", [&r] { return std::string(name(r.mode)); },
                [&r](std::string_view text) {
-                 if (text == "ffa") r.mode = GameMode::FreeForAll;
-                 else if (text == "tdm") r.mode = GameMode::TeamDeathmatch;
-                 else return false;
+                 if (text == "ffa")
+                   r.mode = GameMode::FreeForAll;
+                 else if (text == "tdm")
+                   r.mode = GameMode::TeamDeathmatch;
+                 else
+                   return false;
                  return true;
                }});
   f.push_back(int_field("rules.min_players", r.min_players));
@@ -254,7 +257,8 @@ std::vector<std::uint8_t> encode_match_config(const MatchConfig& config) {
 std::variant<MatchConfig, std::string> decode_match_config(std::span<const std::uint8_t> bytes) {
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   constexpr std::string_view kMagic = "ricochet-match-config 1\n";
-  if (!text.starts_with(kMagic)) return std::string("match config: expected 'ricochet-match-config 1'");
+  if (!text.starts_with(kMagic))
+    return std::string("match config: expected 'ricochet-match-config 1'");
   MatchConfig config;
   std::vector<Field> fields = fields_of(config);
   std::map<std::string, Field*, std::less<>> by_key;

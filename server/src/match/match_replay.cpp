@@ -6,7 +6,8 @@ namespace ricochet::server {
 
 std::variant<Match, std::string> open_recorded_match(const Recording& recording) {
   std::vector<MapFile> files;
-  for (const RecordedFile& file : recording.header.map_files) files.push_back({file.path, file.text});
+  for (const RecordedFile& file : recording.header.map_files)
+    files.push_back({file.path, file.text});
   MapResult map = parse_map_files(files);
   if (const auto* bad = std::get_if<MapError>(&map)) return "its map: " + bad->describe();
   auto config = decode_match_config(recording.header.config);

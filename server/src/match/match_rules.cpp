@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "ricochet/server/match.h"
 #include "range_check.h"
+#include "ricochet/server/match.h"
 
 namespace ricochet::server {
 
@@ -204,8 +204,8 @@ void Match::start_running() {
   clear_projectiles();
   reset_pickups();
   for (Player& player : players_) {
-    const PlayerScore fresh{player.account, player.name, player.entity_id, player.team,
-                            0, 0, 0, 0, 0, 0, 0, 0};
+    const PlayerScore fresh{
+        player.account, player.name, player.entity_id, player.team, 0, 0, 0, 0, 0, 0, 0, 0};
     player.score = fresh;
   }
   enter_phase(MatchPhase::Running);

@@ -14,7 +14,8 @@ physics::Vec3 wish_direction(const PlayerInput& input) {
 }
 
 physics::CharacterIntent character_intent(const PlayerInput& input) {
-  return {wish_direction(input), physics::stick_speed_fraction(input.move_right, input.move_forward),
+  return {wish_direction(input),
+          physics::stick_speed_fraction(input.move_right, input.move_forward),
           input.pressed(kButtonJump)};
 }
 

@@ -102,8 +102,8 @@ std::string check_header(const RecordingHeader& header) {
              std::to_string(header.config.size());
   } else if (header.hash_interval_ticks > kMaxHashInterval) {
     error = "hash_interval_ticks must be 0..";
-    error += std::to_string(kMaxHashInterval) + ", got " +
-             std::to_string(header.hash_interval_ticks);
+    error +=
+        std::to_string(kMaxHashInterval) + ", got " + std::to_string(header.hash_interval_ticks);
   } else if (header.tick_rate_hz < 1 || header.tick_rate_hz > kMaxTickRate) {
     error = "tick_rate_hz must be 1..";
     error += std::to_string(kMaxTickRate) + ", got " + std::to_string(header.tick_rate_hz);
@@ -165,8 +165,8 @@ std::string check_event(const RecordedEvent& event) {
   if (event.kind == RecordedEventKind::Connect &&
       (event.name.empty() || event.name.size() > kMaxRecordedNameBytes)) {
     std::string error = "a connect's name must be 1..";
-    error += std::to_string(kMaxRecordedNameBytes) + " bytes, got " +
-             std::to_string(event.name.size());
+    error +=
+        std::to_string(kMaxRecordedNameBytes) + " bytes, got " + std::to_string(event.name.size());
     return error;
   }
   if (event.kind == RecordedEventKind::End &&

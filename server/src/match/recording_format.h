@@ -43,17 +43,17 @@ inline constexpr unsigned kTickFlagBits = 4;
 /// Bits of an input's change mask (a varint), in the order the changed fields follow. The
 /// seven that change most fit the mask's first byte.
 enum InputField : std::uint16_t {
-  kFieldYaw = 1u << 0,          ///< f32 bits LE
-  kFieldPitch = 1u << 1,        ///< f32 bits LE
-  kFieldMoveRight = 1u << 2,    ///< f32 bits LE
-  kFieldMoveForward = 1u << 3,  ///< f32 bits LE
-  kFieldButtons = 1u << 4,      ///< varint
-  kFieldViewFraction = 1u << 5, ///< u8
-  kFieldSequence = 1u << 6,     ///< zigzag varint: sequence - (previous + 1)
-  kFieldViewTick = 1u << 7,     ///< zigzag varint: view_tick - expected (previous + 1, or 0
-                                ///< when the previous was 0)
-  kFieldWeaponSlot = 1u << 8,   ///< varint
-  kFieldLatency = 1u << 9,      ///< zigzag varint: latency_us - previous
+  kFieldYaw = 1u << 0,           ///< f32 bits LE
+  kFieldPitch = 1u << 1,         ///< f32 bits LE
+  kFieldMoveRight = 1u << 2,     ///< f32 bits LE
+  kFieldMoveForward = 1u << 3,   ///< f32 bits LE
+  kFieldButtons = 1u << 4,       ///< varint
+  kFieldViewFraction = 1u << 5,  ///< u8
+  kFieldSequence = 1u << 6,      ///< zigzag varint: sequence - (previous + 1)
+  kFieldViewTick = 1u << 7,      ///< zigzag varint: view_tick - expected (previous + 1, or 0
+                                 ///< when the previous was 0)
+  kFieldWeaponSlot = 1u << 8,    ///< varint
+  kFieldLatency = 1u << 9,       ///< zigzag varint: latency_us - previous
 };
 inline constexpr std::uint32_t kKnownFields = (1u << 10) - 1;
 

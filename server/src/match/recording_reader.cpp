@@ -103,8 +103,8 @@ class Cursor {
   void need(std::size_t size, const char* what) const {
     if (bytes_.size() - pos_ >= size) return;
     std::string message = what;
-    message += " runs past the end of the chunk (expected " + std::to_string(size) +
-               " bytes, " + std::to_string(bytes_.size() - pos_) + " left)";
+    message += " runs past the end of the chunk (expected " + std::to_string(size) + " bytes, " +
+               std::to_string(bytes_.size() - pos_) + " left)";
     fail(message);
   }
 
@@ -191,7 +191,8 @@ RecordedEvent read_event(Cursor& in) {
 RecordedInput read_input(Cursor& in, const RecordedInput& before) {
   const std::uint64_t mask = in.varint("change mask");
   if ((mask & ~std::uint64_t{rf::kKnownFields}) != 0) {
-    in.fail("change mask has unknown bits " + std::to_string(mask & ~std::uint64_t{rf::kKnownFields}));
+    in.fail("change mask has unknown bits " +
+            std::to_string(mask & ~std::uint64_t{rf::kKnownFields}));
   }
   RecordedInput now = before;
   PlayerInput& b = now.input;
@@ -250,7 +251,8 @@ void read_ticks(Cursor& in, TickState& state, Recording& recording) {
     }
     for (const std::uint32_t id : state.entities) {
       RecordedInput& before = state.previous_of(id);
-      if (flags & rf::kTickChanges) before = read_input(in, before);
+      if (flags & rf::kTickChanges)
+        before = read_input(in, before);
       else {
         before.input.sequence += 1;
         before.input.view_tick = rf::expected_view_tick(before.input.view_tick);
@@ -274,8 +276,7 @@ bool read_footer(Cursor& in, const Totals& totals, std::uint32_t file_crc) {
   const auto expect = [&](const char* what, std::uint64_t stored, std::uint64_t counted) {
     if (stored == counted) return;
     std::string message = "the footer says ";
-    message += std::to_string(stored) + " " + what + ", the chunks hold " +
-               std::to_string(counted);
+    message += std::to_string(stored) + " " + what + ", the chunks hold " + std::to_string(counted);
     in.fail(message);
   };
   expect("ticks", in.varint("tick count"), totals.ticks);
@@ -303,15 +304,14 @@ std::uint32_t read_le32(std::span<const std::uint8_t> bytes, std::size_t at) {
 
 Recording read_all(std::span<const std::uint8_t> bytes) {
   if (bytes.size() > kMaxRecordingBytes) {
-    throw Failure{"a recording is at most " + std::to_string(kMaxRecordingBytes) +
-                      " bytes, got " + std::to_string(bytes.size()),
+    throw Failure{"a recording is at most " + std::to_string(kMaxRecordingBytes) + " bytes, got " +
+                      std::to_string(bytes.size()),
                   0};
   }
   const std::size_t prefix = rf::kMagic.size() + 1;
   if (bytes.size() < prefix) {
-    throw Failure{"truncated at byte " + std::to_string(bytes.size()) +
-                      " in the magic (expected " + std::to_string(prefix - bytes.size()) +
-                      " more bytes)",
+    throw Failure{"truncated at byte " + std::to_string(bytes.size()) + " in the magic (expected " +
+                      std::to_string(prefix - bytes.size()) + " more bytes)",
                   bytes.size()};
   }
   if (!std::equal(rf::kMagic.begin(), rf::kMagic.end(), bytes.begin())) {
@@ -331,8 +331,8 @@ Recording read_all(std::span<const std::uint8_t> bytes) {
   for (std::uint64_t index = 0;; ++index) {
     std::string where = "chunk " + std::to_string(index);
     const auto truncated = [&](std::size_t missing) -> Failure {
-      return {"truncated at byte " + std::to_string(bytes.size()) + " in " + where +
-                  " (expected " + std::to_string(missing) + " more bytes)",
+      return {"truncated at byte " + std::to_string(bytes.size()) + " in " + where + " (expected " +
+                  std::to_string(missing) + " more bytes)",
               bytes.size()};
     };
     if (pos == bytes.size() && have_header) return recording;  // cut between chunks
@@ -352,19 +352,23 @@ Recording read_all(std::span<const std::uint8_t> bytes) {
     where += " (";
     where += rf::chunk_name(type);
     where += ")";
-    const bool known = type == rf::kChunkHeader || type == rf::kChunkTicks || type == rf::kChunkFooter;
+    const bool known =
+        type == rf::kChunkHeader || type == rf::kChunkTicks || type == rf::kChunkFooter;
     std::string order_error;
-    if (!known) order_error = "unknown chunk type " + std::to_string(type);
-    else if (!have_header && type != rf::kChunkHeader) order_error = "the first chunk must be the header";
-    else if (have_header && type == rf::kChunkHeader) order_error = "a second header";
-    if (!order_error.empty()) throw Failure{where + " at byte " + std::to_string(pos) + ": " + order_error, pos};
+    if (!known)
+      order_error = "unknown chunk type " + std::to_string(type);
+    else if (!have_header && type != rf::kChunkHeader)
+      order_error = "the first chunk must be the header";
+    else if (have_header && type == rf::kChunkHeader)
+      order_error = "a second header";
+    if (!order_error.empty())
+      throw Failure{where + " at byte " + std::to_string(pos) + ": " + order_error, pos};
     const std::size_t max_length = type == rf::kChunkTicks    ? rf::kMaxTickChunkBytes
                                    : type == rf::kChunkFooter ? rf::kMaxFooterBytes
                                                               : kMaxRecordingBytes;
     if (length > max_length) {
       throw Failure{where + " at byte " + std::to_string(pos) + ": length " +
-                        std::to_string(length) + " over the limit of " +
-                        std::to_string(max_length),
+                        std::to_string(length) + " over the limit of " + std::to_string(max_length),
                     pos};
     }
     const std::size_t payload_at = pos + rf::kFrameHeadBytes;

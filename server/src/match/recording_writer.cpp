@@ -149,23 +149,22 @@ void RecordingWriter::add_event(const RecordedEvent& event) {
 void RecordingWriter::add_input(const RecordedInput& input) {
   if (finished_ || full()) return;
   std::string reason;
-  const bool seen = std::any_of(pending_.inputs.begin(), pending_.inputs.end(),
-                                [&](const RecordedInput& other) {
-                                  return other.entity_id == input.entity_id;
-                                });
+  const bool seen =
+      std::any_of(pending_.inputs.begin(), pending_.inputs.end(),
+                  [&](const RecordedInput& other) { return other.entity_id == input.entity_id; });
   if (!open_) {
     reason = "an input outside begin_tick/end_tick";
   } else if (pending_.inputs.size() == kMaxRecordedPlayers) {
     reason = "more than ";
-    reason += std::to_string(kMaxRecordedPlayers) + " inputs in tick " +
-              std::to_string(pending_.tick);
+    reason +=
+        std::to_string(kMaxRecordedPlayers) + " inputs in tick " + std::to_string(pending_.tick);
   } else if (seen) {
     reason = "a second input of entity ";
     reason += std::to_string(input.entity_id) + " in tick " + std::to_string(pending_.tick);
   } else if (std::string error = rf::check_input(input.input); !error.empty()) {
     reason = "entity ";
-    reason += std::to_string(input.entity_id) + " in tick " + std::to_string(pending_.tick) +
-              ": " + error;
+    reason += std::to_string(input.entity_id) + " in tick " + std::to_string(pending_.tick) + ": " +
+              error;
   }
   if (!reason.empty()) return stop(std::move(reason));
   pending_.inputs.push_back(input);
@@ -182,9 +181,13 @@ void RecordingWriter::add_hash(std::uint32_t tick, std::uint64_t hash) {
   pending_has_hash_ = true;
 }
 
-void RecordingWriter::end_tick() { open_ = false; }
+void RecordingWriter::end_tick() {
+  open_ = false;
+}
 
-std::size_t RecordingWriter::bytes() const { return file_bytes_ + chunk_.size(); }
+std::size_t RecordingWriter::bytes() const {
+  return file_bytes_ + chunk_.size();
+}
 
 void RecordingWriter::append(std::span<const std::uint8_t> bytes) {
   if (blocks_.empty() || blocks_.back().capacity() - blocks_.back().size() < bytes.size()) {
@@ -200,10 +203,10 @@ void RecordingWriter::encode_pending() {
   record_.clear();
   std::uint32_t flags = 0;
   if (!pending_.events.empty()) flags |= rf::kTickEvents;
-  const bool same_entities =
-      std::equal(pending_.inputs.begin(), pending_.inputs.end(), previous_entities_.begin(),
-                 previous_entities_.end(),
-                 [](const RecordedInput& input, std::uint32_t id) { return input.entity_id == id; });
+  const bool same_entities = std::equal(
+      pending_.inputs.begin(), pending_.inputs.end(), previous_entities_.begin(),
+      previous_entities_.end(),
+      [](const RecordedInput& input, std::uint32_t id) { return input.entity_id == id; });
   if (!same_entities) flags |= rf::kTickEntities;
   const auto previous = [&](std::uint32_t id) {
     return std::lower_bound(
@@ -224,8 +227,9 @@ void RecordingWriter::encode_pending() {
   if (any_change) flags |= rf::kTickChanges;
   if (pending_has_hash_) flags |= rf::kTickHash;
 
-  rf::put_varint(record_, (static_cast<std::uint64_t>(pending_.tick - last_encoded_)
-                           << rf::kTickFlagBits) | flags);
+  rf::put_varint(
+      record_,
+      (static_cast<std::uint64_t>(pending_.tick - last_encoded_) << rf::kTickFlagBits) | flags);
   if (flags & rf::kTickEvents) {
     rf::put_varint(record_, pending_.events.size());
     for (const RecordedEvent& event : pending_.events) put_event(record_, event);

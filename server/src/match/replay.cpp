@@ -29,7 +29,8 @@ ReplayReport replay(const Recording& recording, ReplaySimulation& simulation,
     ++report.hashes_checked;
     if (recorded == replayed) return true;
     ++report.hashes_differing;
-    if (!report.first_mismatch) report.first_mismatch = ReplayMismatch{report.last_tick, recorded, replayed};
+    if (!report.first_mismatch)
+      report.first_mismatch = ReplayMismatch{report.last_tick, recorded, replayed};
     return !options.stop_at_mismatch;
   };
   bool going = true;

@@ -2,10 +2,9 @@
 
 #include "ricochet/server/weapons.h"
 
-#include "range_check.h"
-
 #include <cmath>
 
+#include "range_check.h"
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/server/movement.h"
 

@@ -57,9 +57,10 @@ std::shared_ptr<const wire::CollisionWorld> collision_world(const Map& map,
   rules.set_ground_max_slope_deg(movement.ground_max_slope_deg);
   rules.set_ground_probe_m(movement.ground_probe_m);
   if (const std::size_t bytes = world->ByteSizeLong(); bytes > kMaxCollisionWorldBytes) {
-    spdlog::warn("map {}: its collision world is {} bytes, over the {} a join reply carries; "
-                 "clients of its matches cannot predict (simplify the meshes)",
-                 map.name, bytes, kMaxCollisionWorldBytes);
+    spdlog::warn(
+        "map {}: its collision world is {} bytes, over the {} a join reply carries; "
+        "clients of its matches cannot predict (simplify the meshes)",
+        map.name, bytes, kMaxCollisionWorldBytes);
     return nullptr;
   }
   return world;

@@ -211,7 +211,9 @@ std::string under_data_dir(const ProcessConfig& server, const std::string& path)
 }
 }  // namespace
 
-std::string ServerConfig::db_file() const { return under_data_dir(server, db.path); }
+std::string ServerConfig::db_file() const {
+  return under_data_dir(server, db.path);
+}
 
 std::string ServerConfig::recordings_path() const {
   return under_data_dir(server, matches.recordings_dir);

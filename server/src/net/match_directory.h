@@ -27,9 +27,9 @@ struct MatchSummary {
 };
 
 struct CreateMatchRequest {
-  std::string name;     ///< 1..32 printable characters
-  int max_players = 16; ///< 1..64
-  std::string map;      ///< a loaded map's name; empty: the rotation's first
+  std::string name;      ///< 1..32 printable characters
+  int max_players = 16;  ///< 1..64
+  std::string map;       ///< a loaded map's name; empty: the rotation's first
 };
 
 /// Everything the client needs to open the game channel.
@@ -55,13 +55,20 @@ enum class DirectoryErrorCode {
 };
 inline const char* name(DirectoryErrorCode code) {
   switch (code) {
-    case DirectoryErrorCode::MatchNotFound: return "match_not_found";
-    case DirectoryErrorCode::MatchFull: return "match_full";
-    case DirectoryErrorCode::AlreadyInMatch: return "already_in_match";
-    case DirectoryErrorCode::NotInMatch: return "not_in_match";
-    case DirectoryErrorCode::InvalidRequest: return "invalid_request";
-    case DirectoryErrorCode::TooManyMatches: return "too_many_matches";
-    case DirectoryErrorCode::ShuttingDown: return "shutting_down";
+    case DirectoryErrorCode::MatchNotFound:
+      return "match_not_found";
+    case DirectoryErrorCode::MatchFull:
+      return "match_full";
+    case DirectoryErrorCode::AlreadyInMatch:
+      return "already_in_match";
+    case DirectoryErrorCode::NotInMatch:
+      return "not_in_match";
+    case DirectoryErrorCode::InvalidRequest:
+      return "invalid_request";
+    case DirectoryErrorCode::TooManyMatches:
+      return "too_many_matches";
+    case DirectoryErrorCode::ShuttingDown:
+      return "shutting_down";
   }
   return "unknown";
 }

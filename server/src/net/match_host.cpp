@@ -1,14 +1,14 @@
 #include "match_host.h"
 
-#include <chrono>
-#include <utility>
+#include <spdlog/spdlog.h>
 
 #include <boost/asio/as_tuple.hpp>
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/use_awaitable.hpp>
-#include <spdlog/spdlog.h>
+#include <chrono>
+#include <utility>
 
 #include "steady_time.h"
 #include "tick_wake.h"

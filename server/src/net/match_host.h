@@ -12,6 +12,10 @@
 /// (the server stops: aborted). Either way the host stops ticking and hands over one EndedMatch.
 
 #include <atomic>
+#include <boost/asio/awaitable.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/strand.hpp>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -19,11 +23,6 @@
 #include <string>
 #include <unordered_map>
 #include <vector>
-
-#include <boost/asio/awaitable.hpp>
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/steady_timer.hpp>
-#include <boost/asio/strand.hpp>
 
 #include "game_channel.h"
 #include "ricochet/db/records.h"
@@ -37,7 +36,7 @@ namespace ricochet::server {
 struct MatchHostStats {
   MatchCounters counters;
   TickProfile last_profile;
-  int seated = 0;     ///< connected plus within the reconnect grace
+  int seated = 0;  ///< connected plus within the reconnect grace
   int connected = 0;
   proto::TimeUs last_tick_at = 0;  ///< steady µs of the last tick() call (or of the opening)
 };

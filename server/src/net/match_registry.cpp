@@ -1,6 +1,6 @@
 #include "match_registry.h"
 
-#include "collision_world.h"
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <optional>
@@ -8,8 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include <spdlog/spdlog.h>
-
+#include "collision_world.h"
 #include "ricochet/proto/connect_token.h"
 #include "steady_time.h"
 
@@ -136,9 +135,9 @@ DirectoryResult<MatchSummary> MatchRegistry::create(const CreateMatchRequest& re
     if (named == maps_.end()) {
       std::string known;
       for (const Map& loaded : maps_) known += (known.empty() ? "'" : ", '") + loaded.name + "'";
-      return error(DirectoryErrorCode::InvalidRequest,
-                   "map must be one of the loaded maps (" + known + ") or empty, got '" +
-                       request.map + "'");
+      return error(
+          DirectoryErrorCode::InvalidRequest,
+          "map must be one of the loaded maps (" + known + ") or empty, got '" + request.map + "'");
     }
     map = static_cast<std::size_t>(named - maps_.begin());
   }
@@ -175,12 +174,12 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
   grant.tick_rate_hz = host->second.host->tick_rate_hz();
   grant.snapshot_rate_hz = host->second.host->snapshot_rate_hz();
   grant.world = host->second.world;
-  grant.token = proto::issue_connect_token(config_.token_key, proto::kProtocolId, account,
-                                           match_id, now, config_.token_lifetime_us,
-                                           config_.token_timeout_s);
+  grant.token = proto::issue_connect_token(config_.token_key, proto::kProtocolId, account, match_id,
+                                           now, config_.token_lifetime_us, config_.token_timeout_s);
   // A taken seat stays taken (a reconnect); a reservation lives as long as its newest token.
   seat->second.reserved_until =
-      grant.token.expires_at + static_cast<proto::TimeUs>(grant.token.timeout_s) * proto::kMicrosPerSecond;
+      grant.token.expires_at +
+      static_cast<proto::TimeUs>(grant.token.timeout_s) * proto::kMicrosPerSecond;
   return grant;
 }
 
@@ -267,7 +266,8 @@ void MatchRegistry::reliable(std::uint64_t account, std::vector<std::uint8_t> by
 }
 
 void MatchRegistry::expire_reservations(proto::TimeUs now) {
-  boost::unordered::erase_if(seats_, [now](const auto& entry) { return !holds(entry.second, now); });
+  boost::unordered::erase_if(seats_,
+                             [now](const auto& entry) { return !holds(entry.second, now); });
 }
 
 std::optional<DirectoryError> MatchRegistry::refuse_open() const {
@@ -345,7 +345,8 @@ void MatchRegistry::match_ended(std::uint32_t match_id, EndedMatch ended) {
   ended_(std::move(ended));
 }
 
-void MatchRegistry::release(std::uint64_t account, std::uint32_t match_id, std::uint64_t generation) {
+void MatchRegistry::release(std::uint64_t account, std::uint32_t match_id,
+                            std::uint64_t generation) {
   const std::lock_guard lock(mutex_);
   const auto seat = seats_.find(account);
   // Only the seat the player connected with: one taken again since (a rejoin) stays.

@@ -15,6 +15,8 @@
 /// rotation under a new id with the same name and size, and hands the ended match on.
 
 #include <atomic>
+#include <boost/asio/io_context.hpp>
+#include <boost/unordered/unordered_flat_map.hpp>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -23,9 +25,6 @@
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <boost/asio/io_context.hpp>
-#include <boost/unordered/unordered_flat_map.hpp>
 
 #include "game_channel.h"
 #include "match_directory.h"
@@ -57,8 +56,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
 
   /// Opens a match on the rotation's map `map` (0: the first; taken modulo the rotation's size),
   /// at start and through create(); the message says why it could not.
-  DirectoryResult<MatchSummary> open(const std::string& name, int max_players,
-                                     std::size_t map = 0);
+  DirectoryResult<MatchSummary> open(const std::string& name, int max_players, std::size_t map = 0);
   /// The rotation's map after `map`: where a match that ended on `map` is followed.
   std::size_t next_in_rotation(std::size_t map) const { return (map + 1) % maps_.size(); }
   /// The UDP port clients are told, once the channel is bound.
@@ -90,11 +88,11 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   struct Seat {
     std::uint32_t match_id = 0;
     std::string username;
-    bool taken = false;              ///< the game channel connected at least once
+    bool taken = false;  ///< the game channel connected at least once
     /// While not taken: the newest token's expiry plus its timeout (a handshake accepted just
     /// before the expiry may take that long to finish).
     proto::TimeUs reserved_until = 0;
-    std::uint64_t generation = 0;    ///< bumped on every connection, named by SeatReleased
+    std::uint64_t generation = 0;  ///< bumped on every connection, named by SeatReleased
   };
 
   /// Why no match can be opened now (closed, or at the cap), or nothing. Holds mutex_.
@@ -103,7 +101,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   void expire_reservations(proto::TimeUs now);
   /// A seat that counts: taken, or reserved by a token still usable at `now`.
   static bool holds(const Seat& seat, proto::TimeUs now);
-  int seats_in(std::uint32_t match_id, proto::TimeUs now) const;  ///< holds mutex_
+  int seats_in(std::uint32_t match_id, proto::TimeUs now) const;         ///< holds mutex_
   MatchSummary summary(const MatchHost& host, proto::TimeUs now) const;  ///< holds mutex_
   std::shared_ptr<MatchHost> host_of(std::uint64_t account) const;
   /// A match ended by itself (on its strand): drop it, free its seats, open the next one.
@@ -118,7 +116,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   mutable std::mutex mutex_;
   struct Hosted {
     std::shared_ptr<MatchHost> host;
-    std::size_t map = 0;  ///< index in the rotation
+    std::size_t map = 0;                                ///< index in the rotation
     std::shared_ptr<const wire::CollisionWorld> world;  ///< what its join replies carry
   };
   std::map<std::uint32_t, Hosted> hosts_;

@@ -1,10 +1,10 @@
 #include "recording_files.h"
 
+#include <spdlog/spdlog.h>
+
 #include <fstream>
 #include <system_error>
 #include <utility>
-
-#include <spdlog/spdlog.h>
 
 namespace ricochet::server {
 

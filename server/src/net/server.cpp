@@ -1,5 +1,9 @@
 #include "server.h"
 
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <boost/system/system_error.hpp>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -9,23 +13,18 @@
 #include <stdexcept>
 #include <utility>
 
-#include <unistd.h>
-
-#include <boost/system/system_error.hpp>
-#include <spdlog/spdlog.h>
-
 #include "admin_http.h"
 #include "control_server.h"
 #include "game_channel.h"
 #include "match_defaults.h"
 #include "match_registry.h"
 #include "recording_files.h"
-#include "ricochet/wire/control.pb.h"
 #include "ricochet/db/db_worker.h"
 #include "ricochet/db/store.h"
 #include "ricochet/proto/crypto.h"
 #include "ricochet/proto/token_grant.h"
 #include "ricochet/server/map.h"
+#include "ricochet/wire/control.pb.h"
 #include "steady_time.h"
 
 namespace ricochet::server {
@@ -192,10 +191,11 @@ void Server::start() {
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
   ready_ = true;
-  spdlog::info("ricochet-server {}: control TLS 1.3 on {}:{}, game UDP on {}:{}, admin HTTP on "
-               "{}:{}, {} matches, {} threads",
-               RICOCHET_VERSION, config_.control.bind, control_port(), config_.game.bind,
-               game_port(), config_.admin.bind, admin_port(), config_.matches.count, threads);
+  spdlog::info(
+      "ricochet-server {}: control TLS 1.3 on {}:{}, game UDP on {}:{}, admin HTTP on "
+      "{}:{}, {} matches, {} threads",
+      RICOCHET_VERSION, config_.control.bind, control_port(), config_.game.bind, game_port(),
+      config_.admin.bind, admin_port(), config_.matches.count, threads);
   spdlog::info("TLS certificate SHA-256 fingerprint (pin it in clients): {}", fingerprint());
 }
 
@@ -234,10 +234,18 @@ int Server::wait() {
   return exit_code_.load();
 }
 
-std::uint16_t Server::control_port() const { return control_->port(); }
-std::uint16_t Server::game_port() const { return game_->port(); }
-std::uint16_t Server::admin_port() const { return admin_->local_endpoint().port(); }
-const std::string& Server::fingerprint() const { return control_->identity().fingerprint_sha256; }
+std::uint16_t Server::control_port() const {
+  return control_->port();
+}
+std::uint16_t Server::game_port() const {
+  return game_->port();
+}
+std::uint16_t Server::admin_port() const {
+  return admin_->local_endpoint().port();
+}
+const std::string& Server::fingerprint() const {
+  return control_->identity().fingerprint_sha256;
+}
 
 bool Server::healthy() const {
   const proto::TimeUs now = steady_now_us();

@@ -19,17 +19,16 @@
 /// stop the threads; finish writing the recordings.
 
 #include <atomic>
+#include <boost/asio/io_context.hpp>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
-#include <optional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <boost/asio/io_context.hpp>
 
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
@@ -38,7 +37,7 @@
 namespace ricochet::db {
 class DbWorker;
 struct DbServices;
-}
+}  // namespace ricochet::db
 namespace ricochet::wire {
 class MatchResults;
 }

@@ -85,10 +85,14 @@ void report_match(const MatchHost& host, MetricsSink& sink) {
     labels.emplace_back(key, std::move(value));
     return labels;
   };
-  sink.gauge("ricochet_match_players", "Players per match: seated (connected or within the "
-             "reconnect grace) and connected", with("state", "seated"), stats.seated);
-  sink.gauge("ricochet_match_players", "Players per match: seated (connected or within the "
-             "reconnect grace) and connected", with("state", "connected"), stats.connected);
+  sink.gauge("ricochet_match_players",
+             "Players per match: seated (connected or within the "
+             "reconnect grace) and connected",
+             with("state", "seated"), stats.seated);
+  sink.gauge("ricochet_match_players",
+             "Players per match: seated (connected or within the "
+             "reconnect grace) and connected",
+             with("state", "connected"), stats.connected);
   const MatchCounters& counters = stats.counters;
   sink.counter("ricochet_match_steps_total", "Fixed steps run", match,
                static_cast<double>(counters.steps));
@@ -105,7 +109,8 @@ void report_match(const MatchHost& host, MetricsSink& sink) {
   sink.counter("ricochet_match_inputs_total", "Player steps with a fresh or a repeated input",
                with("kind", "repeated"), static_cast<double>(counters.inputs_repeated));
   for (std::size_t i = 0; i < kInputDropCount; ++i) {
-    sink.counter("ricochet_match_input_dropped_total", "Client payloads or inputs dropped, by reason",
+    sink.counter("ricochet_match_input_dropped_total",
+                 "Client payloads or inputs dropped, by reason",
                  with("reason", name(static_cast<InputDrop>(i))),
                  static_cast<double>(counters.input_drops[i]));
   }
@@ -129,9 +134,10 @@ void Server::register_metrics() {
     report_control_channel(control_->stats(), sink);
     const auto hosts = matches_->hosts();
     sink.gauge("ricochet_matches", "Matches hosted", {}, static_cast<double>(hosts.size()));
-    sink.gauge("ricochet_players", "Players seated in any match (connected, within the reconnect "
-               "grace, or holding a fresh connect token)", {},
-               static_cast<double>(matches_->seats()));
+    sink.gauge("ricochet_players",
+               "Players seated in any match (connected, within the reconnect "
+               "grace, or holding a fresh connect token)",
+               {}, static_cast<double>(matches_->seats()));
     sink.counter("ricochet_game_unexpected_reliable_total",
                  "Reliable messages from clients, none being defined (dropped)", {},
                  static_cast<double>(matches_->unexpected_reliable()));

@@ -43,12 +43,15 @@ TEST(CollisionWorldCheck, RefusesEachKindOfBadValueNamingIt) {
        [&](auto& w) { w.mutable_movement()->set_max_speed_mps(nan); }},
       {"player_radius_m must be 0.05..5", [](auto& w) { w.set_player_radius_m(0); }},
       {"player_mass_kg must be 1..10000", [&](auto& w) { w.set_player_mass_kg(inf); }},
-      {"gravity_mps2 must have 3 values, got 2", [](auto& w) { w.mutable_gravity_mps2()->RemoveLast(); }},
+      {"gravity_mps2 must have 3 values, got 2",
+       [](auto& w) { w.mutable_gravity_mps2()->RemoveLast(); }},
       {"gravity_mps2.y must be finite", [](auto& w) { w.set_gravity_mps2(1, -1000); }},
-      {"plane 1 normal.x must be finite", [&](auto& w) { w.mutable_planes(0)->set_normal(0, nan); }},
+      {"plane 1 normal.x must be finite",
+       [&](auto& w) { w.mutable_planes(0)->set_normal(0, nan); }},
       {"plane 1 normal must not be zero", [](auto& w) { w.mutable_planes(0)->set_normal(1, 0); }},
       {"plane 1 offset_m must be", [&](auto& w) { w.mutable_planes(0)->set_offset_m(inf); }},
-      {"box 1 center_m must have 3 values, got 4", [](auto& w) { w.mutable_boxes(0)->add_center_m(1); }},
+      {"box 1 center_m must have 3 values, got 4",
+       [](auto& w) { w.mutable_boxes(0)->add_center_m(1); }},
       {"box 1 orientation length must be 1 +- 0.001",
        [](auto& w) { w.mutable_boxes(0)->set_orientation(3, 0.5f); }},
       {"box 1 half_extents_m.y must be 0.001..100000",
@@ -57,7 +60,8 @@ TEST(CollisionWorldCheck, RefusesEachKindOfBadValueNamingIt) {
        [](auto& w) { w.mutable_meshes(0)->mutable_vertices_m()->RemoveLast(); }},
       {"mesh 1 indices must be a non-zero multiple of 3, got 5",
        [](auto& w) { w.mutable_meshes(0)->mutable_indices()->RemoveLast(); }},
-      {"mesh 1 index 9 is not below its 4 vertices", [](auto& w) { w.mutable_meshes(0)->set_indices(4, 9); }},
+      {"mesh 1 index 9 is not below its 4 vertices",
+       [](auto& w) { w.mutable_meshes(0)->set_indices(4, 9); }},
       {"mesh 1 vertex 2.z must be -100000..100000",
        [&](auto& w) { w.mutable_meshes(0)->set_vertices_m(5, nan); }},
       {"at most 16 planes, got 17",
@@ -80,7 +84,8 @@ TEST(CollisionWorldCheck, RefusesTooManyTrianglesInAll) {
   for (std::size_t k = 0; k < 3 * (CollisionWorldLimits::kMaxTriangles + 1); ++k) {
     big.add_indices(static_cast<std::uint32_t>(k % 3));
   }
-  EXPECT_NE(refusal(world).find("triangles in all meshes, mesh 2 goes past that"), std::string::npos)
+  EXPECT_NE(refusal(world).find("triangles in all meshes, mesh 2 goes past that"),
+            std::string::npos)
       << refusal(world);
 }
 

@@ -53,7 +53,7 @@ TEST(Interpolator, FollowsTheSnapshotsSmoothly) {
     interpolator.add(tick, one(0.1f * float(tick)), tick / 60.0);
     const RenderTime shown = interpolator.advance(tick / 60.0);
     const double at = shown.tick + shown.fraction / 256.0;
-    if (tick > 60) {  // settled within a second of the first snapshot
+    if (tick > 60) {                              // settled within a second of the first snapshot
       EXPECT_NEAR(at, tick - 6.0, 0.05) << tick;  // the delay holds
       EXPECT_GT(at, last);                        // and time only moves forward
     }

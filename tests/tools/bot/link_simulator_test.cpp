@@ -86,10 +86,10 @@ TEST(LinkSimulator, DelaysWithinLatencyPlusMinusJitter) {
   // Polled every ms: a delivery comes at most 1 ms after it is due.
   EXPECT_GE(low, 100'000);
   EXPECT_LE(high, 201'000);
-  EXPECT_LT(low, 102'000);   // the whole range is used
+  EXPECT_LT(low, 102'000);  // the whole range is used
   EXPECT_GT(high, 198'000);
   EXPECT_NEAR(sum_ms / kPackets, 150.5, 1.5);  // uniform: the mean is the latency
-  EXPECT_GT(overtaken, kPackets / 10);  // +-50 ms against 16.7 ms spacing reorders plenty
+  EXPECT_GT(overtaken, kPackets / 10);         // +-50 ms against 16.7 ms spacing reorders plenty
 }
 
 TEST(LinkSimulator, DuplicatesAtTheRateGiven) {
@@ -142,12 +142,9 @@ TEST(LinkSimulator, TheSameSeedGivesTheSameDeliveries) {
 
 TEST(LinkConfig, ValidatesEveryField) {
   EXPECT_EQ(LinkConfig{}.validate(), "");
-  EXPECT_EQ(link(-1, 0).validate(),
-            "sim latency_ms must be 0..5000, got -1.000000");
-  EXPECT_NE(link(10, 20).validate().find("sim jitter_ms must be 0..latency_ms"),
-            std::string::npos);
-  EXPECT_NE(link(0, 0, std::nan("")).validate().find("sim loss must be 0..1"),
-            std::string::npos);
+  EXPECT_EQ(link(-1, 0).validate(), "sim latency_ms must be 0..5000, got -1.000000");
+  EXPECT_NE(link(10, 20).validate().find("sim jitter_ms must be 0..latency_ms"), std::string::npos);
+  EXPECT_NE(link(0, 0, std::nan("")).validate().find("sim loss must be 0..1"), std::string::npos);
   EXPECT_NE(link(0, 0, 0, 2).validate().find("sim duplicate"), std::string::npos);
   EXPECT_NE(link(0, 0, 0, 0, -0.5).validate().find("sim reorder"), std::string::npos);
 }

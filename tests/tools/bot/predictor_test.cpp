@@ -44,9 +44,9 @@ class ScriptedServer {
     const physics::BodyState state = world_.world.body_state(body_).value();
     const bool grounded = physics::is_grounded(world_.world, body_, state.radius, world_.motion);
     ASSERT_TRUE(world_.world
-                    .set_linear_velocity(body_, physics::character_velocity(
-                                                    world_.motion, intent_of(input),
-                                                    state.linear_velocity, grounded, kTickS))
+                    .set_linear_velocity(
+                        body_, physics::character_velocity(world_.motion, intent_of(input),
+                                                           state.linear_velocity, grounded, kTickS))
                     .ok());
     ASSERT_TRUE(world_.world.step(kTickS).ok());
   }

@@ -7,7 +7,9 @@
 namespace ricochet::loadtest {
 namespace {
 
-TEST(LoadTestConfig, DefaultsAreValid) { EXPECT_EQ(LoadTestConfig{}.validate(), ""); }
+TEST(LoadTestConfig, DefaultsAreValid) {
+  EXPECT_EQ(LoadTestConfig{}.validate(), "");
+}
 
 TEST(LoadTestConfig, RefusesWhatIsOutOfRangeNamingIt) {
   LoadTestConfig config;

@@ -23,8 +23,8 @@ std::string BotConfig::validate() const {
   if (!bind_address.empty()) {
     const auto local = boost::asio::ip::make_address(bind_address, error);
     if (error || local.is_v4() != boost::asio::ip::make_address(host).is_v4()) {
-      return "bind_address must be a numeric address of the host's family, got \"" +
-             bind_address + "\"";
+      return "bind_address must be a numeric address of the host's family, got \"" + bind_address +
+             "\"";
     }
   }
   if (!fingerprint.empty() && !normalize_fingerprint(fingerprint)) {

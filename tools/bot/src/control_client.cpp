@@ -22,16 +22,14 @@ ControlClient::ControlClient(asio::io_context& io, asio::ssl::context& tls, Serv
                              Callbacks callbacks)
     : stream_(io, tls), trust_(trust), callbacks_(std::move(callbacks)) {}
 
-void ControlClient::connect(const asio::ip::tcp::endpoint& server,
-                            const asio::ip::address& local) {
+void ControlClient::connect(const asio::ip::tcp::endpoint& server, const asio::ip::address& local) {
   if (!local.is_unspecified()) {
     boost::system::error_code error;
     stream_.next_layer().open(server.protocol(), error);
     if (!error) stream_.next_layer().bind({local, 0}, error);
     if (error) {
-      return asio::post(stream_.get_executor(), [self = shared_from_this(), error] {
-        self->on_connected(error);
-      });
+      return asio::post(stream_.get_executor(),
+                        [self = shared_from_this(), error] { self->on_connected(error); });
     }
   }
   stream_.next_layer().async_connect(

@@ -53,8 +53,8 @@ Fleet::Fleet(boost::asio::io_context& io, FleetConfig config)
     }
     bot.seed = config_.bot.seed + static_cast<std::uint64_t>(k) - 1;
     if (!config_.bind_addresses.empty()) {
-      bot.bind_address = config_.bind_addresses[static_cast<std::size_t>(k - 1) %
-                                                config_.bind_addresses.size()];
+      bot.bind_address =
+          config_.bind_addresses[static_cast<std::size_t>(k - 1) % config_.bind_addresses.size()];
     }
     bots_.push_back(std::make_unique<Bot>(io_, tls_, trust_, std::move(bot)));
     bots_.back()->on_done([this] {

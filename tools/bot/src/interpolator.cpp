@@ -75,7 +75,8 @@ void Interpolator::interpolate() {
       SeenEntity mixed = t < 0.5f ? from : to;
       if (distance_m(from.position_m, to.position_m) <= kJumpM) {
         for (int axis = 0; axis < 3; ++axis) {
-          mixed.position_m[axis] = from.position_m[axis] + t * (to.position_m[axis] - from.position_m[axis]);
+          mixed.position_m[axis] =
+              from.position_m[axis] + t * (to.position_m[axis] - from.position_m[axis]);
           mixed.velocity_mps[axis] =
               from.velocity_mps[axis] + t * (to.velocity_mps[axis] - from.velocity_mps[axis]);
         }

@@ -51,8 +51,7 @@ void Predictor::apply(const wire::Input& input) {
 
 void Predictor::step(const wire::Input& input) {
   const physics::BodyState state = world_.world.body_state(body_).value();
-  const bool grounded =
-      physics::is_grounded(world_.world, body_, state.radius, world_.motion);
+  const bool grounded = physics::is_grounded(world_.world, body_, state.radius, world_.motion);
   const physics::Vec3 velocity = physics::character_velocity(
       world_.motion, intent_of(input), state.linear_velocity, grounded, tick_s_);
   [[maybe_unused]] const physics::Status set = world_.world.set_linear_velocity(body_, velocity);

@@ -33,8 +33,7 @@ void RenderedView::on_snapshot(const GameFeed& feed, double now_s) {
   const WorldView& view = feed.view();
   interpolator_.add(view.tick(), view.entities(), now_s);
   if (predictor_) {
-    predictor_->reconcile(view.own(), feed.inputs().acknowledged(),
-                          feed.inputs().unacknowledged());
+    predictor_->reconcile(view.own(), feed.inputs().acknowledged(), feed.inputs().unacknowledged());
   }
 }
 
@@ -55,8 +54,9 @@ const WorldView& RenderedView::render(const WorldView& latest, double now_s) {
   std::erase_if(entities, [own_id](const SeenEntity& e) { return e.id == own_id; });
   if (own) {
     own->id = own_id;
-    const auto at = std::lower_bound(entities.begin(), entities.end(), own_id,
-                                     [](const SeenEntity& e, std::uint32_t id) { return e.id < id; });
+    const auto at =
+        std::lower_bound(entities.begin(), entities.end(), own_id,
+                         [](const SeenEntity& e, std::uint32_t id) { return e.id < id; });
     entities.insert(at, *own);
   }
   rendered_.show(shown_at_.tick, std::move(entities));

@@ -84,7 +84,9 @@ std::optional<asio::ip::address_v4> SharedGamePort::attach(std::weak_ptr<GameSes
   return asio::ip::address_v4(address);
 }
 
-void SharedGamePort::detach(const asio::ip::address_v4& local) { sessions_.erase(local.to_uint()); }
+void SharedGamePort::detach(const asio::ip::address_v4& local) {
+  sessions_.erase(local.to_uint());
+}
 
 bool SharedGamePort::send(const asio::ip::address_v4& local, const asio::ip::udp::endpoint& to,
                           std::span<const std::uint8_t> bytes) {
@@ -137,7 +139,8 @@ void SharedGamePort::flush() {
     std::size_t sent = 0;
     while (sent < count) {
       ++send_calls_;
-      const int result = ::sendmmsg(fd, headers_.data() + sent, static_cast<unsigned>(count - sent), 0);
+      const int result =
+          ::sendmmsg(fd, headers_.data() + sent, static_cast<unsigned>(count - sent), 0);
       if (result > 0) {
         sent += static_cast<std::size_t>(result);
         continue;

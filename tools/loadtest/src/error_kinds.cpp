@@ -8,7 +8,9 @@ namespace ricochet::loadtest {
 
 namespace {
 
-bool is_upper_token_char(char c) { return (c >= 'A' && c <= 'Z') || c == '_'; }
+bool is_upper_token_char(char c) {
+  return (c >= 'A' && c <= 'Z') || c == '_';
+}
 
 /// The first run of at least four of [A-Z_] starting with a letter: an ErrorCode name.
 std::string error_code_in(std::string_view reason) {
@@ -17,7 +19,8 @@ std::string error_code_in(std::string_view reason) {
     if (i > 0 && std::isalnum(static_cast<unsigned char>(reason[i - 1]))) continue;
     std::size_t end = i;
     while (end < reason.size() && is_upper_token_char(reason[end])) ++end;
-    const bool whole = end == reason.size() || !std::isalnum(static_cast<unsigned char>(reason[end]));
+    const bool whole =
+        end == reason.size() || !std::isalnum(static_cast<unsigned char>(reason[end]));
     if (end - i >= 4 && whole && reason.substr(i, end - i).find('_') != std::string_view::npos) {
       std::string code(reason.substr(i, end - i));
       for (char& c : code) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

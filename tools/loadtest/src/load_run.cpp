@@ -48,8 +48,8 @@ LoadRun::LoadRun(asio::io_context& io, LoadTestConfig config)
     : io_(io),
       config_(std::move(config)),
       targets_(config_.steps()),
-      addresses_(source_addresses(
-          (targets_.back() + config_.bots_per_address - 1) / config_.bots_per_address)),
+      addresses_(source_addresses((targets_.back() + config_.bots_per_address - 1) /
+                                  config_.bots_per_address)),
       admin_(asio::ip::make_address(config_.server), config_.admin_port),
       phase_timer_(io),
       scrape_timer_(io),
@@ -88,8 +88,8 @@ void LoadRun::begin_step() {
   fleet.bot.tick_phases = kTickPhases;
   fleet.shared_game_port = config_.shared_game_port;
   fleet.bots = added;
-  fleet.start_spacing =
-      std::chrono::milliseconds(static_cast<std::int64_t>(std::lround(1000.0 / config_.ramp_per_s)));
+  fleet.start_spacing = std::chrono::milliseconds(
+      static_cast<std::int64_t>(std::lround(1000.0 / config_.ramp_per_s)));
   // Bot k of the run binds to address k % addresses (consecutive starts come from different
   // addresses, so no address meets the server's per-address rates during the ramp).
   for (int k = 0; k < added; ++k) {
@@ -109,7 +109,8 @@ void LoadRun::begin_step() {
   steps_.push_back(std::move(step));
   phase_ = RunPhase::Ramping;
   const double ramp_s = static_cast<double>(added) / config_.ramp_per_s + config_.settle_s;
-  std::fprintf(stderr, "ricochet-loadtest: step %zu: %d bots (+%d over %.1f s, then %.0f s "
+  std::fprintf(stderr,
+               "ricochet-loadtest: step %zu: %d bots (+%d over %.1f s, then %.0f s "
                "settling), then %.0f s measured\n",
                steps_.size(), target, added, ramp_s - config_.settle_s, config_.settle_s,
                config_.duration_s);
@@ -134,9 +135,8 @@ void LoadRun::end_step() {
   std::fprintf(stderr,
                "ricochet-loadtest: step %zu done: %d of %d bots connected, tick p99 %.2f ms, "
                "overruns %.0f, loss %.2f %%, server cpu %.0f %%, generator cpu %.0f %%%s\n",
-               steps_.size(), done.bots_connected, done.bots, done.server_tick_ms[2],
-               done.overruns, done.snapshot_loss * 100, done.server_cpu_percent,
-               done.generator_cpu_percent,
+               steps_.size(), done.bots_connected, done.bots, done.server_tick_ms[2], done.overruns,
+               done.snapshot_loss * 100, done.server_cpu_percent, done.generator_cpu_percent,
                done.meets_capacity() ? " (meets the capacity criteria)" : "");
   if (steps_.size() < targets_.size()) return begin_step();
   stop_reason_ = "every step measured";
@@ -146,8 +146,7 @@ void LoadRun::end_step() {
 void LoadRun::stop(std::string_view reason) {
   if (phase_ == RunPhase::Finished) return;
   stop_reason_ = std::string(reason);
-  if (phase_ == RunPhase::Measuring && !steps_.empty() &&
-      summaries_.size() < steps_.size()) {
+  if (phase_ == RunPhase::Measuring && !steps_.empty() && summaries_.size() < steps_.size()) {
     summaries_.push_back(summarise(steps_.back()));
   }
   finish();
@@ -165,7 +164,8 @@ void LoadRun::finish() {
 
 void LoadRun::schedule_scrape() {
   ++scrapes_;
-  scrape_timer_.expires_at(started_at_ + micros(config_.scrape_interval_s * static_cast<double>(scrapes_)));
+  scrape_timer_.expires_at(started_at_ +
+                           micros(config_.scrape_interval_s * static_cast<double>(scrapes_)));
   scrape_timer_.async_wait([this](const boost::system::error_code& error) {
     if (error || phase_ == RunPhase::Finished) return;
     schedule_scrape();
@@ -198,7 +198,8 @@ void LoadRun::on_scrape(MetricsResponse response) {
       count("metrics_malformed");
       std::fprintf(stderr, "ricochet-loadtest: /metrics refused: %s\n", problem->c_str());
     } else {
-      const ServerFigures figures = read_server_figures(std::get<std::vector<MetricSample>>(parsed));
+      const ServerFigures figures =
+          read_server_figures(std::get<std::vector<MetricSample>>(parsed));
       sample.server_ok = true;
       sample.matches = figures.matches;
       sample.server_players = figures.players;
@@ -283,7 +284,8 @@ void LoadRun::on_scrape(MetricsResponse response) {
   if (previous) {
     const double wall = totals.t_s - previous->t_s;
     const double clients = std::max(1, sample.playing);
-    sample.kbps_in_per_client = safe_ratio((totals.bytes_in - previous->bytes_in) * 8 / 1000, wall) / clients;
+    sample.kbps_in_per_client =
+        safe_ratio((totals.bytes_in - previous->bytes_in) * 8 / 1000, wall) / clients;
     sample.kbps_out_per_client =
         safe_ratio((totals.bytes_out - previous->bytes_out) * 8 / 1000, wall) / clients;
     const double received = totals.snapshots - previous->snapshots;
@@ -292,7 +294,8 @@ void LoadRun::on_scrape(MetricsResponse response) {
     if (totals.server_cpu_s >= 0 && previous->server_cpu_s >= 0) {
       sample.server_cpu_percent = (totals.server_cpu_s - previous->server_cpu_s) / wall * 100;
     }
-    sample.generator_cpu_percent = (totals.generator_cpu_s - previous->generator_cpu_s) / wall * 100;
+    sample.generator_cpu_percent =
+        (totals.generator_cpu_s - previous->generator_cpu_s) / wall * 100;
     if (totals.server_packets_in >= 0 && previous->server_packets_in >= 0) {
       sample.server_packets_in_per_s =
           safe_ratio(totals.server_packets_in - previous->server_packets_in, wall);
@@ -323,8 +326,8 @@ void LoadRun::print_progress(const RunSample& s) const {
                "%llu%s%s%s\n",
                s.t_s, name(phase_), s.playing, s.joining, s.done, s.step_bots, s.matches,
                s.tick_ms[2], s.tick_ms[3], s.overruns, s.server_cpu_percent, s.server_rss_mb,
-               s.generator_cpu_percent, s.kbps_in_per_client, s.kbps_out_per_client,
-               s.rtt_ms_p99, s.snapshot_loss * 100, static_cast<unsigned long long>(s.errors),
+               s.generator_cpu_percent, s.kbps_in_per_client, s.kbps_out_per_client, s.rtt_ms_p99,
+               s.snapshot_loss * 100, static_cast<unsigned long long>(s.errors),
                kinds.empty() ? "" : " (", kinds.c_str(), kinds.empty() ? "" : ")");
 }
 

@@ -82,7 +82,8 @@ std::vector<int> LoadTestConfig::steps() const {
 std::string LoadTestConfig::validate() const {
   if (!is_loopback_v4(server)) {
     return "server must be a loopback IPv4 address (127.0.0.0/8: the tool reads the server's "
-           "/proc entry on this host), got \"" + server + "\"";
+           "/proc entry on this host), got \"" +
+           server + "\"";
   }
   if (control_port == 0) return "control_port must be 1..65535, got 0";
   if (admin_port == 0) return "admin_port must be 1..65535, got 0";
@@ -103,7 +104,8 @@ std::string LoadTestConfig::validate() const {
   }
   if (bots_per_address < 1 || bots_per_address > 16) {
     return "bots_per_address must be 1..16 (the server allows 16 control connections per "
-           "address by default), got " + std::to_string(bots_per_address);
+           "address by default), got " +
+           std::to_string(bots_per_address);
   }
   if (!(skill >= 0 && skill <= 1)) return "skill must be 0..1, got " + number(skill);
   if (!valid_prefix(name)) {

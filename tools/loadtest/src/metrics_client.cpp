@@ -17,7 +17,10 @@ namespace {
 class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
  public:
   MetricsFetch(asio::io_context& io, std::function<void(MetricsResponse)> done)
-      : socket_(io), timer_(io), done_(std::move(done)), started_(std::chrono::steady_clock::now()) {}
+      : socket_(io),
+        timer_(io),
+        done_(std::move(done)),
+        started_(std::chrono::steady_clock::now()) {}
 
   void start(const asio::ip::tcp::endpoint& admin, double timeout_s) {
     timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(timeout_s * 1e6)));
@@ -41,8 +44,8 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
 
   void read() {
     socket_.async_read_some(
-        asio::buffer(chunk_), [self = shared_from_this()](const boost::system::error_code& e,
-                                                          std::size_t size) {
+        asio::buffer(chunk_),
+        [self = shared_from_this()](const boost::system::error_code& e, std::size_t size) {
           self->text_.append(self->chunk_.data(), size);
           if (self->text_.size() > kMaxMetricsBytes + 4096) {
             return self->finish("the response is larger than the 32 MiB accepted");

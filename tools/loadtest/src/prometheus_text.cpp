@@ -18,7 +18,9 @@ namespace {
 bool name_start(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == ':';
 }
-bool name_char(char c) { return name_start(c) || (c >= '0' && c <= '9'); }
+bool name_char(char c) {
+  return name_start(c) || (c >= '0' && c <= '9');
+}
 
 /// Reads one line; on failure `error` says what.
 class LineReader {
@@ -37,8 +39,8 @@ class LineReader {
     }
     // An optional timestamp (integer ms) may follow; it is ignored.
     while (at(' ') || at('\t')) ++pos_;
-    while (pos_ < line_.size() && (std::isdigit(static_cast<unsigned char>(line_[pos_])) ||
-                                   line_[pos_] == '-')) {
+    while (pos_ < line_.size() &&
+           (std::isdigit(static_cast<unsigned char>(line_[pos_])) || line_[pos_] == '-')) {
       ++pos_;
     }
     while (at(' ') || at('\t')) ++pos_;

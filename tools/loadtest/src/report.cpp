@@ -128,10 +128,10 @@ std::string sweep_table(const std::vector<StepSummary>& steps) {
       "loss_pct rtt_p99 overruns\n";
   char line[256];
   for (const StepSummary& s : steps) {
-    std::snprintf(line, sizeof line, "%d %d %.4f %.4f %.2f %.2f %.2f %.2f %.4f %.3f %.0f\n",
-                  s.bots, s.bots_connected, s.server_tick_ms[2], s.server_tick_ms[3],
-                  s.server_cpu_percent, s.generator_cpu_percent, s.kbps_in_per_client,
-                  s.kbps_out_per_client, s.snapshot_loss * 100, s.rtt_ms_p99, s.overruns);
+    std::snprintf(line, sizeof line, "%d %d %.4f %.4f %.2f %.2f %.2f %.2f %.4f %.3f %.0f\n", s.bots,
+                  s.bots_connected, s.server_tick_ms[2], s.server_tick_ms[3], s.server_cpu_percent,
+                  s.generator_cpu_percent, s.kbps_in_per_client, s.kbps_out_per_client,
+                  s.snapshot_loss * 100, s.rtt_ms_p99, s.overruns);
     out += line;
   }
   return out;
@@ -201,9 +201,10 @@ std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
           ylabel + "'\n";
   };
   png("tick_ms.png", "server tick time, worst match (last 600 ticks)", "ms");
-  gp += "plot 'samples.dat' u 1:8 w l t 'p50', '' u 1:9 w l t 'p95', '' u 1:10 w l lw 2 t "
-        "'p99', '' u 1:11 w l t 'max', '' u 1:12 w l dt 2 t 'p99 mean of matches', 4 w l lc "
-        "rgb 'red' dt 3 t '4 ms'\n";
+  gp +=
+      "plot 'samples.dat' u 1:8 w l t 'p50', '' u 1:9 w l t 'p95', '' u 1:10 w l lw 2 t "
+      "'p99', '' u 1:11 w l t 'max', '' u 1:12 w l dt 2 t 'p99 mean of matches', 4 w l lc "
+      "rgb 'red' dt 3 t '4 ms'\n";
   png("tick_p99_per_match.png", "server tick p99 per match (last 600 ticks)", "ms");
   if (ids.empty()) {
     gp += "plot 0 notitle\n";
@@ -214,30 +215,36 @@ std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
   png("overruns.png", "server tick overruns and dropped steps (since start)", "ticks");
   gp += "plot 'samples.dat' u 1:13 w l lw 2 t 'overruns', '' u 1:14 w l t 'dropped steps'\n";
   png("cpu_rss.png", "CPU (100 % = one core) and RSS, from /proc", "CPU %");
-  gp += "set y2label 'RSS (MB)'\nset y2tics\nplot 'samples.dat' u 1:15 w l lw 2 t 'server CPU "
-        "%', '' u 1:17 w l t 'generator CPU %', '' u 1:16 w l axes x1y2 t 'server RSS MB', '' "
-        "u 1:18 w l axes x1y2 t 'generator RSS MB'\nunset y2tics\nunset y2label\n";
+  gp +=
+      "set y2label 'RSS (MB)'\nset y2tics\nplot 'samples.dat' u 1:15 w l lw 2 t 'server CPU "
+      "%', '' u 1:17 w l t 'generator CPU %', '' u 1:16 w l axes x1y2 t 'server RSS MB', '' "
+      "u 1:18 w l axes x1y2 t 'generator RSS MB'\nunset y2tics\nunset y2label\n";
   png("bandwidth.png", "game bandwidth per client, as bots see it", "kbit/s");
-  gp += "plot 'samples.dat' u 1:19 w l t 'in (server to bot)', '' u 1:20 w l t 'out (bot to "
-        "server)'\n";
+  gp +=
+      "plot 'samples.dat' u 1:19 w l t 'in (server to bot)', '' u 1:20 w l t 'out (bot to "
+      "server)'\n";
   png("rtt_loss.png", "RTT and snapshot loss seen by bots", "RTT (ms)");
-  gp += "set y2label 'snapshot loss (%)'\nset y2tics\nplot 'samples.dat' u 1:21 w l t 'RTT "
-        "p50', '' u 1:22 w l t 'RTT p99', '' u 1:23 w l axes x1y2 t 'loss %'\nunset "
-        "y2tics\nunset y2label\n";
+  gp +=
+      "set y2label 'snapshot loss (%)'\nset y2tics\nplot 'samples.dat' u 1:21 w l t 'RTT "
+      "p50', '' u 1:22 w l t 'RTT p99', '' u 1:23 w l axes x1y2 t 'loss %'\nunset "
+      "y2tics\nunset y2label\n";
   png("bots.png", "bots by state", "bots");
-  gp += "plot 'samples.dat' u 1:4 w l lw 2 t 'playing', '' u 1:5 w l t 'joining', '' u 1:6 w l "
-        "t 'gave up', '' u 1:2 w l dt 2 t 'target'\n";
+  gp +=
+      "plot 'samples.dat' u 1:4 w l lw 2 t 'playing', '' u 1:5 w l t 'joining', '' u 1:6 w l "
+      "t 'gave up', '' u 1:2 w l dt 2 t 'target'\n";
   png("errors.png", "errors by kind (whole run)", "count");
-  gp += "set xlabel ''\nset style fill solid 0.6\nset boxwidth 0.6\nset xtics rotate by -30\n"
-        "plot 'errors.dat' u 0:2:xtic(1) w boxes notitle\nset xtics norotate\n";
+  gp +=
+      "set xlabel ''\nset style fill solid 0.6\nset boxwidth 0.6\nset xtics rotate by -30\n"
+      "plot 'errors.dat' u 0:2:xtic(1) w boxes notitle\nset xtics norotate\n";
   png("connect_ms.png", "connect time: bot start to first snapshot (sign-in included)",
       "fraction of bots");
   gp += "set xlabel 'ms'\nplot 'connect.dat' u 1:2 w steps lw 2 notitle\n";
   if (run.steps().size() > 1) {
     gp += "set xlabel 'bots'\n";
     png("sweep_tick_p99.png", "sweep: server tick p99 (worst match) against bots", "ms");
-    gp += "plot 'sweep.dat' u 1:3 w lp lw 2 t 'p99', '' u 1:4 w lp t 'max', 4 w l lc rgb 'red' "
-          "dt 3 t '4 ms'\n";
+    gp +=
+        "plot 'sweep.dat' u 1:3 w lp lw 2 t 'p99', '' u 1:4 w lp t 'max', 4 w l lc rgb 'red' "
+        "dt 3 t '4 ms'\n";
     png("sweep_cpu.png", "sweep: CPU against bots (100 % = one core)", "CPU %");
     gp += "plot 'sweep.dat' u 1:5 w lp lw 2 t 'server', '' u 1:6 w lp t 'generator'\n";
     png("sweep_kbps.png", "sweep: bandwidth per client against bots", "kbit/s");
@@ -246,8 +253,7 @@ std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
   gp += "unset output\n";
   std::string error;
   if (!write_file(dir / "plots.gp", gp, error)) return error;
-  const std::string command =
-      "cd '" + dir.string() + "' && gnuplot plots.gp > gnuplot.log 2>&1";
+  const std::string command = "cd '" + dir.string() + "' && gnuplot plots.gp > gnuplot.log 2>&1";
   if (dir.string().find('\'') != std::string::npos) return "the out directory's name has a quote";
   const int status = std::system(command.c_str());
   if (status != 0) {

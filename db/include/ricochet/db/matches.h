@@ -6,9 +6,9 @@
 ///                 "ffa" or "tdm", a team that does not fit the mode (ffa: all 0; tdm: every
 ///                 player 1 or 2), team scores in ffa, or an unknown or repeated player
 ///                 (InvalidMatch); scores may be negative (suicides and team kills cost a
-///                 point), counts may not. Otherwise, in one transaction, reads each player's rating,
-///                 computes the new ones (rating.h) and the winners and has the store write it
-///                 all. Winners: ffa, everyone with the top score; tdm, every player of the team
+///                 point), counts may not. Otherwise, in one transaction, reads each player's
+///                 rating, computes the new ones (rating.h) and the winners and has the store write
+///                 it all. Winners: ffa, everyone with the top score; tdm, every player of the team
 ///                 with the top team score; ties all win.
 ///                 An aborted match (MatchRecord::aborted) is stored, and its players' kills,
 ///                 deaths, score, shots, hits, damage and time, and the match itself, count in

@@ -28,9 +28,9 @@ struct ProjectileDef {
   /// Multiplies WorldDef::gravity (0: a straight line). The speed gained by falling is capped at
   /// max_linear_speed, and a projectile whose flight leaves the finite range is removed.
   Real gravity_scale = 1;
-  Filter filter;                 ///< hits bodies and shapes whose filters it collides with
-  BodyId ignore;                 ///< never hits this body (the shooter)
-  std::uint64_t user_data = 0;   ///< returned in its hit event
+  Filter filter;                ///< hits bodies and shapes whose filters it collides with
+  BodyId ignore;                ///< never hits this body (the shooter)
+  std::uint64_t user_data = 0;  ///< returned in its hit event
 };
 
 struct ProjectileState {

@@ -1,8 +1,8 @@
 #pragma once
-/// Connect tokens (PROTOCOL.md Game channel transport §connect token): made by the server when the control
-/// channel admits a player to a match, handed to the client over TLS, and sent back as is in the
-/// connection request. Sealed with XChaCha20-Poly1305 under a key only the server knows, so a
-/// client can neither read nor forge one.
+/// Connect tokens (PROTOCOL.md Game channel transport §connect token): made by the server when the
+/// control channel admits a player to a match, handed to the client over TLS, and sent back as is
+/// in the connection request. Sealed with XChaCha20-Poly1305 under a key only the server knows, so
+/// a client can neither read nor forge one.
 ///
 ///   token (128 bytes) = 24-byte random nonce | XChaCha20-Poly1305(plaintext) incl. 16-byte tag
 ///   plaintext (88 bytes) = u64 account_id | u32 match_id | i64 expires_at_us | u32 timeout_s

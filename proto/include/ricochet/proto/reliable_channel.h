@@ -1,8 +1,8 @@
 #pragma once
 /// The small reliable-ordered message channel that rides on payload packets
-/// (PROTOCOL.md Game channel transport §reliable). The sender keeps every message until a packet carrying it
-/// is acked and resends it at most every resend interval; the receiver delivers in id order,
-/// once, and buffers up to kWindow messages ahead of the next expected id.
+/// (PROTOCOL.md Game channel transport §reliable). The sender keeps every message until a packet
+/// carrying it is acked and resends it at most every resend interval; the receiver delivers in id
+/// order, once, and buffers up to kWindow messages ahead of the next expected id.
 
 #include <cstdint>
 #include <deque>

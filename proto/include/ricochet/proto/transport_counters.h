@@ -1,7 +1,8 @@
 #pragma once
 /// The game channel's named states, the reasons it drops packets and ends connections, and the
-/// counters it keeps (PROTOCOL.md Game channel transport §states, §rejections). Every drop is counted by
-/// reason; every state transition is reported once, with its reason, through a log callback.
+/// counters it keeps (PROTOCOL.md Game channel transport §states, §rejections). Every drop is
+/// counted by reason; every state transition is reported once, with its reason, through a log
+/// callback.
 
 #include <array>
 #include <cstddef>

@@ -1,6 +1,6 @@
 #pragma once
-/// Which packet types each connection state accepts (PROTOCOL.md Game channel transport §states). The one
-/// place both endpoints check; a packet outside its state is dropped as WrongState.
+/// Which packet types each connection state accepts (PROTOCOL.md Game channel transport §states).
+/// The one place both endpoints check; a packet outside its state is dropped as WrongState.
 ///
 ///   server, per address        accepts
 ///   Connecting (no entry)      connection request

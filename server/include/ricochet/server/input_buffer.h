@@ -33,15 +33,15 @@ inline constexpr std::size_t kMaxInputsPerPayload = 8;
 
 /// One validated input.
 struct PlayerInput {
-  std::uint32_t sequence = 0;     ///< 0 only for the neutral input before the first one arrives
-  float move_right = 0;           ///< -1..1, with move_forward a vector of length <= 1
-  float move_forward = 0;         ///< -1..1
-  float yaw_rad = 0;              ///< -2π..2π, about +Y, 0 looks along -Z
-  float pitch_rad = 0;            ///< -π/2..π/2, positive looks up
-  std::uint32_t buttons = 0;      ///< Button bits
-  std::uint32_t weapon_slot = 0;  ///< 0 keeps the weapon, 1..9 select one
-  std::uint32_t view_tick = 0;    ///< the server tick the client showed (0: not given)
-  std::uint8_t view_fraction = 0; ///< 1/256 of a tick past view_tick
+  std::uint32_t sequence = 0;      ///< 0 only for the neutral input before the first one arrives
+  float move_right = 0;            ///< -1..1, with move_forward a vector of length <= 1
+  float move_forward = 0;          ///< -1..1
+  float yaw_rad = 0;               ///< -2π..2π, about +Y, 0 looks along -Z
+  float pitch_rad = 0;             ///< -π/2..π/2, positive looks up
+  std::uint32_t buttons = 0;       ///< Button bits
+  std::uint32_t weapon_slot = 0;   ///< 0 keeps the weapon, 1..9 select one
+  std::uint32_t view_tick = 0;     ///< the server tick the client showed (0: not given)
+  std::uint8_t view_fraction = 0;  ///< 1/256 of a tick past view_tick
   bool pressed(Button button) const { return (buttons & button) != 0; }
 };
 

@@ -19,14 +19,14 @@
 namespace ricochet::server {
 
 /// Largest values read_recording() accepts (and the writer must stay within).
-inline constexpr std::uint64_t kMaxRecordingBytes = 1ull << 30;         ///< 1 GiB file
-inline constexpr std::size_t kMaxRecordedPlayers = 64;                  ///< inputs per tick
+inline constexpr std::uint64_t kMaxRecordingBytes = 1ull << 30;  ///< 1 GiB file
+inline constexpr std::size_t kMaxRecordedPlayers = 64;           ///< inputs per tick
 inline constexpr std::size_t kMaxRecordedEventsPerTick = 256;
-inline constexpr std::size_t kMaxRecordedNameBytes = 32;                ///< Connect's name
+inline constexpr std::size_t kMaxRecordedNameBytes = 32;  ///< Connect's name
 inline constexpr std::size_t kMaxRecordedMapFiles = 64;
-inline constexpr std::size_t kMaxRecordedMapFileBytes = 2u << 20;       ///< 2 MiB per file
+inline constexpr std::size_t kMaxRecordedMapFileBytes = 2u << 20;  ///< 2 MiB per file
 inline constexpr std::size_t kMaxRecordedPathBytes = 1024;
-inline constexpr std::size_t kMaxRecordedConfigBytes = 1u << 20;        ///< 1 MiB
+inline constexpr std::size_t kMaxRecordedConfigBytes = 1u << 20;  ///< 1 MiB
 inline constexpr std::size_t kMaxRecordedVersionBytes = 64;
 
 /// One file the map was loaded from (the map first, then what it references, by path).
@@ -64,10 +64,10 @@ struct RecordedInput {
 bool bit_identical(const RecordedInput& a, const RecordedInput& b);
 
 struct RecordedTick {
-  std::uint32_t tick = 0;               ///< the step number this becomes (1, 2, ...)
-  std::vector<RecordedEvent> events;    ///< applied before this step, in order
-  std::vector<RecordedInput> inputs;    ///< one per player entity that steps with an input;
-                                        ///< distinct entity ids
+  std::uint32_t tick = 0;             ///< the step number this becomes (1, 2, ...)
+  std::vector<RecordedEvent> events;  ///< applied before this step, in order
+  std::vector<RecordedInput> inputs;  ///< one per player entity that steps with an input;
+                                      ///< distinct entity ids
 };
 
 /// world.state_hash() after step `tick`.
@@ -77,9 +77,9 @@ struct RecordedHash {
 };
 
 struct RecordingHeader {
-  std::string server_version;             ///< at most kMaxRecordedVersionBytes
-  std::vector<RecordedFile> map_files;    ///< the map first
-  std::vector<std::uint8_t> config;       ///< opaque: the match's MatchConfig codec
+  std::string server_version;           ///< at most kMaxRecordedVersionBytes
+  std::vector<RecordedFile> map_files;  ///< the map first
+  std::vector<std::uint8_t> config;     ///< opaque: the match's MatchConfig codec
   std::uint64_t seed = 0;
   std::uint32_t hash_interval_ticks = 0;  ///< 0: no hashes
   std::uint32_t tick_rate_hz = 60;        ///< 1..1000
@@ -87,10 +87,10 @@ struct RecordingHeader {
 
 struct Recording {
   RecordingHeader header;
-  std::vector<RecordedTick> ticks;    ///< increasing tick numbers
-  std::vector<RecordedHash> hashes;   ///< increasing, each the tick of an entry of `ticks`
-  bool complete = false;              ///< the footer was there: nothing is missing at the end
-  bool truncated = false;             ///< the writer hit max_bytes and recorded no further ticks
+  std::vector<RecordedTick> ticks;   ///< increasing tick numbers
+  std::vector<RecordedHash> hashes;  ///< increasing, each the tick of an entry of `ticks`
+  bool complete = false;             ///< the footer was there: nothing is missing at the end
+  bool truncated = false;            ///< the writer hit max_bytes and recorded no further ticks
 };
 
 /// Encodes a recording into memory as the match goes. Per tick: begin_tick(), its events and
@@ -132,19 +132,19 @@ class RecordingWriter {
   /// The file so far: magic, header chunk and the full tick chunks, in blocks of at least
   /// kBlockBytes, each filled within the capacity it was made with.
   std::vector<std::vector<std::uint8_t>> blocks_;
-  std::size_t file_bytes_ = 0;     ///< in blocks_
-  std::uint32_t file_crc_ = 0;     ///< CRC-32 of blocks_, for the footer
-  std::vector<std::uint8_t> framed_;  ///< scratch: one framed chunk
-  std::vector<std::uint8_t> chunk_;  ///< the tick chunk being filled (payload only)
-  std::vector<std::uint8_t> record_;  ///< scratch: one tick record
-  std::vector<std::uint8_t> changes_; ///< scratch: its change masks and fields
+  std::size_t file_bytes_ = 0;         ///< in blocks_
+  std::uint32_t file_crc_ = 0;         ///< CRC-32 of blocks_, for the footer
+  std::vector<std::uint8_t> framed_;   ///< scratch: one framed chunk
+  std::vector<std::uint8_t> chunk_;    ///< the tick chunk being filled (payload only)
+  std::vector<std::uint8_t> record_;   ///< scratch: one tick record
+  std::vector<std::uint8_t> changes_;  ///< scratch: its change masks and fields
   RecordedTick pending_;
-  bool has_pending_ = false;         ///< pending_ is a tick not yet encoded
-  bool open_ = false;                ///< between begin_tick() and end_tick()
+  bool has_pending_ = false;  ///< pending_ is a tick not yet encoded
+  bool open_ = false;         ///< between begin_tick() and end_tick()
   bool pending_has_hash_ = false;
   std::uint64_t pending_hash_ = 0;
-  std::uint32_t last_tick_ = 0;      ///< the last tick begun
-  std::uint32_t last_encoded_ = 0;   ///< the last tick in the bytes
+  std::uint32_t last_tick_ = 0;     ///< the last tick begun
+  std::uint32_t last_encoded_ = 0;  ///< the last tick in the bytes
   std::vector<std::uint32_t> previous_entities_;
   std::vector<RecordedInput> previous_inputs_;  ///< the last input of every entity, by id
   std::uint64_t tick_count_ = 0, event_count_ = 0, input_count_ = 0, hash_count_ = 0;

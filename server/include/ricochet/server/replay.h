@@ -38,21 +38,21 @@ struct ReplayOptions {
 };
 
 struct ReplayMismatch {
-  std::uint32_t tick = 0;       ///< the first step whose hash differs
+  std::uint32_t tick = 0;  ///< the first step whose hash differs
   std::uint64_t recorded = 0;
   std::uint64_t replayed = 0;
 };
 
 struct ReplayReport {
-  std::uint64_t steps = 0;            ///< steps run (ticks the recording skipped included)
-  std::uint32_t last_tick = 0;        ///< the last step run
+  std::uint64_t steps = 0;      ///< steps run (ticks the recording skipped included)
+  std::uint32_t last_tick = 0;  ///< the last step run
   std::size_t hashes_checked = 0;
   std::size_t hashes_differing = 0;
   std::optional<ReplayMismatch> first_mismatch;  ///< none: every checked hash matched
-  double simulated_s = 0;             ///< steps / tick rate
-  double wall_s = 0;                  ///< by options.wall_clock_s
-  bool complete = false;              ///< the recording had its footer
-  bool truncated = false;             ///< the recording stopped early (writer at max_bytes)
+  double simulated_s = 0;                        ///< steps / tick rate
+  double wall_s = 0;                             ///< by options.wall_clock_s
+  bool complete = false;                         ///< the recording had its footer
+  bool truncated = false;  ///< the recording stopped early (writer at max_bytes)
 };
 
 /// Replays `recording` on `simulation`, which must start as the recorded match started (same

@@ -31,13 +31,13 @@ const char* name(GameMode mode);
 
 struct RulesConfig {
   GameMode mode = GameMode::FreeForAll;
-  int min_players = 2;             ///< connected players that start the warmup, 1..64
-  float warmup_s = 10;             ///< 0..600; 0 goes straight to running
-  int frag_limit = 20;             ///< 0 (none)..1000; per player (ffa) or per team (tdm)
-  float time_limit_s = 600;        ///< 0 (none)..86400, of running
-  float respawn_delay_s = 2;       ///< 0..60, from death to respawn
-  float spawn_protection_s = 1.5f; ///< 0..10: no damage taken after a spawn
-  std::uint64_t seed = 1;          ///< the match's generator (weapon spread); any value
+  int min_players = 2;              ///< connected players that start the warmup, 1..64
+  float warmup_s = 10;              ///< 0..600; 0 goes straight to running
+  int frag_limit = 20;              ///< 0 (none)..1000; per player (ffa) or per team (tdm)
+  float time_limit_s = 600;         ///< 0 (none)..86400, of running
+  float respawn_delay_s = 2;        ///< 0..60, from death to respawn
+  float spawn_protection_s = 1.5f;  ///< 0..10: no damage taken after a spawn
+  std::uint64_t seed = 1;           ///< the match's generator (weapon spread); any value
 
   std::string validate() const;
 };
@@ -54,10 +54,10 @@ struct PlayerScore {
   int kills = 0;
   int deaths = 0;
   int score = 0;
-  int shots = 0;         ///< rifle rays, rockets and grenades fired
-  int hits = 0;          ///< shots that hurt another player (an explosion counts once)
-  int damage_dealt = 0;  ///< hit points taken from other players
-  int damage_taken = 0;  ///< hit points lost, from anyone or the world
+  int shots = 0;                   ///< rifle rays, rockets and grenades fired
+  int hits = 0;                    ///< shots that hurt another player (an explosion counts once)
+  int damage_dealt = 0;            ///< hit points taken from other players
+  int damage_taken = 0;            ///< hit points lost, from anyone or the world
   std::uint32_t ticks_played = 0;  ///< running ticks it was connected for
 };
 

@@ -56,8 +56,9 @@ class GameFeed {
   WorldView view_;
   SnapshotGapCounter gaps_;
   InputHistory inputs_;
-  wire::ServerPayload incoming_;  ///< read_payload parses into it, reused (its parts stay allocated)
-  wire::ClientPayload payload_;   ///< write_payload's, reused
+  wire::ServerPayload
+      incoming_;                 ///< read_payload parses into it, reused (its parts stay allocated)
+  wire::ClientPayload payload_;  ///< write_payload's, reused
   std::string payload_bytes_;
   wire::PlayerStatus status_;
   std::uint32_t own_entity_id_ = 0;

@@ -21,15 +21,15 @@ namespace ricochet::bot {
 
 /// What the bot renders at one moment.
 struct RenderTime {
-  std::uint32_t tick = 0;      ///< 0: nothing to show yet
-  std::uint8_t fraction = 0;   ///< 1/256 of a tick past `tick`
+  std::uint32_t tick = 0;     ///< 0: nothing to show yet
+  std::uint8_t fraction = 0;  ///< 1/256 of a tick past `tick`
 };
 
 class Interpolator {
  public:
-  static constexpr std::size_t kKept = 32;            ///< snapshots buffered
-  static constexpr double kMinDelayS = 0.1;           ///< the delay's floor, s
-  static constexpr double kSnapIntervals = 2;         ///< the delay in snapshot intervals
+  static constexpr std::size_t kKept = 32;     ///< snapshots buffered
+  static constexpr double kMinDelayS = 0.1;    ///< the delay's floor, s
+  static constexpr double kSnapIntervals = 2;  ///< the delay in snapshot intervals
   /// Entities that moved more than this between two snapshots jumped (a respawn): not lerped.
   static constexpr float kJumpM = 3;
 

@@ -72,8 +72,8 @@ class Predictor {
   physics::BodyId body_;
   bool active_ = false;
   SeenEntity last_server_{};
-  Vec3 seed_position_{};  ///< the server's position the prediction was last seeded from
-  std::deque<Predicted> predicted_;  ///< after each unacknowledged input, oldest first
+  Vec3 seed_position_{};              ///< the server's position the prediction was last seeded from
+  std::deque<Predicted> predicted_;   ///< after each unacknowledged input, oldest first
   std::uint32_t measured_up_to_ = 0;  ///< the newest acknowledgement measured
   PredictionStats stats_;
 };

@@ -106,9 +106,9 @@ class LoadRun {
   std::vector<Totals> totals_;  ///< one per sample
   std::vector<MatchTickRow> match_rows_;
   std::vector<StepSummary> summaries_;
-  ErrorCounts errors_;           ///< failures reported by bots, plus the scrapes' own
-  ErrorCounts bot_counters_;     ///< what the bots' metrics counted (latest totals)
-  double overruns_base_ = -1;    ///< at the first scrape
+  ErrorCounts errors_;         ///< failures reported by bots, plus the scrapes' own
+  ErrorCounts bot_counters_;   ///< what the bots' metrics counted (latest totals)
+  double overruns_base_ = -1;  ///< at the first scrape
   double dropped_base_ = -1;
   std::shared_ptr<bool> alive_;  ///< the scrape's callback holds a weak_ptr
 };

@@ -28,14 +28,14 @@ struct LoadTestConfig {
   /// Every bot's game channel on one UDP socket (bot::SharedGamePort: a loopback source address
   /// per connection, sendmmsg/recvmmsg); false: a socket per bot.
   bool shared_game_port = true;
-  double skill = 0.5;                 ///< 0..1
-  std::string name = "load";          ///< account prefix, 1..12 of [A-Za-z0-9_.-]
+  double skill = 0.5;         ///< 0..1
+  std::string name = "load";  ///< account prefix, 1..12 of [A-Za-z0-9_.-]
   std::string password = "ricochet-load";
-  double scrape_interval_s = 1;       ///< /metrics and /proc, 0.2..60
-  int server_pid = 0;                 ///< 0: read ricochet_process_id from /metrics
-  std::string out = "loadtest-out";   ///< directory written (created)
-  bool plots = true;                  ///< run gnuplot for the PNGs
-  bool progress = true;               ///< one line per scrape on stderr
+  double scrape_interval_s = 1;      ///< /metrics and /proc, 0.2..60
+  int server_pid = 0;                ///< 0: read ricochet_process_id from /metrics
+  std::string out = "loadtest-out";  ///< directory written (created)
+  bool plots = true;                 ///< run gnuplot for the PNGs
+  bool progress = true;              ///< one line per scrape on stderr
 
   /// Empty when usable; otherwise the first wrong field, its allowed range and its value.
   std::string validate() const;

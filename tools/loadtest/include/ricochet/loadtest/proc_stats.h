@@ -8,8 +8,8 @@
 namespace ricochet::loadtest {
 
 struct ProcSample {
-  double cpu_s = 0;       ///< user + system CPU time since the process started, s
-  double rss_bytes = 0;   ///< resident set size
+  double cpu_s = 0;      ///< user + system CPU time since the process started, s
+  double rss_bytes = 0;  ///< resident set size
 };
 
 /// /proc/<pid>/stat and /proc/<pid>/status; nullopt (with `error` set) when the process is gone

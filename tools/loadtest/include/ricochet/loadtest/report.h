@@ -1,7 +1,7 @@
 #pragma once
 /// What a load test leaves in its directory: report.json (the summary of every step, the last
-/// at the top level), steps.jsonl (one line per step, for results/*.jsonl), the series as gnuplot data files, plots.gp and the PNGs gnuplot draws
-/// from it.
+/// at the top level), steps.jsonl (one line per step, for results/*.jsonl), the series as gnuplot
+/// data files, plots.gp and the PNGs gnuplot draws from it.
 
 #include <string>
 

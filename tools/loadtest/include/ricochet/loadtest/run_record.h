@@ -14,12 +14,12 @@ namespace ricochet::loadtest {
 
 /// One scrape of the server and one look at every bot.
 struct RunSample {
-  double t_s = 0;       ///< since the run started
-  int step_bots = 0;    ///< the step's target bot count
+  double t_s = 0;     ///< since the run started
+  int step_bots = 0;  ///< the step's target bot count
   bool measuring = false;
-  int playing = 0;      ///< bots with a connected game channel
-  int joining = 0;      ///< bots on their way (connecting, signing in, joining, handshaking)
-  int done = 0;         ///< bots that stopped (gave up)
+  int playing = 0;         ///< bots with a connected game channel
+  int joining = 0;         ///< bots on their way (connecting, signing in, joining, handshaking)
+  int done = 0;            ///< bots that stopped (gave up)
   bool server_ok = false;  ///< the scrape succeeded
   int matches = 0;
   int server_players = 0;
@@ -56,7 +56,7 @@ struct StepSummary {
   int bots_gave_up = 0;
   int matches = 0;
   double measured_s = 0;
-  double ramp_s = 0;  ///< from the step's first start to the window's start
+  double ramp_s = 0;                       ///< from the step's first start to the window's start
   std::array<double, 4> server_tick_ms{};  ///< the window's worst of each quantile, ms
   double server_tick_ms_p99_mean = 0;      ///< mean over samples of the mean match p99
   double overruns = 0;                     ///< during the window

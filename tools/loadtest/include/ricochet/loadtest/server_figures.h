@@ -21,11 +21,11 @@ struct MatchFigures {
 struct ServerFigures {
   int pid = 0;  ///< ricochet_process_id; 0: not reported
   int matches = 0;
-  int players = 0;             ///< seated in any match
-  int game_connected = 0;      ///< game connections connected
-  double overruns = 0;         ///< all matches now listed
-  double dropped_steps = 0;    ///< all matches now listed
-  double packets_in = 0;       ///< game channel, since start
+  int players = 0;           ///< seated in any match
+  int game_connected = 0;    ///< game connections connected
+  double overruns = 0;       ///< all matches now listed
+  double dropped_steps = 0;  ///< all matches now listed
+  double packets_in = 0;     ///< game channel, since start
   double packets_out = 0;
   double bytes_in = 0;
   double bytes_out = 0;
