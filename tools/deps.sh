@@ -16,6 +16,7 @@ packages=(
   libspdlog-dev      # the server's logs (text or JSON lines)
   libtomlplusplus-dev # the server's config file
   gnuplot-nox        # plots of the physics study (tools/physics-study)
+  clang-format       # the formatter; tools/test.sh checks the tree against .clang-format
   clang              # the libFuzzer targets (tests/fuzz, tools/fuzz.sh)
   libclang-rt-14-dev # their fuzzer and sanitizer runtimes
 )

@@ -5,9 +5,11 @@
 #   3. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only (and only
 #      their targets are built)
 # Warnings are errors in all three. Then every libFuzzer target runs for 30 s (tools/fuzz.sh).
+# Before any of it, every C++ file must be as .clang-format (clang-format 14) formats it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tools/deps.sh
+./tools/format.sh --check
 
 jobs=$(nproc)
 export CCACHE_DIR="${CCACHE_DIR:-$PWD/.ccache}"
