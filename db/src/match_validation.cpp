@@ -26,7 +26,7 @@ std::string check_player(std::size_t index, const PlayerResult& p) {
   const std::string who =
       "player " + std::to_string(index) + " (account " + std::to_string(p.account) + "): ";
   // The score may be negative: a suicide, a death by the world or a team kill costs a point
-  // (PROTOCOL.md Gameplay, Scoring). The counts cannot be.
+  // (server/GAMEPLAY.md, Scoring). The counts cannot be.
   const std::pair<const char*, std::int32_t> counters[] = {
       {"kills", p.kills}, {"deaths", p.deaths}, {"shots", p.shots}, {"hits", p.hits}};
   for (const auto& [name, value] : counters)

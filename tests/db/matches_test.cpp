@@ -105,7 +105,7 @@ TEST_F(MatchesTest, TeamDeathmatchIsDecidedByTheTeamScores) {
 
 TEST_F(MatchesTest, NegativeScoresAreRecorded) {
   // A suicide, a death by the world or a team kill costs a point, so a player who did nothing
-  // else ends below zero, and so may a team (PROTOCOL.md Gameplay, Scoring).
+  // else ends below zero, and so may a team (server/GAMEPLAY.md, Scoring).
   const AccountId a = add("a"), b = add("b");
   must(matches_.record_match(match_of({result(a, -2), result(b, 1, 1)})), "ffa");
   expect_totals(a, 0, 1484);
