@@ -4,8 +4,8 @@
 /// A packet is written into the buffer its slot held before, and poll_transmit swaps buffers
 /// with the caller's Transmit instead of moving one out: the caller's previous buffer comes back
 /// into the slot. A socket layer that keeps its Transmits between flushes (DatagramSender) thus
-/// sends a steady stream of packets without allocating: at a thousand clients that is 60 000
-/// allocations and frees a second fewer, each of a buffer the kernel then copies from.
+/// sends a steady stream of packets without allocating: an allocation and a free fewer per
+/// datagram sent, each of a buffer the kernel then copies from (tools/bench/results/server-io.md).
 
 #include <cstddef>
 #include <cstdint>

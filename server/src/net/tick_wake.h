@@ -3,11 +3,11 @@
 /// shared by every match, so that the matches of one server whose ticks fall due close together
 /// are woken by one timer expiry instead of each by its own.
 ///
-/// Every wake of an idle thread is a sleep, a timerfd_settime and a context switch: some 16 µs of
-/// a core on our VMs, more than an empty match's whole tick. A server hosting 94 matches at 60 Hz
-/// woke 5 640 times a second, one match each time, and spent a fifth of its core, mostly on that,
-/// while every match was empty (README "Capacity"). On a grid of 1 ms it wakes at most 1 000
-/// times a second whatever the number of matches.
+/// Every wake of an idle thread is a sleep, a timerfd_settime and a context switch, which costs
+/// more than an empty match's whole tick. With one wake per match per tick, a server hosting many
+/// empty matches spent much of its core on nothing but waking (the figures before and after:
+/// tools/bench/results/server-io.md). On a grid of 1 ms it wakes at most 1 000 times a second
+/// whatever the number of matches.
 ///
 /// The price is that a tick runs up to one grain late by the wall clock. The simulation does not
 /// see it (a step's time is its number times the period: TickClock), and a snapshot leaves at
