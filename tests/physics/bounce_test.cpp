@@ -113,8 +113,8 @@ double launch_apex(Real h, Real dt, const WorldDef& def) {
   return double(h) + double(kGravity) * substep * substep / 8;
 }
 
-/// README: "an e = 1 ball dropped from 10 m keeps its height to 3·10⁻⁵ over 20 bounces at dt
-/// 1/60".
+/// physics/README.md: "an e = 1 ball dropped from 10 m keeps its height to 3·10⁻⁵ over 20
+/// bounces at dt 1/60".
 constexpr double kElasticHeightTolerance = 3e-5;  ///< relative to h
 
 class ElasticBounceTest

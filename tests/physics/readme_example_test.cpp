@@ -1,4 +1,4 @@
-// The "Physics in five lines" example of README.md, verbatim, so the README stays true.
+// The "Physics in five lines" example of physics/README.md, verbatim, so it stays true.
 #include <gtest/gtest.h>
 
 #include "ricochet/physics/world.h"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The capacity benchmark (README "Load testing"): one ricochet-server --threads 1 pinned to core
+# The capacity benchmark (tools/bench/CAPACITY.md): one ricochet-server --threads 1 pinned to core
 # 0, ricochet-loadtest pinned to core 1, matches of 16 on foundry.toml (the large map), 60 Hz
 # ticks and snapshots, bots fighting; a sweep of bot counts. Each step's figures go to
 # DIR/report.json and are appended, one JSON line per step, to tools/bench/results/capacity.jsonl.
@@ -132,7 +132,7 @@ fi
 echo "capacity.sh: server pid $server_pid on core 0 ($matches matches of 16), generator on core 1, sweep $sweep, out $out" >&2
 # The generator's heap in transparent huge pages: its thousands of bots' decoders and
 # connections span some 300 MB read at random, and on a VM every TLB miss is a two-level page
-# walk. Measured at 800 bots: 6-10 % less of its core (README "Capacity"). glibc reads this at
+# walk. Measured at 800 bots: 6-10 % less of its core (tools/bench/CAPACITY.md). glibc reads this at
 # start; the server is run as an operator would run it, without.
 GLIBC_TUNABLES="glibc.malloc.hugetlb=1${GLIBC_TUNABLES:+:$GLIBC_TUNABLES}" \
   nice -n "$niceness" "${priority[@]}" taskset -c 1 "$loadtest_bin" --server 127.0.0.1 --port "$control_port" --admin-port "$admin_port" \

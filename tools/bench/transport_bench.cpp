@@ -8,8 +8,9 @@
 /// the clients' work is not.
 ///
 /// The figures are the transport's own share of the server's per-datagram cost in the capacity
-/// benchmark (README "Capacity": decrypting, the ack windows, the client lookups, allocations),
-/// with the working set of N clients, free of the loopback stack and of the machine's noise.
+/// benchmark (tools/bench/CAPACITY.md: decrypting, the ack windows, the client lookups,
+/// allocations), with the working set of N clients, free of the loopback stack and of the
+/// machine's noise.
 ///
 ///   transport-bench [--clients 64,256,1024] [--seconds 10] [--rate 60] [--input-bytes 48]
 ///                   [--snapshot-bytes 600] [--out FILE]

@@ -115,7 +115,7 @@ struct SqliteOptions {
   int busy_timeout_ms = 5000;  ///< wait this long for another process's lock, then Busy
   /// NORMAL in WAL mode: a commit survives a crash or kill -9 of this process (the WAL is in the
   /// OS's page cache), and the file is never corrupted; only a power loss or OS crash can lose
-  /// the last commits. FULL also fsyncs every commit, at several ms each. See README.
+  /// the last commits. FULL also fsyncs every commit, at several ms each. See db/README.md.
   bool synchronous_full = false;
 };
 
