@@ -74,7 +74,8 @@ std::vector<std::uint8_t> play_scripted_match(std::uint64_t* final_hash) {
       in.set_yaw(static_cast<float>(std::fmod(0.8 * t * account, 6.0)));
       in.set_pitch(static_cast<float>(-0.2 + 0.1 * std::sin(t)));
       in.set_weapon_slot(1 + static_cast<std::uint32_t>((tick / 90 + account) % 3));
-      in.set_buttons((tick % 4 < 2 ? kButtonFire : 0u) | (tick % 97 == 0 ? kButtonJump : 0u));
+      in.set_buttons((tick % 4 < 2 ? proto::kButtonFire : 0u) |
+                     (tick % 97 == 0 ? proto::kButtonJump : 0u));
       in.set_view_tick(match.tick_number() > 4 ? match.tick_number() - 4 : 0);
       std::vector<std::uint8_t> bytes(payload.ByteSizeLong());
       payload.SerializeToArray(bytes.data(), static_cast<int>(bytes.size()));
@@ -147,7 +148,7 @@ TEST(MatchRecording, OneFlippedInputIsCaughtAtTheNextHash) {
   ASSERT_EQ(tick.tick, 503u);
   ASSERT_FALSE(tick.inputs.empty());
   tick.inputs[0].input.yaw_rad += 0.3f;
-  tick.inputs[0].input.buttons |= kButtonFire;
+  tick.inputs[0].input.buttons |= proto::kButtonFire;
   int checked = 0;
   const std::uint32_t first_bad = play_back(recording, checked, nullptr);
   EXPECT_EQ(first_bad, 510u);  // the first hash at or after 503 (every 10 ticks)
