@@ -13,8 +13,8 @@
 
 namespace {
 
-using ricochet::bot::CollisionWorldLimits;
 using ricochet::bot::PredictionWorld;
+using ricochet::proto::CollisionWorldLimits;
 namespace physics = ricochet::physics;
 
 void require(bool condition) {

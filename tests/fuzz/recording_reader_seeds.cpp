@@ -59,7 +59,8 @@ std::vector<std::uint8_t> match(int players, std::uint32_t ticks, std::size_t ma
       input.input.yaw_rad = std::sin(0.1f * static_cast<float>(tick + p));
       input.input.pitch_rad = tick % 3 == 0 ? 0.25f : 0.0f;
       input.input.move_forward = (tick / 7 + p) % 2 ? 1.0f : 0.0f;
-      input.input.buttons = tick % 11 == 0 ? kButtonFire | kButtonJump : 0;
+      input.input.buttons =
+          tick % 11 == 0 ? ricochet::proto::kButtonFire | ricochet::proto::kButtonJump : 0;
       input.input.weapon_slot = tick % 17 == 0 ? 2 : 0;
       input.input.view_tick = tick > 2 ? tick - 2 : 0;
       input.input.view_fraction = static_cast<std::uint8_t>(tick * 37);

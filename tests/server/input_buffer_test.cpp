@@ -17,7 +17,7 @@ wire::Input wire_input(std::uint32_t sequence) {
   in.set_move_forward(127);
   in.set_yaw(0.5f);
   in.set_pitch(-0.25f);
-  in.set_buttons(kButtonJump | kButtonFire);
+  in.set_buttons(proto::kButtonJump | proto::kButtonFire);
   in.set_weapon_slot(2);
   return in;
 }
@@ -42,9 +42,9 @@ TEST(ValidateInput, DequantisesAValidInput) {
   EXPECT_FLOAT_EQ(out.move_right, 0);
   EXPECT_FLOAT_EQ(out.yaw_rad, 0.5f);
   EXPECT_FLOAT_EQ(out.pitch_rad, -0.25f);
-  EXPECT_TRUE(out.pressed(kButtonJump));
-  EXPECT_TRUE(out.pressed(kButtonFire));
-  EXPECT_FALSE(out.pressed(kButtonAltFire));
+  EXPECT_TRUE(out.pressed(proto::kButtonJump));
+  EXPECT_TRUE(out.pressed(proto::kButtonFire));
+  EXPECT_FALSE(out.pressed(proto::kButtonAltFire));
   EXPECT_EQ(out.weapon_slot, 2u);
 }
 

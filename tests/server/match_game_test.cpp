@@ -210,7 +210,7 @@ TEST_F(GameFixture, RifleKillsInFiveHitsAndTheVictimRespawnsAwayFromTheKiller) {
   Script& bob = join(2, "bob");
   step(30);  // both settle on the floor
   aim(alice, bob.entity);
-  alice.input.set_buttons(kButtonFire);
+  alice.input.set_buttons(proto::kButtonFire);
   step(1);
   EXPECT_EQ(health(2), 80);
   EXPECT_EQ(score_of(1).shots, 1);
@@ -255,7 +255,7 @@ TEST_F(GameFixture, SpawnProtectionBlocksDamageForItsDuration) {
   Script& bob = join(2, "bob");
   step(5);
   aim(alice, bob.entity);
-  alice.input.set_buttons(kButtonFire);
+  alice.input.set_buttons(proto::kButtonFire);
   step(10);
   EXPECT_EQ(health(2), 100);  // protected
   step(60);
@@ -278,7 +278,7 @@ TEST_F(GameFixture, FragLimitEndsTheMatchWithTheScoreboard) {
   Script& alice = join(1, "alice");
   Script& bob = join(2, "bob");
   step(30);
-  alice.input.set_buttons(kButtonFire);
+  alice.input.set_buttons(proto::kButtonFire);
   for (int k = 0; k < 400 && !match().ended(); ++k) {
     if (match().player_view(2)->alive) aim(alice, bob.entity);
     step(1);
@@ -311,7 +311,7 @@ TEST_F(GameFixture, TeamsAreBalancedOnJoinAndFriendlyFireIsOffByDefault) {
   step(30);
   // Red shoots red: nothing.
   aim(scripts_[1], scripts_[3].entity);
-  scripts_[1].input.set_buttons(kButtonFire);
+  scripts_[1].input.set_buttons(proto::kButtonFire);
   step(20);
   EXPECT_EQ(health(3), 100);
 }
@@ -329,7 +329,7 @@ TEST_F(GameFixture, RocketExplodesOnTheFloorNextToATargetAndLaunchesTheShooter) 
   spot.y() = 0;
   aim_at(alice, spot);
   alice.input.set_weapon_slot(2);
-  alice.input.set_buttons(kButtonFire);
+  alice.input.set_buttons(proto::kButtonFire);
   step(1);
   alice.input.set_buttons(0);
   EXPECT_EQ(match().counters().shots_fired, 1u);
@@ -341,7 +341,7 @@ TEST_F(GameFixture, RocketExplodesOnTheFloorNextToATargetAndLaunchesTheShooter) 
   // A rocket at one's own feet: self damage at half and a jump.
   alice.input.set_pitch(-std::numbers::pi_v<float> / 2);
   step(60);
-  alice.input.set_buttons(kButtonFire);
+  alice.input.set_buttons(proto::kButtonFire);
   step(1);
   alice.input.set_buttons(0);
   float highest = 0;
@@ -363,7 +363,7 @@ TEST_F(GameFixture, GrenadeBouncesAndExplodesOnItsFuseButNotThroughAWall) {
   step(30);
   aim(alice, bob.entity);  // straight into the wall
   alice.input.set_weapon_slot(3);
-  alice.input.set_buttons(kButtonFire);
+  alice.input.set_buttons(proto::kButtonFire);
   step(1);
   alice.input.set_buttons(0);
   const std::uint32_t fuse =
@@ -387,7 +387,7 @@ TEST_F(GameFixture, HealthPickupHealsAndComesBackOnItsTimer) {
   Script& bob = join(2, "bob");
   step(30);
   aim(alice, bob.entity);
-  alice.input.set_buttons(kButtonFire);
+  alice.input.set_buttons(proto::kButtonFire);
   step(12);  // two hits: shots at steps 1 and 7
   alice.input.set_buttons(0);
   ASSERT_EQ(health(2), 60);
@@ -450,7 +450,7 @@ TEST_F(GameFixture, TriggerPressesFasterThanTheWeaponAreRefusedAndCounted) {
   Script& alice = join(1, "alice");
   step(3);
   for (int k = 0; k < 10; ++k) {  // press, release, press ... every tick: 30 presses/s
-    alice.input.set_buttons(k % 2 == 0 ? std::uint32_t{kButtonFire} : 0u);
+    alice.input.set_buttons(k % 2 == 0 ? std::uint32_t{proto::kButtonFire} : 0u);
     step(1);
   }
   // The rifle fires every 6 ticks: shots at k = 0 and k = 6; presses at 2, 4, 8 refused.
@@ -498,7 +498,7 @@ class LagCompensatedShot : public GameFixture {
     const physics::Vec3 eye = eye_position(position(alice.entity));
     alice.input.set_yaw(yaw_towards(eye, seen));  // a small turn from facing him
     alice.input.set_pitch(pitch_towards(eye, seen));
-    alice.input.set_buttons(kButtonFire);
+    alice.input.set_buttons(proto::kButtonFire);
     // The input is applied at the next step, when "now" is one tick later: claim the tick seen.
     alice.input.set_view_tick(seen_tick);
     match().set_latency(1, 50'000);  // 50 ms one way: the claim is within the trusted window
@@ -520,7 +520,7 @@ TEST_F(GameFixture, ViewTickClaimsOutsideTheWindowAreClampedAndCounted) {
   Script& alice = join(1, "alice");
   join(2, "bob");
   step(120);
-  alice.input.set_buttons(kButtonFire);
+  alice.input.set_buttons(proto::kButtonFire);
   alice.input.set_view_tick(match().tick_number() - 100);  // 1.7 s back
   step(1);
   EXPECT_EQ(match().counters().view_claims_clamped, 1u);
@@ -540,10 +540,10 @@ TEST_F(GameFixture, TheSameScriptGivesTheSameHash) {
     Script& alice = join(1, "alice");
     Script& bob = join(2, "bob");
     step(20);
-    alice.input.set_buttons(kButtonFire);
+    alice.input.set_buttons(proto::kButtonFire);
     bob.input.set_move_right(90);
     bob.input.set_weapon_slot(3);
-    bob.input.set_buttons(kButtonFire);
+    bob.input.set_buttons(proto::kButtonFire);
     for (int k = 0; k < 300; ++k) {
       aim(alice, bob.entity);
       alice.input.set_weapon_slot(k % 100 < 50 ? 1 : 2);

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "ricochet/server/match.h"
+#include "ricochet/server/match_record.h"
 #include "ricochet/server/recording.h"
 
 namespace ricochet::server {
@@ -48,8 +49,10 @@ MatchConfig recorded_config() {
   return config;
 }
 
-/// Plays 20 s of a scripted four-player fight and returns the finished recording.
-std::vector<std::uint8_t> play_scripted_match(std::uint64_t* final_hash) {
+/// Plays 20 s of a scripted four-player fight and returns the finished recording; `counted`
+/// gets who counts in its record.
+std::vector<std::uint8_t> play_scripted_match(std::uint64_t* final_hash,
+                                              std::vector<CountedPlayer>* counted = nullptr) {
   auto created = Match::create(recorded_config(), arena(), kStart);
   EXPECT_TRUE(std::holds_alternative<Match>(created));
   Match match = std::get<Match>(std::move(created));
@@ -74,7 +77,8 @@ std::vector<std::uint8_t> play_scripted_match(std::uint64_t* final_hash) {
       in.set_yaw(static_cast<float>(std::fmod(0.8 * t * account, 6.0)));
       in.set_pitch(static_cast<float>(-0.2 + 0.1 * std::sin(t)));
       in.set_weapon_slot(1 + static_cast<std::uint32_t>((tick / 90 + account) % 3));
-      in.set_buttons((tick % 4 < 2 ? kButtonFire : 0u) | (tick % 97 == 0 ? kButtonJump : 0u));
+      in.set_buttons((tick % 4 < 2 ? proto::kButtonFire : 0u) |
+                     (tick % 97 == 0 ? proto::kButtonJump : 0u));
       in.set_view_tick(match.tick_number() > 4 ? match.tick_number() - 4 : 0);
       std::vector<std::uint8_t> bytes(payload.ByteSizeLong());
       payload.SerializeToArray(bytes.data(), static_cast<int>(bytes.size()));
@@ -91,12 +95,14 @@ std::vector<std::uint8_t> play_scripted_match(std::uint64_t* final_hash) {
   EXPECT_GT(match.counters().explosions, 5u);
   EXPECT_FALSE(match.counters().recording_truncated);
   if (final_hash) *final_hash = match.state_hash();
+  if (counted) *counted = counted_players(match.scoreboard(), match.config().tick.rate_hz);
   return match.take_recording();
 }
 
 /// Plays a recording back into a fresh match; returns the first tick whose recorded hash
 /// differs (0: all matched) and counts the hashes checked.
-std::uint32_t play_back(const Recording& recording, int& checked, std::uint64_t* final_hash) {
+std::uint32_t play_back(const Recording& recording, int& checked, std::uint64_t* final_hash,
+                        std::vector<CountedPlayer>* counted = nullptr) {
   auto config = decode_match_config(recording.header.config);
   EXPECT_TRUE(std::holds_alternative<MatchConfig>(config));
   MatchConfig replay_config = std::get<MatchConfig>(config);
@@ -117,6 +123,7 @@ std::uint32_t play_back(const Recording& recording, int& checked, std::uint64_t*
     }
   }
   if (final_hash) *final_hash = match.state_hash();
+  if (counted) *counted = counted_players(match.scoreboard(), match.config().tick.rate_hz);
   return 0;
 }
 
@@ -137,6 +144,26 @@ TEST(MatchRecording, AScriptedMatchPlaysBackBitForBit) {
   RecordProperty("bytes", static_cast<int>(bytes.size()));
 }
 
+TEST(MatchRecording, ThePlaybackCountsTheSamePlayersForTheSameTime) {
+  std::vector<CountedPlayer> live;
+  const std::vector<std::uint8_t> bytes = play_scripted_match(nullptr, &live);
+  auto read = read_recording(bytes);
+  ASSERT_TRUE(std::holds_alternative<Recording>(read)) << std::get<RecordingError>(read).message;
+  int checked = 0;
+  std::vector<CountedPlayer> replayed;
+  ASSERT_EQ(play_back(std::get<Recording>(read), checked, nullptr, &replayed), 0u);
+  ASSERT_EQ(live.size(), 4u);  // cid left, and still counts
+  ASSERT_EQ(replayed.size(), live.size());
+  for (std::size_t k = 0; k < live.size(); ++k) {
+    EXPECT_EQ(replayed[k].score.account, live[k].score.account);
+    EXPECT_EQ(replayed[k].score.ticks_played, live[k].score.ticks_played);
+    EXPECT_EQ(replayed[k].score.kills, live[k].score.kills);
+    EXPECT_EQ(replayed[k].score.deaths, live[k].score.deaths);
+    EXPECT_EQ(replayed[k].seconds_played, live[k].seconds_played);
+    EXPECT_GT(live[k].seconds_played, 0) << live[k].score.name;
+  }
+}
+
 TEST(MatchRecording, OneFlippedInputIsCaughtAtTheNextHash) {
   const std::vector<std::uint8_t> bytes = play_scripted_match(nullptr);
   auto read = read_recording(bytes);
@@ -147,7 +174,7 @@ TEST(MatchRecording, OneFlippedInputIsCaughtAtTheNextHash) {
   ASSERT_EQ(tick.tick, 503u);
   ASSERT_FALSE(tick.inputs.empty());
   tick.inputs[0].input.yaw_rad += 0.3f;
-  tick.inputs[0].input.buttons |= kButtonFire;
+  tick.inputs[0].input.buttons |= proto::kButtonFire;
   int checked = 0;
   const std::uint32_t first_bad = play_back(recording, checked, nullptr);
   EXPECT_EQ(first_bad, 510u);  // the first hash at or after 503 (every 10 ticks)

@@ -10,6 +10,8 @@
 #include <limits>
 #include <map>
 
+#include "ricochet/proto/entity_flags.h"
+
 namespace ricochet::server {
 namespace {
 
@@ -289,15 +291,15 @@ TEST_F(MatchFixture, AJumpLeavesTheFloorOnce) {
   const std::uint32_t ann = join(11, "ann");
   advance(kMicrosPerSecond / 2);
   const float ground_y = state_of(ann).position_m[1];
-  EXPECT_TRUE(state_of(ann).flags & kEntityGrounded);
+  EXPECT_TRUE(state_of(ann).flags & proto::kEntityGrounded);
   float peak = ground_y;
   for (std::uint32_t s = 1; s <= 30; ++s) {  // holding jump for half a second
-    match_.receive(11, bytes(inputs(s, s, 0, kButtonJump)));
+    match_.receive(11, bytes(inputs(s, s, 0, proto::kButtonJump)));
     advance(kTickUs);
     peak = std::max(peak, state_of(ann).position_m[1]);
   }
   EXPECT_NEAR(peak - ground_y, 1.23, 0.05);
-  EXPECT_FALSE(state_of(ann).flags & kEntityGrounded);
+  EXPECT_FALSE(state_of(ann).flags & proto::kEntityGrounded);
 }
 
 TEST_F(MatchFixture, BadPayloadsAreDroppedAndCountedByReason) {
@@ -352,7 +354,7 @@ TEST_F(MatchFixture, AReconnectWithinTheGraceKeepsTheEntity) {
   inboxes_.clear();
   advance(kMicrosPerSecond);
   EXPECT_TRUE(inboxes_[11].payloads.empty());  // nothing for the one away
-  EXPECT_TRUE(state_of(ann).flags & kEntityDisconnected);
+  EXPECT_TRUE(state_of(ann).flags & proto::kEntityDisconnected);
   EXPECT_EQ(match_.chat(11, "hello?"), ChatDrop::NotInMatch);
   match_.receive(11, bytes(inputs(11, 11, 127)));
   EXPECT_EQ(drops(InputDrop::UnknownPlayer), 1u);
@@ -365,7 +367,7 @@ TEST_F(MatchFixture, AReconnectWithinTheGraceKeepsTheEntity) {
   EXPECT_EQ(std::get<Joined>(back).entity_id, ann);
   EXPECT_TRUE(std::get<Joined>(back).reconnected);
   advance(kTickUs);
-  EXPECT_FALSE(state_of(ann).flags & kEntityDisconnected);
+  EXPECT_FALSE(state_of(ann).flags & proto::kEntityDisconnected);
   ASSERT_FALSE(inboxes_[22].events.empty());
   EXPECT_TRUE(inboxes_[22].events.back().player_joined().reconnected());
   // The one back hears of bob, then of itself.
@@ -513,7 +515,8 @@ TEST(MatchCrowd, SixtyFourPlayersOnSixteenSpawnsRunAroundWithinBounds) {
       in.set_move_forward(127);
       in.set_yaw(std::remainder(static_cast<float>(account) * 0.7f + static_cast<float>(tick / 40),
                                 6.2831853f));
-      in.set_buttons(tick % 50 == static_cast<int>(account % 50) ? std::uint32_t{kButtonJump} : 0u);
+      in.set_buttons(tick % 50 == static_cast<int>(account % 50) ? std::uint32_t{proto::kButtonJump}
+                                                                 : 0u);
       payload_bytes.resize(payload.ByteSizeLong());
       payload.SerializeToArray(payload_bytes.data(), static_cast<int>(payload_bytes.size()));
       match.receive(account, payload_bytes);
@@ -555,7 +558,7 @@ TEST(MatchReplay, TheSameInputsAndTimesGiveTheSameStates) {
         in.set_move_forward(static_cast<int>(sequence * account % 255) - 127);
         in.set_move_right(static_cast<int>(account * 40) - 100);
         in.set_yaw(std::remainder(0.05f * static_cast<float>(sequence * account), 6.2831853f));
-        in.set_buttons(sequence % 37 == account ? std::uint32_t{kButtonJump} : 0u);
+        in.set_buttons(sequence % 37 == account ? std::uint32_t{proto::kButtonJump} : 0u);
         std::vector<std::uint8_t> bytes(payload.ByteSizeLong());
         payload.SerializeToArray(bytes.data(), static_cast<int>(bytes.size()));
         match.receive(account, bytes);

@@ -72,7 +72,7 @@ PlayerInput forward(float yaw_rad = 0) {
 
 PlayerInput jump() {
   PlayerInput input;
-  input.buttons = kButtonJump;
+  input.buttons = proto::kButtonJump;
   return input;
 }
 

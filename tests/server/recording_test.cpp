@@ -120,8 +120,8 @@ Recording random_recording(std::uint32_t seed, int ticks) {
       PlayerInput& in = player.input;
       in.sequence = chance(0.01) ? static_cast<std::uint32_t>(rng() % 5) : in.sequence + 1;
       if (chance(0.2)) {
-        in.move_right = static_cast<float>(steps()) / kMoveSteps;
-        in.move_forward = static_cast<float>(steps()) / kMoveSteps;
+        in.move_right = static_cast<float>(steps()) / proto::kMoveSteps;
+        in.move_forward = static_cast<float>(steps()) / proto::kMoveSteps;
         const float length =
             std::sqrt(in.move_right * in.move_right + in.move_forward * in.move_forward);
         if (length > 1) {
@@ -497,7 +497,7 @@ TEST(RecordingTest, BytesPerPlayerMinuteOfAScripted60HzStream) {
         in.move_forward = in.move_right == 0 ? 1.0f : 0.0f;
       }
       const bool firing = (tick / 90 + p) % 3 == 0;
-      in.buttons = firing ? std::uint32_t{kButtonFire} : 0u;
+      in.buttons = firing ? std::uint32_t{proto::kButtonFire} : 0u;
       if ((tick + 13 * p) % 600 == 0) in.weapon_slot = 1 + rng() % 3;
       in.view_tick = tick > 3 ? tick - 3 : 0;
       in.view_fraction = static_cast<std::uint8_t>(128 + rng() % 16);

@@ -57,7 +57,7 @@ Recording record(std::uint32_t skip_from = 0, std::uint32_t skip_to = 0) {
       input.entity_id = id;
       input.input.sequence = tick;
       input.input.yaw_rad = 0.01f * static_cast<float>(tick * id);
-      input.input.buttons = tick % 7 == 0 ? kButtonFire : 0u;
+      input.input.buttons = tick % 7 == 0 ? proto::kButtonFire : 0u;
       inputs.push_back(input);
     }
     for (const RecordedEvent& event : events) live.apply(event);
@@ -96,7 +96,7 @@ TEST(ReplayTest, EveryHashMatches) {
 
 TEST(ReplayTest, OneFlippedInputIsCaughtAtTheNextHash) {
   Recording recording = record();
-  recording.ticks[146].inputs[1].input.buttons ^= kButtonJump;  // tick 147
+  recording.ticks[146].inputs[1].input.buttons ^= proto::kButtonJump;  // tick 147
   MixingSimulation simulation;
   const ReplayReport report = replay(recording, simulation);
   ASSERT_TRUE(report.first_mismatch.has_value());

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/server/movement.h"
@@ -104,6 +105,41 @@ TEST(Weapons, NamesAndSlots) {
   EXPECT_EQ(weapon_for_slot(3), WeaponKind::GrenadeLauncher);
   EXPECT_EQ(weapon_for_slot(4), std::nullopt);
   EXPECT_EQ(weapon_for_slot(9), std::nullopt);
+  for (std::size_t k = 0; k < kWeaponCount; ++k) {
+    const auto kind = static_cast<WeaponKind>(k);
+    EXPECT_EQ(weapon_for_slot(proto::slot_of(to_wire(kind))), kind);
+  }
+}
+
+TEST(Weapons, TheJoinReplyCarriesEachWeaponsFlight) {
+  WeaponsConfig config;
+  config.weapons[2].gravity_scale = 0.5f;
+  config.weapons[1].projectile_speed_mps = 40;
+  const std::vector<wire::WeaponSpec> specs = weapon_specs(config);
+  ASSERT_EQ(specs.size(), kWeaponCount);
+  const float g = static_cast<float>(combat_world_def().gravity.y());
+  ASSERT_LT(g, 0);
+  const auto gravity = [](const wire::WeaponSpec& spec) {
+    return std::vector<float>(spec.gravity_mps2().begin(), spec.gravity_mps2().end());
+  };
+  const std::vector<float> none{0, 0, 0};
+
+  EXPECT_EQ(specs[0].weapon(), wire::WEAPON_RIFLE);
+  EXPECT_EQ(specs[0].projectile_speed_mps(), 0.0f);  // hitscan
+  EXPECT_EQ(specs[0].range_m(), config.weapons[0].range_m);
+  EXPECT_EQ(specs[0].fire_interval_s(), config.weapons[0].fire_interval_s);
+  EXPECT_EQ(gravity(specs[0]), none);
+
+  EXPECT_EQ(specs[1].weapon(), wire::WEAPON_ROCKET_LAUNCHER);
+  EXPECT_EQ(specs[1].projectile_speed_mps(), 40.0f);
+  EXPECT_EQ(specs[1].range_m(), 0.0f);
+  EXPECT_EQ(specs[1].explosion_radius_m(), config.weapons[1].explosion_radius_m);
+  EXPECT_EQ(gravity(specs[1]), none);
+  EXPECT_FALSE(std::signbit(specs[1].gravity_mps2(1)));  // no -0 on the wire
+
+  EXPECT_EQ(specs[2].weapon(), wire::WEAPON_GRENADE_LAUNCHER);
+  EXPECT_EQ(specs[2].projectile_speed_mps(), config.weapons[2].projectile_speed_mps);
+  EXPECT_EQ(gravity(specs[2]), (std::vector<float>{0, 0.5f * g, 0}));
 }
 
 TEST(Weapons, CombatWorldIsArenaPlayersWithRestitution) {

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "ricochet/physics/scene_profile.h"
+#include "ricochet/proto/entity_flags.h"
 #include "ricochet/server/lag_compensation.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
@@ -108,8 +109,8 @@ class Fighters {
     if (self) {
       double best = 1e30;
       for (const auto& state : states) {
-        const bool player_entity = (state.flags & server::kEntityKindMask) == 0;
-        if (state.id == self->id || !player_entity || (state.flags & server::kEntityDead)) continue;
+        const bool player_entity = (state.flags & proto::kEntityKindMask) == 0;
+        if (state.id == self->id || !player_entity || (state.flags & proto::kEntityDead)) continue;
         const double dx = state.position_m[0] - self->position_m[0];
         const double dy = state.position_m[1] - self->position_m[1];
         const double dz = state.position_m[2] - self->position_m[2];
@@ -125,8 +126,8 @@ class Fighters {
     input->set_pitch(std::clamp(pitch, -1.5f, 1.5f));
     const int weapon = static_cast<int>(time_s / 3 + player) % 3;
     input->set_weapon_slot(static_cast<std::uint32_t>(weapon + 1));
-    std::uint32_t buttons = server::kButtonFire;
-    if (sequence % (60 + player % 30) == 0) buttons |= server::kButtonJump;
+    std::uint32_t buttons = proto::kButtonFire;
+    if (sequence % (60 + player % 30) == 0) buttons |= proto::kButtonJump;
     input->set_buttons(buttons);
     input->set_view_tick(view_tick);
     payload.set_ack_snapshot_tick(ack_tick);
@@ -260,7 +261,7 @@ std::string run(const server::Map& map, int players, const Options& options) {
       if (!first) continue;
       payload_bytes += bytes;
       for (const auto& state : each.entity_states())
-        projectiles += (state.flags & server::kEntityKindMask) != 0;
+        projectiles += (state.flags & proto::kEntityKindMask) != 0;
     }
     if (t == warmup) {
       shots_before = match.counters().shots_fired;

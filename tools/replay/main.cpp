@@ -17,6 +17,7 @@
 #include <variant>
 #include <vector>
 
+#include "ricochet/proto/entity_flags.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
 #include "ricochet/server/match_replay.h"
@@ -160,7 +161,8 @@ int main(int argc, char** argv) {
   if (csv) {
     options.after_step = [&](std::uint32_t tick) {
       for (const auto& state : match.entity_states()) {
-        if ((state.flags & kEntityKindMask) != 0) continue;  // players only, not projectiles
+        if ((state.flags & ricochet::proto::kEntityKindMask) != 0)
+          continue;  // players only, not projectiles
         std::fprintf(csv, "%u,%u,%.9g,%.9g,%.9g\n", tick, state.id, state.position_m[0],
                      state.position_m[1], state.position_m[2]);
       }

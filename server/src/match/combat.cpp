@@ -109,7 +109,7 @@ Vec3 spread_direction(const Vec3& aim, float spread_rad, MatchRng& rng) {
 }
 
 Vec3 eye_position(const Vec3& player_center_m) {
-  return player_center_m + Vec3(0, Real(kEyeHeightM), 0);
+  return player_center_m + Vec3(0, Real(proto::kShotHeightM), 0);
 }
 
 Vec3 explosion_center(const physics::ProjectileHitEvent& hit, const WeaponConfig& weapon) {

@@ -4,16 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <string>
+
+#include "ricochet/proto/weapon_wire.h"
 
 namespace ricochet::server {
 
 namespace {
 
-/// Accepted view angles, rad. Pitch allows for float rounding of ±π/2.
-constexpr float kMaxYaw = 2 * std::numbers::pi_v<float>;
-constexpr float kMaxPitch = std::numbers::pi_v<float> / 2 + 1e-6f;
 /// Inputs further ahead than this are not a network delay but a bogus sequence.
 constexpr std::uint32_t kMaxSequenceLead = 1024;
 
@@ -53,25 +51,21 @@ bool validate_input(const wire::Input& in, PlayerInput& out, InputDrop& reason) 
     return false;
   }
   const auto move_ok = [](std::int32_t steps) {
-    return steps >= -kMoveSteps && steps <= kMoveSteps;
+    return steps >= -proto::kMoveSteps && steps <= proto::kMoveSteps;
   };
-  const bool in_range = move_ok(in.move_right()) && move_ok(in.move_forward()) &&
-                        std::abs(in.yaw()) <= kMaxYaw && std::abs(in.pitch()) <= kMaxPitch &&
-                        (in.buttons() & ~kKnownButtons) == 0 &&
-                        in.weapon_slot() <= kMaxWeaponSlot && in.view_fraction() <= 255;
+  const bool in_range =
+      move_ok(in.move_right()) && move_ok(in.move_forward()) &&
+      std::abs(in.yaw()) <= proto::kMaxYawRad && std::abs(in.pitch()) <= kAcceptedMaxPitchRad &&
+      (in.buttons() & ~proto::kKnownButtons) == 0 && in.weapon_slot() <= proto::kMaxWeaponSlot &&
+      in.view_fraction() < proto::kViewFractionSteps;
   if (!in_range) {
     reason = InputDrop::OutOfRange;
     return false;
   }
   out.sequence = in.sequence();
-  out.move_right = static_cast<float>(in.move_right()) / kMoveSteps;
-  out.move_forward = static_cast<float>(in.move_forward()) / kMoveSteps;
-  const float length_sq = out.move_right * out.move_right + out.move_forward * out.move_forward;
-  if (length_sq > 1) {
-    const float length = std::sqrt(length_sq);
-    out.move_right /= length;
-    out.move_forward /= length;
-  }
+  const proto::Stick stick = proto::stick_of(in.move_right(), in.move_forward());
+  out.move_right = stick.right;
+  out.move_forward = stick.forward;
   out.yaw_rad = in.yaw();
   out.pitch_rad = in.pitch();
   out.buttons = in.buttons();

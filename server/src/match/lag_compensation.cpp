@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "range_check.h"
+#include "ricochet/proto/input_wire.h"
 
 namespace ricochet::server {
 
@@ -87,14 +88,14 @@ ViewTime LagCompensation::resolve(std::uint32_t now_tick, std::uint32_t claimed_
       std::clamp(latency_ms + config_.interpolation_delay_ms, 0.0, max_rewind_ms);
   double rewind_ms = estimate_ms;
   if (claimed_tick != 0) {
-    const double claimed_ticks = claimed_tick + claimed_fraction / 256.0;
+    const double claimed_ticks = claimed_tick + proto::view_fraction_ticks(claimed_fraction);
     const double claimed_ms = (static_cast<double>(now_tick) - claimed_ticks) * tick_ms();
     const double low_ms = std::max(0.0, estimate_ms - config_.claim_tolerance_ms);
     const double high_ms = std::min(max_rewind_ms, estimate_ms + config_.claim_tolerance_ms);
     if (claimed_ms >= low_ms && claimed_ms <= high_ms) {
       // Trusted: the client's own tick and fraction, exactly.
       view.tick = claimed_tick;
-      view.fraction = static_cast<float>(claimed_fraction / 256.0);
+      view.fraction = static_cast<float>(proto::view_fraction_ticks(claimed_fraction));
       view.rewind_ms = claimed_ms;
       return view;
     }

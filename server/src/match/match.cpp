@@ -238,11 +238,11 @@ void Match::receive(std::uint64_t account, std::span<const std::uint8_t> payload
   Player* player = find(account);
   if (!player || !player->connected) return drop(InputDrop::UnknownPlayer);
   wire::ClientPayload& message = incoming_;
-  if (payload.size() > kMaxClientPayloadBytes ||
+  if (payload.size() > proto::kMaxClientPayloadBytes ||
       !message.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
     return drop(InputDrop::MalformedPayload);
   }
-  if (static_cast<std::size_t>(message.inputs_size()) > kMaxInputsPerPayload) {
+  if (static_cast<std::size_t>(message.inputs_size()) > proto::kMaxInputsPerPayload) {
     return drop(InputDrop::TooManyInputs);
   }
   ++counters_.payloads_received;

@@ -13,10 +13,6 @@ namespace ricochet::server {
 
 namespace {
 
-wire::Weapon to_wire(WeaponKind weapon) {
-  return static_cast<wire::Weapon>(static_cast<int>(weapon) + 1);
-}
-
 /// How close a player's centre must come to a pickup's to take it, m.
 constexpr physics::Real kPickupReach_m = 1.0;
 
@@ -31,13 +27,15 @@ void Match::fire_weapons() {
     if (const std::optional<WeaponKind> chosen = weapon_for_slot(input.weapon_slot)) {
       shooter.weapon = *chosen;
     }
-    if (!input.pressed(kButtonFire)) continue;
+    if (!input.pressed(proto::kButtonFire)) continue;
     const WeaponConfig& weapon = config_.weapons.weapons[static_cast<std::size_t>(shooter.weapon)];
     int& ammo = shooter.ammo[static_cast<std::size_t>(shooter.weapon)];
     if (tick_ < shooter.next_fire_tick || ammo <= 0) {
       // Holding the trigger is normal; pressing it again before the weapon is ready is a
       // refused shot (a client that fires faster than the weapon allows).
-      if ((pressed & kButtonFire) != 0 && ammo > 0) note_violation(shooter, Violation::FireRate);
+      if ((pressed & proto::kButtonFire) != 0 && ammo > 0) {
+        note_violation(shooter, Violation::FireRate);
+      }
       continue;
     }
     --ammo;

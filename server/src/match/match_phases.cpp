@@ -5,6 +5,7 @@
 #include <cassert>
 #include <utility>
 
+#include "ricochet/proto/entity_flags.h"
 #include "ricochet/server/match.h"
 
 namespace ricochet::server {
@@ -110,17 +111,18 @@ void Match::record_history() {
       state.position_m = to_array(player.position_m);
       state.velocity_mps = player.alive ? to_array(player.velocity_mps) : std::array<float, 3>{};
       state.flags = static_cast<std::uint8_t>(
-          (player.grounded && player.alive ? kEntityGrounded : 0) |
-          (player.connected ? 0 : kEntityDisconnected) | (player.alive ? 0 : kEntityDead) |
-          (player.alive && tick_ < player.protected_until ? kEntityProtected : 0));
+          (player.grounded && player.alive ? proto::kEntityGrounded : 0) |
+          (player.connected ? 0 : proto::kEntityDisconnected) |
+          (player.alive ? 0 : proto::kEntityDead) |
+          (player.alive && tick_ < player.protected_until ? proto::kEntityProtected : 0));
     } else {
       const Projectile& shot = projectiles_[q++];
       state.id = shot.entity_id;
       state.position_m = to_array(shot.position_m);
       state.velocity_mps = to_array(shot.velocity_mps);
-      const EntityKind kind =
-          shot.weapon == WeaponKind::GrenadeLauncher ? EntityKind::Grenade : EntityKind::Rocket;
-      state.flags = static_cast<std::uint8_t>(static_cast<unsigned>(kind) << kEntityKindShift);
+      state.flags =
+          proto::kind_flags(shot.weapon == WeaponKind::GrenadeLauncher ? proto::EntityKind::Grenade
+                                                                       : proto::EntityKind::Rocket);
     }
     state.orientation_xyzw = {0, 0, 0, 1};  // players never spin; projectiles are round
     entry.states.push_back(state);
@@ -151,7 +153,7 @@ void Match::build_snapshots() {
     wire::PlayerStatus& status = *payload.mutable_status();
     status.set_health(player.vitals.health);
     status.set_armor(player.vitals.armor);
-    status.set_weapon(static_cast<wire::Weapon>(static_cast<int>(player.weapon) + 1));
+    status.set_weapon(to_wire(player.weapon));
     status.clear_ammo();
     for (const int rounds : player.ammo) status.add_ammo(rounds);
     status.set_alive(player.alive);

@@ -16,7 +16,7 @@ physics::Vec3 wish_direction(const PlayerInput& input) {
 physics::CharacterIntent character_intent(const PlayerInput& input) {
   return {wish_direction(input),
           physics::stick_speed_fraction(input.move_right, input.move_forward),
-          input.pressed(kButtonJump)};
+          input.pressed(proto::kButtonJump)};
 }
 
 physics::Vec3 move_velocity(const MovementConfig& config, const PlayerInput& input,

@@ -4,8 +4,8 @@
 #include "recording_format.h"
 
 #include <cmath>
-#include <numbers>
 
+#include "ricochet/proto/weapon_wire.h"
 #include "ricochet/wire/game.pb.h"
 
 namespace ricochet::server::recording_format {
@@ -24,9 +24,6 @@ constexpr std::array<std::uint32_t, 256> make_crc_table() {
 }
 constexpr std::array<std::uint32_t, 256> kCrcTable = make_crc_table();
 
-/// The ranges validate_input() produces (input_buffer.cpp).
-constexpr float kMaxYaw = 2 * std::numbers::pi_v<float>;
-constexpr float kMaxPitch = std::numbers::pi_v<float> / 2 + 1e-6f;
 /// |move| after validate_input()'s normalisation, with float rounding.
 constexpr float kMaxMoveLengthSq = 1.0f + 1e-5f;
 
@@ -139,16 +136,18 @@ std::string check_input(const PlayerInput& input) {
           kMaxMoveLengthSq) {
     return "move (right, forward) must be a vector of length <= 1";
   }
-  if (std::abs(input.yaw_rad) > kMaxYaw) return "yaw must be within -2pi..2pi rad";
-  if (std::abs(input.pitch_rad) > kMaxPitch) return "pitch must be within -pi/2..pi/2 rad";
-  if ((input.buttons & ~kKnownButtons) != 0) {
+  if (std::abs(input.yaw_rad) > proto::kMaxYawRad) return "yaw must be within -2pi..2pi rad";
+  if (std::abs(input.pitch_rad) > kAcceptedMaxPitchRad) {
+    return "pitch must be within -pi/2..pi/2 rad";
+  }
+  if ((input.buttons & ~proto::kKnownButtons) != 0) {
     std::string error = "unknown button bits ";
-    error += std::to_string(input.buttons & ~kKnownButtons);
+    error += std::to_string(input.buttons & ~proto::kKnownButtons);
     return error;
   }
-  if (input.weapon_slot > kMaxWeaponSlot) {
+  if (input.weapon_slot > proto::kMaxWeaponSlot) {
     std::string error = "weapon_slot must be 0..";
-    error += std::to_string(kMaxWeaponSlot) + ", got " + std::to_string(input.weapon_slot);
+    error += std::to_string(proto::kMaxWeaponSlot) + ", got " + std::to_string(input.weapon_slot);
     return error;
   }
   return {};

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "recording_format.h"
+#include "ricochet/proto/weapon_wire.h"
 #include "ricochet/server/recording.h"
 
 namespace ricochet::server {
@@ -211,7 +212,7 @@ RecordedInput read_input(Cursor& in, const RecordedInput& before) {
   b.view_tick = rf::expected_view_tick(a.view_tick);
   if (mask & rf::kFieldViewTick) b.view_tick = add_delta(in, b.view_tick, "view_tick");
   if (mask & rf::kFieldWeaponSlot) {
-    b.weapon_slot = static_cast<std::uint32_t>(in.bounded("weapon_slot", kMaxWeaponSlot));
+    b.weapon_slot = static_cast<std::uint32_t>(in.bounded("weapon_slot", proto::kMaxWeaponSlot));
   }
   if (mask & rf::kFieldLatency) now.latency_us = add_delta(in, before.latency_us, "latency_us");
   if (std::string error = rf::check_input(b); !error.empty()) {

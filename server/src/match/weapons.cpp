@@ -42,9 +42,14 @@ const char* name(WeaponKind kind) {
   return "unknown";
 }
 
+wire::Weapon to_wire(WeaponKind kind) {
+  return static_cast<wire::Weapon>(static_cast<int>(kind) + 1);
+}
+
 std::optional<WeaponKind> weapon_for_slot(std::uint32_t slot) {
-  if (slot < 1 || slot > kWeaponCount) return std::nullopt;
-  return static_cast<WeaponKind>(slot - 1);
+  const std::optional<wire::Weapon> weapon = proto::weapon_of_slot(slot);
+  if (!weapon) return std::nullopt;
+  return static_cast<WeaponKind>(static_cast<int>(*weapon) - 1);
 }
 
 std::string WeaponConfig::validate(const char* name) const {
@@ -150,6 +155,28 @@ physics::WorldDef combat_world_def() {
   physics::WorldDef def = profiles::arena_players();
   def.enable_restitution = true;
   return def;
+}
+
+std::vector<wire::WeaponSpec> weapon_specs(const WeaponsConfig& weapons) {
+  const Vec3 gravity = combat_world_def().gravity;
+  std::vector<wire::WeaponSpec> specs(kWeaponCount);
+  for (std::size_t k = 0; k < kWeaponCount; ++k) {
+    const auto kind = static_cast<WeaponKind>(k);
+    const WeaponConfig& weapon = weapons[kind];
+    wire::WeaponSpec& spec = specs[k];
+    spec.set_weapon(to_wire(kind));
+    spec.set_fire_interval_s(weapon.fire_interval_s);
+    const bool hitscan = kind == WeaponKind::Rifle;
+    spec.set_range_m(hitscan ? weapon.range_m : 0);
+    spec.set_projectile_speed_mps(hitscan ? 0 : weapon.projectile_speed_mps);
+    const Real gravity_scale = hitscan ? Real(0) : Real(weapon.gravity_scale);
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto g = static_cast<float>(gravity[axis] * gravity_scale);
+      spec.add_gravity_mps2(g == 0 ? 0.0f : g);  // no -0 for a scale of 0
+    }
+    spec.set_explosion_radius_m(hitscan ? 0 : weapon.explosion_radius_m);
+  }
+  return specs;
 }
 
 physics::ProjectileDef rocket_projectile(const WeaponConfig& weapon, const Vec3& origin,

@@ -254,6 +254,7 @@ wire::ServerMessage ControlSession::join_match(const wire::JoinMatchRequest& req
   join.set_tick_rate_hz(static_cast<std::uint32_t>(grant.tick_rate_hz));
   join.set_snapshot_rate_hz(static_cast<std::uint32_t>(grant.snapshot_rate_hz));
   if (grant.world) *join.mutable_world() = *grant.world;
+  for (const wire::WeaponSpec& weapon : grant.weapons) *join.add_weapons() = weapon;
   machine_.transition(proto::ControlState::InMatch,
                       "joined match " + std::to_string(grant.match_id));
   return reply;

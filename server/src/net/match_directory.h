@@ -13,6 +13,7 @@
 
 #include "ricochet/proto/quantize.h"
 #include "ricochet/proto/token_grant.h"
+#include "ricochet/wire/game.pb.h"
 #include "ricochet/wire/world.pb.h"
 
 namespace ricochet::server {
@@ -42,6 +43,7 @@ struct JoinGrant {
   int snapshot_rate_hz = 60;
   /// The map's collision world and movement rules, for prediction; nullptr: none is sent.
   std::shared_ptr<const wire::CollisionWorld> world;
+  std::vector<wire::WeaponSpec> weapons;  ///< the match's, rifle first (weapon_specs())
 };
 
 enum class DirectoryErrorCode {

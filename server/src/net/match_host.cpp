@@ -10,6 +10,7 @@
 #include <chrono>
 #include <utility>
 
+#include "ricochet/server/match_record.h"
 #include "steady_time.h"
 #include "tick_wake.h"
 
@@ -38,11 +39,6 @@ std::array<double, kPhaseNames.size()> phase_ms(const TickProfile& profile) {
   return {profile.apply_inputs_ms, profile.rules_ms,   profile.movement_ms,
           profile.combat_ms,       profile.physics_ms, profile.history_ms,
           profile.snapshots_ms,    profile.send_ms,    profile.total_ms};
-}
-
-/// Took part while the match was running (EndedMatch).
-bool played_while_running(const PlayerScore& score) {
-  return score.ticks_played > 0 || score.kills > 0 || score.deaths > 0;
 }
 
 }  // namespace
@@ -93,11 +89,11 @@ void MatchHost::end(std::function<void(EndedMatch)> done) {
     self->timer_.cancel();
     self->match_.end(wire::MATCH_END_REASON_SERVER_SHUTDOWN);  // MatchEnded to every player
     self->drain_outbox();
-    done(self->ended_match(true, steady_now_us()));
+    done(self->ended_match(true));
   });
 }
 
-EndedMatch MatchHost::ended_match(bool aborted, proto::TimeUs now) {
+EndedMatch MatchHost::ended_match(bool aborted) {
   EndedMatch ended;
   ended.id = id_;
   ended.end_reason = match_.end_reason();
@@ -115,9 +111,8 @@ EndedMatch MatchHost::ended_match(bool aborted, proto::TimeUs now) {
     record.team_scores.red = teams[static_cast<std::size_t>(Team::Red)];
     record.team_scores.blue = teams[static_cast<std::size_t>(Team::Blue)];
   }
-  for (auto& [account, played] : played_) played.stop(now);
-  for (const PlayerScore& score : match_.scoreboard()) {
-    if (!played_while_running(score)) continue;
+  for (const CountedPlayer& counted : counted_players(match_.scoreboard(), tick_rate_hz_)) {
+    const PlayerScore& score = counted.score;
     db::PlayerResult result;
     result.account = static_cast<db::AccountId>(score.account);
     result.team = static_cast<std::int32_t>(score.team);
@@ -128,8 +123,7 @@ EndedMatch MatchHost::ended_match(bool aborted, proto::TimeUs now) {
     result.hits = score.hits;
     result.damage_dealt = score.damage_dealt;
     result.damage_taken = score.damage_taken;
-    const auto played = played_.find(score.account);
-    result.seconds_played = played != played_.end() ? played->second.seconds : 0.0;
+    result.seconds_played = counted.seconds_played;
     record.players.push_back(result);
     ended.usernames.push_back(score.name);
   }
@@ -152,16 +146,13 @@ void MatchHost::connect(std::uint64_t account, std::string name, std::uint64_t s
     Played& played = self->played_[account];
     played.seated = true;
     played.seat = seat;
-    if (played.connected_at == 0) played.connected_at = steady_now_us();
     self->drain_outbox();
   });
 }
 
 void MatchHost::disconnect(std::uint64_t account) {
   asio::post(strand_, [self = shared_from_this(), account] {
-    const proto::TimeUs now = steady_now_us();
-    self->match_.disconnect(account, now);
-    self->stop_playing(account, now);
+    self->match_.disconnect(account, steady_now_us());
   });
 }
 
@@ -187,8 +178,6 @@ void MatchHost::chat(std::uint64_t account, std::string text) {
 
 void MatchHost::leave(std::uint64_t account) {
   asio::post(strand_, [self = shared_from_this(), account] {
-    const proto::TimeUs now = steady_now_us();
-    self->stop_playing(account, now);
     if (const auto found = self->played_.find(account); found != self->played_.end()) {
       found->second.seated = false;  // the directory released the seat itself
     }
@@ -240,7 +229,7 @@ void MatchHost::tick(proto::TimeUs now) {
     publish_stats(now);
     spdlog::info("match {} ended: {} after {} steps", id_,
                  wire::MatchEndReason_Name(match_.end_reason()), match_.tick_number());
-    on_ended_(ended_match(false, now));
+    on_ended_(ended_match(false));
     return;
   }
   if (now >= next_sweep_at_) {
@@ -269,18 +258,11 @@ void MatchHost::observe_profile(const TickProfile& profile) {
 }
 
 void MatchHost::sweep_departed() {
-  const proto::TimeUs now = steady_now_us();
   for (auto& [account, played] : played_) {
     if (!played.seated || match_.entity_of(account)) continue;
     played.seated = false;
-    stop_playing(account, now);
     released_(account, id_, played.seat);
   }
-}
-
-void MatchHost::stop_playing(std::uint64_t account, proto::TimeUs now) {
-  const auto found = played_.find(account);
-  if (found != played_.end()) found->second.stop(now);
 }
 
 void MatchHost::publish_stats(proto::TimeUs now) {

@@ -44,11 +44,9 @@ struct MatchHostStats {
 /// A match that ended: its record for the DB, who played (for their MatchResults) and its
 /// recording.
 ///
-/// A player is in the record when it took part while the match was running: connected for at
-/// least one running tick, or killed or died then (an entity away within its reconnect grace
-/// can still die). Players who only waited or warmed up are not: nothing of theirs counted.
-/// seconds_played is the wall time the player's game connection was up (waiting and warm-up
-/// included), as the host measured it.
+/// Who is in the record, and their seconds_played, are the match's own count on its ticks
+/// (match_record.h): the players who took part while it was running, for their running time
+/// connected.
 struct EndedMatch {
   std::uint32_t id = 0;
   db::MatchRecord record;              ///< players empty when nobody played; aborted when stopped
@@ -110,28 +108,18 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
 
  private:
   struct Played {
-    proto::TimeUs connected_at = 0;  ///< 0 while not connected
-    double seconds = 0;              ///< connected so far, not counting the current stretch
-    bool seated = true;              ///< false once the seat was released
-    std::uint64_t seat = 0;          ///< the seat generation it connected with
-
-    /// Ends the current connected stretch (if any) at `now`, adding it to `seconds`.
-    void stop(proto::TimeUs now) {
-      if (connected_at == 0) return;
-      seconds += static_cast<double>(now - connected_at) / 1e6;
-      connected_at = 0;
-    }
+    bool seated = true;      ///< false once the seat was released
+    std::uint64_t seat = 0;  ///< the seat generation it connected with
   };
 
   boost::asio::awaitable<void> tick_loop(std::shared_ptr<MatchHost> self);
   void tick(proto::TimeUs now);
-  /// The match as it ended, with the recording; every connected stretch stops at `now`.
-  EndedMatch ended_match(bool aborted, proto::TimeUs now);
+  /// The match as it ended, with the recording.
+  EndedMatch ended_match(bool aborted);
   void drain_outbox();
   void observe_profile(const TickProfile& profile);
   /// Seats whose player the match no longer has (grace ran out) are released.
   void sweep_departed();
-  void stop_playing(std::uint64_t account, proto::TimeUs now);
   void publish_stats(proto::TimeUs now);
 
   Match match_;

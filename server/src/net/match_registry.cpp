@@ -79,7 +79,7 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   // Checked again: the registry may have closed or filled while the world was built.
   if (auto refused = refuse_open()) return *refused;
   host->start();
-  hosts_.emplace(id, Hosted{host, map, std::move(world)});
+  hosts_.emplace(id, Hosted{host, map, std::move(world), weapon_specs(match_config.weapons)});
   spdlog::info("match {} '{}' open: {} on map {} for {} players, seed {}", id, name,
                server::name(match_config.rules.mode), host->map_name(), max_players,
                match_config.rules.seed);
@@ -174,6 +174,7 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
   grant.tick_rate_hz = host->second.host->tick_rate_hz();
   grant.snapshot_rate_hz = host->second.host->snapshot_rate_hz();
   grant.world = host->second.world;
+  grant.weapons = host->second.weapons;
   grant.token = proto::issue_connect_token(config_.token_key, proto::kProtocolId, account, match_id,
                                            now, config_.token_lifetime_us, config_.token_timeout_s);
   // A taken seat stays taken (a reconnect); a reservation lives as long as its newest token.

@@ -118,6 +118,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
     std::shared_ptr<MatchHost> host;
     std::size_t map = 0;                                ///< index in the rotation
     std::shared_ptr<const wire::CollisionWorld> world;  ///< what its join replies carry
+    std::vector<wire::WeaponSpec> weapons;              ///< and these
   };
   std::map<std::uint32_t, Hosted> hosts_;
   /// By account; open addressing (every datagram received looks its sender's seat up).

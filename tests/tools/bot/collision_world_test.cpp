@@ -81,7 +81,7 @@ TEST(CollisionWorldCheck, RefusesTooManyTrianglesInAll) {
   wire::CollisionWorld world = testing::arena_world();
   wire::CollisionMesh& big = *world.add_meshes();
   for (int k = 0; k < 9; ++k) big.add_vertices_m(float(k % 3));
-  for (std::size_t k = 0; k < 3 * (CollisionWorldLimits::kMaxTriangles + 1); ++k) {
+  for (std::size_t k = 0; k < 3 * (proto::CollisionWorldLimits::kMaxTriangles + 1); ++k) {
     big.add_indices(static_cast<std::uint32_t>(k % 3));
   }
   EXPECT_NE(refusal(world).find("triangles in all meshes, mesh 2 goes past that"),

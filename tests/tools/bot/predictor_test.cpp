@@ -151,7 +151,7 @@ TEST(Predictor, DeathAndRespawnAreResetsNotErrors) {
   EXPECT_TRUE(predictor.active());
   for (int k = 0; k < 10; ++k) predictor.apply(history.push(scripted_input(k)));
   SeenEntity dead = own;
-  dead.flags = kFlagDead;
+  dead.flags = proto::kEntityDead;
   history.acknowledge(5);
   predictor.reconcile(&dead, 5, history.unacknowledged());
   EXPECT_FALSE(predictor.active());

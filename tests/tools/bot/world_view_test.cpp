@@ -19,9 +19,9 @@ TEST(WorldView, TheNearestEnemyIsALivingPlayerThatIsNotUs) {
   WorldView view{proto::QuantizationSpec{}};
   const std::vector<proto::QuantizedEntity> world{
       entity(1, {0, 1, 0}),
-      entity(2, {1, 1, 0}, kFlagDead),
-      entity(3, {2, 1, 0}, 1u << kFlagKindShift),  // a rocket
-      entity(4, {3, 1, 0}, kFlagDisconnected),
+      entity(2, {1, 1, 0}, proto::kEntityDead),
+      entity(3, {2, 1, 0}, proto::kind_flags(proto::EntityKind::Rocket)),
+      entity(4, {3, 1, 0}, proto::kEntityDisconnected),
       entity(5, {9, 1, 0}),
       entity(6, {6, 1, 0}),
   };
@@ -30,7 +30,7 @@ TEST(WorldView, TheNearestEnemyIsALivingPlayerThatIsNotUs) {
   EXPECT_NEAR(view.own()->position_m[1], 1.0f, 1e-3f);
   ASSERT_NE(view.nearest_enemy(), nullptr);
   EXPECT_EQ(view.nearest_enemy()->id, 6u);
-  EXPECT_EQ(view.find(3)->kind(), EntityKind::Rocket);
+  EXPECT_EQ(view.find(3)->kind(), proto::EntityKind::Rocket);
   EXPECT_EQ(view.find(7), nullptr);
 }
 

@@ -410,6 +410,12 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
     ++metrics_.bad_control;
     return fail_attempt("unusable join reply: quantization " + error, Retry::SameConnection);
   }
+  const std::optional<Arsenal> arsenal = arsenal_of(reply, error);
+  if (!arsenal) {
+    ++metrics_.bad_control;
+    return fail_attempt("unusable join reply: " + error, Retry::SameConnection);
+  }
+  brain_.set_weapons(*arsenal);
   proto::TokenGrant grant;
   grant.connect_token.assign(reply.connect_token().begin(), reply.connect_token().end());
   std::copy_n(reply.client_to_server_key().begin(), proto::kKeyBytes,

@@ -13,7 +13,7 @@ namespace {
 
 using physics::Real;
 using physics::Vec3;
-using Limits = CollisionWorldLimits;
+using Limits = proto::CollisionWorldLimits;
 
 constexpr const char* kAxes[] = {"x", "y", "z", "w"};
 

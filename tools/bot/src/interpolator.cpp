@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ricochet/proto/input_wire.h"
+
 namespace ricochet::bot {
 
 namespace {
@@ -46,8 +48,7 @@ RenderTime Interpolator::advance(double now_s) {
   render_tick_ = std::clamp(render_tick_, double(frames_.front().tick), newest);
   interpolate();
   const double whole = std::floor(render_tick_);
-  return {static_cast<std::uint32_t>(whole),
-          static_cast<std::uint8_t>(std::min(255.0, (render_tick_ - whole) * 256))};
+  return {static_cast<std::uint32_t>(whole), proto::to_view_fraction(render_tick_ - whole)};
 }
 
 void Interpolator::interpolate() {

@@ -3,14 +3,12 @@
 #include "ricochet/bot/predictor.h"
 
 #include <cassert>
-#include <cmath>
+
+#include "ricochet/proto/input_wire.h"
 
 namespace ricochet::bot {
 
 namespace {
-
-constexpr std::int32_t kMoveSteps = 127;  ///< PROTOCOL.md Input: k/127 of full input
-constexpr std::uint32_t kJumpButton = 1u << 0;
 
 physics::Vec3 to_physics(const Vec3& v) {
   return physics::Vec3(physics::Real(v[0]), physics::Real(v[1]), physics::Real(v[2]));
@@ -27,16 +25,10 @@ bool alive(const SeenEntity* own) {
 }  // namespace
 
 physics::CharacterIntent intent_of(const wire::Input& input) {
-  float right = static_cast<float>(input.move_right()) / kMoveSteps;
-  float forward = static_cast<float>(input.move_forward()) / kMoveSteps;
-  const float length_sq = right * right + forward * forward;
-  if (length_sq > 1) {
-    const float length = std::sqrt(length_sq);
-    right /= length;
-    forward /= length;
-  }
-  return {physics::yaw_wish_direction(input.yaw(), right, forward),
-          physics::stick_speed_fraction(right, forward), (input.buttons() & kJumpButton) != 0};
+  const proto::Stick stick = proto::stick_of(input.move_right(), input.move_forward());
+  return {physics::yaw_wish_direction(input.yaw(), stick.right, stick.forward),
+          physics::stick_speed_fraction(stick.right, stick.forward),
+          (input.buttons() & proto::kButtonJump) != 0};
 }
 
 Predictor::Predictor(PredictionWorld world, const proto::QuantizationSpec& spec, float tick_s)

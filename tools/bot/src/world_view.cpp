@@ -5,19 +5,6 @@
 
 namespace ricochet::bot {
 
-EntityKind SeenEntity::kind() const {
-  switch ((flags & kFlagKindMask) >> kFlagKindShift) {
-    case 0:
-      return EntityKind::Player;
-    case 1:
-      return EntityKind::Rocket;
-    case 2:
-      return EntityKind::Grenade;
-    default:
-      return EntityKind::Unknown;
-  }
-}
-
 void WorldView::apply_snapshot(std::uint32_t tick, std::uint32_t own_entity_id,
                                std::span<const proto::QuantizedEntity> entities) {
   tick_ = tick;

@@ -59,16 +59,13 @@ class MatchRng {
 
 // --- aim ---
 
-/// Height of the eye above the player sphere's centre, m (the sphere's radius is 0.4).
-inline constexpr float kEyeHeightM = 0.25f;
-
 /// Unit view direction: yaw about +Y counter-clockwise seen from above, 0 along -Z; pitch
 /// positive looks up. (0, 0) → (0, 0, -1); yaw π/2 → (-1, 0, 0); pitch π/2 → (0, 1, 0).
 physics::Vec3 aim_direction(float yaw_rad, float pitch_rad);
 /// A direction uniform over the cone of half-angle spread_rad around `aim` (normalised here);
 /// `aim` itself, drawing nothing, when spread_rad <= 0; otherwise it draws two numbers.
 physics::Vec3 spread_direction(const physics::Vec3& aim, float spread_rad, MatchRng& rng);
-/// Where a player at `player_center_m` shoots from: kEyeHeightM above its centre.
+/// Where a player at `player_center_m` shoots from: proto::kShotHeightM above its centre.
 physics::Vec3 eye_position(const physics::Vec3& player_center_m);
 
 // --- explosions ---

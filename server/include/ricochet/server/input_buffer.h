@@ -15,40 +15,32 @@
 #include <string>
 #include <vector>
 
+#include "ricochet/proto/input_wire.h"
 #include "ricochet/wire/game.pb.h"
 
 namespace ricochet::server {
 
-/// Button bits of Input.buttons.
-enum Button : std::uint32_t {
-  kButtonJump = 1u << 0,
-  kButtonFire = 1u << 1,
-  kButtonAltFire = 1u << 2,
-};
-inline constexpr std::uint32_t kKnownButtons = kButtonJump | kButtonFire | kButtonAltFire;
+/// Largest |pitch| validate_input() accepts, rad: the wire's π/2 with room for float rounding.
+inline constexpr float kAcceptedMaxPitchRad = proto::kMaxPitchRad + 1e-6f;
 
-inline constexpr int kMoveSteps = 127;  ///< |Input.move_*| <= 127 means full speed
-inline constexpr std::uint32_t kMaxWeaponSlot = 9;
-inline constexpr std::size_t kMaxInputsPerPayload = 8;
-
-/// One validated input.
+/// One validated input (the wire values and their ranges are proto/input_wire.h's).
 struct PlayerInput {
   std::uint32_t sequence = 0;      ///< 0 only for the neutral input before the first one arrives
   float move_right = 0;            ///< -1..1, with move_forward a vector of length <= 1
-  float move_forward = 0;          ///< -1..1
+  float move_forward = 0;          ///< -1..1 (proto::stick_of of the wire's move steps)
   float yaw_rad = 0;               ///< -2π..2π, about +Y, 0 looks along -Z
   float pitch_rad = 0;             ///< -π/2..π/2, positive looks up
-  std::uint32_t buttons = 0;       ///< Button bits
+  std::uint32_t buttons = 0;       ///< proto::Button bits
   std::uint32_t weapon_slot = 0;   ///< 0 keeps the weapon, 1..9 select one
   std::uint32_t view_tick = 0;     ///< the server tick the client showed (0: not given)
-  std::uint8_t view_fraction = 0;  ///< 1/256 of a tick past view_tick
-  bool pressed(Button button) const { return (buttons & button) != 0; }
+  std::uint8_t view_fraction = 0;  ///< 1/256 of a tick past view_tick (proto::view_fraction_ticks)
+  bool pressed(proto::Button button) const { return (buttons & button) != 0; }
 };
 
 /// Why an input (or a whole ClientPayload) was not used.
 enum class InputDrop : std::uint8_t {
   MalformedPayload,  ///< bytes that are not a ClientPayload, or larger than a datagram
-  TooManyInputs,     ///< more than kMaxInputsPerPayload inputs: the whole payload is dropped
+  TooManyInputs,     ///< more than proto::kMaxInputsPerPayload inputs: the whole payload is dropped
   NonFinite,         ///< NaN or infinite yaw or pitch
   OutOfRange,        ///< a move component, angle, button bit or weapon slot out of range
   ZeroSequence,      ///< sequence 0

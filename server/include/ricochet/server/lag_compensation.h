@@ -69,10 +69,10 @@ class LagCompensation {
 
   /// The view a shot at `now_tick` (the newest recorded step, the state the shot is tested
   /// against) is tested at: now - one-way latency - interpolation delay, or the client's claim
-  /// (`claimed_tick` + `claimed_fraction`/256) clamped to within claim_tolerance_ms of that
-  /// estimate, to 0..max_rewind_ms, and never ahead of now. `claimed_tick` 0: no claim, the
-  /// estimate is used. `one_way_latency_ms`: ms, the transport's RTT / 2 (not finite or
-  /// negative counts as 0). Disabled: now.
+  /// (`claimed_tick` + proto::view_fraction_ticks(`claimed_fraction`)) clamped to within
+  /// claim_tolerance_ms of that estimate, to 0..max_rewind_ms, and never ahead of now.
+  /// `claimed_tick` 0: no claim, the estimate is used. `one_way_latency_ms`: ms, the transport's
+  /// RTT / 2 (not finite or negative counts as 0). Disabled: now.
   ViewTime resolve(std::uint32_t now_tick, std::uint32_t claimed_tick,
                    std::uint8_t claimed_fraction, double one_way_latency_ms) const;
 

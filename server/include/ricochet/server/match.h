@@ -46,22 +46,9 @@
 
 namespace ricochet::server {
 
-/// Bits of proto::EntityState::flags as matches set them.
-/// Bits 2..3 hold the entity's kind (EntityKind).
-enum EntityFlag : std::uint8_t {
-  kEntityGrounded = 1u << 0,      ///< standing on something
-  kEntityDisconnected = 1u << 1,  ///< its player is away, within the reconnect grace
-  kEntityDead = 1u << 4,          ///< a player waiting to respawn (not hittable, not moving)
-  kEntityProtected = 1u << 5,     ///< a player under spawn protection
-};
-enum class EntityKind : std::uint8_t { Player = 0, Rocket = 1, Grenade = 2 };
-inline constexpr unsigned kEntityKindShift = 2;
-inline constexpr std::uint8_t kEntityKindMask = 3u << kEntityKindShift;
-
+// The bits of each entity's flags are proto/entity_flags.h's.
 inline constexpr std::size_t kMaxChatBytes = 200;
 inline constexpr std::size_t kMaxPlayerNameBytes = 32;
-/// Largest ClientPayload accepted, bytes (a game datagram is at most 1200).
-inline constexpr std::size_t kMaxClientPayloadBytes = 1200;
 
 /// Why connect() refused a player.
 enum class JoinRefusal : std::uint8_t {

@@ -14,21 +14,27 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ricochet/physics/body.h"
 #include "ricochet/physics/projectile.h"
 #include "ricochet/physics/types.h"
 #include "ricochet/physics/world.h"
 #include "ricochet/physics/world_def.h"
+#include "ricochet/proto/weapon_wire.h"
+#include "ricochet/wire/game.pb.h"
 
 namespace ricochet::server {
 
 enum class WeaponKind : std::uint8_t { Rifle = 0, RocketLauncher = 1, GrenadeLauncher = 2 };
-/// Weapon slot (PlayerInput::weapon_slot) = kind + 1; wire::Weapon = kind + 1.
-inline constexpr std::size_t kWeaponCount = 3;
+/// One per wire::Weapon: kind = wire::Weapon - 1 (proto/weapon_wire.h has the slots).
+inline constexpr std::size_t kWeaponCount = proto::kWeaponCount;
 /// "rifle", "rocket_launcher", "grenade_launcher".
 const char* name(WeaponKind kind);
-/// The weapon a slot selects: 1..kWeaponCount; nothing for 0 (keep the weapon) or another slot.
+/// The wire's Weapon of `kind`.
+wire::Weapon to_wire(WeaponKind kind);
+/// The weapon a slot selects (proto::weapon_of_slot); nothing for 0 (keep the weapon) or a slot
+/// without a weapon.
 std::optional<WeaponKind> weapon_for_slot(std::uint32_t slot);
 
 /// One weapon; default_weapons() has the shipped values.
@@ -78,6 +84,11 @@ struct WeaponsConfig {
 
 /// profiles::arena_players() with restitution on, so grenades bounce.
 physics::WorldDef combat_world_def();
+
+/// What the join reply tells a client of each weapon (WeaponSpec, rifle first): the rifle is
+/// hitscan (speed 0, no gravity, its range); a rocket or grenade flies at its speed under
+/// combat_world_def()'s gravity times its gravity scale (range 0).
+std::vector<wire::WeaponSpec> weapon_specs(const WeaponsConfig& weapons);
 
 /// A rocket from `origin` (the shooter's eye) along `direction` (normalised here) at the
 /// weapon's speed; it hits statics, players and props (not other projectiles), never `shooter`.

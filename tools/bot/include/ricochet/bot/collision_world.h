@@ -12,20 +12,10 @@
 #include "ricochet/physics/body.h"
 #include "ricochet/physics/character_motion.h"
 #include "ricochet/physics/world.h"
+#include "ricochet/proto/collision_world_limits.h"
 #include "ricochet/wire/world.pb.h"
 
 namespace ricochet::bot {
-
-/// What a client accepts in a collision world.
-struct CollisionWorldLimits {
-  static constexpr int kMaxPlanes = 16;
-  static constexpr int kMaxBoxes = 1024;
-  static constexpr int kMaxMeshes = 64;
-  static constexpr std::size_t kMaxVertices = 65536;   ///< over every mesh
-  static constexpr std::size_t kMaxTriangles = 65536;  ///< over every mesh
-  static constexpr float kMaxCoordinateM = 100000;     ///< |x|, |y|, |z| of any point, m
-  static constexpr float kMaxGravityMps2 = 100;        ///< |g|
-};
 
 /// A world to predict in: the static geometry, the players' body and the movement rules.
 struct PredictionWorld {

@@ -22,7 +22,7 @@ namespace ricochet::bot {
 /// What the bot renders at one moment.
 struct RenderTime {
   std::uint32_t tick = 0;     ///< 0: nothing to show yet
-  std::uint8_t fraction = 0;  ///< 1/256 of a tick past `tick`
+  std::uint8_t fraction = 0;  ///< 1/256 of a tick past `tick` (proto::to_view_fraction)
 };
 
 class Interpolator {

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "ricochet/proto/entity_flags.h"
 #include "ricochet/proto/quantize.h"
 #include "ricochet/wire/game.pb.h"
 
@@ -34,25 +35,17 @@ inline double distance_m(const Vec3& a, const Vec3& b) {
   return std::sqrt(d2);
 }
 
-/// EntityState.flags bits set by the match (PROTOCOL.md Entities in snapshots).
-inline constexpr std::uint8_t kFlagGrounded = 1u << 0;
-inline constexpr std::uint8_t kFlagDisconnected = 1u << 1;
-inline constexpr std::uint8_t kFlagKindShift = 2;
-inline constexpr std::uint8_t kFlagKindMask = 3u << kFlagKindShift;
-inline constexpr std::uint8_t kFlagDead = 1u << 4;
-inline constexpr std::uint8_t kFlagProtected = 1u << 5;
-
-enum class EntityKind : std::uint8_t { Player, Rocket, Grenade, Unknown };
-
 struct SeenEntity {
   std::uint32_t id = 0;
   Vec3 position_m{};
   Vec3 velocity_mps{};
-  std::uint8_t flags = 0;
+  std::uint8_t flags = 0;  ///< proto::EntityFlag bits and the kind
 
-  EntityKind kind() const;
+  /// Nothing for a kind the protocol does not assign.
+  std::optional<proto::EntityKind> kind() const { return proto::entity_kind(flags); }
   bool is_living_player() const {
-    return kind() == EntityKind::Player && (flags & (kFlagDead | kFlagDisconnected)) == 0;
+    return kind() == proto::EntityKind::Player &&
+           (flags & (proto::kEntityDead | proto::kEntityDisconnected)) == 0;
   }
 };
 
