@@ -1,6 +1,6 @@
 #pragma once
-/// Weapons on the wire (game.proto; PROTOCOL.md `Input`, `ServerPayload` and Gameplay): which
-/// Input.weapon_slot selects which Weapon, how PlayerStatus.ammo is indexed, and where a shot
+/// Weapons on the wire (game.proto; PROTOCOL.md `Input`, `ServerPayload`; server/GAMEPLAY.md):
+/// which Input.weapon_slot selects which Weapon, how PlayerStatus.ammo is indexed, and where a shot
 /// leaves the player. The numbers each weapon flies by are the match's, in the join reply's
 /// `weapons` (WeaponSpec).
 
