@@ -1,8 +1,7 @@
 #include "admin_http.h"
 
 #include <gtest/gtest.h>
-#include <sys/socket.h>
-#include <sys/time.h>
+#include <poll.h>
 
 #include <atomic>
 #include <boost/asio/connect.hpp>
@@ -19,45 +18,59 @@ namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
 using namespace std::chrono_literals;
 
-/// A blocking client socket to the server, every read bounded by 3 s.
+/// A blocking client socket to the server, every read bounded by 3 s (poll() first: Asio's
+/// blocking reads retry past SO_RCVTIMEO).
 class Client {
  public:
   explicit Client(std::uint16_t port) : socket_(io_) {
     socket_.connect({asio::ip::make_address("127.0.0.1"), port});
-    timeval timeout{3, 0};
-    ::setsockopt(socket_.native_handle(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
   }
   void send(const std::string& bytes) { asio::write(socket_, asio::buffer(bytes)); }
-  /// Everything until the server closes (or the read times out).
+  /// Everything until the server closes (or nothing comes for 3 s).
   std::string read_to_end() {
     std::string received;
     char chunk[4096];
     boost::system::error_code error;
     for (;;) {
-      const std::size_t n = socket_.read_some(asio::buffer(chunk), error);
+      const std::size_t n = read_some(asio::buffer(chunk), error);
       if (error) break;
       received.append(chunk, n);
     }
     closed_by_server_ = error == asio::error::eof || error == asio::error::connection_reset;
     return received;
   }
-  /// One response of `Content-Length` bytes, leaving the connection open.
+  /// One response of `Content-Length` bytes, leaving the connection open; empty when the
+  /// server closed the connection or went quiet for 3 s first.
   std::string read_response() {
     std::string received;
+    boost::system::error_code error;
     char c;
     while (received.find("\r\n\r\n") == std::string::npos) {
-      asio::read(socket_, asio::buffer(&c, 1));
+      if (read_some(asio::buffer(&c, 1), error) == 0) return {};
       received += c;
     }
     const auto at = received.find("Content-Length: ");
-    const std::size_t length = std::stoul(received.substr(at + 16));
-    std::string body(length, '\0');
-    asio::read(socket_, asio::buffer(body));
+    std::string body(std::stoul(received.substr(at + 16)), '\0');
+    for (std::size_t got = 0; got < body.size();) {
+      const std::size_t n = read_some(asio::buffer(body.data() + got, body.size() - got), error);
+      if (n == 0) return {};
+      got += n;
+    }
     return received + body;
   }
   bool closed_by_server() const { return closed_by_server_; }
 
  private:
+  /// Some bytes, or an error (timed_out after 3 s of nothing).
+  std::size_t read_some(asio::mutable_buffer buffer, boost::system::error_code& error) {
+    pollfd readable{socket_.native_handle(), POLLIN, 0};
+    if (::poll(&readable, 1, 3000) <= 0) {
+      error = asio::error::timed_out;
+      return 0;
+    }
+    return socket_.read_some(buffer, error);
+  }
+
   asio::io_context io_;
   tcp::socket socket_;
   bool closed_by_server_ = false;
