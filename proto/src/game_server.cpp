@@ -9,8 +9,8 @@
 #include "ricochet/proto/connect_token.h"
 #include "ricochet/proto/crypto.h"
 #include "ricochet/proto/packet.h"
+#include "ricochet/proto/token_bucket.h"
 #include "ricochet/proto/transport_states.h"
-#include "token_bucket.h"
 #include "transmit_queue.h"
 
 namespace ricochet::proto {

@@ -30,16 +30,40 @@ namespace {
 using namespace std::chrono_literals;
 namespace asio = boost::asio;
 
+// Every wait is bounded in real time, and a test's bounds added up stay kMargin under the limit
+// ctest gives it (RICOCHET_CTEST_TIMEOUT_S, set in CMakeLists.txt beside the TIMEOUT), checked
+// at compile time: a slow run fails on its own assertion, with the server's log, instead of
+// being killed. The matches are short; the budgets are slack for a loaded machine.
+constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
+constexpr std::chrono::seconds kMargin{6};
+/// From the fork to the ports file: maps, TLS identity, database.
+constexpr std::chrono::seconds kStartBudget{10};
+/// Beyond a match's time limit: the bots register (Argon2), sign in, join and connect, and the
+/// results come back.
+constexpr std::chrono::seconds kSignInBudget{20};
+/// The servers' [server] shutdown_grace_s, and SIGTERM to exit: the grace and a little.
+constexpr int kShutdownGraceS = 5;
+constexpr std::chrono::seconds kExitBudget{kShutdownGraceS + 3};
+
+/// A whole match of `time_limit`, from the bots' start to their results.
+constexpr std::chrono::seconds play_budget(std::chrono::seconds time_limit) {
+  return time_limit + kSignInBudget;
+}
+/// Whether a test whose bounded waits add up to `waits` ends before ctest's limit.
+constexpr bool fits_ctest(std::chrono::seconds waits) {
+  return waits + kMargin <= kCtestTimeout;
+}
+
 /// The [matches] table: one free-for-all match on the arena, no warm-up, no frag limit, seeded,
 /// recorded when `record`.
-std::string matches_toml(int min_players, double time_limit_s, bool record = false) {
+std::string matches_toml(int min_players, std::chrono::seconds time_limit, bool record = false) {
   std::string toml = "count = 1\nmax_players = 16\nmaps = [\"" RICOCHET_SOURCE_DIR
                      "/server/maps/arena.toml\"]\nseed = 42\nwarmup_s = 0\nfrag_limit = 0\n";
   toml += record ? "record = true\n" : "record = false\n";
   toml += "min_players = ";
   toml += std::to_string(min_players);
   toml += "\ntime_limit_s = ";
-  toml += std::to_string(time_limit_s);
+  toml += std::to_string(time_limit.count());
   toml += '\n';
   return toml;
 }
@@ -114,8 +138,10 @@ std::unique_ptr<db::Store> open_database(const std::filesystem::path& path) {
 TEST(BotMatch, BotsSharingOneGameSocketPlayAMatchFromAnAddressEach) {
   // The load test's mode: one UDP socket for every bot's game channel, a loopback source
   // address per connection, the bots' inputs of one tick in one sendmmsg.
-  ServerProcess server(matches_toml(4, 4.0));
-  ASSERT_TRUE(server.wait_listening()) << server.log();
+  constexpr std::chrono::seconds kTimeLimit{4};
+  static_assert(fits_ctest(kStartBudget + play_budget(kTimeLimit) + kExitBudget));
+  ServerProcess server(matches_toml(4, kTimeLimit), kShutdownGraceS);
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
   asio::io_context io;
   bot::FleetConfig config;
   config.bot = bot_config(server, "shared");
@@ -125,7 +151,7 @@ TEST(BotMatch, BotsSharingOneGameSocketPlayAMatchFromAnAddressEach) {
   bot::Fleet fleet(io, config);
   ASSERT_EQ(fleet.start(), "");
   ASSERT_TRUE(run_until(
-      io, [&] { return fleet.done(); }, 40s))
+      io, [&] { return fleet.done(); }, play_budget(kTimeLimit)))
       << fleet.report_json();
   const bot::SharedGamePort* port = fleet.shared_port();
   ASSERT_NE(port, nullptr);
@@ -151,12 +177,14 @@ TEST(BotMatch, BotsSharingOneGameSocketPlayAMatchFromAnAddressEach) {
   EXPECT_LE(2 * port->send_calls(), packets_out) << "the bots' sends were not batched";
   EXPECT_EQ(port->send_failures(), 0u);
   server.terminate();
-  EXPECT_EQ(server.wait_exit(25s), std::optional<int>(0)) << server.log();
+  EXPECT_EQ(server.wait_exit(kExitBudget), std::optional<int>(0)) << server.log();
 }
 
 TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
-  ServerProcess server(matches_toml(8, 10.0, /*record=*/true));
-  ASSERT_TRUE(server.wait_listening()) << server.log();
+  constexpr std::chrono::seconds kTimeLimit{10};
+  static_assert(fits_ctest(kStartBudget + play_budget(kTimeLimit) + kExitBudget));
+  ServerProcess server(matches_toml(8, kTimeLimit, /*record=*/true), kShutdownGraceS);
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
   asio::io_context io;
   bot::FleetConfig config;
   config.bot = bot_config(server, "eight");
@@ -164,11 +192,11 @@ TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
   bot::Fleet fleet(io, config);
   ASSERT_EQ(fleet.start(), "");
   ASSERT_TRUE(run_until(
-      io, [&] { return fleet.done(); }, 50s))
+      io, [&] { return fleet.done(); }, play_budget(kTimeLimit)))
       << fleet.report_json();
   std::cout << "[ figures  ] " << fleet.report_json() << std::endl;
   server.terminate();
-  ASSERT_EQ(server.wait_exit(25s), std::optional<int>(0)) << server.log();
+  ASSERT_EQ(server.wait_exit(kExitBudget), std::optional<int>(0)) << server.log();
 
   const bot::BotRecord& reference = fleet.bots().front()->record();
   ASSERT_EQ(reference.results.size(), 1u);
@@ -248,8 +276,10 @@ TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
 }
 
 TEST(BotMatch, ABotThatReconnectsFromAnotherPortKeepsItsScore) {
-  ServerProcess server(matches_toml(2, 14.0));
-  ASSERT_TRUE(server.wait_listening()) << server.log();
+  constexpr std::chrono::seconds kTimeLimit{14};
+  static_assert(fits_ctest(kStartBudget + play_budget(kTimeLimit) + kExitBudget));
+  ServerProcess server(matches_toml(2, kTimeLimit), kShutdownGraceS);
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
   asio::io_context io;
   auto tls = bot::make_control_tls_context();
   auto trust = bot::ServerTrust::pinned(server.fingerprint());
@@ -262,10 +292,10 @@ TEST(BotMatch, ABotThatReconnectsFromAnotherPortKeepsItsScore) {
   ASSERT_TRUE(run_until(
       io,
       [&] { return mover.state() == bot::BotState::Done && stayer.state() == bot::BotState::Done; },
-      50s));
+      play_budget(kTimeLimit)));
   std::cout << "[ figures  ] mover " << mover.metrics().to_json() << std::endl;
   server.terminate();
-  ASSERT_EQ(server.wait_exit(25s), std::optional<int>(0)) << server.log();
+  ASSERT_EQ(server.wait_exit(kExitBudget), std::optional<int>(0)) << server.log();
 
   const bot::BotRecord& record = mover.record();
   EXPECT_TRUE(record.error.empty()) << record.error;
@@ -314,8 +344,12 @@ TEST(BotMatch, ABotThatReconnectsFromAnotherPortKeepsItsScore) {
 }
 
 TEST(BotMatch, SigtermDuringAMatchExitsZeroAndRecordsTheAbortedMatch) {
-  ServerProcess server(matches_toml(4, 120.0));
-  ASSERT_TRUE(server.wait_listening()) << server.log();
+  // The match would last two minutes; SIGTERM comes once the bots have played a second of it.
+  constexpr std::chrono::seconds kPlayBudget{5};
+  constexpr std::chrono::seconds kStopBudget{5};
+  static_assert(fits_ctest(kStartBudget + kSignInBudget + kPlayBudget + kExitBudget + kStopBudget));
+  ServerProcess server(matches_toml(4, std::chrono::seconds(120)), kShutdownGraceS);
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
   asio::io_context io;
   bot::FleetConfig config;
   config.bot = bot_config(server, "stopped");
@@ -329,16 +363,23 @@ TEST(BotMatch, SigtermDuringAMatchExitsZeroAndRecordsTheAbortedMatch) {
     }
     return true;
   };
-  ASSERT_TRUE(run_until(io, everyone_sees_the_match, 40s)) << fleet.report_json();
-  run_until(
-      io, [] { return false; }, 2s);  // play a little
+  ASSERT_TRUE(run_until(io, everyone_sees_the_match, kSignInBudget)) << fleet.report_json();
+  std::vector<std::uint64_t> snapshots_then;
+  for (const auto& each : fleet.bots()) snapshots_then.push_back(each->metrics().snapshots);
+  const auto played_a_second = [&] {  // 60 more snapshots each, at 60 Hz
+    for (std::size_t i = 0; i < snapshots_then.size(); ++i) {
+      if (fleet.bots()[i]->metrics().snapshots < snapshots_then[i] + 60) return false;
+    }
+    return true;
+  };
+  ASSERT_TRUE(run_until(io, played_a_second, kPlayBudget)) << fleet.report_json();
   server.terminate();
   std::optional<int> exit_code;
   run_until(
-      io, [&] { return (exit_code = server.wait_exit(0ms)).has_value(); }, 25s);
+      io, [&] { return (exit_code = server.wait_exit(0ms)).has_value(); }, kExitBudget);
   fleet.stop("the server is gone");
   ASSERT_TRUE(run_until(
-      io, [&] { return fleet.done(); }, 5s));
+      io, [&] { return fleet.done(); }, kStopBudget));
   ASSERT_EQ(exit_code, std::optional<int>(0)) << server.log();
 
   for (const auto& each : fleet.bots()) {
@@ -396,8 +437,10 @@ TEST(BotMatch, SigtermDuringAMatchExitsZeroAndRecordsTheAbortedMatch) {
 TEST(BotMatch, ABotOnABadLinkStillPlaysWithABoundedPredictionError) {
   constexpr double kBadLinkP99BoundM = 1.0;
   constexpr double kCleanLinkP99BoundM = 0.25;
-  ServerProcess server(matches_toml(4, 16.0));
-  ASSERT_TRUE(server.wait_listening()) << server.log();
+  constexpr std::chrono::seconds kTimeLimit{16};
+  static_assert(fits_ctest(kStartBudget + play_budget(kTimeLimit) + kExitBudget));
+  ServerProcess server(matches_toml(4, kTimeLimit), kShutdownGraceS);
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
   asio::io_context io;
   auto tls = bot::make_control_tls_context();
   auto trust = bot::ServerTrust::pinned(server.fingerprint());
@@ -422,9 +465,9 @@ TEST(BotMatch, ABotOnABadLinkStillPlaysWithABoundedPredictionError) {
         }
         return true;
       },
-      50s));
+      play_budget(kTimeLimit)));
   server.terminate();
-  ASSERT_EQ(server.wait_exit(25s), std::optional<int>(0)) << server.log();
+  ASSERT_EQ(server.wait_exit(kExitBudget), std::optional<int>(0)) << server.log();
 
   for (const auto& each : bots) {
     std::cout << "[ figures  ] " << each->config().name << " " << each->metrics().to_json()
@@ -473,8 +516,11 @@ TEST(BotMatch, ABotOnABadLinkStillPlaysWithABoundedPredictionError) {
 }
 
 TEST(BotMatch, TrustOnFirstUseWritesTheFingerprintAndRefusesAnotherLater) {
-  ServerProcess server(matches_toml(1, 60.0));
-  ASSERT_TRUE(server.wait_listening()) << server.log();
+  // The first bot only needs to reach its match; the second is refused before it signs in.
+  constexpr std::chrono::seconds kRefusalBudget{10};
+  static_assert(fits_ctest(kStartBudget + kSignInBudget + kRefusalBudget + kExitBudget));
+  ServerProcess server(matches_toml(1, std::chrono::seconds(60)), kShutdownGraceS);
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
   asio::io_context io;
   auto tls = bot::make_control_tls_context();
 
@@ -486,7 +532,7 @@ TEST(BotMatch, TrustOnFirstUseWritesTheFingerprintAndRefusesAnotherLater) {
   bot::Bot first(io, tls, first_use, first_config);
   first.start();
   ASSERT_TRUE(run_until(
-      io, [&] { return first.state() == bot::BotState::Playing; }, 20s));
+      io, [&] { return first.state() == bot::BotState::Playing; }, kSignInBudget));
   std::ifstream written(trust_file);
   std::string line;
   std::getline(written, line);
@@ -505,13 +551,13 @@ TEST(BotMatch, TrustOnFirstUseWritesTheFingerprintAndRefusesAnotherLater) {
   bot::Bot second(io, tls, elsewhere, second_config);
   second.start();
   ASSERT_TRUE(run_until(
-      io, [&] { return second.state() == bot::BotState::Done; }, 20s));
+      io, [&] { return second.state() == bot::BotState::Done; }, kRefusalBudget));
   EXPECT_NE(second.record().error.find("is not the trusted"), std::string::npos)
       << second.record().error;
   EXPECT_EQ(second.record().account_id, 0u);
 
   server.terminate();
-  EXPECT_EQ(server.wait_exit(25s), std::optional<int>(0)) << server.log();
+  EXPECT_EQ(server.wait_exit(kExitBudget), std::optional<int>(0)) << server.log();
 }
 
 }  // namespace

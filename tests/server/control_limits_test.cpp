@@ -1,13 +1,18 @@
 // The control channel under bad input over real sockets: oversize, empty and garbage frames,
 // slowloris partial frames, idle and handshake deadlines, a plaintext or TLS 1.2 client, the
 // connection caps, the message rate, and stopping. Each refusal is counted by its reason.
+// Deadlines and the rate run on fake time the tests move (FakeTimeRig); none sleeps for one.
 
 #include <gtest/gtest.h>
+
+#include <atomic>
 
 #include "control_test_client.h"
 
 namespace ricochet::server::test {
 namespace {
+
+constexpr proto::TimeUs kMs = proto::kMicrosPerMilli;
 
 std::vector<std::uint8_t> header(std::uint32_t length) {
   return {static_cast<std::uint8_t>(length >> 24), static_cast<std::uint8_t>(length >> 16),
@@ -22,6 +27,81 @@ void expect_error_then_close(ControlTestClient& client, wire::ErrorCode code) {
   EXPECT_EQ(before[0].request_id(), 0u);
   EXPECT_EQ(before[0].error().code(), code) << before[0].DebugString();
   EXPECT_FALSE(before[0].error().message().empty());
+}
+
+/// ControlRig's server on fake time: its clock stands still until advance(), which then makes
+/// every session look at its deadlines. (control_test_client.h's rig runs on the steady clock.)
+class FakeTimeRig {
+ public:
+  explicit FakeTimeRig(ControlLimits limits) {
+    db::DbWorkerOptions options;
+    options.accounts.cost = db::PasswordCost::Minimum;
+    auto store = db::open_sqlite_store({.path = (dir_.path() / "ricochet.db").string()});
+    if (!store.ok()) throw std::runtime_error("cannot open the test database");
+    db_ = std::make_unique<db::DbWorker>(std::move(store).value(), options);
+    ControlServerConfig config;
+    config.bind_address = "127.0.0.1";
+    config.port = 0;
+    config.tls.data_dir = dir_.path() / "data";
+    config.limits = limits;
+    config.clock = [this] { return now_.load(); };
+    server_ = std::make_unique<ControlServer>(io_, config, *db_, directory_);
+    server_->start();
+    for (auto& thread : threads_) thread = std::thread([this] { io_.run(); });
+  }
+  ~FakeTimeRig() {
+    server_->stop();
+    for (int i = 0; i < 300 && server_->connections() > 0; ++i) std::this_thread::sleep_for(10ms);
+    io_.stop();
+    for (auto& thread : threads_) thread.join();
+    server_.reset();
+    db_->stop();
+  }
+  FakeTimeRig(const FakeTimeRig&) = delete;
+  FakeTimeRig& operator=(const FakeTimeRig&) = delete;
+
+  /// Moves the clock on by `us` and has every session compare its deadlines with it.
+  void advance(proto::TimeUs us) {
+    now_ += us;
+    server_->check_deadlines();
+  }
+  ControlServer& server() { return *server_; }
+  FakeDirectory& directory() { return directory_; }
+  std::uint16_t port() const { return server_->port(); }
+  std::uint64_t refusals(ControlRefusal refusal) const {
+    return server_->counters().refusals(refusal);
+  }
+  /// Waits (in real time, bounded) until the server holds `count` connections.
+  bool wait_connections(std::size_t count) const {
+    for (int i = 0; i < 1000 && server_->connections() != count; ++i) {
+      std::this_thread::sleep_for(2ms);
+    }
+    return server_->connections() == count;
+  }
+
+ private:
+  TempDir dir_;
+  std::atomic<proto::TimeUs> now_{1'000 * kMs};
+  asio::io_context io_;
+  std::unique_ptr<db::DbWorker> db_;
+  FakeDirectory directory_;
+  std::unique_ptr<ControlServer> server_;
+  std::array<std::thread, 2> threads_;
+};
+
+/// Sends a ping followed by `tail` in one write and waits for the pong: once it came, the
+/// server has read `tail` too and started its frame deadline, at the rig's time now.
+void ping_then(ControlTestClient& client, std::vector<std::uint8_t> tail) {
+  std::vector<std::uint8_t> bytes;
+  wire::ClientMessage ping = ControlTestClient::ping(1);
+  ping.set_request_id(77);
+  ASSERT_TRUE(proto::append_frame(ping, bytes));
+  bytes.insert(bytes.end(), tail.begin(), tail.end());
+  client.send_bytes(bytes);
+  const auto reply = client.receive();
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_EQ(reply->request_id(), 77u);
+  EXPECT_TRUE(reply->has_pong());
 }
 
 TEST(ControlLimits, OversizeFrameIsRefusedAtItsHeaderThenClosed) {
@@ -56,28 +136,48 @@ TEST(ControlLimits, EmptyFrameIsMalformedThenClosed) {
 TEST(ControlLimits, SlowlorisPartialFrameTimesOut) {
   ControlLimits limits;
   limits.frame_timeout_ms = 300;
-  ControlRig rig(limits);
+  FakeTimeRig rig(limits);
   ControlTestClient client(rig.port());
   ASSERT_TRUE(client.connect());
-  client.send_bytes({0, 0});  // half a header, then nothing
-  const auto started = std::chrono::steady_clock::now();
+  ping_then(client, {0, 0});  // half a header, then nothing
+  rig.advance(300 * kMs);
   expect_error_then_close(client, wire::FRAME_TIMEOUT);
-  EXPECT_LT(std::chrono::steady_clock::now() - started, 2s);
   EXPECT_EQ(rig.refusals(ControlRefusal::FrameTimeout), 1u);
+}
+
+TEST(ControlLimits, AFrameFinishedJustInTimeIsAnswered) {
+  ControlLimits limits;
+  limits.frame_timeout_ms = 300;
+  FakeTimeRig rig(limits);
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  std::vector<std::uint8_t> frame;
+  wire::ClientMessage ping = ControlTestClient::ping(2);
+  ping.set_request_id(78);
+  ASSERT_TRUE(proto::append_frame(ping, frame));
+  ping_then(client, {frame.begin(), frame.begin() + 3});
+  rig.advance(300 * kMs - 1);
+  client.send_bytes({frame.begin() + 3, frame.end()});
+  const auto reply = client.receive();
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_EQ(reply->request_id(), 78u);
+  EXPECT_TRUE(reply->has_pong());
+  EXPECT_EQ(rig.refusals(ControlRefusal::FrameTimeout), 0u);
 }
 
 TEST(ControlLimits, TricklingAFrameByteByByteDoesNotExtendItsDeadline) {
   ControlLimits limits;
   limits.frame_timeout_ms = 300;
-  ControlRig rig(limits);
+  FakeTimeRig rig(limits);
   ControlTestClient client(rig.port());
   ASSERT_TRUE(client.connect());
   std::vector<std::uint8_t> frame;
   ASSERT_TRUE(proto::append_frame(ControlTestClient::chat(std::string(40, 'x')), frame));
-  for (std::uint8_t byte : frame) {
-    client.send_bytes({byte});
-    if (rig.refusals(ControlRefusal::FrameTimeout) > 0) break;
-    std::this_thread::sleep_for(30ms);  // 46 bytes * 30 ms > 300 ms
+  ASSERT_GT(frame.size(), 31u);
+  ping_then(client, {frame[0]});
+  for (std::size_t i = 1; i <= 30; ++i) {  // a byte every 10 ms: 300 ms, the frame unfinished
+    rig.advance(10 * kMs);
+    client.send_bytes({frame[i]});
   }
   expect_error_then_close(client, wire::FRAME_TIMEOUT);
 }
@@ -85,30 +185,36 @@ TEST(ControlLimits, TricklingAFrameByteByByteDoesNotExtendItsDeadline) {
 TEST(ControlLimits, IdleConnectionIsClosedAndPingsKeepItOpen) {
   ControlLimits limits;
   limits.idle_timeout_ms = 400;
-  ControlRig rig(limits);
+  FakeTimeRig rig(limits);
   ControlTestClient pinging(rig.port());
   ASSERT_TRUE(pinging.connect());
   ControlTestClient idle(rig.port());
   ASSERT_TRUE(idle.connect());
-  for (int i = 0; i < 8; ++i) {  // 800 ms of pings every 100 ms
-    ASSERT_TRUE(pinging.request(ControlTestClient::ping(i)).has_pong());
-    std::this_thread::sleep_for(100ms);
-  }
+  // A frame from each: both have had a whole frame at the same fake time.
+  ASSERT_TRUE(pinging.request(ControlTestClient::ping(1)).has_pong());
+  ASSERT_TRUE(idle.request(ControlTestClient::ping(1)).has_pong());
+  rig.advance(300 * kMs);
+  ASSERT_TRUE(pinging.request(ControlTestClient::ping(2)).has_pong());
+  rig.advance(100 * kMs);  // 400 ms since idle's frame, 100 ms since pinging's
   expect_error_then_close(idle, wire::IDLE_TIMEOUT);
   EXPECT_EQ(rig.refusals(ControlRefusal::IdleTimeout), 1u);
-  EXPECT_TRUE(pinging.request(ControlTestClient::ping(99)).has_pong());
+  rig.advance(300 * kMs - 1);
+  EXPECT_TRUE(pinging.request(ControlTestClient::ping(3)).has_pong());
+  EXPECT_FALSE(pinging.closed());
 }
 
 TEST(ControlLimits, HandshakeMustFinishInTime) {
   ControlLimits limits;
   limits.handshake_timeout_ms = 200;
-  ControlRig rig(limits);
+  FakeTimeRig rig(limits);
   ControlTestClient client(rig.port());
-  ASSERT_TRUE(client.connect_tcp());  // and never says hello
+  ASSERT_TRUE(client.connect_tcp());     // and never says hello
+  ASSERT_TRUE(rig.wait_connections(1));  // accepted: its deadline counts from now
+  rig.advance(200 * kMs);
   const auto bytes = client.plain_bytes_until_closed(3s);
   ASSERT_TRUE(bytes.has_value()) << "the server did not close the silent connection";
   EXPECT_EQ(*bytes, 0u);
-  EXPECT_TRUE(rig.wait_refusals(ControlRefusal::HandshakeTimeout, 1));
+  EXPECT_EQ(rig.refusals(ControlRefusal::HandshakeTimeout), 1u);
 }
 
 TEST(ControlLimits, PlaintextClientGetsOnlyAClosedConnection) {
@@ -169,28 +275,36 @@ TEST(ControlLimits, OverTheMessageRateIsDroppedWithAnError) {
   ControlLimits limits;
   limits.messages_per_second = 1;
   limits.message_burst = 3;
-  ControlRig rig(limits);
+  FakeTimeRig rig(limits);
   ControlTestClient client(rig.port());
   ASSERT_TRUE(client.connect());
-  std::vector<std::uint8_t> burst;
-  for (int i = 1; i <= 6; ++i) {
-    wire::ClientMessage ping = ControlTestClient::ping(static_cast<std::uint64_t>(i));
-    ping.set_request_id(static_cast<std::uint32_t>(i));
-    ASSERT_TRUE(proto::append_frame(ping, burst));
-  }
-  client.send_bytes(burst);  // six requests in one write
-  int pongs = 0;
-  int limited = 0;
-  for (int i = 1; i <= 6; ++i) {
-    const auto reply = client.receive();
-    ASSERT_TRUE(reply);
-    EXPECT_EQ(reply->request_id(), static_cast<std::uint32_t>(i));  // in order
-    pongs += reply->has_pong();
-    limited += reply->has_error() && reply->error().code() == wire::RATE_LIMITED;
-  }
-  EXPECT_EQ(pongs, 3);
-  EXPECT_EQ(limited, 3);
+  const auto send_pings = [&client](std::uint32_t first, std::uint32_t last) {
+    std::vector<std::uint8_t> burst;
+    for (std::uint32_t i = first; i <= last; ++i) {
+      wire::ClientMessage ping = ControlTestClient::ping(i);
+      ping.set_request_id(i);
+      EXPECT_TRUE(proto::append_frame(ping, burst));
+    }
+    client.send_bytes(burst);  // in one write
+    int pongs = 0;
+    for (std::uint32_t i = first; i <= last; ++i) {
+      const auto reply = client.receive();
+      if (!reply) break;
+      EXPECT_EQ(reply->request_id(), i);  // in order
+      if (reply->has_error()) {
+        EXPECT_EQ(reply->error().code(), wire::RATE_LIMITED);
+      }
+      pongs += reply->has_pong();
+    }
+    return pongs;
+  };
+  EXPECT_EQ(send_pings(1, 6), 3);  // the burst
   EXPECT_EQ(rig.refusals(ControlRefusal::RateLimited), 3u);
+  rig.advance(1'000 * kMs - 1);
+  EXPECT_EQ(send_pings(7, 8), 0);  // the first token is not back yet
+  rig.advance(1);
+  EXPECT_EQ(send_pings(9, 10), 1);  // one token a second
+  EXPECT_EQ(rig.refusals(ControlRefusal::RateLimited), 6u);
   EXPECT_FALSE(client.closed());
 }
 
@@ -198,9 +312,8 @@ TEST(ControlLimits, ClientThatNeverReadsIsClosed) {
   ControlLimits limits;
   limits.messages_per_second = 10'000;
   limits.message_burst = 10'000;
-  limits.write_timeout_ms = 300;
   limits.max_outbox_bytes = 256 * 1024;
-  ControlRig rig(limits);
+  FakeTimeRig rig(limits);
   for (int i = 0; i < 450; ++i) rig.directory().create({std::string(100, 'm'), 16, ""});
   ControlTestClient client(rig.port());
   ASSERT_TRUE(client.connect());
@@ -210,16 +323,11 @@ TEST(ControlLimits, ClientThatNeverReadsIsClosed) {
     ASSERT_TRUE(proto::append_frame(ControlTestClient::list_matches(), requests));
   }
   client.send_bytes(requests);  // and never read
-  const auto deadline = std::chrono::steady_clock::now() + 5s;
-  while (rig.refusals(ControlRefusal::OutboxFull) + rig.refusals(ControlRefusal::WriteTimeout) ==
-             0 &&
-         std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(5ms);
-  }
-  EXPECT_EQ(rig.refusals(ControlRefusal::OutboxFull) + rig.refusals(ControlRefusal::WriteTimeout),
-            1u);
-  for (int i = 0; i < 200 && rig.server().connections() > 0; ++i) std::this_thread::sleep_for(5ms);
-  EXPECT_EQ(rig.server().connections(), 0u);
+  // The writes block and the replies pile up past the outbox cap; the clock stands still, so
+  // the write deadline never comes.
+  EXPECT_TRUE(rig.wait_connections(0));
+  EXPECT_EQ(rig.refusals(ControlRefusal::OutboxFull), 1u);
+  EXPECT_EQ(rig.refusals(ControlRefusal::WriteTimeout), 0u);
 }
 
 TEST(ControlLimits, StopTellsEveryClientAndCloses) {

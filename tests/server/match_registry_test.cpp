@@ -1,7 +1,8 @@
 // The match registry's seats: joining reserves one and issues a token, a full match refuses, one
 // match at a time, leaving frees the seat, a reservation whose token went unused is given back,
 // and a closed registry refuses joins and creates. Over a real GameChannel on 127.0.0.1:0 (no
-// client connects; the registry is driven through its MatchDirectory face).
+// client connects; the registry is driven through its MatchDirectory face); seats and tokens
+// run on a fake clock the tests move.
 #include "match_registry.h"
 
 #include <gtest/gtest.h>
@@ -10,7 +11,6 @@
 #include <chrono>
 #include <map>
 #include <memory>
-#include <thread>
 #include <variant>
 
 #include "game_channel.h"
@@ -39,6 +39,7 @@ class MatchRegistryTest : public ::testing::Test {
     config.token_lifetime_us = token_lifetime_us;
     config.token_timeout_s = 1;
     config.max_matches = 3;
+    config.clock = [this] { return now_; };
     // A rotation of two maps: the arena, and the arena again under another name.
     Map second = sample_map();
     second.name = "arena-b";
@@ -72,6 +73,7 @@ class MatchRegistryTest : public ::testing::Test {
     return -1;
   }
 
+  proto::TimeUs now_ = 100 * proto::kMicrosPerSecond;  ///< the seats' fake clock
   boost::asio::io_context io_;
   std::unique_ptr<GameChannel> channel_;
   std::unique_ptr<MatchRegistry> registry_;
@@ -85,6 +87,7 @@ TEST_F(MatchRegistryTest, JoiningReservesASeatAndIssuesAnOpenableToken) {
   EXPECT_EQ(grant.match_id, match);
   EXPECT_EQ(grant.udp_port, channel_->port());
   EXPECT_EQ(grant.tick_rate_hz, 60);
+  EXPECT_EQ(grant.token.expires_at, now_ + 10 * proto::kMicrosPerSecond);  // on its clock
   EXPECT_TRUE(grant.quantization.validate().empty());
   // Sealed under the registry's key (zero here), bound to the account and the match.
   const auto opened = proto::open_connect_token(
@@ -111,12 +114,16 @@ TEST_F(MatchRegistryTest, AWakeUpsPayloadsReachEachPlayersMatchAndNoOther) {
   std::vector<GamePayload> batch;
   for (const std::uint64_t account : {1, 3, 99, 2, 1}) batch.push_back({account, {0x0a, 0x00}, 0});
   registry_->payloads(std::move(batch));
-  io_.run_for(100ms);  // the posts, and a few ticks that publish the counters
+  // The posts run, then the matches' next ticks publish their counters.
   std::map<std::uint32_t, std::uint64_t> handed;
-  for (const auto& host : registry_->hosts()) {
-    const auto& drops = host->stats().counters.input_drops;
-    handed[host->id()] = drops[static_cast<std::size_t>(InputDrop::UnknownPlayer)];
-  }
+  const auto count_handed = [&] {
+    for (const auto& host : registry_->hosts()) {
+      const auto& drops = host->stats().counters.input_drops;
+      handed[host->id()] = drops[static_cast<std::size_t>(InputDrop::UnknownPlayer)];
+    }
+    return handed[first] == 3 && handed[second] == 1;
+  };
+  for (int i = 0; i < 1000 && !count_handed(); ++i) io_.run_for(5ms);
   EXPECT_EQ(handed[first], 3u);
   EXPECT_EQ(handed[second], 1u);
 }
@@ -199,7 +206,10 @@ TEST_F(ShortTokenRegistryTest, AReservationWhoseTokenWentUnusedIsGivenBack) {
   ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "one", match)));
   EXPECT_EQ(refusal(registry_->join(2, "two", match)), DirectoryErrorCode::MatchFull);
   // The token lives 50 ms, plus its 1 s timeout for a handshake accepted at the last moment.
-  std::this_thread::sleep_for(1100ms);
+  now_ += 1050 * proto::kMicrosPerMilli - 1;
+  EXPECT_EQ(players_in(match), 1);
+  EXPECT_EQ(refusal(registry_->join(2, "two", match)), DirectoryErrorCode::MatchFull);
+  now_ += 1;
   EXPECT_EQ(players_in(match), 0);
   EXPECT_EQ(registry_->seats(), 0u);
   EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "two", match)));

@@ -8,11 +8,12 @@
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
-#include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http.hpp>
+#include <chrono>
 #include <exception>
 #include <optional>
 #include <string_view>
@@ -43,6 +44,17 @@ const char* name(AdminRejectReason reason) {
   return "unknown";
 }
 
+/// One accepted connection, shared by the coroutine serving it and its watchdog. On the strand.
+struct AdminConnection {
+  explicit AdminConnection(tcp::socket accepted)
+      : socket(std::move(accepted)), watchdog(socket.get_executor()) {}
+  tcp::socket socket;
+  asio::steady_timer watchdog;  ///< wakes at the deadline, or when cancelled to look again
+  proto::TimeUs deadline = 0;   ///< on options.clock: the request read or response written by
+  bool timed_out = false;       ///< the watchdog closed the socket at the deadline
+  bool served = false;          ///< the serving coroutine is done: the watchdog stops
+};
+
 struct AdminHttp::State {
   State(asio::io_context& io, AdminHttpOptions options_in, MetricsRegistry& metrics_in,
         AdminHttpCallbacks callbacks_in)
@@ -61,8 +73,9 @@ struct AdminHttp::State {
   const AdminHttpOptions options;
   MetricsRegistry& metrics;
   const AdminHttpCallbacks callbacks;
-  std::unordered_set<beast::tcp_stream*> connections;  ///< open ones; on the strand only
-  bool stopped = false;                                ///< on the strand only
+  std::unordered_set<AdminConnection*> connections;  ///< open ones; on the strand only
+  bool stopped = false;                              ///< on the strand only
+  std::atomic<std::size_t> open{0};                  ///< connections.size(), for any thread
   std::atomic<std::uint64_t> responses{0};
   std::array<std::atomic<std::uint64_t>, kAdminRejectReasonCount> rejected{};
 };
@@ -136,10 +149,6 @@ std::optional<Response> refusal(State& state, const beast::error_code& error) {
         http::status::payload_too_large, 11,
         "request above " + std::to_string(state.options.max_request_bytes) + " bytes\n");
   }
-  if (error == beast::error::timeout) {
-    state.reject(AdminRejectReason::Timeout);
-    return std::nullopt;
-  }
   if (error.category() == http::make_error_code(http::error::bad_target).category() &&
       error != http::error::partial_message) {
     state.reject(AdminRejectReason::Malformed);
@@ -148,27 +157,61 @@ std::optional<Response> refusal(State& state, const beast::error_code& error) {
   return std::nullopt;  // closed or reset by the peer
 }
 
-asio::awaitable<void> serve(std::shared_ptr<State> state, tcp::socket socket) {
-  beast::tcp_stream stream{std::move(socket)};
-  state->connections.insert(&stream);
+proto::TimeUs deadline_from_now(const State& state) {
+  return state.options.clock() +
+         std::chrono::duration_cast<std::chrono::microseconds>(state.options.request_timeout)
+             .count();
+}
+
+/// Closes the connection's socket once options.clock reaches its deadline (the pending read or
+/// write then ends with an error). The deadline may move on while it waits.
+asio::awaitable<void> watch(std::shared_ptr<State> state,
+                            std::shared_ptr<AdminConnection> connection) {
+  constexpr auto token = asio::as_tuple(asio::use_awaitable);
+  while (!connection->served) {
+    const proto::TimeUs left = connection->deadline - state->options.clock();
+    if (left <= 0) {
+      connection->timed_out = true;
+      boost::system::error_code ignored;
+      connection->socket.close(ignored);
+      co_return;
+    }
+    connection->watchdog.expires_after(std::chrono::microseconds(left));
+    co_await connection->watchdog.async_wait(token);
+  }
+}
+
+asio::awaitable<void> serve(std::shared_ptr<State> state,
+                            std::shared_ptr<AdminConnection> connection) {
+  state->connections.insert(connection.get());
+  state->open = state->connections.size();
   struct Forget {
     State& state;
-    beast::tcp_stream& stream;
-    ~Forget() { state.connections.erase(&stream); }
-  } forget{*state, stream};
+    AdminConnection& connection;
+    ~Forget() {
+      connection.served = true;
+      connection.watchdog.cancel();
+      state.connections.erase(&connection);
+      state.open = state.connections.size();
+    }
+  } forget{*state, *connection};
 
   const auto& options = state->options;
+  tcp::socket& socket = connection->socket;
   beast::flat_buffer buffer{2 * options.max_request_bytes};
   constexpr auto token = asio::as_tuple(asio::use_awaitable);
   for (;;) {
     http::request_parser<http::string_body> parser;
     parser.header_limit(static_cast<std::uint32_t>(options.max_request_bytes));
     parser.body_limit(options.max_request_bytes);
-    stream.expires_after(options.request_timeout);
-    const auto [read_error, read_bytes] = co_await http::async_read(stream, buffer, parser, token);
+    const auto [read_error, read_bytes] = co_await http::async_read(socket, buffer, parser, token);
     Response response;
     bool keep_alive = false;
     if (read_error) {
+      if (connection->timed_out) {
+        state->reject(AdminRejectReason::Timeout);
+        break;
+      }
       std::optional<Response> reply = refusal(*state, read_error);
       if (!reply) break;
       response = std::move(*reply);
@@ -179,14 +222,18 @@ asio::awaitable<void> serve(std::shared_ptr<State> state, tcp::socket socket) {
       keep_alive = request.keep_alive();
       response.keep_alive(keep_alive);
     }
-    stream.expires_after(options.request_timeout);
-    const auto [write_error, written] = co_await http::async_write(stream, response, token);
-    if (!write_error) state->responses.fetch_add(1, std::memory_order_relaxed);
-    if (write_error || !keep_alive) break;
+    connection->deadline = deadline_from_now(*state);
+    const auto [write_error, written] = co_await http::async_write(socket, response, token);
+    if (write_error) break;
+    // The next request's deadline runs from here, before the response is counted: whoever saw
+    // the count also sees the deadline.
+    connection->deadline = deadline_from_now(*state);
+    state->responses.fetch_add(1, std::memory_order_release);
+    if (!keep_alive) break;
   }
-  beast::error_code ignored;
-  stream.socket().shutdown(tcp::socket::shutdown_send, ignored);
-  stream.close();
+  boost::system::error_code ignored;
+  socket.shutdown(tcp::socket::shutdown_send, ignored);
+  socket.close(ignored);
 }
 
 asio::awaitable<void> accept_connections(std::shared_ptr<State> state) {
@@ -204,7 +251,10 @@ asio::awaitable<void> accept_connections(std::shared_ptr<State> state) {
       socket.close(ignored);
       continue;
     }
-    asio::co_spawn(state->strand, serve(state, std::move(socket)), asio::detached);
+    auto connection = std::make_shared<AdminConnection>(std::move(socket));
+    connection->deadline = deadline_from_now(*state);
+    asio::co_spawn(state->strand, serve(state, connection), asio::detached);
+    asio::co_spawn(state->strand, watch(state, std::move(connection)), asio::detached);
   }
 }
 
@@ -259,12 +309,22 @@ void AdminHttp::stop() {
     state->stopped = true;
     boost::system::error_code ignored;
     state->acceptor.close(ignored);
-    for (beast::tcp_stream* stream : state->connections) stream->socket().close(ignored);
+    for (AdminConnection* connection : state->connections) connection->socket.close(ignored);
   });
 }
 
+void AdminHttp::check_deadlines() {
+  asio::post(state_->strand, [state = state_] {
+    for (AdminConnection* connection : state->connections) connection->watchdog.cancel();
+  });
+}
+
+std::size_t AdminHttp::connections() const {
+  return state_->open.load();
+}
+
 std::uint64_t AdminHttp::responses() const {
-  return state_->responses.load(std::memory_order_relaxed);
+  return state_->responses.load(std::memory_order_acquire);
 }
 
 std::uint64_t AdminHttp::rejected(AdminRejectReason reason) const {

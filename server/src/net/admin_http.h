@@ -4,14 +4,16 @@
 /// GET /readyz (200 once the ready callback says sockets are bound and the DB is open, else 503).
 /// Other paths: 404; other methods on these paths: 405. HTTP/1.1 keep-alive.
 ///
-/// Requests are untrusted: a request must arrive whole within request_timeout (slow senders and
-/// idle keep-alive connections are closed), headers and body are bounded by max_request_bytes
+/// Requests are untrusted: a request must arrive whole within request_timeout of the server
+/// starting to wait for it (slow senders and idle keep-alive connections are closed; a
+/// response must be written within it too), headers and body are bounded by max_request_bytes
 /// (431 or 413, then closed), unparsable requests get 400 and are closed, connections beyond
 /// max_connections are closed at once. Each is counted by reason in
 /// ricochet_admin_rejected_total{reason}.
 ///
 /// Everything runs on a strand of the given io_context; the callbacks are called there and must
-/// be thread-safe towards the code that owns what they read.
+/// be thread-safe towards the code that owns what they read. Deadlines are on options.clock; a
+/// timer per connection wakes at its deadline, or check_deadlines() makes them look now.
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -23,7 +25,9 @@
 #include <memory>
 #include <string>
 
+#include "ricochet/proto/clock.h"
 #include "ricochet/server/metrics.h"
+#include "steady_time.h"
 
 namespace ricochet::server {
 
@@ -33,6 +37,8 @@ struct AdminHttpOptions {
   std::size_t max_request_bytes = 8192;             ///< request line and headers; body likewise
   std::chrono::milliseconds request_timeout{5000};  ///< from the first byte awaited to the last
   int max_connections = 16;                         ///< open at once
+  /// What the deadlines are measured on, in µs; tests pass fake time and call check_deadlines().
+  std::function<proto::TimeUs()> clock = steady_now_us;
 };
 
 /// Why a request or connection was refused.
@@ -71,8 +77,14 @@ class AdminHttp {
   boost::asio::ip::tcp::endpoint local_endpoint() const { return endpoint_; }
   /// Closes the listener and every connection. Thread-safe; idempotent.
   void stop();
+  /// Makes every connection compare its deadline with options.clock now rather than when its
+  /// timer fires (for a clock that moves other than in real time). Thread-safe; returns at once.
+  void check_deadlines();
 
-  /// Requests answered (any status) and refusals by reason so far.
+  /// Connections open now (accepted, not yet closed).
+  std::size_t connections() const;
+  /// Requests answered (any status) and refusals by reason so far. A keep-alive connection's
+  /// next request is awaited (its deadline runs) from before its response is counted.
   std::uint64_t responses() const;
   std::uint64_t rejected(AdminRejectReason reason) const;
 

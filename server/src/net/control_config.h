@@ -3,12 +3,12 @@
 /// limits that keep hostile or broken clients from holding resources. The operations config
 /// (config.h) maps its TOML keys and flags onto this struct; defaults are the documented ones.
 
-#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
 
 #include "ricochet/proto/clock.h"
+#include "steady_time.h"
 #include "tls_identity.h"
 
 namespace ricochet::server {
@@ -34,9 +34,10 @@ struct ControlServerConfig {
   std::uint16_t port = 7777;             ///< 0: any free port (tests); see ControlServer::port()
   TlsIdentityPaths tls;                  ///< certificate and key, or the data directory
   ControlLimits limits;
-  /// The clock connect tokens' expiry is on (the MatchDirectory's), in µs. Default: steady
-  /// clock since its epoch.
-  std::function<proto::TimeUs()> token_clock;
+  /// The clock every deadline, the message rate and connect tokens' expiry are on, in µs: the
+  /// MatchDirectory must issue its tokens on it too. Tests pass fake time and call
+  /// ControlServer::check_deadlines() after moving it.
+  std::function<proto::TimeUs()> clock = steady_now_us;
 
   std::string validate() const;
 };

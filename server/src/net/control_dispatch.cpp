@@ -236,7 +236,7 @@ wire::ServerMessage ControlSession::join_match(const wire::JoinMatchRequest& req
       context_.matches.join(account_, username_, request.match_id());
   if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
   const JoinGrant& grant = std::get<JoinGrant>(result);
-  const proto::TimeUs now = context_.token_clock();
+  const proto::TimeUs now = context_.clock();
   const proto::TimeUs left_us = std::max<proto::TimeUs>(grant.token.expires_at - now, 0);
   wire::ServerMessage reply;
   wire::JoinMatchReply& join = *reply.mutable_join_match();

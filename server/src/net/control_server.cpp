@@ -21,13 +21,7 @@ ControlServerConfig checked(ControlServerConfig config) {
   if (std::string problem = config.validate(); !problem.empty()) {
     throw std::invalid_argument(problem);
   }
-  if (!config.token_clock) {
-    config.token_clock = [] {
-      return std::chrono::duration_cast<std::chrono::microseconds>(
-                 std::chrono::steady_clock::now().time_since_epoch())
-          .count();
-    };
-  }
+  if (!config.clock) throw std::invalid_argument("control: the config has no clock");
   return config;
 }
 
@@ -62,7 +56,7 @@ ControlServer::ControlServer(asio::io_context& io, ControlServerConfig config, d
       tls_(asio::ssl::context::tls_server),
       strand_(asio::make_strand(io)),
       acceptor_(strand_),
-      context_{config_.limits, counters_, db, matches, config_.token_clock} {
+      context_{config_.limits, counters_, db, matches, config_.clock} {
   configure_tls(tls_, identity_);
 }
 
@@ -98,6 +92,12 @@ void ControlServer::stop() {
     for (auto& session : open) {
       session->close(wire::SHUTTING_DOWN, "the server is stopping", "server stopping");
     }
+  });
+}
+
+void ControlServer::check_deadlines() {
+  asio::post(strand_, [this] {
+    for (auto& [id, session] : sessions_) session->check_deadlines();
   });
 }
 

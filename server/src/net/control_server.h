@@ -53,6 +53,10 @@ class ControlServer {
   void start();
   /// Stops accepting and closes every session with an Error SHUTTING_DOWN. Returns at once.
   void stop();
+  /// Makes every session compare its deadlines with the config's clock now. The sessions' own
+  /// timers do so at each deadline in real time; a test that moves a fake clock calls this.
+  /// Returns at once.
+  void check_deadlines();
 
   /// The bound port (the chosen one when the config asked for 0); 0 before start().
   std::uint16_t port() const { return port_.load(); }

@@ -8,6 +8,7 @@
 #include <boost/asio/detached.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <boost/asio/write.hpp>
+#include <chrono>
 
 namespace ricochet::server {
 namespace asio = boost::asio;
@@ -15,12 +16,6 @@ namespace {
 
 constexpr auto kAsTuple = asio::as_tuple(asio::use_awaitable);
 constexpr std::size_t kReadChunkBytes = 16 * 1024;
-/// After close(), the final Error gets this long to be written before the socket is closed.
-constexpr std::chrono::milliseconds kCloseGrace{2000};
-
-std::chrono::milliseconds ms(std::uint32_t value) {
-  return std::chrono::milliseconds(value);
-}
 
 wire::ErrorCode error_code_of(proto::FrameRefusal refusal) {
   return refusal == proto::FrameRefusal::Oversize ? wire::FRAME_TOO_LARGE : wire::MALFORMED;
@@ -56,6 +51,13 @@ std::string describe_frame_refusal(proto::FrameRefusal refusal, std::uint32_t de
   return "the frame was refused";
 }
 
+/// A session's times as it is accepted at `now`.
+ControlTimes accepted(proto::TimeUs now) {
+  ControlTimes times;
+  times.accepted_at = now;
+  return times;
+}
+
 /// The message kinds a state admits, for WRONG_STATE errors ("login, register, ...").
 std::string admitted_kinds(proto::ControlState state) {
   std::string list;
@@ -87,9 +89,8 @@ ControlSession::ControlSession(std::uint64_t id, asio::ip::tcp::socket socket,
       read_buffer_(kReadChunkBytes),
       watchdog_(stream_.get_executor()),
       outbox_signal_(stream_.get_executor()),
-      accepted_at_(Clock::now()),
-      rate_tokens_(context.limits.message_burst),
-      rate_refilled_at_(accepted_at_) {}
+      times_(accepted(context.clock())),
+      rate_(context.limits.messages_per_second, context.limits.message_burst, times_.accepted_at) {}
 
 asio::awaitable<void> ControlSession::run() {
   auto self = shared_from_this();
@@ -99,7 +100,7 @@ asio::awaitable<void> ControlSession::run() {
   context_.counters.handshaking.fetch_sub(1, std::memory_order_relaxed);
   if (!handshaken) {
     abort("no TLS session");
-    phase_ = Phase::Ended;
+    times_.phase = ControlPhase::Ended;
     watchdog_.cancel();
     context_.counters.add(context_.counters.closed);
     if (on_ended_) on_ended_(*this);
@@ -107,9 +108,9 @@ asio::awaitable<void> ControlSession::run() {
   }
   context_.counters.add(context_.counters.handshakes);
   context_.counters.enter_state(machine_.state());
-  phase_ = Phase::Open;
-  last_frame_at_ = Clock::now();
-  rearm();
+  times_.phase = ControlPhase::Open;
+  times_.last_frame_at = context_.clock();
+  check_deadlines();
   running_tasks_ = 2;
   asio::co_spawn(stream_.get_executor(), write_loop(self), asio::detached);
   co_await read_loop();
@@ -126,26 +127,26 @@ asio::awaitable<bool> ControlSession::handshake() {
 }
 
 asio::awaitable<void> ControlSession::read_loop() {
-  while (phase_ == Phase::Open) {
+  while (times_.phase == ControlPhase::Open) {
     auto [error, received] = co_await stream_.async_read_some(asio::buffer(read_buffer_), kAsTuple);
     if (error || received == 0) {
-      if (phase_ == Phase::Open) {
+      if (times_.phase == ControlPhase::Open) {
         begin_closing("the client closed the connection");
         abort(error ? error.message() : "end of stream");
       }
       break;
     }
     context_.counters.add(context_.counters.bytes_in, received);
-    if (phase_ != Phase::Open) break;
+    if (times_.phase != ControlPhase::Open) break;
     reader_.feed(std::span<const std::uint8_t>(read_buffer_.data(), received));
-    note_partial_frame(Clock::now());
+    note_partial_frame(context_.clock());
     co_await drain_frames();
   }
 }
 
 asio::awaitable<void> ControlSession::drain_frames() {
   std::vector<std::uint8_t> payload;
-  while (phase_ == Phase::Open) {
+  while (times_.phase == ControlPhase::Open) {
     switch (reader_.next(payload)) {
       case proto::FrameReader::Status::NeedMore:
         co_return;
@@ -156,14 +157,14 @@ asio::awaitable<void> ControlSession::drain_frames() {
         break;
     }
     context_.counters.add(context_.counters.frames_in);
-    frame_started_.reset();
-    busy_ = true;
+    times_.frame_started.reset();
+    times_.busy = true;
     co_await handle(payload);
-    busy_ = false;
-    const Clock::time_point now = Clock::now();
-    last_frame_at_ = now;
+    times_.busy = false;
+    const proto::TimeUs now = context_.clock();
+    times_.last_frame_at = now;
     note_partial_frame(now);
-    rearm();
+    check_deadlines();
   }
 }
 
@@ -175,7 +176,7 @@ asio::awaitable<void> ControlSession::handle(const std::vector<std::uint8_t>& pa
   }
   const std::uint32_t request_id = message.request_id();
   const proto::ClientMessageKind kind = proto::kind_of(message);
-  if (!take_rate_token(Clock::now())) {
+  if (!rate_.take(context_.clock())) {
     refuse(ControlRefusal::RateLimited, proto::name(kind));
     reply_error(request_id, wire::RATE_LIMITED,
                 "at most " + std::to_string(context_.limits.messages_per_second) +
@@ -200,7 +201,7 @@ asio::awaitable<void> ControlSession::handle(const std::vector<std::uint8_t>& pa
 }
 
 void ControlSession::push(wire::ServerMessage message) {
-  if (phase_ != Phase::Open) return;
+  if (times_.phase != ControlPhase::Open) return;
   message.set_request_id(0);
   if (message.has_match_results() && machine_.state() == proto::ControlState::InMatch) {
     machine_.transition(proto::ControlState::Authenticated, "the match ended");
@@ -209,7 +210,9 @@ void ControlSession::push(wire::ServerMessage message) {
 }
 
 void ControlSession::send(const wire::ServerMessage& message) {
-  if (socket_closed_ || phase_ == Phase::Handshake || phase_ == Phase::Ended) return;
+  if (socket_closed_ || times_.phase == ControlPhase::Handshake ||
+      times_.phase == ControlPhase::Ended)
+    return;
   std::vector<std::uint8_t> frame;
   if (!proto::append_frame(message, frame)) {
     spdlog::warn("control #{}: a reply of {} bytes does not fit a frame; sent an error instead",
@@ -252,20 +255,10 @@ void ControlSession::refuse_frame(proto::FrameRefusal refusal) {
   close(error_code_of(refusal), detail, proto::name(refusal));
 }
 
-bool ControlSession::take_rate_token(Clock::time_point now) {
-  const double elapsed_s = std::chrono::duration<double>(now - rate_refilled_at_).count();
-  rate_refilled_at_ = now;
-  rate_tokens_ = std::min<double>(context_.limits.message_burst,
-                                  rate_tokens_ + elapsed_s * context_.limits.messages_per_second);
-  if (rate_tokens_ < 1) return false;
-  rate_tokens_ -= 1;
-  return true;
-}
-
 void ControlSession::close(wire::ErrorCode code, const std::string& message,
                            std::string_view reason) {
-  if (phase_ != Phase::Open) {
-    if (phase_ == Phase::Handshake) abort(reason);
+  if (times_.phase != ControlPhase::Open) {
+    if (times_.phase == ControlPhase::Handshake) abort(reason);
     return;
   }
   reply_error(0, code, message);
@@ -273,12 +266,12 @@ void ControlSession::close(wire::ErrorCode code, const std::string& message,
 }
 
 void ControlSession::begin_closing(std::string_view reason) {
-  if (phase_ != Phase::Open) return;
-  phase_ = Phase::Closing;
-  closing_since_ = Clock::now();
+  if (times_.phase != ControlPhase::Open) return;
+  times_.phase = ControlPhase::Closing;
+  times_.closing_since = context_.clock();
   machine_.transition(proto::ControlState::Closed, reason);
   outbox_signal_.cancel();
-  rearm();
+  check_deadlines();
 }
 
 void ControlSession::abort(std::string_view reason) {
@@ -289,18 +282,18 @@ void ControlSession::abort(std::string_view reason) {
   stream_.lowest_layer().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
   stream_.lowest_layer().close(ignored);
   outbox_signal_.cancel();
-  rearm();
+  check_deadlines();
 }
 
 asio::awaitable<void> ControlSession::write_loop(std::shared_ptr<ControlSession> self) {
   std::vector<std::uint8_t> batch;
   while (!socket_closed_) {
     if (outbox_.empty()) {
-      if (phase_ != Phase::Open) {
+      if (times_.phase != ControlPhase::Open) {
         abort("closed after the final message");
         break;
       }
-      outbox_signal_.expires_at(Clock::time_point::max());
+      outbox_signal_.expires_at(asio::steady_timer::time_point::max());
       co_await outbox_signal_.async_wait(kAsTuple);
       continue;
     }
@@ -308,10 +301,10 @@ asio::awaitable<void> ControlSession::write_loop(std::shared_ptr<ControlSession>
     for (auto& frame : outbox_) batch.insert(batch.end(), frame.begin(), frame.end());
     outbox_.clear();
     outbox_bytes_ = 0;
-    write_started_ = Clock::now();
-    rearm();
+    times_.write_started = context_.clock();
+    check_deadlines();
     auto [error, written] = co_await asio::async_write(stream_, asio::buffer(batch), kAsTuple);
-    write_started_.reset();
+    times_.write_started.reset();
     if (error) {
       abort("write failed: " + error.message());
       break;
@@ -326,72 +319,54 @@ void ControlSession::task_ended() {
   abort("session ended");
   context_.counters.leave_state(machine_.state());
   context_.counters.add(context_.counters.closed);
-  phase_ = Phase::Ended;
+  times_.phase = ControlPhase::Ended;
   watchdog_.cancel();
   if (on_ended_) on_ended_(*this);
 }
 
-void ControlSession::note_partial_frame(Clock::time_point now) {
+void ControlSession::note_partial_frame(proto::TimeUs now) {
   if (!reader_.inside_frame()) {
-    frame_started_.reset();
-  } else if (!frame_started_) {
-    frame_started_ = now;
-    rearm();
+    times_.frame_started.reset();
+  } else if (!times_.frame_started) {
+    times_.frame_started = now;
+    check_deadlines();
   }
 }
 
-std::pair<ControlSession::Clock::time_point, ControlSession::Expiry> ControlSession::next_deadline()
-    const {
-  const ControlLimits& limits = context_.limits;
-  switch (phase_) {
-    case Phase::Handshake:
-      return {accepted_at_ + ms(limits.handshake_timeout_ms), Expiry::Handshake};
-    case Phase::Closing:
-      return {closing_since_ + kCloseGrace, Expiry::CloseGrace};
-    case Phase::Ended:
-      return {Clock::time_point::max(), Expiry::CloseGrace};
-    case Phase::Open:
-      break;
-  }
-  std::pair<Clock::time_point, Expiry> next{Clock::time_point::max(), Expiry::Idle};
-  const auto consider = [&next](Clock::time_point at, Expiry expiry) {
-    if (at < next.first) next = {at, expiry};
-  };
-  if (!busy_) {
-    consider(last_frame_at_ + ms(limits.idle_timeout_ms), Expiry::Idle);
-    if (frame_started_) consider(*frame_started_ + ms(limits.frame_timeout_ms), Expiry::Frame);
-  }
-  if (write_started_) consider(*write_started_ + ms(limits.write_timeout_ms), Expiry::Write);
-  return next;
-}
-
-void ControlSession::rearm() {
+void ControlSession::check_deadlines() {
   watchdog_.cancel();
 }
 
-// `self` keeps the session alive for as long as the watchdog runs.
+// `self` keeps the session alive for as long as the watchdog runs. A closed socket has no
+// deadline left: the reader and writer end on their own.
 asio::awaitable<void> ControlSession::watch(std::shared_ptr<ControlSession> self) {
-  while (self->phase_ != Phase::Ended) {
-    const Clock::time_point deadline = next_deadline().first;
-    watchdog_.expires_at(deadline);
-    auto [error] = co_await watchdog_.async_wait(kAsTuple);
-    if (phase_ == Phase::Ended) break;
-    if (error || Clock::now() < deadline) continue;  // rearmed: recompute
-    // The state may have moved on while the expiry was queued; only act on a deadline that
-    // still holds.
-    if (const auto [due, expiry] = next_deadline(); due <= Clock::now()) expire(expiry);
+  while (self->times_.phase != ControlPhase::Ended) {
+    std::optional<ControlDeadline> next;
+    if (!socket_closed_) next = next_deadline(times_, context_.limits);
+    const proto::TimeUs now = context_.clock();
+    if (next && next->at <= now) {
+      expire(next->expiry);  // moves the session on, or closes its socket
+      continue;
+    }
+    if (next) {
+      watchdog_.expires_after(std::chrono::microseconds(next->at - now));
+    } else {
+      watchdog_.expires_at(asio::steady_timer::time_point::max());
+    }
+    // Fires at the deadline, or earlier when check_deadlines() cancels it: either way, look again.
+    co_await watchdog_.async_wait(kAsTuple);
   }
 }
 
-void ControlSession::expire(Expiry expiry) {
+void ControlSession::expire(ControlExpiry expiry) {
   const ControlLimits& limits = context_.limits;
   switch (expiry) {
-    case Expiry::Handshake:
+    case ControlExpiry::Handshake:
       refuse(ControlRefusal::HandshakeTimeout,
              "no TLS handshake within " + std::to_string(limits.handshake_timeout_ms) + " ms");
       abort("handshake timeout");
       return;
-    case Expiry::Frame: {
+    case ControlExpiry::Frame: {
       const std::string detail = "a frame must complete within " +
                                  std::to_string(limits.frame_timeout_ms) +
                                  " ms of its first "
@@ -401,20 +376,20 @@ void ControlSession::expire(Expiry expiry) {
       close(wire::FRAME_TIMEOUT, detail, "frame timeout");
       return;
     }
-    case Expiry::Idle: {
+    case ControlExpiry::Idle: {
       const std::string detail = "no frame for " + std::to_string(limits.idle_timeout_ms) +
                                  " ms; send a ping to keep the connection";
       refuse(ControlRefusal::IdleTimeout, detail);
       close(wire::IDLE_TIMEOUT, detail, "idle timeout");
       return;
     }
-    case Expiry::Write:
+    case ControlExpiry::Write:
       refuse(ControlRefusal::WriteTimeout,
              "a write did not finish within " + std::to_string(limits.write_timeout_ms) + " ms");
       begin_closing("the client does not read");
       abort("write timeout");
       return;
-    case Expiry::CloseGrace:
+    case ControlExpiry::CloseGrace:
       abort("close grace over");
       return;
   }

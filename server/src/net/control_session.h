@@ -6,13 +6,13 @@
 ///   run():    handshake ─▶ read loop (frames ─▶ parse ─▶ rate ─▶ state table ─▶ dispatch ─▶ reply)
 ///   writer:   drains the outbox; after close() it flushes the final Error, then closes
 ///   watchdog: handshake, frame (slowloris), idle and write deadlines; the close grace
+///             (control_deadlines.h decides which is next; the clock is the context's)
 
 #include <array>
 #include <boost/asio/awaitable.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/ssl.hpp>
 #include <boost/asio/steady_timer.hpp>
-#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -24,10 +24,12 @@
 
 #include "control_config.h"
 #include "control_counters.h"
+#include "control_deadlines.h"
 #include "match_directory.h"
 #include "ricochet/db/db_worker.h"
 #include "ricochet/proto/control_states.h"
 #include "ricochet/proto/frame.h"
+#include "ricochet/proto/token_bucket.h"
 #include "ricochet/wire/control.pb.h"
 
 namespace ricochet::server {
@@ -38,13 +40,14 @@ struct ControlContext {
   ControlCounters& counters;
   db::DbWorker& db;
   MatchDirectory& matches;
-  std::function<proto::TimeUs()> token_clock;
+  /// The server's clock in µs (ControlServerConfig::clock): deadlines, the message rate and
+  /// connect tokens' expiry.
+  std::function<proto::TimeUs()> clock;
 };
 
 class ControlSession : public std::enable_shared_from_this<ControlSession> {
  public:
   using Stream = boost::asio::ssl::stream<boost::asio::ip::tcp::socket>;
-  using Clock = std::chrono::steady_clock;
   /// Called once on the strand when the session has ended and its socket is closed.
   using OnEnded = std::function<void(ControlSession&)>;
 
@@ -61,6 +64,9 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   void push(wire::ServerMessage message);
   /// Sends an Error (request_id 0) and closes once it is written (or the grace is over).
   void close(wire::ErrorCode code, const std::string& message, std::string_view reason);
+  /// Wakes the watchdog to compare the deadlines with the clock now, not only when its timer
+  /// fires: after a deadline moved, or the clock moved other than in real time.
+  void check_deadlines();
 
   std::uint64_t id() const { return id_; }
   const std::string& address() const { return address_; }
@@ -68,9 +74,6 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   proto::ControlState state() const { return machine_.state(); }
 
  private:
-  enum class Phase { Handshake, Open, Closing, Ended };
-  enum class Expiry { Handshake, Frame, Idle, Write, CloseGrace };
-
   boost::asio::awaitable<bool> handshake();
   boost::asio::awaitable<void> read_loop();
   boost::asio::awaitable<void> write_loop(std::shared_ptr<ControlSession> self);
@@ -97,18 +100,13 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   void refuse(ControlRefusal refusal, const std::string& detail);
   /// A stream the FrameReader or the parser refused: Error, then close.
   void refuse_frame(proto::FrameRefusal refusal);
-  /// Token bucket over limits.messages_per_second; false when the request is over the rate.
-  bool take_rate_token(Clock::time_point now);
 
   void begin_closing(std::string_view reason);
   /// Closes the socket now (pending reads and writes end with an error).
   void abort(std::string_view reason);
   /// Starts or clears the frame deadline after the reader's buffer changed.
-  void note_partial_frame(Clock::time_point now);
-  std::pair<Clock::time_point, Expiry> next_deadline() const;
-  void expire(Expiry expiry);
-  /// Wakes the watchdog so it recomputes its deadline.
-  void rearm();
+  void note_partial_frame(proto::TimeUs now);
+  void expire(ControlExpiry expiry);
   /// One of the reader and writer tasks ended; the last one ends the session.
   void task_ended();
 
@@ -124,17 +122,10 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   std::size_t outbox_bytes_ = 0;
   boost::asio::steady_timer watchdog_;
   boost::asio::steady_timer outbox_signal_;
-  Phase phase_ = Phase::Handshake;
+  ControlTimes times_;  ///< the phase and what the deadlines count from
   int running_tasks_ = 0;
   bool socket_closed_ = false;
-  bool busy_ = false;  ///< dispatching a request: the idle and frame deadlines wait
-  Clock::time_point accepted_at_;
-  Clock::time_point last_frame_at_;
-  Clock::time_point closing_since_;
-  std::optional<Clock::time_point> frame_started_;
-  std::optional<Clock::time_point> write_started_;
-  double rate_tokens_;
-  Clock::time_point rate_refilled_at_;
+  proto::TokenBucket rate_;  ///< limits.messages_per_second in bursts of limits.message_burst
   std::uint64_t account_ = 0;
   std::string username_;
 };

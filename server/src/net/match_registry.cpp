@@ -58,6 +58,7 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   if (match_config.rules.seed == 0) match_config.rules.seed = random_seed();
   map %= maps_.size();
   // The world is built outside the lock: routing and the control channel never wait for it.
+  // The match runs on its host's clock, the steady one (match_host.cpp), not the seats' clock.
   auto created = Match::create(match_config, maps_[map], steady_now_us(), [] {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
                std::chrono::steady_clock::now().time_since_epoch())
@@ -83,7 +84,7 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   spdlog::info("match {} '{}' open: {} on map {} for {} players, seed {}", id, name,
                server::name(match_config.rules.mode), host->map_name(), max_players,
                match_config.rules.seed);
-  return summary(*host, steady_now_us());
+  return summary(*host, config_.clock());
 }
 
 void MatchRegistry::set_udp_port(std::uint16_t port) {
@@ -105,7 +106,7 @@ std::vector<std::shared_ptr<MatchHost>> MatchRegistry::hosts() const {
 
 std::size_t MatchRegistry::seats() const {
   const std::lock_guard lock(mutex_);
-  const proto::TimeUs now = steady_now_us();
+  const proto::TimeUs now = config_.clock();
   return static_cast<std::size_t>(std::count_if(
       seats_.begin(), seats_.end(), [now](const auto& seat) { return holds(seat.second, now); }));
 }
@@ -113,7 +114,7 @@ std::size_t MatchRegistry::seats() const {
 std::vector<MatchSummary> MatchRegistry::list() const {
   const std::lock_guard lock(mutex_);
   std::vector<MatchSummary> out;
-  const proto::TimeUs now = steady_now_us();
+  const proto::TimeUs now = config_.clock();
   for (const auto& [id, hosted] : hosts_) out.push_back(summary(*hosted.host, now));
   return out;
 }
@@ -148,7 +149,7 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
                                                std::uint32_t match_id) {
   const std::lock_guard lock(mutex_);
   if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
-  const proto::TimeUs now = steady_now_us();
+  const proto::TimeUs now = config_.clock();
   expire_reservations(now);
   const auto host = hosts_.find(match_id);
   if (host == hosts_.end()) {

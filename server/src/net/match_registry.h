@@ -31,6 +31,7 @@
 #include "match_host.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
+#include "steady_time.h"
 
 namespace ricochet::server {
 
@@ -43,6 +44,9 @@ struct MatchRegistryConfig {
   proto::TimeUs token_lifetime_us = 10 * proto::kMicrosPerSecond;  ///< ≤ 30 s
   std::uint32_t token_timeout_s = 5;  ///< game-channel silence that drops a client
   int max_matches = 256;
+  /// The clock, in µs, that connect tokens are issued on and seat reservations run out on: the
+  /// game channel's, which checks the tokens (steady_now_us). Tests pass fake time.
+  std::function<proto::TimeUs()> clock = steady_now_us;
 };
 
 class MatchRegistry final : public MatchDirectory, public GameRouter {

@@ -88,7 +88,7 @@ ControlServerConfig control_config(const ServerConfig& config) {
   out.limits.idle_timeout_ms = static_cast<std::uint32_t>(config.control.idle_timeout_ms);
   out.limits.messages_per_second = config.control.messages_per_second;
   out.limits.message_burst = config.control.message_burst;
-  out.token_clock = steady_now_us;
+  out.clock = steady_now_us;  // the match registry issues connect tokens on it too
   return out;
 }
 

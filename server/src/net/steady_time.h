@@ -1,7 +1,9 @@
 #pragma once
-/// The one clock the server's game side runs on: the steady clock in µs. Matches, the game
-/// channel and connect tokens all read it here, so a token's expiry and the transport's timeouts
-/// are on the same clock (proto/clock.h).
+/// The one clock the server runs on: the steady clock in µs. Matches and the game channel read
+/// it here; the match registry (seats, connect tokens), the control channel (deadlines, message
+/// rate) and the admin port (request deadlines) are given it as a clock function in their
+/// configs, which tests replace with fake time. A token's expiry and the transport's timeouts
+/// are so on the same clock (proto/clock.h).
 
 #include <chrono>
 

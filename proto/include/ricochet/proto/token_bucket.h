@@ -1,5 +1,8 @@
 #pragma once
-/// A packet budget: `burst` packets at once, refilled at `per_second`. Time in microseconds.
+/// A rate limit as a token bucket: up to `burst` events at once, refilled at `per_second`
+/// events per second. Time is a parameter (µs, proto/clock.h); the bucket never reads a clock.
+/// The game server budgets packets per address and per client with it, the control channel
+/// requests per connection.
 
 #include <algorithm>
 
@@ -9,10 +12,12 @@ namespace ricochet::proto {
 
 class TokenBucket {
  public:
+  /// Starts full: `burst` tokens at `now`. `per_second` > 0, `burst` >= 1.
   TokenBucket(double per_second, double burst, TimeUs now)
       : per_second_(per_second), burst_(burst), tokens_(burst), updated_(now) {}
 
-  /// Takes one token; false when the budget is exhausted.
+  /// Takes one token; false when the budget is exhausted (then nothing is taken). A `now`
+  /// earlier than the last call's refills nothing.
   bool take(TimeUs now) {
     refill(now);
     if (tokens_ < 1.0) return false;
