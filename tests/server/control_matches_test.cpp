@@ -110,6 +110,11 @@ TEST(ControlMatches, EveryMatchRequestBeforeLoginIsWrongStateAndCounted) {
         << reply.error().message();
   }
   EXPECT_EQ(rig.refusals(ControlRefusal::WrongState), requests.size());
+  // The client end refused each one too (the rig sent them around it).
+  EXPECT_EQ(client.protocol()
+                .counters()
+                .refused_requests[static_cast<std::size_t>(proto::RequestRefusal::WrongState)],
+            requests.size());
   // The connection is still usable.
   EXPECT_TRUE(client.request(ControlTestClient::ping(1)).has_pong());
   EXPECT_TRUE(rig.directory().joined_names.empty());
@@ -157,7 +162,8 @@ TEST(ControlMatches, MatchResultsReachThePlayerAndEndInMatch) {
   EXPECT_EQ(pushed->request_id(), 0u);
   EXPECT_EQ(pushed->match_results().SerializeAsString(), sent.SerializeAsString());
   EXPECT_EQ(pushed->match_results().players(0).score(), 12);
-  // Back to Authenticated: chat is out of state, joining again is allowed.
+  // Back to Authenticated on both ends: chat is out of state, joining again is allowed.
+  EXPECT_EQ(client.protocol().state(), proto::ControlState::Authenticated);
   EXPECT_EQ(client.request(ControlTestClient::chat("gg")).error().code(), wire::WRONG_STATE);
   EXPECT_TRUE(client.request(ControlTestClient::join(1)).has_join_match());
 }

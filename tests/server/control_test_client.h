@@ -1,7 +1,7 @@
 #pragma once
 /// The control channel's test rig: a real server (TLS on 127.0.0.1, a port chosen free, a real
 /// DbWorker on a temporary SQLite file at the minimum password cost, a fake match directory)
-/// and a small blocking client with a deadline on every call.
+/// and a small blocking socket with a deadline on every call under proto::ControlClient.
 
 #include <gtest/gtest.h>
 #include <openssl/ssl.h>
@@ -15,6 +15,7 @@
 #include <boost/asio/ssl.hpp>
 #include <boost/asio/write.hpp>
 #include <chrono>
+#include <deque>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -24,12 +25,14 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 #include "control_server.h"
 #include "match_directory.h"
 #include "ricochet/db/db_worker.h"
 #include "ricochet/db/store.h"
+#include "ricochet/proto/control_client.h"
 #include "ricochet/proto/frame.h"
 #include "temp_dir.h"
 
@@ -180,13 +183,24 @@ class ControlRig {
   std::array<std::thread, 2> threads_;
 };
 
-/// A blocking client; every call has a deadline, so a test never hangs.
+/// A blocking client over proto::ControlClient, which numbers the requests, matches the replies
+/// and follows the connection's state; this class is only its socket. Every call has a deadline,
+/// so a test never hangs. Two ways around the ControlClient, for tests of the server's own
+/// checks:
+///   - a request the ControlClient refuses for its state (counted there) is sent raw, numbered
+///     from kRawRequestIds, and its reply taken out of the stream before the ControlClient sees
+///     it;
+///   - after send_bytes() the stream is no longer the ControlClient's: receive() returns every
+///     frame the server sends as it came.
 class ControlTestClient {
  public:
+  static constexpr std::uint32_t kRawRequestIds = 0x8000'0000;
+
   explicit ControlTestClient(std::uint16_t port, int max_tls_version = TLS1_3_VERSION)
       : port_(port),
         tls_(asio::ssl::context::tls_client),
-        stream_(io_, make_tls(max_tls_version)) {}
+        stream_(io_, make_tls(max_tls_version)),
+        protocol_(now_us(), test_config()) {}
 
   /// TCP connect only (for plaintext probes).
   bool connect_tcp(std::chrono::milliseconds limit = 3s) {
@@ -231,17 +245,35 @@ class ControlTestClient {
   }
   std::string negotiated_version() { return SSL_get_version(stream_.native_handle()); }
 
-  void send(const wire::ClientMessage& message) {
-    std::vector<std::uint8_t> bytes;
-    ASSERT_TRUE(proto::append_frame(message, bytes));
-    send_bytes(bytes);
+  /// Sends a request and waits for its reply (the reply body or an Error).
+  wire::ServerMessage request(wire::ClientMessage message) {
+    if (raw_) {
+      ADD_FAILURE() << "request() after send_bytes(): the stream is no longer the client's";
+      return {};
+    }
+    const proto::RequestResult sent = protocol_.request(message, now_us());
+    if (sent.refusal == proto::RequestRefusal::WrongState) return request_raw(std::move(message));
+    if (!sent) {
+      ADD_FAILURE() << "the control client refused the request: " << proto::name(*sent.refusal);
+      return {};
+    }
+    write(take_transmit());
+    const auto deadline = std::chrono::steady_clock::now() + 3s;
+    while (!replies_.count(sent.request_id) && read_some(deadline)) {
+    }
+    const auto reply = replies_.find(sent.request_id);
+    if (reply == replies_.end()) {
+      ADD_FAILURE() << "no reply to request " << sent.request_id;
+      return {};
+    }
+    wire::ServerMessage message_out = std::move(reply->second);
+    replies_.erase(reply);
+    return message_out;
   }
-  /// Raw bytes over TLS.
+  /// Raw bytes over TLS; from here on receive() returns the server's frames as they come.
   void send_bytes(const std::vector<std::uint8_t>& bytes) {
-    bool done = false;
-    asio::async_write(stream_, asio::buffer(bytes),
-                      [&](boost::system::error_code, std::size_t) { done = true; });
-    run(done, 3s);
+    raw_ = true;
+    write(bytes);
   }
   /// Raw bytes over TCP, no TLS.
   void send_plain(const std::string& text) {
@@ -251,52 +283,17 @@ class ControlTestClient {
     run(done, 3s);
   }
 
-  /// The next message, or nullopt when the server closed the connection (closed() is then
-  /// true) or nothing came within `limit`.
+  /// The next message the server sent unasked (MatchResults, the Error it closes with; after
+  /// send_bytes(), any frame), or nullopt when the server closed the connection (closed() is
+  /// then true) or nothing came within `limit`.
   std::optional<wire::ServerMessage> receive(std::chrono::milliseconds limit = 3s) {
     const auto deadline = std::chrono::steady_clock::now() + limit;
-    std::vector<std::uint8_t> payload;
-    while (true) {
-      const auto status = reader_.next(payload);
-      if (status == proto::FrameReader::Status::Frame) {
-        wire::ServerMessage message;
-        if (proto::parse_server_message(payload, message)) {
-          ADD_FAILURE() << "the server sent a frame that is not a ServerMessage";
-          return std::nullopt;
-        }
-        return message;
-      }
-      if (status == proto::FrameReader::Status::Refused) {
-        ADD_FAILURE() << "the server sent a bad frame";
-        return std::nullopt;
-      }
-      if (closed_) return std::nullopt;
-      const auto left = deadline - std::chrono::steady_clock::now();
-      if (left <= 0s) return std::nullopt;
-      bool done = false;
-      std::array<std::uint8_t, 16384> buffer;
-      stream_.async_read_some(asio::buffer(buffer),
-                              [&](boost::system::error_code error, std::size_t n) {
-                                if (error && error != asio::error::operation_aborted)
-                                  closed_ = true;
-                                reader_.feed(std::span<const std::uint8_t>(buffer.data(), n));
-                                done = true;
-                              });
-      run(done, std::chrono::duration_cast<std::chrono::milliseconds>(left));
-      if (!done) return std::nullopt;
+    while (inbox_.empty() && read_some(deadline)) {
     }
-  }
-  /// Sends a request numbered by this client and waits for the reply with that number.
-  wire::ServerMessage request(wire::ClientMessage message) {
-    message.set_request_id(++last_request_id_);
-    send(message);
-    auto reply = receive();
-    if (!reply) {
-      ADD_FAILURE() << "no reply to request " << last_request_id_;
-      return {};
-    }
-    EXPECT_EQ(reply->request_id(), last_request_id_);
-    return *reply;
+    if (inbox_.empty()) return std::nullopt;
+    wire::ServerMessage message = std::move(inbox_.front());
+    inbox_.pop_front();
+    return message;
   }
   /// Reads until the server closes the connection; true when it did within `limit`.
   /// Messages that came first are returned through `before`.
@@ -331,7 +328,10 @@ class ControlTestClient {
     }
     return std::nullopt;
   }
+  /// The server closed the connection.
   bool closed() const { return closed_; }
+  /// The protocol state machine under this socket (its state, its counters).
+  const proto::ControlClient& protocol() const { return protocol_; }
 
   // Requests, built.
   static wire::ClientMessage register_account(const std::string& name, const std::string& pw) {
@@ -388,11 +388,111 @@ class ControlTestClient {
   }
 
  private:
+  static proto::TimeUs now_us() {
+    return std::chrono::duration_cast<std::chrono::microseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+  /// The test decides what is sent and how long it waits: no keep-alive, no request timeout.
+  static proto::ControlClientConfig test_config() {
+    proto::ControlClientConfig config;
+    config.request_timeout_us = 0;
+    config.keep_alive_us = 0;
+    return config;
+  }
   asio::ssl::context& make_tls(int max_version) {
     SSL_CTX_set_min_proto_version(tls_.native_handle(), TLS1_VERSION);
     SSL_CTX_set_max_proto_version(tls_.native_handle(), max_version);
     tls_.set_verify_mode(asio::ssl::verify_none);  // pinned by fingerprint instead
     return tls_;
+  }
+  std::vector<std::uint8_t> take_transmit() {
+    std::vector<std::uint8_t> bytes;
+    protocol_.poll_transmit(bytes);
+    return bytes;
+  }
+  void write(const std::vector<std::uint8_t>& bytes) {
+    bool done = false;
+    asio::async_write(stream_, asio::buffer(bytes),
+                      [&](boost::system::error_code, std::size_t) { done = true; });
+    run(done, 3s);
+  }
+  /// A request the client's state table refuses, sent past it (the server's table is tested).
+  wire::ServerMessage request_raw(wire::ClientMessage message) {
+    const std::uint32_t request_id = next_raw_id_++;
+    message.set_request_id(request_id);
+    std::vector<std::uint8_t> frame;
+    EXPECT_TRUE(proto::append_frame(message, frame));
+    write(frame);
+    const auto deadline = std::chrono::steady_clock::now() + 3s;
+    while (true) {
+      for (auto it = inbox_.begin(); it != inbox_.end(); ++it) {
+        if (it->request_id() != request_id) continue;
+        wire::ServerMessage reply = std::move(*it);
+        inbox_.erase(it);
+        return reply;
+      }
+      if (!read_some(deadline)) break;
+    }
+    ADD_FAILURE() << "no reply to raw request " << request_id;
+    return {};
+  }
+  /// Reads once, until `deadline` at the latest, and sorts the frames that came: replies to raw
+  /// requests (and every frame after send_bytes()) to the inbox, the rest through the
+  /// ControlClient (replies by request id; MatchResults and the closing Error to the inbox).
+  /// False when the server closed the connection or nothing came in time.
+  bool read_some(std::chrono::steady_clock::time_point deadline) {
+    if (closed_) return false;
+    const auto left = deadline - std::chrono::steady_clock::now();
+    if (left <= 0s) return false;
+    bool done = false;
+    std::array<std::uint8_t, 16384> buffer;
+    stream_.async_read_some(asio::buffer(buffer),
+                            [&](boost::system::error_code error, std::size_t n) {
+                              if (error && error != asio::error::operation_aborted) closed_ = true;
+                              sort(std::span<const std::uint8_t>(buffer.data(), n));
+                              done = true;
+                            });
+    run(done, std::chrono::duration_cast<std::chrono::milliseconds>(left));
+    return done && !closed_;
+  }
+  void sort(std::span<const std::uint8_t> bytes) {
+    reader_.feed(bytes);
+    std::vector<std::uint8_t> payload;
+    proto::FrameReader::Status status;
+    while ((status = reader_.next(payload)) == proto::FrameReader::Status::Frame) {
+      wire::ServerMessage message;
+      if (proto::parse_server_message(payload, message)) {
+        ADD_FAILURE() << "the server sent a frame that is not a ServerMessage";
+        continue;
+      }
+      if (raw_ || message.request_id() >= kRawRequestIds) {
+        inbox_.push_back(std::move(message));
+        continue;
+      }
+      std::vector<std::uint8_t> frame;
+      EXPECT_TRUE(proto::append_frame(message, frame));
+      protocol_.receive(frame);
+    }
+    if (status == proto::FrameReader::Status::Refused)
+      ADD_FAILURE() << "the server sent a bad frame";
+    proto::ControlEvent event;
+    while (protocol_.poll_event(event)) {
+      if (auto* reply = std::get_if<proto::ControlReply>(&event)) {
+        replies_[reply->request_id] = std::move(reply->message);
+      } else if (auto* pushed = std::get_if<proto::ControlMatchResults>(&event)) {
+        wire::ServerMessage message;
+        *message.mutable_match_results() = std::move(pushed->results);
+        inbox_.push_back(std::move(message));
+      } else if (auto& end = std::get<proto::ControlClosed>(event);
+                 end.reason == proto::ControlCloseReason::ServerError) {
+        wire::ServerMessage message;
+        *message.mutable_error() = std::move(end.server_error);
+        inbox_.push_back(std::move(message));
+      } else {
+        ADD_FAILURE() << "the control client closed: " << end.detail;
+      }
+    }
   }
   /// Runs the client's loop until `done` or `limit`; on timeout, cancels what is pending.
   void run(bool& done, std::chrono::milliseconds limit) {
@@ -411,9 +511,13 @@ class ControlTestClient {
   asio::io_context io_;
   asio::ssl::context tls_;
   asio::ssl::stream<asio::ip::tcp::socket> stream_;
-  proto::FrameReader reader_;
+  proto::ControlClient protocol_;
+  proto::FrameReader reader_;  ///< in front of protocol_, to take raw frames out
+  std::deque<wire::ServerMessage> inbox_;
+  std::map<std::uint32_t, wire::ServerMessage> replies_;  ///< by request id
+  std::uint32_t next_raw_id_ = kRawRequestIds;
+  bool raw_ = false;  ///< send_bytes() was called
   bool closed_ = false;
-  std::uint32_t last_request_id_ = 0;
 };
 
 }  // namespace ricochet::server::test

@@ -20,7 +20,6 @@ constexpr double kSignInTimeoutS = 60;
 constexpr double kRequestTimeoutS = 10;  ///< list and join
 constexpr double kResultsTimeoutS = 15;  ///< from MatchEnded to MatchResults
 constexpr double kNoRoomRetryS = 1;      ///< listing again when no match has room
-constexpr double kPingIntervalS = 30;    ///< keeps the control channel from idling out (120 s)
 constexpr proto::TimeUs kRttSampleUs = proto::kMicrosPerSecond;
 constexpr std::size_t kMaxRttSamples = 86400;
 
@@ -105,7 +104,6 @@ Bot::Bot(asio::io_context& io, asio::ssl::context& tls, ServerTrust& trust, BotC
       brain_(config_.skill, config_.seed),
       deadline_(io),
       tick_timer_(io),
-      ping_timer_(io),
       alive_(std::make_shared<bool>(true)) {
   control_endpoint_ = {asio::ip::make_address(config_.host), config_.control_port};
   if (!config_.bind_address.empty()) local_address_ = asio::ip::make_address(config_.bind_address);
@@ -137,7 +135,6 @@ void Bot::start() {
   started_at_us_ = steady_now_us();
   spdlog::info("bot {}: connecting to {}", config_.name, config_.host);
   connect_control();
-  schedule_ping();
 }
 
 void Bot::stop(std::string_view reason) {
@@ -147,7 +144,6 @@ void Bot::stop(std::string_view reason) {
 void Bot::finish(std::string_view reason, std::string error) {
   if (state_ == BotState::Done) return;
   deadline_.cancel();
-  ping_timer_.cancel();
   close_game(true);
   if (control_) {
     control_->close();
@@ -207,12 +203,19 @@ void Bot::reconnect(const std::string& reason) {
 void Bot::connect_control() {
   if (control_) control_->close();
   signed_in_ = false;
+  proto::ControlClientConfig protocol;  // its defaults: sign-in's minute, a ping every 30 s
+  protocol.on_transition = [name = config_.name](proto::ControlState from, proto::ControlState to,
+                                                 std::string_view reason) {
+    spdlog::debug("bot {}: control {} -> {} ({})", name, proto::name(from), proto::name(to),
+                  reason);
+  };
   control_ = std::make_shared<ControlClient>(
       io_, tls_, trust_,
       ControlClient::Callbacks{
           guarded([this](const std::string& error) { on_control_ready(error); }),
-          guarded([this](const wire::ServerMessage& message) { on_control_push(message); }),
-          guarded([this](const std::string& reason) { on_control_closed(reason); })});
+          guarded([this](const wire::MatchResults& results) { on_match_results(results); }),
+          guarded([this](const std::string& reason) { on_control_closed(reason); })},
+      std::move(protocol));
   control_->connect(control_endpoint_, local_address_);
   arm(kConnectTimeoutS, [this] {
     fail_attempt("timed out connecting to the control channel", Retry::NewConnection);
@@ -228,23 +231,16 @@ void Bot::on_control_ready(const std::string& error) {
   sign_in();
 }
 
-void Bot::on_control_push(const wire::ServerMessage& message) {
-  if (message.has_match_results()) {
-    record_.results.push_back(message.match_results());
-    ++metrics_.matches;
-    spdlog::info("bot {}: results of match {} ({} players{})", config_.name,
-                 message.match_results().match_id(), message.match_results().players_size(),
-                 message.match_results().aborted() ? ", aborted" : "");
-    if (awaiting_results_) after_match();
-  } else if (message.has_error()) {
-    spdlog::warn("bot {}: the server says {}", config_.name, describe(message));
-  } else {
-    ++metrics_.bad_control;
-    spdlog::debug("bot {}: unexpected message with request id 0", config_.name);
-  }
+void Bot::on_match_results(const wire::MatchResults& results) {
+  record_.results.push_back(results);
+  ++metrics_.matches;
+  spdlog::info("bot {}: results of match {} ({} players{})", config_.name, results.match_id(),
+               results.players_size(), results.aborted() ? ", aborted" : "");
+  if (awaiting_results_) after_match();
 }
 
 void Bot::on_control_closed(const std::string& reason) {
+  if (control_ && control_->refused_server()) ++metrics_.bad_control;
   control_.reset();
   switch (state_) {
     case BotState::Playing:
@@ -361,26 +357,17 @@ void Bot::on_join(const wire::ServerMessage& reply) {
     return arm(kNoRoomRetryS, [this] { find_match(); });
   }
   if (is_error(reply, wire::ALREADY_IN_MATCH)) {
+    // Seated elsewhere. From this connection's match, leave; a seat an earlier connection took
+    // cannot be left from here (Authenticated): it lapses with its token, so try again later.
     wire::ClientMessage leave;
     leave.mutable_leave_match();
-    control_->request(std::move(leave),
-                      guarded([this](const wire::ServerMessage&) { find_match(); }));
+    if (!control_->request(std::move(leave),
+                           guarded([this](const wire::ServerMessage&) { find_match(); }))) {
+      arm(kNoRoomRetryS, [this] { find_match(); });
+    }
     return;
   }
   fail_attempt("join_match: " + describe(reply), Retry::SameConnection);
-}
-
-void Bot::schedule_ping() {
-  ping_timer_.expires_after(std::chrono::seconds(static_cast<int>(kPingIntervalS)));
-  ping_timer_.async_wait(guarded([this](const boost::system::error_code& error) {
-    if (error || state_ == BotState::Done) return;
-    if (control_ && control_->is_open()) {
-      wire::ClientMessage ping;
-      ping.mutable_ping()->set_client_time_us(static_cast<std::uint64_t>(steady_now_us()));
-      control_->request(std::move(ping), {});
-    }
-    schedule_ping();
-  }));
 }
 
 void Bot::after_match() {

@@ -5,6 +5,10 @@
 
 #include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
+#include <chrono>
+#include <variant>
+
+#include "ricochet/bot/game_session.h"
 
 namespace ricochet::bot {
 
@@ -19,8 +23,12 @@ asio::ssl::context make_control_tls_context() {
 }
 
 ControlClient::ControlClient(asio::io_context& io, asio::ssl::context& tls, ServerTrust& trust,
-                             Callbacks callbacks)
-    : stream_(io, tls), trust_(trust), callbacks_(std::move(callbacks)) {}
+                             Callbacks callbacks, proto::ControlClientConfig config)
+    : stream_(io, tls),
+      trust_(trust),
+      callbacks_(std::move(callbacks)),
+      protocol_(steady_now_us(), std::move(config)),
+      deadline_(io) {}
 
 void ControlClient::connect(const asio::ip::tcp::endpoint& server, const asio::ip::address& local) {
   if (!local.is_unspecified()) {
@@ -68,35 +76,64 @@ void ControlClient::on_handshake(const boost::system::error_code& error) {
   if (callbacks_.on_ready) callbacks_.on_ready({});
   if (closed_) return;
   read_more();
-  write_next();
+  pump();
 }
 
-void ControlClient::request(wire::ClientMessage message, ReplyHandler on_reply) {
-  if (closed_) return;
-  last_request_id_ = last_request_id_ == UINT32_MAX ? 1 : last_request_id_ + 1;
-  message.set_request_id(last_request_id_);
-  std::vector<std::uint8_t> frame;
-  if (!proto::append_frame(message, frame)) {
-    spdlog::warn("control: a request of {} bytes does not fit a frame", message.ByteSizeLong());
-    return;
+bool ControlClient::request(wire::ClientMessage message, ReplyHandler on_reply) {
+  if (closed_) return false;
+  const proto::ClientMessageKind kind = proto::kind_of(message);
+  const proto::RequestResult result = protocol_.request(std::move(message), steady_now_us());
+  if (!result) {
+    spdlog::warn("control: {} not sent: {} (the connection is {})", proto::name(kind),
+                 proto::name(*result.refusal), proto::name(protocol_.state()));
+    return false;
   }
-  pending_.push_back({last_request_id_, std::move(on_reply)});
-  outbox_.push_back(std::move(frame));
-  if (ready_) write_next();
+  handlers_.emplace(result.request_id, std::move(on_reply));
+  write_next();
+  arm_deadline();
+  return true;
+}
+
+void ControlClient::pump() {
+  proto::ControlEvent event;
+  while (!closed_ && protocol_.poll_event(event)) {
+    if (auto* reply = std::get_if<proto::ControlReply>(&event)) {
+      auto handler = handlers_.extract(reply->request_id);
+      if (!handler.empty() && handler.mapped()) handler.mapped()(reply->message);
+    } else if (auto* pushed = std::get_if<proto::ControlMatchResults>(&event)) {
+      if (callbacks_.on_match_results) callbacks_.on_match_results(pushed->results);
+    } else {
+      return fail(std::get<proto::ControlClosed>(event).detail);
+    }
+  }
+  if (closed_) return;
+  write_next();
+  arm_deadline();
 }
 
 void ControlClient::write_next() {
-  if (writing_ || outbox_.empty() || closed_) return;
-  writing_ = true;
+  if (!ready_ || closed_ || !writing_.empty() || !protocol_.poll_transmit(writing_)) return;
   asio::async_write(
-      stream_, asio::buffer(outbox_.front()),
+      stream_, asio::buffer(writing_),
       [self = shared_from_this()](const boost::system::error_code& error, std::size_t) {
-        self->writing_ = false;
+        self->writing_.clear();
         if (self->closed_) return;
-        if (error) return self->fail("write failed: " + error.message());
-        self->outbox_.pop_front();
-        self->write_next();
+        if (error) self->protocol_.connection_lost("write failed: " + error.message());
+        self->pump();
       });
+}
+
+void ControlClient::arm_deadline() {
+  const std::optional<proto::TimeUs> due = protocol_.deadline();
+  if (!ready_ || closed_ || !due || due == armed_for_) return;
+  armed_for_ = due;
+  deadline_.expires_at(std::chrono::steady_clock::time_point(std::chrono::microseconds(*due)));
+  deadline_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
+    if (error || self->closed_) return;
+    self->armed_for_.reset();
+    self->protocol_.update(steady_now_us());
+    self->pump();
+  });
 }
 
 void ControlClient::read_more() {
@@ -109,46 +146,26 @@ void ControlClient::read_more() {
 
 void ControlClient::on_read(const boost::system::error_code& error, std::size_t bytes) {
   if (closed_) return;
-  reader_.feed(std::span<const std::uint8_t>(read_buffer_.data(), bytes));
-  while (!closed_) {
-    const auto status = reader_.next(payload_);
-    if (status == proto::FrameReader::Status::NeedMore) break;
-    if (status == proto::FrameReader::Status::Refused) {
-      ++bad_frames_;
-      return fail(std::string("the server sent a bad frame (") + name(*reader_.refusal()) +
-                  ", length " + std::to_string(reader_.refused_length()) + ")");
-    }
-    wire::ServerMessage message;
-    if (const auto refusal = proto::parse_server_message(payload_, message)) {
-      ++bad_frames_;
-      return fail(std::string("the server sent a frame that is not a ServerMessage (") +
-                  name(*refusal) + ")");
-    }
-    dispatch(message);
-  }
-  if (closed_) return;
+  protocol_.receive(std::span<const std::uint8_t>(read_buffer_.data(), bytes));
   if (error) {
-    return fail(error == asio::error::eof || error == asio::ssl::error::stream_truncated
-                    ? std::string("the server closed the connection")
-                    : "read failed: " + error.message());
+    // After the server's closing Error this changes nothing: its reason is the one reported.
+    protocol_.connection_lost(error == asio::error::eof ||
+                                      error == asio::ssl::error::stream_truncated
+                                  ? std::string("the server closed the connection")
+                                  : "read failed: " + error.message());
   }
-  read_more();
+  pump();
+  if (!closed_) read_more();
 }
 
-void ControlClient::dispatch(const wire::ServerMessage& message) {
-  if (message.request_id() == 0) {
-    if (callbacks_.on_push) callbacks_.on_push(message);
-    return;
+bool ControlClient::refused_server() const {
+  for (std::size_t reason = 0; reason < proto::kControlCloseReasonCount; ++reason) {
+    if (proto::refuses_server(static_cast<proto::ControlCloseReason>(reason)) &&
+        protocol_.counters().closes[reason] > 0) {
+      return true;
+    }
   }
-  if (pending_.empty() || pending_.front().request_id != message.request_id()) {
-    ++bad_frames_;
-    return fail("the server answered request " + std::to_string(message.request_id()) +
-                (pending_.empty() ? std::string(", none was pending")
-                                  : ", expected " + std::to_string(pending_.front().request_id)));
-  }
-  ReplyHandler handler = std::move(pending_.front().on_reply);
-  pending_.pop_front();
-  if (handler) handler(message);
+  return false;
 }
 
 void ControlClient::fail(const std::string& reason) {
@@ -167,7 +184,9 @@ void ControlClient::close() {
   if (closed_) return;
   // The callbacks stay (one of them may be the caller): closed_ stops every further call.
   closed_ = true;
-  pending_.clear();
+  protocol_.close();
+  handlers_.clear();
+  deadline_.cancel();
   boost::system::error_code ignored;
   stream_.lowest_layer().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
   stream_.lowest_layer().close(ignored);

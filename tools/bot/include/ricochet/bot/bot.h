@@ -114,7 +114,7 @@ class Bot {
   // Control channel.
   void connect_control();
   void on_control_ready(const std::string& error);
-  void on_control_push(const wire::ServerMessage& message);
+  void on_match_results(const wire::MatchResults& results);
   void on_control_closed(const std::string& reason);
   void sign_in();
   void log_in();
@@ -122,7 +122,6 @@ class Bot {
   void find_match();
   void join(std::uint32_t match_id);
   void on_join(const wire::ServerMessage& reply);
-  void schedule_ping();
   void after_match();
 
   // Game channel.
@@ -191,7 +190,6 @@ class Bot {
   BotRecord record_;
   boost::asio::steady_timer deadline_;
   boost::asio::steady_timer tick_timer_;
-  boost::asio::steady_timer ping_timer_;
   std::shared_ptr<bool> alive_;  ///< handlers hold a weak_ptr: a destroyed bot is not touched
 };
 
