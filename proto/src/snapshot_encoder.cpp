@@ -863,7 +863,8 @@ struct SnapshotEncodeCache::Streams {
 
   /// Forgets the previous tick's streams when `tick` is a new one.
   void begin(std::uint32_t tick_now, std::span<const QuantizedEntity> world_now,
-             const layout::FieldWidths& encoder_widths, const QuantizationSpec& spec) {
+             const layout::FieldWidths& encoder_widths, const QuantizationSpec& spec,
+             const SnapshotCacheLayers& layers) {
     if (has_tick && tick == tick_now && world == world_now.data() &&
         world_size == world_now.size() && widths == encoder_widths) {
       return;
@@ -879,7 +880,7 @@ struct SnapshotEncodeCache::Streams {
     next_replaced = 0;
     walks_used = 0;
     next_walk_replaced = 0;
-    deltas.reset(world_now, spec);
+    if (layers.deltas) deltas.reset(world_now, spec);
   }
 
   const SharedStream* find(std::uint64_t baseline_token, std::uint32_t baseline_age,
@@ -936,8 +937,13 @@ struct SnapshotEncodeCache::Streams {
   }
 };
 
-SnapshotEncodeCache::SnapshotEncodeCache(std::size_t max_streams)
-    : streams_(std::make_unique<Streams>(std::clamp<std::size_t>(max_streams, 1, 64))) {}
+SnapshotEncodeCache::SnapshotEncodeCache(SnapshotCacheLayers layers, std::size_t max_streams)
+    : streams_(std::make_unique<Streams>(std::clamp<std::size_t>(max_streams, 1, 64))),
+      layers_(layers) {
+  // A layer works only on top of those it needs.
+  layers_.walks = layers_.walks && layers_.deltas;
+  layers_.whole_world_start = layers_.whole_world_start && layers_.walks;
+}
 SnapshotEncodeCache::SnapshotEncodeCache(SnapshotEncodeCache&&) noexcept = default;
 SnapshotEncodeCache& SnapshotEncodeCache::operator=(SnapshotEncodeCache&&) noexcept = default;
 SnapshotEncodeCache::~SnapshotEncodeCache() = default;
@@ -1030,13 +1036,19 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   // that client's stream, and nothing is left to carry. Baselines are matched by token, so
   // only one that was a whole world (or none) can share a stream.
   SnapshotEncodeCache::Streams* shared = cache ? cache->streams_.get() : nullptr;
+  const SnapshotCacheLayers layers = cache ? cache->layers_
+                                           : SnapshotCacheLayers{.streams = false,
+                                                                 .deltas = false,
+                                                                 .world_baselines = false,
+                                                                 .walks = false,
+                                                                 .whole_world_start = false};
   const SharedStream* reused = nullptr;
   const layout::Prediction prediction = layout::make_prediction(baseline_age, spec_);
   const std::uint64_t baseline_token = has_baseline ? acked.world_token : 0;
   const bool shareable =
-      shared &&
+      layers.streams &&
       (!has_baseline || (baseline_token != 0 && acked.held.empty() && acked.absent.empty()));
-  if (shared) shared->begin(tick, world, scratch_->widths, spec_);
+  if (shared) shared->begin(tick, world, scratch_->widths, spec_, layers);
   if (shareable) {
     const SharedStream* found = shared->find(baseline_token, baseline_age, prediction);
     if (found && found->candidate_bits <= select_budget_bits &&
@@ -1060,26 +1072,31 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
     pending = sent = reused->pending;
     assign_bytes(*out.mutable_entities(), reused->stream);
   } else {
-    DeltaTable& deltas = shared ? shared->deltas : scratch_->deltas;
-    if (!shared) deltas.reset(world, spec_);
+    DeltaTable& deltas = layers.deltas ? shared->deltas : scratch_->deltas;
+    if (!layers.deltas) deltas.reset(world, spec_);
     // A baseline that is a world the cache saw (but for a few entities) follows the walk
-    // against that world, recorded by the first client of the tick to need it. Without a cache
+    // against that world, recorded by the first client of the tick to need it. Without walks
     // it is the world made whole.
-    if (baseline_is_world && !shared) {
+    const bool whole_world = acked.held.empty() && acked.absent.empty();
+    const bool follow_walk =
+        baseline_is_world && layers.walks && (layers.whole_world_start || whole_world);
+    if (baseline_is_world && !follow_walk) {
       hold(world_baseline, scratch_->baseline);
       baseline = scratch_->baseline;
     }
     EncodePass pass(spec_, options_, baseline, baseline_size, baseline_age, world, scratch_->widths,
                     scratch_->buffers, deltas);
-    if (baseline_is_world && shared) {
+    if (follow_walk) {
       SharedWalk* walk = shared->find_walk(baseline_token, prediction);
       if (!walk) {
         walk = &shared->claim_walk(baseline_token, prediction);
         pass.record_walk(world_baseline.world, *walk);
       }
       ++cache->walks_followed_;
-      const bool whole_world = acked.held.empty() && acked.absent.empty();
-      if (walk->whole_world_start.valid) {
+      if (!layers.whole_world_start) {
+        pass.find_pending(priority_, viewer_m, *walk, world_baseline.world);
+        pass.estimate_costs();
+      } else if (walk->whole_world_start.valid) {
         pass.take_start(walk->whole_world_start, world_baseline, priority_, viewer_m);
       } else if (whole_world) {
         pass.find_pending(priority_, viewer_m, *walk, world_baseline.world);
@@ -1130,8 +1147,11 @@ void SnapshotEncoder::encode_with(std::uint32_t tick, std::span<const QuantizedE
   }
 
   // Remember what the client will hold; this may overwrite the baseline's slot, used no more.
-  // Without a cache the view is the client's own.
-  if (world_but_exceptions && !shared) {
+  // Without a cache the view is the client's own, and so is one with exceptions without world
+  // baselines.
+  const bool held_as_world =
+      shared && (layers.world_baselines || (next_held_.empty() && next_absent_.empty()));
+  if (world_but_exceptions && !held_as_world) {
     hold({world, next_held_, next_held_states_, next_absent_}, next_view_);
     world_but_exceptions = false;
   }

@@ -65,11 +65,32 @@ struct SnapshotEncodeReport {
 /// holding it (not copied per client). Either way the bytes are the ones encode writes without
 /// the cache. Allocates nothing once its buffers have grown to the world's size and its worlds
 /// to the ticks the clients hold.
+/// The sharing layers of a SnapshotEncodeCache, each of which can be switched off (to measure
+/// what it saves, or to test the others alone); the bytes are the same whatever the switches.
+struct SnapshotCacheLayers {
+  /// A client whose baseline and age another client of the tick had, and for whom everything
+  /// fits, is sent a copy of that client's stream.
+  bool streams = true;
+  /// Clients holding the same baseline state of an entity at the same age share its delta, its
+  /// fields' bits per set of orders and the order tallies; a new entity is written once.
+  bool deltas = true;
+  /// A client sent the world but for a few entities holds the tick's one shared copy of it and
+  /// those exceptions, instead of a view of its own. (A client sent all of it always holds the
+  /// shared copy, by which streams and walks know its baseline.)
+  bool world_baselines = true;
+  /// Clients whose baseline is such a world follow one walk of the world against it instead of
+  /// comparing every entity. Needs deltas.
+  bool walks = true;
+  /// Followers of a walk start from what its first follower holding the whole world found and
+  /// estimated, edited at their exceptions. Needs walks.
+  bool whole_world_start = true;
+};
+
 class SnapshotEncodeCache {
  public:
   /// max_streams: distinct (baseline, age) streams remembered per tick, 1..64; past that the
   /// oldest is replaced.
-  explicit SnapshotEncodeCache(std::size_t max_streams = 4);
+  explicit SnapshotEncodeCache(SnapshotCacheLayers layers = {}, std::size_t max_streams = 4);
   SnapshotEncodeCache(SnapshotEncodeCache&&) noexcept;
   SnapshotEncodeCache& operator=(SnapshotEncodeCache&&) noexcept;
   ~SnapshotEncodeCache();
@@ -85,6 +106,7 @@ class SnapshotEncodeCache {
   friend class SnapshotEncoder;
   struct Streams;
   std::unique_ptr<Streams> streams_;
+  SnapshotCacheLayers layers_;
   std::uint64_t hits_ = 0;
   std::uint64_t misses_ = 0;
   std::uint64_t walks_followed_ = 0;
