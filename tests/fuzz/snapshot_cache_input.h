@@ -107,10 +107,10 @@ class CacheInput {
           break;
         case 6:  // a teleport: anywhere, at the limit's velocity
           for (int axis = 0; axis < 3; ++axis) {
-            entity.position[axis] =
-                static_cast<std::uint32_t>((a * 257u + b * 65537u * (axis + 1)) %
-                                           spec.position_steps(axis));
-            entity.velocity[axis] = (b >> axis) & 1 ? spec.velocity_limit() : -spec.velocity_limit();
+            entity.position[axis] = static_cast<std::uint32_t>(
+                (a * 257u + b * 65537u * (axis + 1)) % spec.position_steps(axis));
+            entity.velocity[axis] =
+                (b >> axis) & 1 ? spec.velocity_limit() : -spec.velocity_limit();
           }
           break;
         case 7:  // a crowd moves: every entity from `which` on, one in (a % 4 + 1)
@@ -178,8 +178,8 @@ class CacheInput {
     proto::QuantizedEntity entity;
     entity.id = (world.empty() ? 0 : world.back().id) + 1 + a % 4;
     for (int axis = 0; axis < 3; ++axis) {
-      entity.position[axis] =
-          static_cast<std::uint32_t>((a * 131u + b * 8191u * (axis + 1)) % spec.position_steps(axis));
+      entity.position[axis] = static_cast<std::uint32_t>((a * 131u + b * 8191u * (axis + 1)) %
+                                                         spec.position_steps(axis));
       entity.velocity[axis] = clamp_velocity(static_cast<std::int8_t>(b) * (axis + 1), spec);
     }
     entity.flags = static_cast<std::uint8_t>(b & 0x81);

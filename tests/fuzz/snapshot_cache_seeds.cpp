@@ -22,7 +22,9 @@ struct Scene {
   int ticks = 48;
 };
 
-void put(std::string& out, int byte) { out.push_back(static_cast<char>(byte & 0xFF)); }
+void put(std::string& out, int byte) {
+  out.push_back(static_cast<char>(byte & 0xFF));
+}
 
 std::string setup(const Scene& scene) {
   std::string out;
@@ -89,18 +91,18 @@ int main(int argc, char** argv) {
                put(out, c * 9 | ((tick + c) % 9 == 0 ? 0xC0 : 0));
              }));
   // Many removals in a tick against budgets too small for all of them.
-  write_file(dir, "mass_removal",
-             scene_bytes(Scene{.clients = 6, .budget = 100}, 1, 20, [](std::string& out, int, int c) {
-               put(out, c % 2 ? 0x80 : 0), put(out, c * 9);
-             }));
+  write_file(
+      dir, "mass_removal",
+      scene_bytes(Scene{.clients = 6, .budget = 100}, 1, 20, [](std::string& out, int, int c) {
+        put(out, c % 2 ? 0x80 : 0), put(out, c * 9);
+      }));
   // Each layer switched off in turn, on the tight scene.
   const char* layers[] = {"streams", "deltas", "world_baselines", "walks", "whole_world_start"};
   for (int bit = 0; bit < 5; ++bit) {
     Scene off = tight;
     off.layers_off = static_cast<std::uint8_t>(1 << bit);
     off.stream_slots = 1 + bit % 4;
-    write_file(dir, std::string("tight_without_") + layers[bit],
-               scene_bytes(off, 1, 32, as_usual));
+    write_file(dir, std::string("tight_without_") + layers[bit], scene_bytes(off, 1, 32, as_usual));
   }
   return 0;
 }

@@ -24,6 +24,9 @@
 
 namespace ricochet::proto {
 
+class DeltaTable;  // the encoder's private parts (src/)
+class EncodePass;
+
 /// Snapshots remembered per client, on either end, unless the options say otherwise. At 60 Hz
 /// it covers about a second of acknowledgement delay.
 inline constexpr std::size_t kDefaultSnapshotRing = 64;
@@ -158,12 +161,35 @@ class SnapshotEncoder {
     std::vector<QuantizedEntity> held_states;
   };
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
+
+  // An encode's steps (src/snapshot_encode_pass.h defines their types).
+  struct Baseline;
+  struct Budget;
+  struct Outcome;
+  struct Scratch;
+  friend struct SnapshotEncodeCache::Streams;
   void encode_with(std::uint32_t tick, std::span<const QuantizedEntity> world,
                    std::array<float, 3> viewer_m, std::size_t budget_bytes, wire::Snapshot& out,
                    SnapshotEncodeCache* cache);
-  /// The spec's field widths and encode's working buffers, kept from call to call so that
-  /// encoding allocates nothing once they have grown to the world's size.
-  struct Scratch;
+  Baseline acked_baseline(std::uint32_t tick);
+  static Budget stream_budget(std::uint32_t tick, std::uint32_t baseline_age,
+                              std::size_t budget_bytes);
+  /// The plain encode: every difference from the baseline found, estimated, selected, written.
+  Outcome encode_against(const Baseline& baseline, DeltaTable& deltas,
+                         std::span<const QuantizedEntity> world, std::array<float, 3> viewer_m,
+                         const Budget& budget, wire::Snapshot& out);
+  /// Selects, writes and lists what the client will hold, after the pass found and estimated.
+  Outcome finish(EncodePass& pass, const Baseline& baseline, const Budget& budget,
+                 wire::Snapshot& out);
+  void remember_sent(std::uint32_t tick, std::span<const QuantizedEntity> world, Outcome& outcome);
+  // The cache's paths (src/snapshot_encode_cache.cpp): a copy of another client's stream, a
+  // walk followed, or the plain encode with shared deltas.
+  Outcome encode_cached(const Baseline& baseline, std::uint32_t tick,
+                        std::span<const QuantizedEntity> world, std::array<float, 3> viewer_m,
+                        const Budget& budget, wire::Snapshot& out, SnapshotEncodeCache& cache);
+  Outcome follow_walk(const Baseline& baseline, std::span<const QuantizedEntity> world,
+                      std::array<float, 3> viewer_m, const Budget& budget, wire::Snapshot& out,
+                      SnapshotEncodeCache& cache);
 
   QuantizationSpec spec_;
   SnapshotEncoderOptions options_;
