@@ -4,6 +4,7 @@
 /// working state. Private to the snapshot encoder.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -135,31 +136,32 @@ class EncodePass {
   /// Walks world and baseline by id; each difference becomes a candidate whose priority adds
   /// this tick's weight to what it carried (`carried`, sorted by id), a changed one with its
   /// delta.
-  void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
-                    std::array<float, 3> viewer_m);
+  inline void find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
+                           std::array<float, 3> viewer_m);
   /// Chooses the field orders over all candidates and estimates each candidate's bits.
   void estimate_costs();
   /// Selects everything that fits budget_bits by priority, highest first.
-  void select(std::size_t budget_bits);
+  inline void select(std::size_t budget_bits);
   /// Writes the selected candidates; false if the stream exceeds stream_budget_bytes, after
   /// leaving out about as many of the lowest priorities as the excess needs (call again).
-  bool write(BitWriter& stream, std::size_t stream_budget_bytes);
+  inline bool write(BitWriter& stream, std::size_t stream_budget_bytes);
   /// Whether a removal was left out (practically never: removals go first). Otherwise the
   /// client holds the world after decoding the stream but for the deferred entities.
-  bool removal_deferred() const;
+  inline bool removal_deferred() const;
   /// The deferred entities by world index: `held` (changed: the client keeps `held_states`,
   /// their baseline states) and `absent` (new: not held at all).
-  void list_deferred(std::vector<std::uint32_t>& held, std::vector<QuantizedEntity>& held_states,
-                     std::vector<std::uint32_t>& absent) const;
+  inline void list_deferred(std::vector<std::uint32_t>& held,
+                            std::vector<QuantizedEntity>& held_states,
+                            std::vector<std::uint32_t>& absent) const;
   /// The entity set the client holds after decoding the stream, merged from the baseline
   /// (which must be whole: use_baseline) and the candidates.
-  void merge_view(std::vector<QuantizedEntity>& view) const;
+  inline void merge_view(std::vector<QuantizedEntity>& view) const;
   /// Whether the pass holds the client's whole baseline (not when it follows a walk).
   bool has_whole_baseline() const { return baseline_.size() == baseline_size_; }
   /// The client's whole baseline, for merge_view after following a walk.
   void use_baseline(std::span<const QuantizedEntity> baseline) { baseline_ = baseline; }
   /// Deferred entities' priorities, sorted by id; returns how many candidates were sent.
-  std::size_t carry_priorities(std::vector<std::pair<std::uint32_t, float>>& carried) const;
+  inline std::size_t carry_priorities(std::vector<std::pair<std::uint32_t, float>>& carried) const;
   std::size_t pending() const { return candidates_.size(); }
   /// estimate_costs' bits of every candidate, summed.
   std::size_t candidate_bits() const {
@@ -171,14 +173,14 @@ class EncodePass {
  protected:  // the cache's passes (snapshot_encode_cache.cpp) follow walks with these
   /// Unselects the selected candidate of lowest priority (of equal ones, the last) and
   /// returns it; the first call orders the selected candidates, which must not be empty.
-  Candidate& drop_lowest();
+  inline Candidate& drop_lowest();
   /// Sets a candidate's bits for the orders_ (whose key is orders_key) and a gap estimate.
   void cost(Candidate& c, std::uint64_t orders_key, int gap_estimate);
   /// What the client carried for the entity `id`; ids must increase from call to call.
   float carried_priority(std::uint32_t id);
   /// Adds each candidate's change at its distance to what it carried: only an encode that
   /// leaves something out needs its priorities.
-  void weigh_priorities();
+  inline void weigh_priorities();
   /// What find_pending weighs candidates by: the priorities carried from before and the viewer.
   void look_from(std::span<const std::pair<std::uint32_t, float>> carried,
                  std::array<float, 3> viewer_m);
@@ -215,6 +217,91 @@ class EncodePass {
   std::uint64_t pass_;    ///< marks the deltas this pass takes
   int gap_estimate_ = 0;  ///< estimate_costs'
 };
+
+// The steps the cache's passes take too, inline in both files.
+
+inline double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& now) const {
+  double moved_m = 0, velocity_mps = 0;
+  for (int a = 0; a < 3; ++a) {
+    moved_m +=
+        std::fabs(static_cast<double>(now.position[a]) - then.position[a]) * spec_.position_step_m;
+    velocity_mps += std::fabs(static_cast<double>(now.velocity[a]) - then.velocity[a]) *
+                    spec_.velocity_step_mps;
+  }
+  const bool turned =
+      then.orientation_largest != now.orientation_largest || then.orientation != now.orientation;
+  return kMinimumChange_m + moved_m + velocity_mps * kVelocityHorizon_s +
+         (turned ? kOrientationChange_m : 0) + (then.flags != now.flags ? kFlagsChange_m : 0);
+}
+
+inline DeltaTable::Way& EncodePass::delta_of(std::size_t i, const QuantizedEntity& then) {
+  if (DeltaTable::Way* way = deltas_.find(i, then, prediction_)) return *way;
+  return deltas_.claim(i, then, world_[i], widths_, prediction_, change_m(then, world_[i]));
+}
+
+inline void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i,
+                                            DeltaTable::Way* way, double change,
+                                            const QuantizedEntity* then) {
+  candidates_.push_back({.kind = kind,
+                         .baseline_index = static_cast<std::uint32_t>(j),
+                         .world_index = static_cast<std::uint32_t>(i),
+                         .priority = carried_priority(world_[i].id),
+                         .change_m = static_cast<float>(change),
+                         .way = way,
+                         .then = then});
+}
+
+inline float EncodePass::carried_priority(std::uint32_t id) {
+  std::size_t& p = carried_next_;
+  while (p < carried_.size() && carried_[p].first < id) ++p;
+  return p < carried_.size() && carried_[p].first == id ? carried_[p].second : 0;
+}
+
+inline void EncodePass::look_from(std::span<const std::pair<std::uint32_t, float>> carried,
+                                  std::array<float, 3> viewer_m) {
+  carried_ = carried;
+  // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
+  viewer_nowhere_ =
+      !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
+  viewer_m_ = viewer_m;
+  candidates_.reserve(world_.size() + baseline_size_);
+}
+
+inline void EncodePass::add_removed(std::size_t j) {
+  candidates_.push_back({.kind = Candidate::Kind::Removed,
+                         .baseline_index = static_cast<std::uint32_t>(j),
+                         .priority = kRemovalPriority});
+}
+
+inline void EncodePass::compare_kept(std::size_t i, std::size_t j, const QuantizedEntity& then) {
+  if (same_state(world_[i], then)) return;
+  DeltaTable::Way& way = delta_of(i, then);
+  way.used_by = pass_;
+  add_world_candidate(Candidate::Kind::Changed, j, i, &way, way.change_m, &then);
+}
+
+inline void EncodePass::cost(Candidate& c, std::uint64_t orders_key, int gap_estimate) {
+  switch (c.kind) {
+    case Candidate::Kind::Changed: {
+      // Written once per orders: write copies these bits, and so may other clients' encodes.
+      c.body = &deltas_.body(*c.way, orders_, orders_key, widths_);
+      c.bits = (c.body->overflow ? layout::delta_bits(c.way->delta, orders_, widths_)
+                                 : layout::kMaskEstimateBits + c.body->bits) +
+               gap_estimate;
+      break;
+    }
+    case Candidate::Kind::Removed:
+      c.bits = 2 * bits_for_count(baseline_size_ + 1) + 1;
+      break;
+    case Candidate::Kind::Added: {
+      // The state's bits, written once per tick for every client the entity is new to.
+      const layout::AbsoluteBody& body =
+          deltas_.absolute(c.world_index, world_[c.world_index], widths_);
+      c.bits = body.head.bits + body.tail.bits + 2 * bits_for_count(world_.size() + 1) + 1;
+      break;
+    }
+  }
+}
 
 /// The acknowledged snapshot an encode deltas against.
 struct SnapshotEncoder::Baseline {

@@ -15,68 +15,8 @@
 
 namespace ricochet::proto {
 
-double EncodePass::change_m(const QuantizedEntity& then, const QuantizedEntity& now) const {
-  double moved_m = 0, velocity_mps = 0;
-  for (int a = 0; a < 3; ++a) {
-    moved_m +=
-        std::fabs(static_cast<double>(now.position[a]) - then.position[a]) * spec_.position_step_m;
-    velocity_mps += std::fabs(static_cast<double>(now.velocity[a]) - then.velocity[a]) *
-                    spec_.velocity_step_mps;
-  }
-  const bool turned =
-      then.orientation_largest != now.orientation_largest || then.orientation != now.orientation;
-  return kMinimumChange_m + moved_m + velocity_mps * kVelocityHorizon_s +
-         (turned ? kOrientationChange_m : 0) + (then.flags != now.flags ? kFlagsChange_m : 0);
-}
-
-DeltaTable::Way& EncodePass::delta_of(std::size_t i, const QuantizedEntity& then) {
-  if (DeltaTable::Way* way = deltas_.find(i, then, prediction_)) return *way;
-  return deltas_.claim(i, then, world_[i], widths_, prediction_, change_m(then, world_[i]));
-}
-
-void EncodePass::add_world_candidate(Candidate::Kind kind, std::size_t j, std::size_t i,
-                                     DeltaTable::Way* way, double change,
-                                     const QuantizedEntity* then) {
-  candidates_.push_back({.kind = kind,
-                         .baseline_index = static_cast<std::uint32_t>(j),
-                         .world_index = static_cast<std::uint32_t>(i),
-                         .priority = carried_priority(world_[i].id),
-                         .change_m = static_cast<float>(change),
-                         .way = way,
-                         .then = then});
-}
-
-float EncodePass::carried_priority(std::uint32_t id) {
-  std::size_t& p = carried_next_;
-  while (p < carried_.size() && carried_[p].first < id) ++p;
-  return p < carried_.size() && carried_[p].first == id ? carried_[p].second : 0;
-}
-
-void EncodePass::look_from(std::span<const std::pair<std::uint32_t, float>> carried,
-                           std::array<float, 3> viewer_m) {
-  carried_ = carried;
-  // A viewer nowhere (NaN or infinite) sees everything as near, so priorities stay ordered.
-  viewer_nowhere_ =
-      !std::isfinite(viewer_m[0]) || !std::isfinite(viewer_m[1]) || !std::isfinite(viewer_m[2]);
-  viewer_m_ = viewer_m;
-  candidates_.reserve(world_.size() + baseline_size_);
-}
-
-void EncodePass::add_removed(std::size_t j) {
-  candidates_.push_back({.kind = Candidate::Kind::Removed,
-                         .baseline_index = static_cast<std::uint32_t>(j),
-                         .priority = kRemovalPriority});
-}
-
-void EncodePass::compare_kept(std::size_t i, std::size_t j, const QuantizedEntity& then) {
-  if (same_state(world_[i], then)) return;
-  DeltaTable::Way& way = delta_of(i, then);
-  way.used_by = pass_;
-  add_world_candidate(Candidate::Kind::Changed, j, i, &way, way.change_m, &then);
-}
-
-void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
-                              std::array<float, 3> viewer_m) {
+inline void EncodePass::find_pending(std::span<const std::pair<std::uint32_t, float>> carried,
+                                     std::array<float, 3> viewer_m) {
   look_from(carried, viewer_m);
   std::size_t i = 0, j = 0;
   while (i < world_.size() || j < baseline_.size()) {
@@ -114,30 +54,7 @@ void EncodePass::estimate_costs() {
   for (Candidate& c : candidates_) cost(c, orders_key, gap_estimate_);
 }
 
-void EncodePass::cost(Candidate& c, std::uint64_t orders_key, int gap_estimate) {
-  switch (c.kind) {
-    case Candidate::Kind::Changed: {
-      // Written once per orders: write copies these bits, and so may other clients' encodes.
-      c.body = &deltas_.body(*c.way, orders_, orders_key, widths_);
-      c.bits = (c.body->overflow ? layout::delta_bits(c.way->delta, orders_, widths_)
-                                 : layout::kMaskEstimateBits + c.body->bits) +
-               gap_estimate;
-      break;
-    }
-    case Candidate::Kind::Removed:
-      c.bits = 2 * bits_for_count(baseline_size_ + 1) + 1;
-      break;
-    case Candidate::Kind::Added: {
-      // The state's bits, written once per tick for every client the entity is new to.
-      const layout::AbsoluteBody& body =
-          deltas_.absolute(c.world_index, world_[c.world_index], widths_);
-      c.bits = body.head.bits + body.tail.bits + 2 * bits_for_count(world_.size() + 1) + 1;
-      break;
-    }
-  }
-}
-
-void EncodePass::select(std::size_t budget_bits) {
+inline void EncodePass::select(std::size_t budget_bits) {
   // Greedy by priority, highest first, stopping at the first that does not fit: the same as
   // taking everything and leaving out the lowest priorities until the rest fits, which needs
   // the order of only the few left out.
@@ -150,7 +67,7 @@ void EncodePass::select(std::size_t budget_bits) {
   while (total_bits > budget_bits) total_bits -= static_cast<std::size_t>(drop_lowest().bits);
 }
 
-void EncodePass::weigh_priorities() {
+inline void EncodePass::weigh_priorities() {
   std::vector<float>& weights = buffers_.weights;
   if (!viewer_nowhere_) deltas_.distance_weights(viewer_m_, options_.distance_scale_m, weights);
   for (Candidate& c : candidates_) {
@@ -160,7 +77,7 @@ void EncodePass::weigh_priorities() {
   }
 }
 
-Candidate& EncodePass::drop_lowest() {
+inline Candidate& EncodePass::drop_lowest() {
   // A heap whose top is the lowest priority, ties broken towards the higher index: priorities
   // are never NaN (distance_weight), so this order is total.
   std::vector<std::pair<float, std::uint32_t>>& heap = buffers_.drop_heap;
@@ -185,7 +102,7 @@ Candidate& EncodePass::drop_lowest() {
   return dropped;
 }
 
-bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
+inline bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
   stream.clear();
   // One walk over the candidates (in id order, so in baseline order too) gathers the selected
   // ones of each kind with their gaps: removals between baseline indices, new entities between
@@ -279,15 +196,15 @@ bool EncodePass::write(BitWriter& stream, std::size_t stream_budget_bytes) {
   return false;
 }
 
-bool EncodePass::removal_deferred() const {
+inline bool EncodePass::removal_deferred() const {
   return std::any_of(candidates_.begin(), candidates_.end(), [](const Candidate& c) {
     return !c.selected && c.kind == Candidate::Kind::Removed;
   });
 }
 
-void EncodePass::list_deferred(std::vector<std::uint32_t>& held,
-                               std::vector<QuantizedEntity>& held_states,
-                               std::vector<std::uint32_t>& absent) const {
+inline void EncodePass::list_deferred(std::vector<std::uint32_t>& held,
+                                      std::vector<QuantizedEntity>& held_states,
+                                      std::vector<std::uint32_t>& absent) const {
   held.clear();
   held_states.clear();
   absent.clear();
@@ -302,7 +219,7 @@ void EncodePass::list_deferred(std::vector<std::uint32_t>& held,
   }
 }
 
-void EncodePass::merge_view(std::vector<QuantizedEntity>& view) const {
+inline void EncodePass::merge_view(std::vector<QuantizedEntity>& view) const {
   assert(baseline_.size() == baseline_size_);
   // Baseline and candidates merged by id: the candidates (in id order) are every difference.
   view.clear();
@@ -333,7 +250,7 @@ void EncodePass::merge_view(std::vector<QuantizedEntity>& view) const {
   }
 }
 
-std::size_t EncodePass::carry_priorities(
+inline std::size_t EncodePass::carry_priorities(
     std::vector<std::pair<std::uint32_t, float>>& carried) const {
   // Something was left out only by drop_lowest, which weighed the priorities first.
   carried.clear();

@@ -67,7 +67,8 @@ struct SnapshotEncodeReport {
 /// holds otherwise compared. A tick's world is copied once and shared by every client left
 /// holding it (not copied per client). Either way the bytes are the ones encode writes without
 /// the cache. Allocates nothing once its buffers have grown to the world's size and its worlds
-/// to the ticks the clients hold.
+/// to the ticks the clients hold. Each sharing layer can be switched off (SnapshotCacheLayers);
+/// src/snapshot_encode_cache.cpp's table says what invalidates each and what it saves.
 /// The sharing layers of a SnapshotEncodeCache, each of which can be switched off (to measure
 /// what it saves, or to test the others alone); the bytes are the same whatever the switches.
 struct SnapshotCacheLayers {
