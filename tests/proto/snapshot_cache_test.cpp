@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ricochet/proto/snapshot_codec.h"
@@ -146,6 +147,46 @@ TEST(SnapshotEncodeCache, BoundClientsHoldingTheWholeWorldWeighTheirOwnCarriedPr
   }
   EXPECT_GT(deferred, 16u * 100u);
   EXPECT_GT(cache.walks_followed(), 16u * 50u);
+}
+
+/// Every layer switched off in turn (and all of them): the layers left on still write the
+/// plain encoder's bytes, on a scene where budgets bind now and then and acknowledgements are
+/// lost, so that every layer has work to do.
+TEST(SnapshotEncodeCache, EachLayerSwitchedOffStillWritesTheUncachedBytes) {
+  const QuantizationSpec spec = test::test_spec();
+  const std::pair<const char*, SnapshotCacheLayers> variants[] = {
+      {"streams off", {.streams = false}},
+      {"deltas off", {.deltas = false}},
+      {"world_baselines off", {.world_baselines = false}},
+      {"walks off", {.walks = false}},
+      {"whole_world_start off", {.whole_world_start = false}},
+      {"all off", {false, false, false, false, false}},
+  };
+  for (const auto& [name, layers] : variants) {
+    SCOPED_TRACE(name);
+    std::mt19937 random(20261205);
+    std::vector<QuantizedEntity> world = test::random_world(110, spec, random);
+    std::vector<Client> clients = make_clients(spec, 12, [](int k, Client& client) {
+      client.ack_delay_ticks = k < 8 ? 2 : 4;
+      client.budget_bytes = k % 3 == 0 ? 1100 : 420 + 30 * static_cast<std::size_t>(k % 4);
+      client.viewer_m = {static_cast<float>(k % 4) * 12 - 20, 1,
+                         static_cast<float>(k % 3) * 16 - 16};
+    });
+    SnapshotEncodeCache cache(layers);
+    std::uint32_t next_id = 1000;
+    for (std::uint32_t tick = 1; tick <= 120; ++tick) {
+      test::perturb(world, spec, random);
+      if (tick % 2 == 0) world.push_back(test::random_entity(next_id++, spec, random, true));
+      if (tick % 5 == 0)
+        world.erase(world.begin() + static_cast<std::ptrdiff_t>(random() % world.size()));
+      for (Client& client : clients) {
+        ASSERT_NO_FATAL_FAILURE(encode_both(client, tick, world, cache, random, 12));
+      }
+    }
+    EXPECT_EQ(cache.hits() > 0, layers.streams) << "streams shared only when on";
+    EXPECT_EQ(cache.walks_followed() > 0, layers.walks && layers.deltas)
+        << "walks followed only when on, with the layers they need";
+  }
 }
 
 /// Clients whose baselines are a shared world but for exceptions, on the rare paths: encodes

@@ -21,11 +21,13 @@
 ///   match-bench [--players 16,32,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
 ///               [--map server/maps/foundry.toml] [--matches 1] [--record FILE] [--out FILE]
 ///               [--clock steady|thread-cpu] [--lag-shots 200000] [--ticks-out FILE] [--ticks-out
-///               FILE]
+///               FILE] [--cache-off LAYER,...] [--ack-spread-ticks 0]
 /// --clock thread-cpu times the ticks by this thread's CPU time instead of the wall: the figure
 /// to quote from a machine shared with other work (JSON "clock" says which).
 /// --matches N ticks N matches in turn, as one server core does, and times every tick: a tick
 /// among 60 matches finds less of its state in the caches than a lone match's does.
+/// --cache-off switches snapshot encode cache layers off (proto::SnapshotCacheLayers; "all" for
+/// the plain per-client encoder): the payload hash stays, the snapshot phase's cost shows each.
 /// --record writes the last player count's recording to FILE (for ricochet-replay).
 /// --ticks-out appends one JSON line per measured tick to FILE: players, tick, ms, the phases,
 /// entities; where a tail comes from (a burst of new projectiles, a phase's spike).
@@ -75,6 +77,9 @@ struct Options {
   double seconds = 10;
   int rate_hz = 60;
   int ack_delay_ms = 100;
+  /// Player i acknowledges i % (spread + 1) ticks later than ack_delay_ms, as clients at
+  /// different distances do.
+  int ack_spread_ticks = 0;
   std::string map = "server/maps/foundry.toml";
   std::string out;
   std::string record;
@@ -84,7 +89,23 @@ struct Options {
   /// Matches ticked in turn, as a server's core does: each evicts the others' state from the
   /// caches, so a tick costs what it does among many matches rather than alone.
   int matches = 1;
+  /// Snapshot encode cache layers switched off (SnapshotCacheLayers), to measure what each saves.
+  std::vector<std::string> cache_off;
 };
+
+/// The cache layers left on when `off` names some (or "all") of them.
+proto::SnapshotCacheLayers cache_layers(const std::vector<std::string>& off) {
+  proto::SnapshotCacheLayers layers;
+  for (const std::string& name : off) {
+    const bool all = name == "all";
+    if (all || name == "streams") layers.streams = false;
+    if (all || name == "deltas") layers.deltas = false;
+    if (all || name == "world_baselines") layers.world_baselines = false;
+    if (all || name == "walks") layers.walks = false;
+    if (all || name == "whole_world_start") layers.whole_world_start = false;
+  }
+  return layers;
+}
 
 /// The scripted fighters: each strafes, aims at the nearest other living player (where the
 /// match last showed it), fires, and changes weapon every few seconds.
@@ -187,6 +208,7 @@ server::Match create_match(const server::Map& map, int players, const Options& o
   config.rules.frag_limit = 0;  // fight for the whole run
   config.rules.time_limit_s = 0;
   config.rules.respawn_delay_s = 1;
+  config.snapshot_cache_layers = cache_layers(options.cache_off);
   auto created = server::Match::create(config, map, 0, steady_ns);
   if (auto* error = std::get_if<std::string>(&created)) {
     std::fprintf(stderr, "match-bench: %s\n", error->c_str());
@@ -233,11 +255,12 @@ std::string run(const server::Map& map, int players, const Options& options) {
     for (BenchMatch& bench : benches) {
       server::Match& each = bench.match;
       const bool first = &each == &match;
-      const std::uint32_t ack =
-          each.tick_number() > ack_delay_ticks ? each.tick_number() - ack_delay_ticks : 0;
-      // An interpolating client shows about two snapshots behind what it received.
-      const std::uint32_t view = ack > 2 ? ack - 2 : 0;
       for (int i = 0; i < players; ++i) {
+        const std::uint32_t delay =
+            ack_delay_ticks + static_cast<std::uint32_t>(i % (options.ack_spread_ticks + 1));
+        const std::uint32_t ack = each.tick_number() > delay ? each.tick_number() - delay : 0;
+        // An interpolating client shows about two snapshots behind what it received.
+        const std::uint32_t view = ack > 2 ? ack - 2 : 0;
         const std::string bytes =
             bench.fighters.payload(each, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
         each.receive(1000 + i,
@@ -411,6 +434,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(10, 128));
   app.add_option("--ack-delay-ms", options.ack_delay_ms, "how late clients acknowledge snapshots")
       ->check(CLI::Range(0, 1000));
+  app.add_option("--ack-spread-ticks", options.ack_spread_ticks,
+                 "player i acknowledges i % (N + 1) ticks later still (clients at different "
+                 "distances; 0: all alike)")
+      ->check(CLI::Range(0, 60));
   app.add_option("--map", options.map, "map file");
   app.add_option("--matches", options.matches,
                  "matches ticked in turn (each tick timed; figures over all of them)")
@@ -425,6 +452,12 @@ int main(int argc, char** argv) {
                  "what times each tick: steady (wall time) or thread-cpu (this thread's CPU time, "
                  "which leaves out other processes on a shared machine)")
       ->check(CLI::IsMember({"steady", "thread-cpu"}));
+  app.add_option("--cache-off", options.cache_off,
+                 "snapshot encode cache layers to switch off (the bytes stay the same): streams, "
+                 "deltas, world_baselines, walks, whole_world_start or all")
+      ->delimiter(',')
+      ->check(CLI::IsMember(
+          {"streams", "deltas", "world_baselines", "walks", "whole_world_start", "all"}));
   CLI11_PARSE(app, argc, argv);
 
   auto loaded = server::load_map_file(options.map);

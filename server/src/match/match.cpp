@@ -71,7 +71,8 @@ Match::Match(const MatchConfig& config, physics::World world, const Map& map, pr
       profile_clock_(std::move(profile_clock)),
       rng_(config.rules.seed),
       lag_(config.lag, config.tick.rate_hz),
-      history_(static_cast<std::size_t>(config.history_ticks)) {
+      history_(static_cast<std::size_t>(config.history_ticks)),
+      snapshot_cache_(config.snapshot_cache_layers) {
   for (const MapPickup& spot : map.pickups) pickups_.push_back(PickupState{spot, true, 0});
   snapshot_interval_ticks_ = std::max(
       1, static_cast<int>(std::lround(double(config.tick.rate_hz) / config.snapshot_rate_hz)));

@@ -24,6 +24,9 @@
 
 namespace ricochet::proto {
 
+class DeltaTable;  // the encoder's private parts (src/)
+class EncodePass;
+
 /// Snapshots remembered per client, on either end, unless the options say otherwise. At 60 Hz
 /// it covers about a second of acknowledgement delay.
 inline constexpr std::size_t kDefaultSnapshotRing = 64;
@@ -64,12 +67,34 @@ struct SnapshotEncodeReport {
 /// holds otherwise compared. A tick's world is copied once and shared by every client left
 /// holding it (not copied per client). Either way the bytes are the ones encode writes without
 /// the cache. Allocates nothing once its buffers have grown to the world's size and its worlds
-/// to the ticks the clients hold.
+/// to the ticks the clients hold. Each sharing layer can be switched off (SnapshotCacheLayers);
+/// src/snapshot_encode_cache.cpp's table says what invalidates each and what it saves.
+/// The sharing layers of a SnapshotEncodeCache, each of which can be switched off (to measure
+/// what it saves, or to test the others alone); the bytes are the same whatever the switches.
+struct SnapshotCacheLayers {
+  /// A client whose baseline and age another client of the tick had, and for whom everything
+  /// fits, is sent a copy of that client's stream.
+  bool streams = true;
+  /// Clients holding the same baseline state of an entity at the same age share its delta, its
+  /// fields' bits per set of orders and the order tallies; a new entity is written once.
+  bool deltas = true;
+  /// A client sent the world but for a few entities holds the tick's one shared copy of it and
+  /// those exceptions, instead of a view of its own. (A client sent all of it always holds the
+  /// shared copy, by which streams and walks know its baseline.)
+  bool world_baselines = true;
+  /// Clients whose baseline is such a world follow one walk of the world against it instead of
+  /// comparing every entity. Needs deltas.
+  bool walks = true;
+  /// Followers of a walk start from what its first follower holding the whole world found and
+  /// estimated, edited at their exceptions. Needs walks.
+  bool whole_world_start = true;
+};
+
 class SnapshotEncodeCache {
  public:
   /// max_streams: distinct (baseline, age) streams remembered per tick, 1..64; past that the
   /// oldest is replaced.
-  explicit SnapshotEncodeCache(std::size_t max_streams = 4);
+  explicit SnapshotEncodeCache(SnapshotCacheLayers layers = {}, std::size_t max_streams = 4);
   SnapshotEncodeCache(SnapshotEncodeCache&&) noexcept;
   SnapshotEncodeCache& operator=(SnapshotEncodeCache&&) noexcept;
   ~SnapshotEncodeCache();
@@ -85,6 +110,7 @@ class SnapshotEncodeCache {
   friend class SnapshotEncoder;
   struct Streams;
   std::unique_ptr<Streams> streams_;
+  SnapshotCacheLayers layers_;
   std::uint64_t hits_ = 0;
   std::uint64_t misses_ = 0;
   std::uint64_t walks_followed_ = 0;
@@ -136,12 +162,35 @@ class SnapshotEncoder {
     std::vector<QuantizedEntity> held_states;
   };
   Sent& slot(std::uint32_t tick) { return ring_[tick % ring_.size()]; }
+
+  // An encode's steps (src/snapshot_encode_pass.h defines their types).
+  struct Baseline;
+  struct Budget;
+  struct Outcome;
+  struct Scratch;
+  friend struct SnapshotEncodeCache::Streams;
   void encode_with(std::uint32_t tick, std::span<const QuantizedEntity> world,
                    std::array<float, 3> viewer_m, std::size_t budget_bytes, wire::Snapshot& out,
                    SnapshotEncodeCache* cache);
-  /// The spec's field widths and encode's working buffers, kept from call to call so that
-  /// encoding allocates nothing once they have grown to the world's size.
-  struct Scratch;
+  Baseline acked_baseline(std::uint32_t tick);
+  static Budget stream_budget(std::uint32_t tick, std::uint32_t baseline_age,
+                              std::size_t budget_bytes);
+  /// The plain encode: every difference from the baseline found, estimated, selected, written.
+  Outcome encode_against(const Baseline& baseline, DeltaTable& deltas,
+                         std::span<const QuantizedEntity> world, std::array<float, 3> viewer_m,
+                         const Budget& budget, wire::Snapshot& out);
+  /// Selects, writes and lists what the client will hold, after the pass found and estimated.
+  Outcome finish(EncodePass& pass, const Baseline& baseline, const Budget& budget,
+                 wire::Snapshot& out);
+  void remember_sent(std::uint32_t tick, std::span<const QuantizedEntity> world, Outcome& outcome);
+  // The cache's paths (src/snapshot_encode_cache.cpp): a copy of another client's stream, a
+  // walk followed, or the plain encode with shared deltas.
+  Outcome encode_cached(const Baseline& baseline, std::uint32_t tick,
+                        std::span<const QuantizedEntity> world, std::array<float, 3> viewer_m,
+                        const Budget& budget, wire::Snapshot& out, SnapshotEncodeCache& cache);
+  Outcome follow_walk(const Baseline& baseline, std::span<const QuantizedEntity> world,
+                      std::array<float, 3> viewer_m, const Budget& budget, wire::Snapshot& out,
+                      SnapshotEncodeCache& cache);
 
   QuantizationSpec spec_;
   SnapshotEncoderOptions options_;

@@ -11,6 +11,7 @@
 
 #include "ricochet/proto/clock.h"
 #include "ricochet/proto/quantize.h"
+#include "ricochet/proto/snapshot_codec.h"
 #include "ricochet/server/input_buffer.h"
 #include "ricochet/server/lag_compensation.h"
 #include "ricochet/server/movement.h"
@@ -41,6 +42,9 @@ struct MatchConfig {
   bool record = true;                           ///< keep a recording (recording.h)
   int hash_interval_ticks = 60;                 ///< the match hash every N steps, 1..3600
   std::size_t max_recording_bytes = 64u << 20;  ///< 4 KiB..1 GiB; beyond it recording stops
+  /// The snapshot encode cache's layers (all on; match-bench switches them off to measure
+  /// them). The bytes sent are the same whatever they are, so recordings leave them out.
+  proto::SnapshotCacheLayers snapshot_cache_layers;
 
   /// Empty when valid; otherwise names the field, the allowed range and what came.
   std::string validate() const;
