@@ -10,6 +10,7 @@
 #include "ricochet/bot/bot_metrics.h"
 #include "ricochet/loadtest/prometheus_text.h"
 #include "ricochet/loadtest/server_figures.h"
+#include "ricochet/stats/percentile.h"
 
 namespace ricochet::loadtest {
 
@@ -274,8 +275,8 @@ void LoadRun::on_scrape(MetricsResponse response) {
   }
   for (const auto& [kind, n] : errors_) sample.errors += n;
   for (const auto& [kind, n] : bot_counters_) sample.errors += n;
-  sample.rtt_ms_p50 = bot::percentile(rtts, 50);
-  sample.rtt_ms_p99 = bot::percentile(rtts, 99);
+  sample.rtt_ms_p50 = stats::percentile(rtts, 50);
+  sample.rtt_ms_p99 = stats::percentile(rtts, 99);
   if (sample.measuring && !steps_.empty()) {
     std::vector<double>& pooled = steps_.back().rtt_ms;
     pooled.insert(pooled.end(), rtts.begin(), rtts.end());
@@ -354,11 +355,11 @@ StepSummary LoadRun::summarise(const Step& step) const {
     const double ms = each->metrics().first_snapshot_ms;
     if (ms >= 0) connect.push_back(ms);
   }
-  out.connect_ms_p50 = bot::percentile(connect, 50);
-  out.connect_ms_p99 = bot::percentile(connect, 99);
-  out.connect_ms_max = bot::percentile(connect, 100);
-  out.rtt_ms_p50 = bot::percentile(step.rtt_ms, 50);
-  out.rtt_ms_p99 = bot::percentile(step.rtt_ms, 99);
+  out.connect_ms_p50 = stats::percentile(connect, 50);
+  out.connect_ms_p99 = stats::percentile(connect, 99);
+  out.connect_ms_max = stats::percentile(connect, 100);
+  out.rtt_ms_p50 = stats::percentile(step.rtt_ms, 50);
+  out.rtt_ms_p99 = stats::percentile(step.rtt_ms, 99);
   const std::size_t first = step.first_window_sample;
   if (first >= samples_.size()) return out;  // stopped before a sample of the window
   const std::size_t last = samples_.size() - 1;
