@@ -25,7 +25,8 @@ namespace ricochet::server {
 
 enum class WeaponKind : std::uint8_t { Rifle = 0, RocketLauncher = 1, GrenadeLauncher = 2 };
 /// Weapon slot (PlayerInput::weapon_slot) = kind + 1; wire::Weapon = kind + 1.
-inline constexpr std::size_t kWeaponCount = 3;
+inline constexpr std::size_t kWeaponCount =
+    static_cast<std::size_t>(WeaponKind::GrenadeLauncher) + 1;
 /// "rifle", "rocket_launcher", "grenade_launcher".
 const char* name(WeaponKind kind);
 /// The weapon a slot selects: 1..kWeaponCount; nothing for 0 (keep the weapon) or another slot.
