@@ -45,6 +45,7 @@ struct DeltaOrders {
   int orientation = 0;            ///< the three components
 };
 inline constexpr int kDeltaOrderCount = 8;
+static_assert(sizeof(DeltaOrders) == kDeltaOrderCount * sizeof(int), "one order per field");
 
 /// Baselines older than this many ticks get no position prediction.
 inline constexpr std::uint32_t kMaxPredictionAge = 255;

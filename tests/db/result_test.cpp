@@ -5,19 +5,13 @@
 
 #include <gtest/gtest.h>
 
-#include <set>
-#include <string>
+#include "enum_count.h"
 
 namespace ricochet::db {
 namespace {
 
 TEST(DbErrorCode, EveryCodeHasItsOwnName) {
-  std::set<std::string> names;
-  for (int i = 0; i < kDbErrorCodeCount; ++i) {
-    const std::string name = to_string(static_cast<DbErrorCode>(i));
-    EXPECT_NE(name, "unknown") << "code " << i << " has no name";
-    EXPECT_TRUE(names.insert(name).second) << "two codes are named " << name;
-  }
+  test::expect_counted<DbErrorCode>(kDbErrorCodeCount, [](DbErrorCode c) { return to_string(c); });
   EXPECT_STREQ(to_string(DbErrorCode::Busy), "busy");
   EXPECT_STREQ(to_string(DbErrorCode::QueueFull), "queue_full");
   EXPECT_STREQ(to_string(DbErrorCode::Storage), "storage");

@@ -22,6 +22,7 @@
 #include "ricochet/bot/fleet.h"
 #include "ricochet/bot/predictor.h"
 #include "ricochet/db/store.h"
+#include "ricochet/stats/percentile.h"
 #include "server_process.h"
 
 namespace ricochet::test {
@@ -498,13 +499,13 @@ TEST(BotMatch, ABotOnABadLinkStillPlaysWithABoundedPredictionError) {
       std::cout << "[ figures  ] " << name << " sent " << inputs_per_s
                 << " inputs/s of 60: its stalls, not only the link, are in its error" << std::endl;
       ASSERT_GT(metrics.prediction_error_m.size(), 50u) << name;
-      EXPECT_LT(bot::percentile(metrics.prediction_error_m, 99), bot::Predictor::kResetDistanceM)
+      EXPECT_LT(stats::percentile(metrics.prediction_error_m, 99), bot::Predictor::kResetDistanceM)
           << name;
       continue;
     }
     ASSERT_GT(metrics.prediction_error_m.size(), 200u) << name;
     const double bound = name == "mobile" ? kBadLinkP99BoundM : kCleanLinkP99BoundM;
-    EXPECT_LT(bot::percentile(metrics.prediction_error_m, 99), bound) << name;
+    EXPECT_LT(stats::percentile(metrics.prediction_error_m, 99), bound) << name;
   }
   const bot::BotMetrics mobile = bots[0]->metrics();
   // The link was as bad as asked: about a fifth of the datagrams each way were lost.

@@ -22,6 +22,7 @@
 #include "ricochet/proto/snapshot_codec.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
+#include "ricochet/stats/percentile.h"
 #include "ricochet/wire/game.pb.h"
 
 namespace ricochet::server {
@@ -108,7 +109,7 @@ class BadNetworkView : public ::testing::Test {
       EXPECT_EQ(player.mismatched, 0u) << "account " << player.account;
     }
     std::sort(lag_ticks.begin(), lag_ticks.end());
-    const std::uint32_t p99_lag = lag_ticks[lag_ticks.size() * 99 / 100];
+    const std::uint32_t p99_lag = lag_ticks[stats::nearest_rank_index(lag_ticks.size(), 99)];
     const double p99_lag_s = p99_lag / 60.0;
     RecordProperty("p99_view_lag_ms", std::to_string(p99_lag_s * 1000));
     RecordProperty("worst_position_error_m", std::to_string(worst_error_m));

@@ -7,17 +7,19 @@
 ///
 /// Prints one JSON line per model and a summary line with the cost ratio and what the profile
 /// gives up: how far the players end from where the full model puts them, and how many bullet
-/// hits on players each model counted.
+/// hits on players each model counted. Of --repeat runs per model the median one is kept
+/// (nearest rank: the lower middle of an even count).
 ///
-///   arena-bench [--steps 600] [--repeat 3]
+///   arena-bench [--steps 600] [--repeat 3] [--out FILE]
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "arena_scene.h"
+#include "harness.h"
 
 namespace rp = ricochet::physics;
 namespace bench = ricochet::bench;
@@ -25,16 +27,23 @@ namespace bench = ricochet::bench;
 int main(int argc, char** argv) {
   CLI::App app("Arena bench: the arena_players profile against the full model, same inputs");
   int steps = 600, repeat = 3;
+  std::string out;
   app.add_option("--steps", steps, "steps per run")->check(CLI::Range(1, 1000000));
   app.add_option("--repeat", repeat, "runs per model; the median ms/step is kept")
       ->check(CLI::Range(1, 100));
+  app.add_option("--out", out, "also append the JSON lines to this file");
   CLI11_PARSE(app, argc, argv);
+  bench::ResultsOut results(out);
+  if (!results.ok()) {
+    std::fprintf(stderr, "arena-bench: cannot write %s\n", out.c_str());
+    return 2;
+  }
 
   bench::ArenaResult result[2];
   const bench::ArenaStep timed_step = [](rp::World& world) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const bench::Stopwatch step;
     (void)world.step(rp::Real(1) / 60);
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return step.elapsed_ms();
   };
   for (const bench::ArenaModel m : {bench::ArenaModel::Full, bench::ArenaModel::ArenaPlayers}) {
     std::vector<bench::ArenaResult> runs;
@@ -43,18 +52,25 @@ int main(int argc, char** argv) {
               [](const bench::ArenaResult& x, const bench::ArenaResult& y) {
                 return x.ms_per_step < y.ms_per_step;
               });
-    result[static_cast<int>(m)] = runs[runs.size() / 2];
+    result[static_cast<int>(m)] = runs[ricochet::stats::nearest_rank_index(runs.size(), 50)];
     const bench::ArenaResult& r = result[static_cast<int>(m)];
-    std::printf(
-        "{\"bench\":\"arena\",\"model\":\"%s\",\"players\":%d,\"projectiles\":%d,\"steps\":%d,"
-        "\"ms_per_step\":%.5f,\"bullets_fired\":%d,\"bullet_hits_on_players\":%d,\"profile\":{"
-        "\"broad_phase_ms\":%.4f,"
-        "\"narrow_phase_ms\":%.4f,\"solve_ms\":%.4f,\"integrate_ms\":%.4f,\"continuous_ms\":%.4f,"
-        "\"projectiles_ms\":%.4f,\"sleep_ms\":%.4f,\"events_ms\":%.4f}}\n",
-        bench::arena_model_name(m), bench::kArenaPlayers, bench::kArenaBullets, steps,
-        r.ms_per_step, r.fired, r.hits, r.phases.broad_phase_ms, r.phases.narrow_phase_ms,
-        r.phases.solve_ms, r.phases.integrate_ms, r.phases.continuous_ms, r.phases.projectiles_ms,
-        r.phases.sleep_ms, r.phases.events_ms);
+    results.write(bench::result_line("arena")
+                      .text("model", bench::arena_model_name(m))
+                      .integer("players", bench::kArenaPlayers)
+                      .integer("projectiles", bench::kArenaBullets)
+                      .integer("steps", steps)
+                      .number("ms_per_step", r.ms_per_step, 5)
+                      .integer("bullets_fired", r.fired)
+                      .integer("bullet_hits_on_players", r.hits)
+                      .object("profile", bench::JsonObject()
+                                             .number("broad_phase_ms", r.phases.broad_phase_ms, 4)
+                                             .number("narrow_phase_ms", r.phases.narrow_phase_ms, 4)
+                                             .number("solve_ms", r.phases.solve_ms, 4)
+                                             .number("integrate_ms", r.phases.integrate_ms, 4)
+                                             .number("continuous_ms", r.phases.continuous_ms, 4)
+                                             .number("projectiles_ms", r.phases.projectiles_ms, 4)
+                                             .number("sleep_ms", r.phases.sleep_ms, 4)
+                                             .number("events_ms", r.phases.events_ms, 4)));
   }
   const bench::ArenaResult& full = result[0];
   const bench::ArenaResult& lean = result[1];
@@ -64,11 +80,12 @@ int main(int argc, char** argv) {
     mean_dev += d / bench::kArenaPlayers;
     max_dev = std::max(max_dev, d);
   }
-  std::printf(
-      "{\"bench\":\"arena\",\"summary\":true,\"full_over_profile_cost\":%.3f,"
-      "\"player_deviation_mean_m\":%.4f,\"player_deviation_max_m\":%.4f,"
-      "\"hit_rate_full\":%.4f,\"hit_rate_profile\":%.4f}\n",
-      full.ms_per_step / lean.ms_per_step, mean_dev, max_dev,
-      static_cast<double>(full.hits) / full.fired, static_cast<double>(lean.hits) / lean.fired);
+  results.write(bench::result_line("arena")
+                    .flag("summary", true)
+                    .number("full_over_profile_cost", full.ms_per_step / lean.ms_per_step, 3)
+                    .number("player_deviation_mean_m", mean_dev, 4)
+                    .number("player_deviation_max_m", max_dev, 4)
+                    .number("hit_rate_full", static_cast<double>(full.hits) / full.fired, 4)
+                    .number("hit_rate_profile", static_cast<double>(lean.hits) / lean.fired, 4));
   return 0;
 }

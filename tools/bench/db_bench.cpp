@@ -7,36 +7,34 @@
 ///   4. checks --token-checks session tokens (token checks/s: one SHA-256 and one indexed read)
 ///   5. leaderboard latency p50/p99: top 10 and top 100 per board, and a random account's rank
 ///
-/// Prints one JSON line per measurement and a summary line.
+/// Prints one JSON line per measurement and a summary line. Percentiles are nearest rank
+/// (ricochet/stats/percentile.h).
 ///
 ///   db-bench [--accounts 100000] [--matches 20000] [--players 10] [--logins 20]
-///            [--token-checks 20000] [--queries 2000] [--dir DIR]
+///            [--token-checks 20000] [--queries 2000] [--dir DIR] [--out FILE]
 
 #include <stdlib.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "harness.h"
 #include "ricochet/db/accounts.h"
 #include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
 
 namespace db = ricochet::db;
+namespace bench = ricochet::bench;
+namespace stats = ricochet::stats;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr db::UnixMillis kT0 = 1'700'000'000'000;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 template <class T>
 T must(db::DbResult<T> r, const char* what) {
@@ -46,14 +44,6 @@ T must(db::DbResult<T> r, const char* what) {
     std::exit(1);
   }
   return std::move(r).value();
-}
-
-/// p-th percentile (0..100) of the samples, in microseconds.
-double percentile_us(std::vector<double> seconds, double p) {
-  if (seconds.empty()) return 0;
-  std::sort(seconds.begin(), seconds.end());
-  const auto k = static_cast<std::size_t>(p / 100 * static_cast<double>(seconds.size() - 1) + 0.5);
-  return seconds[std::min(k, seconds.size() - 1)] * 1e6;
 }
 
 const char* board_name(db::LeaderboardKind k) {
@@ -74,7 +64,7 @@ int main(int argc, char** argv) {
   CLI::App app("db-bench: logins, token checks, match writes and leaderboard latency on SQLite");
   int accounts = 100'000, matches = 20'000, players = 10, logins = 20, token_checks = 20'000,
       queries = 2'000;
-  std::string dir;
+  std::string dir, out;
   app.add_option("--accounts", accounts, "accounts to seed")->check(CLI::Range(10, 10'000'000));
   app.add_option("--matches", matches, "matches to record")->check(CLI::Range(1, 10'000'000));
   app.add_option("--players", players, "players per match")->check(CLI::Range(2, 64));
@@ -84,7 +74,13 @@ int main(int argc, char** argv) {
   app.add_option("--queries", queries, "leaderboard queries per kind")
       ->check(CLI::Range(1, 1'000'000));
   app.add_option("--dir", dir, "directory for the database file (default: a new temp dir)");
+  app.add_option("--out", out, "also append the JSON lines to this file");
   CLI11_PARSE(app, argc, argv);
+  bench::ResultsOut results(out);
+  if (!results.ok()) {
+    std::fprintf(stderr, "db-bench: cannot write %s\n", out.c_str());
+    return 2;
+  }
   if (players > accounts) {
     std::fprintf(stderr, "db-bench: --players must be at most --accounts\n");
     return 2;
@@ -113,23 +109,25 @@ int main(int argc, char** argv) {
   // 1. Accounts.
   std::vector<db::AccountId> ids;
   ids.reserve(static_cast<std::size_t>(accounts));
-  auto start = Clock::now();
+  bench::Stopwatch seeding_time;
   for (int i = 0; i < accounts; ++i)
     ids.push_back(must(seeding.register_account("player" + std::to_string(i), "correct horse", kT0),
                        "register"));
-  const double seed_s = seconds_since(start);
-  std::printf(
-      "{\"bench\":\"db\",\"measure\":\"seed_accounts\",\"accounts\":%d,\"seconds\":%.3f,"
-      "\"per_second\":%.1f,\"note\":\"Minimum-cost hashes\"}\n",
-      accounts, seed_s, accounts / seed_s);
+  const double seed_s = seeding_time.elapsed_s();
+  results.write(bench::result_line("db")
+                    .text("measure", "seed_accounts")
+                    .integer("accounts", accounts)
+                    .number("seconds", seed_s, 3)
+                    .number("per_second", accounts / seed_s, 1)
+                    .text("note", "Minimum-cost hashes"));
 
   // 2. Matches.
   std::mt19937_64 rng(42);
   std::uniform_int_distribution<std::size_t> pick(0, ids.size() - 1);
   std::uniform_int_distribution<int> stat(0, 30);
-  std::vector<double> write_s;
-  write_s.reserve(static_cast<std::size_t>(matches));
-  start = Clock::now();
+  std::vector<double> write_us;
+  write_us.reserve(static_cast<std::size_t>(matches));
+  const bench::Stopwatch writing;
   for (int m = 0; m < matches; ++m) {
     db::MatchRecord match;
     match.map = "arena";
@@ -154,89 +152,109 @@ int main(int argc, char** argv) {
       p.seconds_played = 600;
       match.players.push_back(p);
     }
-    const auto t = Clock::now();
+    const bench::Stopwatch write;
     must(matches_rules.record_match(match), "record_match");
-    write_s.push_back(seconds_since(t));
+    write_us.push_back(write.elapsed_us());
   }
-  const double match_s = seconds_since(start);
-  std::printf(
-      "{\"bench\":\"db\",\"measure\":\"match_writes\",\"matches\":%d,\"players\":%d,"
-      "\"per_second\":%.1f,\"p50_us\":%.1f,\"p99_us\":%.1f}\n",
-      matches, players, matches / match_s, percentile_us(write_s, 50), percentile_us(write_s, 99));
+  const double match_s = writing.elapsed_s();
+  const stats::Summary writes = stats::summarize(write_us);
+  results.write(bench::result_line("db")
+                    .text("measure", "match_writes")
+                    .integer("matches", matches)
+                    .integer("players", players)
+                    .number("per_second", matches / match_s, 1)
+                    .number("p50_us", writes.p50, 1)
+                    .number("p99_us", writes.p99, 1));
 
   // 3. Logins at the production cost.
   db::Accounts live(*store, db::AccountsOptions{});
   must(live.register_account("bench_user", "correct horse battery", kT0), "register");
   std::vector<std::string> tokens;
-  std::vector<double> login_s;
-  start = Clock::now();
+  std::vector<double> login_ms;
+  const bench::Stopwatch logging_in;
   for (int i = 0; i < logins; ++i) {
-    const auto t = Clock::now();
+    const bench::Stopwatch login;
     tokens.push_back(
         must(live.login("bench_user", "correct horse battery", "", kT0 + i), "login").token);
-    login_s.push_back(seconds_since(t));
+    login_ms.push_back(login.elapsed_ms());
   }
-  const double logins_per_s = logins / seconds_since(start);
-  std::printf(
-      "{\"bench\":\"db\",\"measure\":\"logins\",\"cost\":\"argon2id_interactive\","
-      "\"logins\":%d,\"per_second\":%.2f,\"p50_ms\":%.2f,\"p99_ms\":%.2f}\n",
-      logins, logins_per_s, percentile_us(login_s, 50) / 1000, percentile_us(login_s, 99) / 1000);
+  const double logins_per_s = logins / logging_in.elapsed_s();
+  const stats::Summary login_times = stats::summarize(login_ms);
+  results.write(bench::result_line("db")
+                    .text("measure", "logins")
+                    .text("cost", "argon2id_interactive")
+                    .integer("logins", logins)
+                    .number("per_second", logins_per_s, 2)
+                    .number("p50_ms", login_times.p50, 2)
+                    .number("p99_ms", login_times.p99, 2));
 
   // 4. Token checks.
-  std::vector<double> check_s;
-  check_s.reserve(static_cast<std::size_t>(token_checks));
-  start = Clock::now();
+  std::vector<double> check_us;
+  check_us.reserve(static_cast<std::size_t>(token_checks));
+  const bench::Stopwatch checking;
   for (int i = 0; i < token_checks; ++i) {
-    const auto t = Clock::now();
+    const bench::Stopwatch check;
     must(live.check_session(tokens[static_cast<std::size_t>(i) % tokens.size()], kT0 + 1000),
          "check_session");
-    check_s.push_back(seconds_since(t));
+    check_us.push_back(check.elapsed_us());
   }
-  const double checks_per_s = token_checks / seconds_since(start);
-  std::printf(
-      "{\"bench\":\"db\",\"measure\":\"token_checks\",\"checks\":%d,\"per_second\":%.1f,"
-      "\"p50_us\":%.1f,\"p99_us\":%.1f}\n",
-      token_checks, checks_per_s, percentile_us(check_s, 50), percentile_us(check_s, 99));
+  const double checks_per_s = token_checks / checking.elapsed_s();
+  const stats::Summary checks = stats::summarize(check_us);
+  results.write(bench::result_line("db")
+                    .text("measure", "token_checks")
+                    .integer("checks", token_checks)
+                    .number("per_second", checks_per_s, 1)
+                    .number("p50_us", checks.p50, 1)
+                    .number("p99_us", checks.p99, 1));
 
   // 5. Leaderboards.
   double worst_p99_us = 0;
   for (const db::LeaderboardKind kind :
        {db::LeaderboardKind::Rating, db::LeaderboardKind::Kills, db::LeaderboardKind::WinRate}) {
     for (const int limit : {10, 100}) {
-      std::vector<double> s;
+      std::vector<double> query_us;
       for (int q = 0; q < queries; ++q) {
-        const auto t = Clock::now();
+        const bench::Stopwatch query;
         const auto board = must(matches_rules.leaderboard(kind, limit), "leaderboard");
-        s.push_back(seconds_since(t));
+        query_us.push_back(query.elapsed_us());
         if (board.empty()) {
           std::fprintf(stderr, "db-bench: empty %s board\n", board_name(kind));
           return 1;
         }
       }
-      worst_p99_us = std::max(worst_p99_us, percentile_us(s, 99));
-      std::printf(
-          "{\"bench\":\"db\",\"measure\":\"leaderboard_top\",\"board\":\"%s\","
-          "\"limit\":%d,\"accounts\":%d,\"p50_us\":%.1f,\"p99_us\":%.1f}\n",
-          board_name(kind), limit, accounts, percentile_us(s, 50), percentile_us(s, 99));
+      const stats::Summary top = stats::summarize(query_us);
+      worst_p99_us = std::max(worst_p99_us, top.p99);
+      results.write(bench::result_line("db")
+                        .text("measure", "leaderboard_top")
+                        .text("board", board_name(kind))
+                        .integer("limit", limit)
+                        .integer("accounts", accounts)
+                        .number("p50_us", top.p50, 1)
+                        .number("p99_us", top.p99, 1));
     }
-    std::vector<double> s;
+    std::vector<double> rank_us;
     for (int q = 0; q < queries; ++q) {
       const db::AccountId id = ids[pick(rng)];
-      const auto t = Clock::now();
+      const bench::Stopwatch query;
       (void)must(matches_rules.rank_of(id, kind), "rank_of");
-      s.push_back(seconds_since(t));
+      rank_us.push_back(query.elapsed_us());
     }
-    worst_p99_us = std::max(worst_p99_us, percentile_us(s, 99));
-    std::printf(
-        "{\"bench\":\"db\",\"measure\":\"rank_of\",\"board\":\"%s\",\"accounts\":%d,"
-        "\"p50_us\":%.1f,\"p99_us\":%.1f}\n",
-        board_name(kind), accounts, percentile_us(s, 50), percentile_us(s, 99));
+    const stats::Summary rank = stats::summarize(rank_us);
+    worst_p99_us = std::max(worst_p99_us, rank.p99);
+    results.write(bench::result_line("db")
+                      .text("measure", "rank_of")
+                      .text("board", board_name(kind))
+                      .integer("accounts", accounts)
+                      .number("p50_us", rank.p50, 1)
+                      .number("p99_us", rank.p99, 1));
   }
-  std::printf(
-      "{\"bench\":\"db\",\"summary\":true,\"accounts\":%d,\"logins_per_s\":%.2f,"
-      "\"token_checks_per_s\":%.1f,\"match_writes_per_s\":%.1f,"
-      "\"leaderboard_worst_p99_us\":%.1f}\n",
-      accounts, logins_per_s, checks_per_s, matches / match_s, worst_p99_us);
+  results.write(bench::result_line("db")
+                    .flag("summary", true)
+                    .integer("accounts", accounts)
+                    .number("logins_per_s", logins_per_s, 2)
+                    .number("token_checks_per_s", checks_per_s, 1)
+                    .number("match_writes_per_s", matches / match_s, 1)
+                    .number("leaderboard_worst_p99_us", worst_p99_us, 1));
   store.reset();
   if (remove_dir) std::filesystem::remove_all(dir);
   return 0;

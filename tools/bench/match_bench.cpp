@@ -5,7 +5,9 @@
 /// behind a link would. It runs the real Match (server/include/ricochet/server/match.h) with fake
 /// time and times each tick with the steady clock. One JSON line per player count:
 ///   tick_ms_p50, tick_ms_p99, tick_ms_max, tick_ms_avg   Match::tick for one step, snapshots
-///                                                        built and encoded for every client
+///                                                        built and encoded for every client;
+///                                                        percentiles by nearest rank
+///                                                        (ricochet/stats/percentile.h)
 ///   phase_ms                     the TickProfile phases, averaged
 ///   kbps_per_client              ServerPayload bytes per client
 ///   projectiles_avg              rockets and grenades in flight, averaged over the ticks
@@ -34,14 +36,13 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "harness.h"
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/proto/entity_flags.h"
 #include "ricochet/server/lag_compensation.h"
@@ -55,22 +56,13 @@
 namespace server = ricochet::server;
 namespace proto = ricochet::proto;
 namespace wire = ricochet::wire;
+namespace bench = ricochet::bench;
+namespace stats = ricochet::stats;
 
 namespace {
 
-std::int64_t steady_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-/// CPU time this thread has run, ns: unlike the steady clock it leaves out the time the OS gave
-/// to other processes, so a tick's figure holds on a shared machine.
-std::int64_t thread_cpu_ns() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<std::int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
-}
+using bench::steady_ns;
+using bench::thread_cpu_ns;
 
 struct Options {
   std::vector<int> players{16, 32, 64};
@@ -187,11 +179,6 @@ class Fnv1a {
   std::uint64_t hash_ = 14695981039346656037ull;
 };
 
-double percentile(std::vector<double> sorted, double q) {
-  std::sort(sorted.begin(), sorted.end());
-  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(sorted.size() * q))];
-}
-
 /// A match of the bench and what its owner keeps of it.
 struct BenchMatch {
   server::Match match;
@@ -227,7 +214,7 @@ server::Match create_match(const server::Map& map, int players, const Options& o
   return match;
 }
 
-std::string run(const server::Map& map, int players, const Options& options) {
+bench::JsonObject run(const server::Map& map, int players, const Options& options) {
   // Every match plays the same script, so each sends what the first does; the figures are over
   // every match's ticks, the payload hash, kilobits, shots and the recording the first's.
   std::vector<BenchMatch> benches;
@@ -291,10 +278,8 @@ std::string run(const server::Map& map, int players, const Options& options) {
       kills_before = match.counters().kills;
     }
   }
-  double total = 0;
-  for (double ms : tick_ms) total += ms;
-  const double n = static_cast<double>(tick_ms.size());
-  const double avg = total / n;
+  const stats::Summary tick = stats::summarize(tick_ms);
+  const double n = static_cast<double>(tick.count);
   const double kbps = static_cast<double>(payload_bytes) * 8 / 1000 / options.seconds / players;
   const double period_ms = 1000.0 / options.rate_hz;
   const server::MatchCounters& counters = match.counters();
@@ -325,40 +310,49 @@ std::string run(const server::Map& map, int players, const Options& options) {
                  std::get<server::RecordingError>(read).message.c_str());
   }
   const double player_minutes = players * (options.seconds + 1) / 60.0;
-  char line[2048];
-  std::snprintf(
-      line, sizeof line,
-      "{\"bench\":\"match\",\"map\":\"%s\",\"players\":%d,\"matches\":%d,\"rate_hz\":%d,"
-      "\"seconds\":%g,"
-      "\"ack_delay_ms\":%d,\"clock\":\"%s\",\"tick_ms_p50\":%.4f,\"tick_ms_p99\":%.4f,\"tick_ms_"
-      "max\":%.4f,"
-      "\"tick_ms_avg\":%.4f,\"phase_ms\":{\"apply_inputs\":%.4f,\"rules\":%.4f,"
-      "\"movement\":%.4f,\"combat\":%.4f,\"physics\":%.4f,\"history\":%.4f,"
-      "\"snapshots\":%.4f,\"send\":%.4f},\"kbps_per_client\":%.1f,\"projectiles_avg\":%.1f,"
-      "\"shots_per_s\":%.1f,\"kills\":%llu,\"explosions\":%llu,\"recording_bytes\":%llu,"
-      "\"recording_bytes_per_player_minute\":%.0f,\"replay_speed_x\":%.1f,"
-      "\"replay_hashes_match\":%s,\"matches_per_core\":%.1f,\"overruns\":%llu,"
-      "\"payload_fnv1a\":\"%016llx\"}",
-      map.name.c_str(), players, options.matches, options.rate_hz, options.seconds,
-      options.ack_delay_ms, options.clock.c_str(), percentile(tick_ms, 0.5),
-      percentile(tick_ms, 0.99), percentile(tick_ms, 1.0), avg, sum.apply_inputs_ms / n,
-      sum.rules_ms / n, sum.movement_ms / n, sum.combat_ms / n, sum.physics_ms / n,
-      sum.history_ms / n, sum.snapshots_ms / n, sum.send_ms / n, kbps,
-      static_cast<double>(projectiles) * options.matches / n,
-      static_cast<double>(counters.shots_fired - shots_before) / options.seconds,
-      static_cast<unsigned long long>(counters.kills - kills_before),
-      static_cast<unsigned long long>(counters.explosions),
-      static_cast<unsigned long long>(recording_bytes.size()),
-      static_cast<double>(recording_bytes.size()) / player_minutes, replay_speed,
-      replay_matches ? "true" : "false", period_ms / avg,
-      static_cast<unsigned long long>(counters.overruns),
-      static_cast<unsigned long long>(payload_hash.value()));
-  return line;
+  char payload_fnv1a[17];
+  std::snprintf(payload_fnv1a, sizeof payload_fnv1a, "%016llx",
+                static_cast<unsigned long long>(payload_hash.value()));
+  return bench::result_line("match")
+      .text("map", map.name)
+      .integer("players", players)
+      .integer("matches", options.matches)
+      .integer("rate_hz", options.rate_hz)
+      .general("seconds", options.seconds)
+      .integer("ack_delay_ms", options.ack_delay_ms)
+      .text("clock", options.clock)
+      .number("tick_ms_p50", tick.p50, 4)
+      .number("tick_ms_p99", tick.p99, 4)
+      .number("tick_ms_max", tick.max, 4)
+      .number("tick_ms_avg", tick.mean, 4)
+      .object("phase_ms", bench::JsonObject()
+                              .number("apply_inputs", sum.apply_inputs_ms / n, 4)
+                              .number("rules", sum.rules_ms / n, 4)
+                              .number("movement", sum.movement_ms / n, 4)
+                              .number("combat", sum.combat_ms / n, 4)
+                              .number("physics", sum.physics_ms / n, 4)
+                              .number("history", sum.history_ms / n, 4)
+                              .number("snapshots", sum.snapshots_ms / n, 4)
+                              .number("send", sum.send_ms / n, 4))
+      .number("kbps_per_client", kbps, 1)
+      .number("projectiles_avg", static_cast<double>(projectiles) * options.matches / n, 1)
+      .number("shots_per_s",
+              static_cast<double>(counters.shots_fired - shots_before) / options.seconds, 1)
+      .integer("kills", counters.kills - kills_before)
+      .integer("explosions", counters.explosions)
+      .integer("recording_bytes", recording_bytes.size())
+      .number("recording_bytes_per_player_minute",
+              static_cast<double>(recording_bytes.size()) / player_minutes, 0)
+      .number("replay_speed_x", replay_speed, 1)
+      .flag("replay_hashes_match", replay_matches)
+      .number("matches_per_core", period_ms / tick.mean, 1)
+      .integer("overruns", counters.overruns)
+      .text("payload_fnv1a", payload_fnv1a);
 }
 
 /// Lag-compensated rays per second on one core: 64 players moving on the map, one second of
 /// history, casts at random view times within the last 250 ms towards random players.
-std::string lag_shots(const server::Map& map, const Options& options) {
+bench::JsonObject lag_shots(const server::Map& map, const Options& options) {
   auto world = ricochet::physics::World::create(ricochet::physics::profiles::arena_players());
   if (!world.ok() || !server::add_map_to_world(map, world.value()).ok()) {
     std::fprintf(stderr, "match-bench: cannot build the map's world\n");
@@ -412,12 +406,13 @@ std::string lag_shots(const server::Map& map, const Options& options) {
     }
   }
   const double seconds = static_cast<double>(steady_ns() - started) / 1e9;
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "{\"bench\":\"lag_compensated_shots\",\"map\":\"%s\",\"players\":%d,\"shots\":%d,"
-                "\"player_hits\":%d,\"us_per_shot\":%.3f,\"lag_shots_per_s_per_core\":%.0f}",
-                map.name.c_str(), kPlayers, shots, hits, seconds * 1e6 / shots, shots / seconds);
-  return line;
+  return bench::result_line("lag_compensated_shots")
+      .text("map", map.name)
+      .integer("players", kPlayers)
+      .integer("shots", shots)
+      .integer("player_hits", hits)
+      .number("us_per_shot", seconds * 1e6 / shots, 3)
+      .number("lag_shots_per_s_per_core", shots / seconds, 0);
 }
 
 }  // namespace
@@ -466,15 +461,12 @@ int main(int argc, char** argv) {
     return 1;
   }
   const server::Map& map = std::get<server::Map>(loaded);
-  std::ofstream out;
-  if (!options.out.empty()) out.open(options.out, std::ios::app);
-  for (int players : options.players) {
-    const std::string line = run(map, players, options);
-    std::printf("%s\n", line.c_str());
-    if (out) out << line << '\n';
+  bench::ResultsOut results(options.out);
+  if (!results.ok()) {
+    std::fprintf(stderr, "match-bench: cannot write %s\n", options.out.c_str());
+    return 1;
   }
-  const std::string line = lag_shots(map, options);
-  std::printf("%s\n", line.c_str());
-  if (out) out << line << '\n';
+  for (int players : options.players) results.write(run(map, players, options));
+  results.write(lag_shots(map, options));
   return 0;
 }

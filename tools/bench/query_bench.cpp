@@ -13,14 +13,14 @@
 ///   query_grid_rebuild  what the first query after a step pays for rebuilding the query grid
 ///                       (the first of two identical overlaps minus the second, over 60 steps)
 ///
-/// Prints one JSON line per query kind; the median and the fastest pass are both given, as the
-/// fastest is the steadier figure on a shared machine.
+/// Prints one JSON line per query kind; the median (nearest rank: the lower middle of an even
+/// count) and the fastest pass are both given, as the fastest is the steadier figure on a shared
+/// machine.
 ///
-///   query-bench [--steps 120] [--rays 20000] [--repeat 5] [--label NAME]
+///   query-bench [--steps 120] [--rays 20000] [--repeat 5] [--label NAME] [--out FILE]
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "arena_scene.h"
+#include "harness.h"
 
 namespace rp = ricochet::physics;
 namespace bench = ricochet::bench;
@@ -85,26 +86,30 @@ Timing time_queries(const std::vector<Shot>& shots, int repeat, Query&& query) {
   std::vector<double> per_query;
   for (int r = 0; r < repeat; ++r) {
     int found = 0;
-    const auto t0 = std::chrono::steady_clock::now();
+    const bench::Stopwatch pass;
     for (const Shot& s : shots) found += query(s) ? 1 : 0;
-    const double us =
-        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-    per_query.push_back(us / static_cast<double>(shots.size()));
+    per_query.push_back(pass.elapsed_us() / static_cast<double>(shots.size()));
     timing.hits = found;
   }
-  std::sort(per_query.begin(), per_query.end());
-  timing.median_us = per_query[per_query.size() / 2];
-  timing.fastest_us = per_query.front();
+  const ricochet::stats::Summary summary = ricochet::stats::summarize(per_query);
+  timing.median_us = summary.p50;
+  timing.fastest_us = summary.min;
   return timing;
 }
 
-void print(const std::string& label, const char* query, int steps, int queries, const Timing& t) {
-  std::printf(
-      "{\"bench\":\"query\",\"label\":\"%s\",\"query\":\"%s\",\"players\":%d,\"bullets\":%d,"
-      "\"mesh_triangles\":%d,\"warmup_steps\":%d,\"queries\":%d,\"us_per_query\":%.4f,"
-      "\"fastest_us_per_query\":%.4f,\"hits\":%d}\n",
-      label.c_str(), query, bench::kArenaPlayers, bench::kArenaBullets, bench::kArenaMeshTriangles,
-      steps, queries, t.median_us, t.fastest_us, t.hits);
+bench::JsonObject result(const std::string& label, const char* query, int steps, int queries,
+                         const Timing& t) {
+  return bench::result_line("query")
+      .text("label", label)
+      .text("query", query)
+      .integer("players", bench::kArenaPlayers)
+      .integer("bullets", bench::kArenaBullets)
+      .integer("mesh_triangles", bench::kArenaMeshTriangles)
+      .integer("warmup_steps", steps)
+      .integer("queries", queries)
+      .number("us_per_query", t.median_us, 4)
+      .number("fastest_us_per_query", t.fastest_us, 4)
+      .integer("hits", t.hits);
 }
 
 }  // namespace
@@ -112,13 +117,19 @@ void print(const std::string& label, const char* query, int steps, int queries, 
 int main(int argc, char** argv) {
   CLI::App app("Query bench: ray casts, sphere casts and overlaps in the arena scene");
   int steps = 120, rays = 20000, repeat = 5;
-  std::string label = "current";
+  std::string label = "current", out;
   app.add_option("--steps", steps, "warm-up steps before querying")
       ->check(CLI::Range(kRewindSteps + 1, 100000));
   app.add_option("--rays", rays, "queries per pass")->check(CLI::Range(1, 10000000));
   app.add_option("--repeat", repeat, "passes; the median is kept")->check(CLI::Range(1, 100));
   app.add_option("--label", label, "written into every JSON line");
+  app.add_option("--out", out, "also append the JSON lines to this file");
   CLI11_PARSE(app, argc, argv);
+  bench::ResultsOut results(out);
+  if (!results.ok()) {
+    std::fprintf(stderr, "query-bench: cannot write %s\n", out.c_str());
+    return 2;
+  }
 
   int step = 0;
   std::vector<std::vector<rp::Vec3>> history;  ///< player positions after each step
@@ -134,54 +145,58 @@ int main(int argc, char** argv) {
         steps) {  // after the timed queries: the grid rebuild a step leaves to the next query
       rp::QueryFilter filter;
       filter.statics = false;
-      const auto t0 = std::chrono::steady_clock::now();
+      const bench::Stopwatch first;
       (void)world.overlap_sphere(rp::Vec3(0, 1, 0), rp::Real(0.01), filter);
-      const auto t1 = std::chrono::steady_clock::now();
+      const double first_us = first.elapsed_us();
+      const bench::Stopwatch second;
       (void)world.overlap_sphere(rp::Vec3(0, 1, 0), rp::Real(0.01), filter);
-      const auto t2 = std::chrono::steady_clock::now();
-      rebuild_us.push_back(
-          std::chrono::duration<double, std::micro>((t1 - t0) - (t2 - t1)).count());
+      rebuild_us.push_back(first_us - second.elapsed_us());
     }
     if (step != steps) return 0.0;
     const std::vector<Shot> shots = make_shots(world, players, rays);
-    print(label, "ray_cast_closest", steps, rays, time_queries(shots, repeat, [&](const Shot& s) {
-            rp::QueryFilter filter;
-            filter.ignore = s.shooter;
-            rp::RayHit hit;
-            return world.ray_cast_closest(s.origin, s.direction, kMaxDistance, filter, hit);
-          }));
+    results.write(result(
+        label, "ray_cast_closest", steps, rays, time_queries(shots, repeat, [&](const Shot& s) {
+          rp::QueryFilter filter;
+          filter.ignore = s.shooter;
+          rp::RayHit hit;
+          return world.ray_cast_closest(s.origin, s.direction, kMaxDistance, filter, hit);
+        })));
     const std::vector<rp::Vec3>& past = history[history.size() - 1 - kRewindSteps];
     std::vector<rp::SphereProxy> proxies;
     for (std::size_t i = 0; i < players.size(); ++i)
       proxies.push_back({past[i], world.body_state(players[i]).value().radius, players[i], i});
-    print(label, "ray_cast_spheres", steps, rays, time_queries(shots, repeat, [&](const Shot& s) {
-            rp::QueryFilter filter;
-            filter.ignore = s.shooter;
-            filter.bodies = false;
-            rp::RayHit hit;
-            return world.ray_cast_spheres(s.origin, s.direction, kMaxDistance, filter, proxies,
-                                          hit);
-          }));
-    print(label, "sphere_cast", steps, rays, time_queries(shots, repeat, [&](const Shot& s) {
-            rp::QueryFilter filter;
-            filter.ignore = s.shooter;
-            rp::RayHit hit;
-            return world.sphere_cast(s.origin, kCastRadius, s.direction, kMaxDistance, filter, hit);
-          }));
-    print(label, "overlap_sphere", steps, rays, time_queries(shots, repeat, [&](const Shot& s) {
-            rp::QueryFilter filter;
-            filter.statics = false;
-            return world.overlap_sphere(s.origin, kBlastRadius, filter).size() > 1;
-          }));
+    results.write(result(
+        label, "ray_cast_spheres", steps, rays, time_queries(shots, repeat, [&](const Shot& s) {
+          rp::QueryFilter filter;
+          filter.ignore = s.shooter;
+          filter.bodies = false;
+          rp::RayHit hit;
+          return world.ray_cast_spheres(s.origin, s.direction, kMaxDistance, filter, proxies, hit);
+        })));
+    results.write(result(
+        label, "sphere_cast", steps, rays, time_queries(shots, repeat, [&](const Shot& s) {
+          rp::QueryFilter filter;
+          filter.ignore = s.shooter;
+          rp::RayHit hit;
+          return world.sphere_cast(s.origin, kCastRadius, s.direction, kMaxDistance, filter, hit);
+        })));
+    results.write(result(label, "overlap_sphere", steps, rays,
+                         time_queries(shots, repeat, [&](const Shot& s) {
+                           rp::QueryFilter filter;
+                           filter.statics = false;
+                           return world.overlap_sphere(s.origin, kBlastRadius, filter).size() > 1;
+                         })));
     return 0.0;
   };
   (void)bench::run_arena(bench::ArenaModel::ArenaPlayers, steps + kRebuildSamples,
                          query_after_warmup, bench::ArenaFloor::Mesh);
-  std::sort(rebuild_us.begin(), rebuild_us.end());
-  std::printf(
-      "{\"bench\":\"query\",\"label\":\"%s\",\"query\":\"query_grid_rebuild\",\"players\":%d,"
-      "\"samples\":%d,\"median_us\":%.4f,\"fastest_us\":%.4f}\n",
-      label.c_str(), bench::kArenaPlayers, kRebuildSamples, rebuild_us[rebuild_us.size() / 2],
-      rebuild_us.front());
+  const ricochet::stats::Summary rebuild = ricochet::stats::summarize(rebuild_us);
+  results.write(bench::result_line("query")
+                    .text("label", label)
+                    .text("query", "query_grid_rebuild")
+                    .integer("players", bench::kArenaPlayers)
+                    .integer("samples", kRebuildSamples)
+                    .number("median_us", rebuild.p50, 4)
+                    .number("fastest_us", rebuild.min, 4));
   return 0;
 }

@@ -7,34 +7,24 @@
 ///            configuration is read and the shapes' hierarchy rebuilt)
 ///
 /// Prints one JSON line per mode: image bytes, bytes per moving body (players and live
-/// projectiles), median µs per save and per restore over --repeat rounds, and whether the state
-/// hash survives the round trip.
+/// projectiles), median µs per save and per restore over --repeat rounds (nearest rank: the
+/// lower middle of an even count), and whether the state hash survives the round trip.
 ///
-///   rewind-bench [--steps 120] [--repeat 200]
+///   rewind-bench [--steps 120] [--repeat 200] [--out FILE]
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "arena_scene.h"
+#include "harness.h"
 
 namespace rp = ricochet::physics;
 namespace bench = ricochet::bench;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double us_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 struct Timing {
   std::size_t bytes = 0;
@@ -49,17 +39,17 @@ Timing measure_rewind(rp::World& world, int repeat) {
   const std::uint64_t hash = world.state_hash();
   std::vector<double> saves, restores;
   for (int k = 0; k < repeat; ++k) {
-    const auto t0 = Clock::now();
+    bench::Stopwatch save;
     world.save_state(image, rp::StateParts::Dynamic);
-    saves.push_back(us_since(t0));
-    const auto t1 = Clock::now();
+    saves.push_back(save.elapsed_us());
+    bench::Stopwatch restore;
     const rp::Status s = world.restore_state(image);
-    restores.push_back(us_since(t1));
+    restores.push_back(restore.elapsed_us());
     t.same_hash = t.same_hash && s.ok() && world.state_hash() == hash;
   }
   t.bytes = image.size();
-  t.save_us = median(saves);
-  t.restore_us = median(restores);
+  t.save_us = ricochet::stats::median(saves);
+  t.restore_us = ricochet::stats::median(restores);
   return t;
 }
 
@@ -71,29 +61,32 @@ Timing measure_full(rp::World& world, int repeat) {
   std::vector<double> saves, restores;
   const int rounds = std::max(1, repeat / 20);  // each restore rebuilds the hierarchy
   for (int k = 0; k < rounds; ++k) {
-    const auto t0 = Clock::now();
+    bench::Stopwatch save;
     world.save_state(image, rp::StateParts::All);
-    saves.push_back(us_since(t0));
+    saves.push_back(save.elapsed_us());
     rp::World fresh = rp::World::create(world.definition()).value();
-    const auto t1 = Clock::now();
+    bench::Stopwatch restore;
     const rp::Status s = fresh.restore_state(image);
-    restores.push_back(us_since(t1));
+    restores.push_back(restore.elapsed_us());
     t.same_hash = t.same_hash && s.ok() && fresh.state_hash() == hash;
   }
   t.bytes = image.size();
-  t.save_us = median(saves);
-  t.restore_us = median(restores);
+  t.save_us = ricochet::stats::median(saves);
+  t.restore_us = ricochet::stats::median(restores);
   return t;
 }
 
-void report(const char* mode, const Timing& t, std::uint32_t moving) {
-  std::printf(
-      "{\"bench\":\"rewind\",\"mode\":\"%s\",\"players\":%d,\"projectiles\":%d,"
-      "\"mesh_triangles\":%d,\"image_bytes\":%zu,\"bytes_per_moving_body\":%.1f,"
-      "\"save_us\":%.2f,\"restore_us\":%.2f,\"same_hash\":%s}\n",
-      mode, bench::kArenaPlayers, bench::kArenaBullets, bench::kArenaMeshTriangles, t.bytes,
-      static_cast<double>(t.bytes) / moving, t.save_us, t.restore_us,
-      t.same_hash ? "true" : "false");
+bench::JsonObject result(const char* mode, const Timing& t, std::uint32_t moving) {
+  return bench::result_line("rewind")
+      .text("mode", mode)
+      .integer("players", bench::kArenaPlayers)
+      .integer("projectiles", bench::kArenaBullets)
+      .integer("mesh_triangles", bench::kArenaMeshTriangles)
+      .integer("image_bytes", t.bytes)
+      .number("bytes_per_moving_body", static_cast<double>(t.bytes) / moving, 1)
+      .number("save_us", t.save_us, 2)
+      .number("restore_us", t.restore_us, 2)
+      .flag("same_hash", t.same_hash);
 }
 
 }  // namespace
@@ -101,10 +94,17 @@ void report(const char* mode, const Timing& t, std::uint32_t moving) {
 int main(int argc, char** argv) {
   CLI::App app("Rewind bench: per-tick save and restore of the arena scene with a map mesh");
   int steps = 120, repeat = 200;
+  std::string out;
   app.add_option("--steps", steps, "warm-up steps before measuring")->check(CLI::Range(1, 100000));
   app.add_option("--repeat", repeat, "save/restore rounds; the median is kept")
       ->check(CLI::Range(20, 100000));
+  app.add_option("--out", out, "also append the JSON lines to this file");
   CLI11_PARSE(app, argc, argv);
+  bench::ResultsOut results(out);
+  if (!results.ok()) {
+    std::fprintf(stderr, "rewind-bench: cannot write %s\n", out.c_str());
+    return 2;
+  }
 
   bool ok = true;
   int step = 0;
@@ -116,8 +116,8 @@ int main(int argc, char** argv) {
         const std::uint32_t moving = world.body_count() + world.projectile_count();
         const Timing rewind = measure_rewind(world, repeat);
         const Timing full = measure_full(world, repeat);
-        report("rewind", rewind, moving);
-        report("full", full, moving);
+        results.write(result("rewind", rewind, moving));
+        results.write(result("full", full, moving));
         ok = rewind.same_hash && full.same_hash;
         return 0.0;
       },

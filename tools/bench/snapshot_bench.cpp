@@ -16,9 +16,12 @@
 /// Sizes are the serialised wire::Snapshot, its protobuf header included. `mismatches` counts
 /// decoded entities that differ from the server's quantised state in snapshots the encoder
 /// sent complete (deferred_snapshots counts the others, where the budget left some out).
+/// bits_per_entity_p99 is nearest rank (ricochet/stats/percentile.h) over every client's
+/// snapshots of the run.
 ///
 ///   snapshot-bench [--seconds 20] [--rate 60] [--ack-delay-ms 100] [--budget 1100]
 ///                  [--scene all|spheres901|spheres901_dense|players16|players64] [--out FILE]
+/// --out appends the JSON lines to FILE.
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -27,17 +30,19 @@
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
-#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "harness.h"
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/physics/world.h"
 #include "ricochet/proto/snapshot_codec.h"
 
 namespace rp = ricochet::physics;
 namespace proto = ricochet::proto;
+namespace bench = ricochet::bench;
+namespace stats = ricochet::stats;
 
 namespace {
 
@@ -287,20 +292,7 @@ Scene players_scene(int players) {
   return scene;
 }
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const std::size_t k = std::min(values.size() - 1, static_cast<std::size_t>(p * values.size()));
-  return values[k];
-}
-
-double mean(const std::vector<double>& values) {
-  double sum = 0;
-  for (const double v : values) sum += v;
-  return values.empty() ? 0 : sum / values.size();
-}
-
-std::string run(Scene scene, const BenchOptions& options) {
+bench::JsonObject run(Scene scene, const BenchOptions& options) {
   scene.spec.velocity_step_mps = options.velocity_step_mps;
   scene.spec.orientation_bits = options.orientation_bits;
   scene.spec.tick_s = 1.0f / static_cast<float>(options.rate_hz);
@@ -350,24 +342,28 @@ std::string run(Scene scene, const BenchOptions& options) {
   }
   const double snapshots = static_cast<double>(run_bits.size());
   const double kbps = run_bytes * 8.0 / snapshots * options.rate_hz / 1000.0;
-  char line[1024];
-  std::snprintf(
-      line, sizeof line,
-      "{\"bench\":\"snapshot\",\"scene\":\"%s\",\"entities\":%zu,\"clients\":%d,\"seconds\":%g,"
-      "\"rate_hz\":%d,\"ack_delay_ms\":%d,\"budget_bytes\":%zu,\"velocity_step_mps\":%g,"
-      "\"orientation_bits\":%d,\"bits_per_entity_avg\":%.3f,"
-      "\"bits_per_entity_p99\":%.3f,\"bits_per_entity_rest\":%.3f,\"bytes_per_snapshot_avg\":%.1f,"
-      "\"kbps_per_client\":%.2f,\"encode_us\":%.2f,\"decode_us\":%.2f,"
-      "\"pending_per_snapshot\":%.1f,\"moving_per_snapshot\":%.1f,\"mismatches\":%llu,\"deferred_"
-      "snapshots\":%llu,"
-      "\"refused\":%llu}",
-      scene.name.c_str(), scene.bodies.size(), scene.clients, options.seconds, options.rate_hz,
-      options.ack_delay_ms, options.budget_bytes, scene.spec.velocity_step_mps,
-      scene.spec.orientation_bits, mean(run_bits), percentile(run_bits, 0.99), mean(rest_bits),
-      run_bytes / snapshots, kbps, encode_us / snapshots, decode_us / snapshots,
-      pending / snapshots, moving / snapshots, static_cast<unsigned long long>(mismatches),
-      static_cast<unsigned long long>(deferred), static_cast<unsigned long long>(refused));
-  return line;
+  return bench::result_line("snapshot")
+      .text("scene", scene.name)
+      .integer("entities", scene.bodies.size())
+      .integer("clients", scene.clients)
+      .general("seconds", options.seconds)
+      .integer("rate_hz", options.rate_hz)
+      .integer("ack_delay_ms", options.ack_delay_ms)
+      .integer("budget_bytes", options.budget_bytes)
+      .general("velocity_step_mps", scene.spec.velocity_step_mps)
+      .integer("orientation_bits", scene.spec.orientation_bits)
+      .number("bits_per_entity_avg", stats::mean(run_bits), 3)
+      .number("bits_per_entity_p99", stats::percentile(run_bits, 99), 3)
+      .number("bits_per_entity_rest", stats::mean(rest_bits), 3)
+      .number("bytes_per_snapshot_avg", run_bytes / snapshots, 1)
+      .number("kbps_per_client", kbps, 2)
+      .number("encode_us", encode_us / snapshots, 2)
+      .number("decode_us", decode_us / snapshots, 2)
+      .number("pending_per_snapshot", pending / snapshots, 1)
+      .number("moving_per_snapshot", moving / snapshots, 1)
+      .integer("mismatches", mismatches)
+      .integer("deferred_snapshots", deferred)
+      .integer("refused", refused);
 }
 
 }  // namespace
@@ -390,10 +386,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(4, 16));
   app.add_option("--scene", scene, "all, spheres901, spheres901_dense, players16 or players64")
       ->check(CLI::IsMember({"all", "spheres901", "spheres901_dense", "players16", "players64"}));
-  app.add_option("--out", out, "also write the JSON lines to this file (replaced)");
+  app.add_option("--out", out, "also append the JSON lines to this file");
   CLI11_PARSE(app, argc, argv);
+  bench::ResultsOut results(out);
+  if (!results.ok()) {
+    std::fprintf(stderr, "snapshot-bench: cannot write %s\n", out.c_str());
+    return 1;
+  }
 
-  std::vector<std::string> lines;
+  std::vector<bench::JsonObject> lines;
   if (scene == "all" || scene == "spheres901") {
     lines.push_back(run(spheres_scene("spheres901", kSpacing), options));
   }
@@ -402,17 +403,6 @@ int main(int argc, char** argv) {
   }
   if (scene == "all" || scene == "players16") lines.push_back(run(players_scene(16), options));
   if (scene == "all" || scene == "players64") lines.push_back(run(players_scene(64), options));
-  std::ofstream file;
-  if (!out.empty()) {
-    file.open(out, std::ios::trunc);
-    if (!file) {
-      std::fprintf(stderr, "snapshot-bench: cannot write %s\n", out.c_str());
-      return 1;
-    }
-  }
-  for (const std::string& line : lines) {
-    std::printf("%s\n", line.c_str());
-    if (file) file << line << '\n';
-  }
+  for (const bench::JsonObject& line : lines) results.write(line);
   return 0;
 }

@@ -15,24 +15,23 @@
 ///   transport-bench [--clients 64,256,1024] [--seconds 10] [--rate 60] [--input-bytes 48]
 ///                   [--snapshot-bytes 600] [--out FILE]
 
-#include <time.h>
-
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <unordered_map>
 #include <variant>
 #include <vector>
 
+#include "harness.h"
 #include "ricochet/proto/address.h"
 #include "ricochet/proto/connect_token.h"
 #include "ricochet/proto/game_client.h"
 #include "ricochet/proto/game_server.h"
 
 namespace proto = ricochet::proto;
+namespace bench = ricochet::bench;
 
 namespace {
 
@@ -43,11 +42,9 @@ struct BenchOptions {
   std::size_t snapshot_bytes = 600;
 };
 
-std::uint64_t thread_cpu_ns() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<std::uint64_t>(now.tv_sec) * 1'000'000'000ull +
-         static_cast<std::uint64_t>(now.tv_nsec);
+/// ns of this thread's CPU time since `start` (bench::thread_cpu_ns).
+std::uint64_t cpu_ns_since(std::int64_t start) {
+  return static_cast<std::uint64_t>(bench::thread_cpu_ns() - start);
 }
 
 const proto::Address kServerAddress = proto::Address::ipv4(10, 255, 255, 1, 7778);
@@ -136,7 +133,7 @@ class TransportBench {
           arriving_.push_back({peer.address, std::move(transmit.bytes)});
         }
       }
-      std::uint64_t start = thread_cpu_ns();
+      std::int64_t start = bench::thread_cpu_ns();
       for (const proto::Transmit& datagram : arriving_) {
         server_.receive(datagram.to, datagram.bytes, now_);  // `to` holds the sender here
       }
@@ -144,24 +141,24 @@ class TransportBench {
       while (server_.poll_event(event)) {
         result.payloads_delivered += std::holds_alternative<proto::ServerUnreliable>(event);
       }
-      result.receive_ns += thread_cpu_ns() - start;
+      result.receive_ns += cpu_ns_since(start);
       result.datagrams_in += arriving_.size();
 
       // Every client's snapshot.
-      start = thread_cpu_ns();
+      start = bench::thread_cpu_ns();
       for (std::size_t k = 0; k < peers_.size(); ++k)
         server_.send_unreliable(ids_[k], snapshot, now_);
       const std::size_t sent = poll_outgoing();
-      result.send_ns += thread_cpu_ns() - start;
+      result.send_ns += cpu_ns_since(start);
       result.datagrams_out += sent;
       deliver_outgoing();
 
       if (now_ >= next_update) {
         next_update = now_ + 10 * proto::kMicrosPerMilli;
-        start = thread_cpu_ns();
+        start = bench::thread_cpu_ns();
         server_.update(now_);
         poll_outgoing();
-        result.update_ns += thread_cpu_ns() - start;
+        result.update_ns += cpu_ns_since(start);
         ++result.updates;
         deliver_outgoing();
       }
@@ -258,25 +255,24 @@ class TransportBench {
   proto::TimeUs now_ = 1'000'000;
 };
 
-std::string json_line(const Result& r, const BenchOptions& options) {
+bench::JsonObject result(const Result& r, const BenchOptions& options) {
   const auto per = [](std::uint64_t ns, std::uint64_t count) {
     return count == 0 ? 0.0 : static_cast<double>(ns) / static_cast<double>(count);
   };
-  char line[768];
-  std::snprintf(
-      line, sizeof line,
-      "{\"bench\":\"transport\",\"clients\":%zu,\"rate_hz\":%d,\"ticks\":%llu,"
-      "\"input_bytes\":%zu,\"snapshot_bytes\":%zu,\"ns_per_datagram_in\":%.1f,"
-      "\"ns_per_datagram_out\":%.1f,\"us_per_update\":%.2f,\"datagrams_in\":%llu,"
-      "\"datagrams_out\":%llu,\"payloads_delivered\":%llu,\"snapshots_taken\":%llu,"
-      "\"drops\":%llu}",
-      r.clients, options.rate_hz, static_cast<unsigned long long>(r.ticks), options.input_bytes,
-      options.snapshot_bytes, per(r.receive_ns, r.datagrams_in), per(r.send_ns, r.datagrams_out),
-      per(r.update_ns, r.updates) / 1000.0, static_cast<unsigned long long>(r.datagrams_in),
-      static_cast<unsigned long long>(r.datagrams_out),
-      static_cast<unsigned long long>(r.payloads_delivered),
-      static_cast<unsigned long long>(r.snapshots_taken), static_cast<unsigned long long>(r.drops));
-  return line;
+  return bench::result_line("transport")
+      .integer("clients", r.clients)
+      .integer("rate_hz", options.rate_hz)
+      .integer("ticks", r.ticks)
+      .integer("input_bytes", options.input_bytes)
+      .integer("snapshot_bytes", options.snapshot_bytes)
+      .number("ns_per_datagram_in", per(r.receive_ns, r.datagrams_in), 1)
+      .number("ns_per_datagram_out", per(r.send_ns, r.datagrams_out), 1)
+      .number("us_per_update", per(r.update_ns, r.updates) / 1000.0, 2)
+      .integer("datagrams_in", r.datagrams_in)
+      .integer("datagrams_out", r.datagrams_out)
+      .integer("payloads_delivered", r.payloads_delivered)
+      .integer("snapshots_taken", r.snapshots_taken)
+      .integer("drops", r.drops);
 }
 
 }  // namespace
@@ -304,13 +300,10 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "also append the JSON lines to this file");
   CLI11_PARSE(app, argc, argv);
 
-  std::ofstream file;
-  if (!out.empty()) {
-    file.open(out, std::ios::app);
-    if (!file) {
-      std::fprintf(stderr, "transport-bench: cannot write %s\n", out.c_str());
-      return 2;
-    }
+  bench::ResultsOut results(out);
+  if (!results.ok()) {
+    std::fprintf(stderr, "transport-bench: cannot write %s\n", out.c_str());
+    return 2;
   }
   for (const std::size_t clients : client_counts) {
     TransportBench bench(clients, options);
@@ -318,9 +311,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "transport-bench: %zu clients did not all connect\n", clients);
       return 1;
     }
-    const std::string line = json_line(bench.run(), options);
-    std::printf("%s\n", line.c_str());
-    if (file) file << line << '\n';
+    results.write(result(bench.run(), options));
   }
   return 0;
 }

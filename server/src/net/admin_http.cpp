@@ -269,7 +269,7 @@ AdminHttp::AdminHttp(asio::io_context& io, AdminHttpOptions options, MetricsRegi
     if (!state) return;
     sink.counter("ricochet_admin_responses_total", "Admin HTTP responses sent (any status).", {},
                  static_cast<double>(state->responses.load(std::memory_order_relaxed)));
-    for (int i = 0; i < kAdminRejectReasonCount; ++i) {
+    for (std::size_t i = 0; i < kAdminRejectReasonCount; ++i) {
       sink.counter("ricochet_admin_rejected_total",
                    "Admin HTTP requests and connections refused, by reason.",
                    {{"reason", name(static_cast<AdminRejectReason>(i))}},

@@ -50,7 +50,8 @@ enum class AdminRejectReason {
   MethodNotAllowed,    ///< not GET: 405
   TooManyConnections,  ///< above max_connections: closed at once
 };
-inline constexpr int kAdminRejectReasonCount = 6;
+inline constexpr std::size_t kAdminRejectReasonCount =
+    static_cast<std::size_t>(AdminRejectReason::TooManyConnections) + 1;
 /// "malformed", "oversized", "timeout", "not_found", "method_not_allowed", "too_many_connections".
 const char* name(AdminRejectReason reason);
 

@@ -29,7 +29,8 @@ enum class ControlRefusal : std::uint8_t {
   RateLimited,         ///< over messages_per_second: dropped, Error replied
   InvalidRequest,      ///< a field out of range (chat length ...): Error replied
 };
-inline constexpr std::size_t kControlRefusalCount = 15;
+inline constexpr std::size_t kControlRefusalCount =
+    static_cast<std::size_t>(ControlRefusal::InvalidRequest) + 1;
 
 inline const char* name(ControlRefusal refusal) {
   switch (refusal) {

@@ -33,7 +33,6 @@ constexpr std::array<const char*, 9> kPhaseNames = {"apply_inputs", "rules",   "
                                                     "snapshots",    "send",    "total"};
 constexpr const char* kPhaseHelp = "Time one tick spends in each phase, per match";
 constexpr std::size_t kTickWindowTicks = 600;  ///< 10 s at 60 Hz
-constexpr std::array<const char*, 4> kTickQuantiles = {"0.5", "0.95", "0.99", "1"};
 
 std::array<double, kPhaseNames.size()> phase_ms(const TickProfile& profile) {
   return {profile.apply_inputs_ms, profile.rules_ms,   profile.movement_ms,
@@ -196,15 +195,18 @@ void MatchHost::report_phases(MetricsSink& sink) const {
                    {{"match", std::to_string(id_)}, {"phase", kPhaseNames[phase]}},
                    phase_histograms_[phase]->snapshot());
   }
-  std::array<double, 4> quantiles{};
+  stats::Summary ticks;
   {
     const std::lock_guard lock(stats_mutex_);
-    quantiles = tick_window_.quantiles();
+    ticks = tick_window_.summary();
   }
-  for (std::size_t i = 0; i < quantiles.size(); ++i) {
+  const std::array<std::pair<const char*, double>, 4> quantiles{
+      {{"0.5", ticks.p50}, {"0.95", ticks.p95}, {"0.99", ticks.p99}, {"1", ticks.max}}};
+  for (const auto& [quantile, seconds] : quantiles) {
     sink.gauge("ricochet_tick_seconds",
-               "Tick time quantiles over the match's last 600 ticks (1: the max), per match",
-               {{"match", std::to_string(id_)}, {"quantile", kTickQuantiles[i]}}, quantiles[i]);
+               "Tick time quantiles (nearest rank) over the match's last 600 ticks (1: the max), "
+               "per match",
+               {{"match", std::to_string(id_)}, {"quantile", quantile}}, seconds);
   }
 }
 

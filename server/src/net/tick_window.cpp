@@ -1,7 +1,6 @@
 #include "tick_window.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace ricochet::server {
 
@@ -11,16 +10,9 @@ void TickWindow::record(double seconds) {
   filled_ = std::min(filled_ + 1, samples_.size());
 }
 
-std::array<double, 4> TickWindow::quantiles() const {
-  if (filled_ == 0) return {0, 0, 0, 0};
-  std::vector<double> sorted(samples_.begin(),
-                             samples_.begin() + static_cast<std::ptrdiff_t>(filled_));
-  std::sort(sorted.begin(), sorted.end());
-  const auto rank = [&sorted](double p) {
-    const double index = std::ceil(p * static_cast<double>(sorted.size()));
-    return sorted[static_cast<std::size_t>(std::max(index, 1.0)) - 1];
-  };
-  return {rank(0.50), rank(0.95), rank(0.99), sorted.back()};
+stats::Summary TickWindow::summary() const {
+  return stats::summarize(std::vector<double>(
+      samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(filled_)));
 }
 
 }  // namespace ricochet::server

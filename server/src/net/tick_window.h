@@ -3,9 +3,10 @@
 /// per-phase histograms' buckets double in width: too coarse to tell 3 ms from 4 ms). Not
 /// thread-safe: the owner locks.
 
-#include <array>
 #include <cstddef>
 #include <vector>
+
+#include "ricochet/stats/summary.h"
 
 namespace ricochet::server {
 
@@ -17,8 +18,9 @@ class TickWindow {
   /// One tick's duration, s.
   void record(double seconds);
   std::size_t size() const { return filled_; }
-  /// p50, p95, p99 (nearest rank) and the max of the samples held, s; zeros when empty.
-  std::array<double, 4> quantiles() const;
+  /// The samples held, s: percentiles by nearest rank (ricochet/stats/percentile.h), max, mean;
+  /// all zeros when empty.
+  stats::Summary summary() const;
 
  private:
   std::vector<double> samples_;

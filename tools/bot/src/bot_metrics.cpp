@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "ricochet/stats/summary.h"
+
 namespace ricochet::bot {
 
 void SnapshotGapCounter::on_snapshot(std::uint32_t tick) {
@@ -66,15 +68,6 @@ void BotMetrics::merge(const BotMetrics& other) {
   sim_reordered += other.sim_reordered;
 }
 
-double percentile(std::vector<double> samples, double p) {
-  if (samples.empty()) return 0;
-  std::sort(samples.begin(), samples.end());
-  const double rank = std::ceil(p / 100.0 * static_cast<double>(samples.size()));
-  const std::size_t index =
-      static_cast<std::size_t>(std::clamp(rank, 1.0, static_cast<double>(samples.size()))) - 1;
-  return samples[index];
-}
-
 std::string BotMetrics::to_json() const {
   const double per_s = connected_s > 0 ? 1.0 / connected_s : 0.0;
   const double expected = static_cast<double>(snapshots + snapshots_lost);
@@ -82,9 +75,7 @@ std::string BotMetrics::to_json() const {
   const double packet_loss = server_packets > 0 ? static_cast<double>(server_packets_missing) /
                                                       static_cast<double>(server_packets)
                                                 : 0.0;
-  double rtt_mean = 0;
-  for (const double sample : rtt_ms) rtt_mean += sample;
-  if (!rtt_ms.empty()) rtt_mean /= static_cast<double>(rtt_ms.size());
+  const stats::Summary rtt = stats::summarize(rtt_ms);
   char text[2048];
   std::snprintf(
       text, sizeof text,
@@ -100,7 +91,7 @@ std::string BotMetrics::to_json() const {
       "\"weapon_switches\":%llu,\"bad_payloads\":%llu,\"bad_events\":%llu,"
       "\"snapshots_refused\":%llu,\"bad_control\":%llu,\"transport_drops\":%llu,"
       "\"send_failures\":%llu}",
-      connected_s, rtt_mean, percentile(rtt_ms, 50), percentile(rtt_ms, 99), rtt_ms.size(),
+      connected_s, rtt.mean, rtt.p50, rtt.p99, rtt.count,
       static_cast<unsigned long long>(snapshots), static_cast<double>(snapshots) * per_s,
       static_cast<unsigned long long>(snapshots_lost), loss, packet_loss,
       static_cast<unsigned long long>(server_packets_missing),
@@ -118,16 +109,14 @@ std::string BotMetrics::to_json() const {
       static_cast<unsigned long long>(send_failures));
   std::string out = text;
   out.pop_back();  // the closing brace: the prediction and simulator figures follow
-  double error_max = 0;
-  for (const double sample : prediction_error_m) error_max = std::max(error_max, sample);
+  const stats::Summary error = stats::summarize(prediction_error_m);
   std::snprintf(text, sizeof text,
                 ",\"prediction_samples\":%zu,\"prediction_error_m_p50\":%.6f,"
                 "\"prediction_error_m_p99\":%.6f,\"prediction_error_m_max\":%.6f,"
                 "\"prediction_resets\":%llu,\"prediction_replayed\":%llu,\"own_travelled_m\":%.2f,"
                 "\"worlds_refused\":%llu,\"sim_dropped\":%llu,\"sim_duplicated\":%llu,"
                 "\"sim_reordered\":%llu}",
-                prediction_error_m.size(), percentile(prediction_error_m, 50),
-                percentile(prediction_error_m, 99), error_max,
+                error.count, error.p50, error.p99, error.max,
                 static_cast<unsigned long long>(prediction_resets),
                 static_cast<unsigned long long>(prediction_replayed), own_travelled_m,
                 static_cast<unsigned long long>(worlds_refused),

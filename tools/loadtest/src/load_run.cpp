@@ -8,8 +8,10 @@
 #include <variant>
 
 #include "ricochet/bot/bot_metrics.h"
+#include "ricochet/loadtest/capacity.h"
 #include "ricochet/loadtest/prometheus_text.h"
 #include "ricochet/loadtest/server_figures.h"
+#include "ricochet/stats/percentile.h"
 
 namespace ricochet::loadtest {
 
@@ -28,6 +30,15 @@ std::chrono::microseconds micros(double seconds) {
 
 double safe_ratio(double numerator, double denominator) {
   return denominator > 0 ? numerator / denominator : 0.0;
+}
+
+/// "meets the capacity criteria", or the criteria missed ("misses tick_p99, overruns").
+std::string shortfall_text(const std::vector<CapacityShortfall>& missed) {
+  if (missed.empty()) return "meets the capacity criteria";
+  std::string text = "misses";
+  for (std::size_t i = 0; i < missed.size(); ++i)
+    text += (i == 0 ? " " : ", ") + std::string(name(missed[i]));
+  return text;
 }
 
 }  // namespace
@@ -134,10 +145,10 @@ void LoadRun::end_step() {
   const StepSummary& done = summaries_.back();
   std::fprintf(stderr,
                "ricochet-loadtest: step %zu done: %d of %d bots connected, tick p99 %.2f ms, "
-               "overruns %.0f, loss %.2f %%, server cpu %.0f %%, generator cpu %.0f %%%s\n",
-               steps_.size(), done.bots_connected, done.bots, done.server_tick_ms[2], done.overruns,
-               done.snapshot_loss * 100, done.server_cpu_percent, done.generator_cpu_percent,
-               done.meets_capacity() ? " (meets the capacity criteria)" : "");
+               "overruns %.0f, loss %.2f %%, server cpu %.0f %%, generator cpu %.0f %% (%s)\n",
+               steps_.size(), done.bots_connected, done.bots, done.server_tick.p99_ms,
+               done.overruns, done.snapshot_loss * 100, done.server_cpu_percent,
+               done.generator_cpu_percent, shortfall_text(capacity_shortfalls(done)).c_str());
   if (steps_.size() < targets_.size()) return begin_step();
   stop_reason_ = "every step measured";
   finish();
@@ -203,14 +214,14 @@ void LoadRun::on_scrape(MetricsResponse response) {
       sample.server_ok = true;
       sample.matches = figures.matches;
       sample.server_players = figures.players;
-      sample.tick_ms = figures.worst_tick_ms();
+      sample.tick = figures.worst_tick();
       double p99_sum = 0;
       int with_players = 0;
       for (const auto& [id, match] : figures.by_match) {
         if (match.connected == 0) continue;
-        p99_sum += match.tick_ms[2];
+        p99_sum += match.tick.p99_ms;
         ++with_players;
-        match_rows_.push_back({sample.t_s, id, match.tick_ms});
+        match_rows_.push_back({sample.t_s, id, match.tick});
       }
       sample.tick_p99_mean_ms = safe_ratio(p99_sum, with_players);
       if (overruns_base_ < 0) {
@@ -274,8 +285,8 @@ void LoadRun::on_scrape(MetricsResponse response) {
   }
   for (const auto& [kind, n] : errors_) sample.errors += n;
   for (const auto& [kind, n] : bot_counters_) sample.errors += n;
-  sample.rtt_ms_p50 = bot::percentile(rtts, 50);
-  sample.rtt_ms_p99 = bot::percentile(rtts, 99);
+  sample.rtt_ms_p50 = stats::percentile(rtts, 50);
+  sample.rtt_ms_p99 = stats::percentile(rtts, 99);
   if (sample.measuring && !steps_.empty()) {
     std::vector<double>& pooled = steps_.back().rtt_ms;
     pooled.insert(pooled.end(), rtts.begin(), rtts.end());
@@ -325,7 +336,7 @@ void LoadRun::print_progress(const RunSample& s) const {
                "%.0f%% | kbps/client in %.0f out %.0f | rtt p99 %.1f ms | loss %.2f%% | errors "
                "%llu%s%s%s\n",
                s.t_s, name(phase_), s.playing, s.joining, s.done, s.step_bots, s.matches,
-               s.tick_ms[2], s.tick_ms[3], s.overruns, s.server_cpu_percent, s.server_rss_mb,
+               s.tick.p99_ms, s.tick.max_ms, s.overruns, s.server_cpu_percent, s.server_rss_mb,
                s.generator_cpu_percent, s.kbps_in_per_client, s.kbps_out_per_client, s.rtt_ms_p99,
                s.snapshot_loss * 100, static_cast<unsigned long long>(s.errors),
                kinds.empty() ? "" : " (", kinds.c_str(), kinds.empty() ? "" : ")");
@@ -354,11 +365,11 @@ StepSummary LoadRun::summarise(const Step& step) const {
     const double ms = each->metrics().first_snapshot_ms;
     if (ms >= 0) connect.push_back(ms);
   }
-  out.connect_ms_p50 = bot::percentile(connect, 50);
-  out.connect_ms_p99 = bot::percentile(connect, 99);
-  out.connect_ms_max = bot::percentile(connect, 100);
-  out.rtt_ms_p50 = bot::percentile(step.rtt_ms, 50);
-  out.rtt_ms_p99 = bot::percentile(step.rtt_ms, 99);
+  out.connect_ms_p50 = stats::percentile(connect, 50);
+  out.connect_ms_p99 = stats::percentile(connect, 99);
+  out.connect_ms_max = stats::percentile(connect, 100);
+  out.rtt_ms_p50 = stats::percentile(step.rtt_ms, 50);
+  out.rtt_ms_p99 = stats::percentile(step.rtt_ms, 99);
   const std::size_t first = step.first_window_sample;
   if (first >= samples_.size()) return out;  // stopped before a sample of the window
   const std::size_t last = samples_.size() - 1;
@@ -371,9 +382,7 @@ StepSummary LoadRun::summarise(const Step& step) const {
   int count = 0;
   for (std::size_t i = first; i <= last; ++i) {
     const RunSample& s = samples_[i];
-    for (std::size_t q = 0; q < out.server_tick_ms.size(); ++q) {
-      out.server_tick_ms[q] = std::max(out.server_tick_ms[q], s.tick_ms[q]);
-    }
+    out.server_tick = out.server_tick.worst_with(s.tick);
     out.server_rss_mb = std::max(out.server_rss_mb, s.server_rss_mb);
     out.generator_rss_mb = std::max(out.generator_rss_mb, s.generator_rss_mb);
     p99_mean_sum += s.tick_p99_mean_ms;

@@ -93,7 +93,7 @@ std::string samples_table(const std::vector<RunSample>& samples) {
                   "%.2f %d %d %d %d %d %d %.4f %.4f %.4f %.4f %.4f %.0f %.0f %.2f %.2f %.2f %.2f "
                   "%.2f %.2f %.3f %.3f %.4f %llu %.1f %.1f\n",
                   s.t_s, s.step_bots, s.measuring ? 1 : 0, s.playing, s.joining, s.done, s.matches,
-                  s.tick_ms[0], s.tick_ms[1], s.tick_ms[2], s.tick_ms[3], s.tick_p99_mean_ms,
+                  s.tick.p50_ms, s.tick.p95_ms, s.tick.p99_ms, s.tick.max_ms, s.tick_p99_mean_ms,
                   s.overruns, s.dropped_steps, s.server_cpu_percent, s.server_rss_mb,
                   s.generator_cpu_percent, s.generator_rss_mb, s.kbps_in_per_client,
                   s.kbps_out_per_client, s.rtt_ms_p50, s.rtt_ms_p99, s.snapshot_loss * 100,
@@ -113,7 +113,7 @@ std::string matches_table(const std::vector<MatchTickRow>& rows, std::size_t& bl
   for (const auto& [id, list] : by_match) {
     for (const MatchTickRow* row : list) {
       std::snprintf(line, sizeof line, "%.2f %u %.4f %.4f %.4f %.4f\n", row->t_s, id,
-                    row->tick_ms[0], row->tick_ms[1], row->tick_ms[2], row->tick_ms[3]);
+                    row->tick.p50_ms, row->tick.p95_ms, row->tick.p99_ms, row->tick.max_ms);
       out += line;
     }
     out += "\n\n";
@@ -129,9 +129,9 @@ std::string sweep_table(const std::vector<StepSummary>& steps) {
   char line[256];
   for (const StepSummary& s : steps) {
     std::snprintf(line, sizeof line, "%d %d %.4f %.4f %.2f %.2f %.2f %.2f %.4f %.3f %.0f\n", s.bots,
-                  s.bots_connected, s.server_tick_ms[2], s.server_tick_ms[3], s.server_cpu_percent,
-                  s.generator_cpu_percent, s.kbps_in_per_client, s.kbps_out_per_client,
-                  s.snapshot_loss * 100, s.rtt_ms_p99, s.overruns);
+                  s.bots_connected, s.server_tick.p99_ms, s.server_tick.max_ms,
+                  s.server_cpu_percent, s.generator_cpu_percent, s.kbps_in_per_client,
+                  s.kbps_out_per_client, s.snapshot_loss * 100, s.rtt_ms_p99, s.overruns);
     out += line;
   }
   return out;

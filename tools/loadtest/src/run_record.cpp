@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "ricochet/loadtest/capacity.h"
 #include "ricochet/tools/json_text.h"
 
 namespace ricochet::loadtest {
@@ -20,8 +21,11 @@ void field(std::string& out, const char* key, double value) {
 }  // namespace
 
 bool StepSummary::meets_capacity() const {
-  return measured_s > 0 && bots_connected == bots && server_tick_ms[2] <= 4.0 && overruns == 0 &&
-         snapshot_loss <= 0.01 && server_cpu_percent < 90;
+  return capacity_shortfalls(*this).empty();
+}
+
+bool StepSummary::generator_saturated() const {
+  return generator_cpu_percent >= kGeneratorSaturatedCpuPercent;
 }
 
 std::string StepSummary::to_json() const {
@@ -32,10 +36,10 @@ std::string StepSummary::to_json() const {
   field(out, "matches", matches);
   field(out, "measured_s", measured_s);
   field(out, "ramp_s", ramp_s);
-  field(out, "server_tick_ms_p50", server_tick_ms[0]);
-  field(out, "server_tick_ms_p95", server_tick_ms[1]);
-  field(out, "server_tick_ms_p99", server_tick_ms[2]);
-  field(out, "server_tick_ms_max", server_tick_ms[3]);
+  field(out, "server_tick_ms_p50", server_tick.p50_ms);
+  field(out, "server_tick_ms_p95", server_tick.p95_ms);
+  field(out, "server_tick_ms_p99", server_tick.p99_ms);
+  field(out, "server_tick_ms_max", server_tick.max_ms);
   field(out, "server_tick_ms_p99_mean_match", server_tick_ms_p99_mean);
   field(out, "overruns", overruns);
   field(out, "dropped_steps", dropped_steps);

@@ -19,12 +19,13 @@ std::optional<std::uint32_t> match_id(const MetricSample& sample) {
   return id;
 }
 
-int quantile_index(std::string_view quantile) {
-  if (quantile == "0.5") return 0;
-  if (quantile == "0.95") return 1;
-  if (quantile == "0.99") return 2;
-  if (quantile == "1") return 3;
-  return -1;
+/// The field of TickQuantiles a ricochet_tick_seconds{quantile} sample fills; null for another.
+double* quantile_field(TickQuantiles& tick, std::string_view quantile) {
+  if (quantile == "0.5") return &tick.p50_ms;
+  if (quantile == "0.95") return &tick.p95_ms;
+  if (quantile == "0.99") return &tick.p99_ms;
+  if (quantile == "1") return &tick.max_ms;
+  return nullptr;
 }
 
 int as_int(double value) {
@@ -33,11 +34,15 @@ int as_int(double value) {
 
 }  // namespace
 
-std::array<double, 4> ServerFigures::worst_tick_ms() const {
-  std::array<double, 4> worst{};
+TickQuantiles TickQuantiles::worst_with(const TickQuantiles& other) const {
+  return {std::max(p50_ms, other.p50_ms), std::max(p95_ms, other.p95_ms),
+          std::max(p99_ms, other.p99_ms), std::max(max_ms, other.max_ms)};
+}
+
+TickQuantiles ServerFigures::worst_tick() const {
+  TickQuantiles worst;
   for (const auto& [id, match] : by_match) {
-    if (match.connected == 0) continue;
-    for (std::size_t i = 0; i < worst.size(); ++i) worst[i] = std::max(worst[i], match.tick_ms[i]);
+    if (match.connected > 0) worst = worst.worst_with(match.tick);
   }
   return worst;
 }
@@ -74,10 +79,10 @@ ServerFigures read_server_figures(const std::vector<MetricSample>& samples) {
       const std::string_view phase = sample.label("phase");
       if (!phase.empty()) out.phase_seconds[std::string(phase)] += sample.value;
     } else if (name == "ricochet_tick_seconds") {
-      const int index = quantile_index(sample.label("quantile"));
       const auto id = match_id(sample);
-      if (index >= 0 && id) {
-        out.by_match[*id].tick_ms[static_cast<std::size_t>(index)] = sample.value * 1000.0;
+      if (!id) continue;
+      if (double* field = quantile_field(out.by_match[*id].tick, sample.label("quantile"))) {
+        *field = sample.value * 1000.0;
       }
     }
   }

@@ -2,6 +2,7 @@
 /// Errors of the persistence layer: one code per thing that can go wrong, each with a message
 /// that says what was expected and what came.
 
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <variant>
@@ -33,7 +34,7 @@ enum class DbErrorCode {
 
 /// Stable lowercase name of a code, for logs and counters ("duplicate_username").
 const char* to_string(DbErrorCode code);
-inline constexpr int kDbErrorCodeCount = static_cast<int>(DbErrorCode::Stopped) + 1;
+inline constexpr std::size_t kDbErrorCodeCount = static_cast<std::size_t>(DbErrorCode::Stopped) + 1;
 
 struct DbError {
   DbErrorCode code;

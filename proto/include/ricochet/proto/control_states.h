@@ -31,7 +31,8 @@
 namespace ricochet::proto {
 
 enum class ControlState : std::uint8_t { Unauthenticated, Authenticated, InMatch, Closed };
-inline constexpr std::size_t kControlStateCount = 4;
+inline constexpr std::size_t kControlStateCount =
+    static_cast<std::size_t>(ControlState::Closed) + 1;
 
 inline const char* name(ControlState state) {
   switch (state) {
@@ -59,7 +60,8 @@ enum class ClientMessageKind : std::uint8_t {
   Chat,
   Ping,
 };
-inline constexpr std::size_t kClientMessageKindCount = 9;
+inline constexpr std::size_t kClientMessageKindCount =
+    static_cast<std::size_t>(ClientMessageKind::Ping) + 1;
 
 inline const char* name(ClientMessageKind kind) {
   switch (kind) {

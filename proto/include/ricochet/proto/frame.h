@@ -29,7 +29,8 @@ enum class FrameRefusal : std::uint8_t {
   Malformed,    ///< the payload is not a valid message (bad wire format, invalid UTF-8 ...)
   MissingBody,  ///< a valid message with no body in its oneof
 };
-inline constexpr std::size_t kFrameRefusalCount = 4;
+inline constexpr std::size_t kFrameRefusalCount =
+    static_cast<std::size_t>(FrameRefusal::MissingBody) + 1;
 const char* name(FrameRefusal refusal);
 
 /// Reassembles frames from a byte stream. Not thread-safe; one per connection.

@@ -52,8 +52,8 @@ enum class PacketType : std::uint8_t {
   Payload = 5,
   Disconnect = 6,
 };
-inline constexpr std::size_t kPacketTypeCount = 7;
-static_assert(static_cast<std::size_t>(PacketType::Disconnect) + 1 == kPacketTypeCount);
+inline constexpr std::size_t kPacketTypeCount =
+    static_cast<std::size_t>(PacketType::Disconnect) + 1;
 std::string_view name(PacketType type);
 
 /// A parse result: the value, or why the input was refused.

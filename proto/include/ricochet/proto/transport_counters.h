@@ -41,8 +41,8 @@ enum class DropReason : std::uint8_t {
   ServerFull,           ///< max_clients connected; answered with a denied packet
   ReliableOutOfWindow,  ///< reliable message id too far ahead of the next expected one
 };
-inline constexpr std::size_t kDropReasonCount = 20;
-static_assert(static_cast<std::size_t>(DropReason::ReliableOutOfWindow) + 1 == kDropReasonCount);
+inline constexpr std::size_t kDropReasonCount =
+    static_cast<std::size_t>(DropReason::ReliableOutOfWindow) + 1;
 std::string_view name(DropReason reason);
 
 /// Why a connection ended. Carried in the disconnect and denied packets (one byte).
@@ -57,8 +57,8 @@ enum class DisconnectReason : std::uint8_t {
   ServerShutdown,     ///< the server is stopping
   Kicked,             ///< the server's application removed the client
 };
-inline constexpr std::size_t kDisconnectReasonCount = 9;
-static_assert(static_cast<std::size_t>(DisconnectReason::Kicked) + 1 == kDisconnectReasonCount);
+inline constexpr std::size_t kDisconnectReasonCount =
+    static_cast<std::size_t>(DisconnectReason::Kicked) + 1;
 std::string_view name(DisconnectReason reason);
 
 /// Connection states. Server side per address: Connecting → Challenged → Connected →
@@ -72,8 +72,8 @@ enum class ConnectionState : std::uint8_t {
   Connected,
   Disconnected,
 };
-inline constexpr std::size_t kConnectionStateCount = 6;
-static_assert(static_cast<std::size_t>(ConnectionState::Disconnected) + 1 == kConnectionStateCount);
+inline constexpr std::size_t kConnectionStateCount =
+    static_cast<std::size_t>(ConnectionState::Disconnected) + 1;
 std::string_view name(ConnectionState state);
 
 /// One state transition of one connection, reported exactly once.

@@ -110,7 +110,7 @@ enum class Violation : std::uint8_t {
   InputRate,  ///< more inputs in a 1 s window than input_rate_limit()
   ViewTick,   ///< a view tick claim outside the lag compensation window (clamped)
 };
-inline constexpr std::size_t kViolationCount = 4;
+inline constexpr std::size_t kViolationCount = static_cast<std::size_t>(Violation::ViewTick) + 1;
 /// "turn_rate", "fire_rate", "input_rate", "view_tick".
 const char* name(Violation violation);
 

@@ -49,7 +49,8 @@ enum class InputDrop : std::uint8_t {
   Skipped,           ///< arrived in time but pushed out by newer ones after a stall
   UnknownPlayer,     ///< a payload for an account that is not connected to the match
 };
-inline constexpr std::size_t kInputDropCount = 9;
+inline constexpr std::size_t kInputDropCount =
+    static_cast<std::size_t>(InputDrop::UnknownPlayer) + 1;
 const char* name(InputDrop reason);
 
 using InputDropCounters = std::array<std::uint64_t, kInputDropCount>;

@@ -56,7 +56,8 @@ enum class JoinRefusal : std::uint8_t {
   InvalidName,  ///< not 1..32 bytes of printable UTF-8
   MatchEnded,   ///< end() was called
 };
-inline constexpr std::size_t kJoinRefusalCount = 3;
+inline constexpr std::size_t kJoinRefusalCount =
+    static_cast<std::size_t>(JoinRefusal::MatchEnded) + 1;
 const char* name(JoinRefusal reason);
 
 struct Joined {
@@ -72,7 +73,7 @@ enum class ChatDrop : std::uint8_t {
   TooLong,      ///< more than kMaxChatBytes
   InvalidText,  ///< not UTF-8, or control characters
 };
-inline constexpr std::size_t kChatDropCount = 4;
+inline constexpr std::size_t kChatDropCount = static_cast<std::size_t>(ChatDrop::InvalidText) + 1;
 const char* name(ChatDrop reason);
 
 struct MatchCounters {

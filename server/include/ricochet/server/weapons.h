@@ -29,6 +29,7 @@ namespace ricochet::server {
 enum class WeaponKind : std::uint8_t { Rifle = 0, RocketLauncher = 1, GrenadeLauncher = 2 };
 /// One per wire::Weapon: kind = wire::Weapon - 1 (proto/weapon_wire.h has the slots).
 inline constexpr std::size_t kWeaponCount = proto::kWeaponCount;
+static_assert(kWeaponCount == static_cast<std::size_t>(WeaponKind::GrenadeLauncher) + 1);
 /// "rifle", "rocket_launcher", "grenade_launcher".
 const char* name(WeaponKind kind);
 /// The wire's Weapon of `kind`.

@@ -92,7 +92,4 @@ struct BotMetrics {
   std::string to_json() const;
 };
 
-/// The p-th percentile (0..100, nearest rank) of `samples`; 0 when empty.
-double percentile(std::vector<double> samples, double p);
-
 }  // namespace ricochet::bot

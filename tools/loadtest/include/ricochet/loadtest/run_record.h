@@ -2,13 +2,13 @@
 /// What a load test saw, sample by sample (one per scrape), and the summary of each step's
 /// measured window: the figures report.json carries and the plots draw.
 
-#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "ricochet/loadtest/error_kinds.h"
+#include "ricochet/loadtest/server_figures.h"
 
 namespace ricochet::loadtest {
 
@@ -23,11 +23,11 @@ struct RunSample {
   bool server_ok = false;  ///< the scrape succeeded
   int matches = 0;
   int server_players = 0;
-  std::array<double, 4> tick_ms{};  ///< worst match's p50, p95, p99, max (last 600 ticks), ms
-  double tick_p99_mean_ms = 0;      ///< mean over matches with players of their p99
-  double overruns = 0;              ///< since the run started, all matches
-  double dropped_steps = 0;         ///< since the run started
-  double server_cpu_percent = 0;    ///< since the previous sample (100: one core)
+  TickQuantiles tick;             ///< each quantile's worst match (last 600 ticks)
+  double tick_p99_mean_ms = 0;    ///< mean over matches with players of their p99
+  double overruns = 0;            ///< since the run started, all matches
+  double dropped_steps = 0;       ///< since the run started
+  double server_cpu_percent = 0;  ///< since the previous sample (100: one core)
   double server_rss_mb = 0;
   double generator_cpu_percent = 0;
   double generator_rss_mb = 0;
@@ -46,7 +46,7 @@ struct RunSample {
 struct MatchTickRow {
   double t_s = 0;
   std::uint32_t match = 0;
-  std::array<double, 4> tick_ms{};
+  TickQuantiles tick;
 };
 
 /// A step's measured window.
@@ -56,10 +56,10 @@ struct StepSummary {
   int bots_gave_up = 0;
   int matches = 0;
   double measured_s = 0;
-  double ramp_s = 0;                       ///< from the step's first start to the window's start
-  std::array<double, 4> server_tick_ms{};  ///< the window's worst of each quantile, ms
-  double server_tick_ms_p99_mean = 0;      ///< mean over samples of the mean match p99
-  double overruns = 0;                     ///< during the window
+  double ramp_s = 0;                   ///< from the step's first start to the window's start
+  TickQuantiles server_tick;           ///< the window's worst of each quantile
+  double server_tick_ms_p99_mean = 0;  ///< mean over samples of the mean match p99
+  double overruns = 0;                 ///< during the window
   double dropped_steps = 0;
   double snapshot_loss = 0;  ///< bots' lost / (received + lost) during the window
   double snapshots_per_s_per_bot = 0;
@@ -82,10 +82,10 @@ struct StepSummary {
   /// control channel).
   std::map<std::string, double> server_phase_percent;
 
-  /// The capacity criteria: p99 tick ≤ 4 ms, no overrun, snapshot loss ≤ 1 %, server core not
-  /// saturated (< 90 %), every bot connected.
+  /// Whether the step meets every capacity criterion (capacity.h).
   bool meets_capacity() const;
-  bool generator_saturated() const { return generator_cpu_percent >= 90; }
+  /// Whether the load generator's own core was the limit (capacity.h).
+  bool generator_saturated() const;
   /// One JSON object (no newline).
   std::string to_json() const;
 };

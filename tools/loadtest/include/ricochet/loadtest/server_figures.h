@@ -2,7 +2,6 @@
 /// The server's own figures, read from one /metrics scrape: per-match tick quantiles over the
 /// match's last 600 ticks, overruns, players, traffic and refusals.
 
-#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -12,10 +11,22 @@
 
 namespace ricochet::loadtest {
 
+/// A match's tick time over its last 600 ticks as /metrics gives it (ricochet_tick_seconds
+/// {quantile}: nearest rank, ricochet/stats/percentile.h), ms.
+struct TickQuantiles {
+  double p50_ms = 0;
+  double p95_ms = 0;
+  double p99_ms = 0;
+  double max_ms = 0;
+
+  /// Each quantile the larger of this one's and other's.
+  TickQuantiles worst_with(const TickQuantiles& other) const;
+};
+
 struct MatchFigures {
-  std::array<double, 4> tick_ms{};  ///< p50, p95, p99, max over the last 600 ticks, ms
-  int connected = 0;                ///< players connected
-  double overruns = 0;              ///< ticks that hit the catch-up cap, since the match opened
+  TickQuantiles tick;
+  int connected = 0;    ///< players connected
+  double overruns = 0;  ///< ticks that hit the catch-up cap, since the match opened
 };
 
 struct ServerFigures {
@@ -37,7 +48,7 @@ struct ServerFigures {
   std::map<std::string, double> phase_seconds;
 
   /// The largest of each quantile over the matches with players connected (all zeros: none).
-  std::array<double, 4> worst_tick_ms() const;
+  TickQuantiles worst_tick() const;
 };
 
 /// What the samples say; unknown metrics are ignored, a match label that is not a number is

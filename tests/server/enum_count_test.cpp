@@ -1,0 +1,32 @@
+// Every counted enum of the server: its count is one past its last named enumerator.
+
+#include "enum_count.h"
+
+#include "admin_http.h"
+#include "control_counters.h"
+#include "ricochet/server/combat.h"
+#include "ricochet/server/input_buffer.h"
+#include "ricochet/server/match.h"
+#include "ricochet/server/weapons.h"
+
+namespace ricochet::server {
+namespace {
+
+using test::expect_counted;
+
+TEST(EnumCountTest, Match) {
+  expect_counted<JoinRefusal>(kJoinRefusalCount, [](JoinRefusal r) { return name(r); });
+  expect_counted<ChatDrop>(kChatDropCount, [](ChatDrop d) { return name(d); });
+  expect_counted<InputDrop>(kInputDropCount, [](InputDrop d) { return name(d); });
+  expect_counted<Violation>(kViolationCount, [](Violation v) { return name(v); });
+  expect_counted<WeaponKind>(kWeaponCount, [](WeaponKind k) { return name(k); });
+}
+
+TEST(EnumCountTest, Network) {
+  expect_counted<ControlRefusal>(kControlRefusalCount, [](ControlRefusal r) { return name(r); });
+  expect_counted<AdminRejectReason>(kAdminRejectReasonCount,
+                                    [](AdminRejectReason r) { return name(r); });
+}
+
+}  // namespace
+}  // namespace ricochet::server
