@@ -2,6 +2,7 @@
 
 #include "enum_count.h"
 
+#include "ricochet/proto/control_client.h"
 #include "ricochet/proto/control_states.h"
 #include "ricochet/proto/frame.h"
 #include "ricochet/proto/packet.h"
@@ -28,6 +29,9 @@ TEST(EnumCountTest, ControlChannel) {
   expect_counted<ControlState>(kControlStateCount, [](ControlState s) { return name(s); });
   expect_counted<ClientMessageKind>(kClientMessageKindCount,
                                     [](ClientMessageKind k) { return name(k); });
+  expect_counted<RequestRefusal>(kRequestRefusalCount, [](RequestRefusal r) { return name(r); });
+  expect_counted<ControlCloseReason>(kControlCloseReasonCount,
+                                     [](ControlCloseReason r) { return name(r); });
 }
 
 }  // namespace

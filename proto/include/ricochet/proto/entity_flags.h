@@ -22,7 +22,7 @@ enum EntityFlag : std::uint8_t {
 
 /// What an entity is, in bits 2..3 of its flags. The value 3 is unassigned.
 enum class EntityKind : std::uint8_t { Player = 0, Rocket = 1, Grenade = 2 };
-inline constexpr std::size_t kEntityKindCount = 3;
+inline constexpr std::size_t kEntityKindCount = static_cast<std::size_t>(EntityKind::Grenade) + 1;
 inline constexpr unsigned kEntityKindShift = 2;
 inline constexpr std::uint8_t kEntityKindMask = 3u << kEntityKindShift;
 

@@ -13,8 +13,9 @@ namespace ricochet::proto {
 
 /// Input.weapon_slot lies in 0..kMaxWeaponSlot: 0 keeps the weapon, slot n selects Weapon n.
 inline constexpr std::uint32_t kMaxWeaponSlot = 9;
-/// Weapons 1..kWeaponCount exist (rifle, rocket launcher, grenade launcher).
-inline constexpr std::uint32_t kWeaponCount = 3;
+/// Weapons 1..kWeaponCount exist (rifle, rocket launcher, grenade launcher): the last of
+/// game.proto's Weapon enum.
+inline constexpr std::uint32_t kWeaponCount = static_cast<std::uint32_t>(wire::Weapon_MAX);
 
 /// The weapon `slot` selects; nothing for 0 (keep the weapon) or a slot without a weapon.
 std::optional<wire::Weapon> weapon_of_slot(std::uint32_t slot);
