@@ -27,11 +27,13 @@
 ///                    the orders key
 // clang-format on
 ///
-/// No layer is deleted yet: streams saves far more than 2 % of a core; the other four save less
+/// Why every layer stays: streams saves far more than 2 % of a core; the other four save less
 /// than 2 % of a core in 16-player matches, but the 64-player tick needs them (all four off
 /// cost it 42.9 % more instructions), and its p99 must stay <= 1 ms (0.78..0.90 ms in
-/// tools/bench/results/match.jsonl). The capacity step itself (tools/bench/capacity.sh at 1300
-/// bots, each layer off) is still to be run on a quiet machine.
+/// tools/bench/results/match.jsonl). world_baselines, the one that saves no instructions even
+/// there, is what keeps a tick's world once instead of a copy per client: match-bench's max RSS
+/// went 50.8 -> 21.1 MB with it (commit d22c538, tools/bench/README.md). The capacity step itself
+/// (tools/bench/capacity.sh at 1300 bots, each layer off) is still to be run on a quiet machine.
 
 #include <algorithm>
 #include <atomic>
