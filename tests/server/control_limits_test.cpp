@@ -30,63 +30,31 @@ void expect_error_then_close(ControlTestClient& client, wire::ErrorCode code) {
 }
 
 /// ControlRig's server on fake time: its clock stands still until advance(), which then makes
-/// every session look at its deadlines. (control_test_client.h's rig runs on the steady clock.)
+/// every session look at its deadlines. (ControlRig alone runs on the steady clock.)
 class FakeTimeRig {
  public:
-  explicit FakeTimeRig(ControlLimits limits) {
-    db::DbWorkerOptions options;
-    options.accounts.cost = db::PasswordCost::Minimum;
-    auto store = db::open_sqlite_store({.path = (dir_.path() / "ricochet.db").string()});
-    if (!store.ok()) throw std::runtime_error("cannot open the test database");
-    db_ = std::make_unique<db::DbWorker>(std::move(store).value(), options);
-    ControlServerConfig config;
-    config.bind_address = "127.0.0.1";
-    config.port = 0;
-    config.tls.data_dir = dir_.path() / "data";
-    config.limits = limits;
-    config.clock = [this] { return now_.load(); };
-    server_ = std::make_unique<ControlServer>(io_, config, *db_, directory_);
-    server_->start();
-    for (auto& thread : threads_) thread = std::thread([this] { io_.run(); });
-  }
-  ~FakeTimeRig() {
-    server_->stop();
-    for (int i = 0; i < 300 && server_->connections() > 0; ++i) std::this_thread::sleep_for(10ms);
-    io_.stop();
-    for (auto& thread : threads_) thread.join();
-    server_.reset();
-    db_->stop();
-  }
-  FakeTimeRig(const FakeTimeRig&) = delete;
-  FakeTimeRig& operator=(const FakeTimeRig&) = delete;
+  explicit FakeTimeRig(ControlLimits limits) : rig_(limits, [this] { return now_.load(); }) {}
 
   /// Moves the clock on by `us` and has every session compare its deadlines with it.
   void advance(proto::TimeUs us) {
     now_ += us;
-    server_->check_deadlines();
+    rig_.server().check_deadlines();
   }
-  ControlServer& server() { return *server_; }
-  FakeDirectory& directory() { return directory_; }
-  std::uint16_t port() const { return server_->port(); }
-  std::uint64_t refusals(ControlRefusal refusal) const {
-    return server_->counters().refusals(refusal);
-  }
+  ControlServer& server() { return rig_.server(); }
+  FakeDirectory& directory() { return rig_.directory(); }
+  std::uint16_t port() const { return rig_.port(); }
+  std::uint64_t refusals(ControlRefusal refusal) const { return rig_.refusals(refusal); }
   /// Waits (in real time, bounded) until the server holds `count` connections.
-  bool wait_connections(std::size_t count) const {
-    for (int i = 0; i < 1000 && server_->connections() != count; ++i) {
+  bool wait_connections(std::size_t count) {
+    for (int i = 0; i < 1000 && server().connections() != count; ++i) {
       std::this_thread::sleep_for(2ms);
     }
-    return server_->connections() == count;
+    return server().connections() == count;
   }
 
  private:
-  TempDir dir_;
-  std::atomic<proto::TimeUs> now_{1'000 * kMs};
-  asio::io_context io_;
-  std::unique_ptr<db::DbWorker> db_;
-  FakeDirectory directory_;
-  std::unique_ptr<ControlServer> server_;
-  std::array<std::thread, 2> threads_;
+  std::atomic<proto::TimeUs> now_{1'000 * kMs};  ///< before rig_: its server reads it
+  ControlRig rig_;
 };
 
 /// Sends a ping followed by `tail` in one write and waits for the pong: once it came, the

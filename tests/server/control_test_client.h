@@ -126,10 +126,11 @@ class FakeDirectory : public MatchDirectory {
 };
 
 /// A server whose io_context runs on two threads of its own (the control server keeps its
-/// state on one strand, so any number of threads must be safe).
+/// state on one strand, so any number of threads must be safe). Its clock is the steady one
+/// unless the test hands it another (control_limits_test's fake time).
 class ControlRig {
  public:
-  explicit ControlRig(ControlLimits limits = {}) {
+  explicit ControlRig(ControlLimits limits = {}, std::function<proto::TimeUs()> clock = {}) {
     db::DbWorkerOptions options;
     options.accounts.cost = db::PasswordCost::Minimum;
     auto store = db::open_sqlite_store({.path = (dir_.path() / "ricochet.db").string()});
@@ -140,6 +141,7 @@ class ControlRig {
     config.port = 0;
     config.tls.data_dir = dir_.path() / "data";
     config.limits = limits;
+    if (clock) config.clock = std::move(clock);
     server_ = std::make_unique<ControlServer>(io_, config, *db_, directory_);
     server_->start();
     for (auto& thread : threads_) thread = std::thread([this] { io_.run(); });
