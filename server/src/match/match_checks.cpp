@@ -2,10 +2,10 @@
 /// faster than a person can, and the violations' counting and logging. The fire rate is checked
 /// where weapons fire (match_combat.cpp), the input rate where inputs arrive (match.cpp).
 
+#include "match_checks.h"
+
 #include <cmath>
 #include <numbers>
-
-#include "ricochet/server/match.h"
 
 namespace ricochet::server {
 
@@ -22,10 +22,10 @@ float angle_difference(float a, float b) {
 
 }  // namespace
 
-void Match::check_inputs() {
-  const float max_turn_rad =
-      config_.weapons.max_turn_rate_rad_s * static_cast<float>(clock_.step_s());
-  for (Player& player : players_) {
+void check_inputs(const WeaponsConfig& weapons, double step_s, Roster& roster,
+                  const ViolationReport& report) {
+  const float max_turn_rad = weapons.max_turn_rate_rad_s * static_cast<float>(step_s);
+  for (Player& player : roster.players) {
     const PlayerInput& input = player.applied;
     if (input.sequence == 0 && !player.aimed) continue;  // no input yet: keep the spawn's aim
     if (!player.aimed || turn_rate_ok(player.aim_yaw_rad, player.aim_pitch_rad, input.yaw_rad,
@@ -37,7 +37,7 @@ void Match::check_inputs() {
     }
     // A snap faster than anyone turns (an aimbot, or a forged input): the aim follows at the
     // largest allowed turn, so a shot this step goes where a person could have aimed.
-    note_violation(player, Violation::TurnRate);
+    note_violation(player, Violation::TurnRate, report);
     const float dyaw = angle_difference(input.yaw_rad, player.aim_yaw_rad);
     const float dpitch = input.pitch_rad - player.aim_pitch_rad;
     const float length = std::sqrt(dyaw * dyaw + dpitch * dpitch);
@@ -47,14 +47,14 @@ void Match::check_inputs() {
   }
 }
 
-void Match::note_violation(Player& player, Violation violation) {
+void note_violation(Player& player, Violation violation, const ViolationReport& report) {
   const std::size_t index = static_cast<std::size_t>(violation);
   const std::uint64_t count = ++player.violations[index];
-  ++counters_.violations[index];
+  ++report.counters.violations[index];
   // The first, then every power of two: a cheat is seen at once and cannot flood the log.
-  if (log_ && (count & (count - 1)) == 0) {
+  if (report.log && (count & (count - 1)) == 0) {
     std::string line = "match ";
-    line += std::to_string(config_.id);
+    line += std::to_string(report.match_id);
     line += ": account ";
     line += std::to_string(player.account);
     line += " (";
@@ -64,7 +64,7 @@ void Match::note_violation(Player& player, Violation violation) {
     line += " violation, ";
     line += std::to_string(count);
     line += " so far";
-    log_(line);
+    report.log(line);
   }
 }
 

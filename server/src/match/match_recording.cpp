@@ -1,10 +1,9 @@
-/// A match's recording and its playback (match.h, recording.h): the membership changes between
-/// steps, every applied input per step, and the match hash every hash_interval_ticks steps.
+/// A match's recording (match_recorder.h, recording.h): the membership changes between steps,
+/// every applied input per step, and the match hash every hash_interval_ticks steps.
 
-#include <cassert>
 #include <cstring>
 
-#include "ricochet/server/match.h"
+#include "match_recorder.h"
 
 namespace ricochet::server {
 
@@ -33,87 +32,34 @@ class Fnv1a {
 
 }  // namespace
 
-void Match::record_event(const RecordedEvent& event) {
-  if (recording_) pending_record_events_.push_back(event);
-}
-
-void Match::record_step() {
-  if (!recording_) return;
-  if (recording_->full()) {
-    counters_.recording_truncated = true;
-    pending_record_events_.clear();
+void record_step(std::uint32_t tick, std::optional<std::uint64_t> hash, Recorder& recorder,
+                 MatchCounters& counters) {
+  RecordingWriter* writer = recorder.writer.get();
+  if (!writer) return;
+  if (writer->full()) {
+    counters.recording_truncated = true;
+    recorder.pending_events.clear();
     return;
   }
-  recording_->begin_tick(tick_);
-  for (const RecordedEvent& event : pending_record_events_) recording_->add_event(event);
-  pending_record_events_.clear();
-  for (const RecordedInput& input : step_inputs_) recording_->add_input(input);
-  if (tick_ % static_cast<std::uint32_t>(config_.hash_interval_ticks) == 0) {
-    recording_->add_hash(tick_, state_hash());
-  }
-  recording_->end_tick();
-  counters_.recording_bytes = recording_->bytes();
+  writer->begin_tick(tick);
+  for (const RecordedEvent& event : recorder.pending_events) writer->add_event(event);
+  recorder.pending_events.clear();
+  for (const RecordedInput& input : recorder.step_inputs) writer->add_input(input);
+  if (hash) writer->add_hash(tick, *hash);
+  writer->end_tick();
+  counters.recording_bytes = writer->bytes();
 }
 
-std::vector<std::uint8_t> Match::take_recording() {
-  if (!recording_) return {};
-  std::vector<std::uint8_t> bytes = recording_->finish();
-  recording_.reset();
-  return bytes;
-}
-
-void Match::apply(const RecordedEvent& event) {
-  switch (event.kind) {
-    case RecordedEventKind::Connect:
-      connect(event.account, event.name);
-      break;
-    case RecordedEventKind::Disconnect:
-      disconnect(event.account, 0);
-      break;
-    case RecordedEventKind::Leave:
-      leave(event.account);
-      break;
-    case RecordedEventKind::TimedOut:
-      for (std::size_t k = 0; k < players_.size(); ++k) {
-        if (players_[k].account == event.account) {
-          time_out(k);
-          break;
-        }
-      }
-      break;
-    case RecordedEventKind::End:
-      end(static_cast<wire::MatchEndReason>(event.end_reason));
-      break;
-  }
-  outbox_.clear();  // nobody listens to a replay
-  outbox_read_ = 0;
-  pending_events_.clear();
-}
-
-void Match::step_recorded(std::span<const RecordedInput> inputs) {
-  if (ended()) return;
-  step_inputs_.assign(inputs.begin(), inputs.end());
-  for (Player& player : players_) player.applied = PlayerInput{};
-  for (const RecordedInput& input : inputs) {
-    if (Player* player = find_entity(input.entity_id)) {
-      player->applied = input.input;
-      player->latency_us = input.latency_us;
-    }
-  }
-  simulate_step();
-  ++counters_.steps;
-  pending_events_.clear();
-}
-
-std::uint64_t Match::state_hash() const {
+std::uint64_t match_hash(const physics::World& world, std::uint32_t tick, const RulesState& rules,
+                         const Roster& roster, const Combat& combat) {
   Fnv1a hash;
-  hash.add(world_.state_hash());
-  hash.add(tick_);
-  hash.add(static_cast<std::uint8_t>(phase_));
-  hash.add(phase_ends_tick_);
-  hash.add(team_scores_);
-  hash.add(rng_);  // the generator's whole state
-  for (const Player& player : players_) {
+  hash.add(world.state_hash());
+  hash.add(tick);
+  hash.add(static_cast<std::uint8_t>(rules.phase));
+  hash.add(rules.phase_ends_tick);
+  hash.add(rules.team_scores);
+  hash.add(rules.rng);  // the generator's whole state
+  for (const Player& player : roster.players) {
     hash.add(player.entity_id);
     hash.add(player.alive);
     hash.add(player.life);
@@ -135,12 +81,12 @@ std::uint64_t Match::state_hash() const {
     hash.add(player.score.damage_taken);
     hash.add_vec(player.position_m);
   }
-  for (const Projectile& shot : projectiles_) {
+  for (const Projectile& shot : combat.projectiles) {
     hash.add(shot.entity_id);
     hash.add(shot.expires_tick);
     hash.add_vec(shot.position_m);
   }
-  for (const PickupState& pickup : pickups_) {
+  for (const PickupState& pickup : rules.pickups) {
     hash.add(pickup.available);
     hash.add(pickup.respawn_tick);
   }
