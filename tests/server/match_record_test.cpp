@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <variant>
 
+#include "ricochet/proto/input_wire.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
 
@@ -123,6 +125,30 @@ TEST_F(MatchRecordFixture, TimeCountsWhileConnectedAndRunningAndSurvivesLeaving)
   run(match, 30);
   const auto third = counted_players(match.scoreboard(), 60);
   EXPECT_EQ(find(third, 1)->score.ticks_played, ann_ticks + 30);
+}
+
+TEST_F(MatchRecordFixture, APlayerWhoLeavesKeepsItsScoreOnlyWhenItCounts) {
+  // Ann fires in the step that starts the match and leaves before its next one: a shot, but no
+  // running tick connected, no kill, no death. The scoreboard forgets her, as the record does.
+  Match match = make(2);
+  const auto ann = std::get<Joined>(match.connect(1, "ann"));
+  ASSERT_TRUE(std::holds_alternative<Joined>(match.connect(2, "bob")));
+  RecordedInput fire;
+  fire.entity_id = ann.entity_id;
+  fire.input.sequence = 1;
+  fire.input.buttons = proto::kButtonFire;
+  match.step_recorded(std::span(&fire, 1));
+  ASSERT_EQ(match.phase(), MatchPhase::Running);
+  const std::vector<PlayerScore> before = match.scoreboard();
+  ASSERT_EQ(before.size(), 2u);
+  EXPECT_EQ(before[0].account, 1u);
+  EXPECT_EQ(before[0].shots, 1);
+  EXPECT_FALSE(counts_in_record(before[0]));
+
+  ASSERT_TRUE(match.leave(1));
+  const std::vector<PlayerScore> after = match.scoreboard();
+  ASSERT_EQ(after.size(), 1u);
+  EXPECT_EQ(after[0].account, 2u);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "match_movement.h"
 #include "match_parts.h"
 #include "ricochet/physics/scene_profile.h"
+#include "ricochet/server/match_record.h"
 
 namespace ricochet::server {
 
@@ -134,7 +135,7 @@ void remove_player(std::size_t index, wire::LeaveReason reason, physics::World& 
     [[maybe_unused]] const physics::Status destroyed = world.destroy_body(player.body);
     assert(destroyed.ok());
   }
-  if (player.score.ticks_played > 0 || player.score.shots > 0 || player.score.deaths > 0) {
+  if (counts_in_record(player.score)) {
     roster.departed.push_back(player.score);
   }
   wire::GameEvent left;

@@ -193,8 +193,8 @@ class Match {
   int connected_count() const;
   int max_players() const;
   std::optional<std::uint32_t> entity_of(std::uint64_t account) const;
-  /// Every seated player, and everyone who left after playing while the match was running, by
-  /// entity.
+  /// Every seated player, and everyone who left after taking part while the match was running
+  /// (counts_in_record, match_record.h), by entity.
   std::vector<PlayerScore> scoreboard() const;
   /// Team scores by wire::Team (index 1 red, 2 blue; 0 unused), team deathmatch.
   std::array<int, 3> team_scores() const;
