@@ -1,6 +1,6 @@
-/// What a player's inputs claim, checked against what the rules allow (match.h): aim that turns
-/// faster than a person can, and the violations' counting and logging. The fire rate is checked
-/// where weapons fire (match_combat.cpp), the input rate where inputs arrive (match.cpp).
+/// What a player's inputs claim, checked against what the rules allow (match_checks.h): aim that
+/// turns faster than a person can, and the violations' counting and logging. The fire rate is
+/// checked where weapons fire (match_combat.cpp), the input rate where inputs arrive (match.cpp).
 
 #include "match_checks.h"
 

@@ -1,6 +1,6 @@
-/// Combat in a match (match.h): weapons fired, the lag-compensated rifle, rockets and grenades,
-/// explosions, damage and deaths, kill volumes and pickups. Every rule here is deterministic:
-/// entity order, the match's generator, integer hit points.
+/// Combat in a match (match_game.h): weapons fired, the lag-compensated rifle, rockets and
+/// grenades, explosions, damage and deaths, kill volumes and pickups. Every rule here is
+/// deterministic: entity order, the match's generator, integer hit points.
 
 #include <algorithm>
 #include <cassert>

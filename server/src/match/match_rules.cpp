@@ -1,4 +1,5 @@
-/// The rules of a match (rules.h): the lifecycle, teams, spawns and respawns, the limits.
+/// The rules of a match (rules.h, match_game.h): the lifecycle, teams, spawns and respawns, the
+/// limits.
 
 #include <algorithm>
 #include <cassert>

@@ -18,25 +18,29 @@
 
 namespace ricochet::server {
 
-/// One seat of a match, keyed by account.
+/// One seat of a match, keyed by account: who sits there, its connection (what the network side
+/// changes: connect, disconnect, receive, the snapshots) and its game (what the step changes).
 struct Player {
-  // --- the connection ---
   std::uint64_t account = 0;
   std::string name;
   std::uint32_t entity_id = 0;
-  physics::BodyId body;  ///< null while dead
+
+  // --- the connection ---
   bool connected = true;
   proto::TimeUs disconnected_at = 0;
-  bool grounded = false;
   InputBuffer inputs;
   PlayerInput applied;                                ///< this step's input
   std::unique_ptr<proto::SnapshotEncoder> snapshots;  ///< per connection, none while away
   /// The newest snapshot tick the client acknowledged since the last snapshot (0: none),
   /// handed to `snapshots` when the next one is built: the encoder stays cold between ticks.
   std::uint32_t snapshot_ack = 0;
-  proto::TimeUs latency_us = 0;  ///< one way
+  proto::TimeUs latency_us = 0;          ///< one way
+  std::uint32_t input_window_start = 0;  ///< tick the input-rate window began
+  std::uint32_t inputs_in_window = 0;    ///< new inputs offered in it
 
   // --- the game ---
+  physics::BodyId body;  ///< null while dead
+  bool grounded = false;
   Team team = Team::None;
   Vitals vitals;
   bool alive = true;
@@ -53,8 +57,6 @@ struct Player {
   bool aimed = false;                        ///< aim_* hold a previous aim
   PlayerScore score;
   std::array<std::uint64_t, kViolationCount> violations{};
-  std::uint32_t input_window_start = 0;  ///< tick the input-rate window began
-  std::uint32_t inputs_in_window = 0;    ///< new inputs offered in it
 };
 
 /// The players of a match and who has left it.
