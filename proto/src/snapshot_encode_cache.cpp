@@ -475,6 +475,21 @@ struct SnapshotEncodeCache::Streams {
   }
 };
 
+bool switch_off_cache_layer(std::string_view name, SnapshotCacheLayers& layers) {
+  const bool all = name == "all";
+  bool known = all;
+  const auto off = [&](std::string_view layer, bool& on) {
+    if (all || name == layer) on = false;
+    known |= name == layer;
+  };
+  off("streams", layers.streams);
+  off("deltas", layers.deltas);
+  off("world_baselines", layers.world_baselines);
+  off("walks", layers.walks);
+  off("whole_world_start", layers.whole_world_start);
+  return known;
+}
+
 SnapshotEncodeCache::SnapshotEncodeCache(SnapshotCacheLayers layers, std::size_t max_streams)
     : streams_(std::make_unique<Streams>(std::clamp<std::size_t>(max_streams, 1, 64))),
       layers_(layers) {

@@ -3,10 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <random>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -147,6 +149,28 @@ TEST(SnapshotEncodeCache, BoundClientsHoldingTheWholeWorldWeighTheirOwnCarriedPr
   }
   EXPECT_GT(deferred, 16u * 100u);
   EXPECT_GT(cache.walks_followed(), 16u * 50u);
+}
+
+TEST(SnapshotEncodeCache, EachLayerIsSwitchedOffByItsNameAndAllByAll) {
+  const auto off = [](std::string_view name) {
+    SnapshotCacheLayers layers;
+    EXPECT_TRUE(switch_off_cache_layer(name, layers)) << name;
+    return std::array{layers.streams, layers.deltas, layers.world_baselines, layers.walks,
+                      layers.whole_world_start};
+  };
+  EXPECT_EQ(off("streams"), (std::array{false, true, true, true, true}));
+  EXPECT_EQ(off("deltas"), (std::array{true, false, true, true, true}));
+  EXPECT_EQ(off("world_baselines"), (std::array{true, true, false, true, true}));
+  EXPECT_EQ(off("walks"), (std::array{true, true, true, false, true}));
+  EXPECT_EQ(off("whole_world_start"), (std::array{true, true, true, true, false}));
+  EXPECT_EQ(off("all"), (std::array{false, false, false, false, false}));
+  for (const std::string_view unknown : {"", "stream", "Streams", "all ", "walks,deltas"}) {
+    SnapshotCacheLayers layers;
+    EXPECT_FALSE(switch_off_cache_layer(unknown, layers)) << unknown;
+    EXPECT_TRUE(layers.streams && layers.deltas && layers.world_baselines && layers.walks &&
+                layers.whole_world_start)
+        << unknown;
+  }
 }
 
 /// Every layer switched off in turn (and all of them): the layers left on still write the

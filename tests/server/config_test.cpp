@@ -78,6 +78,37 @@ TEST(ServerConfig, SnapshotBudgetFollowsBandwidthAndRate) {
   EXPECT_TRUE(config.validate().empty());
 }
 
+TEST(ServerConfig, SnapshotCacheLayersAreSwitchedOffByNameAndAnUnknownNameIsAProblem) {
+  ServerConfig config;
+  ASSERT_TRUE(config.snapshot_cache_layers().has_value());  // empty: every layer on
+  EXPECT_TRUE(config.snapshot_cache_layers()->streams);
+  EXPECT_TRUE(config.snapshot_cache_layers()->whole_world_start);
+  config.game.snapshot_cache_off = "streams,walks";
+  ASSERT_TRUE(config.snapshot_cache_layers().has_value());
+  const proto::SnapshotCacheLayers layers = *config.snapshot_cache_layers();
+  EXPECT_FALSE(layers.streams);
+  EXPECT_TRUE(layers.deltas);
+  EXPECT_TRUE(layers.world_baselines);
+  EXPECT_FALSE(layers.walks);
+  EXPECT_TRUE(layers.whole_world_start);
+  EXPECT_TRUE(config.validate().empty());
+  config.game.snapshot_cache_off = "all";
+  EXPECT_FALSE(config.snapshot_cache_layers()->deltas);
+  EXPECT_FALSE(config.snapshot_cache_layers()->world_baselines);
+
+  for (const char* wrong : {"stream", "streams,", "streams,,deltas", " deltas"}) {
+    config.game.snapshot_cache_off = wrong;
+    EXPECT_FALSE(config.snapshot_cache_layers().has_value()) << wrong;
+    const std::vector<std::string> problems = config.validate();
+    ASSERT_EQ(problems.size(), 1u) << wrong;
+    EXPECT_NE(problems[0].find("game.snapshot_cache_off must list streams"), std::string::npos);
+    EXPECT_NE(problems[0].find(std::string("got \"") + wrong + "\""), std::string::npos);
+  }
+  const ParseOutcome outcome = parse({"--snapshot-cache-off", "deltas"});
+  ASSERT_TRUE(outcome.config.has_value()) << outcome.text;
+  EXPECT_FALSE(outcome.config->snapshot_cache_layers()->deltas);
+}
+
 TEST(ServerConfig, NoArgumentsRunWithTheDefaults) {
   const ParseOutcome outcome = parse({});
   ASSERT_TRUE(outcome.config.has_value()) << outcome.text;
@@ -221,7 +252,7 @@ TEST(ServerConfig, UnknownKeysAndTablesAreNamed) {
                 "test.toml:2:12: unknown key 'game.tickrate' (known keys in [game]: bind, port, "
                 "tick_rate_hz, snapshot_rate_hz, max_catch_up_steps, max_clients, "
                 "max_half_open, address_packets_per_s, client_packets_per_s, "
-                "bandwidth_kbps_per_client)"});
+                "bandwidth_kbps_per_client, snapshot_cache_off)"});
   EXPECT_EQ(problems_of("[physics]\ngravity = 9\n"),
             std::vector<std::string>{
                 "test.toml:1:1: unknown key 'physics' (known tables: server, db, tls, control, "

@@ -25,6 +25,7 @@ TEST(MatchDefaults, EveryMatchesKeyLandsOnItsMatchConfigField) {
   matches.lag_compensation = false;
   matches.max_rewind_ms = 100;
   matches.record = false;
+  config.game.snapshot_cache_off = "deltas";
   ASSERT_TRUE(config.validate().empty());
 
   const MatchConfig out = match_defaults(config);
@@ -44,6 +45,8 @@ TEST(MatchDefaults, EveryMatchesKeyLandsOnItsMatchConfigField) {
   EXPECT_FALSE(out.lag.enabled);
   EXPECT_EQ(out.lag.max_rewind_ms, 100.0f);
   EXPECT_FALSE(out.record);
+  EXPECT_FALSE(out.snapshot_cache_layers.deltas);
+  EXPECT_TRUE(out.snapshot_cache_layers.streams);
   EXPECT_EQ(out.validate(), "");
 }
 

@@ -88,14 +88,7 @@ struct Options {
 /// The cache layers left on when `off` names some (or "all") of them.
 proto::SnapshotCacheLayers cache_layers(const std::vector<std::string>& off) {
   proto::SnapshotCacheLayers layers;
-  for (const std::string& name : off) {
-    const bool all = name == "all";
-    if (all || name == "streams") layers.streams = false;
-    if (all || name == "deltas") layers.deltas = false;
-    if (all || name == "world_baselines") layers.world_baselines = false;
-    if (all || name == "walks") layers.walks = false;
-    if (all || name == "whole_world_start") layers.whole_world_start = false;
-  }
+  for (const std::string& name : off) proto::switch_off_cache_layer(name, layers);  // CLI checked
   return layers;
 }
 

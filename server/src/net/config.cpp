@@ -158,6 +158,12 @@ std::vector<std::string> ServerConfig::validate() const {
                        std::to_string(game.tick_rate_hz) + "; 0: the tick rate), got " +
                        std::to_string(game.snapshot_rate_hz));
   }
+  if (!snapshot_cache_layers()) {
+    problems.push_back(
+        "game.snapshot_cache_off must list streams, deltas, world_baselines, walks, "
+        "whole_world_start or all, comma-separated, got \"" +
+        game.snapshot_cache_off + "\"");
+  }
   if (tls.cert_file.empty() != tls.key_file.empty()) {
     problems.push_back(
         "tls.cert_file and tls.key_file must be both set or both empty, got cert_file \"" +
@@ -197,6 +203,18 @@ int ServerConfig::snapshot_budget_bytes() const {
 int ServerConfig::worker_threads() const {
   if (server.threads > 0) return server.threads;
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+std::optional<proto::SnapshotCacheLayers> ServerConfig::snapshot_cache_layers() const {
+  proto::SnapshotCacheLayers layers;
+  if (game.snapshot_cache_off.empty()) return layers;
+  std::string_view rest = game.snapshot_cache_off;
+  for (;;) {
+    const std::size_t comma = rest.find(',');
+    if (!proto::switch_off_cache_layer(rest.substr(0, comma), layers)) return std::nullopt;
+    if (comma == std::string_view::npos) return layers;
+    rest.remove_prefix(comma + 1);
+  }
 }
 
 int ServerConfig::snapshot_rate_hz() const {

@@ -324,6 +324,15 @@ const std::array kKeys = {
         .integer = &integer_of<&S::game, &GameConfig::bandwidth_kbps_per_client>,
         .min = 16,
         .max = 100'000},
+    Key{.section = "game",
+        .name = "snapshot_cache_off",
+        .flag = "--snapshot-cache-off",
+        .help = "snapshot encode cache layers to switch off, comma-separated, to measure what "
+                "each saves (the bytes sent stay the same): streams, deltas, world_baselines, "
+                "walks, whole_world_start or all; empty: none",
+        .kind = Kind::Text,
+        .text = &text_of<&S::game, &GameConfig::snapshot_cache_off>,
+        .allow_empty = true},
     Key{.section = "matches",
         .name = "count",
         .flag = "--matches",

@@ -8,6 +8,7 @@ MatchConfig match_defaults(const ServerConfig& config) {
   out.tick.max_catch_up_steps = config.game.max_catch_up_steps;
   out.snapshot_rate_hz = config.snapshot_rate_hz();
   out.snapshot_budget_bytes = static_cast<std::size_t>(config.snapshot_budget_bytes());
+  out.snapshot_cache_layers = config.snapshot_cache_layers().value_or(proto::SnapshotCacheLayers{});
   const MatchesConfig& matches = config.matches;
   RulesConfig& rules = out.rules;
   rules.mode = matches.mode == "tdm" ? GameMode::TeamDeathmatch : GameMode::FreeForAll;

@@ -15,6 +15,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -89,6 +90,10 @@ struct SnapshotCacheLayers {
   /// estimated, edited at their exceptions. Needs walks.
   bool whole_world_start = true;
 };
+
+/// Switches off the layer named `name` ("streams", "deltas", "world_baselines", "walks",
+/// "whole_world_start"; "all" for every one) in `layers`. False when `name` is none of those.
+bool switch_off_cache_layer(std::string_view name, SnapshotCacheLayers& layers);
 
 class SnapshotEncodeCache {
  public:

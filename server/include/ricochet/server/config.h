@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "ricochet/proto/snapshot_codec.h"
+
 namespace ricochet::server {
 
 enum class LogLevel { Trace, Debug, Info, Warn, Error, Critical, Off };
@@ -76,6 +78,9 @@ struct GameConfig {
   int address_packets_per_s = 20;       ///< datagrams per second from an unconnected address
   int client_packets_per_s = 250;       ///< datagrams per second from a connected client
   int bandwidth_kbps_per_client = 512;  ///< snapshot budget per client, kilobits per second
+  /// Snapshot encode cache layers switched off, comma-separated (proto::SnapshotCacheLayers):
+  /// a benchmark's switch, the bytes are the same; empty: every layer on.
+  std::string snapshot_cache_off;
 };
 
 /// [matches] the matches opened at start and the rules every match plays by; more matches come
@@ -142,6 +147,8 @@ struct ServerConfig {
   /// Bytes of one snapshot payload from the bandwidth budget at the snapshot rate, at most
   /// kMaxSnapshotBytes (one datagram); validate() keeps it at least kMinSnapshotBytes.
   int snapshot_budget_bytes() const;
+  /// game.snapshot_cache_off as the layers left on; nothing when it names an unknown layer.
+  std::optional<proto::SnapshotCacheLayers> snapshot_cache_layers() const;
 
   static constexpr int kMinSnapshotBytes = 128;
   static constexpr int kMaxSnapshotBytes = 1100;
