@@ -7,9 +7,11 @@
 # the server's core not saturated and every bot connected (report.json "capacity_bots").
 #
 #   tools/bench/capacity.sh [--sweep 100,200,400] [--duration 60s] [--out DIR] [--build DIR]
-#                           [--server-bin PATH] [--nice N | --rt] [--perf] [--no-append]
-#                           [-- extra ricochet-loadtest options]
+#                           [--server-bin PATH] [--server-arg ARG]... [--nice N | --rt] [--perf]
+#                           [--no-append] [-- extra ricochet-loadtest options]
 #
+# --server-arg passes one more flag to ricochet-server (repeat it for each word), e.g.
+# `--server-arg --snapshot-cache-off --server-arg streams` to measure a snapshot cache layer.
 # --nice N (root, e.g. -10) runs both at that niceness: on a machine where others compile, the
 # pinned server and generator then get the CPU they ask for instead of a fair share with the
 # compilers (their CPU time is measured either way; their tick times are not comparable
@@ -35,6 +37,7 @@ priority=()
 perf=0
 append=1
 extra=()
+server_args=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --sweep) sweep="$2"; shift 2 ;;
@@ -42,6 +45,7 @@ while [[ $# -gt 0 ]]; do
     --out) out="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
     --server-bin) server_bin="$2"; shift 2 ;;
+    --server-arg) server_args+=("$2"); shift 2 ;;
     --nice) niceness="$2"; shift 2 ;;
     --rt) priority=(chrt -f 1); shift ;;
     --perf) perf=1; shift ;;
@@ -104,7 +108,7 @@ nice -n "$niceness" "${priority[@]}" taskset -c 0 "$server_bin" --data-dir "$dat
   --matches "$matches" --match-max-players 16 --max-clients 4096 \
   --maps server/maps/foundry.toml --tick-rate-hz 60 --snapshot-rate-hz 60 \
   --time-limit-s 0 --frag-limit 0 --warmup-s 0 --password-hashing minimum \
-  --log-level info > "$out/server.log" 2>&1 &
+  --log-level info "${server_args[@]}" > "$out/server.log" 2>&1 &
 server_pid=$!
 
 # The bound ports and the fingerprint come from the ports file, written once it listens.
