@@ -20,51 +20,17 @@
 #include <string>
 #include <vector>
 
+#include "../proto/control_requests.h"
 #include "ricochet/proto/control_client.h"
 
 namespace {
 
 using namespace ricochet::proto;
+using ricochet::proto::test::request_of;
 using ricochet::wire::ClientMessage;
 
 void check(bool condition) {
   if (!condition) std::abort();
-}
-
-ClientMessage request_of(ClientMessageKind kind) {
-  ClientMessage m;
-  switch (kind) {
-    case ClientMessageKind::Register:
-      m.mutable_register_account()->set_username("ada");
-      m.mutable_register_account()->set_password("lovelace1");
-      break;
-    case ClientMessageKind::Login:
-      m.mutable_login()->set_username("ada");
-      m.mutable_login()->set_password("lovelace1");
-      break;
-    case ClientMessageKind::Resume:
-      m.mutable_resume()->set_session_token(std::string(64, 'f'));
-      break;
-    case ClientMessageKind::ListMatches:
-      m.mutable_list_matches();
-      break;
-    case ClientMessageKind::CreateMatch:
-      m.mutable_create_match()->set_name("duel");
-      break;
-    case ClientMessageKind::JoinMatch:
-      m.mutable_join_match()->set_match_id(1);
-      break;
-    case ClientMessageKind::LeaveMatch:
-      m.mutable_leave_match();
-      break;
-    case ClientMessageKind::Chat:
-      m.mutable_chat()->set_text("gl hf");
-      break;
-    case ClientMessageKind::Ping:
-      m.mutable_ping()->set_client_time_us(1);
-      break;
-  }
-  return m;
 }
 
 struct Run {

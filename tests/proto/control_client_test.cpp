@@ -12,48 +12,15 @@
 #include <string>
 #include <vector>
 
+#include "control_requests.h"
+
 namespace ricochet::proto {
 namespace {
 
 constexpr TimeUs kSecond = kMicrosPerSecond;
+using test::request_of;
 
 // --- what the client sends ---
-
-wire::ClientMessage request_of(ClientMessageKind kind) {
-  wire::ClientMessage m;
-  switch (kind) {
-    case ClientMessageKind::Register:
-      m.mutable_register_account()->set_username("ada");
-      m.mutable_register_account()->set_password("lovelace1");
-      break;
-    case ClientMessageKind::Login:
-      m.mutable_login()->set_username("ada");
-      m.mutable_login()->set_password("lovelace1");
-      break;
-    case ClientMessageKind::Resume:
-      m.mutable_resume()->set_session_token(std::string(64, 'a'));
-      break;
-    case ClientMessageKind::ListMatches:
-      m.mutable_list_matches();
-      break;
-    case ClientMessageKind::CreateMatch:
-      m.mutable_create_match()->set_name("duel");
-      break;
-    case ClientMessageKind::JoinMatch:
-      m.mutable_join_match()->set_match_id(1);
-      break;
-    case ClientMessageKind::LeaveMatch:
-      m.mutable_leave_match();
-      break;
-    case ClientMessageKind::Chat:
-      m.mutable_chat()->set_text("gl hf");
-      break;
-    case ClientMessageKind::Ping:
-      m.mutable_ping()->set_client_time_us(42);
-      break;
-  }
-  return m;
-}
 
 /// Every frame the client queued since the last call, parsed.
 std::vector<wire::ClientMessage> sent(ControlClient& client) {
