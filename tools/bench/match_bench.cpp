@@ -444,8 +444,13 @@ int main(int argc, char** argv) {
                  "snapshot encode cache layers to switch off (the bytes stay the same): streams, "
                  "deltas, world_baselines, walks, whole_world_start or all")
       ->delimiter(',')
-      ->check(CLI::IsMember(
-          {"streams", "deltas", "world_baselines", "walks", "whole_world_start", "all"}));
+      ->check(CLI::Validator(
+          [](const std::string& name) {
+            proto::SnapshotCacheLayers layers;
+            return proto::switch_off_cache_layer(name, layers) ? std::string{}
+                                                               : "unknown layer " + name;
+          },
+          "LAYER"));
   CLI11_PARSE(app, argc, argv);
 
   auto loaded = server::load_map_file(options.map);
