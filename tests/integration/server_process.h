@@ -31,37 +31,16 @@ namespace ricochet::test {
 class ServerProcess {
  public:
   /// `matches_toml`: the body of the [matches] table (maps, seed, limits ...); `more_toml`:
-  /// further tables, written after it.
+  /// further tables, written after it; `data_dir`: the server's data directory (empty: `data`
+  /// in the process's temporary directory).
   explicit ServerProcess(const std::string& matches_toml, int shutdown_grace_s = 10,
-                         const std::string& more_toml = "")
-      : dir_("ricochet-e2e") {
-    std::ofstream config(config_path());
-    config << "[server]\ndata_dir = \"" << (dir_.path() / "data").string() << "\"\nports_file = \""
-           << ports_path().string() << "\"\nthreads = 2\nshutdown_grace_s = " << shutdown_grace_s
-           << "\n[control]\nbind = \"127.0.0.1\"\nport = 0\n"
-           << "[game]\nbind = \"127.0.0.1\"\nport = 0\n"
-           << "[admin]\nbind = \"127.0.0.1\"\nport = 0\n"
-           << "[matches]\n"
-           << matches_toml << "\n"
-           << more_toml << "\n";
-    config.close();
-    // Everything the child needs is made before fork(): it only redirects and execs.
-    const std::string log = log_path().string();
-    const std::string path = config_path().string();
-    const int log_fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (log_fd < 0) throw std::runtime_error("cannot create " + log);
-    const pid_t parent = getpid();
-    pid_ = fork();
-    if (pid_ < 0) throw std::runtime_error("fork failed");
-    if (pid_ == 0) {
-      // A test killed by its timeout takes its server with it.
-      if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(125);
-      if (dup2(log_fd, STDOUT_FILENO) < 0 || dup2(log_fd, STDERR_FILENO) < 0) _exit(126);
-      execl(RICOCHET_SERVER_BINARY, RICOCHET_SERVER_BINARY, "--config", path.c_str(),
-            static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    close(log_fd);
+                         const std::string& more_toml = "", std::filesystem::path data_dir = {})
+      : dir_("ricochet-e2e"),
+        matches_toml_(matches_toml),
+        more_toml_(more_toml),
+        shutdown_grace_s_(shutdown_grace_s),
+        data_dir_(data_dir.empty() ? dir_.path() / "data" : std::move(data_dir)) {
+    start();
   }
   ~ServerProcess() {
     if (pid_ > 0 && !exit_status_) {
@@ -109,6 +88,18 @@ class ServerProcess {
   }
 
   void terminate() { kill(pid_, SIGTERM); }
+  /// kill -9, and waits for the exit.
+  void kill_now() {
+    kill(pid_, SIGKILL);
+    wait_exit(std::chrono::seconds(10));
+  }
+  /// Starts the server again after it exited, on the same data directory and the ports it had
+  /// (so clients that knew it find it again). Call wait_listening() next.
+  void restart() {
+    if (!exit_status_) throw std::logic_error("restart() while the server is running");
+    exit_status_.reset();
+    start();
+  }
   /// The exit code once the server exited (128 + signal when a signal killed it); nullopt when
   /// it is still running after `limit`.
   std::optional<int> wait_exit(std::chrono::milliseconds limit) {
@@ -130,11 +121,43 @@ class ServerProcess {
   std::uint16_t game_port() const { return game_port_; }
   std::uint16_t admin_port() const { return admin_port_; }
   const std::string& fingerprint() const { return fingerprint_; }
-  std::filesystem::path db_path() const { return dir_.path() / "data" / "ricochet.db"; }
+  std::filesystem::path db_path() const { return data_dir_ / "ricochet.db"; }
+  const std::filesystem::path& data_dir() const { return data_dir_; }
   const std::filesystem::path& dir() const { return dir_.path(); }
   std::string log() const { return read_file(log_path()); }
 
  private:
+  /// Writes the configuration (the ports known so far, 0 before the first start) and forks the
+  /// server.
+  void start() {
+    std::ofstream config(config_path());
+    config << "[server]\ndata_dir = \"" << data_dir_.string() << "\"\nports_file = \""
+           << ports_path().string() << "\"\nthreads = 2\nshutdown_grace_s = " << shutdown_grace_s_
+           << "\n[control]\nbind = \"127.0.0.1\"\nport = " << control_port_
+           << "\n[game]\nbind = \"127.0.0.1\"\nport = " << game_port_
+           << "\n[admin]\nbind = \"127.0.0.1\"\nport = " << admin_port_ << "\n[matches]\n"
+           << matches_toml_ << "\n"
+           << more_toml_ << "\n";
+    config.close();
+    std::filesystem::remove(ports_path());
+    // Everything the child needs is made before fork(): it only redirects and execs.
+    const std::string log = log_path().string();
+    const std::string path = config_path().string();
+    const int log_fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (log_fd < 0) throw std::runtime_error("cannot create " + log);
+    const pid_t parent = getpid();
+    pid_ = fork();
+    if (pid_ < 0) throw std::runtime_error("fork failed");
+    if (pid_ == 0) {
+      // A test killed by its timeout takes its server with it.
+      if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(125);
+      if (dup2(log_fd, STDOUT_FILENO) < 0 || dup2(log_fd, STDERR_FILENO) < 0) _exit(126);
+      execl(RICOCHET_SERVER_BINARY, RICOCHET_SERVER_BINARY, "--config", path.c_str(),
+            static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    close(log_fd);
+  }
   static std::string read_file(const std::filesystem::path& path) {
     std::ifstream in(path);
     std::stringstream text;
@@ -146,6 +169,10 @@ class ServerProcess {
   std::filesystem::path log_path() const { return dir_.path() / "server.log"; }
 
   TempDir dir_;
+  std::string matches_toml_;
+  std::string more_toml_;
+  int shutdown_grace_s_;
+  std::filesystem::path data_dir_;
   pid_t pid_ = -1;
   std::optional<int> exit_status_;
   std::uint16_t control_port_ = 0;

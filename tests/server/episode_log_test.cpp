@@ -58,7 +58,8 @@ TEST_F(EpisodeLogTest, ManyKeysShareOneEpisodeSoMemoryStaysBounded) {
   EpisodeLog log(10 * kSecond, 4);
   for (int i = 0; i < 4; ++i) EXPECT_TRUE(log.refuse("address_flood", std::to_string(i), "", 0));
   EXPECT_TRUE(log.refuse("address_flood", "spoofed 1", "", 1));
-  for (int i = 2; i < 10000; ++i) log.refuse("address_flood", "spoofed " + std::to_string(i), "", i);
+  for (int i = 2; i < 10000; ++i)
+    log.refuse("address_flood", "spoofed " + std::to_string(i), "", i);
   EXPECT_EQ(log.open_episodes(10000), 5u);
   EXPECT_EQ(logged(), 5);
 }

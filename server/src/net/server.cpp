@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <boost/asio/steady_timer.hpp>
 #include <boost/system/system_error.hpp>
 #include <chrono>
 #include <cmath>
@@ -31,6 +32,7 @@ namespace ricochet::server {
 
 namespace {
 
+namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
 
 std::unique_ptr<db::DbWorker> open_database(const ServerConfig& config) {
@@ -265,6 +267,11 @@ void Server::shut_down() {
     done_.notify_all();
     return;
   }
+  stopping_ = true;
+  if (const std::uint64_t pending = records_pending_.load()) {
+    spdlog::error("stopping: {} match records still could not be written; they are lost", pending);
+    records_lost_.fetch_add(pending);
+  }
   const auto deadline = Clock::now() + std::chrono::seconds(config_.server.shutdown_grace_s);
   spdlog::info("stopping: ending {} matches, {} s grace", matches_->hosts().size(),
                config_.server.shutdown_grace_s);
@@ -338,17 +345,64 @@ void Server::finish_match(EndedMatch match,
     done(std::nullopt);
     return;
   }
-  const std::uint32_t id = match.id;
+  match.recording.clear();
+  write_record(std::make_shared<const EndedMatch>(std::move(match)), 1, std::move(done));
+}
+
+namespace {
+
+/// A write that failed for a reason that can pass (a full disk, a lock held by another
+/// process, a queue or memory running out): the record is kept and written again.
+bool worth_retrying(db::DbErrorCode code) {
+  switch (code) {
+    case db::DbErrorCode::Storage:
+    case db::DbErrorCode::Busy:
+    case db::DbErrorCode::QueueFull:
+    case db::DbErrorCode::OutOfMemory:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt,
+                          std::function<void(std::optional<wire::MatchResults>)> done) {
   db_->submit(
-      [match = std::move(match)](db::DbServices& services) { return record(match, services); },
+      [match](db::DbServices& services) { return record(*match, services); },
       [](std::function<void()> completion) { completion(); },  // runs on the DB thread
-      [id, done = std::move(done)](db::DbResult<wire::MatchResults> result) {
-        if (!result) {
-          spdlog::error("match {}: its record was refused: {}", id, result.error().message);
+      [this, match, attempt, done = std::move(done)](db::DbResult<wire::MatchResults> result) {
+        if (result) {
+          if (attempt > 1) {
+            spdlog::info("match {}: its record was written at attempt {}", match->id, attempt);
+            records_pending_.fetch_sub(1);
+          }
+          done(std::move(result).value());
+          return;
+        }
+        const db::DbError& error = result.error();
+        if (!worth_retrying(error.code) || stopping_.load()) {
+          spdlog::error("match {}: its record was refused{}: {}", match->id,
+                        stopping_.load() ? " while stopping" : "", error.message);
+          if (attempt > 1) records_pending_.fetch_sub(1);
+          records_lost_.fetch_add(1);
           done(std::nullopt);
           return;
         }
-        done(std::move(result).value());
+        if (attempt == 1) records_pending_.fetch_add(1);
+        records_retried_.fetch_add(1);
+        const auto wait = kRecordRetryFirst * (1 << std::min(attempt - 1, 5));
+        spdlog::error(
+            "match {}: its record could not be written ({}: {}); kept, attempt {} in "
+            "{} s",
+            match->id, db::to_string(error.code), error.message, attempt + 1,
+            std::chrono::duration_cast<std::chrono::seconds>(std::min(wait, kRecordRetryLast))
+                .count());
+        auto timer = std::make_shared<asio::steady_timer>(io_, std::min(wait, kRecordRetryLast));
+        timer->async_wait([this, timer, match, attempt, done](const std::error_code&) {
+          write_record(match, attempt + 1, done);
+        });
       });
 }
 

@@ -20,6 +20,7 @@
 
 #include <atomic>
 #include <boost/asio/io_context.hpp>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -87,11 +88,19 @@ class Server {
   /// Any thread: the recording to its file, the record to the DB thread; `done` runs on the DB
   /// thread with the results (nothing when nobody played or the DB refused the record).
   void finish_match(EndedMatch match, std::function<void(std::optional<wire::MatchResults>)> done);
+  /// Submits the record; a write that failed for a passing reason (disk full, database
+  /// locked) is kept and submitted again after kRecordRetryFirst, doubling up to
+  /// kRecordRetryLast, until it is written or the server stops. `done` runs once.
+  void write_record(std::shared_ptr<const EndedMatch> match, int attempt,
+                    std::function<void(std::optional<wire::MatchResults>)> done);
   /// Each player of the match its MatchResults over the control channel.
   void send_results(const wire::MatchResults& results);
   /// On the DB thread: writes one ended match and reads back its players' ratings.
   static db::DbResult<wire::MatchResults> record(const EndedMatch& match, db::DbServices& services);
   void register_metrics();
+
+  static constexpr std::chrono::seconds kRecordRetryFirst{1};
+  static constexpr std::chrono::seconds kRecordRetryLast{30};
 
   ServerConfig config_;
   boost::asio::io_context io_;
@@ -107,6 +116,10 @@ class Server {
   std::once_flag stop_once_;
   std::atomic<bool> ready_{false};
   std::atomic<int> exit_code_{0};
+  std::atomic<bool> stopping_{false};
+  std::atomic<std::uint64_t> records_pending_{0};  ///< kept after a failed write, to retry
+  std::atomic<std::uint64_t> records_retried_{0};  ///< writes submitted again
+  std::atomic<std::uint64_t> records_lost_{0};     ///< refused for good (or while stopping)
   std::mutex done_mutex_;
   std::condition_variable done_;
   bool stopped_ = false;

@@ -151,6 +151,15 @@ void Server::register_metrics() {
                  {{"result", "failed"}}, static_cast<double>(recordings_->failed()));
     sink.counter("ricochet_recording_bytes_total", "Bytes of the match recordings written", {},
                  static_cast<double>(recordings_->written_bytes()));
+    sink.gauge("ricochet_match_records_pending",
+               "Ended matches whose record could not be written yet (disk full, database "
+               "locked): kept and written again",
+               {}, static_cast<double>(records_pending_.load()));
+    sink.counter("ricochet_match_record_retries_total", "Match records submitted again", {},
+                 static_cast<double>(records_retried_.load()));
+    sink.counter("ricochet_match_records_lost_total",
+                 "Match records refused for good, or still unwritten when the server stopped", {},
+                 static_cast<double>(records_lost_.load()));
     sink.gauge("ricochet_db_queue_depth", "Jobs waiting for the DB thread", {},
                static_cast<double>(db_->queued()));
     sink.gauge("ricochet_up", "1 while the server is ready", {}, ready() ? 1 : 0);

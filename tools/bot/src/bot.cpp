@@ -267,6 +267,7 @@ void Bot::sign_in() {
             session_token_.clear();
             return sign_in();
           }
+          if (reply.has_session()) ++metrics_.resumes;
           on_session(reply);
         }));
     return;

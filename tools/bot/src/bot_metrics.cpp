@@ -53,6 +53,7 @@ void BotMetrics::merge(const BotMetrics& other) {
   kill_events += other.kill_events;
   hits_dealt += other.hits_dealt;
   reconnects += other.reconnects;
+  resumes += other.resumes;
   score_resyncs += other.score_resyncs;
   matches += other.matches;
   inputs_sent += other.inputs_sent;
@@ -86,7 +87,8 @@ std::string BotMetrics::to_json() const {
       "\"bytes_in_per_s\":%.1f,\"bytes_out_per_s\":%.1f,\"packets_in\":%llu,\"packets_out\":%llu,"
       "\"bytes_in\":%llu,\"bytes_out\":%llu,\"first_snapshot_ms\":%.3f,"
       "\"last_reconnect_ms\":%.3f,\"kills\":%d,\"deaths\":%d,\"kill_events\":%d,"
-      "\"hits_dealt\":%d,\"reconnects\":%d,\"score_resyncs\":%d,\"matches\":%d,\"inputs_sent\":%"
+      "\"hits_dealt\":%d,\"reconnects\":%d,\"resumes\":%d,\"score_resyncs\":%d,\"matches\":%d,"
+      "\"inputs_sent\":%"
       "llu,"
       "\"weapon_switches\":%llu,\"bad_payloads\":%llu,\"bad_events\":%llu,"
       "\"snapshots_refused\":%llu,\"bad_control\":%llu,\"transport_drops\":%llu,"
@@ -100,7 +102,7 @@ std::string BotMetrics::to_json() const {
       static_cast<unsigned long long>(packets_in), static_cast<unsigned long long>(packets_out),
       static_cast<unsigned long long>(bytes_in), static_cast<unsigned long long>(bytes_out),
       first_snapshot_ms, last_reconnect_ms, kills, deaths, kill_events, hits_dealt, reconnects,
-      score_resyncs, matches, static_cast<unsigned long long>(inputs_sent),
+      resumes, score_resyncs, matches, static_cast<unsigned long long>(inputs_sent),
       static_cast<unsigned long long>(weapon_switches),
       static_cast<unsigned long long>(bad_payloads), static_cast<unsigned long long>(bad_events),
       static_cast<unsigned long long>(snapshots_refused),

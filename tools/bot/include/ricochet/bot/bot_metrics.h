@@ -64,6 +64,7 @@ struct BotMetrics {
   int kill_events = 0;  ///< every Kill event seen
   int hits_dealt = 0;   ///< Hit events with this bot as attacker
   int reconnects = 0;   ///< game connections after the first
+  int resumes = 0;      ///< sign-ins with the session token (Resume) instead of the password
   /// Arrivals whose scoreboard differed from the bot's own count (Kill events that went with
   /// an old connection); the bot took the server's figures.
   int score_resyncs = 0;
