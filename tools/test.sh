@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# The test command: installs dependencies, then builds and runs every test three ways:
-#   1. Release (-O3), float physics
+# The test command: installs dependencies, then builds and runs every test four ways:
+#   1. Release (-O3, GCC: what ./tools/run.sh builds), float physics
 #   2. Debug with AddressSanitizer + UndefinedBehaviorSanitizer, each gtest binary in shards
 #      (tests/CMakeLists.txt: a sanitized process is slow to start)
-#   3. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only (and only
+#   3. ThreadSanitizer: the server, db and integration tests (the code with threads), and the
+#      binaries they start
+#   4. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only (and only
 #      their targets are built)
-# Warnings are errors in all three. Then every libFuzzer target runs for 30 s (tools/fuzz.sh).
+# Warnings are errors in all four. The sanitized builds use clang 16, which compiles them in
+# about 60 % of GCC's time, so the second compiler's warnings are checked too. Then every
+# libFuzzer target runs for 30 s (tools/fuzz.sh).
 # Before any of it, every C++ file must be as .clang-format (clang-format 14) formats it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,11 +22,11 @@ export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros}"  # cach
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 
-# build_and_test DIR LABEL TARGETS CMAKE_ARGS...: LABEL and TARGETS empty for everything; TARGETS
-# is a space-separated list.
+# build_and_test DIR SELECT TARGETS CMAKE_ARGS...: SELECT (ctest's test selection options) and
+# TARGETS empty for everything; both are space-separated lists.
 build_and_test() {
   local dir=$1; shift
-  local label=$1; shift
+  local select=$1; shift
   local targets=$1; shift
   echo "=== $dir ==="
   cmake -S . -B "$dir" -G Ninja -DRICOCHET_WERROR=ON "${launcher[@]}" "$@"
@@ -32,18 +36,20 @@ build_and_test() {
   else
     cmake --build "$dir" -j "$jobs"
   fi
-  if [[ -n "$label" ]]; then
-    ctest --test-dir "$dir" --output-on-failure -j "$jobs" --timeout 600 -L "$label"
-  else
-    ctest --test-dir "$dir" --output-on-failure -j "$jobs" --timeout 600
-  fi
+  # shellcheck disable=SC2086  # a list of ctest options
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs" --timeout 600 $select
 }
 
 build_and_test build/release "" "" -DCMAKE_BUILD_TYPE=Release
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   build_and_test build/sanitize "" "" -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=ON \
+  -DCMAKE_CXX_COMPILER=clang++-16 -DRICOCHET_TEST_SHARDS=8
+TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/tools/tsan.supp" \
+  build_and_test build/tsan "-L server|db|integration -LE tools" \
+  "server_tests db_tests integration_tests bot_end_to_end_tests loadtest_end_to_end_tests chaos_tests" \
+  -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=thread -DCMAKE_CXX_COMPILER=clang++-16 \
   -DRICOCHET_TEST_SHARDS=8
-build_and_test build/double physics \
+build_and_test build/double "-L physics" \
   "physics_tests physics_allocation_tests physics-bench arena-bench rewind-bench" \
   -DCMAKE_BUILD_TYPE=Release -DRICOCHET_DOUBLE=ON
 ./tools/fuzz.sh --seconds 30
