@@ -44,8 +44,8 @@ constexpr std::chrono::seconds kMatchBudget{kTimeLimit + 17s};
 constexpr std::chrono::seconds kReturnBudget{12};
 constexpr int kShutdownGraceS = 5;
 constexpr std::chrono::seconds kExitBudget{kShutdownGraceS + 3};
-static_assert(kStartBudget + kMatchBudget + 3s + 10s + kStartBudget + kReturnBudget +
-                  kMatchBudget + kExitBudget <=
+static_assert(kStartBudget + kMatchBudget + 3s + 10s + kStartBudget + kReturnBudget + kMatchBudget +
+                  kExitBudget <=
               kCtestTimeout);
 
 std::string matches_toml(int players) {
@@ -172,7 +172,7 @@ std::uint64_t fill(const std::filesystem::path& file) {
   return written;
 }
 
-#define SKIP_UNLESS_ROOT()                                                                       \
+#define SKIP_UNLESS_ROOT() \
   if (geteuid() != 0) GTEST_SKIP() << "mounts a tmpfs: needs root, as ./tools/test.sh runs"
 
 TEST(Chaos, KillNineMidMatchLosesNoFinishedMatchAndBotsResumeTheirSessions) {
@@ -242,7 +242,9 @@ TEST(Chaos, AFullDiskDelaysAMatchRecordWithAClearErrorAndLosesNothing) {
   // Both bots in the match, then the disk fills up before it ends.
   ASSERT_TRUE(run_until(
       io,
-      [&] { return every_bot(fleet, [](const bot::Bot& b) { return b.metrics().snapshots > 30; }); },
+      [&] {
+        return every_bot(fleet, [](const bot::Bot& b) { return b.metrics().snapshots > 30; });
+      },
       kMatchBudget))
       << fleet.report_json() << server.log();
   const std::filesystem::path filler = dir.path() / "data" / "filler";

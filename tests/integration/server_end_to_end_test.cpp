@@ -342,6 +342,10 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
   EXPECT_EQ(metric(page, R"(ricochet_match_players{match="1",state="connected"})"), 1);
   EXPECT_EQ(metric(page, "ricochet_players"), 1);
   EXPECT_EQ(metric(page, "ricochet_matches"), 2);
+  // What a soak run watches for leaks: this process's memory and descriptors, the database's size.
+  EXPECT_GT(metric(page, "process_resident_memory_bytes"), 1 << 20);
+  EXPECT_GT(metric(page, "process_open_fds"), 3);
+  EXPECT_GT(metric(page, "ricochet_db_file_bytes"), 4096);
   for (const char* phase : {"rules", "combat", "physics", "total"}) {
     EXPECT_NE(page.find(std::string("ricochet_tick_phase_seconds_count{match=\"1\",phase=\"") +
                         phase + "\"}"),

@@ -3,6 +3,8 @@
 // channel's atomic counters, the DB worker's queue), so a scrape never touches game state.
 #include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "control_server.h"
@@ -126,6 +128,35 @@ void report_match(const MatchHost& host, MetricsSink& sink) {
   }
 }
 
+/// What a soak run watches for leaks, read at scrape time: the process's resident memory and open
+/// file descriptors (Prometheus' standard process_* names), and the database's size on disk.
+void report_process(const std::string& db_file, MetricsSink& sink) {
+  std::ifstream statm("/proc/self/statm");
+  std::uint64_t pages = 0;
+  std::uint64_t resident = 0;
+  if (statm >> pages >> resident) {
+    sink.gauge("process_resident_memory_bytes", "Resident memory size in bytes", {},
+               static_cast<double>(resident * static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE))));
+  }
+  std::error_code error;
+  std::size_t fds = 0;
+  for (std::filesystem::directory_iterator it("/proc/self/fd", error), end; !error && it != end;
+       it.increment(error)) {
+    ++fds;
+  }
+  if (!error) {
+    sink.gauge("process_open_fds", "Number of open file descriptors", {},
+               static_cast<double>(fds > 0 ? fds - 1 : 0));  // less the one listing them
+  }
+  std::uint64_t bytes = 0;
+  for (const char* suffix : {"", "-wal"}) {
+    const auto size = std::filesystem::file_size(db_file + suffix, error);
+    if (!error) bytes += size;
+  }
+  sink.gauge("ricochet_db_file_bytes", "Size of the database file and its write-ahead log", {},
+             static_cast<double>(bytes));
+}
+
 }  // namespace
 
 void Server::register_metrics() {
@@ -163,6 +194,7 @@ void Server::register_metrics() {
     sink.gauge("ricochet_db_queue_depth", "Jobs waiting for the DB thread", {},
                static_cast<double>(db_->queued()));
     sink.gauge("ricochet_up", "1 while the server is ready", {}, ready() ? 1 : 0);
+    report_process(config_.db_file(), sink);
     sink.gauge("ricochet_process_id",
                "The server's process id (a load test on this host reads its CPU and RSS in /proc)",
                {}, static_cast<double>(getpid()));
