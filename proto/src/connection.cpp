@@ -8,7 +8,7 @@ Connection::Connection(std::uint64_t protocol_id, const Key& send_key, const Key
       send_key_(send_key),
       receive_key_(receive_key),
       timing_(timing),
-      sender_(timing.max_reliable_pending),
+      sender_(timing.max_reliable_pending, timing.max_reliable_queued),
       last_sent_(now),
       last_received_(now) {}
 

@@ -19,7 +19,8 @@ struct ConnectionTiming {
   TimeUs timeout_us = 5 * kMicrosPerSecond;      ///< silence after which the peer is gone
   TimeUs keep_alive_us = 100 * kMicrosPerMilli;  ///< send something at least this often
   TimeUs reliable_resend_us = 100 * kMicrosPerMilli;
-  std::size_t max_reliable_pending = 256;
+  std::size_t max_reliable_pending = 256;  ///< in flight: ReliableSender's window (1..256)
+  std::size_t max_reliable_queued = 256;   ///< held: in flight or waiting (ReliableSender)
 };
 
 class Connection {
@@ -50,7 +51,9 @@ class Connection {
   /// False when one was too far ahead of the window (the rest are still taken).
   bool on_reliable(const std::vector<ReliableMessage>& messages);
   bool pop_reliable(std::vector<std::uint8_t>& out) { return receiver_.pop(out); }
-  bool queue_reliable(std::span<const std::uint8_t> message) { return sender_.push(message); }
+  bool queue_reliable(std::span<const std::uint8_t> message, Delivery delivery) {
+    return sender_.push(message, delivery);
+  }
 
   bool reliable_due(TimeUs now) const { return sender_.has_due(now, timing_.reliable_resend_us); }
   bool keep_alive_due(TimeUs now) const { return now - last_sent_ >= timing_.keep_alive_us; }

@@ -219,7 +219,7 @@ bool GameClient::send_reliable(std::span<const std::uint8_t> message, TimeUs now
       message.size() > kMaxReliableMessageBytes) {
     return false;
   }
-  if (s.connection.queue_reliable(message)) return true;
+  if (s.connection.queue_reliable(message, Delivery::MustArrive)) return true;
   s.leave(DisconnectReason::ReliableOverflow, now);
   return false;
 }

@@ -80,7 +80,9 @@ std::string GameServerConfig::validate() const {
         range("client_burst", client_burst, 1, 1e6),
         range("keep_alive_us", static_cast<double>(keep_alive_us), 1000, 1e6),
         range("reliable_resend_us", static_cast<double>(reliable_resend_us), 1000, 5e6),
-        range("max_reliable_pending", static_cast<double>(max_reliable_pending), 1, 256)}) {
+        range("max_reliable_pending", static_cast<double>(max_reliable_pending), 1, 256),
+        range("max_reliable_queued", static_cast<double>(max_reliable_queued),
+              static_cast<double>(max_reliable_pending), 65536)}) {
     if (!problem.empty()) return problem;
   }
   return {};
@@ -138,7 +140,7 @@ struct GameServer::State {
   }
   ConnectionTiming timing(std::uint32_t timeout_s) const {
     return {static_cast<TimeUs>(timeout_s) * kMicrosPerSecond, config.keep_alive_us,
-            config.reliable_resend_us, config.max_reliable_pending};
+            config.reliable_resend_us, config.max_reliable_pending, config.max_reliable_queued};
   }
 
   /// Rate limit before any parsing: per client when the address is connected (`client` set to
@@ -471,13 +473,19 @@ bool GameServer::send_unreliable(ClientId id, std::span<const std::uint8_t> payl
   return true;
 }
 
-bool GameServer::send_reliable(ClientId id, std::span<const std::uint8_t> message, TimeUs now) {
+bool GameServer::send_reliable(ClientId id, std::span<const std::uint8_t> message, TimeUs now,
+                               Delivery delivery) {
   auto it = state_->clients.find(id);
   if (it == state_->clients.end() || message.empty() || message.size() > kMaxReliableMessageBytes) {
     return false;
   }
-  if (it->second->connection.queue_reliable(message)) return true;
-  // The client has not acked max_reliable_pending messages: it is gone or hostile.
+  if (it->second->connection.queue_reliable(message, delivery)) return true;
+  if (delivery == Delivery::Droppable) {
+    // The client is behind (slow, lossy or flooded): this one is not worth its connection.
+    ++state_->counters.reliable_dropped;
+    return false;
+  }
+  // The client has acked none of max_reliable_queued messages: it is gone or hostile.
   state_->remove_client(id, DisconnectReason::ReliableOverflow, true, now);
   return false;
 }

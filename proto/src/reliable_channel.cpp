@@ -4,11 +4,14 @@
 
 namespace ricochet::proto {
 
-ReliableSender::ReliableSender(std::size_t max_pending)
-    : max_pending_(std::clamp<std::size_t>(max_pending, 1, ReliableReceiver::kWindow)) {}
+ReliableSender::ReliableSender(std::size_t window, std::size_t max_queued)
+    : window_(std::clamp<std::size_t>(window, 1, ReliableReceiver::kWindow)),
+      max_queued_(std::max(max_queued, window_)) {}
 
-bool ReliableSender::push(std::span<const std::uint8_t> message) {
-  if (queue_.size() >= max_pending_) return false;
+bool ReliableSender::push(std::span<const std::uint8_t> message, Delivery delivery) {
+  const std::size_t cap =
+      delivery == Delivery::Droppable ? std::max<std::size_t>(window_ / 2, 1) : max_queued_;
+  if (queue_.size() >= cap) return false;
   Pending pending;
   pending.id = next_id_++;
   pending.bytes.assign(message.begin(), message.end());
@@ -19,7 +22,11 @@ bool ReliableSender::push(std::span<const std::uint8_t> message) {
 std::vector<ReliableMessage> ReliableSender::take_due(TimeUs now, TimeUs resend_us,
                                                       std::size_t budget_bytes) {
   std::vector<ReliableMessage> out;
-  for (Pending& pending : queue_) {
+  // Only the window's oldest: the receiver refuses ids further ahead of the oldest unacked.
+  const auto window_end =
+      queue_.begin() + static_cast<std::ptrdiff_t>(std::min(window_, queue_.size()));
+  for (auto it = queue_.begin(); it != window_end; ++it) {
+    Pending& pending = *it;
     if (out.size() == 255) break;
     if (pending.acked || (pending.last_sent && now - *pending.last_sent < resend_us)) continue;
     const std::size_t cost = kReliableMessageHeaderBytes + pending.bytes.size();
@@ -33,7 +40,9 @@ std::vector<ReliableMessage> ReliableSender::take_due(TimeUs now, TimeUs resend_
 }
 
 bool ReliableSender::has_due(TimeUs now, TimeUs resend_us) const {
-  return std::any_of(queue_.begin(), queue_.end(), [&](const Pending& pending) {
+  const auto window_end =
+      queue_.begin() + static_cast<std::ptrdiff_t>(std::min(window_, queue_.size()));
+  return std::any_of(queue_.begin(), window_end, [&](const Pending& pending) {
     return !pending.acked && (!pending.last_sent || now - *pending.last_sent >= resend_us);
   });
 }

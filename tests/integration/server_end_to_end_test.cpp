@@ -1,10 +1,12 @@
 // The server as ricochet-server runs it (Server: DB, matches, UDP, TLS, admin HTTP on their
 // threads), driven over real loopback sockets: sign in over TLS, join, connect the game channel
-// with the token, play, come back from a new address, and stop gracefully.
+// with the token, play, come back from a new address, survive a chat flood, and stop gracefully.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -353,6 +355,151 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
         << phase;
   }
   EXPECT_EQ(http_get(server_->admin_port(), "/healthz").substr(0, 2), "ok");
+}
+
+/// Three players in match 1, and Mallory: one account signed in on eight TLS sessions, all in
+/// match 1, the first also playing. flood() sends each session's whole request burst of chat
+/// lines at once (320 lines of 156 bytes) while everyone plays, and reports what the players saw.
+class ChatFlood : public ServerEndToEnd {
+ protected:
+  static constexpr int kSessions = 8;
+  static constexpr int kLinesPerSession = 40;  // one session's whole request burst
+  static constexpr int kLines = kSessions * kLinesPerSession;
+
+  struct Outcome {
+    int accepted = 0;      ///< chat replies
+    int rate_limited = 0;  ///< RATE_LIMITED replies
+    int victims_connected = 0;
+    double worst_snapshot_share = 1;  ///< snapshots received / ticks, the worst victim's
+    std::vector<long> lines_seen;     ///< chat events received, by victim, then Mallory's
+  };
+
+  void SetUp() override {}  // each test starts the server with its config
+  void start(server::ServerConfig config) {
+    server_ = std::make_unique<server::Server>(std::move(config));
+    server_->start();
+  }
+
+  Outcome flood() {
+    Outcome outcome;
+    // Everyone signs in first (password hashing takes a while), then joins.
+    std::vector<std::unique_ptr<Player>> victims;
+    for (const char* name : {"bob", "carol", "dave"}) victims.push_back(signed_in(name));
+    std::vector<std::unique_ptr<Player>> mallory;
+    for (int session = 0; session < kSessions; ++session) {
+      auto player = std::make_unique<Player>(server_->control_port());
+      EXPECT_TRUE(player->control.connect());
+      player->control.sign_in("mallory", session == 0);
+      mallory.push_back(std::move(player));
+    }
+    for (auto& victim : victims) victim->join_and_connect(1, server_->game_port());
+    mallory[0]->join_and_connect(1, server_->game_port());
+    for (int session = 1; session < kSessions; ++session) {
+      EXPECT_TRUE(mallory[session]->control.request(ControlTestClient::join(1)).has_join_match());
+    }
+    // Every player's socket is served in turn, a few milliseconds each, like players on their
+    // own machines (datagrams wait in the kernel meanwhile).
+    const auto play_all = [&](std::chrono::milliseconds duration) {
+      const auto until = std::chrono::steady_clock::now() + duration;
+      while (std::chrono::steady_clock::now() < until) {
+        for (auto& victim : victims) victim->play_for(4ms);
+        mallory[0]->play_for(1ms);
+      }
+    };
+    play_all(300ms);
+    struct Seen {
+      std::uint64_t payloads = 0;
+      std::uint32_t tick = 0;
+    };
+    std::vector<Seen> before;
+    for (auto& victim : victims) before.push_back({victim->payloads, victim->newest.server_tick()});
+
+    for (auto& session : mallory) {
+      std::vector<std::uint8_t> frames;
+      for (int line = 0; line < kLinesPerSession; ++line) {
+        wire::ClientMessage chat = ControlTestClient::chat("flood " + std::string(150, 'x'));
+        chat.set_request_id(static_cast<std::uint32_t>(1000 + line));
+        EXPECT_TRUE(proto::append_frame(chat, frames));
+      }
+      session->control.send_bytes(frames);
+    }
+    play_all(1500ms);
+    for (auto& session : mallory) {
+      for (int line = 0; line < kLinesPerSession; ++line) {
+        const auto reply = session->control.receive(2s);
+        if (!reply) break;
+        if (reply->has_chat()) ++outcome.accepted;
+        if (reply->has_error() && reply->error().code() == wire::RATE_LIMITED) {
+          ++outcome.rate_limited;
+        }
+      }
+    }
+    play_all(1000ms);  // the last accepted lines reach everyone
+
+    for (std::size_t i = 0; i < victims.size(); ++i) {
+      Player& victim = *victims[i];
+      const bool up = victim.game->transport().state() == proto::ConnectionState::Connected;
+      outcome.victims_connected += up ? 1 : 0;
+      const auto reason = victim.game->transport().disconnect_reason();
+      EXPECT_TRUE(up) << "victim " << i
+                      << " disconnected: " << (reason ? proto::name(*reason) : "not connected");
+      // One snapshot per tick (60 Hz each): the share of the ticks since the flood that came.
+      const double ticks = victim.newest.server_tick() - before[i].tick;
+      const double share = ticks > 0 ? (victim.payloads - before[i].payloads) / ticks : 0;
+      outcome.worst_snapshot_share = std::min(outcome.worst_snapshot_share, share);
+      EXPECT_GE(share, 0.95) << "victim " << i << ": " << victim.payloads - before[i].payloads
+                             << " snapshots over " << ticks << " ticks";
+    }
+    victims.push_back(std::move(mallory[0]));
+    for (const auto& player : victims) {
+      outcome.lines_seen.push_back(
+          std::count_if(player->game_events.begin(), player->game_events.end(),
+                        [](const wire::GameEvent& event) { return event.has_chat(); }));
+    }
+    std::printf(
+        "chat flood: %d of 3 victims connected, worst snapshot share %.3f, %d of %d lines "
+        "accepted, %d RATE_LIMITED\n",
+        outcome.victims_connected, outcome.worst_snapshot_share, outcome.accepted, kLines,
+        outcome.rate_limited);
+    return outcome;
+  }
+};
+
+TEST_F(ChatFlood, FromOneAccountOnManySessionsIsRefusedAndDisconnectsNoOne) {
+  start(test_config(dir_.path()));  // the default chat limits
+  const Outcome outcome = flood();
+  EXPECT_EQ(outcome.victims_connected, 3);
+  // The account's limit, not the sessions' (8 × 40): its burst passes, the rest is refused.
+  EXPECT_LE(outcome.accepted, 10);
+  EXPECT_EQ(outcome.accepted + outcome.rate_limited, kLines);
+  for (const long lines : outcome.lines_seen) EXPECT_EQ(lines, outcome.accepted);
+  const std::string page = http_get(server_->admin_port(), "/metrics");
+  EXPECT_GE(metric(page, R"(ricochet_chat_refused_total{limit="account"})"), kLines - 10) << page;
+  EXPECT_EQ(metric(page, R"(ricochet_game_disconnects_total{reason="reliable_overflow"})"), 0);
+}
+
+TEST_F(ChatFlood, ThatPassesTheRateLimitsIsDroppedForPlayersBehindNeverDisconnectingThem) {
+  // An operator who lifted the chat limits: every line is accepted and broadcast at once, more
+  // than the players can ack in time. Each player misses lines, never its connection.
+  server::ServerConfig config = test_config(dir_.path());
+  config.control.chat_account_lines_per_s = 100;
+  config.control.chat_account_burst = 1000;
+  config.control.chat_match_lines_per_s = 1000;
+  config.control.chat_match_burst = 1000;
+  start(config);
+  const Outcome outcome = flood();
+  EXPECT_EQ(outcome.victims_connected, 3);
+  EXPECT_EQ(outcome.accepted, kLines);
+  const std::string page = http_get(server_->admin_port(), "/metrics");
+  const double dropped = metric(page, "ricochet_game_reliable_dropped_total");
+  EXPECT_GT(dropped, 0) << page;
+  // Every line accepted went to each of the four players: received or dropped, none lost.
+  double seen = 0;
+  for (const long lines : outcome.lines_seen) seen += static_cast<double>(lines);
+  EXPECT_EQ(seen + dropped, 4.0 * kLines);
+  std::printf("chat flood without limits: %.0f chat events received, %.0f dropped\n", seen,
+              dropped);
+  EXPECT_EQ(metric(page, R"(ricochet_game_disconnects_total{reason="reliable_overflow"})"), 0);
 }
 
 TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotationOpens) {

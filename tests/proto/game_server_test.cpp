@@ -137,6 +137,7 @@ TEST_F(TransportTest, DisconnectAllEndsEveryClient) {
 TEST_F(TransportTest, ReliableMessagesReachTheClientInOrderAndTheCapDisconnects) {
   GameServerConfig config = sim::test_server_config();
   config.max_reliable_pending = 4;
+  config.max_reliable_queued = 4;
   start(config);
   auto alice = connected_client(7, kAlice, kT0);
   const ClientId id = connected_id(server_events());
@@ -171,6 +172,50 @@ TEST_F(TransportTest, ReliableMessagesReachTheClientInOrderAndTheCapDisconnects)
   auto events = server_events();
   ASSERT_EQ(events.size(), 1u);
   EXPECT_EQ(std::get<ServerDisconnected>(events[0]).reason, DisconnectReason::ReliableOverflow);
+}
+
+TEST_F(TransportTest, ABacklogOfDroppableMessagesIsDroppedAndCountedNeverDisconnecting) {
+  GameServerConfig config = sim::test_server_config();
+  config.max_reliable_pending = 8;
+  config.max_reliable_queued = 64;
+  start(config);
+  auto alice = connected_client(7, kAlice, kT0);
+  const ClientId id = connected_id(server_events());
+  // A flood of chat while alice is behind: four fit (half the window), the rest are dropped.
+  int queued = 0;
+  for (int i = 0; i < 300; ++i) {
+    const std::vector<std::uint8_t> chat{0xC0, static_cast<std::uint8_t>(i)};
+    queued += server->send_reliable(id, chat, kT0, Delivery::Droppable) ? 1 : 0;
+  }
+  EXPECT_EQ(queued, 4);
+  EXPECT_EQ(server->counters().reliable_dropped, 296u);
+  // Must-arrive events still queue, past the window, and none is lost.
+  for (std::uint8_t i = 0; i < 20; ++i) {
+    ASSERT_TRUE(server->send_reliable(id, std::vector<std::uint8_t>{0xE0, i}, kT0));
+  }
+  EXPECT_TRUE(server->connected(id));
+  EXPECT_TRUE(server_events().empty());
+  std::vector<std::vector<std::uint8_t>> received;
+  for (int round = 1; round <= 10; ++round) {
+    const TimeUs now = kT0 + round * 200 * kMs;
+    server->update(now);
+    exchange(*alice, kAlice, now);
+    alice->update(now);
+    exchange(*alice, kAlice, now);
+    for (const ClientEvent& event : client_events(*alice)) {
+      if (const auto* reliable = std::get_if<ClientReliable>(&event))
+        received.push_back(reliable->bytes);
+    }
+  }
+  ASSERT_EQ(received.size(), 24u);
+  for (std::uint8_t i = 0; i < 4; ++i) EXPECT_EQ(received[i], (std::vector<std::uint8_t>{0xC0, i}));
+  for (std::uint8_t i = 0; i < 20; ++i) {
+    EXPECT_EQ(received[4 + i], (std::vector<std::uint8_t>{0xE0, i}));
+  }
+  EXPECT_TRUE(server->connected(id));
+  EXPECT_EQ(
+      server->counters().disconnects[static_cast<std::size_t>(DisconnectReason::ReliableOverflow)],
+      0u);
 }
 
 TEST_F(TransportTest, UnreliablePayloadsAreLimitedToOnePacket) {

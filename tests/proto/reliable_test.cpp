@@ -10,7 +10,7 @@ std::vector<std::uint8_t> bytes(std::uint8_t value, std::size_t size = 3) {
 }
 
 TEST(ReliableSender, SendsOnceThenResendsOnlyAfterTheIntervalUntilAcked) {
-  ReliableSender sender(16);
+  ReliableSender sender(16, 16);
   ASSERT_TRUE(sender.push(bytes(1)));
   ASSERT_TRUE(sender.push(bytes(2)));
   auto first = sender.take_due(0, 100, 1000);
@@ -29,7 +29,7 @@ TEST(ReliableSender, SendsOnceThenResendsOnlyAfterTheIntervalUntilAcked) {
 }
 
 TEST(ReliableSender, RespectsTheByteBudgetInOrderAndTheCap) {
-  ReliableSender sender(2);
+  ReliableSender sender(2, 2);
   ASSERT_TRUE(sender.push(bytes(1, 10)));
   ASSERT_TRUE(sender.push(bytes(2, 10)));
   EXPECT_FALSE(sender.push(bytes(3))) << "cap of 2 pending";
@@ -42,6 +42,37 @@ TEST(ReliableSender, RespectsTheByteBudgetInOrderAndTheCap) {
   EXPECT_EQ(sender.pending(), 0u);
   sender.acknowledge(0);  // a late duplicate ack does nothing
   EXPECT_TRUE(sender.push(bytes(4)));
+}
+
+TEST(ReliableSender, DroppableMessagesStopAtHalfTheWindowMustArriveOnesWaitBehindIt) {
+  ReliableSender sender(4, 6);
+  ASSERT_TRUE(sender.push(bytes(0), Delivery::Droppable));
+  ASSERT_TRUE(sender.push(bytes(1), Delivery::Droppable));
+  EXPECT_FALSE(sender.push(bytes(9), Delivery::Droppable)) << "half the window of 4 is queued";
+  for (std::uint8_t i = 2; i < 6; ++i) ASSERT_TRUE(sender.push(bytes(i), Delivery::MustArrive));
+  EXPECT_FALSE(sender.push(bytes(9), Delivery::MustArrive)) << "max_queued 6";
+  // Only the window's four go out: the receiver would refuse ids further ahead.
+  auto first = sender.take_due(0, 100, 1000);
+  ASSERT_EQ(first.size(), 4u);
+  EXPECT_EQ(first.back().id, 3);
+  EXPECT_FALSE(sender.has_due(1, 100));
+  sender.acknowledge(0);
+  sender.acknowledge(1);
+  EXPECT_TRUE(sender.has_due(1, 100)) << "the acks made room for the waiting two";
+  auto rest = sender.take_due(1, 100, 1000);
+  ASSERT_EQ(rest.size(), 2u);
+  EXPECT_EQ(rest[0].id, 4);
+  EXPECT_EQ(rest[1].bytes, bytes(5));
+  EXPECT_EQ(sender.resends(), 0u);
+  // Ids stay consecutive: a refused message took none.
+  ReliableReceiver receiver;
+  std::vector<std::uint8_t> out;
+  for (const auto& message : first) receiver.receive(message);
+  for (const auto& message : rest) receiver.receive(message);
+  for (std::uint8_t i = 0; i < 6; ++i) {
+    ASSERT_TRUE(receiver.pop(out));
+    EXPECT_EQ(out, bytes(i));
+  }
 }
 
 TEST(ReliableReceiver, DeliversInOrderOnceAndRefusesFarAhead) {
@@ -62,7 +93,7 @@ TEST(ReliableReceiver, DeliversInOrderOnceAndRefusesFarAhead) {
 }
 
 TEST(ReliableChannel, IdsWrapAround16Bits) {
-  ReliableSender sender(8);
+  ReliableSender sender(8, 8);
   ReliableReceiver receiver;
   std::vector<std::uint8_t> out;
   for (int i = 0; i < 70000; ++i) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "control_test_client.h"
+#include "ricochet/proto/chat_text.h"
 
 namespace ricochet::server::test {
 namespace {
@@ -84,9 +85,21 @@ TEST(ControlMatches, ChatInAMatchReachesTheDirectoryThenLeave) {
 
   auto reply = client.request(ControlTestClient::chat(""));
   EXPECT_EQ(reply.error().code(), wire::INVALID_REQUEST);
-  reply = client.request(ControlTestClient::chat(std::string(257, 'x')));
+  // One limit with the match's (proto::kMaxChatBytes): over it the sender is told, not the match.
+  reply = client.request(ControlTestClient::chat(std::string(proto::kMaxChatBytes + 1, 'x')));
   EXPECT_EQ(reply.error().code(), wire::INVALID_REQUEST);
-  EXPECT_NE(reply.error().message().find("got 257"), std::string::npos) << reply.error().message();
+  EXPECT_NE(reply.error().message().find("got 201"), std::string::npos) << reply.error().message();
+  EXPECT_TRUE(
+      client.request(ControlTestClient::chat(std::string(proto::kMaxChatBytes, 'x'))).has_chat());
+  // A right-to-left override would make the line read backwards on everyone's screen.
+  reply =
+      client.request(ControlTestClient::chat("gg \xE2\x80\xAE"
+                                             "ez"));
+  EXPECT_EQ(reply.error().code(), wire::INVALID_REQUEST);
+  EXPECT_NE(reply.error().message().find("U+202E"), std::string::npos) << reply.error().message();
+  EXPECT_EQ(rig.directory().chats_seen(),
+            (std::vector<std::string>{"gl hf", std::string(proto::kMaxChatBytes, 'x')}));
+  EXPECT_EQ(rig.refusals(ControlRefusal::InvalidRequest), 3u);
 
   EXPECT_TRUE(client.request(ControlTestClient::leave()).has_leave_match());
   reply = client.request(ControlTestClient::chat("anyone?"));

@@ -451,6 +451,10 @@ TEST_F(MatchFixture, ChatIsEchoedToEveryoneAndBadLinesAreRefused) {
   EXPECT_EQ(match_.chat(11, "\xC0\xAF"), ChatDrop::InvalidText);      // overlong '/'
   EXPECT_EQ(match_.chat(11, "\xED\xA0\x80"), ChatDrop::InvalidText);  // a surrogate
   EXPECT_EQ(match_.chat(11, "cut \xE2\x82"), ChatDrop::InvalidText);
+  EXPECT_EQ(match_.chat(11,
+                        "\xE2\x80\xAE"
+                        "olleh"),
+            ChatDrop::InvalidText);  // U+202E
   advance(kTickUs);
   for (const std::uint64_t account : {11u, 22u}) {
     ASSERT_EQ(inboxes_[account].events.size(), 2u);
@@ -461,7 +465,7 @@ TEST_F(MatchFixture, ChatIsEchoedToEveryoneAndBadLinesAreRefused) {
   }
   const auto& drops = match_.counters().chat_drops;
   EXPECT_EQ(drops[static_cast<std::size_t>(ChatDrop::NotInMatch)], 1u);
-  EXPECT_EQ(drops[static_cast<std::size_t>(ChatDrop::InvalidText)], 4u);
+  EXPECT_EQ(drops[static_cast<std::size_t>(ChatDrop::InvalidText)], 5u);
   EXPECT_EQ(match_.counters().chat_messages, 2u);
 }
 

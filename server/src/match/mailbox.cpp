@@ -4,18 +4,20 @@
 
 namespace ricochet::server {
 
-void Mailbox::queue(std::uint64_t account, const wire::GameEvent& event) {
+void Mailbox::queue(std::uint64_t account, const wire::GameEvent& event, proto::Delivery delivery) {
   Outgoing out;
   out.account = account;
   out.reliable = true;
+  out.delivery = delivery;
   out.bytes.resize(event.ByteSizeLong());
   event.SerializeToArray(out.bytes.data(), static_cast<int>(out.bytes.size()));
   pending.push_back(std::move(out));
 }
 
-void Mailbox::broadcast(const Roster& roster, const wire::GameEvent& event) {
+void Mailbox::broadcast(const Roster& roster, const wire::GameEvent& event,
+                        proto::Delivery delivery) {
   for (const Player& player : roster.players) {
-    if (player.connected) queue(player.account, event);
+    if (player.connected) queue(player.account, event, delivery);
   }
 }
 

@@ -19,9 +19,11 @@ struct Mailbox {
   std::size_t outbox_read = 0;    ///< of outbox: taken so far
 
   /// Serialises `event` for `account`.
-  void queue(std::uint64_t account, const wire::GameEvent& event);
+  void queue(std::uint64_t account, const wire::GameEvent& event,
+             proto::Delivery delivery = proto::Delivery::MustArrive);
   /// Queues `event` to every connected player of `roster`.
-  void broadcast(const Roster& roster, const wire::GameEvent& event);
+  void broadcast(const Roster& roster, const wire::GameEvent& event,
+                 proto::Delivery delivery = proto::Delivery::MustArrive);
   /// Forgets the events queued for `account`: its connection is gone or replaced.
   void drop(std::uint64_t account);
   /// Tells `account` that `other` is in the match (a PlayerJoined).

@@ -10,6 +10,7 @@
 #include "match_movement.h"
 #include "match_parts.h"
 #include "ricochet/physics/scene_profile.h"
+#include "ricochet/proto/chat_text.h"
 #include "ricochet/server/match_record.h"
 
 namespace ricochet::server {
@@ -324,12 +325,10 @@ std::optional<ChatDrop> Match::chat(std::uint64_t account, std::string_view text
   const Player* player = m.roster.find(account);
   if (!player || !player->connected)
     refusal = ChatDrop::NotInMatch;
-  else if (text.empty())
-    refusal = ChatDrop::Empty;
-  else if (text.size() > kMaxChatBytes)
-    refusal = ChatDrop::TooLong;
-  else if (!is_printable_utf8(text))
-    refusal = ChatDrop::InvalidText;
+  else if (const auto problem = proto::check_chat_text(text))
+    refusal = problem->problem == proto::ChatTextProblem::Empty     ? ChatDrop::Empty
+              : problem->problem == proto::ChatTextProblem::TooLong ? ChatDrop::TooLong
+                                                                    : ChatDrop::InvalidText;
   if (refusal) {
     ++m.counters.chat_drops[static_cast<std::size_t>(*refusal)];
     return refusal;
@@ -339,7 +338,7 @@ std::optional<ChatDrop> Match::chat(std::uint64_t account, std::string_view text
   line.set_entity_id(player->entity_id);
   line.set_name(player->name);
   line.set_text(std::string(text));
-  m.mailbox.broadcast(m.roster, event);
+  m.mailbox.broadcast(m.roster, event, proto::Delivery::Droppable);
   ++m.counters.chat_messages;
   return std::nullopt;
 }

@@ -40,9 +40,6 @@ std::string ControlLimits::validate() const {
   if (max_outbox_bytes < 128 * 1024) {
     return out_of_range("max_outbox_bytes", ">= 131072 (two largest frames)", max_outbox_bytes);
   }
-  if (max_chat_bytes < 1 || max_chat_bytes > 4096) {
-    return out_of_range("max_chat_bytes", "1..4096", max_chat_bytes);
-  }
   return {};
 }
 

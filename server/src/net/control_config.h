@@ -23,7 +23,6 @@ struct ControlLimits {
   double messages_per_second = 20;             ///< sustained requests per connection (> 0)
   int message_burst = 40;                      ///< requests a connection may send at once (>= 1)
   std::size_t max_outbox_bytes = 1 << 20;      ///< queued replies of a client that does not read
-  std::uint32_t max_chat_bytes = 256;          ///< longest chat text (1..4096)
 
   /// Empty when valid, else which field is wrong, its allowed range and the value that came.
   std::string validate() const;

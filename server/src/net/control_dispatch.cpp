@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "control_session.h"
+#include "ricochet/proto/chat_text.h"
 
 namespace ricochet::server {
 namespace asio = boost::asio;
@@ -107,6 +108,8 @@ wire::ServerMessage error_reply(const DirectoryError& error) {
       return error_reply(wire::TOO_MANY_MATCHES, error.message);
     case DirectoryErrorCode::ShuttingDown:
       return error_reply(wire::SHUTTING_DOWN, error.message);
+    case DirectoryErrorCode::RateLimited:
+      return error_reply(wire::RATE_LIMITED, error.message);
   }
   return error_reply(wire::INTERNAL, error.message);
 }
@@ -275,13 +278,9 @@ wire::ServerMessage ControlSession::leave_match() {
 }
 
 wire::ServerMessage ControlSession::chat(const wire::ChatRequest& request) {
-  const std::size_t bytes = request.text().size();
-  if (bytes == 0 || bytes > context_.limits.max_chat_bytes) {
-    const std::string detail = "chat text must be 1.." +
-                               std::to_string(context_.limits.max_chat_bytes) + " bytes, got " +
-                               std::to_string(bytes);
-    refuse(ControlRefusal::InvalidRequest, detail);
-    return error_reply(wire::INVALID_REQUEST, detail);
+  if (const auto refusal = proto::check_chat_text(request.text())) {
+    refuse(ControlRefusal::InvalidRequest, refusal->message);
+    return error_reply(wire::INVALID_REQUEST, refusal->message);
   }
   DirectoryResult<Done> result = context_.matches.chat(account_, request.text());
   if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);

@@ -83,7 +83,7 @@ void GameChannel::send_all(std::vector<Outgoing> messages) {
       const auto found = client_of_account_.find(message.account);
       if (found == client_of_account_.end()) continue;
       if (message.reliable) {
-        transport_.send_reliable(found->second, message.bytes, now);
+        transport_.send_reliable(found->second, message.bytes, now, message.delivery);
       } else {
         transport_.send_unreliable(found->second, message.bytes, now);
       }

@@ -54,6 +54,7 @@ enum class DirectoryErrorCode {
   InvalidRequest,  ///< a field out of range; the message names it
   TooManyMatches,
   ShuttingDown,
+  RateLimited,  ///< over a rate limit (chat: ChatLimiter); this request was dropped
 };
 inline const char* name(DirectoryErrorCode code) {
   switch (code) {
@@ -71,6 +72,8 @@ inline const char* name(DirectoryErrorCode code) {
       return "too_many_matches";
     case DirectoryErrorCode::ShuttingDown:
       return "shutting_down";
+    case DirectoryErrorCode::RateLimited:
+      return "rate_limited";
   }
   return "unknown";
 }
@@ -95,7 +98,8 @@ class MatchDirectory {
   virtual DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
                                           std::uint32_t match_id) = 0;
   virtual DirectoryResult<Done> leave(std::uint64_t account) = 0;
-  /// Echoed to every player of the account's match over the game channel's reliable messages.
+  /// Echoed to every player of the account's match over the game channel's reliable messages,
+  /// within the chat rate limits (RateLimited beyond them).
   virtual DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) = 0;
 };
 

@@ -204,6 +204,10 @@ DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account) {
 DirectoryResult<Done> MatchRegistry::chat(std::uint64_t account, const std::string& text) {
   const auto host = host_of(account);
   if (!host) return error(DirectoryErrorCode::NotInMatch, "not in a match");
+  const auto over = config_.chat_limiter
+                        ? config_.chat_limiter->take(account, host->id(), config_.clock())
+                        : std::nullopt;
+  if (over) return error(DirectoryErrorCode::RateLimited, config_.chat_limiter->explain(*over));
   host->chat(account, text);
   return Done{};
 }

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "chat_limiter.h"
 #include "game_channel.h"
 #include "match_directory.h"
 #include "match_host.h"
@@ -44,6 +45,9 @@ struct MatchRegistryConfig {
   proto::TimeUs token_lifetime_us = 10 * proto::kMicrosPerSecond;  ///< ≤ 30 s
   std::uint32_t token_timeout_s = 5;  ///< game-channel silence that drops a client
   int max_matches = 256;
+  /// Chat's rate limits (the server's, shared with nothing else); nullptr: chat is not limited
+  /// (tests of the registry alone).
+  ChatLimiter* chat_limiter = nullptr;
   /// The clock, in µs, that connect tokens are issued on and seat reservations run out on: the
   /// game channel's, which checks the tokens (steady_now_us). Tests pass fake time.
   std::function<proto::TimeUs()> clock = steady_now_us;

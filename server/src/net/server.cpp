@@ -15,7 +15,9 @@
 #include <utility>
 
 #include "admin_http.h"
+#include "chat_limiter.h"
 #include "control_server.h"
+#include "episode_log.h"
 #include "game_channel.h"
 #include "match_defaults.h"
 #include "match_registry.h"
@@ -94,6 +96,15 @@ ControlServerConfig control_config(const ServerConfig& config) {
   return out;
 }
 
+ChatLimits chat_limits(const ServerConfig& config) {
+  ChatLimits out;
+  out.account_lines_per_s = config.control.chat_account_lines_per_s;
+  out.account_burst = config.control.chat_account_burst;
+  out.match_lines_per_s = config.control.chat_match_lines_per_s;
+  out.match_burst = config.control.chat_match_burst;
+  return out;
+}
+
 /// Waits for `future` until `deadline`; false when it did not come in time.
 template <class T>
 bool wait_until(std::future<T>& future, Clock::time_point deadline) {
@@ -128,9 +139,12 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   game.transport.token_key = token_key;
   game_ = std::make_unique<GameChannel>(io_, std::move(game));
 
+  episodes_ = std::make_unique<EpisodeLog>();
+  chat_limiter_ = std::make_unique<ChatLimiter>(chat_limits(config_), *episodes_);
   MatchRegistryConfig registry;
   registry.match_defaults = match_defaults(config_);
   registry.token_key = token_key;
+  registry.chat_limiter = chat_limiter_.get();
   // Every map of the rotation is loaded now, so a broken one stops the start, not a match end.
   std::vector<Map> maps;
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));

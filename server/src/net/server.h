@@ -46,7 +46,9 @@ class MatchResults;
 namespace ricochet::server {
 
 class AdminHttp;
+class ChatLimiter;
 struct EndedMatch;
+class EpisodeLog;
 class ControlServer;
 class GameChannel;
 class MatchRegistry;
@@ -105,6 +107,9 @@ class Server {
   ServerConfig config_;
   boost::asio::io_context io_;
   MetricsRegistry metrics_;
+  /// Abuse refused, logged once per episode (every limit shares it).
+  std::unique_ptr<EpisodeLog> episodes_;
+  std::unique_ptr<ChatLimiter> chat_limiter_;
   std::unique_ptr<db::DbWorker> db_;
   std::unique_ptr<RecordingFiles> recordings_;
   std::unique_ptr<GameChannel> game_;

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "chat_limiter.h"
 #include "control_server.h"
 #include "game_channel.h"
 #include "match_registry.h"
@@ -42,6 +43,9 @@ void report_game_channel(const proto::TransportCounters& game, MetricsSink& sink
   sink.counter("ricochet_game_reliable_resends_total",
                "Reliable messages sent again for want of an ack", {},
                static_cast<double>(game.reliable_resends));
+  sink.counter("ricochet_game_reliable_dropped_total",
+               "Droppable reliable messages (chat) not queued: the client was behind on its acks",
+               {}, static_cast<double>(game.reliable_dropped));
   sink.gauge("ricochet_game_connections", "Game connections by state", {{"state", "half_open"}},
              game.half_open);
   sink.gauge("ricochet_game_connections", "Game connections by state", {{"state", "connected"}},
@@ -172,6 +176,13 @@ void Server::register_metrics() {
     sink.counter("ricochet_game_unexpected_reliable_total",
                  "Reliable messages from clients, none being defined (dropped)", {},
                  static_cast<double>(matches_->unexpected_reliable()));
+    const auto chat_refusals = chat_limiter_->refusals();
+    for (std::size_t i = 0; i < kChatLimitCount; ++i) {
+      sink.counter("ricochet_chat_refused_total",
+                   "Chat lines refused with RATE_LIMITED, by the limit they broke",
+                   {{"limit", name(static_cast<ChatLimit>(i))}},
+                   static_cast<double>(chat_refusals[i]));
+    }
     for (const auto& host : hosts) {
       report_match(*host, sink);
       host->report_phases(sink);

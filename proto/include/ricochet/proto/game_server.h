@@ -17,6 +17,7 @@
 
 #include "ricochet/proto/address.h"
 #include "ricochet/proto/clock.h"
+#include "ricochet/proto/reliable_channel.h"
 #include "ricochet/proto/token_grant.h"
 #include "ricochet/proto/transmit.h"
 #include "ricochet/proto/transport_counters.h"
@@ -35,7 +36,10 @@ struct GameServerConfig {
   double client_burst = 250.0;
   TimeUs keep_alive_us = 100 * kMicrosPerMilli;       ///< 10 Hz when idle
   TimeUs reliable_resend_us = 100 * kMicrosPerMilli;  ///< resend an unacked reliable message
-  std::size_t max_reliable_pending = 256;             ///< 1..256 unacked messages; more disconnects
+  std::size_t max_reliable_pending = 256;  ///< 1..256 reliable messages in flight per client
+  /// max_reliable_pending..65536 held per client, in flight or waiting: a must-arrive message
+  /// beyond it disconnects (ReliableOverflow); droppable ones stop at max_reliable_pending / 2.
+  std::size_t max_reliable_queued = 1024;
   TransportLog log;
 
   /// Empty when valid, else what is wrong, e.g. "max_clients must be 1..4096, got 0".
@@ -86,10 +90,13 @@ class GameServer {
   /// One payload packet with `payload` (≤ kMaxUnreliableBytes) and any reliable messages due that
   /// fit. False when the client is unknown or the payload too large.
   bool send_unreliable(ClientId client, std::span<const std::uint8_t> payload, TimeUs now);
-  /// Queued; sent with the next payload or by update(). False when the client is unknown or the
-  /// message empty or larger than kMaxReliableMessageBytes; when the client's queue is full the
-  /// client is disconnected (ReliableOverflow) and this returns false.
-  bool send_reliable(ClientId client, std::span<const std::uint8_t> message, TimeUs now);
+  /// Queued; sent with the next payload or by update(). False when the client is unknown, the
+  /// message empty or larger than kMaxReliableMessageBytes, or refused by `delivery`
+  /// (reliable_channel.h): a Droppable message the client has no room for is dropped and counted
+  /// (TransportCounters::reliable_dropped); a MustArrive one beyond max_reliable_queued
+  /// disconnects the client (ReliableOverflow).
+  bool send_reliable(ClientId client, std::span<const std::uint8_t> message, TimeUs now,
+                     Delivery delivery = Delivery::MustArrive);
   /// The one exit: tells the client (three disconnect packets), reports ServerDisconnected.
   void disconnect(ClientId client, DisconnectReason reason, TimeUs now);
   void disconnect_all(DisconnectReason reason, TimeUs now);

@@ -53,7 +53,7 @@ enum class DisconnectReason : std::uint8_t {
   HandshakeTimedOut,  ///< client: no challenge or no keep-alive within the timeout
   Denied,             ///< server full
   Replaced,           ///< the same account connected again (new token, maybe a new address)
-  ReliableOverflow,   ///< the reliable send queue passed its cap: the peer stopped acking
+  ReliableOverflow,   ///< must-arrive reliable messages passed their cap: the peer stopped acking
   ServerShutdown,     ///< the server is stopping
   Kicked,             ///< the server's application removed the client
 };
@@ -101,6 +101,7 @@ struct TransportCounters {
   std::array<std::uint64_t, kDisconnectReasonCount> disconnects{};
   std::uint64_t connections_total = 0;  ///< handshakes completed
   std::uint64_t reliable_resends = 0;   ///< reliable messages sent again for want of an ack
+  std::uint64_t reliable_dropped = 0;   ///< droppable reliable messages a client had no room for
   std::uint32_t half_open = 0;          ///< handshakes in progress now (gauge)
   std::uint32_t connected = 0;          ///< connected clients now (gauge)
 

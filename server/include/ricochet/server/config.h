@@ -64,6 +64,11 @@ struct ControlConfig {
   int idle_timeout_ms = 120'000;     ///< no whole frame for this long
   int messages_per_second = 20;      ///< sustained requests per connection
   int message_burst = 40;            ///< requests a connection may send at once
+  // Chat, across every session of an account and every player of a match (ChatLimiter).
+  double chat_account_lines_per_s = 1;  ///< sustained chat lines per account
+  int chat_account_burst = 5;           ///< chat lines an account may send at once
+  double chat_match_lines_per_s = 8;    ///< sustained chat lines per match, all players
+  int chat_match_burst = 20;            ///< chat lines a match may carry at once
 };
 
 /// [game] encrypted UDP game channel (GameServerConfig) and the fixed tick (MatchConfig).

@@ -30,6 +30,7 @@
 
 #include "ricochet/physics/world.h"
 #include "ricochet/proto/clock.h"
+#include "ricochet/proto/reliable_channel.h"
 #include "ricochet/proto/snapshot_codec.h"
 #include "ricochet/server/combat.h"
 #include "ricochet/server/input_buffer.h"
@@ -43,8 +44,8 @@
 
 namespace ricochet::server {
 
-// The bits of each entity's flags are proto/entity_flags.h's.
-inline constexpr std::size_t kMaxChatBytes = 200;
+// The bits of each entity's flags are proto/entity_flags.h's; what a chat line may hold is
+// proto/chat_text.h's.
 inline constexpr std::size_t kMaxPlayerNameBytes = 32;
 
 /// Why connect() refused a player.
@@ -67,8 +68,8 @@ struct Joined {
 enum class ChatDrop : std::uint8_t {
   NotInMatch,  ///< the account is not connected to this match
   Empty,
-  TooLong,      ///< more than kMaxChatBytes
-  InvalidText,  ///< not UTF-8, or control characters
+  TooLong,      ///< more than proto::kMaxChatBytes
+  InvalidText,  ///< not UTF-8, or control or format characters (proto::check_chat_text)
 };
 inline constexpr std::size_t kChatDropCount = static_cast<std::size_t>(ChatDrop::InvalidText) + 1;
 const char* name(ChatDrop reason);
@@ -111,6 +112,9 @@ struct Outgoing {
   /// ServerPayload to send unreliably.
   bool reliable = false;
   std::vector<std::uint8_t> bytes;
+  /// Of a reliable message: chat is Droppable (a player behind on its acks misses lines, never
+  /// its connection), every other event MustArrive.
+  proto::Delivery delivery = proto::Delivery::MustArrive;
 };
 
 /// A line for the server's log (rule violations, per player), from the match's thread.
@@ -147,8 +151,8 @@ class Match {
   /// The transport's latency estimate for the account: one way, µs (RTT / 2). Lag compensation
   /// rewinds by it (and it is recorded with every input).
   void set_latency(std::uint64_t account, proto::TimeUs one_way_us);
-  /// A chat line from the account, echoed to every connected player. Returns why it was refused,
-  /// or nothing when it was accepted.
+  /// A chat line from the account, echoed to every connected player as a droppable event.
+  /// Returns why it was refused, or nothing when it was accepted. Rate limits are the caller's.
   std::optional<ChatDrop> chat(std::uint64_t account, std::string_view text);
 
   /// Ends the match: every connected player gets a MatchEnded, put in the outbox at once (drain
