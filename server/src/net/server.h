@@ -30,6 +30,7 @@
 #include <thread>
 #include <vector>
 
+#include "episode_log.h"
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
 #include "ricochet/server/metrics.h"
@@ -96,6 +97,7 @@ class Server {
   ServerConfig config_;
   boost::asio::io_context io_;
   MetricsRegistry metrics_;
+  EpisodeLog episodes_;  ///< abuse refused on any channel, logged once per episode
   std::unique_ptr<db::DbWorker> db_;
   std::unique_ptr<RecordingFiles> recordings_;
   std::unique_ptr<GameChannel> game_;
