@@ -100,7 +100,7 @@ void GameClient::State::on_handshake_packet(const EncryptedHeader& header,
   if (header.type == PacketType::ConnectionDenied) {
     auto denied = read_denied_body(body);
     if (!denied.ok()) return drop(*denied.error, info.server);
-    return end(DisconnectReason::Denied);
+    return end(denied.value);  // Denied (server full) or HostFull
   }
   auto parsed = read_challenge_body(body);
   if (!parsed.ok()) return drop(*parsed.error, info.server);

@@ -1,7 +1,9 @@
 #include "ricochet/proto/game_server.h"
 
+#include <algorithm>
 #include <boost/unordered/unordered_flat_map.hpp>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include "byte_io.h"
@@ -43,13 +45,20 @@ struct Client {
   TokenBucket budget;
 };
 
-/// A token seen in a valid request: usable again only from the same address, and never after
-/// it completed a handshake. Forgotten once it has expired (it no longer opens then).
-struct UsedToken {
-  Address address;
-  TimeUs expires_at = 0;
-  bool connected = false;
-};
+/// Why a datagram from an address the server holds nothing for (no connection, handshake or
+/// budget) cannot start a connection, or nothing when it can. Only a request of the exact size
+/// with this version, as netcode.io checks, makes the server spend memory on an address.
+std::optional<DropReason> not_a_request(std::span<const std::uint8_t> datagram) {
+  if (datagram[0] != static_cast<std::uint8_t>(PacketType::ConnectionRequest)) {
+    auto header = read_encrypted_header(datagram);
+    return header.ok() ? DropReason::UnknownAddress : *header.error;
+  }
+  if (datagram.size() != kConnectionRequestBytes) return DropReason::Truncated;  // never larger
+  if (!std::equal(kVersionInfo.begin(), kVersionInfo.end(), datagram.begin() + 1)) {
+    return DropReason::WrongVersion;
+  }
+  return std::nullopt;
+}
 
 std::vector<std::uint8_t> challenge_plaintext(const Handshake& handshake, const Address& to) {
   std::vector<std::uint8_t> plain;
@@ -74,6 +83,9 @@ std::string GameServerConfig::validate() const {
   for (const std::string& problem :
        {range("max_clients", max_clients, 1, 4096), range("max_half_open", max_half_open, 1, 65536),
         range("max_tracked_addresses", max_tracked_addresses, 1, 1 << 20),
+        range("max_half_open_per_host", max_half_open_per_host, 1, 65536),
+        range("max_clients_per_host", max_clients_per_host, 1, 4096),
+        range("max_used_tokens", max_used_tokens, 1, 1 << 24),
         range("address_packets_per_s", address_packets_per_s, 1, 1e6),
         range("address_burst", address_burst, 1, 1e6),
         range("client_packets_per_s", client_packets_per_s, 1, 1e6),
@@ -98,14 +110,22 @@ struct GameServer::State {
   std::uint64_t challenge_sequence = 0;
   std::uint64_t handshake_sequence = 0;
   ClientId next_client = 1;
-  std::unordered_map<Address, Handshake, AddressHash> handshakes;
+  using Handshakes = std::unordered_map<Address, Handshake, AddressHash>;
+  Handshakes handshakes;
+  /// Where each account's handshake in progress is: an account has at most one.
+  boost::unordered_flat_map<std::uint64_t, Address> handshake_by_account;
+  using HostCounts = boost::unordered_flat_map<HostKey, int, HostKeyHash>;
+  HostCounts half_open_by_host;  ///< handshakes in progress per host; no zero entries
+  HostCounts clients_by_host;    ///< connected clients per host; no zero entries
   // Open addressing for what a datagram looks up: a probe of a flat array of keys instead of
   // a bucket and a node in two cold places.
   boost::unordered_flat_map<ClientId, std::unique_ptr<Client>> clients;  ///< Clients never move
   /// The clients of `clients` by address: a datagram finds its client with one lookup.
   boost::unordered_flat_map<Address, Client*, AddressHash> client_by_address;
   boost::unordered_flat_map<std::uint64_t, ClientId> client_by_account;
-  boost::unordered_flat_map<TokenMac, UsedToken, TokenMacHash> used_tokens;
+  /// Every token that opened a handshake, with its expiry: a token opens one handshake only
+  /// (another would reuse its keys and nonces). Forgotten once expired, when it opens nothing.
+  boost::unordered_flat_map<TokenMac, TimeUs, TokenMacHash> used_tokens;
   boost::unordered_flat_map<Address, TokenBucket, AddressHash> address_budgets;
   TransmitQueue transmits;
   std::deque<ServerEvent> events;
@@ -143,16 +163,8 @@ struct GameServer::State {
             config.reliable_resend_us, config.max_reliable_pending, config.max_reliable_queued};
   }
 
-  /// Rate limit before any parsing: per client when the address is connected (`client` set to
-  /// it), else per address.
-  bool within_budget(const Address& from, TimeUs now, Client*& client) {
-    if (auto it = client_by_address.find(from); it != client_by_address.end()) {
-      client = it->second;
-      if (client->budget.take(now)) return true;
-      drop(DropReason::ClientRateLimited, from);
-      return false;
-    }
-    client = nullptr;
+  /// Rate limit of an unconnected address, before any parsing.
+  bool within_address_budget(const Address& from, TimeUs now) {
     auto it = address_budgets.find(from);
     if (it == address_budgets.end()) {
       if (address_budgets.size() >= static_cast<std::size_t>(config.max_tracked_addresses)) {
@@ -174,10 +186,11 @@ struct GameServer::State {
     return ConnectionState::Connecting;
   }
 
-  void send_denied(const Address& to, const ConnectTokenContents& token) {
+  /// Tells the token holder why it is refused (only it can read the packet), and counts it.
+  void deny(const Address& to, const ConnectTokenContents& token, DisconnectReason reason) {
     send(to, seal_packet(PacketType::ConnectionDenied, kHandshakeSequenceBit | handshake_sequence++,
-                         config.protocol_id, token.server_to_client,
-                         write_denied_body(DisconnectReason::Denied)));
+                         config.protocol_id, token.server_to_client, write_denied_body(reason)));
+    drop(reason == DisconnectReason::HostFull ? DropReason::HostFull : DropReason::ServerFull, to);
   }
 
   void send_challenge(const Address& to, const Handshake& handshake) {
@@ -186,13 +199,50 @@ struct GameServer::State {
                          write_challenge_body(handshake.challenge)));
   }
 
+  static void count_on(HostCounts& counts, const Address& address, int delta) {
+    auto it = counts.try_emplace(host_key(address), 0).first;
+    it->second += delta;
+    if (it->second <= 0) counts.erase(it);
+  }
+  static int count_of(const HostCounts& counts, const HostKey& host) {
+    auto it = counts.find(host);
+    return it == counts.end() ? 0 : it->second;
+  }
+
   bool full() const { return clients.size() >= static_cast<std::size_t>(config.max_clients); }
-  /// A returning account replaces its old connection, so it never counts as one more client.
-  bool admits(std::uint64_t account_id) const {
-    return !full() || client_by_account.contains(account_id);
+  /// Why `account_id` may not connect from `from` now (Denied: server full, or HostFull), or
+  /// nothing. A returning account replaces its old connection, so it never counts as one more
+  /// client, on the server or on its old connection's host.
+  std::optional<DisconnectReason> refusal(std::uint64_t account_id, const Address& from) const {
+    const Client* old = nullptr;
+    if (auto it = client_by_account.find(account_id); it != client_by_account.end()) {
+      old = clients.find(it->second)->second.get();
+    }
+    if (!old && full()) return DisconnectReason::Denied;
+    const HostKey host = host_key(from);
+    int on_host = count_of(clients_by_host, host);
+    if (old && host_key(old->address) == host) --on_host;
+    if (on_host >= config.max_clients_per_host) return DisconnectReason::HostFull;
+    return std::nullopt;
+  }
+
+  void open_handshake(const Address& from, Handshake handshake) {
+    handshake_by_account[handshake.token.account_id] = from;
+    count_on(half_open_by_host, from, +1);
+    handshakes.emplace(from, std::move(handshake));
+  }
+  /// Forgets the handshake at `it` (connected, timed out, replaced or denied) in every table.
+  Handshakes::iterator close_handshake(Handshakes::iterator it) {
+    if (auto account = handshake_by_account.find(it->second.token.account_id);
+        account != handshake_by_account.end() && account->second == it->first) {
+      handshake_by_account.erase(account);
+    }
+    count_on(half_open_by_host, it->first, -1);
+    return handshakes.erase(it);
   }
 
   void on_request(const Address& from, std::span<const std::uint8_t> datagram, TimeUs now);
+  void on_client_datagram(Client& client, std::span<const std::uint8_t> datagram, TimeUs now);
   void on_handshake_packet(const Address& from, const EncryptedHeader& header,
                            std::span<const std::uint8_t> datagram, TimeUs now);
   void on_client_packet(Client& client, const EncryptedHeader& header,
@@ -206,38 +256,55 @@ void GameServer::State::on_request(const Address& from, std::span<const std::uin
   auto request = read_connection_request(datagram);
   if (!request.ok()) return drop(*request.error, from);
   if (request.value.protocol_id != config.protocol_id) return drop(DropReason::WrongProtocol, from);
-  const ConnectionState state = state_of(from);
-  if (!server_accepts(state, PacketType::ConnectionRequest)) {
+  if (!server_accepts(state_of(from), PacketType::ConnectionRequest)) {
     return drop(DropReason::WrongState, from);
   }
   auto token =
       open_connect_token(config.token_key, config.protocol_id, request.value.connect_token, now);
   if (!token.ok()) return drop(*token.error, from);
   const TokenMac& mac = token.value.mac;
-  if (auto used = used_tokens.find(mac);
-      used != used_tokens.end() && (used->second.address != from || used->second.connected)) {
+  const ConnectTokenContents& contents = token.value.contents;
+  auto existing = handshakes.find(from);
+  if (used_tokens.contains(mac)) {
+    // A token opens one handshake. The same request again gets its challenge again (the first
+    // was lost); anything else is a copy from elsewhere, or a retry that would reuse the token's
+    // keys, and with them the nonces, of a handshake that ended.
+    if (existing != handshakes.end() && existing->second.mac == mac) {
+      return send_challenge(from, existing->second);
+    }
     return drop(DropReason::TokenReused, from);
   }
-  auto existing = handshakes.find(from);
-  if (existing != handshakes.end() && existing->second.mac == mac) {
-    send_challenge(from, existing->second);  // the challenge was lost: same one again
-    return;
+  // Another account's token never ends a handshake in progress: its source may be spoofed.
+  if (existing != handshakes.end() && existing->second.token.account_id != contents.account_id) {
+    return drop(DropReason::HandshakeInProgress, from);
   }
-  if (existing == handshakes.end() &&
-      handshakes.size() >= static_cast<std::size_t>(config.max_half_open)) {
+  // A newer token of the account replaces the account's handshake in progress, from this
+  // address or another: one account holds one half-open slot at most.
+  auto replaced = existing;
+  if (replaced == handshakes.end()) {
+    if (auto pending = handshake_by_account.find(contents.account_id);
+        pending != handshake_by_account.end()) {
+      replaced = handshakes.find(pending->second);
+    }
+  }
+  const bool replaces = replaced != handshakes.end();
+  if (!replaces && handshakes.size() >= static_cast<std::size_t>(config.max_half_open)) {
     return drop(DropReason::HalfOpenCap, from);
   }
-  const ConnectTokenContents& contents = token.value.contents;
-  if (!admits(contents.account_id)) {
-    send_denied(from, contents);
-    return drop(DropReason::ServerFull, from);
+  const HostKey host = host_key(from);
+  const int on_host =
+      count_of(half_open_by_host, host) - (replaces && host_key(replaced->first) == host ? 1 : 0);
+  if (on_host >= config.max_half_open_per_host) return drop(DropReason::HostHalfOpenCap, from);
+  if (used_tokens.size() >= static_cast<std::size_t>(config.max_used_tokens)) {
+    return drop(DropReason::UsedTokenTableFull, from);
   }
-  if (existing != handshakes.end()) {
-    transition(from, 0, ConnectionState::Challenged, ConnectionState::Disconnected,
-               "replaced by a request with another token");
-    handshakes.erase(existing);
+  if (auto refused = refusal(contents.account_id, from)) return deny(from, contents, *refused);
+  if (replaces) {
+    transition(replaced->first, 0, ConnectionState::Challenged, ConnectionState::Disconnected,
+               "replaced by a newer token of its account");
+    close_handshake(replaced);
   }
-  used_tokens[mac] = {from, contents.expires_at, false};
+  used_tokens[mac] = contents.expires_at;
   Handshake handshake{contents,
                       mac,
                       now + static_cast<TimeUs>(contents.timeout_s) * kMicrosPerSecond,
@@ -252,13 +319,14 @@ void GameServer::State::on_request(const Address& from, std::span<const std::uin
   transition(from, 0, ConnectionState::Connecting, ConnectionState::Challenged,
              "valid connection request");
   send_challenge(from, handshake);
-  handshakes.emplace(from, std::move(handshake));
+  open_handshake(from, std::move(handshake));
   update_gauges();
 }
 
 void GameServer::State::on_handshake_packet(const Address& from, const EncryptedHeader& header,
                                             std::span<const std::uint8_t> datagram, TimeUs now) {
-  Handshake& handshake = handshakes.find(from)->second;
+  const auto found = handshakes.find(from);
+  Handshake& handshake = found->second;
   if (!server_accepts(ConnectionState::Challenged, header.type)) {
     return drop(DropReason::WrongState, from);
   }
@@ -277,12 +345,11 @@ void GameServer::State::on_handshake_packet(const Address& from, const Encrypted
       plain != challenge_plaintext(handshake, from)) {
     return drop(DropReason::ChallengeInvalid, from);
   }
-  if (!admits(handshake.token.account_id)) {
-    send_denied(from, handshake.token);
-    drop(DropReason::ServerFull, from);
+  if (auto refused = refusal(handshake.token.account_id, from)) {
+    deny(from, handshake.token, *refused);
     transition(from, 0, ConnectionState::Challenged, ConnectionState::Disconnected,
-               "server full at response");
-    handshakes.erase(from);
+               "server or host full at response");
+    close_handshake(found);
     update_gauges();
     return;
   }
@@ -294,7 +361,6 @@ void GameServer::State::complete_handshake(const Address& from, Handshake& hands
   if (auto old = client_by_account.find(account_id); old != client_by_account.end()) {
     remove_client(old->second, DisconnectReason::Replaced, true, now);
   }
-  used_tokens[handshake.mac].connected = true;
   const ClientId id = next_client++;
   Client client{id,
                 from,
@@ -302,8 +368,9 @@ void GameServer::State::complete_handshake(const Address& from, Handshake& hands
                 handshake.token.match_id,
                 std::move(handshake.connection),
                 TokenBucket(config.client_packets_per_s, config.client_burst, now)};
-  handshakes.erase(from);
+  close_handshake(handshakes.find(from));
   address_budgets.erase(from);
+  count_on(clients_by_host, from, +1);
   transition(from, id, ConnectionState::Challenged, ConnectionState::Connected,
              "valid challenge response");
   ++counters.connections_total;
@@ -324,6 +391,7 @@ void GameServer::State::on_client_packet(Client& client, const EncryptedHeader& 
   if (auto error = client.connection.open(header, datagram, body, now)) {
     return drop(*error, client.address);
   }
+  client.budget.take(now);  // authenticated: the client's own packet
   switch (header.type) {
     case PacketType::Response: {
       // Our keep-alive after the handshake was lost; the client still waits for one.
@@ -367,6 +435,19 @@ void GameServer::State::on_client_packet(Client& client, const EncryptedHeader& 
   }
 }
 
+void GameServer::State::on_client_datagram(Client& client, std::span<const std::uint8_t> datagram,
+                                           TimeUs now) {
+  // Only packets that authenticate spend the budget (on_client_packet), so packets spoofed
+  // with the client's address cannot use it up: an empty budget is the client's own doing.
+  if (!client.budget.available(now)) return drop(DropReason::ClientRateLimited, client.address);
+  if (datagram[0] == static_cast<std::uint8_t>(PacketType::ConnectionRequest)) {
+    return drop(DropReason::WrongState, client.address);
+  }
+  auto header = read_encrypted_header(datagram);
+  if (!header.ok()) return drop(*header.error, client.address);
+  on_client_packet(client, header.value, datagram, now);
+}
+
 void GameServer::State::remove_client(ClientId id, DisconnectReason reason, bool tell_client,
                                       TimeUs now) {
   auto it = clients.find(id);
@@ -383,6 +464,7 @@ void GameServer::State::remove_client(ClientId id, DisconnectReason reason, bool
              name(reason));
   events.push_back(ServerDisconnected{id, client.account_id, reason});
   client_by_address.erase(client.address);
+  count_on(clients_by_host, client.address, -1);
   if (auto account = client_by_account.find(client.account_id);
       account != client_by_account.end() && account->second == id) {
     client_by_account.erase(account);
@@ -406,15 +488,20 @@ void GameServer::receive(const Address& from, std::span<const std::uint8_t> data
   s.counters.bytes_in += datagram.size();
   if (datagram.empty()) return s.drop(DropReason::Empty, from);
   if (datagram.size() > kMaxDatagramBytes) return s.drop(DropReason::Oversized, from);
-  Client* client = nullptr;
-  if (!s.within_budget(from, now, client)) return;
+  if (auto client = s.client_by_address.find(from); client != s.client_by_address.end()) {
+    return s.on_client_datagram(*client->second, datagram, now);
+  }
+  const bool challenged = s.handshakes.contains(from);
+  if (!challenged && !s.address_budgets.contains(from)) {
+    if (auto reason = not_a_request(datagram)) return s.drop(*reason, from);
+  }
+  if (!s.within_address_budget(from, now)) return;
   if (datagram[0] == static_cast<std::uint8_t>(PacketType::ConnectionRequest)) {
     return s.on_request(from, datagram, now);
   }
   auto header = read_encrypted_header(datagram);
   if (!header.ok()) return s.drop(*header.error, from);
-  if (client) return s.on_client_packet(*client, header.value, datagram, now);
-  if (s.handshakes.contains(from)) return s.on_handshake_packet(from, header.value, datagram, now);
+  if (challenged) return s.on_handshake_packet(from, header.value, datagram, now);
   s.drop(DropReason::UnknownAddress, from);
 }
 
@@ -424,7 +511,7 @@ void GameServer::update(TimeUs now) {
     if (now >= it->second.expires_at) {
       s.transition(it->first, 0, ConnectionState::Challenged, ConnectionState::Disconnected,
                    "handshake timed out");
-      it = s.handshakes.erase(it);
+      it = s.close_handshake(it);
     } else {
       ++it;
     }
@@ -448,7 +535,7 @@ void GameServer::update(TimeUs now) {
     // a fresh one.
     s.next_sweep = now + kSweepIntervalUs;
     boost::unordered::erase_if(s.used_tokens,
-                               [&](const auto& entry) { return entry.second.expires_at <= now; });
+                               [&](const auto& entry) { return entry.second <= now; });
     boost::unordered::erase_if(s.address_budgets,
                                [&](auto& entry) { return entry.second.full(now); });
   }

@@ -46,6 +46,14 @@ std::string_view name(DropReason reason) {
       return "server_full";
     case DropReason::ReliableOutOfWindow:
       return "reliable_out_of_window";
+    case DropReason::HandshakeInProgress:
+      return "handshake_in_progress";
+    case DropReason::HostHalfOpenCap:
+      return "host_half_open_cap";
+    case DropReason::HostFull:
+      return "host_full";
+    case DropReason::UsedTokenTableFull:
+      return "used_token_table_full";
   }
   return "unknown";
 }
@@ -70,6 +78,8 @@ std::string_view name(DisconnectReason reason) {
       return "server_shutdown";
     case DisconnectReason::Kicked:
       return "kicked";
+    case DisconnectReason::HostFull:
+      return "host_full";
   }
   return "unknown";
 }

@@ -203,7 +203,7 @@ TEST_F(TransportTest, ASpoofedSourceGetsOnlyAChallengeItCannotAnswer) {
   EXPECT_EQ(server->client_count(), 0u);
 }
 
-TEST_F(TransportTest, AResponseToAnEarlierHandshakeIsRefused) {
+TEST_F(TransportTest, ATokenOpensOneHandshakeSoARetryNeverReusesItsKeysAndNonces) {
   const auto info = sim::connect_info(14, 1, kT0);
   GameClient client(info, kT0);
   server->receive(kAlice, client_out(client)[0].bytes, kT0);
@@ -214,10 +214,14 @@ TEST_F(TransportTest, AResponseToAnEarlierHandshakeIsRefused) {
   const TimeUs later = kT0 + 5 * kMicrosPerSecond;
   server->receive(kAlice, write_connection_request(kTestProtocolId, info.grant.connect_token),
                   later);
-  ASSERT_EQ(server_out().size(), 1u) << "same token, same address: a new handshake";
+  EXPECT_TRUE(server_out().empty()) << "same token, same address, handshake over: no new one";
+  EXPECT_EQ(drops(DropReason::TokenReused), 1u);
   server->receive(kAlice, old_response, later);
-  EXPECT_EQ(drops(DropReason::ChallengeInvalid), 1u);
+  EXPECT_EQ(drops(DropReason::UnknownAddress), 1u);
   EXPECT_EQ(server->client_count(), 0u);
+  // A new token (JoinMatch again) connects from the same address.
+  auto again = connected_client(14, kAlice, later);
+  EXPECT_EQ(server->client_count(), 1u);
 }
 
 TEST_F(TransportTest, RefusesForgedMacsReplaysAndPacketsOutOfState) {
@@ -265,11 +269,14 @@ TEST_F(TransportTest, RateLimitsUnconnectedAddressesAndConnectedClients) {
   config.client_packets_per_s = 10;
   config.client_burst = 20;
   start(config);
-  for (int i = 0; i < 8; ++i) server->receive(kMallory, std::vector<std::uint8_t>(50, 0xEE), kT0);
-  EXPECT_EQ(drops(DropReason::Malformed), 5u);
+  // Requests with a token that does not open: the only kind an unknown address is tracked for.
+  const auto bad_request = write_connection_request(
+      kTestProtocolId, std::vector<std::uint8_t>(kConnectTokenBytes, 0xEE));
+  for (int i = 0; i < 8; ++i) server->receive(kMallory, bad_request, kT0);
+  EXPECT_EQ(drops(DropReason::TokenInvalid), 5u);
   EXPECT_EQ(drops(DropReason::AddressRateLimited), 3u);
-  server->receive(kMallory, std::vector<std::uint8_t>(50, 0xEE), kT0 + 100 * kMicrosPerMilli);
-  EXPECT_EQ(drops(DropReason::Malformed), 6u) << "refilled at 10 per second";
+  server->receive(kMallory, bad_request, kT0 + 100 * kMicrosPerMilli);
+  EXPECT_EQ(drops(DropReason::TokenInvalid), 6u) << "refilled at 10 per second";
 
   auto alice = connected_client(1, kAlice, kT0);
   auto events = server_events();
@@ -300,7 +307,9 @@ TEST_F(TransportTest, CapsTrackedAddressesAndHalfOpenHandshakes) {
       write_connection_request(kTestProtocolId, sim::connect_info(2, 1, kT0).grant.connect_token),
       kT0);
   EXPECT_EQ(drops(DropReason::HalfOpenCap), 1u);
-  server->receive(c, std::vector<std::uint8_t>(10, 1), kT0);
+  const auto bad_request = write_connection_request(
+      kTestProtocolId, std::vector<std::uint8_t>(kConnectTokenBytes, 0xEE));
+  server->receive(c, bad_request, kT0);
   EXPECT_EQ(drops(DropReason::AddressTableFull), 1u);
   EXPECT_EQ(server_out().size(), 1u);
   server->update(kT0 + 5 * kMicrosPerSecond);  // the half-open handshake times out
@@ -309,7 +318,7 @@ TEST_F(TransportTest, CapsTrackedAddressesAndHalfOpenHandshakes) {
   EXPECT_EQ(server_transitions.back().to, ConnectionState::Disconnected);
   EXPECT_EQ(server_transitions.back().reason, "handshake timed out");
   // That update also forgot the budgets of a and b, refilled by then: c is tracked now.
-  server->receive(c, std::vector<std::uint8_t>(10, 1), kT0 + 5 * kMicrosPerSecond);
+  server->receive(c, bad_request, kT0 + 5 * kMicrosPerSecond);
   EXPECT_EQ(drops(DropReason::AddressTableFull), 1u);
 }
 

@@ -49,6 +49,16 @@ TEST(TokenBucket, TimeRunningBackwardsRefillsNothing) {
   EXPECT_TRUE(bucket.take(kStart + 3 * kMicrosPerSecond));
 }
 
+TEST(TokenBucket, AvailableSaysWhetherTakeWouldSucceedAndTakesNothing) {
+  TokenBucket bucket(1.0, 2.0, kStart);
+  EXPECT_TRUE(bucket.available(kStart));
+  EXPECT_TRUE(bucket.available(kStart));
+  EXPECT_TRUE(bucket.take(kStart));
+  EXPECT_TRUE(bucket.take(kStart));
+  EXPECT_FALSE(bucket.available(kStart));
+  EXPECT_TRUE(bucket.available(kStart + kMicrosPerSecond));
+}
+
 TEST(TokenBucket, AFractionalRateAccumulatesAcrossCalls) {
   TokenBucket bucket(0.5, 1.0, kStart);
   EXPECT_TRUE(bucket.take(kStart));

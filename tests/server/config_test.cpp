@@ -168,6 +168,8 @@ TEST(ServerConfig, EveryRangeMessageNamesTheKeyTheRangeAndTheValue) {
       {{"--max-catch-up-steps", "0"}, "game.max_catch_up_steps must be 1..64, got 0"},
       {{"--max-clients", "0"}, "game.max_clients must be 1..4096, got 0"},
       {{"--max-half-open", "65537"}, "game.max_half_open must be 1..65536, got 65537"},
+      {{"--max-clients-per-host", "0"}, "game.max_clients_per_host must be 1..4096, got 0"},
+      {{"--token-reuse-ms", "10001"}, "game.token_reuse_ms must be 0..10000, got 10001"},
       {{"--address-packets-per-s", "0"}, "game.address_packets_per_s must be 1..1000000, got 0"},
       {{"--client-packets-per-s", "0"}, "game.client_packets_per_s must be 1..1000000, got 0"},
       {{"--bandwidth-kbps", "15"}, "game.bandwidth_kbps_per_client must be 16..100000, got 15"},
@@ -252,7 +254,9 @@ TEST(ServerConfig, UnknownKeysAndTablesAreNamed) {
                 "test.toml:2:12: unknown key 'game.tickrate' (known keys in [game]: bind, port, "
                 "tick_rate_hz, snapshot_rate_hz, max_catch_up_steps, max_clients, "
                 "max_half_open, address_packets_per_s, client_packets_per_s, "
-                "bandwidth_kbps_per_client, snapshot_cache_off)"});
+                "bandwidth_kbps_per_client, snapshot_cache_off, max_half_open_per_host, "
+                "max_clients_per_host, max_tracked_addresses, max_used_tokens, "
+                "token_reuse_ms)"});
   EXPECT_EQ(problems_of("[physics]\ngravity = 9\n"),
             std::vector<std::string>{
                 "test.toml:1:1: unknown key 'physics' (known tables: server, db, tls, control, "

@@ -102,6 +102,26 @@ TEST_F(MatchRegistryTest, JoiningReservesASeatAndIssuesAnOpenableToken) {
   EXPECT_EQ(players_in(match), 1);
 }
 
+TEST_F(MatchRegistryTest, AnAccountGetsItsUnusedTokenAgainWithinTheReuseWindow) {
+  const std::uint32_t match = open("a", 4);
+  const auto token_of = [&](std::uint64_t account) {
+    auto joined = registry_->join(account, "someone", match);
+    EXPECT_TRUE(std::holds_alternative<JoinGrant>(joined));
+    return std::holds_alternative<JoinGrant>(joined)
+               ? std::get<JoinGrant>(joined).token.connect_token
+               : std::vector<std::uint8_t>{};
+  };
+  const auto first = token_of(7);
+  now_ += proto::kMicrosPerSecond - 1;
+  EXPECT_EQ(token_of(7), first) << "however many sessions ask, one token a second";
+  EXPECT_NE(token_of(8), first) << "another account's is its own";
+  now_ += 1;
+  const auto second = token_of(7);
+  EXPECT_NE(second, first) << "the window passed";
+  registry_->connected(7, match);
+  EXPECT_NE(token_of(7), second) << "a token a connection used is never given again";
+}
+
 TEST_F(MatchRegistryTest, AWakeUpsPayloadsReachEachPlayersMatchAndNoOther) {
   const std::uint32_t first = open("a", 4);
   const std::uint32_t second = open("b", 4);

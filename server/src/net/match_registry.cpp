@@ -176,8 +176,7 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
   grant.snapshot_rate_hz = host->second.host->snapshot_rate_hz();
   grant.world = host->second.world;
   grant.weapons = host->second.weapons;
-  grant.token = proto::issue_connect_token(config_.token_key, proto::kProtocolId, account, match_id,
-                                           now, config_.token_lifetime_us, config_.token_timeout_s);
+  grant.token = token_for(account, match_id, now);
   // A taken seat stays taken (a reconnect); a reservation lives as long as its newest token.
   seat->second.reserved_until =
       grant.token.expires_at +
@@ -193,6 +192,7 @@ DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account) {
     if (seat == seats_.end()) return error(DirectoryErrorCode::NotInMatch, "not in a match");
     host = hosts_.at(seat->second.match_id).host;
     seats_.erase(seat);
+    issued_tokens_.erase(account);
   }
   // Kicked now, not from the match's strand: a connection made after a quick rejoin must not be
   // the one a late kick finds.
@@ -218,6 +218,7 @@ void MatchRegistry::connected(std::uint64_t account, std::uint32_t match_id) {
   std::uint64_t generation = 0;
   {
     const std::lock_guard lock(mutex_);
+    issued_tokens_.erase(account);  // used: the next join needs a new token
     const auto seat = seats_.find(account);
     if (!closed_ && seat != seats_.end() && seat->second.match_id == match_id) {
       seat->second.taken = true;
@@ -269,6 +270,23 @@ void MatchRegistry::reliable(std::uint64_t account, std::vector<std::uint8_t> by
   unexpected_reliable_.fetch_add(1, std::memory_order_relaxed);
   spdlog::debug("game channel: account {} sent a reliable message of {} bytes; none is defined",
                 account, bytes.size());
+}
+
+proto::TokenGrant MatchRegistry::token_for(std::uint64_t account, std::uint32_t match_id,
+                                           proto::TimeUs now) {
+  boost::unordered::erase_if(issued_tokens_, [&](const auto& entry) {
+    return entry.second.issued_at + config_.token_reuse_us <= now ||
+           entry.second.grant.expires_at <= now;
+  });
+  if (const auto issued = issued_tokens_.find(account);
+      issued != issued_tokens_.end() && issued->second.match_id == match_id) {
+    return issued->second.grant;
+  }
+  proto::TokenGrant grant =
+      proto::issue_connect_token(config_.token_key, proto::kProtocolId, account, match_id, now,
+                                 config_.token_lifetime_us, config_.token_timeout_s);
+  if (config_.token_reuse_us > 0) issued_tokens_[account] = {match_id, grant, now};
+  return grant;
 }
 
 void MatchRegistry::expire_reservations(proto::TimeUs now) {

@@ -44,6 +44,10 @@ struct MatchRegistryConfig {
   proto::Key token_key{};      ///< the server-only key tokens are sealed with
   proto::TimeUs token_lifetime_us = 10 * proto::kMicrosPerSecond;  ///< ≤ 30 s
   std::uint32_t token_timeout_s = 5;  ///< game-channel silence that drops a client
+  /// A join within this long of the account's newest token, while no game connection has used
+  /// it, gets that token again (PROTOCOL.md JoinMatch): an account mints at most one token per
+  /// this interval, however many sessions ask (never one that expired). 0: a new token each join.
+  proto::TimeUs token_reuse_us = proto::kMicrosPerSecond;
   int max_matches = 256;
   /// Chat's rate limits (the server's, shared with nothing else); nullptr: chat is not limited
   /// (tests of the registry alone).
@@ -115,6 +119,9 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   /// A match ended by itself (on its strand): drop it, free its seats, open the next one.
   void match_ended(std::uint32_t match_id, EndedMatch ended);
   void release(std::uint64_t account, std::uint32_t match_id, std::uint64_t generation);
+  /// The account's connect token for `match_id`: the one issued within token_reuse_us if no
+  /// connection used it yet, else a new one. Holds mutex_.
+  proto::TokenGrant token_for(std::uint64_t account, std::uint32_t match_id, proto::TimeUs now);
 
   boost::asio::io_context& io_;
   MatchRegistryConfig config_;
@@ -131,6 +138,14 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   std::map<std::uint32_t, Hosted> hosts_;
   /// By account; open addressing (every datagram received looks its sender's seat up).
   boost::unordered_flat_map<std::uint64_t, Seat> seats_;
+  /// Each account's newest token while it may be given again (token_for); forgotten when the
+  /// account connects or leaves, or the reuse window passes.
+  struct IssuedToken {
+    std::uint32_t match_id = 0;
+    proto::TokenGrant grant;
+    proto::TimeUs issued_at = 0;
+  };
+  boost::unordered_flat_map<std::uint64_t, IssuedToken> issued_tokens_;
   std::uint32_t next_match_id_ = 1;
   std::uint64_t next_generation_ = 1;
   bool closed_ = false;

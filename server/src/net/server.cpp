@@ -55,7 +55,34 @@ Map load_map(const std::string& path) {
   return std::get<Map>(std::move(loaded));
 }
 
-GameChannelConfig game_channel_config(const ServerConfig& config) {
+/// The limit a game-channel drop says an abuser ran into (logged once per episode), or null for
+/// malformed and stray datagrams, which are only counted.
+const char* exceeded_limit(proto::DropReason reason) {
+  switch (reason) {
+    case proto::DropReason::HalfOpenCap:
+      return "game.max_half_open handshakes in progress";
+    case proto::DropReason::HostHalfOpenCap:
+      return "game.max_half_open_per_host handshakes in progress from one host";
+    case proto::DropReason::HostFull:
+      return "game.max_clients_per_host connections from one host";
+    case proto::DropReason::AddressTableFull:
+      return "game.max_tracked_addresses unconnected addresses";
+    case proto::DropReason::UsedTokenTableFull:
+      return "game.max_used_tokens connect tokens remembered";
+    case proto::DropReason::AddressRateLimited:
+      return "game.address_packets_per_s from an unconnected address";
+    case proto::DropReason::ClientRateLimited:
+      return "game.client_packets_per_s from a connected client";
+    case proto::DropReason::HandshakeInProgress:
+      return "a request for another account where a handshake is in progress";
+    case proto::DropReason::TokenReused:
+      return "a connect token that already opened a handshake";
+    default:
+      return nullptr;
+  }
+}
+
+GameChannelConfig game_channel_config(const ServerConfig& config, EpisodeLog& episodes) {
   GameChannelConfig out;
   out.bind = config.game.bind;
   out.port = static_cast<std::uint16_t>(config.game.port);
@@ -67,13 +94,21 @@ GameChannelConfig game_channel_config(const ServerConfig& config) {
   transport.address_burst = config.game.address_packets_per_s;
   transport.client_packets_per_s = config.game.client_packets_per_s;
   transport.client_burst = config.game.client_packets_per_s;
+  transport.max_half_open_per_host = config.game.max_half_open_per_host;
+  transport.max_clients_per_host = config.game.max_clients_per_host;
+  transport.max_tracked_addresses = config.game.max_tracked_addresses;
+  transport.max_used_tokens = config.game.max_used_tokens;
   transport.log.on_transition = [](const proto::StateTransition& transition) {
     spdlog::debug("game channel: {} {} -> {} ({})", transition.address.to_string(),
                   proto::name(transition.from), proto::name(transition.to), transition.reason);
   };
-  transport.log.on_drop = [](proto::DropReason reason, const proto::Address& from) {
+  transport.log.on_drop = [&episodes](proto::DropReason reason, const proto::Address& from) {
     spdlog::debug("game channel: dropped a packet from {}: {}", from.to_string(),
                   proto::name(reason));
+    if (const char* limit = exceeded_limit(reason)) {
+      episodes.refuse(proto::name(reason), proto::host_key(from).to_string(), limit,
+                      steady_now_us());
+    }
   };
   return out;
 }
@@ -135,16 +170,16 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   recordings_ = std::make_unique<RecordingFiles>(config_.recordings_path());
   const proto::Key token_key = proto::random_key();  // this process's only; tokens die with it
 
-  GameChannelConfig game = game_channel_config(config_);
+  GameChannelConfig game = game_channel_config(config_, episodes_);
   game.transport.token_key = token_key;
   game_ = std::make_unique<GameChannel>(io_, std::move(game));
 
-  episodes_ = std::make_unique<EpisodeLog>();
-  chat_limiter_ = std::make_unique<ChatLimiter>(chat_limits(config_), *episodes_);
+  chat_limiter_ = std::make_unique<ChatLimiter>(chat_limits(config_), episodes_);
   MatchRegistryConfig registry;
   registry.match_defaults = match_defaults(config_);
   registry.token_key = token_key;
   registry.chat_limiter = chat_limiter_.get();
+  registry.token_reuse_us = config_.game.token_reuse_ms * proto::kMicrosPerMilli;
   // Every map of the rotation is loaded now, so a broken one stops the start, not a match end.
   std::vector<Map> maps;
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));

@@ -31,6 +31,7 @@
 #include <thread>
 #include <vector>
 
+#include "episode_log.h"
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
 #include "ricochet/server/metrics.h"
@@ -48,7 +49,6 @@ namespace ricochet::server {
 class AdminHttp;
 class ChatLimiter;
 struct EndedMatch;
-class EpisodeLog;
 class ControlServer;
 class GameChannel;
 class MatchRegistry;
@@ -107,8 +107,7 @@ class Server {
   ServerConfig config_;
   boost::asio::io_context io_;
   MetricsRegistry metrics_;
-  /// Abuse refused, logged once per episode (every limit shares it).
-  std::unique_ptr<EpisodeLog> episodes_;
+  EpisodeLog episodes_;  ///< abuse refused on any channel, logged once per episode
   std::unique_ptr<ChatLimiter> chat_limiter_;
   std::unique_ptr<db::DbWorker> db_;
   std::unique_ptr<RecordingFiles> recordings_;

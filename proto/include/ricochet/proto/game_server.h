@@ -25,11 +25,19 @@
 namespace ricochet::proto {
 
 struct GameServerConfig {
-  std::uint64_t protocol_id = 0;        ///< must match the tokens' and the clients'
-  Key token_key{};                      ///< server-only key the connect tokens are sealed with
-  int max_clients = 64;                 ///< connected at once; more get a denied packet
-  int max_half_open = 256;              ///< handshakes in progress at once; more are dropped
-  int max_tracked_addresses = 4096;     ///< unconnected addresses with a rate-limit bucket
+  std::uint64_t protocol_id = 0;     ///< must match the tokens' and the clients'
+  Key token_key{};                   ///< server-only key the connect tokens are sealed with
+  int max_clients = 64;              ///< connected at once; more get a denied packet
+  int max_half_open = 256;           ///< handshakes in progress at once; more are dropped
+  int max_tracked_addresses = 4096;  ///< unconnected addresses with a rate-limit bucket
+  /// Per host (proto::host_key: an IPv4 address, or an IPv6 /64), so that one source cannot
+  /// take every slot: handshakes in progress (more are dropped) and connected clients (more get
+  /// a denied packet with reason HostFull).
+  int max_half_open_per_host = 16;
+  int max_clients_per_host = 32;
+  /// Tokens remembered from valid requests until they expire (PROTOCOL.md §connect token: a
+  /// token opens one handshake). When full, new requests are dropped, never a token forgotten.
+  int max_used_tokens = 65536;
   double address_packets_per_s = 20.0;  ///< budget of an unconnected address
   double address_burst = 20.0;
   double client_packets_per_s = 250.0;  ///< budget of a connected client

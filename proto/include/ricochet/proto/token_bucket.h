@@ -24,6 +24,11 @@ class TokenBucket {
     tokens_ -= 1.0;
     return true;
   }
+  /// True when take() would succeed now; takes nothing.
+  bool available(TimeUs now) {
+    refill(now);
+    return tokens_ >= 1.0;
+  }
   /// True when refilled to the burst: the bucket holds no more state than a fresh one.
   bool full(TimeUs now) {
     refill(now);

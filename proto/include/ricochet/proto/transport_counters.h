@@ -40,9 +40,13 @@ enum class DropReason : std::uint8_t {
   HalfOpenCap,          ///< too many handshakes in progress
   ServerFull,           ///< max_clients connected; answered with a denied packet
   ReliableOutOfWindow,  ///< reliable message id too far ahead of the next expected one
+  HandshakeInProgress,  ///< request with another account's token from an address mid-handshake
+  HostHalfOpenCap,      ///< too many handshakes in progress from the sender's host (host_key)
+  HostFull,             ///< max_clients_per_host connected from that host; answered with denied
+  UsedTokenTableFull,   ///< the table of used tokens is at its cap: no new handshake for now
 };
 inline constexpr std::size_t kDropReasonCount =
-    static_cast<std::size_t>(DropReason::ReliableOutOfWindow) + 1;
+    static_cast<std::size_t>(DropReason::UsedTokenTableFull) + 1;
 std::string_view name(DropReason reason);
 
 /// Why a connection ended. Carried in the disconnect and denied packets (one byte).
@@ -51,14 +55,15 @@ enum class DisconnectReason : std::uint8_t {
   PeerRequested,      ///< the other end sent a disconnect packet
   TimedOut,           ///< no valid packet for the token's timeout
   HandshakeTimedOut,  ///< client: no challenge or no keep-alive within the timeout
-  Denied,             ///< server full
+  Denied,             ///< denied: server full
   Replaced,           ///< the same account connected again (new token, maybe a new address)
   ReliableOverflow,   ///< must-arrive reliable messages passed their cap: the peer stopped acking
   ServerShutdown,     ///< the server is stopping
   Kicked,             ///< the server's application removed the client
+  HostFull,           ///< denied: too many clients from the client's host (host_key)
 };
 inline constexpr std::size_t kDisconnectReasonCount =
-    static_cast<std::size_t>(DisconnectReason::Kicked) + 1;
+    static_cast<std::size_t>(DisconnectReason::HostFull) + 1;
 std::string_view name(DisconnectReason reason);
 
 /// Connection states. Server side per address: Connecting → Challenged → Connected →

@@ -86,6 +86,12 @@ struct GameConfig {
   /// Snapshot encode cache layers switched off, comma-separated (proto::SnapshotCacheLayers):
   /// a benchmark's switch, the bytes are the same; empty: every layer on.
   std::string snapshot_cache_off;
+  // Handshakes and connect tokens (PROTOCOL.md Game channel transport §limits).
+  int max_half_open_per_host = 16;   ///< handshakes in progress from one host (proto::host_key)
+  int max_clients_per_host = 32;     ///< connected game clients from one host
+  int max_tracked_addresses = 4096;  ///< unconnected addresses with a packet budget
+  int max_used_tokens = 65536;       ///< connect tokens remembered until they expire
+  int token_reuse_ms = 1000;         ///< a join this soon after the last unused token gets it again
 };
 
 /// [matches] the matches opened at start and the rules every match plays by; more matches come
