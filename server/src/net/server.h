@@ -20,6 +20,7 @@
 
 #include <atomic>
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -30,6 +31,7 @@
 #include <thread>
 #include <vector>
 
+#include "episode_log.h"
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
 #include "ricochet/server/metrics.h"
@@ -92,16 +94,20 @@ class Server {
   /// On the DB thread: writes one ended match and reads back its players' ratings.
   static db::DbResult<wire::MatchResults> record(const EndedMatch& match, db::DbServices& services);
   void register_metrics();
+  /// Every few seconds: the created matches empty for too long are closed.
+  void sweep_empty_matches();
 
   ServerConfig config_;
   boost::asio::io_context io_;
   MetricsRegistry metrics_;
+  EpisodeLog episodes_;  ///< every limit's refusals, logged once per episode
   std::unique_ptr<db::DbWorker> db_;
   std::unique_ptr<RecordingFiles> recordings_;
   std::unique_ptr<GameChannel> game_;
   std::unique_ptr<MatchRegistry> matches_;
   std::unique_ptr<ControlServer> control_;
   std::unique_ptr<AdminHttp> admin_;
+  boost::asio::steady_timer empty_match_sweep_{io_};
   std::vector<std::thread> threads_;
   std::thread stopper_;
   std::once_flag stop_once_;
