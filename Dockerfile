@@ -57,7 +57,7 @@ RUN set -eu; runtime_packages="libstdc++6 libgcc-s1 libsqlite3-0 libsodium23 lib
 # A non-root user owns the data directory (SQLite database, generated TLS pair).
 RUN useradd --uid 10001 --user-group --create-home --home-dir /home/ricochet \
       --shell /usr/sbin/nologin ricochet \
- && install -d -o ricochet -g ricochet -m 0750 /var/lib/ricochet
+ && install -d -o ricochet -g ricochet -m 0700 /var/lib/ricochet
 
 COPY --from=build /out/bin/ /usr/local/bin/
 COPY --from=build /out/share/ricochet/ /usr/local/share/ricochet/
@@ -76,10 +76,11 @@ EXPOSE 7777/tcp 7778/udp 9100/tcp
 HEALTHCHECK --interval=15s --timeout=5s --start-period=20s --retries=3 \
   CMD ["bash", "-c", "exec 3<>/dev/tcp/127.0.0.1/9100 && printf 'GET /healthz HTTP/1.1\\r\\nHost: 127.0.0.1\\r\\nConnection: close\\r\\n\\r\\n' >&3 && read -r -t 4 status <&3 && [[ $status == 'HTTP/1.1 200 '* ]]"]
 
-# The admin port listens on every interface inside the container so it can be published; publish
-# it only where Prometheus runs. Any flag can be added after the image name's command, or a file
-# given with --config (the documented sample is /usr/local/share/ricochet/ricochet.toml).
+# The admin port listens on the container's loopback only (the HEALTHCHECK above reaches it). To
+# scrape /metrics from outside, add `--admin-bind 0.0.0.0 --admin-token-file FILE` (a secret
+# mounted into the container; Prometheus sends it as a bearer token) and publish 9100 only where
+# Prometheus runs. Any flag can be added after the image name's command, or a file given with
+# --config (the documented sample is /usr/local/share/ricochet/ricochet.toml).
 # No ENTRYPOINT, so `podman run IMAGE physics-bench --bodies 256` runs any binary directly.
 CMD ["ricochet-server", "--data-dir", "/var/lib/ricochet", \
-     "--maps", "/usr/local/share/ricochet/maps/arena.toml,/usr/local/share/ricochet/maps/foundry.toml", \
-     "--admin-bind", "0.0.0.0"]
+     "--maps", "/usr/local/share/ricochet/maps/arena.toml,/usr/local/share/ricochet/maps/foundry.toml"]

@@ -1,14 +1,18 @@
 /// The SQLite Store (store.h): one connection, WAL journal, every statement prepared once at open
 /// and bound per call (no SQL is ever built from values).
 ///
-/// Opening, in order: open the file (CannotOpen) → read user_version, the first read, where a
-/// file that is not a database fails (CorruptDatabase) and a newer schema is refused
-/// (SchemaTooNew) before anything is written → PRAGMA quick_check (CorruptDatabase) →
+/// Opening, in order: open the file and make it mode 0600 (CannotOpen) → read user_version, the
+/// first read, where a file that is not a database fails (CorruptDatabase) and a newer schema is
+/// refused (SchemaTooNew) before anything is written → PRAGMA quick_check (CorruptDatabase) →
 /// journal_mode=WAL, synchronous, foreign_keys → migrations → prepare the statements.
+
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <thread>
 
 #include "leaderboard_sql.h"
@@ -588,6 +592,11 @@ DbResult<std::unique_ptr<Store>> open_sqlite_store(const SqliteOptions& options)
   if (sqlite3_db_readonly(db.get(), "main") == 1)
     return DbError{DbErrorCode::CannotOpen,
                    path + " can only be opened read-only; check the file's permissions"};
+  // It holds password hashes and session tokens: the owner's alone. SQLite gives the -wal and
+  // -shm files it makes later the database file's mode.
+  if (path != ":memory:" && ::chmod(path.c_str(), 0600) != 0)
+    return DbError{DbErrorCode::CannotOpen,
+                   path + ": cannot make it private (mode 0600): " + std::strerror(errno)};
   sqlite3_busy_timeout(db.get(), options.busy_timeout_ms);
 
   if (auto version = read_schema_version(db.get(), path); !version) return version.error();

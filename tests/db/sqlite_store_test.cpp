@@ -4,6 +4,8 @@
 // leaderboard queries. A second, raw SQLite
 // connection looks at what was actually written.
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -26,6 +28,15 @@ std::string token_hash(char seed) {
 }
 
 using SqliteStoreTest = StoreTest;
+
+TEST_F(SqliteStoreTest, TheDatabaseFilesAreTheOwnersAlone) {
+  add("mode");  // a write: the -wal and -shm files exist now
+  for (const std::string suffix : {"", "-wal", "-shm"}) {
+    struct stat file {};
+    ASSERT_EQ(::stat((path_ + suffix).c_str(), &file), 0) << suffix;
+    EXPECT_EQ(file.st_mode & 0777, 0600u) << suffix;
+  }
+}
 
 // --- accounts ---
 

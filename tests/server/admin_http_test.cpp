@@ -8,8 +8,10 @@
 #include <boost/asio/read.hpp>
 #include <boost/asio/write.hpp>
 #include <chrono>
+#include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace ricochet::server {
 namespace {
@@ -273,18 +275,79 @@ TEST_F(AdminHttpTest, IdleKeepAliveConnectionIsClosedAtTheDeadline) {
   EXPECT_TRUE(eventually([&] { return server_->rejected(AdminRejectReason::Timeout) == 1; }));
 }
 
-TEST_F(AdminHttpTest, ConnectionsAboveTheCapAreClosedAtOnce) {
+TEST_F(AdminHttpTest, AConnectionAboveTheCapClosesTheOneWaitingLongest) {
   AdminHttpOptions options;
   options.max_connections = 1;
+  options.max_connections_per_address = 1;
   start(options);
   Client first{port_};
   first.send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
-  EXPECT_EQ(status_line(first.read_response()), "HTTP/1.1 200 OK");  // first is being served
+  EXPECT_EQ(status_line(first.read_response()), "HTTP/1.1 200 OK");  // now idle (keep-alive)
   Client second{port_};
   second.send(get("/healthz"));
-  EXPECT_EQ(second.read_to_end(), "");
-  EXPECT_TRUE(second.closed_by_server());
-  EXPECT_EQ(server_->rejected(AdminRejectReason::TooManyConnections), 1u);
+  EXPECT_EQ(status_line(second.read_to_end()), "HTTP/1.1 200 OK");
+  EXPECT_EQ(first.read_to_end(), "");
+  EXPECT_TRUE(first.closed_by_server());
+  EXPECT_EQ(server_->rejected(AdminRejectReason::TooManyFromAddress), 1u);
+}
+
+/// Connections that are opened and never used, `count` of them, once the server holds as many
+/// as it keeps.
+std::vector<std::unique_ptr<Client>> idle_connections(std::uint16_t port, int count) {
+  std::vector<std::unique_ptr<Client>> idle;
+  for (int i = 0; i < count; ++i) idle.push_back(std::make_unique<Client>(port));
+  return idle;
+}
+
+TEST_F(AdminHttpTest, SeventeenIdleConnectionsDoNotStarveHealthz) {
+  // One address may hold every slot here (16), as a proxy in front of the port would.
+  AdminHttpOptions options;
+  options.max_connections_per_address = 16;
+  start(options);
+  const auto idle = idle_connections(port_, 17);
+  ASSERT_TRUE(eventually([&] {
+    return server_->rejected(AdminRejectReason::TooManyFromAddress) == 1 &&
+           server_->connections() == 16;
+  }));
+  Client probe{port_};
+  probe.send(get("/healthz"));
+  EXPECT_EQ(status_line(probe.read_to_end()), "HTTP/1.1 200 OK");
+  EXPECT_LE(server_->connections(), 16u);
+}
+
+TEST_F(AdminHttpTest, OneAddressHoldsAtMostItsConnections) {
+  start();  // 4 per address
+  const auto idle = idle_connections(port_, 17);
+  ASSERT_TRUE(eventually([&] {
+    return server_->rejected(AdminRejectReason::TooManyFromAddress) == 13 &&
+           server_->connections() == 4;
+  }));
+  Client probe{port_};
+  probe.send(get("/healthz"));
+  EXPECT_EQ(status_line(probe.read_to_end()), "HTTP/1.1 200 OK");
+  // The oldest of them went first: the first idle connection is closed.
+  EXPECT_EQ(idle.front()->read_to_end(), "");
+  EXPECT_TRUE(idle.front()->closed_by_server());
+}
+
+TEST_F(AdminHttpTest, MetricsNeedsTheBearerTokenAndProbesDoNot) {
+  AdminHttpOptions options;
+  options.bearer_token = "s3cret-token";
+  start(options);
+  const std::string without = exchange(get("/metrics"));
+  EXPECT_EQ(status_line(without), "HTTP/1.1 401 Unauthorized");
+  EXPECT_NE(without.find("WWW-Authenticate: Bearer"), std::string::npos) << without;
+  const auto with = [](const std::string& authorization) {
+    return "GET /metrics HTTP/1.1\r\nHost: x\r\nAuthorization: " + authorization +
+           "\r\nConnection: close\r\n\r\n";
+  };
+  EXPECT_EQ(status_line(exchange(with("Bearer s3cret-tokeN"))), "HTTP/1.1 401 Unauthorized");
+  EXPECT_EQ(status_line(exchange(with("Bearer s3cret-token-and-more"))),
+            "HTTP/1.1 401 Unauthorized");
+  EXPECT_EQ(status_line(exchange(with("Basic s3cret-token"))), "HTTP/1.1 401 Unauthorized");
+  EXPECT_EQ(status_line(exchange(with("Bearer s3cret-token"))), "HTTP/1.1 200 OK");
+  EXPECT_EQ(status_line(exchange(get("/healthz"))), "HTTP/1.1 200 OK");
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Unauthorized), 4u);
 }
 
 TEST_F(AdminHttpTest, StopClosesOpenConnectionsAndTheListener) {

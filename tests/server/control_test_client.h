@@ -73,7 +73,7 @@ class FakeDirectory : public MatchDirectory {
     return summary;
   }
   DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
-                                  std::uint32_t match_id) override {
+                                  std::uint32_t match_id, const JoinOrigin&) override {
     std::lock_guard lock(mutex_);
     if (match_id == 0 || match_id > matches_.size()) {
       return DirectoryError{DirectoryErrorCode::MatchNotFound,
@@ -91,7 +91,7 @@ class FakeDirectory : public MatchDirectory {
     grant.token.timeout_s = 5;
     return grant;
   }
-  DirectoryResult<Done> leave(std::uint64_t account) override {
+  DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t) override {
     std::lock_guard lock(mutex_);
     if (seated_.erase(account) == 0) {
       return DirectoryError{DirectoryErrorCode::NotInMatch, "not in a match"};
@@ -215,6 +215,15 @@ class ControlTestClient {
                                        });
     run(done, limit);
     return done && !result;
+  }
+  /// connect() from `source`, a loopback address such as 127.0.0.2: what the server's
+  /// per-address limits see.
+  bool connect_from(const std::string& source, std::chrono::milliseconds limit = 3s) {
+    auto& socket = stream_.next_layer();
+    boost::system::error_code error;
+    socket.open(asio::ip::tcp::v4(), error);
+    if (!error) socket.bind({asio::ip::make_address(source), 0}, error);
+    return !error && connect(limit);
   }
   /// TCP connect and TLS handshake; true when the server let us in.
   bool connect(std::chrono::milliseconds limit = 3s) {

@@ -4,6 +4,7 @@
 
 #include "admin_http.h"
 #include "control_counters.h"
+#include "match_registry.h"
 #include "ricochet/server/combat.h"
 #include "ricochet/server/input_buffer.h"
 #include "ricochet/server/match.h"
@@ -26,6 +27,7 @@ TEST(EnumCountTest, Network) {
   expect_counted<ControlRefusal>(kControlRefusalCount, [](ControlRefusal r) { return name(r); });
   expect_counted<AdminRejectReason>(kAdminRejectReasonCount,
                                     [](AdminRejectReason r) { return name(r); });
+  expect_counted<SeatRefusal>(kSeatRefusalCount, [](SeatRefusal r) { return name(r); });
 }
 
 }  // namespace

@@ -1,12 +1,16 @@
 // The match registry's seats: joining reserves one and issues a token, a full match refuses, one
 // match at a time, leaving frees the seat, a reservation whose token went unused is given back,
-// and a closed registry refuses joins and creates. Over a real GameChannel on 127.0.0.1:0 (no
-// client connects; the registry is driven through its MatchDirectory face); seats and tokens
-// run on a fake clock the tests move.
+// and a closed registry refuses joins and creates. The limits: seats per address (IPv6 by /64),
+// seats of a match waiting for their player, one session per account, created matches per
+// account and server-wide and their rate, and created matches closed when empty too long. Over a
+// real GameChannel on 127.0.0.1:0 (no client connects; the registry is driven through its
+// MatchDirectory face); seats and tokens run on a fake clock the tests move.
 #include "match_registry.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <map>
@@ -27,9 +31,13 @@ Map sample_map() {
   return std::get<Map>(std::move(loaded));
 }
 
+/// Joins from one session on 127.0.0.1 (the limits' tests below give other origins).
+const JoinOrigin kHere{proto::host_key(proto::Address::ipv4(127, 0, 0, 1, 0)), 1};
+
 class MatchRegistryTest : public ::testing::Test {
  protected:
-  explicit MatchRegistryTest(proto::TimeUs token_lifetime_us = 10 * proto::kMicrosPerSecond) {
+  explicit MatchRegistryTest(proto::TimeUs token_lifetime_us = 10 * proto::kMicrosPerSecond,
+                             SeatLimits limits = {}) {
     GameChannelConfig channel;
     channel.bind = "127.0.0.1";
     channel.port = 0;
@@ -39,6 +47,7 @@ class MatchRegistryTest : public ::testing::Test {
     config.token_lifetime_us = token_lifetime_us;
     config.token_timeout_s = 1;
     config.max_matches = 3;
+    config.limits = limits;
     config.clock = [this] { return now_; };
     // A rotation of two maps: the arena, and the arena again under another name.
     Map second = sample_map();
@@ -47,7 +56,7 @@ class MatchRegistryTest : public ::testing::Test {
     rotation.push_back(sample_map());
     rotation.push_back(std::move(second));
     registry_ = std::make_unique<MatchRegistry>(io_, config, std::move(rotation), *channel_,
-                                                [](EndedMatch) {});
+                                                [this](EndedMatch) { ++ended_; });
     channel_->start(*registry_);
     registry_->set_udp_port(channel_->port());
   }
@@ -73,7 +82,13 @@ class MatchRegistryTest : public ::testing::Test {
     return -1;
   }
 
+  bool listed(std::uint32_t match) {
+    const auto all = registry_->list();
+    return std::any_of(all.begin(), all.end(), [&](const auto& m) { return m.id == match; });
+  }
+
   proto::TimeUs now_ = 100 * proto::kMicrosPerSecond;  ///< the seats' fake clock
+  std::atomic<int> ended_{0};                          ///< matches handed to the MatchEndedHandler
   boost::asio::io_context io_;
   std::unique_ptr<GameChannel> channel_;
   std::unique_ptr<MatchRegistry> registry_;
@@ -81,7 +96,7 @@ class MatchRegistryTest : public ::testing::Test {
 
 TEST_F(MatchRegistryTest, JoiningReservesASeatAndIssuesAnOpenableToken) {
   const std::uint32_t match = open("a", 4);
-  auto joined = registry_->join(7, "seven", match);
+  auto joined = registry_->join(7, "seven", match, kHere);
   ASSERT_TRUE(std::holds_alternative<JoinGrant>(joined));
   const JoinGrant& grant = std::get<JoinGrant>(joined);
   EXPECT_EQ(grant.match_id, match);
@@ -98,7 +113,7 @@ TEST_F(MatchRegistryTest, JoiningReservesASeatAndIssuesAnOpenableToken) {
   EXPECT_EQ(players_in(match), 1);
   EXPECT_EQ(registry_->seats(), 1u);
   // Joining the same match again is a reconnect: a new token, still one seat.
-  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(7, "seven", match)));
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(7, "seven", match, kHere)));
   EXPECT_EQ(players_in(match), 1);
 }
 
@@ -126,9 +141,9 @@ TEST_F(MatchRegistryTest, AWakeUpsPayloadsReachEachPlayersMatchAndNoOther) {
   const std::uint32_t first = open("a", 4);
   const std::uint32_t second = open("b", 4);
   for (const std::uint64_t account : {1, 2}) {
-    ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(account, "p", first)));
+    ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(account, "p", first, kHere)));
   }
-  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "p", second)));
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "p", second, kHere)));
   // Seated but never connected over the game channel: each match counts what it is handed as
   // from an unknown player. Account 99 has no seat, so no match is handed its payload.
   std::vector<GamePayload> batch;
@@ -150,20 +165,23 @@ TEST_F(MatchRegistryTest, AWakeUpsPayloadsReachEachPlayersMatchAndNoOther) {
 
 TEST_F(MatchRegistryTest, AFullMatchRefusesAndLeavingGivesTheSeatBack) {
   const std::uint32_t match = open("duel", 2);
-  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "one", match)));
-  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "two", match)));
-  EXPECT_EQ(refusal(registry_->join(3, "three", match)), DirectoryErrorCode::MatchFull);
-  ASSERT_TRUE(std::holds_alternative<Done>(registry_->leave(1)));
-  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "three", match)));
-  EXPECT_TRUE(std::holds_alternative<DirectoryError>(registry_->leave(1)));  // not in a match
+  // Each connects before the next joins: half the seats may wait for their player at most.
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "one", match, kHere)));
+  registry_->connected(1, match);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "two", match, kHere)));
+  registry_->connected(2, match);
+  EXPECT_EQ(refusal(registry_->join(3, "three", match, kHere)), DirectoryErrorCode::MatchFull);
+  ASSERT_TRUE(std::holds_alternative<Done>(registry_->leave(1, 1)));
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "three", match, kHere)));
+  EXPECT_TRUE(std::holds_alternative<DirectoryError>(registry_->leave(1, 1)));  // not in a match
 }
 
 TEST_F(MatchRegistryTest, OneMatchAtATimeAndUnknownMatchesAreErrors) {
   const std::uint32_t first = open("a", 4);
   const std::uint32_t second = open("b", 4);
-  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "one", first)));
-  EXPECT_EQ(refusal(registry_->join(1, "one", second)), DirectoryErrorCode::AlreadyInMatch);
-  EXPECT_EQ(refusal(registry_->join(2, "two", 999)), DirectoryErrorCode::MatchNotFound);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "one", first, kHere)));
+  EXPECT_EQ(refusal(registry_->join(1, "one", second, kHere)), DirectoryErrorCode::AlreadyInMatch);
+  EXPECT_EQ(refusal(registry_->join(2, "two", 999, kHere)), DirectoryErrorCode::MatchNotFound);
 }
 
 TEST_F(MatchRegistryTest, CreateValidatesItsFieldsAndTheMatchCap) {
@@ -176,11 +194,11 @@ TEST_F(MatchRegistryTest, CreateValidatesItsFieldsAndTheMatchCap) {
   EXPECT_TRUE(invalid({.name = "ok", .max_players = 0, .map = ""}));
   EXPECT_TRUE(invalid({.name = "ok", .max_players = 65, .map = ""}));
   EXPECT_TRUE(invalid({.name = "ok", .max_players = 4, .map = "elsewhere"}));
-  for (int i = 0; i < 3; ++i) {
+  for (std::uint64_t creator = 1; creator <= 3; ++creator) {
     EXPECT_TRUE(std::holds_alternative<MatchSummary>(
-        registry_->create({.name = "m", .max_players = 4, .map = ""})));
+        registry_->create({.name = "m", .max_players = 4, .map = "", .creator = creator})));
   }
-  auto fourth = registry_->create({.name = "m", .max_players = 4, .map = ""});
+  auto fourth = registry_->create({.name = "m", .max_players = 4, .map = "", .creator = 4});
   ASSERT_TRUE(std::holds_alternative<DirectoryError>(fourth));
   EXPECT_EQ(std::get<DirectoryError>(fourth).code, DirectoryErrorCode::TooManyMatches);
 }
@@ -210,7 +228,7 @@ TEST_F(MatchRegistryTest, MatchesArePlayedOnTheRotationsMaps) {
 TEST_F(MatchRegistryTest, AClosedRegistryRefusesJoinsAndCreates) {
   const std::uint32_t match = open("a", 4);
   registry_->close();
-  EXPECT_EQ(refusal(registry_->join(1, "one", match)), DirectoryErrorCode::ShuttingDown);
+  EXPECT_EQ(refusal(registry_->join(1, "one", match, kHere)), DirectoryErrorCode::ShuttingDown);
   auto created = registry_->create({.name = "late", .max_players = 4, .map = ""});
   ASSERT_TRUE(std::holds_alternative<DirectoryError>(created));
   EXPECT_EQ(std::get<DirectoryError>(created).code, DirectoryErrorCode::ShuttingDown);
@@ -223,16 +241,178 @@ class ShortTokenRegistryTest : public MatchRegistryTest {
 
 TEST_F(ShortTokenRegistryTest, AReservationWhoseTokenWentUnusedIsGivenBack) {
   const std::uint32_t match = open("duel", 1);
-  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "one", match)));
-  EXPECT_EQ(refusal(registry_->join(2, "two", match)), DirectoryErrorCode::MatchFull);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "one", match, kHere)));
+  EXPECT_EQ(refusal(registry_->join(2, "two", match, kHere)), DirectoryErrorCode::MatchFull);
   // The token lives 50 ms, plus its 1 s timeout for a handshake accepted at the last moment.
   now_ += 1050 * proto::kMicrosPerMilli - 1;
   EXPECT_EQ(players_in(match), 1);
-  EXPECT_EQ(refusal(registry_->join(2, "two", match)), DirectoryErrorCode::MatchFull);
+  EXPECT_EQ(refusal(registry_->join(2, "two", match, kHere)), DirectoryErrorCode::MatchFull);
   now_ += 1;
   EXPECT_EQ(players_in(match), 0);
   EXPECT_EQ(registry_->seats(), 0u);
-  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "two", match)));
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "two", match, kHere)));
+}
+
+JoinOrigin from(std::uint8_t last_octet, std::uint64_t session = 1) {
+  return {proto::host_key(proto::Address::ipv4(10, 0, 0, last_octet, 40000)), session};
+}
+
+SeatLimits tight_limits() {
+  SeatLimits limits;
+  limits.seats_per_address = 2;
+  limits.reserved_seats_per_match = 2;
+  limits.created_matches = 2;
+  limits.created_matches_per_account = 1;
+  limits.creates_per_minute = 600;
+  limits.creates_per_account_per_minute = 2;
+  limits.empty_match_close_after_us = 60 * proto::kMicrosPerSecond;
+  return limits;
+}
+
+class LimitedRegistryTest : public MatchRegistryTest {
+ protected:
+  LimitedRegistryTest() : MatchRegistryTest(10 * proto::kMicrosPerSecond, tight_limits()) {}
+};
+
+TEST_F(LimitedRegistryTest, OneAddressHoldsAtMostItsSeatsAcrossMatches) {
+  const std::uint32_t first = open("a", 8);
+  const std::uint32_t second = open("b", 8);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "p", first, from(1))));
+  registry_->connected(1, first);  // taken seats count too, not only reservations
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "p", second, from(1))));
+  EXPECT_EQ(refusal(registry_->join(3, "p", second, from(1))),
+            DirectoryErrorCode::AddressSeatLimit);
+  EXPECT_EQ(registry_->refused(SeatRefusal::AddressSeats), 1u);
+  // Another address is not held back, and the address's own seats re-join (a new token).
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "p", second, from(2))));
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "p", second, from(1))));
+  registry_->connected(2, second);
+  registry_->connected(3, second);
+  // An IPv6 peer counts under its /64: two addresses of one prefix share the limit.
+  proto::Address v6;
+  v6.v6 = true;
+  v6.ip = {0x20, 0x01, 0x0d, 0xb8, 0, 0, 0, 1};
+  const JoinOrigin low{proto::host_key(v6), 1};
+  v6.ip[15] = 0x99;
+  const JoinOrigin high{proto::host_key(v6), 1};
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(10, "p", second, low)));
+  registry_->connected(10, second);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(11, "p", second, high)));
+  registry_->connected(11, second);
+  EXPECT_EQ(refusal(registry_->join(12, "p", second, high)), DirectoryErrorCode::AddressSeatLimit);
+}
+
+TEST_F(LimitedRegistryTest, AMatchWaitsForAtMostItsReservedSeatsAtOnce) {
+  const auto ms = [](int n) { return n * proto::kMicrosPerMilli; };
+  const std::uint32_t match = open("a", 8);  // waits for 2 reservations at most (tight_limits)
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "p", match, from(1))));
+  now_ += ms(100);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "p", match, from(2))));
+  EXPECT_EQ(refusal(registry_->join(3, "p", match, from(3))), DirectoryErrorCode::MatchFull);
+  EXPECT_EQ(registry_->refused(SeatRefusal::ReservedSeats), 1u);
+  // One of them connects: its seat is taken, no longer reserved, and the next may reserve.
+  registry_->connected(1, match);
+  now_ += ms(400);
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "p", match, from(3))));
+  EXPECT_EQ(players_in(match), 3);
+  // At the bound again, a reservation unused for a second gives way: account 2's (1 s old),
+  // not account 3's (0.6 s).
+  now_ += ms(600);
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(4, "p", match, from(4))));
+  EXPECT_EQ(players_in(match), 3);
+  EXPECT_EQ(registry_->refused(SeatRefusal::ReservedSeats), 2u);
+  EXPECT_EQ(refusal(registry_->join(5, "p", match, from(5))), DirectoryErrorCode::MatchFull);
+  // Joining again does not make a reservation younger: account 3's gives way at 1 s.
+  now_ += ms(400);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "p", match, from(3))));
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(5, "p", match, from(5))));
+  EXPECT_EQ(players_in(match), 3);  // 1 connected, 4 and 5 reserved
+  // Account 2's token finds no seat now: its game connection would be kicked.
+  EXPECT_EQ(refusal(registry_->join(2, "p", match, from(2))), DirectoryErrorCode::MatchFull);
+}
+
+TEST_F(LimitedRegistryTest, TheNewestSessionPlaysTheAccount) {
+  const std::uint32_t match = open("a", 8);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "p", match, from(1, 100))));
+  registry_->connected(1, match);
+  // A second control connection of the account joins the same match: it takes the seat over
+  // (no second seat); the first one's leave no longer applies.
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "p", match, from(2, 200))));
+  EXPECT_EQ(players_in(match), 1);
+  const auto stale = registry_->leave(1, 100);
+  ASSERT_TRUE(std::holds_alternative<DirectoryError>(stale));
+  EXPECT_EQ(std::get<DirectoryError>(stale).code, DirectoryErrorCode::NotInMatch);
+  EXPECT_EQ(players_in(match), 1);
+  EXPECT_TRUE(std::holds_alternative<Done>(registry_->leave(1, 200)));
+  EXPECT_EQ(players_in(match), 0);
+}
+
+TEST_F(LimitedRegistryTest, MatchCreationIsLimitedPerAccountAndServerWide) {
+  const auto create = [&](std::uint64_t account) {
+    return registry_->create({.name = "mine", .max_players = 4, .map = "", .creator = account});
+  };
+  const auto code = [](const DirectoryResult<MatchSummary>& result) {
+    return std::holds_alternative<DirectoryError>(result) ? std::get<DirectoryError>(result).code
+                                                          : DirectoryErrorCode::InvalidRequest;
+  };
+  ASSERT_TRUE(std::holds_alternative<MatchSummary>(create(7)));
+  EXPECT_EQ(code(create(7)), DirectoryErrorCode::TooManyMatches);  // one open per account
+  EXPECT_EQ(registry_->refused(SeatRefusal::AccountMatches), 1u);
+  ASSERT_TRUE(std::holds_alternative<MatchSummary>(create(8)));
+  EXPECT_EQ(code(create(9)), DirectoryErrorCode::TooManyMatches);  // two created, server-wide
+  EXPECT_EQ(registry_->refused(SeatRefusal::CreatedMatches), 1u);
+  // The server's own matches do not count against the created ones.
+  EXPECT_EQ(registry_->hosts().size(), 2u);
+  open("rotation", 4);
+  EXPECT_EQ(registry_->hosts().size(), 3u);
+}
+
+SeatLimits two_per_account() {
+  SeatLimits limits = tight_limits();
+  limits.created_matches_per_account = 2;
+  return limits;
+}
+
+class CreateRateRegistryTest : public MatchRegistryTest {
+ protected:
+  CreateRateRegistryTest() : MatchRegistryTest(10 * proto::kMicrosPerSecond, two_per_account()) {}
+};
+
+TEST_F(CreateRateRegistryTest, AnAccountCreatesAtItsRate) {
+  const auto create = [&](std::uint64_t account) {
+    return registry_->create({.name = "mine", .max_players = 4, .map = "", .creator = account});
+  };
+  ASSERT_TRUE(std::holds_alternative<MatchSummary>(create(7)));
+  // Room for a second match of its own, but 2 a minute is one per 30 s.
+  const auto fast = create(7);
+  ASSERT_TRUE(std::holds_alternative<DirectoryError>(fast));
+  EXPECT_EQ(std::get<DirectoryError>(fast).code, DirectoryErrorCode::CreateRateLimited);
+  EXPECT_EQ(registry_->refused(SeatRefusal::AccountCreateRate), 1u);
+  now_ += 31 * proto::kMicrosPerSecond;
+  EXPECT_TRUE(std::holds_alternative<MatchSummary>(create(7)));
+}
+
+TEST_F(LimitedRegistryTest, ACreatedMatchClosesWhenEmptyTooLongAndTheRotationStays) {
+  const std::uint32_t rotation = open("rotation", 4);
+  auto created = registry_->create({.name = "mine", .max_players = 4, .map = "", .creator = 7});
+  ASSERT_TRUE(std::holds_alternative<MatchSummary>(created));
+  const std::uint32_t mine = std::get<MatchSummary>(created).id;
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "p", mine, from(1))));
+  registry_->connected(1, mine);
+  now_ += 120 * proto::kMicrosPerSecond;  // seated: it stays however long
+  registry_->close_empty_matches();
+  EXPECT_TRUE(listed(mine));
+  ASSERT_TRUE(std::holds_alternative<Done>(registry_->leave(1, 1)));
+  now_ += 59 * proto::kMicrosPerSecond;
+  registry_->close_empty_matches();
+  EXPECT_TRUE(listed(mine));
+  now_ += 1 * proto::kMicrosPerSecond;
+  registry_->close_empty_matches();
+  EXPECT_FALSE(listed(mine));
+  EXPECT_TRUE(listed(rotation));  // empty since it opened, but the server's own
+  EXPECT_EQ(registry_->empty_matches_closed(), 1u);
+  for (int i = 0; i < 200 && ended_ == 0; ++i) io_.run_for(5ms);
+  EXPECT_EQ(ended_, 1);  // handed over like a match that ended
 }
 
 }  // namespace

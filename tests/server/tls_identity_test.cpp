@@ -41,6 +41,37 @@ TEST(TlsIdentity, GeneratedOnceThenLoadedWithTheSameFingerprint) {
   EXPECT_EQ(certificate_fingerprint_sha256(second.certificate_pem), first.fingerprint_sha256);
 }
 
+TEST(TlsIdentity, TheKeyIsWrittenToANewPrivateFileInAPrivateDirectory) {
+  TempDir dir;
+  const std::filesystem::path data = dir.path() / "data";
+  std::filesystem::create_directories(data);
+  // A key.pem.tmp left world-readable, and a link planted where the certificate's temporary
+  // goes, pointing at a file of the attacker's.
+  const std::filesystem::path stale = data / "control-key.pem.tmp";
+  std::ofstream(stale) << "stale";
+  std::filesystem::permissions(stale, std::filesystem::perms::all);
+  const std::filesystem::path elsewhere = dir.path() / "attacker-readable";
+  std::ofstream(elsewhere) << "untouched";
+  std::filesystem::create_symlink(elsewhere, data / "control-cert.pem.tmp");
+
+  const TlsIdentity made = load_or_create_tls_identity({.data_dir = data});
+  struct stat key_stat {};
+  ASSERT_EQ(::lstat(made.private_key_path.c_str(), &key_stat), 0);
+  EXPECT_TRUE(S_ISREG(key_stat.st_mode));
+  EXPECT_EQ(key_stat.st_mode & 0777, 0600u);
+  EXPECT_EQ(slurp(elsewhere), "untouched");  // not written through the link
+  struct stat certificate_stat {};
+  ASSERT_EQ(::lstat(made.certificate_path.c_str(), &certificate_stat), 0);
+  EXPECT_TRUE(S_ISREG(certificate_stat.st_mode));
+
+  // A data directory the identity makes itself is the owner's alone.
+  const std::filesystem::path fresh = dir.path() / "fresh" / "data";
+  load_or_create_tls_identity({.data_dir = fresh});
+  struct stat dir_stat {};
+  ASSERT_EQ(::stat(fresh.c_str(), &dir_stat), 0);
+  EXPECT_EQ(dir_stat.st_mode & 0777, 0700u);
+}
+
 TEST(TlsIdentity, ConfiguredPathsAreLoaded) {
   TempDir dir;
   const TlsIdentity generated = load_or_create_tls_identity({.data_dir = dir.path()});

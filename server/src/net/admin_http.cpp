@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <boost/asio/as_tuple.hpp>
@@ -18,6 +19,8 @@
 #include <optional>
 #include <string_view>
 #include <unordered_set>
+
+#include "ricochet/proto/address.h"
 
 namespace ricochet::server {
 
@@ -40,19 +43,28 @@ const char* name(AdminRejectReason reason) {
       return "method_not_allowed";
     case AdminRejectReason::TooManyConnections:
       return "too_many_connections";
+    case AdminRejectReason::TooManyFromAddress:
+      return "too_many_from_address";
+    case AdminRejectReason::Unauthorized:
+      return "unauthorized";
   }
   return "unknown";
 }
 
 /// One accepted connection, shared by the coroutine serving it and its watchdog. On the strand.
 struct AdminConnection {
-  explicit AdminConnection(tcp::socket accepted)
-      : socket(std::move(accepted)), watchdog(socket.get_executor()) {}
+  AdminConnection(tcp::socket accepted, proto::HostKey peer)
+      : socket(std::move(accepted)), watchdog(socket.get_executor()), host(peer) {}
   tcp::socket socket;
   asio::steady_timer watchdog;  ///< wakes at the deadline, or when cancelled to look again
   proto::TimeUs deadline = 0;   ///< on options.clock: the request read or response written by
   bool timed_out = false;       ///< the watchdog closed the socket at the deadline
   bool served = false;          ///< the serving coroutine is done: the watchdog stops
+  proto::HostKey host;          ///< the peer, as the per-address cap counts it
+  bool reading = true;          ///< waiting for a request (not answering one)
+  /// When it began waiting for a request, as State::waits counts: smaller waited longer.
+  std::uint64_t waiting_since = 0;
+  bool evicted = false;  ///< closed to make room for a newer connection; no longer counted
 };
 
 struct AdminHttp::State {
@@ -75,7 +87,8 @@ struct AdminHttp::State {
   const AdminHttpCallbacks callbacks;
   std::unordered_set<AdminConnection*> connections;  ///< open ones; on the strand only
   bool stopped = false;                              ///< on the strand only
-  std::atomic<std::size_t> open{0};                  ///< connections.size(), for any thread
+  std::uint64_t waits = 0;           ///< waits for a request begun so far; on the strand only
+  std::atomic<std::size_t> open{0};  ///< connections.size(), for any thread
   std::atomic<std::uint64_t> responses{0};
   std::array<std::atomic<std::uint64_t>, kAdminRejectReasonCount> rejected{};
 };
@@ -96,7 +109,45 @@ Response text_response(http::status status, unsigned version, std::string body,
   return response;
 }
 
-Response route(State& state, const http::request<http::string_body>& request) {
+/// Equal texts, in a time that depends on their lengths only, not on where they differ.
+bool same_secret(std::string_view given, std::string_view expected) {
+  unsigned difference = given.size() == expected.size() ? 0U : 1U;
+  for (std::size_t i = 0; i < given.size(); ++i) {
+    const char other = expected.empty() ? '\0' : expected[i % expected.size()];
+    difference |= static_cast<unsigned char>(given[i] ^ other);
+  }
+  return difference == 0;
+}
+
+bool authorized(const State& state, const http::request<http::string_body>& request) {
+  const std::string& token = state.options.bearer_token;
+  if (token.empty()) return true;
+  const auto header = request.find(http::field::authorization);
+  if (header == request.end()) return false;
+  const std::string_view value{header->value().data(), header->value().size()};
+  constexpr std::string_view kScheme = "Bearer ";
+  if (value.size() < kScheme.size() || value.substr(0, kScheme.size()) != kScheme) return false;
+  return same_secret(value.substr(kScheme.size()), token);
+}
+
+/// The peer's proto::HostKey (IPv4-mapped IPv6 counts as its IPv4 address).
+proto::HostKey host_key_of(const tcp::socket& socket) {
+  boost::system::error_code error;
+  const tcp::endpoint peer = socket.remote_endpoint(error);
+  proto::Address address;
+  if (!error && peer.address().is_v4()) {
+    const auto bytes = peer.address().to_v4().to_bytes();
+    std::copy(bytes.begin(), bytes.end(), address.ip.begin());
+  } else if (!error) {
+    const auto bytes = peer.address().to_v6().to_bytes();
+    std::copy(bytes.begin(), bytes.end(), address.ip.begin());
+    address.v6 = true;
+  }
+  return proto::host_key(address);
+}
+
+Response route(State& state, const AdminConnection& connection,
+               const http::request<http::string_body>& request) {
   const unsigned version = request.version();
   std::string_view path{request.target().data(), request.target().size()};
   path = path.substr(0, path.find('?'));
@@ -114,6 +165,18 @@ Response route(State& state, const http::request<http::string_body>& request) {
     return response;
   }
   if (path == "/metrics") {
+    if (!authorized(state, request)) {
+      state.reject(AdminRejectReason::Unauthorized);
+      if (state.options.episodes) {
+        state.options.episodes->refuse(
+            name(AdminRejectReason::Unauthorized), connection.host.to_string(),
+            "/metrics without the admin bearer token", state.options.clock());
+      }
+      Response response = text_response(http::status::unauthorized, version,
+                                        "/metrics needs Authorization: Bearer <token>\n");
+      response.set(http::field::www_authenticate, "Bearer");
+      return response;
+    }
     try {
       return text_response(http::status::ok, version, state.metrics.render(),
                            kPrometheusContentType);
@@ -183,8 +246,6 @@ asio::awaitable<void> watch(std::shared_ptr<State> state,
 
 asio::awaitable<void> serve(std::shared_ptr<State> state,
                             std::shared_ptr<AdminConnection> connection) {
-  state->connections.insert(connection.get());
-  state->open = state->connections.size();
   struct Forget {
     State& state;
     AdminConnection& connection;
@@ -204,7 +265,11 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
     http::request_parser<http::string_body> parser;
     parser.header_limit(static_cast<std::uint32_t>(options.max_request_bytes));
     parser.body_limit(options.max_request_bytes);
+    connection->reading = true;
+    connection->waiting_since = ++state->waits;
     const auto [read_error, read_bytes] = co_await http::async_read(socket, buffer, parser, token);
+    connection->reading = false;
+    if (connection->evicted) break;
     Response response;
     bool keep_alive = false;
     if (read_error) {
@@ -218,7 +283,7 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
       response.keep_alive(false);
     } else {
       const auto& request = parser.get();
-      response = route(*state, request);
+      response = route(*state, *connection, request);
       keep_alive = request.keep_alive();
       response.keep_alive(keep_alive);
     }
@@ -236,6 +301,46 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
   socket.close(ignored);
 }
 
+/// Closes the connection among `among` (open, not evicted) that has waited longest for a
+/// request; false when every one is busy answering.
+template <class Among>
+bool evict_longest_waiting(State& state, Among among) {
+  AdminConnection* longest = nullptr;
+  for (AdminConnection* connection : state.connections) {
+    if (connection->evicted || !connection->reading || !among(*connection)) continue;
+    if (!longest || connection->waiting_since < longest->waiting_since) longest = connection;
+  }
+  if (!longest) return false;
+  longest->evicted = true;
+  boost::system::error_code ignored;
+  longest->socket.close(ignored);
+  return true;
+}
+
+/// Room for one more connection from `host` under both caps, made by closing the longest
+/// waiting ones; false when there is none (then the new connection is closed). Counts either way.
+bool make_room(State& state, const proto::HostKey& host) {
+  int open = 0;
+  int from_host = 0;
+  for (const AdminConnection* connection : state.connections) {
+    if (connection->evicted) continue;
+    ++open;
+    from_host += connection->host == host ? 1 : 0;
+  }
+  if (from_host >= state.options.max_connections_per_address) {
+    state.reject(AdminRejectReason::TooManyFromAddress);
+    if (!evict_longest_waiting(state, [&](const AdminConnection& c) { return c.host == host; })) {
+      return false;
+    }
+    --open;
+  }
+  if (open >= state.options.max_connections) {
+    state.reject(AdminRejectReason::TooManyConnections);
+    return evict_longest_waiting(state, [](const AdminConnection&) { return true; });
+  }
+  return true;
+}
+
 asio::awaitable<void> accept_connections(std::shared_ptr<State> state) {
   constexpr auto token = asio::as_tuple(asio::use_awaitable);
   while (!state->stopped) {
@@ -245,14 +350,18 @@ asio::awaitable<void> accept_connections(std::shared_ptr<State> state) {
       spdlog::warn("admin http: accept failed: {}", error.message());
       continue;
     }
-    if (static_cast<int>(state->connections.size()) >= state->options.max_connections) {
-      state->reject(AdminRejectReason::TooManyConnections);
+    const proto::HostKey host = host_key_of(socket);
+    if (!make_room(*state, host)) {
       boost::system::error_code ignored;
       socket.close(ignored);
       continue;
     }
-    auto connection = std::make_shared<AdminConnection>(std::move(socket));
+    auto connection = std::make_shared<AdminConnection>(std::move(socket), host);
     connection->deadline = deadline_from_now(*state);
+    connection->waiting_since = ++state->waits;
+    // Counted from here, so the next accept's caps see it before it is served.
+    state->connections.insert(connection.get());
+    state->open = state->connections.size();
     asio::co_spawn(state->strand, serve(state, connection), asio::detached);
     asio::co_spawn(state->strand, watch(state, std::move(connection)), asio::detached);
   }

@@ -7,9 +7,16 @@
 /// Requests are untrusted: a request must arrive whole within request_timeout of the server
 /// starting to wait for it (slow senders and idle keep-alive connections are closed; a
 /// response must be written within it too), headers and body are bounded by max_request_bytes
-/// (431 or 413, then closed), unparsable requests get 400 and are closed, connections beyond
-/// max_connections are closed at once. Each is counted by reason in
-/// ricochet_admin_rejected_total{reason}.
+/// (431 or 413, then closed), unparsable requests get 400 and are closed. Each is counted by
+/// reason in ricochet_admin_rejected_total{reason}.
+///
+/// Exposed (issue 29): at most max_connections open, and max_connections_per_address from one
+/// address (proto::HostKey). A connection beyond either cap closes the one of them that has
+/// waited longest for a request (an idle keep-alive, a slow sender), so whoever holds
+/// connections open without using them cannot keep a /healthz probe out; only when every one is
+/// busy writing a response is the newcomer closed. With a bearer token, /metrics answers 401
+/// without "Authorization: Bearer <token>" (compared in constant time; each address's refusals
+/// logged once per episode); /healthz and /readyz stay open to probes.
 ///
 /// Everything runs on a strand of the given io_context; the callbacks are called there and must
 /// be thread-safe towards the code that owns what they read. Deadlines are on options.clock; a
@@ -25,6 +32,7 @@
 #include <memory>
 #include <string>
 
+#include "episode_log.h"
 #include "ricochet/proto/clock.h"
 #include "ricochet/server/metrics.h"
 #include "steady_time.h"
@@ -37,6 +45,11 @@ struct AdminHttpOptions {
   std::size_t max_request_bytes = 8192;             ///< request line and headers; body likewise
   std::chrono::milliseconds request_timeout{5000};  ///< from the first byte awaited to the last
   int max_connections = 16;                         ///< open at once
+  int max_connections_per_address = 4;              ///< open at once from one proto::HostKey
+  /// What /metrics requires in "Authorization: Bearer <token>"; empty: nothing.
+  std::string bearer_token;
+  /// Logs refused tokens once per episode; nullptr: they are only counted.
+  EpisodeLog* episodes = nullptr;
   /// What the deadlines are measured on, in µs; tests pass fake time and call check_deadlines().
   std::function<proto::TimeUs()> clock = steady_now_us;
 };
@@ -48,11 +61,14 @@ enum class AdminRejectReason {
   Timeout,             ///< not complete within request_timeout: closed without a reply
   NotFound,            ///< unknown path: 404
   MethodNotAllowed,    ///< not GET: 405
-  TooManyConnections,  ///< above max_connections: closed at once
+  TooManyConnections,  ///< above max_connections: the longest waiting (or the new one) closed
+  TooManyFromAddress,  ///< above max_connections_per_address: likewise, among that address's
+  Unauthorized,        ///< /metrics without the bearer token: 401
 };
 inline constexpr std::size_t kAdminRejectReasonCount =
-    static_cast<std::size_t>(AdminRejectReason::TooManyConnections) + 1;
-/// "malformed", "oversized", "timeout", "not_found", "method_not_allowed", "too_many_connections".
+    static_cast<std::size_t>(AdminRejectReason::Unauthorized) + 1;
+/// "malformed", "oversized", "timeout", "not_found", "method_not_allowed", "too_many_connections",
+/// "too_many_from_address", "unauthorized".
 const char* name(AdminRejectReason reason);
 
 struct AdminHttpCallbacks {

@@ -183,6 +183,16 @@ std::vector<std::string> ServerConfig::validate() const {
                        std::to_string(control.max_connections) + "), got " +
                        std::to_string(control.max_connections_per_address));
   }
+  if (matches.max_created_per_account > matches.max_created) {
+    problems.push_back("matches.max_created_per_account must be 0..matches.max_created (" +
+                       std::to_string(matches.max_created) + "), got " +
+                       std::to_string(matches.max_created_per_account));
+  }
+  if (admin.max_connections_per_address > admin.max_connections) {
+    problems.push_back("admin.max_connections_per_address must be 1..admin.max_connections (" +
+                       std::to_string(admin.max_connections) + "), got " +
+                       std::to_string(admin.max_connections_per_address));
+  }
   const int rate = snapshot_rate_hz();
   if (rate > 0 && game.bandwidth_kbps_per_client * 125 < kMinSnapshotBytes * rate) {
     const int least_kbps = (kMinSnapshotBytes * rate + 124) / 125;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <boost/asio/as_tuple.hpp>
+#include <boost/asio/ip/address.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/this_coro.hpp>
@@ -110,8 +111,30 @@ wire::ServerMessage error_reply(const DirectoryError& error) {
       return error_reply(wire::SHUTTING_DOWN, error.message);
     case DirectoryErrorCode::RateLimited:
       return error_reply(wire::RATE_LIMITED, error.message);
+    case DirectoryErrorCode::AddressSeatLimit:
+      return error_reply(wire::ADDRESS_SEAT_LIMIT, error.message);
+    case DirectoryErrorCode::CreateRateLimited:
+      return error_reply(wire::CREATE_RATE_LIMITED, error.message);
   }
   return error_reply(wire::INTERNAL, error.message);
+}
+
+/// What the seat limits count the peer under (proto::host_key); `address` is the text the
+/// control server took from the socket (IPv4-mapped IPv6 counts as its IPv4 address).
+proto::HostKey host_key_of(const std::string& address) {
+  boost::system::error_code error;
+  const asio::ip::address ip = asio::ip::make_address(address, error);
+  proto::Address out;
+  if (error) return proto::host_key(out);  // not from a socket: tests' fake peers
+  if (ip.is_v4()) {
+    const auto bytes = ip.to_v4().to_bytes();
+    std::copy(bytes.begin(), bytes.end(), out.ip.begin());
+  } else {
+    const auto bytes = ip.to_v6().to_bytes();
+    std::copy(bytes.begin(), bytes.end(), out.ip.begin());
+    out.v6 = true;
+  }
+  return proto::host_key(out);
 }
 
 void fill(const MatchSummary& summary, wire::MatchInfo& info) {
@@ -227,6 +250,7 @@ wire::ServerMessage ControlSession::create_match(const wire::CreateMatchRequest&
     create.max_players = static_cast<int>(std::min<std::uint32_t>(request.max_players(), INT_MAX));
   }
   create.map = request.map();
+  create.creator = account_;
   DirectoryResult<MatchSummary> result = context_.matches.create(create);
   if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
   wire::ServerMessage reply;
@@ -235,8 +259,8 @@ wire::ServerMessage ControlSession::create_match(const wire::CreateMatchRequest&
 }
 
 wire::ServerMessage ControlSession::join_match(const wire::JoinMatchRequest& request) {
-  DirectoryResult<JoinGrant> result =
-      context_.matches.join(account_, username_, request.match_id());
+  DirectoryResult<JoinGrant> result = context_.matches.join(account_, username_, request.match_id(),
+                                                            JoinOrigin{host_key_of(address_), id_});
   if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
   const JoinGrant& grant = std::get<JoinGrant>(result);
   const proto::TimeUs now = context_.clock();
@@ -264,7 +288,7 @@ wire::ServerMessage ControlSession::join_match(const wire::JoinMatchRequest& req
 }
 
 wire::ServerMessage ControlSession::leave_match() {
-  DirectoryResult<Done> result = context_.matches.leave(account_);
+  DirectoryResult<Done> result = context_.matches.leave(account_, id_);
   if (const auto* error = std::get_if<DirectoryError>(&result)) {
     if (error->code == DirectoryErrorCode::NotInMatch) {
       machine_.transition(proto::ControlState::Authenticated, "the match had already let go");

@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "ricochet/proto/address.h"
 #include "ricochet/proto/quantize.h"
 #include "ricochet/proto/token_grant.h"
 #include "ricochet/wire/game.pb.h"
@@ -31,6 +32,14 @@ struct CreateMatchRequest {
   std::string name;      ///< 1..32 printable characters
   int max_players = 16;  ///< 1..64
   std::string map;       ///< a loaded map's name; empty: the rotation's first
+  /// The account asking: its created matches are counted and its creations rate-limited.
+  std::uint64_t creator = 0;
+};
+
+/// Where a join comes from: what the seat limits count under.
+struct JoinOrigin {
+  proto::HostKey host;        ///< the control connection's peer (proto::host_key)
+  std::uint64_t session = 0;  ///< the control connection's id: one session plays the account
 };
 
 /// Everything the client needs to open the game channel.
@@ -52,9 +61,11 @@ enum class DirectoryErrorCode {
   AlreadyInMatch,  ///< leave first (joining the same match again re-issues a token instead)
   NotInMatch,
   InvalidRequest,  ///< a field out of range; the message names it
-  TooManyMatches,
+  TooManyMatches,  ///< the server, or the account, has its most matches open
   ShuttingDown,
   RateLimited,  ///< over a rate limit (chat: ChatLimiter); this request was dropped
+  AddressSeatLimit,   ///< the joining address holds its most seats (all matches together)
+  CreateRateLimited,  ///< matches created too fast, by the account or the whole server
 };
 inline const char* name(DirectoryErrorCode code) {
   switch (code) {
@@ -74,6 +85,10 @@ inline const char* name(DirectoryErrorCode code) {
       return "shutting_down";
     case DirectoryErrorCode::RateLimited:
       return "rate_limited";
+    case DirectoryErrorCode::AddressSeatLimit:
+      return "address_seat_limit";
+    case DirectoryErrorCode::CreateRateLimited:
+      return "create_rate_limited";
   }
   return "unknown";
 }
@@ -94,10 +109,13 @@ class MatchDirectory {
   virtual std::vector<MatchSummary> list() const = 0;
   virtual DirectoryResult<MatchSummary> create(const CreateMatchRequest& request) = 0;
   /// Seats the account in the match (keeping its place if it was there within the reconnect
-  /// grace) and issues a fresh connect token.
+  /// grace) and issues a fresh connect token. One session plays an account: a join of the
+  /// account's match from another session moves the seat to that session (the older one's game
+  /// connection is kicked; its leave is refused with NotInMatch).
   virtual DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
-                                          std::uint32_t match_id) = 0;
-  virtual DirectoryResult<Done> leave(std::uint64_t account) = 0;
+                                          std::uint32_t match_id, const JoinOrigin& origin) = 0;
+  /// Gives the account's seat up, when `session` holds it.
+  virtual DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t session) = 0;
   /// Echoed to every player of the account's match over the game channel's reliable messages,
   /// within the chat rate limits (RateLimited beyond them).
   virtual DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) = 0;

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <iterator>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -26,6 +27,16 @@ std::uint64_t random_seed() {
   return (static_cast<std::uint64_t>(device()) << 32) | device();
 }
 
+constexpr double kCreateBurst = 10;        ///< match creations at once, the whole server
+constexpr double kAccountCreateBurst = 1;  ///< by one account
+/// How long a reservation is safe from giving way to a newer join at the bound: a client
+/// connects its game channel within a round trip or two of its join reply.
+constexpr proto::TimeUs kReservationGrace = proto::kMicrosPerSecond;
+
+std::string account_key(std::uint64_t account) {
+  return "account " + std::to_string(account);
+}
+
 bool printable_name(const std::string& name) {
   return !name.empty() && name.size() <= 32 &&
          std::all_of(name.begin(), name.end(), [](char c) { return c >= 0x20 && c != 0x7f; });
@@ -33,24 +44,43 @@ bool printable_name(const std::string& name) {
 
 }  // namespace
 
+const char* name(SeatRefusal refusal) {
+  switch (refusal) {
+    case SeatRefusal::AddressSeats:
+      return "address_seats";
+    case SeatRefusal::ReservedSeats:
+      return "reserved_seats";
+    case SeatRefusal::CreatedMatches:
+      return "created_matches";
+    case SeatRefusal::AccountMatches:
+      return "account_matches";
+    case SeatRefusal::CreateRate:
+      return "create_rate";
+    case SeatRefusal::AccountCreateRate:
+      return "account_create_rate";
+  }
+  return "unknown";
+}
+
 MatchRegistry::MatchRegistry(boost::asio::io_context& io, MatchRegistryConfig config,
                              std::vector<Map> maps, GameChannel& channel, MatchEndedHandler ended)
     : io_(io),
       config_(std::move(config)),
       maps_(std::move(maps)),
       channel_(channel),
-      ended_(std::move(ended)) {
+      ended_(std::move(ended)),
+      creates_(config_.limits.creates_per_minute / 60.0, kCreateBurst, config_.clock()) {
   if (maps_.empty()) throw std::invalid_argument("MatchRegistry needs at least one map");
 }
 
 MatchRegistry::~MatchRegistry() = default;
 
 DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int max_players,
-                                                  std::size_t map) {
+                                                  std::size_t map, std::uint64_t creator) {
   MatchConfig match_config = config_.match_defaults;
   {
     const std::lock_guard lock(mutex_);
-    if (auto refused = refuse_open()) return *refused;
+    if (auto refused = refuse_open(creator, config_.clock())) return *refused;
     match_config.id = next_match_id_++;  // an id is never reused, even when the build fails
   }
   match_config.name = name;
@@ -77,14 +107,16 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
   std::shared_ptr<const wire::CollisionWorld> world =
       collision_world(maps_[map], match_config.movement);
   const std::lock_guard lock(mutex_);
+  const proto::TimeUs now = config_.clock();
   // Checked again: the registry may have closed or filled while the world was built.
-  if (auto refused = refuse_open()) return *refused;
+  if (auto refused = refuse_open(creator, now)) return *refused;
   host->start();
-  hosts_.emplace(id, Hosted{host, map, std::move(world), weapon_specs(match_config.weapons)});
+  hosts_.emplace(
+      id, Hosted{host, map, std::move(world), weapon_specs(match_config.weapons), creator, now});
   spdlog::info("match {} '{}' open: {} on map {} for {} players, seed {}", id, name,
                server::name(match_config.rules.mode), host->map_name(), max_players,
                match_config.rules.seed);
-  return summary(*host, config_.clock());
+  return summary(*host, now);
 }
 
 void MatchRegistry::set_udp_port(std::uint16_t port) {
@@ -119,6 +151,19 @@ std::vector<MatchSummary> MatchRegistry::list() const {
   return out;
 }
 
+void MatchRegistry::close_empty_matches() {
+  std::vector<std::shared_ptr<MatchHost>> empty;
+  {
+    const std::lock_guard lock(mutex_);
+    empty = take_empty_matches(config_.clock());
+  }
+  end_empty_matches(std::move(empty));
+}
+
+std::uint64_t MatchRegistry::refused(SeatRefusal refusal) const {
+  return refused_[static_cast<std::size_t>(refusal)].load(std::memory_order_relaxed);
+}
+
 DirectoryResult<MatchSummary> MatchRegistry::create(const CreateMatchRequest& request) {
   if (!printable_name(request.name)) {
     return error(DirectoryErrorCode::InvalidRequest,
@@ -142,15 +187,63 @@ DirectoryResult<MatchSummary> MatchRegistry::create(const CreateMatchRequest& re
     }
     map = static_cast<std::size_t>(named - maps_.begin());
   }
-  return open(request.name, request.max_players, map);
+  std::vector<std::shared_ptr<MatchHost>> empty;
+  std::optional<DirectoryError> refused;
+  {
+    const std::lock_guard lock(mutex_);
+    const proto::TimeUs now = config_.clock();
+    empty = take_empty_matches(now);
+    // The counts first (they spend nothing), then the server's and the account's rates.
+    refused = refuse_open(request.creator, now);
+    if (!refused && !creates_.take(now)) {
+      refused = refuse(SeatRefusal::CreateRate, "server", DirectoryErrorCode::CreateRateLimited,
+                       "this server creates at most " +
+                           std::to_string(config_.limits.creates_per_minute) +
+                           " matches a minute; try again shortly",
+                       now);
+    }
+    if (!refused) {
+      auto bucket = account_creates_.try_emplace(
+          request.creator, config_.limits.creates_per_account_per_minute / 60.0,
+          kAccountCreateBurst, now);
+      if (!bucket.first->second.take(now)) {
+        refused = refuse(SeatRefusal::AccountCreateRate, account_key(request.creator),
+                         DirectoryErrorCode::CreateRateLimited,
+                         "an account creates at most " +
+                             std::to_string(config_.limits.creates_per_account_per_minute) +
+                             " matches a minute; try again shortly",
+                         now);
+      }
+      for (auto it = account_creates_.begin(); it != account_creates_.end();) {
+        it = it->second.full(now) ? account_creates_.erase(it) : std::next(it);
+      }
+    }
+  }
+  end_empty_matches(std::move(empty));
+  if (refused) return *refused;
+  return open(request.name, request.max_players, map, request.creator);
 }
 
 DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std::string& username,
-                                               std::uint32_t match_id) {
-  const std::lock_guard lock(mutex_);
+                                               std::uint32_t match_id, const JoinOrigin& origin) {
+  std::vector<std::shared_ptr<MatchHost>> empty;
+  DirectoryResult<JoinGrant> result = DirectoryError{DirectoryErrorCode::ShuttingDown, ""};
+  {
+    const std::lock_guard lock(mutex_);
+    const proto::TimeUs now = config_.clock();
+    expire_reservations(now);
+    empty = take_empty_matches(now);
+    result = join_locked(account, username, match_id, origin, now);
+  }
+  end_empty_matches(std::move(empty));
+  return result;
+}
+
+DirectoryResult<JoinGrant> MatchRegistry::join_locked(std::uint64_t account,
+                                                      const std::string& username,
+                                                      std::uint32_t match_id,
+                                                      const JoinOrigin& origin, proto::TimeUs now) {
   if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
-  const proto::TimeUs now = config_.clock();
-  expire_reservations(now);
   const auto host = hosts_.find(match_id);
   if (host == hosts_.end()) {
     return error(DirectoryErrorCode::MatchNotFound, "no match " + std::to_string(match_id));
@@ -161,13 +254,21 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
                  "already in match " + std::to_string(seat->second.match_id) + "; leave it first");
   }
   if (seat == seats_.end()) {
-    if (seats_in(match_id, now) >= host->second.host->max_players()) {
-      return error(DirectoryErrorCode::MatchFull,
-                   "match " + std::to_string(match_id) + " has all " +
-                       std::to_string(host->second.host->max_players()) + " seats taken");
+    if (auto refused = refuse_seat(match_id, host->second.host->max_players(), origin, now)) {
+      return *refused;
     }
-    seat = seats_.emplace(account, Seat{match_id, username, false, 0}).first;
+    seat =
+        seats_.emplace(account, Seat{match_id, username, false, 0, 0, origin.host, 0, now}).first;
+  } else if (seat->second.session != origin.session) {
+    // One session plays the account: the newest join's. The older session's game connection
+    // goes (the player keeps its place within the reconnect grace and comes back with this
+    // join's token).
+    spdlog::info("match {}: account {} is played from control session {} now, not {}", match_id,
+                 account, origin.session, seat->second.session);
+    if (seat->second.taken) channel_.kick(account, proto::DisconnectReason::Kicked);
   }
+  seat->second.session = origin.session;
+  seat->second.host = origin.host;
   JoinGrant grant;
   grant.match_id = match_id;
   grant.udp_port = config_.udp_port;
@@ -184,12 +285,16 @@ DirectoryResult<JoinGrant> MatchRegistry::join(std::uint64_t account, const std:
   return grant;
 }
 
-DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account) {
+DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account, std::uint64_t session) {
   std::shared_ptr<MatchHost> host;
   {
     const std::lock_guard lock(mutex_);
     const auto seat = seats_.find(account);
     if (seat == seats_.end()) return error(DirectoryErrorCode::NotInMatch, "not in a match");
+    if (seat->second.session != session) {
+      return error(DirectoryErrorCode::NotInMatch,
+                   "the account is played from another control connection now");
+    }
     host = hosts_.at(seat->second.match_id).host;
     seats_.erase(seat);
     issued_tokens_.erase(account);
@@ -294,13 +399,123 @@ void MatchRegistry::expire_reservations(proto::TimeUs now) {
                              [now](const auto& entry) { return !holds(entry.second, now); });
 }
 
-std::optional<DirectoryError> MatchRegistry::refuse_open() const {
+std::optional<DirectoryError> MatchRegistry::refuse_open(std::uint64_t creator, proto::TimeUs now) {
   if (closed_) return error(DirectoryErrorCode::ShuttingDown, "the server is shutting down");
   if (static_cast<int>(hosts_.size()) >= config_.max_matches) {
     return error(DirectoryErrorCode::TooManyMatches,
                  "this server hosts at most " + std::to_string(config_.max_matches) + " matches");
   }
+  if (creator == 0) return std::nullopt;
+  int created = 0;
+  int by_creator = 0;
+  for (const auto& [id, hosted] : hosts_) {
+    created += hosted.creator != 0 ? 1 : 0;
+    by_creator += hosted.creator == creator ? 1 : 0;
+  }
+  const SeatLimits& limits = config_.limits;
+  if (by_creator >= limits.created_matches_per_account) {
+    return refuse(
+        SeatRefusal::AccountMatches, account_key(creator), DirectoryErrorCode::TooManyMatches,
+        "an account may have " + std::to_string(limits.created_matches_per_account) +
+            " created matches open at once; an empty one closes after " +
+            std::to_string(limits.empty_match_close_after_us / proto::kMicrosPerSecond) + " s",
+        now);
+  }
+  if (created >= limits.created_matches) {
+    return refuse(SeatRefusal::CreatedMatches, "server", DirectoryErrorCode::TooManyMatches,
+                  "this server hosts at most " + std::to_string(limits.created_matches) +
+                      " created matches; join one of them",
+                  now);
+  }
   return std::nullopt;
+}
+
+std::optional<DirectoryError> MatchRegistry::refuse_seat(std::uint32_t match_id, int max_players,
+                                                         const JoinOrigin& origin,
+                                                         proto::TimeUs now) {
+  int held = 0;
+  int reserved = 0;
+  int from_address = 0;
+  for (const auto& [account, seat] : seats_) {
+    if (!holds(seat, now)) continue;
+    if (seat.match_id == match_id) {
+      ++held;
+      reserved += seat.taken ? 0 : 1;
+    }
+    from_address += seat.host == origin.host ? 1 : 0;
+  }
+  const SeatLimits& limits = config_.limits;
+  if (held >= max_players) {
+    return error(DirectoryErrorCode::MatchFull, "match " + std::to_string(match_id) + " has all " +
+                                                    std::to_string(max_players) + " seats taken");
+  }
+  if (from_address >= limits.seats_per_address) {
+    return refuse(SeatRefusal::AddressSeats, origin.host.to_string(),
+                  DirectoryErrorCode::AddressSeatLimit,
+                  "your address holds " + std::to_string(from_address) +
+                      " seats, the most one address may; leave a match first",
+                  now);
+  }
+  // Never more than half the match's seats, so that reservations alone cannot fill it. At the
+  // bound, the oldest reservation still unused after kReservationGrace gives way to this join.
+  if (reserved >= std::min(limits.reserved_seats_per_match, std::max(1, max_players / 2))) {
+    auto oldest = seats_.end();
+    for (auto it = seats_.begin(); it != seats_.end(); ++it) {
+      const Seat& seat = it->second;
+      if (seat.match_id != match_id || seat.taken || !holds(seat, now)) continue;
+      if (oldest == seats_.end() || seat.reserved_at < oldest->second.reserved_at) oldest = it;
+    }
+    const bool stale =
+        oldest != seats_.end() && now - oldest->second.reserved_at >= kReservationGrace;
+    const std::string key = stale ? oldest->second.host.to_string() : origin.host.to_string();
+    DirectoryError refused =
+        refuse(SeatRefusal::ReservedSeats, key, DirectoryErrorCode::MatchFull,
+               "match " + std::to_string(match_id) + " has " + std::to_string(reserved) +
+                   " players still connecting, the most it waits for at once; try again in a "
+                   "second",
+               now);
+    if (!stale) return refused;
+    spdlog::debug("match {}: account {}'s seat, reserved {} ms ago and unused, given up", match_id,
+                  oldest->first, (now - oldest->second.reserved_at) / proto::kMicrosPerMilli);
+    seats_.erase(oldest);
+  }
+  return std::nullopt;
+}
+
+DirectoryError MatchRegistry::refuse(SeatRefusal refusal, const std::string& key,
+                                     DirectoryErrorCode code, std::string message,
+                                     proto::TimeUs now) {
+  refused_[static_cast<std::size_t>(refusal)].fetch_add(1, std::memory_order_relaxed);
+  if (config_.episodes) config_.episodes->refuse(name(refusal), key, message, now);
+  return error(code, std::move(message));
+}
+
+std::vector<std::shared_ptr<MatchHost>> MatchRegistry::take_empty_matches(proto::TimeUs now) {
+  std::vector<std::shared_ptr<MatchHost>> empty;
+  if (closed_) return empty;  // the stop ends every match itself
+  for (auto it = hosts_.begin(); it != hosts_.end();) {
+    Hosted& hosted = it->second;
+    if (hosted.creator == 0 || seats_in(it->first, now) > 0) {
+      hosted.last_seated_at = now;
+      ++it;
+    } else if (now - hosted.last_seated_at >= config_.limits.empty_match_close_after_us) {
+      spdlog::info("match {} '{}' closed: created by account {}, empty for {} s", it->first,
+                   hosted.host->name(), hosted.creator,
+                   (now - hosted.last_seated_at) / proto::kMicrosPerSecond);
+      empty.push_back(hosted.host);
+      it = hosts_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return empty;
+}
+
+void MatchRegistry::end_empty_matches(std::vector<std::shared_ptr<MatchHost>> hosts) {
+  for (const auto& host : hosts) {
+    empty_matches_closed_.fetch_add(1, std::memory_order_relaxed);
+    host->end([this](EndedMatch ended) { ended_(std::move(ended)); });
+  }
 }
 
 bool MatchRegistry::holds(const Seat& seat, proto::TimeUs now) {
@@ -336,6 +551,7 @@ void MatchRegistry::match_ended(std::uint32_t match_id, EndedMatch ended) {
   std::string name;
   int max_players = 0;
   std::size_t map = 0;
+  std::uint64_t creator = 0;
   std::vector<std::uint64_t> seated;
   {
     const std::lock_guard lock(mutex_);
@@ -344,6 +560,7 @@ void MatchRegistry::match_ended(std::uint32_t match_id, EndedMatch ended) {
       name = found->second.host->name();
       max_players = found->second.host->max_players();
       map = found->second.map;
+      creator = found->second.creator;
       hosts_.erase(found);
     }
     boost::unordered::erase_if(seats_, [&](const auto& seat) {
@@ -357,7 +574,7 @@ void MatchRegistry::match_ended(std::uint32_t match_id, EndedMatch ended) {
   for (const std::uint64_t account : seated)
     channel_.kick(account, proto::DisconnectReason::Kicked);
   if (!name.empty()) {
-    const auto next = open(name, max_players, next_in_rotation(map));
+    const auto next = open(name, max_players, next_in_rotation(map), creator);
     if (const auto* problem = std::get_if<DirectoryError>(&next)) {
       spdlog::info("match {} '{}' is not followed by another: {}", match_id, name,
                    problem->message);

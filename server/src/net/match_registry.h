@@ -10,10 +10,19 @@
 /// A match is full when its seats are. Thread-safe: one mutex over the tables; MatchHost calls
 /// post to the match strands and return at once.
 ///
+/// Limits (SeatLimits; PROTOCOL.md "Limits"): seats held from one address (proto::HostKey of the
+/// control connection's peer), seats of one match reserved and not yet connected (the oldest
+/// unused for a second gives way to a new join), matches
+/// created per account and server-wide (open at once, and per minute). A match created over the
+/// control channel is closed once it has had no seat for `empty_match_close_after_us`; the
+/// matches opened at start and their rotation stay. Refusals are counted by reason and logged
+/// once per episode.
+///
 /// Rotation: when a match ends by itself the registry drops it, gives back its seats (kicking
 /// the game connections still up, after the MatchEnded went out), opens the next match of the
 /// rotation under a new id with the same name and size, and hands the ended match on.
 
+#include <array>
 #include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/unordered/unordered_flat_map.hpp>
@@ -27,14 +36,47 @@
 #include <vector>
 
 #include "chat_limiter.h"
+#include "episode_log.h"
 #include "game_channel.h"
 #include "match_directory.h"
 #include "match_host.h"
+#include "ricochet/proto/token_bucket.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
 #include "steady_time.h"
 
 namespace ricochet::server {
+
+/// What one address, one match and one account may hold; defaults as a public server runs.
+struct SeatLimits {
+  /// Seats (reserved or taken, all matches together) held from one proto::HostKey.
+  int seats_per_address = 8;
+  /// Seats of one match reserved by a token and not yet connected over the game channel; never
+  /// more than half the match's seats (at least one). At the bound, a join takes the place of
+  /// the oldest reservation unused for a second (whose token then finds no seat), or is refused.
+  int reserved_seats_per_match = 4;
+  int created_matches = 32;             ///< matches created over the control channel, open at once
+  int created_matches_per_account = 1;  ///< of those, created by one account
+  double creates_per_minute = 30;       ///< match creations, the whole server (burst: 10)
+  double creates_per_account_per_minute = 2;  ///< match creations by one account (burst: 1)
+  /// A created match with no seat held this long is closed, in µs.
+  proto::TimeUs empty_match_close_after_us = 60 * proto::kMicrosPerSecond;
+};
+
+/// Why the registry refused a seat or a match (ricochet_match_limit_refused_total{reason}).
+enum class SeatRefusal {
+  AddressSeats,       ///< the address holds seats_per_address
+  ReservedSeats,      ///< the match has reserved_seats_per_match seats still connecting
+  CreatedMatches,     ///< created_matches are open
+  AccountMatches,     ///< the account has created_matches_per_account open
+  CreateRate,         ///< creates_per_minute spent
+  AccountCreateRate,  ///< creates_per_account_per_minute spent
+};
+inline constexpr std::size_t kSeatRefusalCount =
+    static_cast<std::size_t>(SeatRefusal::AccountCreateRate) + 1;
+/// "address_seats", "reserved_seats", "created_matches", "account_matches", "create_rate",
+/// "account_create_rate".
+const char* name(SeatRefusal refusal);
 
 struct MatchRegistryConfig {
   /// Tick, snapshots, movement and rules of every match; id, name and max_players set per
@@ -52,6 +94,9 @@ struct MatchRegistryConfig {
   /// Chat's rate limits (the server's, shared with nothing else); nullptr: chat is not limited
   /// (tests of the registry alone).
   ChatLimiter* chat_limiter = nullptr;
+  SeatLimits limits;
+  /// Logs each limit's refusals once per episode; nullptr: refusals are only counted.
+  EpisodeLog* episodes = nullptr;
   /// The clock, in µs, that connect tokens are issued on and seat reservations run out on: the
   /// game channel's, which checks the tokens (steady_now_us). Tests pass fake time.
   std::function<proto::TimeUs()> clock = steady_now_us;
@@ -68,7 +113,10 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
 
   /// Opens a match on the rotation's map `map` (0: the first; taken modulo the rotation's size),
   /// at start and through create(); the message says why it could not.
-  DirectoryResult<MatchSummary> open(const std::string& name, int max_players, std::size_t map = 0);
+  /// `creator`: the account that created it (or the match it follows), 0 for the server's own;
+  /// only created matches are counted against the creation limits and closed when empty.
+  DirectoryResult<MatchSummary> open(const std::string& name, int max_players, std::size_t map = 0,
+                                     std::uint64_t creator = 0);
   /// The rotation's map after `map`: where a match that ended on `map` is followed.
   std::size_t next_in_rotation(std::size_t map) const { return (map + 1) % maps_.size(); }
   /// The UDP port clients are told, once the channel is bound.
@@ -81,13 +129,19 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   std::size_t seats() const;
   /// Reliable messages clients sent though none is defined (dropped).
   std::uint64_t unexpected_reliable() const { return unexpected_reliable_.load(); }
+  /// Closes the created matches that have had no seat for empty_match_close_after_us; each is
+  /// handed to the MatchEndedHandler like a match that ended. Also done on every list, create
+  /// and join; the server calls it every few seconds.
+  void close_empty_matches();
+  std::uint64_t refused(SeatRefusal refusal) const;
+  std::uint64_t empty_matches_closed() const { return empty_matches_closed_.load(); }
 
   // MatchDirectory
   std::vector<MatchSummary> list() const override;
   DirectoryResult<MatchSummary> create(const CreateMatchRequest& request) override;
   DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
-                                  std::uint32_t match_id) override;
-  DirectoryResult<Done> leave(std::uint64_t account) override;
+                                  std::uint32_t match_id, const JoinOrigin& origin) override;
+  DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t session) override;
   DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) override;
 
   // GameRouter
@@ -104,11 +158,28 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
     /// While not taken: the newest token's expiry plus its timeout (a handshake accepted just
     /// before the expiry may take that long to finish).
     proto::TimeUs reserved_until = 0;
-    std::uint64_t generation = 0;  ///< bumped on every connection, named by SeatReleased
+    std::uint64_t generation = 0;   ///< bumped on every connection, named by SeatReleased
+    proto::HostKey host;            ///< where the newest join came from
+    std::uint64_t session = 0;      ///< the control session that plays the account
+    proto::TimeUs reserved_at = 0;  ///< the first join (joining again does not move it)
   };
 
-  /// Why no match can be opened now (closed, or at the cap), or nothing. Holds mutex_.
-  std::optional<DirectoryError> refuse_open() const;
+  /// Why no match can be opened now (closed, at the cap, or `creator` at a created-match
+  /// limit), or nothing. Holds mutex_.
+  std::optional<DirectoryError> refuse_open(std::uint64_t creator, proto::TimeUs now);
+  /// Why `origin` may not take a new seat in `match_id` now, or nothing. Holds mutex_.
+  std::optional<DirectoryError> refuse_seat(std::uint32_t match_id, int max_players,
+                                            const JoinOrigin& origin, proto::TimeUs now);
+  /// Counts a refusal, logs its episode and returns the error. Holds mutex_.
+  DirectoryError refuse(SeatRefusal refusal, const std::string& key, DirectoryErrorCode code,
+                        std::string message, proto::TimeUs now);
+  /// Takes the created matches empty for too long out of hosts_. Holds mutex_.
+  std::vector<std::shared_ptr<MatchHost>> take_empty_matches(proto::TimeUs now);
+  /// Ends matches taken out by take_empty_matches (lock released).
+  void end_empty_matches(std::vector<std::shared_ptr<MatchHost>> hosts);
+  DirectoryResult<JoinGrant> join_locked(std::uint64_t account, const std::string& username,
+                                         std::uint32_t match_id, const JoinOrigin& origin,
+                                         proto::TimeUs now);  ///< holds mutex_
   /// Gives back reserved seats whose token expired unused. Holds mutex_.
   void expire_reservations(proto::TimeUs now);
   /// A seat that counts: taken, or reserved by a token still usable at `now`.
@@ -134,6 +205,8 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
     std::size_t map = 0;                                ///< index in the rotation
     std::shared_ptr<const wire::CollisionWorld> world;  ///< what its join replies carry
     std::vector<wire::WeaponSpec> weapons;              ///< and these
+    std::uint64_t creator = 0;         ///< the account that created it; 0: the server's own
+    proto::TimeUs last_seated_at = 0;  ///< when it was last seen with a seat held (or opened)
   };
   std::map<std::uint32_t, Hosted> hosts_;
   /// By account; open addressing (every datagram received looks its sender's seat up).
@@ -150,6 +223,11 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   std::uint64_t next_generation_ = 1;
   bool closed_ = false;
   std::atomic<std::uint64_t> unexpected_reliable_{0};
+  proto::TokenBucket creates_;  ///< limits.creates_per_minute
+  /// limits.creates_per_account_per_minute, by account; full buckets are forgotten.
+  std::map<std::uint64_t, proto::TokenBucket> account_creates_;
+  std::array<std::atomic<std::uint64_t>, kSeatRefusalCount> refused_{};
+  std::atomic<std::uint64_t> empty_matches_closed_{0};
 };
 
 }  // namespace ricochet::server

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -162,10 +163,53 @@ std::int32_t hit_points(double value) {
   return static_cast<std::int32_t>(std::llround(value));
 }
 
+/// Creates `path` (and its parents) if missing, and makes it the owner's alone (0700): it holds
+/// the TLS key and the database. A directory the server does not own is only warned about.
+void make_private_directory(const std::string& path) {
+  std::filesystem::create_directories(path);
+  std::error_code error;
+  std::filesystem::permissions(path, std::filesystem::perms::owner_all,
+                               std::filesystem::perm_options::replace, error);
+  if (error) {
+    spdlog::warn("the data directory {} cannot be made private (mode 0700): {}", path,
+                 error.message());
+  }
+}
+
+/// The bearer token in `path` (surrounding whitespace dropped); throws when it is unreadable or
+/// empty.
+std::string read_admin_token(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error("cannot read admin.token_file " + path);
+  std::string token((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const auto first = token.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) {
+    throw std::runtime_error("admin.token_file " + path + " is empty; write a token into it");
+  }
+  token = token.substr(first, token.find_last_not_of(" \t\r\n") - first + 1);
+  return token;
+}
+
+SeatLimits seat_limits(const MatchesConfig& matches) {
+  SeatLimits out;
+  out.seats_per_address = matches.seats_per_address;
+  out.reserved_seats_per_match = matches.reserved_seats_per_match;
+  out.created_matches = matches.max_created;
+  out.created_matches_per_account = matches.max_created_per_account;
+  out.creates_per_minute = matches.creates_per_minute;
+  out.creates_per_account_per_minute = matches.creates_per_account_per_minute;
+  out.empty_match_close_after_us =
+      static_cast<proto::TimeUs>(matches.empty_close_after_s * proto::kMicrosPerSecond);
+  return out;
+}
+
+/// How often the created matches are looked at for being empty too long.
+constexpr auto kEmptyMatchSweep = std::chrono::seconds(5);
+
 }  // namespace
 
 Server::Server(ServerConfig config) : config_(std::move(config)) {
-  std::filesystem::create_directories(config_.server.data_dir);
+  make_private_directory(config_.server.data_dir);
   db_ = open_database(config_);
   recordings_ = std::make_unique<RecordingFiles>(config_.recordings_path());
   const proto::Key token_key = proto::random_key();  // this process's only; tokens die with it
@@ -180,6 +224,8 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   registry.token_key = token_key;
   registry.chat_limiter = chat_limiter_.get();
   registry.token_reuse_us = config_.game.token_reuse_ms * proto::kMicrosPerMilli;
+  registry.limits = seat_limits(config_.matches);
+  registry.episodes = &episodes_;
   // Every map of the rotation is loaded now, so a broken one stops the start, not a match end.
   std::vector<Map> maps;
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));
@@ -194,6 +240,12 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   AdminHttpOptions admin;
   admin.bind = config_.admin.bind;
   admin.port = static_cast<std::uint16_t>(config_.admin.port);
+  admin.max_connections = config_.admin.max_connections;
+  admin.max_connections_per_address = config_.admin.max_connections_per_address;
+  if (!config_.admin.token_file.empty()) {
+    admin.bearer_token = read_admin_token(config_.admin.token_file);
+  }
+  admin.episodes = &episodes_;
   admin_ = std::make_unique<AdminHttp>(
       io_, std::move(admin), metrics_,
       AdminHttpCallbacks{[this] { return healthy(); }, [this] { return ready(); }});
@@ -239,6 +291,7 @@ void Server::start() {
                              std::to_string(config_.admin.port) + ": " + error.message());
   }
   write_ports_file();
+  sweep_empty_matches();
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
   ready_ = true;
@@ -248,6 +301,15 @@ void Server::start() {
       RICOCHET_VERSION, config_.control.bind, control_port(), config_.game.bind, game_port(),
       config_.admin.bind, admin_port(), config_.matches.count, threads);
   spdlog::info("TLS certificate SHA-256 fingerprint (pin it in clients): {}", fingerprint());
+}
+
+void Server::sweep_empty_matches() {
+  empty_match_sweep_.expires_after(kEmptyMatchSweep);
+  empty_match_sweep_.async_wait([this](const boost::system::error_code& error) {
+    if (error || !ready_) return;  // cancelled, or stopping
+    matches_->close_empty_matches();
+    sweep_empty_matches();
+  });
 }
 
 void Server::write_ports_file() const {

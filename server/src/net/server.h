@@ -21,6 +21,7 @@
 #include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <chrono>
+#include <boost/asio/steady_timer.hpp>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -100,6 +101,8 @@ class Server {
   /// On the DB thread: writes one ended match and reads back its players' ratings.
   static db::DbResult<wire::MatchResults> record(const EndedMatch& match, db::DbServices& services);
   void register_metrics();
+  /// Every few seconds: the created matches empty for too long are closed.
+  void sweep_empty_matches();
 
   static constexpr std::chrono::seconds kRecordRetryFirst{1};
   static constexpr std::chrono::seconds kRecordRetryLast{30};
@@ -115,6 +118,7 @@ class Server {
   std::unique_ptr<MatchRegistry> matches_;
   std::unique_ptr<ControlServer> control_;
   std::unique_ptr<AdminHttp> admin_;
+  boost::asio::steady_timer empty_match_sweep_{io_};
   std::vector<std::thread> threads_;
   std::thread stopper_;
   std::once_flag stop_once_;

@@ -183,6 +183,15 @@ void Server::register_metrics() {
                    {{"limit", name(static_cast<ChatLimit>(i))}},
                    static_cast<double>(chat_refusals[i]));
     }
+    for (std::size_t i = 0; i < kSeatRefusalCount; ++i) {
+      const auto refusal = static_cast<SeatRefusal>(i);
+      sink.counter("ricochet_match_limit_refused_total",
+                   "Joins and match creations refused by a seat or creation limit, by reason",
+                   {{"reason", name(refusal)}}, static_cast<double>(matches_->refused(refusal)));
+    }
+    sink.counter("ricochet_matches_closed_empty_total",
+                 "Created matches closed after staying empty too long", {},
+                 static_cast<double>(matches_->empty_matches_closed()));
     for (const auto& host : hosts) {
       report_match(*host, sink);
       host->report_phases(sink);

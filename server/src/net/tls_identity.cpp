@@ -8,6 +8,7 @@
 #include <openssl/rand.h>
 #include <openssl/x509.h>
 #include <openssl/x509v3.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
@@ -62,13 +63,25 @@ std::string read_file(const std::filesystem::path& path) {
 }
 
 /// Writes `text` to `path` through a temporary file and a rename, readable by the owner only
-/// when `secret`.
+/// when `secret`. The temporary is a new file (O_EXCL, O_NOFOLLOW; one left by a crash, or a
+/// link planted there, is removed first, never written through), given its mode explicitly.
 void write_file(const std::filesystem::path& path, const std::string& text, bool secret) {
   const std::filesystem::path temporary = path.string() + ".tmp";
+  const mode_t mode = secret ? 0600 : 0644;
+  if (::unlink(temporary.c_str()) != 0 && errno != ENOENT) {
+    throw TlsIdentityError("cannot remove the leftover " + temporary.string() + ": " +
+                           std::strerror(errno));
+  }
   const int fd =
-      ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, secret ? 0600 : 0644);
+      ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, mode);
   if (fd < 0) {
     throw TlsIdentityError("cannot create " + temporary.string() + ": " + std::strerror(errno));
+  }
+  if (::fchmod(fd, mode) != 0) {
+    const int error = errno;
+    ::close(fd);
+    throw TlsIdentityError("cannot set the mode of " + temporary.string() + ": " +
+                           std::strerror(error));
   }
   std::size_t written = 0;
   while (written < text.size()) {
@@ -231,10 +244,14 @@ TlsIdentity load_or_create_tls_identity(const TlsIdentityPaths& paths) {
                            key_path.string() + "; remove it to generate a new pair");
   }
   std::error_code error;
-  std::filesystem::create_directories(paths.data_dir, error);
+  // A directory made here holds the key: the owner's alone (0700).
+  if (std::filesystem::create_directories(paths.data_dir, error)) {
+    std::filesystem::permissions(paths.data_dir, std::filesystem::perms::owner_all,
+                                 std::filesystem::perm_options::replace, error);
+  }
   if (error) {
-    throw TlsIdentityError("cannot create the data directory " + paths.data_dir.string() + ": " +
-                           error.message());
+    throw TlsIdentityError("cannot create the data directory " + paths.data_dir.string() +
+                           " (mode 0700): " + error.message());
   }
   auto [certificate_pem, key_pem] = generate_pair();
   write_file(key_path, key_pem, true);

@@ -78,7 +78,7 @@ struct GameConfig {
   int tick_rate_hz = 60;
   int snapshot_rate_hz = 0;             ///< 0: the tick rate; otherwise at most the tick rate
   int max_catch_up_steps = 5;           ///< fixed steps one tick() may run after a stall
-  int max_clients = 64;                 ///< connected game clients, all matches together
+  int max_clients = 800;                ///< connected game clients, all matches together
   int max_half_open = 256;              ///< handshakes in progress (challenged, not yet connected)
   int address_packets_per_s = 20;       ///< datagrams per second from an unconnected address
   int client_packets_per_s = 250;       ///< datagrams per second from a connected client
@@ -117,12 +117,23 @@ struct MatchesConfig {
   double max_rewind_ms = 250;    ///< lag compensation's total rewind cap
   bool record = true;            ///< write a recording of every match (ricochet-replay)
   std::string recordings_dir = "recordings";  ///< under data_dir unless absolute
+  // Seats and created matches: MatchRegistryConfig::limits (SeatLimits).
+  int seats_per_address = 8;                  ///< seats held from one address (IPv4, or IPv6 /64)
+  int reserved_seats_per_match = 4;           ///< seats of one match reserved, not yet connected
+  int max_created = 32;                       ///< created matches open at once
+  int max_created_per_account = 1;            ///< created matches of one account open at once
+  double creates_per_minute = 30;             ///< match creations per minute, the whole server
+  double creates_per_account_per_minute = 2;  ///< match creations per minute, one account
+  double empty_close_after_s = 60;  ///< a created match with nobody seated closes this late
 };
 
 /// [admin] HTTP: /metrics, /healthz, /readyz.
 struct AdminConfig {
   std::string bind = "127.0.0.1";  ///< IP address literal; keep it private
   int port = 9100;                 ///< 0: any free port
+  std::string token_file;          ///< bearer token /metrics requires; empty: none
+  int max_connections = 16;        ///< open at once
+  int max_connections_per_address = 4;
 };
 
 /// [log]
