@@ -44,6 +44,9 @@ struct MatchRegistryConfig {
   proto::TimeUs token_lifetime_us = 10 * proto::kMicrosPerSecond;  ///< ≤ 30 s
   std::uint32_t token_timeout_s = 5;  ///< game-channel silence that drops a client
   int max_matches = 256;
+  /// Where the matches stream their recordings as they run; null: each hands its whole
+  /// recording over when it ends (EndedMatch::recording).
+  RecordingFiles* recordings = nullptr;
   /// The clock, in µs, that connect tokens are issued on and seat reservations run out on: the
   /// game channel's, which checks the tokens (steady_now_us). Tests pass fake time.
   std::function<proto::TimeUs()> clock = steady_now_us;
