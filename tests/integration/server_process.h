@@ -109,6 +109,8 @@ class ServerProcess {
   }
 
   void terminate() { kill(pid_, SIGTERM); }
+  /// SIGKILL: no handler runs and nothing is flushed or closed, as in a crash.
+  void kill_now() { kill(pid_, SIGKILL); }
   /// The exit code once the server exited (128 + signal when a signal killed it); nullopt when
   /// it is still running after `limit`.
   std::optional<int> wait_exit(std::chrono::milliseconds limit) {
