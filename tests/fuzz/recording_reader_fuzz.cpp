@@ -57,6 +57,10 @@ void repair_checksums(std::vector<std::uint8_t>& bytes) {
 
 void check_rules(const Recording& recording) {
   check(rf::check_header(recording.header).empty(), "accepted header breaks a cap");
+  // A cut file says where it stops, within the file; a whole one says nothing.
+  check(recording.complete == recording.cut.empty(), "a cut file without its statement");
+  check(recording.complete || recording.cut.find("replayable to tick") != std::string::npos,
+        "a cut statement without the last tick");
   std::uint32_t last = 0;
   std::size_t hash = 0;
   for (const RecordedTick& tick : recording.ticks) {
@@ -139,6 +143,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const Recording& recording = std::get<Recording>(result);
   check_rules(recording);
+  check(recording.cut_offset <= bytes.size(), "a cut offset past the end");
   check_rewrite(recording);
   return 0;
 }

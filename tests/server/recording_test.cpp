@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
@@ -230,7 +231,10 @@ TEST(RecordingTest, QuietTicksCostOneByte) {
     tick.inputs.push_back(input);
     recording.ticks.push_back(tick);
   }
-  const std::size_t one = write({recording.header, {recording.ticks[0]}, {}, true, false}).size();
+  Recording first;
+  first.header = recording.header;
+  first.ticks = {recording.ticks[0]};
+  const std::size_t one = write(first).size();
   const std::size_t all = write(recording).size();
   EXPECT_LE(all - one, 1000u + 8) << "1000 ticks of one player repeating its input";
   expect_prefix(recording, read_ok(write(recording)));
@@ -306,6 +310,91 @@ TEST(RecordingTest, TruncationIsAnErrorInTheHeaderAndAPrefixAfterIt) {
     ++incomplete;
   }
   EXPECT_GT(incomplete, 0u);
+}
+
+TEST(RecordingTest, TakingCompletedChunksAsTheyComeGivesTheSameFile) {
+  // The server streams each completed chunk to disk: those pieces and finish() are the file
+  // finish() alone returns, byte for byte.
+  const Recording recording = random_recording(5, 3000);
+  const auto whole = write(recording);
+  RecordingWriter writer(recording.header, 64u << 20);
+  std::vector<std::uint8_t> streamed = writer.take_completed();
+  const std::size_t header_end = chunk_starts(whole)[1];
+  EXPECT_EQ(streamed.size(), header_end) << "the magic and the header come first";
+  std::size_t next_hash = 0;
+  std::size_t pieces = 0;
+  for (const RecordedTick& tick : recording.ticks) {
+    write_tick(writer, recording, tick, next_hash);
+    const auto piece = writer.take_completed();
+    if (piece.empty()) continue;
+    ++pieces;
+    streamed.insert(streamed.end(), piece.begin(), piece.end());
+    EXPECT_EQ(read_ok(streamed).cut.find("ends after chunk"), 0u) << "whole chunks only";
+  }
+  EXPECT_TRUE(writer.take_completed().empty());
+  const auto rest = writer.finish();
+  streamed.insert(streamed.end(), rest.begin(), rest.end());
+  EXPECT_GE(pieces, 3u);
+  EXPECT_EQ(streamed, whole);
+}
+
+TEST(RecordingTest, EveryCutOfASmallRecordingReadsToItsLastWholeChunkOrIsRefused) {
+  const Recording recording = random_recording(13, 450);
+  const auto bytes = write(recording);
+  const auto starts = chunk_starts(bytes);
+  ASSERT_GE(starts.size(), 5u) << "header, two tick chunks, footer";
+  // What each whole prefix up to a chunk boundary holds.
+  std::vector<std::size_t> ticks_before(starts.size());
+  for (std::size_t i = 1; i < starts.size(); ++i) {
+    const Recording upto = read_ok({bytes.begin(), bytes.begin() + starts[i]});
+    ticks_before[i] = upto.ticks.size();
+  }
+  for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
+    const std::span<const std::uint8_t> part(bytes.data(), cut);
+    const auto result = read_recording(part);
+    if (cut < starts[1]) {
+      const auto* error = std::get_if<RecordingError>(&result);
+      ASSERT_NE(error, nullptr) << "cut at " << cut << " inside the header";
+      EXPECT_NE(error->message.find(with_number("truncated at byte ", cut)), std::string::npos)
+          << error->message;
+      continue;
+    }
+    const auto* got = std::get_if<Recording>(&result);
+    ASSERT_NE(got, nullptr) << "cut at " << cut << ": " << std::get<RecordingError>(result).message;
+    std::size_t chunk = 1;  // the chunk the cut falls in (or the one it ends before)
+    while (starts[chunk + 1] <= cut) ++chunk;
+    EXPECT_FALSE(got->complete);
+    EXPECT_EQ(got->ticks.size(), ticks_before[chunk]) << "cut at " << cut;
+    EXPECT_EQ(got->cut_offset, starts[chunk]);
+    const std::uint32_t last = got->ticks.empty() ? 0 : got->ticks.back().tick;
+    const std::string replayable = with_number("replayable to tick ", last);
+    EXPECT_NE(got->cut.find(replayable), std::string::npos) << got->cut;
+    const std::string at = with_number(" at byte ", starts[chunk]);
+    EXPECT_NE(got->cut.find(at), std::string::npos) << got->cut;
+    if (cut == starts[chunk]) {
+      EXPECT_EQ(got->cut.find(with_number("ends after chunk ", chunk - 1)), 0u) << got->cut;
+    } else {
+      EXPECT_EQ(got->cut.find(with_number("cut inside chunk ", chunk)), 0u) << got->cut;
+    }
+    expect_prefix(recording, *got);
+  }
+  const Recording whole = read_ok(bytes);
+  EXPECT_TRUE(whole.complete);
+  EXPECT_TRUE(whole.cut.empty());
+}
+
+TEST(RecordingTest, ACorruptChunkBeforeACutIsStillAnError) {
+  // A cut file is read up to the cut, but bad bytes in the middle are still refused.
+  const auto bytes = write(random_recording(17, 600));
+  const auto starts = chunk_starts(bytes);
+  ASSERT_GE(starts.size(), 5u);
+  std::vector<std::uint8_t> part(bytes.begin(), bytes.begin() + starts[3] + 5);
+  part[starts[2] + 20] ^= 0x40;
+  const auto result = read_recording(part);
+  const auto* error = std::get_if<RecordingError>(&result);
+  ASSERT_NE(error, nullptr);
+  EXPECT_NE(error->message.find("chunk 2 (ticks)"), std::string::npos) << error->message;
+  EXPECT_NE(error->message.find("CRC-32 mismatch"), std::string::npos) << error->message;
 }
 
 TEST(RecordingTest, WriterStopsAtMaxBytesAndTheFileSaysSo) {

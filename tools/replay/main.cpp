@@ -5,7 +5,8 @@
 //   ricochet-replay FILE [--json] [--export FILE.csv] [--keep-going]
 //
 // Exit codes: 0 every hash matched, 1 a hash differed, 2 the file is unreadable (or its map or
-// config is refused). Links the socket-free match library only.
+// config is refused), 3 the file was cut short (a crash: no footer) and every hash it holds
+// matched up to where it stops, which is printed. Links the socket-free match library only.
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -52,12 +53,12 @@ std::optional<std::vector<std::uint8_t>> read_file(const std::string& path, std:
   return bytes;
 }
 
-void print_text(const std::string& file, const ReplayReport& report,
+void print_text(const std::string& file, const Recording& recording, const ReplayReport& report,
                 const std::vector<PlayerScore>& scores) {
   std::printf("%s: %llu steps (%.1f s of match) in %.3f s (%.0fx real time)\n", file.c_str(),
               static_cast<unsigned long long>(report.steps), report.simulated_s, report.wall_s,
               report.wall_s > 0 ? report.simulated_s / report.wall_s : 0.0);
-  if (!report.complete) std::printf("the recording has no footer: it was cut short\n");
+  if (!report.complete) std::printf("the recording was cut short: %s\n", recording.cut.c_str());
   if (report.truncated) std::printf("the recording stopped early (it reached its size limit)\n");
   if (report.first_mismatch) {
     std::printf(
@@ -77,7 +78,7 @@ void print_text(const std::string& file, const ReplayReport& report,
   }
 }
 
-void print_json(const std::string& file, const ReplayReport& report,
+void print_json(const std::string& file, const Recording& recording, const ReplayReport& report,
                 const std::vector<PlayerScore>& scores) {
   std::string out = "{\"file\":" + json_string(file);
   out += ",\"steps\":" + std::to_string(report.steps);
@@ -86,6 +87,10 @@ void print_json(const std::string& file, const ReplayReport& report,
   out += ",\"wall_s\":" + std::to_string(report.wall_s);
   out += ",\"complete\":";
   out += report.complete ? "true" : "false";
+  out += ",\"cut\":";
+  out += report.complete ? "null" : json_string(recording.cut);
+  out += ",\"cut_offset\":";
+  out += report.complete ? "null" : std::to_string(recording.cut_offset);
   out += ",\"truncated\":";
   out += report.truncated ? "true" : "false";
   out += ",\"hashes_checked\":" + std::to_string(report.hashes_checked);
@@ -112,9 +117,15 @@ void print_json(const std::string& file, const ReplayReport& report,
   std::printf("%s\n", out.c_str());
 }
 
+/// The exit codes above.
+constexpr int kExitMatched = 0;
+constexpr int kExitMismatch = 1;
+constexpr int kExitUnreadable = 2;
+constexpr int kExitCut = 3;
+
 int fail(const std::string& file, const std::string& what) {
   std::fprintf(stderr, "ricochet-replay: %s: %s\n", file.c_str(), what.c_str());
-  return 2;
+  return kExitUnreadable;
 }
 
 }  // namespace
@@ -172,9 +183,10 @@ int main(int argc, char** argv) {
   if (csv && std::fclose(csv) != 0) return fail(export_path, "write failed");
   const std::vector<PlayerScore> scores = match.scoreboard();
   if (json) {
-    print_json(file, report, scores);
+    print_json(file, recording, report, scores);
   } else {
-    print_text(file, report, scores);
+    print_text(file, recording, report, scores);
   }
-  return report.first_mismatch ? 1 : 0;
+  if (report.first_mismatch) return kExitMismatch;
+  return report.complete ? kExitMatched : kExitCut;
 }

@@ -457,6 +457,11 @@ void Match::step_recorded(std::span<const RecordedInput> inputs) {
   m.mailbox.pending.clear();
 }
 
+std::vector<std::uint8_t> Match::take_recording_chunks() {
+  const std::unique_ptr<RecordingWriter>& writer = parts_->recorder.writer;
+  return writer ? writer->take_completed() : std::vector<std::uint8_t>{};
+}
+
 std::vector<std::uint8_t> Match::take_recording() {
   std::unique_ptr<RecordingWriter>& writer = parts_->recorder.writer;
   if (!writer) return {};

@@ -336,9 +336,21 @@ Recording read_all(std::span<const std::uint8_t> bytes) {
                   std::to_string(missing) + " more bytes)",
               bytes.size()};
     };
-    if (pos == bytes.size() && have_header) return recording;  // cut between chunks
+    // A cut after the header: everything before the chunk it falls in stands.
+    const auto cut = [&](std::string what) {
+      recording.cut = std::move(what) + "; replayable to tick " + std::to_string(state.last_tick);
+      recording.cut_offset = pos;
+    };
+    if (pos == bytes.size() && have_header) {
+      cut("ends after chunk " + std::to_string(index - 1) + " at byte " + std::to_string(pos) +
+          " with no footer");
+      return recording;
+    }
     if (bytes.size() - pos < rf::kFrameHeadBytes) {
       if (!have_header) throw truncated(rf::kFrameHeadBytes - (bytes.size() - pos));
+      cut("cut inside " + where + " at byte " + std::to_string(pos) + " (" +
+          std::to_string(bytes.size() - pos) + " of its " + std::to_string(rf::kFrameHeadBytes) +
+          " frame bytes there)");
       return recording;
     }
     const std::uint8_t type = bytes[pos];
@@ -376,7 +388,10 @@ Recording read_all(std::span<const std::uint8_t> bytes) {
     const std::size_t available = bytes.size() - payload_at;
     if (available < std::size_t{length} + 4) {
       if (!have_header) throw truncated(length + 4 - available);
-      return recording;  // a chunk or the footer was cut: everything before it stands
+      cut("cut inside " + where + " at byte " + std::to_string(pos) + " (" +
+          std::to_string(bytes.size() - pos) + " of its " +
+          std::to_string(rf::kFrameBytes + length) + " bytes there)");
+      return recording;
     }
     const auto payload = bytes.subspan(payload_at, length);
     const std::uint32_t stored = read_le32(bytes, payload_at + length);

@@ -275,6 +275,20 @@ void RecordingWriter::flush_chunk() {
   ++chunk_count_;
 }
 
+std::vector<std::uint8_t> RecordingWriter::take_completed() {
+  if (file_bytes_ == taken_bytes_) return {};
+  std::vector<std::uint8_t> bytes;
+  bytes.reserve(file_bytes_ - taken_bytes_);
+  for (const std::vector<std::uint8_t>& block : blocks_) {
+    bytes.insert(bytes.end(), block.begin(), block.end());
+  }
+  taken_bytes_ = file_bytes_;
+  // The first block's room is kept for the next chunks; the others go.
+  blocks_.resize(1);
+  blocks_.front().clear();
+  return bytes;
+}
+
 std::vector<std::uint8_t> RecordingWriter::finish() {
   if (finished_) return {};
   if (has_pending_ && !full()) encode_pending();
@@ -289,7 +303,7 @@ std::vector<std::uint8_t> RecordingWriter::finish() {
   footer.push_back(full() ? 1 : 0);
   rf::put_u32(footer, file_crc_);
   std::vector<std::uint8_t> file;
-  file.reserve(file_bytes_ + rf::kFrameBytes + footer.size());
+  file.reserve(file_bytes_ - taken_bytes_ + rf::kFrameBytes + footer.size());
   for (const std::vector<std::uint8_t>& block : blocks_) {
     file.insert(file.end(), block.begin(), block.end());
   }

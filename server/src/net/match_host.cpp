@@ -10,6 +10,7 @@
 #include <chrono>
 #include <utility>
 
+#include "recording_files.h"
 #include "ricochet/server/match_record.h"
 #include "steady_time.h"
 #include "tick_wake.h"
@@ -43,11 +44,12 @@ std::array<double, kPhaseNames.size()> phase_ms(const TickProfile& profile) {
 }  // namespace
 
 MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel, SeatReleased released,
-                     MatchEndedHandler ended)
+                     MatchEndedHandler ended, RecordingFiles* recordings)
     : match_(std::move(match)),
       channel_(channel),
       released_(std::move(released)),
       on_ended_(std::move(ended)),
+      recordings_(recordings),
       strand_(asio::make_strand(io)),
       timer_(strand_),
       id_(match_.id()),
@@ -59,6 +61,7 @@ MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel, Se
       snapshot_rate_hz_(match_.config().snapshot_rate_hz),
       quantization_(match_.config().quantization),
       started_unix_ms_(unix_now_ms()),
+      recording_part_(RecordingFiles::part_name(id_, started_unix_ms_)),
       tick_window_(kTickWindowTicks) {
   // 10 µs .. ~20 ms: a 60 Hz tick has 16.7 ms.
   const std::vector<double> bounds = exponential_buckets(0.00001, 2, 12);
@@ -234,6 +237,7 @@ void MatchHost::tick(proto::TimeUs now) {
     on_ended_(ended_match(false));
     return;
   }
+  stream_recording();
   if (now >= next_sweep_at_) {
     sweep_departed();
     next_sweep_at_ = now + kSweepIntervalUs;
@@ -248,6 +252,11 @@ void MatchHost::drain_outbox() {
   Outgoing outgoing;
   while (match_.poll_outbox(outgoing)) batch.push_back(std::move(outgoing));
   if (!batch.empty()) channel_.send_all(std::move(batch));
+}
+
+void MatchHost::stream_recording() {
+  if (!recordings_ || played_.empty() || !recordings_->has_room()) return;
+  recordings_->append(recording_part_, match_.take_recording_chunks());
 }
 
 void MatchHost::observe_profile(const TickProfile& profile) {

@@ -32,6 +32,8 @@
 
 namespace ricochet::server {
 
+class RecordingFiles;
+
 /// What a scrape or the directory reads about a match, refreshed after every tick.
 struct MatchHostStats {
   MatchCounters counters;
@@ -52,7 +54,8 @@ struct EndedMatch {
   db::MatchRecord record;              ///< players empty when nobody played; aborted when stopped
   std::vector<std::string> usernames;  ///< one per record.players entry
   wire::MatchEndReason end_reason = wire::MATCH_END_REASON_SERVER_SHUTDOWN;
-  /// The finished recording; empty when recording is off or nobody ever joined.
+  /// The finished recording, less what was streamed to RecordingFiles::part_name(id,
+  /// record.started_ms) while it ran; empty when recording is off or nobody ever joined.
   std::vector<std::uint8_t> recording;
 };
 
@@ -68,8 +71,10 @@ using SeatReleased =
 
 class MatchHost : public std::enable_shared_from_this<MatchHost> {
  public:
+  /// `recordings`: where the recording streams once a player joined (null: it is all handed
+  /// over at the end).
   MatchHost(boost::asio::io_context& io, Match match, GameChannel& channel, SeatReleased released,
-            MatchEndedHandler ended);
+            MatchEndedHandler ended, RecordingFiles* recordings = nullptr);
   ~MatchHost();
   MatchHost(const MatchHost&) = delete;
   MatchHost& operator=(const MatchHost&) = delete;
@@ -117,6 +122,9 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   /// The match as it ended, with the recording.
   EndedMatch ended_match(bool aborted);
   void drain_outbox();
+  /// Hands the recording's completed chunks to the file in progress, once someone played and
+  /// while the disk keeps up (else they wait in the match's writer, within its max bytes).
+  void stream_recording();
   void observe_profile(const TickProfile& profile);
   /// Seats whose player the match no longer has (grace ran out) are released.
   void sweep_departed();
@@ -126,6 +134,7 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   GameChannel& channel_;
   SeatReleased released_;
   MatchEndedHandler on_ended_;
+  RecordingFiles* recordings_;
   boost::asio::strand<boost::asio::io_context::executor_type> strand_;
   boost::asio::steady_timer timer_;
   const std::uint32_t id_;
@@ -137,6 +146,7 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   const int snapshot_rate_hz_;
   const proto::QuantizationSpec quantization_;
   db::UnixMillis started_unix_ms_ = 0;
+  std::string recording_part_;  ///< the file in progress: RecordingFiles::part_name()
   bool ended_ = false;
   std::unordered_map<std::uint64_t, Played> played_;  ///< everyone who connected, by account
   proto::TimeUs next_sweep_at_ = 0;

@@ -103,7 +103,7 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
       [this](std::uint64_t account, std::uint32_t match_id, std::uint64_t seat) {
         release(account, match_id, seat);
       },
-      [this, id](EndedMatch ended) { match_ended(id, std::move(ended)); });
+      [this, id](EndedMatch ended) { match_ended(id, std::move(ended)); }, config_.recordings);
   std::shared_ptr<const wire::CollisionWorld> world =
       collision_world(maps_[map], match_config.movement);
   const std::lock_guard lock(mutex_);

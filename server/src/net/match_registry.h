@@ -97,6 +97,9 @@ struct MatchRegistryConfig {
   SeatLimits limits;
   /// Logs each limit's refusals once per episode; nullptr: refusals are only counted.
   EpisodeLog* episodes = nullptr;
+  /// Where the matches stream their recordings as they run; null: each hands its whole
+  /// recording over when it ends (EndedMatch::recording).
+  RecordingFiles* recordings = nullptr;
   /// The clock, in µs, that connect tokens are issued on and seat reservations run out on: the
   /// game channel's, which checks the tokens (steady_now_us). Tests pass fake time.
   std::function<proto::TimeUs()> clock = steady_now_us;

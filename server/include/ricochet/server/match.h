@@ -179,7 +179,11 @@ class Match {
   /// Runs one step with these inputs (players without one get the neutral input), as tick()
   /// would have with the inputs it applied; no snapshots are built.
   void step_recorded(std::span<const RecordedInput> inputs);
-  /// The recording so far, finished (footer written); empty when config.record is off. The
+  /// The recording's bytes completed since the last take (RecordingWriter::take_completed):
+  /// what the server appends to the file in progress. Empty when there are none or config.record
+  /// is off.
+  std::vector<std::uint8_t> take_recording_chunks();
+  /// The rest of the recording, finished (footer written); empty when config.record is off. The
   /// match keeps no recording after this.
   std::vector<std::uint8_t> take_recording();
   /// The hash recordings check: the world's state_hash() and every game rule's state (health,

@@ -4,7 +4,8 @@
 /// every N ticks to check the re-simulation against. The byte layout is in server/RECORDING.md.
 ///
 /// The Match owns a RecordingWriter that encodes into memory as the ticks go, bounded by
-/// max_bytes; the server writes the finished bytes to disk off the match thread.
+/// max_bytes; the server takes each completed chunk off the match strand and appends it to a
+/// file in progress (RecordingFiles), so a crash keeps everything up to the last chunk written.
 /// read_recording() decodes a file without trusting any of it.
 
 #include <cstddef>
@@ -91,6 +92,10 @@ struct Recording {
   std::vector<RecordedHash> hashes;  ///< increasing, each the tick of an entry of `ticks`
   bool complete = false;             ///< the footer was there: nothing is missing at the end
   bool truncated = false;            ///< the writer hit max_bytes and recorded no further ticks
+  /// complete = false: where the file stops, why, and the last tick it holds ("cut inside chunk
+  /// 12 (ticks) at byte 40960 (8 of 16397 bytes there); replayable to tick 3600").
+  std::string cut;
+  std::uint64_t cut_offset = 0;  ///< complete = false: the byte the readable part ends at
 };
 
 /// Encodes a recording into memory as the match goes. Per tick: begin_tick(), its events and
@@ -116,8 +121,12 @@ class RecordingWriter {
   const std::string& stopped_reason() const { return stopped_reason_; }
   /// Bytes encoded so far (finish() adds the last chunk's framing and the footer).
   std::size_t bytes() const;
-  /// Writes the last ticks and the footer (totals and a checksum) and returns the file. The
-  /// writer records nothing after it.
+  /// The file's bytes completed since the last take: the magic and header chunk first, then
+  /// every tick chunk once it is full (16 KiB). Empty when there are none. Appended one after
+  /// the other, and then finish(), they make the file finish() alone would have returned.
+  std::vector<std::uint8_t> take_completed();
+  /// Writes the last ticks and the footer (totals and a checksum) and returns the rest of the
+  /// file: all of it when take_completed() was never called. The writer records nothing after.
   std::vector<std::uint8_t> finish();
 
  private:
@@ -129,10 +138,11 @@ class RecordingWriter {
   void stop(std::string reason);
 
   std::size_t max_bytes_;
-  /// The file so far: magic, header chunk and the full tick chunks, in blocks of at least
-  /// kBlockBytes, each filled within the capacity it was made with.
+  /// The file so far (less what take_completed() took): magic, header chunk and the full tick
+  /// chunks, in blocks of at least kBlockBytes, each filled within the capacity it was made with.
   std::vector<std::vector<std::uint8_t>> blocks_;
-  std::size_t file_bytes_ = 0;         ///< in blocks_
+  std::size_t file_bytes_ = 0;         ///< in blocks_ and taken
+  std::size_t taken_bytes_ = 0;        ///< by take_completed()
   std::uint32_t file_crc_ = 0;         ///< CRC-32 of blocks_, for the footer
   std::vector<std::uint8_t> framed_;   ///< scratch: one framed chunk
   std::vector<std::uint8_t> chunk_;    ///< the tick chunk being filled (payload only)
@@ -161,8 +171,9 @@ struct RecordingError {
 };
 
 /// Decodes and validates a whole recording. A file cut short after its header (also inside the
-/// footer) reads as `complete = false` with every whole chunk before the cut; a cut inside the
-/// magic or the header chunk, a CRC mismatch, a bad length, count or enum is an error.
+/// footer) reads as `complete = false` with every whole chunk before the cut and `cut` saying
+/// where; a cut inside the magic or the header chunk, a CRC mismatch, a bad length, count or
+/// enum is an error.
 std::variant<Recording, RecordingError> read_recording(std::span<const std::uint8_t> bytes);
 
 }  // namespace ricochet::server
