@@ -11,16 +11,19 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <sys/mount.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ricochet/bot/bot.h"
@@ -86,6 +89,20 @@ bool every_bot(const bot::Fleet& fleet, auto holds) {
     if (!holds(*each)) return false;
   }
   return true;
+}
+
+/// `ricochet-replay --json FILE`: its exit code and what it printed.
+std::pair<int, std::string> replay(const std::filesystem::path& file) {
+  const std::string command =
+      std::string(RICOCHET_REPLAY_BINARY) + " --json '" + file.string() + "' 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string output;
+  char chunk[4096];
+  while (const std::size_t size = std::fread(chunk, 1, sizeof chunk, pipe))
+    output.append(chunk, size);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 /// PRAGMA integrity_check on the file: "ok", or what SQLite found.
@@ -207,6 +224,15 @@ TEST(Chaos, KillNineMidMatchLosesNoFinishedMatchAndBotsResumeTheirSessions) {
   // The same data directory and ports: the bots come back with their session tokens.
   server.restart();
   ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
+  // The interrupted match's recording was kept, and replays to its last whole chunk.
+  std::vector<std::filesystem::path> interrupted;
+  for (const auto& entry : std::filesystem::directory_iterator(server.data_dir() / "recordings")) {
+    if (entry.path().string().ends_with(".interrupted.rcr")) interrupted.push_back(entry.path());
+  }
+  ASSERT_EQ(interrupted.size(), 1u) << server.log();
+  const auto [code, output] = replay(interrupted.front());
+  EXPECT_EQ(code, 3) << output;  // cut short, and every hash it holds matched
+  EXPECT_NE(output.find("\"cut\""), std::string::npos) << output;
   ASSERT_TRUE(run_until(
       io, [&] { return fleet.done(); }, kReturnBudget + kMatchBudget))
       << fleet.report_json() << server.log();

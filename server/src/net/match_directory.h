@@ -63,7 +63,7 @@ enum class DirectoryErrorCode {
   InvalidRequest,  ///< a field out of range; the message names it
   TooManyMatches,  ///< the server, or the account, has its most matches open
   ShuttingDown,
-  RateLimited,  ///< over a rate limit (chat: ChatLimiter); this request was dropped
+  RateLimited,        ///< over a rate limit (chat: ChatLimiter); this request was dropped
   AddressSeatLimit,   ///< the joining address holds its most seats (all matches together)
   CreateRateLimited,  ///< matches created too fast, by the account or the whole server
 };

@@ -20,8 +20,8 @@
 
 #include <atomic>
 #include <boost/asio/io_context.hpp>
-#include <chrono>
 #include <boost/asio/steady_timer.hpp>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
