@@ -70,6 +70,8 @@ std::string_view name(DisconnectReason reason) {
       return "server_shutdown";
     case DisconnectReason::Kicked:
       return "kicked";
+    case DisconnectReason::Left:
+      return "left";
   }
   return "unknown";
 }

@@ -56,9 +56,10 @@ enum class DisconnectReason : std::uint8_t {
   ReliableOverflow,   ///< the reliable send queue passed its cap: the peer stopped acking
   ServerShutdown,     ///< the server is stopping
   Kicked,             ///< the server's application removed the client
+  Left,               ///< the player left its match (LeaveMatch on the control channel)
 };
 inline constexpr std::size_t kDisconnectReasonCount =
-    static_cast<std::size_t>(DisconnectReason::Kicked) + 1;
+    static_cast<std::size_t>(DisconnectReason::Left) + 1;
 std::string_view name(DisconnectReason reason);
 
 /// Connection states. Server side per address: Connecting → Challenged → Connected →
