@@ -128,6 +128,10 @@ Parsed<ConnectionRequest> read_connection_request(std::span<const std::uint8_t> 
   const std::size_t token_bytes = reader.u16();
   if (token_bytes != kConnectTokenBytes) return refused<ConnectionRequest>(DropReason::Malformed);
   auto token = reader.bytes(token_bytes);
+  const auto padding = reader.rest();
+  if (std::any_of(padding.begin(), padding.end(), [](std::uint8_t byte) { return byte != 0; })) {
+    return refused<ConnectionRequest>(DropReason::Malformed);
+  }
   out.value.connect_token.assign(token.begin(), token.end());
   return out;
 }

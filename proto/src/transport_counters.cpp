@@ -80,6 +80,8 @@ std::string_view name(DisconnectReason reason) {
       return "kicked";
     case DisconnectReason::HostFull:
       return "host_full";
+    case DisconnectReason::Left:
+      return "left";
   }
   return "unknown";
 }

@@ -274,6 +274,46 @@ TEST_F(ServerEndToEnd, GracefulStopTellsThePlayersAndRecordsTheMatch) {
   EXPECT_EQ(recordings[0].rfind("match-1-", 0), 0u) << recordings[0];
 }
 
+TEST(ServerStop, APlayerStillWaitingForOpponentsIsToldTheMatchEndedAndGetsItsResults) {
+  TempDir dir{"ricochet-e2e-waiting"};
+  server::ServerConfig config = test_config(dir.path());
+  config.matches.min_players = 2;  // alice alone: the match waits for an opponent
+  auto server = std::make_unique<server::Server>(config);
+  server->start();
+  auto alice = std::make_unique<Player>(server->control_port());
+  ASSERT_TRUE(alice->control.connect());
+  alice->control.sign_in("alice");
+  alice->join_and_connect(1, server->game_port());
+  alice->play_for(300ms);
+  server->stop();
+  ASSERT_TRUE(alice->game->pump_until(proto::ConnectionState::Disconnected, 5s));
+  EXPECT_EQ(alice->game->transport().disconnect_reason(), proto::DisconnectReason::ServerShutdown);
+  // Results to every player of the match, one who never played included: the match is over.
+  const auto results = alice->control.receive(3s);
+  ASSERT_TRUE(results && results->has_match_results())
+      << (results ? results->DebugString() : "nothing");
+  const wire::MatchResults& match = results->match_results();
+  EXPECT_EQ(match.match_id(), 1u);
+  EXPECT_EQ(match.mode(), "ffa");
+  EXPECT_TRUE(match.aborted());
+  EXPECT_EQ(match.end_reason(), wire::MATCH_END_REASON_SERVER_SHUTDOWN);
+  EXPECT_EQ(match.players_size(), 0);  // nobody played a running tick: nothing is recorded
+  EXPECT_EQ(server->wait(), 0);
+  server.reset();
+  const std::optional<db::PlayerStats> stats = stats_of(dir.file("ricochet.db"), "alice");
+  ASSERT_TRUE(stats);
+  EXPECT_EQ(stats->matches, 0);
+}
+
+TEST_F(ServerEndToEnd, LeavingTheMatchClosesTheGameConnectionWithTheReasonLeft) {
+  auto alice = signed_in("alice");
+  alice->join_and_connect(1, server_->game_port());
+  alice->play_for(200ms);
+  EXPECT_TRUE(alice->control.request(ControlTestClient::leave()).has_leave_match());
+  ASSERT_TRUE(alice->game->pump_until(proto::ConnectionState::Disconnected, 2s));
+  EXPECT_EQ(alice->game->transport().disconnect_reason(), proto::DisconnectReason::Left);
+}
+
 /// GET `path` from the admin port; the response body.
 std::string http_get(std::uint16_t port, const std::string& path) {
   boost::asio::io_context io;

@@ -140,6 +140,64 @@ TEST_F(TransportTest, RefusesWrongVersionAndWrongProtocol) {
   EXPECT_TRUE(server_out().empty());
 }
 
+// An ack header before anything was accepted would read as an ack of sequence 0. Neither end
+// sends one: the client's first ack-bearing packet follows the keep-alive or payload that
+// connected it, the server's follows the response it accepted; and each end's sequence 0 (the
+// client's first response, the server's first keep-alive) carries no reliable message.
+TEST_F(TransportTest, EveryAckHeaderNamesAPacketItsSenderAccepted) {
+  const ClientConnectInfo info = sim::connect_info(5, 1, kT0);
+  GameClient client(info, kT0);
+  server->receive(kAlice, client_out(client)[0].bytes, kT0);
+  client.receive(kServerAddress, server_out()[0].bytes, kT0);
+  ASSERT_EQ(client.state(), ConnectionState::SendingResponse);
+  // Messages queued before the connection wait for it; leaving now sends nothing.
+  ASSERT_TRUE(client.send_reliable(std::vector<std::uint8_t>{1, 2, 3}, kT0));
+  const auto response = client_out(client);
+  ASSERT_EQ(response.size(), 1u);
+  EXPECT_EQ(response[0].bytes[0], static_cast<std::uint8_t>(PacketType::Response));
+  EXPECT_EQ(read_encrypted_header(response[0].bytes).value.sequence, 0u);
+
+  server->receive(kAlice, response[0].bytes, kT0);
+  const auto keep_alive = server_out();
+  ASSERT_EQ(keep_alive.size(), 1u);
+  const auto header = read_encrypted_header(keep_alive[0].bytes);
+  ASSERT_TRUE(header.ok());
+  EXPECT_EQ(header.value.type, PacketType::KeepAlive);
+  EXPECT_EQ(header.value.sequence, 0u);
+  std::vector<std::uint8_t> body;
+  ASSERT_TRUE(open_packet(keep_alive[0].bytes, kTestProtocolId, info.grant.server_to_client, body));
+  const auto ack = read_keep_alive_body(body);
+  ASSERT_TRUE(ack.ok());
+  EXPECT_EQ(ack.value, (AckHeader{0, 0}));  // names the response, which the server accepted
+
+  client.receive(kServerAddress, keep_alive[0].bytes, kT0);
+  ASSERT_EQ(client.state(), ConnectionState::Connected);
+  client.update(kT0 + kMicrosPerSecond / 100);
+  const auto first = client_out(client);
+  ASSERT_FALSE(first.empty());
+  const auto payload_header = read_encrypted_header(first[0].bytes);
+  EXPECT_EQ(payload_header.value.type, PacketType::Payload);  // the queued message, sequence 1
+  EXPECT_EQ(payload_header.value.sequence, 1u);
+
+  GameClient early(sim::connect_info(6, 1, kT0), kT0);
+  server->receive(kMallory, client_out(early)[0].bytes, kT0);
+  early.receive(kServerAddress, server_out()[0].bytes, kT0);
+  ASSERT_EQ(early.state(), ConnectionState::SendingResponse);
+  ASSERT_EQ(client_out(early).size(), 1u);  // its response
+  early.disconnect(kT0);
+  EXPECT_TRUE(client_out(early).empty()) << "nothing accepted yet: no disconnect packet";
+}
+
+TEST_F(TransportTest, RefusesARequestWhosePaddingIsNotZeroWithoutAnswering) {
+  const auto info = sim::connect_info(1, 1, kT0);
+  auto request = write_connection_request(kTestProtocolId, info.grant.connect_token);
+  request.back() = 0xFF;
+  server->receive(kMallory, request, kT0);
+  EXPECT_EQ(drops(DropReason::Malformed), 1u);
+  EXPECT_TRUE(server_out().empty());
+  EXPECT_EQ(server->counters().half_open, 0u);
+}
+
 TEST_F(TransportTest, RefusesForgedExpiredAndMalformedTokens) {
   auto info = sim::connect_info(1, 1, kT0, 2 * kMicrosPerSecond);
   auto forged = info.grant.connect_token;

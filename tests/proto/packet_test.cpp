@@ -46,6 +46,17 @@ TEST(ConnectionRequest, RefusesWrongSizesVersionAndTokenLength) {
   EXPECT_EQ(read_connection_request(token_length).error, DropReason::Malformed);
 }
 
+TEST(ConnectionRequest, RefusesPaddingThatIsNotZero) {
+  const auto bytes = write_connection_request(kProtocol, some_token());
+  const std::size_t padding_at = 1 + kVersionBytes + 8 + 2 + kConnectTokenBytes;
+  ASSERT_LT(padding_at, bytes.size());
+  for (std::size_t at : {padding_at, (padding_at + bytes.size()) / 2, bytes.size() - 1}) {
+    auto padded = bytes;
+    padded[at] = 0x01;
+    EXPECT_EQ(read_connection_request(padded).error, DropReason::Malformed) << "byte " << at;
+  }
+}
+
 TEST(EncryptedPacket, SealsAndOpensWithTheSameKeyAndProtocolOnly) {
   const std::vector<std::uint8_t> body = {1, 2, 3, 4, 5, 6, 7};
   const auto packet = seal_packet(PacketType::KeepAlive, 77, kProtocol, kKey, body);

@@ -348,6 +348,18 @@ TEST_F(ExplosionTest, ZeroRadiusWeaponReachesNobody) {
   EXPECT_TRUE(explode(Vec3::Zero(), std::span(&target, 1)).empty());
 }
 
+TEST(ExplosionSpeedCap, KeepsTheDirectionAndNeverPassesTheCapOrSlowsAFasterBody) {
+  const Vec3 still = Vec3::Zero();
+  EXPECT_EQ(capped_explosion_velocity(still, Vec3(3, 4, 0), 64), Vec3(3, 4, 0));
+  const Vec3 capped = capped_explosion_velocity(still, Vec3(0, 300, 400), 64);
+  EXPECT_NEAR(capped.norm(), 64, 1e-4);
+  EXPECT_NEAR(capped.y() / capped.z(), 0.75, 1e-6);
+  // Already faster than the cap (a long fall): the push may turn it but not speed it up.
+  const Vec3 falling(0, -80, 0);
+  EXPECT_NEAR(capped_explosion_velocity(falling, Vec3(100, -80, 0), 64).norm(), 80, 1e-4);
+  EXPECT_EQ(capped_explosion_velocity(falling, Vec3(0, -70, 0), 64), Vec3(0, -70, 0));
+}
+
 TEST_F(ExplosionTest, RocketAgainstWallExplodesOffTheSurfaceAndPushesShooterBack) {
   physics::BoxDef wall;
   wall.center = Vec3(0, 2, -3);

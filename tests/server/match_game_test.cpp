@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
 
+#include "ricochet/proto/entity_flags.h"
 #include "ricochet/server/match.h"
 
 namespace ricochet::server {
@@ -371,6 +373,40 @@ TEST_F(GameFixture, GrenadeBouncesAndExplodesOnItsFuseButNotThroughAWall) {
   step(static_cast<int>(fuse) + 2);
   EXPECT_EQ(match().counters().explosions, 1u);
   EXPECT_EQ(health(2), 100);  // behind the wall
+}
+
+TEST_F(GameFixture, ExplosionsNeverPushABodyFasterThanSnapshotsShow) {
+  // Grenades lobbed straight up 0.6 s apart fall back along one line: each explodes on its fuse
+  // about a metre from the next one, which a 500 N·s blast would send off at hundreds of m/s
+  // (a grenade is 0.4 kg). Snapshots show at most max_speed_mps per axis: a blast may push a
+  // body up to that speed, and only gravity (g·dt a tick) may take it past.
+  start();
+  Script& alice = join(1, "alice");
+  step(10);
+  alice.input.set_pitch(1.55f);
+  alice.input.set_weapon_slot(3);
+  alice.input.set_buttons(proto::kButtonFire);
+  const float cap = match().config().quantization.max_speed_mps;
+  const float gravity_per_tick = 9.81f / 60;
+  std::map<std::uint32_t, float> speed_before;  // by grenade entity, at the previous tick
+  float fastest = 0;
+  for (int k = 0; k < 8 * 60; ++k) {
+    step(1);
+    std::map<std::uint32_t, float> speed;
+    for (const proto::EntityState& state : match().entity_states()) {
+      if (proto::entity_kind(state.flags) != proto::EntityKind::Grenade) continue;
+      const auto& v = state.velocity_mps;
+      speed[state.id] = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      fastest = std::max(fastest, speed[state.id]);
+      const auto before = speed_before.find(state.id);
+      const float allowed = std::max(cap, before == speed_before.end() ? 0.0f : before->second) +
+                            gravity_per_tick + 0.01f;
+      EXPECT_LE(speed[state.id], allowed) << "grenade " << state.id << " at tick " << k;
+    }
+    speed_before = std::move(speed);
+  }
+  EXPECT_GE(match().counters().explosions, 8u);
+  EXPECT_GT(fastest, 0.9f * cap);  // the blasts did push grenades, up to the cap
 }
 
 // --- pickups and hazards ---

@@ -146,6 +146,13 @@ void explosion_effects(const physics::World& world, const Vec3& center_m,
   }
 }
 
+Vec3 capped_explosion_velocity(const Vec3& before, const Vec3& pushed, Real cap_mps) {
+  const Real limit = std::max(cap_mps, before.norm());
+  const Real speed = pushed.norm();
+  if (!(speed > limit)) return pushed;
+  return pushed * (limit / speed);
+}
+
 const char* name(Violation violation) {
   switch (violation) {
     case Violation::TurnRate:

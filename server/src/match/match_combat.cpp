@@ -119,12 +119,21 @@ void explode(Game& game, const Projectile& shot, const physics::Vec3& center_m) 
   explosion_effects(game.world, center_m, weapon, game.combat.explosion_targets,
                     game.combat.explosion_effects);
   Player* attacker = game.roster.find_entity(shot.owner_entity);  // null when it left the match
+  const physics::Real cap_mps = game.config.quantization.max_speed_mps;
   bool hit_someone = false;
   for (const ExplosionEffect& effect : game.combat.explosion_effects) {
     const ExplosionTarget& target = game.combat.explosion_targets[effect.target];
+    const physics::Vec3 before = game.world.body_state(target.body).value().linear_velocity;
     [[maybe_unused]] const physics::Status pushed =
         game.world.apply_impulse(target.body, effect.impulse_ns, target.center_m);
     assert(pushed.ok());
+    const physics::Vec3 after = game.world.body_state(target.body).value().linear_velocity;
+    const physics::Vec3 capped = capped_explosion_velocity(before, after, cap_mps);
+    if (capped != after) {
+      [[maybe_unused]] const physics::Status slowed =
+          game.world.set_linear_velocity(target.body, capped);
+      assert(slowed.ok());
+    }
     Player* victim = game.roster.find_entity(game.combat.explosion_entities[effect.target]);
     if (!victim || !victim->alive || effect.damage <= 0) continue;
     const int taken = hurt(game, *victim, attacker, shot.weapon, effect.damage);

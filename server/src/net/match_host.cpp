@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <boost/asio/as_tuple.hpp>
 #include <boost/asio/co_spawn.hpp>
 #include <boost/asio/detached.hpp>
@@ -101,6 +102,10 @@ EndedMatch MatchHost::ended_match(bool aborted) {
   ended.end_reason = match_.end_reason();
   // A match nobody ever joined has nothing to replay; its recording is not kept.
   if (!played_.empty()) ended.recording = match_.take_recording();
+  for (const auto& [account, played] : played_) {
+    if (played.seated) ended.seated.push_back(account);
+  }
+  std::sort(ended.seated.begin(), ended.seated.end());
   db::MatchRecord& record = ended.record;
   record.map = map_name_;
   record.mode = server::name(mode_);

@@ -53,6 +53,9 @@ struct EndedMatch {
   std::uint32_t id = 0;
   db::MatchRecord record;              ///< players empty when nobody played; aborted when stopped
   std::vector<std::string> usernames;  ///< one per record.players entry
+  /// Every account still seated when it ended, in the record or not (one who only waited for
+  /// opponents is not): each gets the match's MatchResults.
+  std::vector<std::uint64_t> seated;
   wire::MatchEndReason end_reason = wire::MATCH_END_REASON_SERVER_SHUTDOWN;
   /// The finished recording, less what was streamed to RecordingFiles::part_name(id,
   /// record.started_ms) while it ran; empty when recording is off or nobody ever joined.

@@ -299,9 +299,9 @@ DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account, std::uint64_t 
     seats_.erase(seat);
     issued_tokens_.erase(account);
   }
-  // Kicked now, not from the match's strand: a connection made after a quick rejoin must not be
+  // Closed now, not from the match's strand: a connection made after a quick rejoin must not be
   // the one a late kick finds.
-  channel_.kick(account, proto::DisconnectReason::Kicked);
+  channel_.kick(account, proto::DisconnectReason::Left);
   host->leave(account);
   return Done{};
 }

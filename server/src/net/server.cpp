@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/system/system_error.hpp>
 #include <chrono>
@@ -238,8 +239,9 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));
   matches_ = std::make_unique<MatchRegistry>(
       io_, std::move(registry), std::move(maps), *game_, [this](EndedMatch match) {
-        finish_match(std::move(match), [this](std::optional<wire::MatchResults> results) {
-          if (results) send_results(*results);
+        finish_match(std::move(match), [this](std::optional<wire::MatchResults> results,
+                                              const std::vector<std::uint64_t>& recipients) {
+          if (results) send_results(*results, recipients);
         });
       });
   control_ = std::make_unique<ControlServer>(io_, control_config(config_), *db_, *matches_);
@@ -432,16 +434,21 @@ void Server::end_matches(Clock::time_point deadline) {
     ended.push_back(promise->get_future());
     host->end([promise](EndedMatch match) { promise->set_value(std::move(match)); });
   }
-  std::vector<std::future<std::optional<wire::MatchResults>>> written;
+  struct Written {
+    std::optional<wire::MatchResults> results;
+    std::vector<std::uint64_t> recipients;
+  };
+  std::vector<std::future<Written>> written;
   for (auto& future : ended) {
     if (!wait_until(future, deadline)) {
       spdlog::warn("stopping: a match did not hand over its record in time; it is not written");
       continue;
     }
-    auto promise = std::make_shared<std::promise<std::optional<wire::MatchResults>>>();
+    auto promise = std::make_shared<std::promise<Written>>();
     written.push_back(promise->get_future());
-    finish_match(future.get(), [promise](std::optional<wire::MatchResults> results) {
-      promise->set_value(std::move(results));
+    finish_match(future.get(), [promise](std::optional<wire::MatchResults> results,
+                                         const std::vector<std::uint64_t>& recipients) {
+      promise->set_value(Written{std::move(results), recipients});
     });
   }
   // Every player hears its results over the control channel before it closes.
@@ -450,19 +457,25 @@ void Server::end_matches(Clock::time_point deadline) {
       spdlog::warn("stopping: a match record was not written in time; its players get no results");
       continue;
     }
-    if (const std::optional<wire::MatchResults> results = future.get()) send_results(*results);
+    const Written done = future.get();
+    if (done.results) send_results(*done.results, done.recipients);
   }
 }
 
-void Server::finish_match(EndedMatch match,
-                          std::function<void(std::optional<wire::MatchResults>)> done) {
+void Server::finish_match(EndedMatch match, ResultsHandler done) {
   if (!match.recording.empty()) {
     recordings_->finish(RecordingFiles::part_name(match.id, match.record.started_ms),
                         RecordingFiles::file_name(match.id, match.record.ended_ms),
                         std::move(match.recording));
   }
   if (match.record.players.empty()) {
-    done(std::nullopt);
+    // Nobody played (those seated only waited for opponents): nothing to record, but whoever
+    // was seated hears that the match is over.
+    if (match.seated.empty()) {
+      done(std::nullopt, {});
+      return;
+    }
+    done(results_header(match), match.seated);
     return;
   }
   match.recording.clear();
@@ -488,7 +501,7 @@ bool worth_retrying(db::DbErrorCode code) {
 }  // namespace
 
 void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt,
-                          std::function<void(std::optional<wire::MatchResults>)> done) {
+                          ResultsHandler done) {
   db_->submit(
       [match](db::DbServices& services) { return record(*match, services); },
       [](std::function<void()> completion) { completion(); },  // runs on the DB thread
@@ -498,7 +511,7 @@ void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt,
             spdlog::info("match {}: its record was written at attempt {}", match->id, attempt);
             records_pending_.fetch_sub(1);
           }
-          done(std::move(result).value());
+          done(std::move(result).value(), match->seated);
           return;
         }
         const db::DbError& error = result.error();
@@ -507,7 +520,7 @@ void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt,
                         stopping_.load() ? " while stopping" : "", error.message);
           if (attempt > 1) records_pending_.fetch_sub(1);
           records_lost_.fetch_add(1);
-          done(std::nullopt);
+          done(std::nullopt, match->seated);
           return;
         }
         if (attempt == 1) records_pending_.fetch_add(1);
@@ -526,21 +539,24 @@ void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt,
       });
 }
 
-void Server::send_results(const wire::MatchResults& results) {
+void Server::send_results(const wire::MatchResults& results,
+                          const std::vector<std::uint64_t>& recipients) {
+  // The players in the record (some may have left before the end) and everyone still seated.
+  std::vector<std::uint64_t> accounts = recipients;
   for (const wire::PlayerMatchResult& player : results.players()) {
+    accounts.push_back(player.account_id());
+  }
+  std::sort(accounts.begin(), accounts.end());
+  accounts.erase(std::unique(accounts.begin(), accounts.end()), accounts.end());
+  for (const std::uint64_t account : accounts) {
     wire::ServerMessage message;
     *message.mutable_match_results() = results;
-    control_->send_to_account(player.account_id(), std::move(message));
+    control_->send_to_account(account, std::move(message));
   }
 }
 
-db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbServices& services) {
+wire::MatchResults Server::results_header(const EndedMatch& match) {
   const db::MatchRecord& record = match.record;
-  auto recorded = services.matches.record_match(record);
-  if (!recorded) return recorded.error();
-  const std::vector<db::PlayerOutcome>& outcomes = recorded.value().outcomes;
-  spdlog::info("match {} recorded as {} ({} players, {}{})", match.id, recorded.value().id,
-               record.players.size(), record.mode, record.aborted ? ", aborted" : "");
   wire::MatchResults results;
   results.set_match_id(match.id);
   results.set_map(record.map);
@@ -555,6 +571,17 @@ db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbS
       out.set_score(score);
     }
   }
+  return results;
+}
+
+db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbServices& services) {
+  const db::MatchRecord& record = match.record;
+  auto recorded = services.matches.record_match(record);
+  if (!recorded) return recorded.error();
+  const std::vector<db::PlayerOutcome>& outcomes = recorded.value().outcomes;
+  spdlog::info("match {} recorded as {} ({} players, {}{})", match.id, recorded.value().id,
+               record.players.size(), record.mode, record.aborted ? ", aborted" : "");
+  wire::MatchResults results = results_header(match);
   for (std::size_t i = 0; i < record.players.size(); ++i) {
     const db::PlayerResult& player = record.players[i];
     auto rank = services.matches.rank_of(player.account, db::LeaderboardKind::Rating);

@@ -57,6 +57,10 @@ class RecordingFiles;
 
 class Server {
  public:
+  /// A match's results (none when its record could not be written) and the accounts to tell.
+  using ResultsHandler = std::function<void(std::optional<wire::MatchResults>,
+                                            const std::vector<std::uint64_t>& recipients)>;
+
   /// Throws std::runtime_error with what went wrong (DB, map, TLS identity, config).
   explicit Server(ServerConfig config);
   ~Server();
@@ -89,15 +93,19 @@ class Server {
   void shut_down();
   void end_matches(std::chrono::steady_clock::time_point deadline);
   /// Any thread: the recording to its file, the record to the DB thread; `done` runs on the DB
-  /// thread with the results (nothing when nobody played or the DB refused the record).
-  void finish_match(EndedMatch match, std::function<void(std::optional<wire::MatchResults>)> done);
+  /// thread with the results and who gets them (nothing when the DB refused the record). A
+  /// match nobody played in is not recorded: its results, with no players, go to whoever was
+  /// seated (nothing when nobody was).
+  void finish_match(EndedMatch match, ResultsHandler done);
   /// Submits the record; a write that failed for a passing reason (disk full, database
   /// locked) is kept and submitted again after kRecordRetryFirst, doubling up to
   /// kRecordRetryLast, until it is written or the server stops. `done` runs once.
-  void write_record(std::shared_ptr<const EndedMatch> match, int attempt,
-                    std::function<void(std::optional<wire::MatchResults>)> done);
-  /// Each player of the match its MatchResults over the control channel.
-  void send_results(const wire::MatchResults& results);
+  void write_record(std::shared_ptr<const EndedMatch> match, int attempt, ResultsHandler done);
+  /// The match's MatchResults over the control channel to each of `recipients`.
+  void send_results(const wire::MatchResults& results,
+                    const std::vector<std::uint64_t>& recipients);
+  /// The results of `match` without its players: id, map, mode, how it ended, team scores.
+  static wire::MatchResults results_header(const EndedMatch& match);
   /// On the DB thread: writes one ended match and reads back its players' ratings.
   static db::DbResult<wire::MatchResults> record(const EndedMatch& match, db::DbServices& services);
   void register_metrics();

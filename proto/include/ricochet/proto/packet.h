@@ -70,8 +70,9 @@ struct ConnectionRequest {
 };
 std::vector<std::uint8_t> write_connection_request(std::uint64_t protocol_id,
                                                    std::span<const std::uint8_t> connect_token);
-/// Checks size (exactly kConnectionRequestBytes), version and the token length field. The
-/// protocol id is returned, not checked: the caller knows which one it serves.
+/// Checks size (exactly kConnectionRequestBytes), version, the token length field and that the
+/// padding after the token is all zero (else Malformed). The protocol id is returned, not
+/// checked: the caller knows which one it serves.
 Parsed<ConnectionRequest> read_connection_request(std::span<const std::uint8_t> datagram);
 
 struct EncryptedHeader {

@@ -61,9 +61,10 @@ enum class DisconnectReason : std::uint8_t {
   ServerShutdown,     ///< the server is stopping
   Kicked,             ///< the server's application removed the client
   HostFull,           ///< denied: too many clients from the client's host (host_key)
+  Left,               ///< the player left its match (LeaveMatch on the control channel)
 };
 inline constexpr std::size_t kDisconnectReasonCount =
-    static_cast<std::size_t>(DisconnectReason::HostFull) + 1;
+    static_cast<std::size_t>(DisconnectReason::Left) + 1;
 std::string_view name(DisconnectReason reason);
 
 /// Connection states. Server side per address: Connecting → Challenged → Connected →

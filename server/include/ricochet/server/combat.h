@@ -101,6 +101,15 @@ void explosion_effects(const physics::World& world, const physics::Vec3& center_
                        const WeaponConfig& weapon, std::span<const ExplosionTarget> targets,
                        std::vector<ExplosionEffect>& out);
 
+/// The velocity a body keeps after an explosion pushed it from `before` to `pushed` (m/s):
+/// `pushed`, scaled down along its direction to the larger of `cap_mps` and the speed before
+/// when it is faster than both. An explosion then never makes a body faster than the cap (the
+/// match gives its snapshots' max_speed_mps, so clients see what the server simulates: a 0.4 kg
+/// grenade would otherwise leave a 500 N·s blast at over 1000 m/s) and never slows a body that
+/// was already faster.
+physics::Vec3 capped_explosion_velocity(const physics::Vec3& before, const physics::Vec3& pushed,
+                                        physics::Real cap_mps);
+
 // --- input checks ---
 
 /// What a player's inputs claim beyond what a person can do; the match counts and logs them.
