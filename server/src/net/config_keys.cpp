@@ -186,8 +186,9 @@ const std::array kKeys = {
     Key{.section = "db",
         .name = "password_thread_nice",
         .flag = "--password-thread-nice",
-        .help = "nice value of the Argon2id password threads (19: lowest priority), so a "
-                "sign-in storm takes the cores the match ticks leave, not the ones they need",
+        .help = "nice value of the Argon2id password threads (19: lowest priority): a sign-in "
+                "storm takes the cores the match ticks leave; 10 gives a hash about a tenth of a "
+                "core a tick also wants",
         .integer = &integer_of<&S::db, &DbConfig::password_thread_nice>,
         .min = 0,
         .max = 19},

@@ -86,7 +86,10 @@ struct DbWorkerOptions {
   std::size_t max_queued_hashes = 64;
   int password_threads = 1;  ///< each Argon2id interactive hash holds 64 MiB while it runs
   /// Nice value of the password threads (Linux, per thread; 0..19, 19 the lowest priority).
-  int password_nice = 19;
+  /// At 10 (CFS weight 110 against 1024) a hash gets about a tenth of a core a busy nice-0
+  /// thread (a match tick) also wants, and the tick preempts it when it wakes; 19 would starve
+  /// logins for as long as anything else keeps the cores busy.
+  int password_nice = 10;
 };
 
 class DbWorker {

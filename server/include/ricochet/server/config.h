@@ -46,7 +46,7 @@ struct DbConfig {
   PasswordHashing password_hashing = PasswordHashing::Interactive;
   // --- abuse limits of accounts (issue 29) ---
   int registrations_per_hour_per_address = 10;  ///< an IPv4 address or IPv6 /64, in the database
-  int password_thread_nice = 19;  ///< nice of the Argon2id threads (0..19): the ticks come first
+  int password_thread_nice = 10;  ///< nice of the Argon2id threads (0..19): the ticks come first
 };
 
 /// [tls]
