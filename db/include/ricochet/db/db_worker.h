@@ -82,8 +82,9 @@ struct DbWorkerOptions {
   MatchesOptions matches;
   std::size_t max_queued = 10'000;  ///< per queue (DB jobs, login password checks)
   /// Registrations and password changes waiting for a password thread (each ~100 ms of Argon2id
-  /// at interactive cost); more are refused with QueueFull at once.
-  std::size_t max_queued_hashes = 64;
+  /// at interactive cost: 256 are ~26 s of one thread's work); more are refused with QueueFull
+  /// at once. A 200-bot load test on a fresh database registers them all.
+  std::size_t max_queued_hashes = 256;
   int password_threads = 1;  ///< each Argon2id interactive hash holds 64 MiB while it runs
   /// Nice value of the password threads (Linux, per thread; 0..19, 19 the lowest priority).
   /// At 10 (CFS weight 110 against 1024) a hash gets about a tenth of a core a busy nice-0
