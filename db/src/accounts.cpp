@@ -34,10 +34,21 @@ Accounts::Accounts(Store& store, AccountsOptions options)
 
 // --- register ---
 
-DbStatus Accounts::check_registration(std::string_view username, std::string_view password) {
+DbStatus Accounts::check_registration(std::string_view username, std::string_view password,
+                                      std::string_view address, UnixMillis now) {
   if (DbStatus s = check_username(username); !s.ok()) return refusals_(s);
-  return refusals_(
-      check_password_length(password.size(), options_.min_password_length, "password"));
+  if (DbStatus s = check_password_length(password.size(), options_.min_password_length, "password");
+      !s.ok())
+    return refusals_(s);
+  // A taken name costs no hash and no place in the address's limit (insert_account checks again).
+  DbResult<std::optional<AccountCredentials>> taken =
+      store_.find_account_by_key(username_key(username));
+  if (!taken.ok()) return refusals_(DbStatus(taken.error()));
+  if (taken.value())
+    return refusals_(
+        DbStatus(error(DbErrorCode::DuplicateUsername,
+                       "username '" + printable(username) + "' is taken (ignoring case)")));
+  return refusals_(admit_registration(store_, options_, address, now));
 }
 
 DbResult<std::string> Accounts::hash_new_password(std::string_view password) const {
@@ -55,8 +66,8 @@ DbResult<AccountId> Accounts::finish_registration(std::string_view username,
 }
 
 DbResult<AccountId> Accounts::register_account(std::string_view username, std::string_view password,
-                                               UnixMillis now) {
-  if (DbStatus s = check_registration(username, password); !s.ok()) return s.error();
+                                               std::string_view address, UnixMillis now) {
+  if (DbStatus s = check_registration(username, password, address, now); !s.ok()) return s.error();
   return finish_registration(username, hash_new_password(password), now);
 }
 
@@ -72,7 +83,8 @@ DbResult<Accounts::LoginAttempt> Accounts::begin_login(std::string_view username
   if (!admitted.ok()) return refusals_(R(admitted.error()));
   LoginAttempt attempt;
   attempt.username = std::string(username);
-  attempt.address_failure = admitted.value();
+  attempt.address = std::string(address);
+  attempt.noted_failures = std::move(admitted).value();
   if (check_username(username).ok()) {
     DbResult<std::optional<AccountCredentials>> lookup =
         store_.find_account_by_key(username_key(username));
@@ -108,7 +120,9 @@ DbResult<LoginResult> Accounts::finish_login(const LoginAttempt& attempt,
   result.account = account.id;
   result.expires_ms = now + options_.session_lifetime_ms;
   R written = refusals_(atomically(store_, [&]() -> R {
-    if (DbStatus s = forgive_login(store_, attempt.username, attempt.address_failure); !s.ok())
+    if (DbStatus s =
+            forgive_login(store_, attempt.username, attempt.address, attempt.noted_failures);
+        !s.ok())
       return s.error();
     if (!check.upgraded_hash.empty()) {
       if (DbStatus s = store_.set_password_hash(account.id, check.upgraded_hash); !s.ok())
@@ -119,6 +133,8 @@ DbResult<LoginResult> Accounts::finish_login(const LoginAttempt& attempt,
         !s.ok())
       return s.error();
     if (DbStatus s = store_.set_last_login(account.id, now); !s.ok()) return s.error();
+    if (DbResult<std::int64_t> pruned = store_.delete_expired_sessions(now); !pruned.ok())
+      return pruned.error();
     return result;
   }));
   if (written.ok()) ++counters_.logins;

@@ -29,6 +29,8 @@ bool answers(ClientMessageKind kind, Body body) {
       return body == wire::ServerMessage::kChat;
     case ClientMessageKind::Ping:
       return body == wire::ServerMessage::kPong;
+    case ClientMessageKind::Logout:
+      return body == wire::ServerMessage::kLogout;
   }
   return false;
 }
@@ -204,6 +206,9 @@ void ControlClient::on_reply(const wire::ServerMessage& message) {
       break;
     case wire::ServerMessage::kLeaveMatch:
       machine_.transition(ControlState::Authenticated, "left the match");
+      break;
+    case wire::ServerMessage::kLogout:
+      machine_.transition(ControlState::Unauthenticated, "logged out");
       break;
     case wire::ServerMessage::kError:
       if (request.kind == ClientMessageKind::LeaveMatch &&

@@ -46,7 +46,7 @@ class AccountsTest : public ::testing::Test {
   }
   Accounts& accounts() { return *accounts_; }
   AccountId register_ok(const std::string& name, const std::string& password = "correct horse") {
-    return must(accounts().register_account(name, password, kT0), "register_account");
+    return must(accounts().register_account(name, password, "", kT0), "register_account");
   }
   std::uint64_t errors(DbErrorCode code) const { return accounts_->refusals().count(code); }
 
@@ -111,33 +111,34 @@ TEST_F(AccountsTest, UsernameRules) {
       "name!", "émile", std::string("nul\0byte", 8), "semi;colon",
       "quote'"};
   for (const std::string& bad : bad_names) {
-    EXPECT_TRUE(fails_with(accounts().register_account(bad, "correct horse", kT0),
+    EXPECT_TRUE(fails_with(accounts().register_account(bad, "correct horse", "", kT0),
                            DbErrorCode::InvalidUsername))
         << "'" << bad << "'";
   }
   for (const std::string good : {"abc", "abcdefghijklmnopqrstuvwx", "a_b-c.d", "ZZ9"}) {
-    EXPECT_TRUE(accounts().register_account(good, "correct horse", kT0).ok()) << good;
+    EXPECT_TRUE(accounts().register_account(good, "correct horse", "", kT0).ok()) << good;
   }
   EXPECT_EQ(errors(DbErrorCode::InvalidUsername), 9u);
 }
 
 TEST_F(AccountsTest, UsernamesAreUniqueIgnoringCase) {
   register_ok("Alice");
-  EXPECT_TRUE(fails_with(accounts().register_account("alice", "correct horse", kT0),
+  EXPECT_TRUE(fails_with(accounts().register_account("alice", "correct horse", "", kT0),
                          DbErrorCode::DuplicateUsername));
-  EXPECT_TRUE(fails_with(accounts().register_account("ALICE", "correct horse", kT0),
+  EXPECT_TRUE(fails_with(accounts().register_account("ALICE", "correct horse", "", kT0),
                          DbErrorCode::DuplicateUsername));
   EXPECT_TRUE(accounts().login("aLiCe", "correct horse", "", kT0).ok());
   EXPECT_EQ(errors(DbErrorCode::DuplicateUsername), 2u);
 }
 
 TEST_F(AccountsTest, PasswordRules) {
-  EXPECT_TRUE(fails_with(accounts().register_account("erin", "", kT0), DbErrorCode::EmptyPassword));
-  EXPECT_TRUE(fails_with(accounts().register_account("erin", "1234567", kT0),
+  EXPECT_TRUE(
+      fails_with(accounts().register_account("erin", "", "", kT0), DbErrorCode::EmptyPassword));
+  EXPECT_TRUE(fails_with(accounts().register_account("erin", "1234567", "", kT0),
                          DbErrorCode::PasswordTooShort));
-  EXPECT_TRUE(fails_with(accounts().register_account("erin", std::string(1025, 'x'), kT0),
+  EXPECT_TRUE(fails_with(accounts().register_account("erin", std::string(1025, 'x'), "", kT0),
                          DbErrorCode::PasswordTooLong));
-  EXPECT_TRUE(accounts().register_account("erin", "12345678", kT0).ok());
+  EXPECT_TRUE(accounts().register_account("erin", "12345678", "", kT0).ok());
   EXPECT_TRUE(fails_with(accounts().login("erin", std::string(5000, 'x'), "", kT0),
                          DbErrorCode::PasswordTooLong));
 }
@@ -255,26 +256,121 @@ TEST_F(AccountsTest, ALoginFailingHalfWayLeavesNoSessionAndNoUpgradedHash) {
   EXPECT_EQ(query_one(path_, "SELECT password_hash FROM accounts"), hash);
 }
 
-TEST_F(AccountsTest, FailedLoginsPerAccountAreRateLimited) {
+TEST_F(AccountsTest, FailedLoginsFromAllAddressesTogetherAreCappedPerAccount) {
   AccountsOptions o = fast_options();
   o.per_account = {3, 10'000};
   open(o);
   register_ok("mallory");
   for (int i = 0; i < 3; ++i) {
-    EXPECT_TRUE(fails_with(accounts().login("mallory", "guess", "", kT0 + i),
+    const std::string address = "10.0.0." + std::to_string(i + 1);
+    EXPECT_TRUE(fails_with(accounts().login("mallory", "guess", address, kT0 + i),
                            DbErrorCode::WrongCredentials));
   }
   const std::uint64_t checks = password_verifications();
-  // Now even the right password is refused, and no hash is computed for it.
-  EXPECT_TRUE(fails_with(accounts().login("MALLORY", "correct horse", "", kT0 + 5),
+  // Now even the right password is refused, from a fresh address too, and no hash is computed.
+  EXPECT_TRUE(fails_with(accounts().login("MALLORY", "correct horse", "10.0.0.9", kT0 + 5),
                          DbErrorCode::RateLimited));
   EXPECT_EQ(password_verifications(), checks);
   // Once the oldest failure leaves the 10 s window, one more attempt is allowed.
-  EXPECT_TRUE(accounts().login("mallory", "correct horse", "", kT0 + 10'001).ok());
-  // A success clears the account's failures.
-  EXPECT_TRUE(fails_with(accounts().login("mallory", "guess", "", kT0 + 10'002),
-                         DbErrorCode::WrongCredentials));
-  EXPECT_TRUE(accounts().login("mallory", "correct horse", "", kT0 + 10'003).ok());
+  EXPECT_TRUE(accounts().login("mallory", "correct horse", "10.0.0.9", kT0 + 10'001).ok());
+}
+
+TEST_F(AccountsTest, AGuesserFromOneAddressDoesNotLockTheOwnerOut) {
+  register_ok("victim");  // the default limits
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_TRUE(fails_with(accounts().login("victim", "guess", "198.51.100.7", kT0 + i),
+                           DbErrorCode::WrongCredentials));
+  }
+  const std::uint64_t checks = password_verifications();
+  EXPECT_TRUE(fails_with(accounts().login("victim", "correct horse", "198.51.100.7", kT0 + 10),
+                         DbErrorCode::RateLimited));
+  EXPECT_EQ(password_verifications(), checks);
+  // The owner, from its own address, at once; and from no address at all (a trusted caller).
+  EXPECT_TRUE(accounts().login("victim", "correct horse", "203.0.113.5", kT0 + 11).ok());
+  EXPECT_TRUE(accounts().login("victim", "correct horse", "", kT0 + 12).ok());
+  // The owner's success does not forgive the guesser.
+  EXPECT_TRUE(fails_with(accounts().login("victim", "guess", "198.51.100.7", kT0 + 13),
+                         DbErrorCode::RateLimited));
+}
+
+TEST_F(AccountsTest, TheGuessersLimitBacksOff) {
+  AccountsOptions o = fast_options();
+  o.per_account_address = {{2, 1'000}, {4, 100'000}};
+  open(o);
+  register_ok("victim");
+  const auto guess = [&](UnixMillis at) {
+    return accounts().login("victim", "guess", "198.51.100.7", at);
+  };
+  EXPECT_TRUE(fails_with(guess(kT0), DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(fails_with(guess(kT0), DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(fails_with(guess(kT0 + 999), DbErrorCode::RateLimited));  // wait 1 s
+  EXPECT_TRUE(fails_with(guess(kT0 + 1'000), DbErrorCode::WrongCredentials));
+  EXPECT_TRUE(fails_with(guess(kT0 + 1'000), DbErrorCode::WrongCredentials));
+  // Four failures: now the wait is the second step's, 100 s from the first failure.
+  EXPECT_TRUE(fails_with(guess(kT0 + 2'000), DbErrorCode::RateLimited));
+  EXPECT_TRUE(fails_with(guess(kT0 + 99'999), DbErrorCode::RateLimited));
+  EXPECT_TRUE(fails_with(guess(kT0 + 100'000), DbErrorCode::WrongCredentials));
+}
+
+TEST_F(AccountsTest, TheOwnersSuccessForgetsItsOwnTyposOnly) {
+  register_ok("owner");  // the default limits: 5 failures a minute per account and address
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_TRUE(fails_with(accounts().login("owner", "typo", "203.0.113.5", kT0),
+                           DbErrorCode::WrongCredentials));
+  }
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_TRUE(fails_with(accounts().login("owner", "guess", "198.51.100.7", kT0),
+                           DbErrorCode::WrongCredentials));
+  }
+  EXPECT_TRUE(accounts().login("owner", "correct horse", "203.0.113.5", kT0 + 1).ok());
+  // The owner's four typos are forgotten: five more before its address is limited.
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_TRUE(fails_with(accounts().login("owner", "typo", "203.0.113.5", kT0 + 2),
+                           DbErrorCode::WrongCredentials));
+  }
+  EXPECT_TRUE(fails_with(accounts().login("owner", "typo", "203.0.113.5", kT0 + 2),
+                         DbErrorCode::RateLimited));
+  // The guesser's are not.
+  EXPECT_TRUE(fails_with(accounts().login("owner", "guess", "198.51.100.7", kT0 + 3),
+                         DbErrorCode::RateLimited));
+}
+
+TEST_F(AccountsTest, RegistrationsPerAddressAreLimitedAcrossServerProcesses) {
+  AccountsOptions o = fast_options();
+  o.registrations_per_address = {2, 60'000};
+  open(o);
+  std::unique_ptr<Store> other_store = must(open_sqlite_store({.path = path_}), "second store");
+  Accounts other(*other_store, o);
+  EXPECT_TRUE(accounts().register_account("bot1", "correct horse", "198.51.100.7", kT0).ok());
+  // A taken name is refused before it counts (and before any hashing).
+  EXPECT_TRUE(fails_with(other.register_account("BOT1", "correct horse", "198.51.100.7", kT0),
+                         DbErrorCode::DuplicateUsername));
+  EXPECT_TRUE(other.register_account("bot2", "correct horse", "198.51.100.7", kT0 + 1).ok());
+  EXPECT_TRUE(
+      fails_with(accounts().register_account("bot3", "correct horse", "198.51.100.7", kT0 + 2),
+                 DbErrorCode::RateLimited));
+  EXPECT_TRUE(fails_with(other.register_account("bot4", "correct horse", "198.51.100.7", kT0 + 3),
+                         DbErrorCode::RateLimited));
+  EXPECT_EQ(errors(DbErrorCode::RateLimited), 1u);
+  // Another address registers; the limited one again once its window has passed.
+  EXPECT_TRUE(accounts().register_account("ada", "correct horse", "203.0.113.5", kT0 + 4).ok());
+  EXPECT_TRUE(
+      accounts().register_account("bot3", "correct horse", "198.51.100.7", kT0 + 60'000).ok());
+}
+
+TEST_F(AccountsTest, ExpiredSessionsAreDeletedAsLoginsGoOn) {
+  AccountsOptions o = fast_options();
+  o.session_lifetime_ms = 1'000;
+  open(o);
+  register_ok("olga");
+  const LoginResult first = must(accounts().login("olga", "correct horse", "", kT0), "login");
+  const LoginResult second =
+      must(accounts().login("olga", "correct horse", "", kT0 + 500), "login");
+  ASSERT_TRUE(must(store_->find_session(token_hash(first.token)), "find").has_value());
+  // A login after the first expired deletes it; the second is still live and kept.
+  EXPECT_TRUE(accounts().login("olga", "correct horse", "", kT0 + 1'001).ok());
+  EXPECT_FALSE(must(store_->find_session(token_hash(first.token)), "find").has_value());
+  EXPECT_TRUE(must(store_->find_session(token_hash(second.token)), "find").has_value());
 }
 
 TEST_F(AccountsTest, FailedLoginsPerAddressAreRateLimited) {
@@ -298,6 +394,8 @@ TEST_F(AccountsTest, ServerProcessesSharingADatabaseShareTheRateLimit) {
   AccountsOptions o = fast_options();
   o.per_account = {3, 10'000};
   o.per_address = {5, 10'000};
+  o.per_account_address = {{5, 10'000}};
+  o.registrations_per_address = {10, 10'000};
   open(o);
   register_ok("nina");
   // A second server process: its own store (connection) and Accounts on the same file.
@@ -322,7 +420,7 @@ TEST_F(AccountsTest, ServerProcessesSharingADatabaseShareTheRateLimit) {
   }
   EXPECT_TRUE(
       fails_with(other.login("someone", "guess", "10.3.3.3", kT0 + 5), DbErrorCode::RateLimited));
-  // A success through one clears the account's failures for both.
+  // Both see the window pass, and the failures go on counting for both.
   EXPECT_TRUE(other.login("nina", "correct horse", "", kT0 + 10'001).ok());
   EXPECT_TRUE(fails_with(accounts().login("nina", "guess 4", "", kT0 + 10'002),
                          DbErrorCode::WrongCredentials));
@@ -339,7 +437,7 @@ TEST_F(AccountsTest, EveryRefusalIsReportedForLoggingWithoutSecrets) {
   o.on_refusal = [&](const DbError& e) { refusals.push_back(e); };
   open(o);
   register_ok("trent", "secret password 1");
-  (void)accounts().register_account("trent", "secret password 2", kT0);
+  (void)accounts().register_account("trent", "secret password 2", "", kT0);
   (void)accounts().login("trent", "secret password 3", "10.9.9.9", kT0);
   (void)accounts().check_session(std::string(64, 'a'), kT0);
   ASSERT_EQ(refusals.size(), 3u);
@@ -357,7 +455,7 @@ TEST_F(AccountsTest, StateSurvivesReopening) {
   const LoginResult login = must(accounts().login("peggy", "correct horse", "", kT0), "login");
   open(fast_options());
   EXPECT_TRUE(accounts().check_session(login.token, kT0 + 1).ok());
-  EXPECT_TRUE(fails_with(accounts().register_account("Peggy", "correct horse", kT0),
+  EXPECT_TRUE(fails_with(accounts().register_account("Peggy", "correct horse", "", kT0),
                          DbErrorCode::DuplicateUsername));
 }
 

@@ -1,14 +1,20 @@
 // The DB thread: jobs run off the caller's thread, results come back through the caller's post,
 // in order; a locked database delays results but never blocks the caller; a full queue and a
-// stopped worker answer at once.
+// stopped worker answer at once; the password threads serve existing accounts' logins first, at
+// a lower priority.
 
 #include "ricochet/db/db_worker.h"
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <future>
+#include <iterator>
+#include <sstream>
 
 #include "db_test_util.h"
 
@@ -120,7 +126,7 @@ TEST(DbWorker, JobsRunOnTheDbThreadAndCompleteOnTheCallers) {
   worker.submit(
       [&](DbServices& db) {
         job_thread = std::this_thread::get_id();
-        return db.accounts.register_account("alice", "correct horse", kT0);
+        return db.accounts.register_account("alice", "correct horse", "", kT0);
       },
       caller.post(),
       [&](DbResult<AccountId> r) {
@@ -141,7 +147,7 @@ TEST(DbWorker, CompletionsArriveInSubmissionOrder) {
   for (int i = 0; i < 50; ++i) {
     worker.submit(
         [i](DbServices& db) {
-          return db.accounts.register_account("user" + std::to_string(i), "correct horse", kT0);
+          return db.accounts.register_account("user" + std::to_string(i), "correct horse", "", kT0);
         },
         caller.post(),
         [&order, i](DbResult<AccountId> r) {
@@ -167,7 +173,7 @@ TEST(DbWorker, ALockedDatabaseIsLatencyNotABlockedCaller) {
   worker.submit(
       [&started](DbServices& db) {
         started = true;
-        return db.accounts.register_account("bob", "correct horse", kT0);
+        return db.accounts.register_account("bob", "correct horse", "", kT0);
       },
       caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
   const auto submit_took = std::chrono::steady_clock::now() - before;
@@ -191,7 +197,9 @@ TEST(DbWorker, ALockHeldPastTheBusyTimeoutIsBusy) {
   CallerQueue caller;
   std::optional<DbResult<AccountId>> result;
   worker.submit(
-      [](DbServices& db) { return db.accounts.register_account("carol", "correct horse", kT0); },
+      [](DbServices& db) {
+        return db.accounts.register_account("carol", "correct horse", "", kT0);
+      },
       caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
   ASSERT_TRUE(caller.drain_until([&] { return result.has_value(); }));
   EXPECT_TRUE(fails_with(*result, DbErrorCode::Busy));
@@ -254,7 +262,7 @@ TEST(DbWorker, RegisterAndLoginHashOnThePasswordThread) {
   DbWorker worker(open_store(dir.file("w.db")), fast_options());
   CallerQueue caller;
   std::optional<DbResult<AccountId>> registered;
-  worker.register_account("alice", "correct horse", kT0, caller.post(),
+  worker.register_account("alice", "correct horse", "", kT0, caller.post(),
                           [&](DbResult<AccountId> r) { registered = std::move(r); });
   ASSERT_TRUE(caller.drain_until([&] { return registered.has_value(); }));
   ASSERT_TRUE(registered->ok()) << describe(registered->error());
@@ -264,7 +272,7 @@ TEST(DbWorker, RegisterAndLoginHashOnThePasswordThread) {
   worker.login("alice", "wrong horse", "10.0.0.1", kT0 + 2, caller.post(),
                [&](DbResult<LoginResult> r) { wrong = std::move(r); });
   std::optional<DbResult<AccountId>> bad_name;
-  worker.register_account("a!", "correct horse", kT0, caller.post(),
+  worker.register_account("a!", "correct horse", "", kT0, caller.post(),
                           [&](DbResult<AccountId> r) { bad_name = std::move(r); });
   ASSERT_TRUE(caller.drain_until([&] { return login && wrong && bad_name; }));
   ASSERT_TRUE(login->ok()) << describe(login->error());
@@ -283,7 +291,7 @@ TEST(DbWorker, RegisterAndLoginHashOnThePasswordThread) {
 /// Registers `name` with "correct horse" through the worker (hashing on a password thread).
 AccountId register_through(DbWorker& worker, CallerQueue& caller, const std::string& name) {
   std::optional<DbResult<AccountId>> registered;
-  worker.register_account(name, "correct horse", kT0, caller.post(),
+  worker.register_account(name, "correct horse", "", kT0, caller.post(),
                           [&](DbResult<AccountId> r) { registered = std::move(r); });
   if (!caller.drain_until([&] { return registered.has_value(); }, 60s))
     throw std::runtime_error("registering " + name + " took over 60 s");
@@ -351,7 +359,7 @@ TEST(DbWorker, ConcurrentWrongPasswordsCannotSlipPastTheRateLimit) {
   DbWorker worker(open_store(dir.file("w.db")), options);
   CallerQueue caller;
   std::optional<DbResult<AccountId>> registered;
-  worker.register_account("carol", "correct horse", kT0, caller.post(),
+  worker.register_account("carol", "correct horse", "", kT0, caller.post(),
                           [&](DbResult<AccountId> r) { registered = std::move(r); });
   ASSERT_TRUE(caller.drain_until([&] { return registered.has_value(); }));
   std::vector<DbErrorCode> codes;
@@ -364,6 +372,90 @@ TEST(DbWorker, ConcurrentWrongPasswordsCannotSlipPastTheRateLimit) {
   ASSERT_TRUE(caller.drain_until([&] { return codes.size() == 10; }));
   EXPECT_EQ(std::count(codes.begin(), codes.end(), DbErrorCode::WrongCredentials), 3);
   EXPECT_EQ(std::count(codes.begin(), codes.end(), DbErrorCode::RateLimited), 7);
+}
+
+// Issue 29: registrations queued ahead of a login held it up for as long as they took.
+TEST(DbWorker, AnExistingAccountsLoginGoesBeforeQueuedRegistrations) {
+  TempDir dir;
+  DbWorkerOptions options;  // Argon2id at the interactive cost: ~0.1 s per hash, one thread
+  DbWorker worker(open_store(dir.file("w.db")), options);
+  CallerQueue caller;
+  register_through(worker, caller, "owner");
+  std::vector<std::string> order;
+  constexpr int kRegistrations = 8;
+  for (int i = 0; i < kRegistrations; ++i) {
+    worker.register_account("new" + std::to_string(i), "correct horse", "", kT0, caller.post(),
+                            [&order](DbResult<AccountId> r) {
+                              EXPECT_TRUE(r.ok());
+                              order.push_back("register");
+                            });
+  }
+  worker.login("owner", "correct horse", "", kT0, caller.post(), [&order](DbResult<LoginResult> r) {
+    EXPECT_TRUE(r.ok());
+    order.push_back("login");
+  });
+  ASSERT_TRUE(caller.drain_until([&] { return order.size() == kRegistrations + 1; }, 60s));
+  // Submitted last, it waits for at most the hashes already taken by the password thread (the
+  // first registration's, and one more when the DB thread was slow), not for all eight.
+  const auto position = std::find(order.begin(), order.end(), "login") - order.begin();
+  EXPECT_LE(position, 2) << "the login came after " << position << " registrations";
+}
+
+// Issue 29: registrations could queue minutes of Argon2id work.
+TEST(DbWorker, RegistrationsPastTheHashQueueAreRefusedAtOnce) {
+  TempDir dir;
+  DbWorkerOptions options;  // the interactive cost: the first hash is still running
+  options.max_queued_hashes = 2;
+  DbWorker worker(open_store(dir.file("w.db")), options);
+  CallerQueue caller;
+  std::vector<DbErrorCode> codes;
+  for (int i = 0; i < 8; ++i) {
+    worker.register_account("new" + std::to_string(i), "correct horse", "", kT0, caller.post(),
+                            [&codes](DbResult<AccountId> r) {
+                              codes.push_back(r.ok() ? DbErrorCode::Stopped : r.error().code);
+                            });
+  }
+  ASSERT_TRUE(caller.drain_until([&] { return codes.size() == 8; }, 60s));
+  // One hashing, two waiting; the rest were told at once (the refusals come back first).
+  EXPECT_GE(std::count(codes.begin(), codes.end(), DbErrorCode::QueueFull), 4);
+  EXPECT_EQ(codes.front(), DbErrorCode::QueueFull);
+  EXPECT_GE(std::count(codes.begin(), codes.end(), DbErrorCode::Stopped), 2);  // registered
+}
+
+/// The nice values of this process's threads (Linux: field 19 of /proc/self/task/<tid>/stat).
+std::vector<int> thread_nice_values() {
+  std::vector<int> values;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream stat(task.path() / "stat");
+    std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+    const auto close = text.rfind(')');  // the name may hold spaces; the fields follow it
+    if (close == std::string::npos) continue;
+    std::istringstream fields(text.substr(close + 2));
+    std::string field;
+    for (int i = 3; i <= 19 && fields >> field; ++i) {
+      if (i == 19) values.push_back(std::stoi(field));
+    }
+  }
+  return values;
+}
+
+TEST(DbWorker, PasswordThreadsRunAtTheirLowerPriority) {
+  TempDir dir;
+  DbWorkerOptions options = fast_options();
+  options.password_threads = 2;
+  options.password_nice = 19;
+  const auto lowest = [] {
+    const std::vector<int> nice = thread_nice_values();
+    return std::count(nice.begin(), nice.end(), 19);
+  };
+  const auto before = lowest();
+  DbWorker worker(open_store(dir.file("w.db")), options);
+  CallerQueue caller;
+  register_through(worker, caller, "ada");  // a password thread has run
+  const auto deadline = std::chrono::steady_clock::now() + 2s;
+  while (lowest() < before + 2 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(1ms);
+  EXPECT_EQ(lowest(), before + 2);  // the two password threads, not the DB thread
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // threads), driven over real loopback sockets: sign in over TLS, join, connect the game channel
 // with the token, play, come back from a new address, survive a chat flood, and stop gracefully.
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
@@ -746,6 +748,35 @@ TEST(ServerStart, APortsFileThatCannotBeWrittenIsAClearErrorAndTheServerStopsAtO
   config.server.ports_file = (dir.path() / "no-such-directory" / "ports.json").string();
   expect_start_refused(config, "cannot write the ports file");
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "no-such-directory"));
+}
+
+/// What the server logs at warn and above while it starts with `config` and stops.
+std::string start_log(const server::ServerConfig& config) {
+  std::ostringstream text;
+  auto previous = spdlog::default_logger();
+  auto capture = std::make_shared<spdlog::logger>(
+      "capture", std::make_shared<spdlog::sinks::ostream_sink_mt>(text));
+  capture->set_level(spdlog::level::warn);
+  spdlog::set_default_logger(capture);
+  {
+    server::Server server(config);
+    server.start();
+    server.stop();
+    EXPECT_EQ(server.wait(), 0);
+  }
+  spdlog::set_default_logger(previous);
+  return text.str();
+}
+
+// Issue 29: the minimum hashing cost, meant for load tests, started as quietly as the real one.
+TEST(ServerStart, MinimumPasswordHashingIsALoudWarning) {
+  const TempDir dir("ricochet-e2e-hashing");
+  server::ServerConfig config = test_config(dir.path());
+  EXPECT_EQ(start_log(config).find("password_hashing"), std::string::npos);
+  config.db.password_hashing = server::PasswordHashing::Minimum;
+  const std::string log = start_log(config);
+  EXPECT_NE(log.find("password_hashing = \"minimum\""), std::string::npos) << log;
+  EXPECT_NE(log.find("never with real players' accounts"), std::string::npos) << log;
 }
 
 }  // namespace

@@ -42,6 +42,9 @@ inline wire::ClientMessage request_of(ClientMessageKind kind) {
     case ClientMessageKind::Ping:
       m.mutable_ping()->set_client_time_us(42);
       break;
+    case ClientMessageKind::Logout:
+      m.mutable_logout();
+      break;
   }
   return m;
 }

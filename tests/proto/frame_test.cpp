@@ -200,6 +200,9 @@ TEST(ControlStates, TableAdmitsWhatEachStateAllows) {
   EXPECT_FALSE(admits(S::Authenticated, K::LeaveMatch));
   EXPECT_TRUE(admits(S::InMatch, K::Chat));
   EXPECT_TRUE(admits(S::InMatch, K::LeaveMatch));
+  EXPECT_FALSE(admits(S::Unauthenticated, K::Logout));
+  EXPECT_TRUE(admits(S::Authenticated, K::Logout));
+  EXPECT_TRUE(admits(S::InMatch, K::Logout));
   for (std::size_t k = 0; k < kClientMessageKindCount; ++k) {
     EXPECT_FALSE(admits(S::Closed, static_cast<K>(k))) << name(static_cast<K>(k));
   }

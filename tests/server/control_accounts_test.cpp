@@ -1,5 +1,6 @@
 // The control channel over real TLS sockets: register, login, wrong password, resume on a new
-// connection, pinning by fingerprint, ping.
+// connection, pinning by fingerprint, ping; the account limits seen from other hosts (clients
+// connect from 127.0.0.2, 127.0.0.3 ... to be other addresses to the server).
 
 #include <gtest/gtest.h>
 
@@ -118,6 +119,95 @@ TEST(ControlAccounts, LoginAgainOnALoggedInConnectionIsWrongState) {
   EXPECT_NE(reply.error().message().find("authenticated"), std::string::npos)
       << reply.error().message();
   EXPECT_EQ(rig.refusals(ControlRefusal::WrongState), 1u);
+}
+
+// Issue 29: there was no way to end a session but to let it expire.
+TEST(ControlAccounts, LogoutRevokesTheSessionLeavesTheMatchAndAllowsANewLogin) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  const wire::SessionReply session = client.sign_in("ada");
+  ASSERT_TRUE(client.request(ControlTestClient::join(1)).has_join_match());
+  ASSERT_TRUE(rig.directory().seated(session.account_id()));
+
+  const auto reply = client.request(ControlTestClient::logout());
+  EXPECT_TRUE(reply.has_logout()) << reply.DebugString();
+  EXPECT_EQ(client.protocol().state(), proto::ControlState::Unauthenticated);
+  EXPECT_FALSE(rig.directory().seated(session.account_id()));
+  EXPECT_EQ(client.request(ControlTestClient::list_matches()).error().code(), wire::WRONG_STATE);
+
+  ControlTestClient elsewhere(rig.port());
+  ASSERT_TRUE(elsewhere.connect());
+  EXPECT_EQ(elsewhere.request(ControlTestClient::resume(session.session_token())).error().code(),
+            wire::UNKNOWN_SESSION);
+  EXPECT_TRUE(client.request(ControlTestClient::login("ada", "password-ada")).has_session());
+}
+
+// Issue 29: five wrong passwords a minute from anywhere used to lock the account everywhere.
+TEST(ControlAccounts, AGuesserIsStoppedAndTheOwnerStillLogsInFromItsOwnAddress) {
+  ControlRig rig;
+  ControlTestClient owner(rig.port());
+  owner.connect_from("127.0.0.3");
+  ASSERT_TRUE(owner.connect());
+  ASSERT_TRUE(owner.request(ControlTestClient::register_account("victim", "password-victim"))
+                  .has_register_account());
+
+  ControlTestClient guesser(rig.port());
+  guesser.connect_from("127.0.0.2");
+  ASSERT_TRUE(guesser.connect());
+  int wrong = 0;
+  int limited = 0;
+  for (int i = 0; i < 8; ++i) {
+    const auto reply =
+        guesser.request(ControlTestClient::login("victim", "guess-" + std::to_string(i)));
+    if (reply.error().code() == wire::WRONG_CREDENTIALS) ++wrong;
+    if (reply.error().code() == wire::LOGIN_RATE_LIMITED) ++limited;
+  }
+  EXPECT_EQ(wrong, 5);  // the guesser is limited ...
+  EXPECT_EQ(limited, 3);
+  EXPECT_TRUE(rig.wait_refusals(ControlRefusal::LoginRateLimited, 3));
+  // ... and even with the right password, from its address.
+  EXPECT_EQ(guesser.request(ControlTestClient::login("victim", "password-victim")).error().code(),
+            wire::LOGIN_RATE_LIMITED);
+
+  // The owner, at once, from its own address.
+  const auto reply = owner.request(ControlTestClient::login("victim", "password-victim"));
+  EXPECT_TRUE(reply.has_session()) << reply.DebugString();
+}
+
+// Issue 29: registration had no limit, so one address could create accounts without end.
+TEST(ControlAccounts, RegistrationsFromOneAddressAreLimitedWhileAnotherRegisters) {
+  db::AccountsOptions accounts;
+  accounts.registrations_per_address = {3, 3'600'000};
+  ControlRig rig({}, {}, accounts);
+  ControlTestClient flooder(rig.port());
+  flooder.connect_from("127.0.0.2");
+  ASSERT_TRUE(flooder.connect());
+  int registered = 0;
+  int limited = 0;
+  for (int i = 0; i < 10; ++i) {
+    const auto reply = flooder.request(
+        ControlTestClient::register_account("bot" + std::to_string(i), "password-bot"));
+    if (reply.has_register_account()) ++registered;
+    if (reply.error().code() == wire::REGISTRATION_RATE_LIMITED) ++limited;
+  }
+  EXPECT_EQ(registered, 3);
+  EXPECT_EQ(limited, 7);
+  EXPECT_TRUE(rig.wait_refusals(ControlRefusal::RegistrationRateLimited, 7));
+  // A second connection from the same address is the same address.
+  ControlTestClient same(rig.port());
+  same.connect_from("127.0.0.2");
+  ASSERT_TRUE(same.connect());
+  EXPECT_EQ(
+      same.request(ControlTestClient::register_account("bot99", "password-bot")).error().code(),
+      wire::REGISTRATION_RATE_LIMITED);
+
+  ControlTestClient player(rig.port());
+  player.connect_from("127.0.0.3");
+  ASSERT_TRUE(player.connect());
+  const auto reply = player.request(ControlTestClient::register_account("ada", "lovelace1"));
+  EXPECT_TRUE(reply.has_register_account()) << reply.DebugString();
+  EXPECT_TRUE(player.request(ControlTestClient::login("ada", "lovelace1")).has_session());
 }
 
 }  // namespace

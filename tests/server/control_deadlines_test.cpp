@@ -1,6 +1,6 @@
 // A control connection's deadlines on fake time, without sockets: which one comes first in
 // each phase, and that dispatching a request holds the idle and frame deadlines but not the
-// write deadline.
+// write deadline; a connection that has not logged in has a login deadline frames do not move.
 #include "control_deadlines.h"
 
 #include <gtest/gtest.h>
@@ -16,14 +16,17 @@ ControlLimits limits() {
   out.frame_timeout_ms = 300;
   out.idle_timeout_ms = 1000;
   out.write_timeout_ms = 200;
+  out.login_timeout_ms = 1500;
   return out;
 }
 
+/// An open connection, logged in, whose last frame came at `last_frame_at`.
 ControlTimes open_at(proto::TimeUs last_frame_at) {
   ControlTimes times;
   times.phase = ControlPhase::Open;
   times.accepted_at = 0;
   times.last_frame_at = last_frame_at;
+  times.logged_in = true;
   return times;
 }
 
@@ -51,6 +54,18 @@ TEST(ControlDeadlines, APartialFrameMustCompleteFromItsFirstByte) {
   expect_deadline(next_deadline(times, limits()), 1000 * kMs, ControlExpiry::Idle);
   times.frame_started = 100 * kMs;
   expect_deadline(next_deadline(times, limits()), 400 * kMs, ControlExpiry::Frame);
+}
+
+TEST(ControlDeadlines, ALoginIsDueFromTheHandshakeWhateverFramesCome) {
+  ControlTimes times = open_at(900 * kMs);  // a ping at 900 ms: idle at 1900 ms
+  times.logged_in = false;
+  times.opened_at = 0;
+  expect_deadline(next_deadline(times, limits()), 1500 * kMs, ControlExpiry::Login);
+  times.busy = true;  // the login request itself is being dispatched
+  EXPECT_FALSE(next_deadline(times, limits()).has_value());
+  times.busy = false;
+  times.logged_in = true;
+  expect_deadline(next_deadline(times, limits()), 1900 * kMs, ControlExpiry::Idle);
 }
 
 TEST(ControlDeadlines, AWriteInFlightHasItsOwnDeadline) {

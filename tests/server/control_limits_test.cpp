@@ -171,6 +171,36 @@ TEST(ControlLimits, IdleConnectionIsClosedAndPingsKeepItOpen) {
   EXPECT_FALSE(pinging.closed());
 }
 
+// Issue 29: pings kept a connection that never logged in open for ever.
+TEST(ControlLimits, AConnectionThatNeverLogsInIsClosedEvenIfItPings) {
+  ControlLimits limits;
+  limits.idle_timeout_ms = 400;
+  limits.login_timeout_ms = 1'000;
+  FakeTimeRig rig(limits);
+  ControlTestClient lurker(rig.port());
+  ASSERT_TRUE(lurker.connect());
+  ControlTestClient player(rig.port());
+  ASSERT_TRUE(player.connect());
+  ASSERT_TRUE(rig.wait_connections(2));
+  ASSERT_TRUE(player.request(ControlTestClient::register_account("ada", "lovelace1"))
+                  .has_register_account());
+  ASSERT_TRUE(player.request(ControlTestClient::login("ada", "lovelace1")).has_session());
+  for (int i = 0; i < 3; ++i) {  // 900 ms of pings, every 300 ms: never idle
+    ASSERT_TRUE(lurker.request(ControlTestClient::ping(i)).has_pong());
+    ASSERT_TRUE(player.request(ControlTestClient::ping(i)).has_pong());
+    rig.advance(300 * kMs);
+  }
+  ASSERT_TRUE(lurker.request(ControlTestClient::ping(3)).has_pong());
+  ASSERT_TRUE(player.request(ControlTestClient::ping(3)).has_pong());
+  rig.advance(100 * kMs);  // 1000 ms since the handshake
+  expect_error_then_close(lurker, wire::LOGIN_TIMEOUT);
+  EXPECT_EQ(rig.refusals(ControlRefusal::LoginTimeout), 1u);
+  EXPECT_EQ(rig.refusals(ControlRefusal::IdleTimeout), 0u);
+  // The logged-in player has no login deadline.
+  EXPECT_TRUE(player.request(ControlTestClient::ping(4)).has_pong());
+  EXPECT_FALSE(player.closed());
+}
+
 TEST(ControlLimits, HandshakeMustFinishInTime) {
   ControlLimits limits;
   limits.handshake_timeout_ms = 200;

@@ -115,6 +115,10 @@ class FakeDirectory : public MatchDirectory {
     std::lock_guard lock(mutex_);
     return chats;
   }
+  bool seated(std::uint64_t account) const {
+    std::lock_guard lock(mutex_);
+    return seated_.count(account) != 0;
+  }
 
   std::vector<std::string> chats;
   std::vector<std::string> joined_names;
@@ -127,11 +131,14 @@ class FakeDirectory : public MatchDirectory {
 
 /// A server whose io_context runs on two threads of its own (the control server keeps its
 /// state on one strand, so any number of threads must be safe). Its clock is the steady one
-/// unless the test hands it another (control_limits_test's fake time).
+/// unless the test hands it another (control_limits_test's fake time); `accounts` sets the
+/// account rules' limits (the password cost stays the minimum).
 class ControlRig {
  public:
-  explicit ControlRig(ControlLimits limits = {}, std::function<proto::TimeUs()> clock = {}) {
+  explicit ControlRig(ControlLimits limits = {}, std::function<proto::TimeUs()> clock = {},
+                      db::AccountsOptions accounts = {}) {
     db::DbWorkerOptions options;
+    options.accounts = std::move(accounts);
     options.accounts.cost = db::PasswordCost::Minimum;
     auto store = db::open_sqlite_store({.path = (dir_.path() / "ricochet.db").string()});
     if (!store.ok()) throw std::runtime_error("cannot open the test database");
@@ -204,10 +211,19 @@ class ControlTestClient {
         stream_(io_, make_tls(max_tls_version)),
         protocol_(now_us(), test_config()) {}
 
+  /// Connects from `ip` (another loopback address, 127.0.0.2 ...), to look like another host
+  /// to the server's per-address limits; 127.0.0.1 unless called before connect().
+  void connect_from(const std::string& ip) { source_ = ip; }
   /// TCP connect only (for plaintext probes).
   bool connect_tcp(std::chrono::milliseconds limit = 3s) {
     bool done = false;
     boost::system::error_code result;
+    if (!source_.empty()) {
+      auto& socket = stream_.next_layer();
+      socket.open(asio::ip::tcp::v4(), result);
+      if (!result) socket.bind({asio::ip::make_address(source_), 0}, result);
+      if (result) return false;
+    }
     stream_.next_layer().async_connect({asio::ip::make_address("127.0.0.1"), port_},
                                        [&](boost::system::error_code error) {
                                          result = error;
@@ -382,6 +398,11 @@ class ControlTestClient {
     m.mutable_join_match()->set_match_id(match);
     return m;
   }
+  static wire::ClientMessage logout() {
+    wire::ClientMessage m;
+    m.mutable_logout();
+    return m;
+  }
   static wire::ClientMessage chat(const std::string& text) {
     wire::ClientMessage m;
     m.mutable_chat()->set_text(text);
@@ -519,6 +540,7 @@ class ControlTestClient {
   }
 
   std::uint16_t port_;
+  std::string source_;  ///< the local address to connect from; empty: the kernel's choice
   asio::io_context io_;
   asio::ssl::context tls_;
   asio::ssl::stream<asio::ip::tcp::socket> stream_;

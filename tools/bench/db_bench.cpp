@@ -111,8 +111,9 @@ int main(int argc, char** argv) {
   ids.reserve(static_cast<std::size_t>(accounts));
   bench::Stopwatch seeding_time;
   for (int i = 0; i < accounts; ++i)
-    ids.push_back(must(seeding.register_account("player" + std::to_string(i), "correct horse", kT0),
-                       "register"));
+    ids.push_back(
+        must(seeding.register_account("player" + std::to_string(i), "correct horse", "", kT0),
+             "register"));
   const double seed_s = seeding_time.elapsed_s();
   results.write(bench::result_line("db")
                     .text("measure", "seed_accounts")
@@ -168,7 +169,7 @@ int main(int argc, char** argv) {
 
   // 3. Logins at the production cost.
   db::Accounts live(*store, db::AccountsOptions{});
-  must(live.register_account("bench_user", "correct horse battery", kT0), "register");
+  must(live.register_account("bench_user", "correct horse battery", "", kT0), "register");
   std::vector<std::string> tokens;
   std::vector<double> login_ms;
   const bench::Stopwatch logging_in;

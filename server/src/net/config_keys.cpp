@@ -174,6 +174,24 @@ const std::array kKeys = {
             [](ServerConfig& c, std::string_view text) {
               return parse_enum(kPasswordHashings, text, c.db.password_hashing);
             }},
+    // --- abuse limits of accounts (issue 29) ---
+    Key{.section = "db",
+        .name = "registrations_per_hour_per_address",
+        .flag = "--registrations-per-hour-per-address",
+        .help = "accounts registered from one address (IPv4, or IPv6 /64) in an hour, counted in "
+                "the database so every server process on it shares the limit",
+        .integer = &integer_of<&S::db, &DbConfig::registrations_per_hour_per_address>,
+        .min = 1,
+        .max = 1'000'000},
+    Key{.section = "db",
+        .name = "password_thread_nice",
+        .flag = "--password-thread-nice",
+        .help = "nice value of the Argon2id password threads (19: lowest priority): a sign-in "
+                "storm takes the cores the match ticks leave; 10 gives a hash about a tenth of a "
+                "core a tick also wants",
+        .integer = &integer_of<&S::db, &DbConfig::password_thread_nice>,
+        .min = 0,
+        .max = 19},
     Key{.section = "tls",
         .name = "cert_file",
         .flag = "--tls-cert",
@@ -235,6 +253,14 @@ const std::array kKeys = {
         .flag = "--idle-timeout-ms",
         .help = "milliseconds without a whole frame before a connection is closed",
         .integer = &integer_of<&S::control, &ControlConfig::idle_timeout_ms>,
+        .min = 1'000,
+        .max = 3'600'000},
+    Key{.section = "control",
+        .name = "login_timeout_ms",
+        .flag = "--login-timeout-ms",
+        .help = "milliseconds from the TLS handshake to a login or resume before a connection is "
+                "closed (pings do not extend it)",
+        .integer = &integer_of<&S::control, &ControlConfig::login_timeout_ms>,
         .min = 1'000,
         .max = 3'600'000},
     Key{.section = "control",

@@ -23,9 +23,8 @@ std::string ControlLimits::validate() const {
                         max_connections_per_address);
   }
   const std::pair<const char*, std::uint32_t> timeouts[] = {
-      {"handshake_timeout_ms", handshake_timeout_ms},
-      {"frame_timeout_ms", frame_timeout_ms},
-      {"idle_timeout_ms", idle_timeout_ms},
+      {"handshake_timeout_ms", handshake_timeout_ms}, {"frame_timeout_ms", frame_timeout_ms},
+      {"idle_timeout_ms", idle_timeout_ms},           {"login_timeout_ms", login_timeout_ms},
       {"write_timeout_ms", write_timeout_ms},
   };
   for (const auto& [field, value] : timeouts) {

@@ -19,6 +19,7 @@ struct ControlLimits {
   std::uint32_t handshake_timeout_ms = 5'000;  ///< accept to finished TLS handshake
   std::uint32_t frame_timeout_ms = 10'000;     ///< first byte of a frame to its last (slowloris)
   std::uint32_t idle_timeout_ms = 120'000;     ///< no whole frame for this long (clients ping)
+  std::uint32_t login_timeout_ms = 30'000;     ///< handshake to login or resume; pings do not count
   std::uint32_t write_timeout_ms = 10'000;     ///< one reply may take this long to be sent
   double messages_per_second = 20;             ///< sustained requests per connection (> 0)
   int message_burst = 40;                      ///< requests a connection may send at once (>= 1)

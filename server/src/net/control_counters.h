@@ -28,9 +28,13 @@ enum class ControlRefusal : std::uint8_t {
   WrongState,          ///< not allowed in the connection's state: dropped, Error replied
   RateLimited,         ///< over messages_per_second: dropped, Error replied
   InvalidRequest,      ///< a field out of range (chat length ...): Error replied
+  // --- accounts (the limits are kept in the database, db/src/login_limits.h) ---
+  LoginTimeout,             ///< not logged in within login_timeout_ms of the handshake: closed
+  LoginRateLimited,         ///< a login past a failed-login limit: refused before any hashing
+  RegistrationRateLimited,  ///< a registration past the address's limit: refused, no hashing
 };
 inline constexpr std::size_t kControlRefusalCount =
-    static_cast<std::size_t>(ControlRefusal::InvalidRequest) + 1;
+    static_cast<std::size_t>(ControlRefusal::RegistrationRateLimited) + 1;
 
 inline const char* name(ControlRefusal refusal) {
   switch (refusal) {
@@ -64,6 +68,12 @@ inline const char* name(ControlRefusal refusal) {
       return "rate_limited";
     case ControlRefusal::InvalidRequest:
       return "invalid_request";
+    case ControlRefusal::LoginTimeout:
+      return "login_timeout";
+    case ControlRefusal::LoginRateLimited:
+      return "login_rate_limited";
+    case ControlRefusal::RegistrationRateLimited:
+      return "registration_rate_limited";
   }
   return "unknown";
 }

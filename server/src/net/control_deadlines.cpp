@@ -31,6 +31,9 @@ std::optional<ControlDeadline> next_deadline(const ControlTimes& times,
     if (times.frame_started) {
       consider(after_ms(*times.frame_started, limits.frame_timeout_ms), ControlExpiry::Frame);
     }
+    if (!times.logged_in) {
+      consider(after_ms(times.opened_at, limits.login_timeout_ms), ControlExpiry::Login);
+    }
   }
   if (times.write_started) {
     consider(after_ms(*times.write_started, limits.write_timeout_ms), ControlExpiry::Write);

@@ -8,6 +8,7 @@
 ///   Open       the earliest of
 ///                idle   last_frame_at + idle_timeout_ms       } wait while a request is
 ///                frame  frame_started + frame_timeout_ms      } dispatched (busy)
+///                login  opened_at + login_timeout_ms          } until logged in
 ///                write  write_started + write_timeout_ms
 ///   Closing    closing_since + the close grace (the final Error's time to be written)
 ///   Ended      none
@@ -24,7 +25,7 @@ namespace ricochet::server {
 enum class ControlPhase { Handshake, Open, Closing, Ended };
 
 /// Which deadline ran out.
-enum class ControlExpiry { Handshake, Frame, Idle, Write, CloseGrace };
+enum class ControlExpiry { Handshake, Frame, Idle, Login, Write, CloseGrace };
 
 /// After close(), the final Error gets this long to be written before the socket is closed.
 inline constexpr proto::TimeUs kControlCloseGraceUs = 2 * proto::kMicrosPerSecond;
@@ -35,6 +36,8 @@ struct ControlTimes {
   proto::TimeUs accepted_at = 0;
   proto::TimeUs last_frame_at = 0;  ///< the last whole frame was answered, or the handshake ended
   proto::TimeUs closing_since = 0;
+  proto::TimeUs opened_at = 0;  ///< the TLS handshake ended
+  bool logged_in = false;       ///< a login or resume succeeded: no login deadline any more
   std::optional<proto::TimeUs> frame_started;  ///< the first byte of a frame not yet whole
   std::optional<proto::TimeUs> write_started;  ///< a write is in flight since
   bool busy = false;  ///< a request is being dispatched: the idle and frame deadlines wait
@@ -46,7 +49,7 @@ struct ControlDeadline {
 };
 
 /// The first deadline of `times` under `limits`; none when the session has ended. Ties go to
-/// the first of idle, frame, write.
+/// the first of idle, frame, login, write.
 std::optional<ControlDeadline> next_deadline(const ControlTimes& times,
                                              const ControlLimits& limits);
 

@@ -168,6 +168,8 @@ asio::awaitable<wire::ServerMessage> ControlSession::dispatch(const wire::Client
       co_return chat(message.chat());
     case wire::ClientMessage::kPing:
       co_return pong(message.ping());
+    case wire::ClientMessage::kLogout:
+      co_return co_await logout();
     case wire::ClientMessage::BODY_NOT_SET:
       break;
   }
@@ -178,10 +180,11 @@ asio::awaitable<wire::ServerMessage> ControlSession::register_account(
     const wire::RegisterRequest& request) {
   const db::DbResult<db::AccountId> result =
       co_await await_db<db::DbResult<db::AccountId>>([&](db::Post post, auto done) {
-        context_.db.register_account(request.username(), request.password(), unix_now_ms(),
-                                     std::move(post), std::move(done));
+        context_.db.register_account(request.username(), request.password(), host_key_,
+                                     unix_now_ms(), std::move(post), std::move(done));
       });
-  if (!result.ok()) co_return error_reply(result.error());
+  if (!result.ok())
+    co_return account_refusal(result.error(), ControlRefusal::RegistrationRateLimited);
   wire::ServerMessage reply;
   reply.mutable_register_account()->set_account_id(static_cast<std::uint64_t>(result.value()));
   co_return reply;
@@ -190,17 +193,15 @@ asio::awaitable<wire::ServerMessage> ControlSession::register_account(
 asio::awaitable<wire::ServerMessage> ControlSession::login(const wire::LoginRequest& request) {
   const db::DbResult<db::LoginResult> result =
       co_await await_db<db::DbResult<db::LoginResult>>([&](db::Post post, auto done) {
-        context_.db.login(request.username(), request.password(), address_, unix_now_ms(),
+        context_.db.login(request.username(), request.password(), host_key_, unix_now_ms(),
                           std::move(post), std::move(done));
       });
-  if (!result.ok()) co_return error_reply(result.error());
+  if (!result.ok()) co_return account_refusal(result.error(), ControlRefusal::LoginRateLimited);
   if (machine_.state() != proto::ControlState::Unauthenticated) {
     co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the login");
   }
-  account_ = static_cast<std::uint64_t>(result.value().account);
-  username_ = request.username();
-  machine_.transition(proto::ControlState::Authenticated,
-                      "logged in as account " + std::to_string(account_));
+  authenticated(static_cast<std::uint64_t>(result.value().account), request.username(),
+                result.value().token, "logged in as account ");
   wire::ServerMessage reply;
   wire::SessionReply& session = *reply.mutable_session();
   session.set_account_id(account_);
@@ -223,15 +224,62 @@ asio::awaitable<wire::ServerMessage> ControlSession::resume(const wire::ResumeRe
   if (machine_.state() != proto::ControlState::Unauthenticated) {
     co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the resume");
   }
-  account_ = static_cast<std::uint64_t>(result.value().account);
-  username_ = result.value().username;
-  machine_.transition(proto::ControlState::Authenticated,
-                      "resumed the session of account " + std::to_string(account_));
+  authenticated(static_cast<std::uint64_t>(result.value().account), result.value().username,
+                request.session_token(), "resumed the session of account ");
   wire::ServerMessage reply;
   wire::SessionReply& session = *reply.mutable_session();
   session.set_account_id(account_);
   session.set_username(username_);
   session.set_expires_unix_ms(result.value().expires_ms);
+  co_return reply;
+}
+
+wire::ServerMessage ControlSession::account_refusal(const db::DbError& error,
+                                                    ControlRefusal rate_limited) {
+  if (error.code != db::DbErrorCode::RateLimited) return error_reply(error);
+  refuse(rate_limited, error.message);
+  return error_reply(rate_limited == ControlRefusal::RegistrationRateLimited
+                         ? wire::REGISTRATION_RATE_LIMITED
+                         : wire::LOGIN_RATE_LIMITED,
+                     error.message);
+}
+
+void ControlSession::authenticated(std::uint64_t account, std::string username, std::string token,
+                                   std::string_view how) {
+  account_ = account;
+  username_ = std::move(username);
+  session_token_ = std::move(token);
+  times_.logged_in = true;
+  check_deadlines();
+  machine_.transition(proto::ControlState::Authenticated,
+                      std::string(how) + std::to_string(account_));
+}
+
+asio::awaitable<wire::ServerMessage> ControlSession::logout() {
+  const db::DbStatus revoked = co_await await_db<db::DbStatus>([&](db::Post post, auto done) {
+    context_.db.submit(
+        [token = session_token_](db::DbServices& services) {
+          return services.accounts.revoke_session(token);
+        },
+        std::move(post), std::move(done));
+  });
+  // Already revoked or expired (a ban, a password change, another logout): logged out anyway.
+  if (!revoked.ok() && revoked.error().code != db::DbErrorCode::UnknownSession)
+    co_return error_reply(revoked.error());
+  if (machine_.state() == proto::ControlState::Closed) {
+    co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the logout");
+  }
+  if (machine_.state() == proto::ControlState::InMatch) (void)context_.matches.leave(account_);
+  machine_.transition(proto::ControlState::Unauthenticated,
+                      "account " + std::to_string(account_) + " logged out");
+  account_ = 0;
+  username_.clear();
+  session_token_.clear();
+  times_.logged_in = false;
+  times_.opened_at = context_.clock();  // the login deadline counts again, from now
+  check_deadlines();
+  wire::ServerMessage reply;
+  reply.mutable_logout();
   co_return reply;
 }
 

@@ -10,6 +10,8 @@
 #include <boost/asio/write.hpp>
 #include <chrono>
 
+#include "ricochet/proto/address.h"
+
 namespace ricochet::server {
 namespace asio = boost::asio;
 namespace {
@@ -51,6 +53,27 @@ std::string describe_frame_refusal(proto::FrameRefusal refusal, std::uint32_t de
   return "the frame was refused";
 }
 
+/// What the account limits count an IP (text) under: proto::host_key's text (an IPv4 address, or
+/// an IPv6 /64; an IPv4-mapped IPv6 address is its IPv4 address).
+std::string host_key_of(const std::string& ip) {
+  boost::system::error_code error;
+  asio::ip::address parsed = asio::ip::make_address(ip, error);
+  if (error) return ip;
+  if (parsed.is_v6() && parsed.to_v6().is_v4_mapped()) {
+    parsed = asio::ip::make_address_v4(asio::ip::v4_mapped, parsed.to_v6());
+  }
+  proto::Address address;
+  if (parsed.is_v4()) {
+    const auto bytes = parsed.to_v4().to_bytes();
+    std::copy(bytes.begin(), bytes.end(), address.ip.begin());
+  } else {
+    const auto bytes = parsed.to_v6().to_bytes();
+    std::copy(bytes.begin(), bytes.end(), address.ip.begin());
+    address.v6 = true;
+  }
+  return proto::host_key(address).to_string();
+}
+
 /// A session's times as it is accepted at `now`.
 ControlTimes accepted(proto::TimeUs now) {
   ControlTimes times;
@@ -78,6 +101,7 @@ ControlSession::ControlSession(std::uint64_t id, asio::ip::tcp::socket socket,
     : id_(id),
       stream_(std::move(socket), tls),
       address_(std::move(address)),
+      host_key_(host_key_of(address_)),
       context_(context),
       on_ended_(std::move(on_ended)),
       machine_([this](proto::ControlState from, proto::ControlState to, std::string_view reason) {
@@ -110,6 +134,7 @@ asio::awaitable<void> ControlSession::run() {
   context_.counters.enter_state(machine_.state());
   times_.phase = ControlPhase::Open;
   times_.last_frame_at = context_.clock();
+  times_.opened_at = times_.last_frame_at;
   check_deadlines();
   running_tasks_ = 2;
   asio::co_spawn(stream_.get_executor(), write_loop(self), asio::detached);
@@ -381,6 +406,13 @@ void ControlSession::expire(ControlExpiry expiry) {
                                  " ms; send a ping to keep the connection";
       refuse(ControlRefusal::IdleTimeout, detail);
       close(wire::IDLE_TIMEOUT, detail, "idle timeout");
+      return;
+    }
+    case ControlExpiry::Login: {
+      const std::string detail = "not logged in within " + std::to_string(limits.login_timeout_ms) +
+                                 " ms of the handshake; log in or resume first";
+      refuse(ControlRefusal::LoginTimeout, detail);
+      close(wire::LOGIN_TIMEOUT, detail, "login timeout");
       return;
     }
     case ControlExpiry::Write:

@@ -51,7 +51,8 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   /// Called once on the strand when the session has ended and its socket is closed.
   using OnEnded = std::function<void(ControlSession&)>;
 
-  /// `address` is the peer's IP (text), for logs, the per-address cap and login rate limits.
+  /// `address` is the peer's IP (text), for logs and the per-address cap; the login and
+  /// registration limits count under its proto::host_key.
   ControlSession(std::uint64_t id, boost::asio::ip::tcp::socket socket,
                  boost::asio::ssl::context& tls, std::string address, ControlContext& context,
                  OnEnded on_ended);
@@ -86,6 +87,7 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   boost::asio::awaitable<wire::ServerMessage> register_account(const wire::RegisterRequest& r);
   boost::asio::awaitable<wire::ServerMessage> login(const wire::LoginRequest& r);
   boost::asio::awaitable<wire::ServerMessage> resume(const wire::ResumeRequest& r);
+  boost::asio::awaitable<wire::ServerMessage> logout();
   wire::ServerMessage list_matches();
   wire::ServerMessage create_match(const wire::CreateMatchRequest& r);
   wire::ServerMessage join_match(const wire::JoinMatchRequest& r);
@@ -98,6 +100,11 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   void reply_error(std::uint32_t request_id, wire::ErrorCode code, const std::string& message);
   /// Counts and logs a refusal.
   void refuse(ControlRefusal refusal, const std::string& detail);
+  /// The reply to a login, resume or registration the database refused; counts its limits.
+  wire::ServerMessage account_refusal(const db::DbError& error, ControlRefusal rate_limited);
+  /// Logged in or resumed as `account` with `token`: no login deadline any more.
+  void authenticated(std::uint64_t account, std::string username, std::string token,
+                     std::string_view how);
   /// A stream the FrameReader or the parser refused: Error, then close.
   void refuse_frame(proto::FrameRefusal refusal);
 
@@ -113,6 +120,7 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   std::uint64_t id_;
   Stream stream_;
   std::string address_;
+  std::string host_key_;  ///< proto::host_key(address_): what the account limits count under
   ControlContext& context_;
   OnEnded on_ended_;
   proto::ControlStateMachine machine_;
@@ -128,6 +136,7 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   proto::TokenBucket rate_;  ///< limits.messages_per_second in bursts of limits.message_burst
   std::uint64_t account_ = 0;
   std::string username_;
+  std::string session_token_;  ///< the one this connection signed in with; logout revokes it
 };
 
 }  // namespace ricochet::server

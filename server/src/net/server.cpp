@@ -51,6 +51,15 @@ std::unique_ptr<db::DbWorker> open_database(const ServerConfig& config) {
   options.accounts.cost = config.db.password_hashing == PasswordHashing::Minimum
                               ? db::PasswordCost::Minimum
                               : db::PasswordCost::Interactive;
+  if (options.accounts.cost == db::PasswordCost::Minimum) {
+    spdlog::warn(
+        "!!! db.password_hashing = \"minimum\": passwords are hashed with Argon2id's MINIMUM cost "
+        "(8 KiB, 1 pass): a stolen database gives them up fast. For load tests only; never "
+        "with real players' accounts. !!!");
+  }
+  options.accounts.registrations_per_address = {config.db.registrations_per_hour_per_address,
+                                                3'600'000};
+  options.password_nice = config.db.password_thread_nice;
   return std::make_unique<db::DbWorker>(std::move(store).value(), std::move(options));
 }
 
@@ -132,6 +141,7 @@ ControlServerConfig control_config(const ServerConfig& config) {
   out.limits.handshake_timeout_ms = static_cast<std::uint32_t>(config.control.handshake_timeout_ms);
   out.limits.frame_timeout_ms = static_cast<std::uint32_t>(config.control.frame_timeout_ms);
   out.limits.idle_timeout_ms = static_cast<std::uint32_t>(config.control.idle_timeout_ms);
+  out.limits.login_timeout_ms = static_cast<std::uint32_t>(config.control.login_timeout_ms);
   out.limits.messages_per_second = config.control.messages_per_second;
   out.limits.message_burst = config.control.message_burst;
   out.clock = steady_now_us;  // the match registry issues connect tokens on it too

@@ -1,15 +1,18 @@
 #pragma once
 /// Account rules over any Store: usernames, Argon2id passwords, session tokens, rate limits.
 ///
-///   register  name 3–24 of [A-Za-z0-9_.-], unique ignoring case; password 8..1024 bytes,
-///             stored as crypto_pwhash_str (Argon2id, interactive limits by default)
+///   register  name 3–24 of [A-Za-z0-9_.-], unique ignoring case (a taken name is refused
+///             before any hashing); password 8..1024 bytes, stored as crypto_pwhash_str
+///             (Argon2id, interactive limits by default); registrations counted per address in
+///             the store (RateLimited past the limit, shared by every server process)
 ///   login     checks the password (against a dummy hash when the name is unknown, so the time
 ///             taken does not tell whether an account exists), refuses banned accounts, counts
-///             failures per account and per address in the store (RateLimited past the limit,
-///             shared by every server process on the database), and returns a random 256-bit
-///             token; the store keeps only its SHA-256, with an expiry
-///   session   check, revoke; banning an account or changing its password revokes all its
-///             sessions in the same transaction
+///             failures per (account, address), per account and per address in the store
+///             (RateLimited past a limit, shared by every server process on the database), and
+///             returns a random 256-bit token; the store keeps only its SHA-256, with an expiry
+///   session   check, revoke (logout); expired sessions are deleted as logins go on (only a
+///             login adds one, so the table holds at most one lifetime's logins); banning an
+///             account or changing its password revokes all its sessions in the same transaction
 ///
 /// Register, login and change_password each run in three steps, so that a caller can run the
 /// Argon2id work (~100 ms) on another thread: begin (DB) → hash or check (any thread, touches
@@ -22,6 +25,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "ricochet/db/records.h"
 #include "ricochet/db/refusals.h"
@@ -37,19 +41,31 @@ inline constexpr std::size_t kTokenBytes = 32;  ///< 256 bits; the text form is 
 /// passes); Minimum exists for tests and for seeding benches, never for production.
 enum class PasswordCost { Interactive, Moderate, Minimum };
 
-/// At most `max_failures` failed logins within `window_ms`; further attempts are refused with
-/// RateLimited (without checking the password) until the oldest failure leaves the window.
+/// At most `max_events` events (failed logins, registrations) within `window_ms`; further
+/// attempts are refused with RateLimited (without any hashing) until the oldest event leaves
+/// the window.
 struct RateLimit {
-  int max_failures = 5;
+  int max_events = 5;
   UnixMillis window_ms = 60'000;
 };
 
+/// The login limits follow OWASP's authentication guidance: whoever guesses is stopped, the
+/// owner signing in from elsewhere is not. `address` below is what the caller names a client by
+/// (the server passes an IPv4 address or an IPv6 /64).
 struct AccountsOptions {
   PasswordCost cost = PasswordCost::Interactive;
   std::size_t min_password_length = 8;  ///< bytes
   UnixMillis session_lifetime_ms = 24 * 3600 * 1000LL;
-  RateLimit per_account{5, 60'000};
+  /// Failed logins of one account from one address, every step checked: 5 a minute, then 20
+  /// an hour, so a guesser that keeps going gets fewer tries per minute (a back-off).
+  std::vector<RateLimit> per_account_address{{5, 60'000}, {20, 3'600'000}};
+  /// Failed logins of one account from all addresses together: looser, so that it takes many
+  /// addresses to reach, and then the account is refused everywhere until the window passes.
+  RateLimit per_account{100, 900'000};
+  /// Failed logins from one address, whatever the accounts (one address guessing many).
   RateLimit per_address{20, 60'000};
+  /// Accounts registered from one address (each costs a hash and a row).
+  RateLimit registrations_per_address{10, 3'600'000};
   OnRefusal on_refusal;  ///< see refusals.h
 };
 
@@ -77,12 +93,13 @@ class Accounts {
   /// The store must outlive this object.
   Accounts(Store& store, AccountsOptions options = {});
 
+  /// `address` names the client for the per-address limits; empty skips them.
   DbResult<AccountId> register_account(std::string_view username, std::string_view password,
-                                       UnixMillis now);
-  /// `address` names the client (an IP) for the per-address limit; empty skips that limit.
+                                       std::string_view address, UnixMillis now);
   DbResult<LoginResult> login(std::string_view username, std::string_view password,
                               std::string_view address, UnixMillis now);
   DbResult<SessionInfo> check_session(std::string_view token, UnixMillis now);
+  /// Logout: the token stops working at once (UnknownSession when it is not a live session).
   DbStatus revoke_session(std::string_view token);
   /// Checks the old password first (WrongCredentials); revokes every session of the account.
   DbStatus change_password(AccountId id, std::string_view old_password,
@@ -91,7 +108,10 @@ class Accounts {
   DbStatus set_banned(AccountId id, bool banned);
 
   // --- register: check (DB) → hash_new_password (any thread) → finish_registration (DB) ---
-  DbStatus check_registration(std::string_view username, std::string_view password);
+  /// The name and password rules, the name not taken, and the address's registration limit
+  /// (noting this registration).
+  DbStatus check_registration(std::string_view username, std::string_view password,
+                              std::string_view address, UnixMillis now);
   /// Argon2id at the configured cost; OutOfMemory when libsodium could not allocate it.
   DbResult<std::string> hash_new_password(std::string_view password) const;
   DbResult<AccountId> finish_registration(std::string_view username,
@@ -101,8 +121,9 @@ class Accounts {
   struct LoginAttempt {
     std::string username;                     ///< as given
     std::optional<AccountCredentials> found;  ///< nullopt: unknown (or invalid) name
+    std::string address;                      ///< as given
     std::string hash;  ///< what the password is checked against: the account's, or a dummy
-    std::optional<std::int64_t> address_failure;  ///< noted by begin_login, forgiven on success
+    std::vector<std::int64_t> noted_failures;  ///< noted by begin_login, forgiven on success
   };
   struct PasswordCheck {
     bool matches = false;
@@ -113,7 +134,8 @@ class Accounts {
   DbResult<LoginAttempt> begin_login(std::string_view username, std::size_t password_bytes,
                                      std::string_view address, UnixMillis now);
   PasswordCheck check_password(const LoginAttempt& attempt, std::string_view password) const;
-  /// Refuses banned accounts; writes the upgraded hash, the session and the login time at once.
+  /// Refuses banned accounts; writes the upgraded hash, the session and the login time at once,
+  /// and deletes the sessions that expired before `now`.
   DbResult<LoginResult> finish_login(const LoginAttempt& attempt, const PasswordCheck& check,
                                      UnixMillis now);
 

@@ -17,7 +17,12 @@
 ///
 ///   DB thread: lookup, rate limits ─▶ password thread: Argon2id ─▶ DB thread: session, counters
 ///
-/// A burst of logins then delays other logins, not match results or token checks.
+/// A burst of logins then delays other logins, not match results or token checks. The password
+/// threads take a waiting login check of an existing account before any other hash, so a storm of
+/// registrations delays an existing account's login by at most the hashes already running;
+/// registrations and password changes past `max_queued_hashes` are refused at once (QueueFull)
+/// instead of waiting minutes. The password threads run at a low priority (`password_nice`), so
+/// Argon2id gets the cores the game ticks leave, never the ones they need.
 
 #include <condition_variable>
 #include <cstddef>
@@ -75,8 +80,17 @@ struct DbServices {
 struct DbWorkerOptions {
   AccountsOptions accounts;
   MatchesOptions matches;
-  std::size_t max_queued = 10'000;  ///< per queue (DB jobs, password checks)
-  int password_threads = 1;         ///< each Argon2id interactive hash holds 64 MiB while it runs
+  std::size_t max_queued = 10'000;  ///< per queue (DB jobs, login password checks)
+  /// Registrations and password changes waiting for a password thread (each ~100 ms of Argon2id
+  /// at interactive cost: 256 are ~26 s of one thread's work); more are refused with QueueFull
+  /// at once. A 200-bot load test on a fresh database registers them all.
+  std::size_t max_queued_hashes = 256;
+  int password_threads = 1;  ///< each Argon2id interactive hash holds 64 MiB while it runs
+  /// Nice value of the password threads (Linux, per thread; 0..19, 19 the lowest priority).
+  /// At 10 (CFS weight 110 against 1024) a hash gets about a tenth of a core a busy nice-0
+  /// thread (a match tick) also wants, and the tick preempts it when it wakes; 19 would starve
+  /// logins for as long as anything else keeps the cores busy.
+  int password_nice = 10;
 };
 
 class DbWorker {
@@ -97,8 +111,8 @@ class DbWorker {
   void login(std::string username, std::string password, std::string address, UnixMillis now,
              Post post, std::function<void(DbResult<LoginResult>)> done);
   /// Accounts::register_account with the hashing on a password thread.
-  void register_account(std::string username, std::string password, UnixMillis now, Post post,
-                        std::function<void(DbResult<AccountId>)> done);
+  void register_account(std::string username, std::string password, std::string address,
+                        UnixMillis now, Post post, std::function<void(DbResult<AccountId>)> done);
   /// Accounts::change_password with both Argon2id runs on a password thread.
   void change_password(AccountId id, std::string old_password, std::string new_password, Post post,
                        std::function<void(DbStatus)> done);
@@ -112,19 +126,25 @@ class DbWorker {
  private:
   using Task = std::function<void(DbServices*)>;  ///< nullptr: the worker stopped
   using CpuTask = std::function<void(bool stopped)>;
-  /// Queues a task, or runs it at once as stopped; false when the queue is full.
+  /// Which queue of the password threads a task waits in; LoginCheck (an existing account's
+  /// login) is taken first, NewHash (registrations, password changes, unknown names) after.
+  enum class PasswordWork { LoginCheck, NewHash };
+  /// Queues a task, or runs it at once as stopped; false when the queue holds `cap` tasks.
   template <class T, class Stopped>
-  bool push(std::deque<T>& queue, std::condition_variable& wake, T task, Stopped stopped);
+  bool push(std::deque<T>& queue, std::size_t cap, std::condition_variable& wake, T task,
+            Stopped stopped);
   /// Waits for a task; false when the worker stops.
-  template <class T>
-  bool pop(std::deque<T>& queue, std::condition_variable& wake, T& task);
+  bool pop(Task& task);
+  bool pop_cpu(CpuTask& task);
   /// One job in three steps: begin(DbServices&) -> DbResult<S> or DbStatus on the DB thread,
-  /// then work(S&) -> W on a password thread, then finish(DbServices&, S&, W&) -> R back on the
-  /// DB thread, delivered. Defined in db_worker.cpp, the only place that uses it.
-  template <class R, class Begin, class Work, class Finish>
-  void in_three_steps(detail::Delivery<R> deliver, Begin begin, Work work, Finish finish);
+  /// then work(S&) -> W on a password thread (in the queue kind_of(S&) names), then
+  /// finish(DbServices&, S&, W&) -> R back on the DB thread, delivered. Defined in
+  /// db_worker.cpp, the only place that uses it.
+  template <class R, class Kind, class Begin, class Work, class Finish>
+  void in_three_steps(Kind kind_of, detail::Delivery<R> deliver, Begin begin, Work work,
+                      Finish finish);
   bool enqueue(Task task);
-  bool enqueue_cpu(CpuTask task);
+  bool enqueue_cpu(PasswordWork kind, CpuTask task);
   void run();
   void run_cpu();
 
@@ -133,6 +153,8 @@ class DbWorker {
   Matches matches_;
   DbServices services_;
   std::size_t max_queued_;
+  std::size_t max_queued_hashes_;
+  int password_nice_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<Task> queue_;
@@ -140,7 +162,8 @@ class DbWorker {
   std::size_t completed_ = 0;
   std::thread thread_;
   std::condition_variable cpu_wake_;
-  std::deque<CpuTask> cpu_queue_;  ///< guarded by mutex_
+  std::deque<CpuTask> login_checks_;  ///< guarded by mutex_; taken before new_hashes_
+  std::deque<CpuTask> new_hashes_;    ///< guarded by mutex_
   std::vector<std::thread> cpu_threads_;
 };
 

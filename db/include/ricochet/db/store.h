@@ -58,8 +58,9 @@ class Store {
   /// Removes sessions that expired before `now`; returns how many.
   virtual DbResult<std::int64_t> delete_expired_sessions(UnixMillis now) = 0;
 
-  // --- failed logins, by key ("account:<name>", "address:<ip>"), for rate limits that every
-  // server process on the database shares ---
+  // --- rate-limit events by key, for limits that every server process on the database shares:
+  // failed logins ("account:<name>", "account-address:<name> <address>", "address:<address>")
+  // and registrations ("registration:<address>"); the keys are the account rules' business ---
   /// Notes one failure under `key` at `at_ms`; returns its id.
   virtual DbResult<std::int64_t> insert_login_failure(std::string_view key, UnixMillis at_ms) = 0;
   /// How many failures under `key` were noted after `after_ms`.

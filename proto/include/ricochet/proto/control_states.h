@@ -5,7 +5,8 @@
 /// its reason.
 ///
 ///   Unauthenticated ──login / resume──▶ Authenticated ──join──▶ InMatch
-///                                        ▲   ◀──leave / match results──┘
+///        ▲                               ▲   ◀──leave / match results──┘
+///        └──────────── logout ◀──────────┴──────────────────────────┘
 ///   any state ──close(reason)──▶ Closed (final)
 ///
 ///   message        Unauthenticated  Authenticated  InMatch  Closed
@@ -18,6 +19,7 @@
 ///   leave_match           -              -           yes       -      re-issues the token)
 ///   chat                  -              -           yes       -
 ///   ping                 yes            yes          yes       -
+///   logout                -             yes          yes       -
 
 #include <array>
 #include <cstddef>
@@ -59,9 +61,10 @@ enum class ClientMessageKind : std::uint8_t {
   LeaveMatch,
   Chat,
   Ping,
+  Logout,
 };
 inline constexpr std::size_t kClientMessageKindCount =
-    static_cast<std::size_t>(ClientMessageKind::Ping) + 1;
+    static_cast<std::size_t>(ClientMessageKind::Logout) + 1;
 
 inline const char* name(ClientMessageKind kind) {
   switch (kind) {
@@ -83,6 +86,8 @@ inline const char* name(ClientMessageKind kind) {
       return "chat";
     case ClientMessageKind::Ping:
       return "ping";
+    case ClientMessageKind::Logout:
+      return "logout";
   }
   return "unknown";
 }
@@ -108,6 +113,8 @@ inline ClientMessageKind kind_of(const wire::ClientMessage& message) {
       return ClientMessageKind::Chat;
     case wire::ClientMessage::kPing:
       return ClientMessageKind::Ping;
+    case wire::ClientMessage::kLogout:
+      return ClientMessageKind::Logout;
     case wire::ClientMessage::BODY_NOT_SET:
       break;
   }
@@ -118,11 +125,11 @@ inline ClientMessageKind kind_of(const wire::ClientMessage& message) {
 /// kAllowed[state][kind]: whether a message of that kind is dispatched in that state.
 inline constexpr std::array<std::array<bool, kClientMessageKindCount>, kControlStateCount>
     kAllowedMessages{{
-        // register login resume list  create join  leave  chat   ping
-        {{true, true, true, false, false, false, false, false, true}},  // Unauthenticated
-        {{false, false, false, true, true, true, false, false, true}},  // Authenticated
-        {{false, false, false, true, true, true, true, true, true}},    // InMatch
-        {{false, false, false, false, false, false, false, false, false}},  // Closed
+        // register login resume list  create join  leave  chat   ping   logout
+        {{true, true, true, false, false, false, false, false, true, false}},   // Unauthenticated
+        {{false, false, false, true, true, true, false, false, true, true}},   // Authenticated
+        {{false, false, false, true, true, true, true, true, true, true}},     // InMatch
+        {{false, false, false, false, false, false, false, false, false, false}},  // Closed
     }};
 // clang-format on
 

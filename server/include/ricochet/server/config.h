@@ -44,6 +44,9 @@ const char* name(PasswordHashing hashing);
 struct DbConfig {
   std::string path = "ricochet.db";  ///< SQLite file; relative paths are under data_dir
   PasswordHashing password_hashing = PasswordHashing::Interactive;
+  // --- abuse limits of accounts (issue 29) ---
+  int registrations_per_hour_per_address = 10;  ///< an IPv4 address or IPv6 /64, in the database
+  int password_thread_nice = 10;  ///< nice of the Argon2id threads (0..19): the ticks come first
 };
 
 /// [tls]
@@ -62,6 +65,7 @@ struct ControlConfig {
   int handshake_timeout_ms = 5'000;  ///< accept to finished TLS handshake
   int frame_timeout_ms = 10'000;     ///< first byte of a frame to its last (slowloris)
   int idle_timeout_ms = 120'000;     ///< no whole frame for this long
+  int login_timeout_ms = 30'000;     ///< handshake to login or resume; pings do not extend it
   int messages_per_second = 20;      ///< sustained requests per connection
   int message_burst = 40;            ///< requests a connection may send at once
   // Chat, across every session of an account and every player of a match (ChatLimiter).
