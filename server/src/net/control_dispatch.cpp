@@ -269,7 +269,7 @@ asio::awaitable<wire::ServerMessage> ControlSession::logout() {
   if (machine_.state() == proto::ControlState::Closed) {
     co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the logout");
   }
-  if (machine_.state() == proto::ControlState::InMatch) (void)context_.matches.leave(account_);
+  if (machine_.state() == proto::ControlState::InMatch) (void)context_.matches.leave(account_, id_);
   machine_.transition(proto::ControlState::Unauthenticated,
                       "account " + std::to_string(account_) + " logged out");
   account_ = 0;
