@@ -147,13 +147,13 @@ TEST(ControlAccounts, LogoutRevokesTheSessionLeavesTheMatchAndAllowsANewLogin) {
 TEST(ControlAccounts, AGuesserIsStoppedAndTheOwnerStillLogsInFromItsOwnAddress) {
   ControlRig rig;
   ControlTestClient owner(rig.port());
-  owner.connect_from("127.0.0.3");
+  owner.use_source("127.0.0.3");
   ASSERT_TRUE(owner.connect());
   ASSERT_TRUE(owner.request(ControlTestClient::register_account("victim", "password-victim"))
                   .has_register_account());
 
   ControlTestClient guesser(rig.port());
-  guesser.connect_from("127.0.0.2");
+  guesser.use_source("127.0.0.2");
   ASSERT_TRUE(guesser.connect());
   int wrong = 0;
   int limited = 0;
@@ -181,7 +181,7 @@ TEST(ControlAccounts, RegistrationsFromOneAddressAreLimitedWhileAnotherRegisters
   accounts.registrations_per_address = {3, 3'600'000};
   ControlRig rig({}, {}, accounts);
   ControlTestClient flooder(rig.port());
-  flooder.connect_from("127.0.0.2");
+  flooder.use_source("127.0.0.2");
   ASSERT_TRUE(flooder.connect());
   int registered = 0;
   int limited = 0;
@@ -196,14 +196,14 @@ TEST(ControlAccounts, RegistrationsFromOneAddressAreLimitedWhileAnotherRegisters
   EXPECT_TRUE(rig.wait_refusals(ControlRefusal::RegistrationRateLimited, 7));
   // A second connection from the same address is the same address.
   ControlTestClient same(rig.port());
-  same.connect_from("127.0.0.2");
+  same.use_source("127.0.0.2");
   ASSERT_TRUE(same.connect());
   EXPECT_EQ(
       same.request(ControlTestClient::register_account("bot99", "password-bot")).error().code(),
       wire::REGISTRATION_RATE_LIMITED);
 
   ControlTestClient player(rig.port());
-  player.connect_from("127.0.0.3");
+  player.use_source("127.0.0.3");
   ASSERT_TRUE(player.connect());
   const auto reply = player.request(ControlTestClient::register_account("ada", "lovelace1"));
   EXPECT_TRUE(reply.has_register_account()) << reply.DebugString();

@@ -213,7 +213,7 @@ class ControlTestClient {
 
   /// Connects from `ip` (another loopback address, 127.0.0.2 ...), to look like another host
   /// to the server's per-address limits; 127.0.0.1 unless called before connect().
-  void connect_from(const std::string& ip) { source_ = ip; }
+  void use_source(const std::string& ip) { source_ = ip; }
   /// TCP connect only (for plaintext probes).
   bool connect_tcp(std::chrono::milliseconds limit = 3s) {
     bool done = false;
@@ -235,11 +235,8 @@ class ControlTestClient {
   /// connect() from `source`, a loopback address such as 127.0.0.2: what the server's
   /// per-address limits see.
   bool connect_from(const std::string& source, std::chrono::milliseconds limit = 3s) {
-    auto& socket = stream_.next_layer();
-    boost::system::error_code error;
-    socket.open(asio::ip::tcp::v4(), error);
-    if (!error) socket.bind({asio::ip::make_address(source), 0}, error);
-    return !error && connect(limit);
+    use_source(source);
+    return connect(limit);
   }
   /// TCP connect and TLS handshake; true when the server let us in.
   bool connect(std::chrono::milliseconds limit = 3s) {

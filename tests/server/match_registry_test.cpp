@@ -120,7 +120,7 @@ TEST_F(MatchRegistryTest, JoiningReservesASeatAndIssuesAnOpenableToken) {
 TEST_F(MatchRegistryTest, AnAccountGetsItsUnusedTokenAgainWithinTheReuseWindow) {
   const std::uint32_t match = open("a", 4);
   const auto token_of = [&](std::uint64_t account) {
-    auto joined = registry_->join(account, "someone", match);
+    auto joined = registry_->join(account, "someone", match, kHere);
     EXPECT_TRUE(std::holds_alternative<JoinGrant>(joined));
     return std::holds_alternative<JoinGrant>(joined)
                ? std::get<JoinGrant>(joined).token.connect_token
