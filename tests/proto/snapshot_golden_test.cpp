@@ -91,8 +91,6 @@ struct TickFields {
   std::uint32_t sent = 0;          ///< report (deferred is pending - sent)
   std::uint32_t bytes = 0;         ///< report: the serialised snapshot
   std::uint32_t stream_fnv = 0;    ///< FNV-1a of the entity stream, folded to 32 bits
-
-  friend bool operator==(const TickFields&, const TickFields&) = default;
 };
 
 std::uint32_t folded_fnv(const std::string& bytes) {
