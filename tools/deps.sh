@@ -19,7 +19,6 @@ packages=(
   clang-format       # the formatter; tools/test.sh checks the tree against .clang-format
   clang              # the libFuzzer targets (tests/fuzz, tools/fuzz.sh)
   libclang-rt-14-dev # their fuzzer and sanitizer runtimes
-  clang-16 libclang-rt-16-dev  # the sanitized builds of tools/test.sh (ASan+UBSan, TSan)
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
 if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then
