@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "replay_process.h"
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
 #include "ricochet/bot/predictor.h"
@@ -105,20 +106,6 @@ const wire::PlayerScore* score_of(const wire::MatchState& state, std::uint32_t e
     if (score.entity_id() == entity) return &score;
   }
   return nullptr;
-}
-
-/// `ricochet-replay --json FILE`: its exit code and what it printed.
-std::pair<int, std::string> replay(const std::filesystem::path& file) {
-  const std::string command =
-      std::string(RICOCHET_REPLAY_BINARY) + " --json '" + file.string() + "' 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string output;
-  char chunk[4096];
-  while (const std::size_t size = std::fread(chunk, 1, sizeof chunk, pipe))
-    output.append(chunk, size);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 /// The number after `"key":` in the replay's score object of `account` (-1 when absent).

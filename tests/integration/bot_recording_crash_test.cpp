@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "replay_process.h"
 #include "ricochet/bot/fleet.h"
 #include "server_process.h"
 
@@ -44,20 +45,6 @@ std::optional<std::filesystem::path> part_file(const std::filesystem::path& dire
     if (name.ends_with(".rcr.part") && entry.file_size(error) >= min_bytes) return entry.path();
   }
   return std::nullopt;
-}
-
-/// `ricochet-replay --json FILE`: its exit code and what it printed.
-std::pair<int, std::string> replay(const std::filesystem::path& file) {
-  const std::string command =
-      std::string(RICOCHET_REPLAY_BINARY) + " --json '" + file.string() + "' 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string output;
-  char chunk[4096];
-  while (const std::size_t size = std::fread(chunk, 1, sizeof chunk, pipe))
-    output.append(chunk, size);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 long long json_number(const std::string& json, const std::string& key) {

@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "replay_process.h"
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
 #include "ricochet/db/store.h"
@@ -89,20 +90,6 @@ bool every_bot(const bot::Fleet& fleet, auto holds) {
     if (!holds(*each)) return false;
   }
   return true;
-}
-
-/// `ricochet-replay --json FILE`: its exit code and what it printed.
-std::pair<int, std::string> replay(const std::filesystem::path& file) {
-  const std::string command =
-      std::string(RICOCHET_REPLAY_BINARY) + " --json '" + file.string() + "' 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string output;
-  char chunk[4096];
-  while (const std::size_t size = std::fread(chunk, 1, sizeof chunk, pipe))
-    output.append(chunk, size);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 /// PRAGMA integrity_check on the file: "ok", or what SQLite found.
