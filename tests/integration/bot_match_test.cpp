@@ -24,6 +24,7 @@
 #include "ricochet/bot/predictor.h"
 #include "ricochet/db/store.h"
 #include "ricochet/stats/percentile.h"
+#include "run_until.h"
 #include "server_process.h"
 
 namespace ricochet::test {
@@ -80,18 +81,6 @@ bot::BotConfig bot_config(const ServerProcess& server, const std::string& name) 
   config.skill = 0.9;
   config.matches = 1;
   return config;
-}
-
-/// Runs `io` until `done()` holds or `limit` passes; whether it holds.
-template <class Done>
-bool run_until(asio::io_context& io, Done done, std::chrono::milliseconds limit) {
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (!done()) {
-    if (std::chrono::steady_clock::now() >= deadline) return false;
-    io.run_for(20ms);
-    if (io.stopped()) io.restart();
-  }
-  return true;
 }
 
 const wire::PlayerMatchResult* result_of(const wire::MatchResults& results, std::uint64_t account) {

@@ -30,6 +30,7 @@
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
 #include "ricochet/db/store.h"
+#include "run_until.h"
 #include "server_process.h"
 
 namespace ricochet::test {
@@ -72,17 +73,6 @@ bot::FleetConfig fleet_config(const ServerProcess& server, const std::string& na
   config.bot.predict = false;
   config.bots = bots;
   return config;
-}
-
-template <class Done>
-bool run_until(asio::io_context& io, Done done, std::chrono::milliseconds limit) {
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (!done()) {
-    if (std::chrono::steady_clock::now() >= deadline) return false;
-    io.run_for(20ms);
-    if (io.stopped()) io.restart();
-  }
-  return true;
 }
 
 bool every_bot(const bot::Fleet& fleet, auto holds) {
