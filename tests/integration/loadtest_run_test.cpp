@@ -7,14 +7,10 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <optional>
-#include <regex>
-#include <sstream>
 #include <string>
 
+#include "loadtest_process.h"
 #include "server_process.h"
 #include "temp_dir.h"
 
@@ -22,24 +18,6 @@ namespace ricochet::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-/// The number after `"key":` at the top level of report.json (its last occurrence: the step
-/// objects come first); nullopt when absent.
-std::optional<double> number_field(const std::string& json, const std::string& key) {
-  const std::regex pattern("\"" + key + "\":(-?[0-9.eE+-]+)");
-  std::optional<double> last;
-  for (std::sregex_iterator it(json.begin(), json.end(), pattern), end; it != end; ++it) {
-    last = std::stod((*it)[1].str());
-  }
-  return last;
-}
 
 /// A TCP port on 127.0.0.1 that was free a moment ago.
 std::uint16_t free_tcp_port() {
@@ -54,14 +32,6 @@ std::uint16_t free_tcp_port() {
   }
   close(fd);
   return ntohs(address.sin_port);
-}
-
-/// Runs ricochet-loadtest with `arguments`; its exit code (-1: it did not exit normally).
-int run_loadtest(const std::string& arguments, const fs::path& log) {
-  const std::string command =
-      std::string(RICOCHET_LOADTEST_BINARY) + " " + arguments + " > '" + log.string() + "' 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 TEST(LoadTest, BotsFillTheMatchesAndTheReportHasEveryFigure) {

@@ -1,6 +1,8 @@
 // ricochet-loadtest: many bots on one event loop against a ricochet-server on this host. Ramps
 // up at a set rate, shows progress on stderr, reads the server's /metrics and /proc while it
 // runs, and writes DIR/report.json, the series and gnuplot PNGs (one step, or --sweep steps).
+// With --soak: bots on a bad link coming and going for the whole duration, and whether the
+// server's RSS and open descriptors stayed flat (soak_run.h).
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -15,6 +17,8 @@
 
 #include "ricochet/loadtest/load_run.h"
 #include "ricochet/loadtest/report.h"
+#include "ricochet/loadtest/soak_report.h"
+#include "ricochet/loadtest/soak_run.h"
 
 namespace {
 
@@ -25,6 +29,65 @@ std::string utc_now() {
   char text[32];
   std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return text;
+}
+
+/// Exit codes (--help lists them).
+constexpr int kExitReportFailed = 1;
+constexpr int kExitBadOption = 2;
+constexpr int kExitNotFlat = 3;
+
+/// Runs `run` on `io` until it finishes (SIGINT/SIGTERM end it early), then lets the bots'
+/// disconnect packets out.
+template <class Run>
+void run_to_the_end(boost::asio::io_context& io, Run& run) {
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  boost::asio::steady_timer linger(io);
+  signals.async_wait([&](const boost::system::error_code& error, int signal) {
+    if (!error) run.stop(signal == SIGINT ? "SIGINT" : "SIGTERM");
+  });
+  run.on_finished([&] {
+    signals.cancel();
+    // The bots' disconnect packets go out; then whatever is left is not waited for.
+    linger.expires_after(std::chrono::seconds(2));
+    linger.async_wait([&](const boost::system::error_code&) { io.stop(); });
+  });
+  run.start();
+  io.run();
+}
+
+int soak(const ricochet::loadtest::LoadTestConfig& config,
+         const ricochet::loadtest::SoakConfig& options,
+         const ricochet::loadtest::ReportContext& context) {
+  using namespace ricochet::loadtest;
+  boost::asio::io_context io;
+  SoakRun run(io, config, options);
+  run_to_the_end(io, run);
+  const SoakSummary summary =
+      summarise_soak(run.samples(), options.warmup_for(config.duration_s), options.bounds);
+  if (const std::string problem = write_soak_report(run, summary, config, options, context);
+      !problem.empty()) {
+    std::fprintf(stderr, "ricochet-loadtest: %s\n", problem.c_str());
+    return kExitReportFailed;
+  }
+  int status = 0;
+  if (config.plots) {
+    if (const std::string problem = draw_soak_plots(summary, config); !problem.empty()) {
+      std::fprintf(stderr, "ricochet-loadtest: %s\n", problem.c_str());
+      status = kExitReportFailed;
+    }
+  }
+  const Flatness& flat = summary.flatness;
+  std::fprintf(stderr,
+               "ricochet-loadtest: soak %s: RSS %+.2f MiB/h (bound %.2f), open fds %+.2f /h "
+               "(bound %.2f) over %d samples after %.0f s of warm-up; wrote %s/report.json\n",
+               flat.flat() ? "flat" : "NOT FLAT", flat.rss_mib_per_hour.value_or(0),
+               flat.bounds.rss_mib_per_hour, flat.fds_per_hour.value_or(0),
+               flat.bounds.fds_per_hour, flat.samples, flat.warmup_s, config.out.c_str());
+  if (!flat.flat()) {
+    std::fprintf(stderr, "ricochet-loadtest: %s\n", flat.verdict().c_str());
+    return kExitNotFlat;
+  }
+  return status;
 }
 
 }  // namespace
@@ -40,8 +103,19 @@ int main(int argc, char** argv) {
   bool socket_per_bot = false;
   bool no_plots = false;
   bool quiet = false;
+  bool soak_mode = false;
+  SoakConfig soak_options;
+  std::string link_latency = "200ms";
+  std::string link_jitter = "50ms";
+  std::string churn_min_life = "60s";
+  std::string churn_max_life = "600s";
+  std::string warmup;
 
-  CLI::App app{"ricochet-loadtest: bots against a ricochet-server on this host, measured"};
+  CLI::App app{
+      "ricochet-loadtest: bots against a ricochet-server on this host, measured.\n"
+      "Exit status: 0 the report is written (with --soak: and the server stayed flat), 1 the "
+      "report or its plots could not be written, 2 a bad option, 3 (--soak) the server's RSS or "
+      "open fds grew faster than their bounds after the warm-up"};
   app.add_option("--server", config.server, "the server's loopback IPv4 address")
       ->capture_default_str();
   app.add_option("--port", config.control_port, "control channel (TLS) port")
@@ -62,9 +136,10 @@ int main(int argc, char** argv) {
   app.add_option("--ramp", config.ramp_per_s, "bots started per second")->capture_default_str();
   app.add_option("--settle", settle, "wait after the last start before measuring")
       ->capture_default_str();
-  app.add_option("--bots-per-address", config.bots_per_address,
-                 "bots per loopback source address (127.0.1.1, 127.0.1.2, ...)")
-      ->capture_default_str();
+  auto* per_address =
+      app.add_option("--bots-per-address", config.bots_per_address,
+                     "bots per loopback source address (127.0.1.1, 127.0.1.2, ...); 2 with --soak")
+          ->capture_default_str();
   app.add_flag("--socket-per-bot", socket_per_bot,
                "a UDP socket per bot's game channel (default: one socket for all, a loopback "
                "source address per bot and batched system calls)");
@@ -86,11 +161,43 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "no progress line per scrape");
   app.add_option("--log-level", log_level, "the bots' log: trace|debug|info|warn|error|off")
       ->capture_default_str();
+  app.add_flag("--soak", soak_mode,
+               "soak: --bots stay for --duration through a bad link, leaving and coming back, "
+               "and the server's RSS and open fds must stay flat after the warm-up (exit 3 if "
+               "not); report.json, soak.dat and PNGs in DIR");
+  app.add_option("--link-latency", link_latency, "soak: game channel latency, each way")
+      ->capture_default_str();
+  app.add_option("--link-jitter", link_jitter, "soak: ± uniform jitter on the latency, each way")
+      ->capture_default_str();
+  app.add_option("--link-loss", soak_options.link.loss, "soak: datagrams lost, each way (0..1)")
+      ->capture_default_str();
+  app.add_option("--link-duplicate", soak_options.link.duplicate,
+                 "soak: datagrams delivered twice, each way (0..1)")
+      ->capture_default_str();
+  app.add_option("--link-reorder", soak_options.link.reorder,
+                 "soak: datagrams held back so later ones overtake them, each way (0..1)")
+      ->capture_default_str();
+  app.add_option("--churn-min-life", churn_min_life,
+                 "soak: shortest time a bot plays before it leaves and a new one takes its place")
+      ->capture_default_str();
+  app.add_option("--churn-max-life", churn_max_life, "soak: longest such time; 0: no churn")
+      ->capture_default_str();
+  app.add_option("--churn-new-account", soak_options.churn.new_account_share,
+                 "soak: share of returning bots that sign in with a new account (0..1)")
+      ->capture_default_str();
+  app.add_option("--warmup", warmup,
+                 "soak: time left out of the slopes (default: 10 % of --duration, at least 60s)");
+  app.add_option("--max-rss-slope", soak_options.bounds.rss_mib_per_hour,
+                 "soak: the largest flat RSS slope after the warm-up, MiB/hour")
+      ->capture_default_str();
+  app.add_option("--max-fd-slope", soak_options.bounds.fds_per_hour,
+                 "soak: the largest flat open-fd slope after the warm-up, fds/hour")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   const auto fail = [](const std::string& problem) {
     std::fprintf(stderr, "ricochet-loadtest: %s\n", problem.c_str());
-    return 2;
+    return kExitBadOption;
   };
   const auto duration_s = parse_duration_s(duration);
   if (!duration_s)
@@ -114,7 +221,29 @@ int main(int argc, char** argv) {
   if (config.fingerprint.empty() && config.trust_file.empty()) {
     config.trust_file = (std::filesystem::path(config.out) / "server.fp").string();
   }
+  if (soak_mode && per_address->count() == 0) config.bots_per_address = 2;
   if (const std::string problem = config.validate(); !problem.empty()) return fail(problem);
+  if (soak_mode) {
+    const auto latency_ms = parse_duration_s(link_latency);
+    const auto jitter_ms = parse_duration_s(link_jitter);
+    const auto min_life_s = parse_duration_s(churn_min_life);
+    const auto max_life_s = parse_duration_s(churn_max_life);
+    if (!latency_ms || !jitter_ms)
+      return fail("--link-latency and --link-jitter must be durations like 200ms");
+    if (!min_life_s || !max_life_s)
+      return fail("--churn-min-life and --churn-max-life must be durations like 60s or 10m");
+    soak_options.link.latency_ms = *latency_ms * 1000;
+    soak_options.link.jitter_ms = *jitter_ms * 1000;
+    soak_options.churn.min_life_s = *min_life_s;
+    soak_options.churn.max_life_s = *max_life_s;
+    if (!warmup.empty()) {
+      const auto warmup_s = parse_duration_s(warmup);
+      if (!warmup_s) return fail("--warmup must be a duration like 60s, got \"" + warmup + "\"");
+      soak_options.warmup_s = *warmup_s;
+    }
+    if (const std::string problem = soak_options.validate(config); !problem.empty())
+      return fail(problem);
+  }
   std::error_code made;
   std::filesystem::create_directories(config.out, made);
   if (made) return fail("cannot create " + config.out + ": " + made.message());
@@ -129,30 +258,20 @@ int main(int argc, char** argv) {
   }
   context.measured_at_utc = utc_now();
 
+  if (soak_mode) return soak(config, soak_options, context);
+
   boost::asio::io_context io;
   LoadRun run(io, config);
-  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-  boost::asio::steady_timer linger(io);
-  signals.async_wait([&](const boost::system::error_code& error, int signal) {
-    if (!error) run.stop(signal == SIGINT ? "SIGINT" : "SIGTERM");
-  });
-  run.on_finished([&] {
-    signals.cancel();
-    // The bots' disconnect packets go out; then whatever is left is not waited for.
-    linger.expires_after(std::chrono::seconds(2));
-    linger.async_wait([&](const boost::system::error_code&) { io.stop(); });
-  });
-  run.start();
-  io.run();
+  run_to_the_end(io, run);
 
   int status = 0;
   if (const std::string problem = write_report(run, config, context); !problem.empty()) {
     std::fprintf(stderr, "ricochet-loadtest: %s\n", problem.c_str());
-    status = 1;
+    status = kExitReportFailed;
   } else if (config.plots) {
     if (const std::string problem = draw_plots(run, config); !problem.empty()) {
       std::fprintf(stderr, "ricochet-loadtest: %s\n", problem.c_str());
-      status = 1;
+      status = kExitReportFailed;
     }
   }
   std::fprintf(stderr, "ricochet-loadtest: wrote %s/report.json\n", config.out.c_str());

@@ -88,6 +88,19 @@ TEST(ServerFigures, ReadsTheMatchesQuantilesOverrunsAndTraffic) {
   EXPECT_DOUBLE_EQ(worst.p95_ms, 0);  // not reported
   EXPECT_DOUBLE_EQ(worst.p99_ms, 2.0);
   EXPECT_DOUBLE_EQ(worst.max_ms, 3.0);
+  // The process figures a soak follows are absent here: not read as zero.
+  EXPECT_EQ(figures.open_fds, -1);
+  EXPECT_EQ(figures.resident_bytes, -1);
+  EXPECT_EQ(figures.db_bytes, -1);
+}
+
+TEST(ServerFigures, ReadsTheProcessFiguresASoakFollows) {
+  const ServerFigures figures =
+      read_server_figures(parse_ok("process_open_fds 57\nprocess_resident_memory_bytes 9.4e+07\n"
+                                   "ricochet_db_file_bytes 131072\n"));
+  EXPECT_EQ(figures.open_fds, 57);
+  EXPECT_EQ(figures.resident_bytes, 9.4e7);
+  EXPECT_EQ(figures.db_bytes, 131072);
 }
 
 }  // namespace

@@ -54,6 +54,12 @@ ServerFigures read_server_figures(const std::vector<MetricSample>& samples) {
     const bool in = sample.label("direction") == "in";
     if (name == "ricochet_process_id") {
       out.pid = as_int(sample.value);
+    } else if (name == "process_open_fds") {
+      out.open_fds = sample.value;
+    } else if (name == "process_resident_memory_bytes") {
+      out.resident_bytes = sample.value;
+    } else if (name == "ricochet_db_file_bytes") {
+      out.db_bytes = sample.value;
     } else if (name == "ricochet_matches") {
       out.matches = as_int(sample.value);
     } else if (name == "ricochet_players") {
