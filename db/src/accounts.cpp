@@ -247,4 +247,18 @@ DbStatus Accounts::set_banned(AccountId id, bool banned) {
   }));
 }
 
+DbResult<Account> Accounts::set_banned_by_name(std::string_view username, bool banned) {
+  using R = DbResult<Account>;
+  DbResult<std::optional<AccountCredentials>> found =
+      store_.find_account_by_key(username_key(username));
+  if (!found.ok()) return refusals_(R(found.error()));
+  if (!found.value())
+    return refusals_(
+        R(error(DbErrorCode::UnknownAccount, "no account is named '" + printable(username) + "'")));
+  Account account = found.value()->account;
+  if (DbStatus s = set_banned(account.id, banned); !s.ok()) return s.error();
+  account.banned = banned;
+  return account;
+}
+
 }  // namespace ricochet::db

@@ -72,6 +72,11 @@ bool DbWorker::enqueue_cpu(PasswordWork kind, CpuTask task) {
               cpu_wake_, std::move(task), [](CpuTask& t) { t(true); });
 }
 
+bool DbWorker::hash_queue_full() const {
+  std::lock_guard lock(mutex_);
+  return new_hashes_.size() >= max_queued_hashes_;
+}
+
 void DbWorker::run() {
   Task task;
   while (pop(task)) {
@@ -158,7 +163,13 @@ void DbWorker::register_account(std::string username, std::string password, std:
   auto secret = std::make_shared<const std::string>(std::move(password));
   in_three_steps([](const std::monostate&) { return PasswordWork::NewHash; },
                  detail::Delivery<DbResult<AccountId>>(std::move(post), std::move(done)),
-                 [name, secret, address = std::move(address), now](DbServices& db) {
+                 [this, name, secret, address = std::move(address), now](DbServices& db) {
+                   // Refused before the address's limit notes it: SERVER_BUSY is not a
+                   // registration (only this thread queues hashes, so the room stays).
+                   if (hash_queue_full()) {
+                     return DbStatus(DbError{DbErrorCode::QueueFull,
+                                             "the password hashing queue is full; retry later"});
+                   }
                    return db.accounts.check_registration(*name, *secret, address, now);
                  },
                  [accounts = &accounts_, secret](std::monostate&) {

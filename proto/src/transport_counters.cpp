@@ -82,6 +82,8 @@ std::string_view name(DisconnectReason reason) {
       return "host_full";
     case DisconnectReason::Left:
       return "left";
+    case DisconnectReason::Banned:
+      return "banned";
   }
   return "unknown";
 }

@@ -174,6 +174,23 @@ TEST_F(AccountsTest, BannedAccountsCannotLogInAndLoseTheirSessions) {
   EXPECT_TRUE(fails_with(accounts().set_banned(9999, true), DbErrorCode::UnknownAccount));
 }
 
+TEST_F(AccountsTest, AnAccountIsBannedByItsNameIgnoringCase) {
+  const AccountId id = register_ok("Heidi");
+  const LoginResult login = must(accounts().login("Heidi", "correct horse", "", kT0), "login");
+  const Account banned = must(accounts().set_banned_by_name("hEIDI", true), "ban");
+  EXPECT_EQ(banned.id, id);
+  EXPECT_EQ(banned.username, "Heidi");
+  EXPECT_TRUE(banned.banned);
+  EXPECT_TRUE(
+      fails_with(accounts().check_session(login.token, kT0 + 1), DbErrorCode::UnknownSession));
+  EXPECT_TRUE(fails_with(accounts().login("Heidi", "correct horse", "", kT0 + 2),
+                         DbErrorCode::AccountBanned));
+  EXPECT_FALSE(must(accounts().set_banned_by_name("heidi", false), "unban").banned);
+  EXPECT_TRUE(accounts().login("Heidi", "correct horse", "", kT0 + 3).ok());
+  EXPECT_TRUE(
+      fails_with(accounts().set_banned_by_name("nobody", true), DbErrorCode::UnknownAccount));
+}
+
 TEST_F(AccountsTest, SessionsExpire) {
   AccountsOptions o = fast_options();
   o.session_lifetime_ms = 1000;

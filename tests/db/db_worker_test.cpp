@@ -422,6 +422,43 @@ TEST(DbWorker, RegistrationsPastTheHashQueueAreRefusedAtOnce) {
   EXPECT_GE(std::count(codes.begin(), codes.end(), DbErrorCode::Stopped), 2);  // registered
 }
 
+// Issue 29: a registration refused SERVER_BUSY (the hash queue full) took a place in its
+// address's hourly limit, so a client retrying it later was refused REGISTRATION_RATE_LIMITED.
+TEST(DbWorker, ARegistrationRefusedForAFullHashQueueIsNotCountedAgainstItsAddress) {
+  TempDir dir;
+  DbWorkerOptions options;  // the interactive cost: the first hash is still running
+  options.max_queued_hashes = 1;
+  options.accounts.registrations_per_address = {3, 3'600'000};
+  DbWorker worker(open_store(dir.file("w.db")), options);
+  CallerQueue caller;
+  std::vector<DbErrorCode> codes;
+  const auto record = [&codes](DbResult<AccountId> r) {
+    codes.push_back(r.ok() ? DbErrorCode::Stopped : r.error().code);
+  };
+  for (int i = 0; i < 8; ++i) {
+    worker.register_account("burst" + std::to_string(i), "correct horse", "10.0.0.1", kT0,
+                            caller.post(), record);
+  }
+  ASSERT_TRUE(caller.drain_until([&] { return codes.size() == 8; }, 60s));
+  const auto registered = std::count(codes.begin(), codes.end(), DbErrorCode::Stopped);
+  EXPECT_GE(registered, 1);
+  EXPECT_LE(registered, 2);  // one hashing and one waiting, or one more if the first was quick
+  EXPECT_EQ(std::count(codes.begin(), codes.end(), DbErrorCode::QueueFull), 8 - registered);
+  // Retried later from the same address: only the registrations made count (3 an hour).
+  codes.clear();
+  for (int i = 0; i < 3 - registered; ++i) {
+    worker.register_account("later" + std::to_string(i), "correct horse", "10.0.0.1", kT0 + 1000,
+                            caller.post(), record);
+    ASSERT_TRUE(
+        caller.drain_until([&] { return codes.size() == static_cast<std::size_t>(i + 1); }, 60s));
+    EXPECT_EQ(codes.back(), DbErrorCode::Stopped) << to_string(codes.back());
+  }
+  worker.register_account("over", "correct horse", "10.0.0.1", kT0 + 2000, caller.post(), record);
+  ASSERT_TRUE(caller.drain_until(
+      [&] { return codes.size() == static_cast<std::size_t>(4 - registered); }, 60s));
+  EXPECT_EQ(codes.back(), DbErrorCode::RateLimited);
+}
+
 /// The nice values of this process's threads (Linux: field 19 of /proc/self/task/<tid>/stat).
 std::vector<int> thread_nice_values() {
   std::vector<int> values;

@@ -407,7 +407,9 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
 
 /// Three players in match 1, and Mallory: one account signed in on eight TLS sessions, all in
 /// match 1, the first also playing. flood() sends each session's whole request burst of chat
-/// lines at once (320 lines of 156 bytes) while everyone plays, and reports what the players saw.
+/// lines at once (320 lines of 156 bytes; `playing_lines` of them from the session that plays,
+/// for a server whose request limits were lifted) while everyone plays, and reports what the
+/// players saw.
 class ChatFlood : public ServerEndToEnd {
  protected:
   static constexpr int kSessions = 8;
@@ -417,6 +419,7 @@ class ChatFlood : public ServerEndToEnd {
   struct Outcome {
     int accepted = 0;      ///< chat replies
     int rate_limited = 0;  ///< RATE_LIMITED replies
+    int not_in_match = 0;  ///< NOT_IN_MATCH replies (the sessions that do not play the account)
     int victims_connected = 0;
     double worst_snapshot_share = 1;  ///< snapshots received / ticks, the worst victim's
     std::vector<long> lines_seen;     ///< chat events received, by victim, then Mallory's
@@ -428,8 +431,11 @@ class ChatFlood : public ServerEndToEnd {
     server_->start();
   }
 
-  Outcome flood() {
+  Outcome flood(int playing_lines = kLinesPerSession) {
     Outcome outcome;
+    const auto lines_of = [playing_lines](std::size_t session) {
+      return session == 0 ? playing_lines : kLinesPerSession;
+    };
     // Everyone signs in first (password hashing takes a while), then joins.
     std::vector<std::unique_ptr<Player>> victims;
     for (const char* name : {"bob", "carol", "dave"}) victims.push_back(signed_in(name));
@@ -464,23 +470,26 @@ class ChatFlood : public ServerEndToEnd {
     std::vector<Seen> before;
     for (auto& victim : victims) before.push_back({victim->payloads, victim->newest.server_tick()});
 
-    for (auto& session : mallory) {
+    for (std::size_t session = 0; session < mallory.size(); ++session) {
       std::vector<std::uint8_t> frames;
-      for (int line = 0; line < kLinesPerSession; ++line) {
+      for (int line = 0; line < lines_of(session); ++line) {
         wire::ClientMessage chat = ControlTestClient::chat("flood " + std::string(150, 'x'));
         chat.set_request_id(static_cast<std::uint32_t>(1000 + line));
         EXPECT_TRUE(proto::append_frame(chat, frames));
       }
-      session->control.send_bytes(frames);
+      mallory[session]->control.send_bytes(frames);
     }
     play_all(1500ms);
-    for (auto& session : mallory) {
-      for (int line = 0; line < kLinesPerSession; ++line) {
-        const auto reply = session->control.receive(2s);
+    for (std::size_t session = 0; session < mallory.size(); ++session) {
+      for (int line = 0; line < lines_of(session); ++line) {
+        const auto reply = mallory[session]->control.receive(2s);
         if (!reply) break;
         if (reply->has_chat()) ++outcome.accepted;
         if (reply->has_error() && reply->error().code() == wire::RATE_LIMITED) {
           ++outcome.rate_limited;
+        }
+        if (reply->has_error() && reply->error().code() == wire::NOT_IN_MATCH) {
+          ++outcome.not_in_match;
         }
       }
     }
@@ -507,10 +516,10 @@ class ChatFlood : public ServerEndToEnd {
                         [](const wire::GameEvent& event) { return event.has_chat(); }));
     }
     std::printf(
-        "chat flood: %d of 3 victims connected, worst snapshot share %.3f, %d of %d lines "
-        "accepted, %d RATE_LIMITED\n",
-        outcome.victims_connected, outcome.worst_snapshot_share, outcome.accepted, kLines,
-        outcome.rate_limited);
+        "chat flood: %d of 3 victims connected, worst snapshot share %.3f, %d lines accepted, "
+        "%d RATE_LIMITED, %d NOT_IN_MATCH\n",
+        outcome.victims_connected, outcome.worst_snapshot_share, outcome.accepted,
+        outcome.rate_limited, outcome.not_in_match);
     return outcome;
   }
 };
@@ -519,12 +528,15 @@ TEST_F(ChatFlood, FromOneAccountOnManySessionsIsRefusedAndDisconnectsNoOne) {
   start(test_config(dir_.path()));  // the default chat limits
   const Outcome outcome = flood();
   EXPECT_EQ(outcome.victims_connected, 3);
-  // The account's limit, not the sessions' (8 × 40): its burst passes, the rest is refused.
+  // Only the session that plays the account chats as it (issue 29: the seven it replaced did);
+  // of its burst, the account's limit lets a few pass.
+  EXPECT_EQ(outcome.not_in_match, kLines - kLinesPerSession);
   EXPECT_LE(outcome.accepted, 10);
-  EXPECT_EQ(outcome.accepted + outcome.rate_limited, kLines);
+  EXPECT_EQ(outcome.accepted + outcome.rate_limited, kLinesPerSession);
   for (const long lines : outcome.lines_seen) EXPECT_EQ(lines, outcome.accepted);
   const std::string page = http_get(server_->admin_port(), "/metrics");
-  EXPECT_GE(metric(page, R"(ricochet_chat_refused_total{limit="account"})"), kLines - 10) << page;
+  EXPECT_GE(metric(page, R"(ricochet_chat_refused_total{limit="account"})"), kLinesPerSession - 10)
+      << page;
   EXPECT_EQ(metric(page, R"(ricochet_game_disconnects_total{reason="reliable_overflow"})"), 0);
 }
 
@@ -536,10 +548,13 @@ TEST_F(ChatFlood, ThatPassesTheRateLimitsIsDroppedForPlayersBehindNeverDisconnec
   config.control.chat_account_burst = 1000;
   config.control.chat_match_lines_per_s = 1000;
   config.control.chat_match_burst = 1000;
+  config.control.messages_per_second = 1000;  // and the requests per connection
+  config.control.message_burst = 1000;
   start(config);
-  const Outcome outcome = flood();
+  const Outcome outcome = flood(kLines);  // all from the session that plays
   EXPECT_EQ(outcome.victims_connected, 3);
   EXPECT_EQ(outcome.accepted, kLines);
+  EXPECT_EQ(outcome.not_in_match, kLines - kLinesPerSession);
   const std::string page = http_get(server_->admin_port(), "/metrics");
   const double dropped = metric(page, "ricochet_game_reliable_dropped_total");
   EXPECT_GT(dropped, 0) << page;
@@ -550,6 +565,191 @@ TEST_F(ChatFlood, ThatPassesTheRateLimitsIsDroppedForPlayersBehindNeverDisconnec
   std::printf("chat flood without limits: %.0f chat events received, %.0f dropped\n", seen,
               dropped);
   EXPECT_EQ(metric(page, R"(ricochet_game_disconnects_total{reason="reliable_overflow"})"), 0);
+}
+
+/// An admin HTTP response: its status and body.
+struct HttpResponse {
+  int status = 0;
+  std::string body;
+};
+
+/// `method` `path` on the admin port, with "Authorization: Bearer `token`" unless it is empty.
+HttpResponse http_request(std::uint16_t port, const std::string& method, const std::string& path,
+                          const std::string& token = "") {
+  boost::asio::io_context io;
+  boost::asio::ip::tcp::socket socket(io);
+  socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
+  std::string request = method + " " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\n";
+  if (!token.empty()) request += "Authorization: Bearer " + token + "\r\n";
+  request += "Content-Length: 0\r\nConnection: close\r\n\r\n";
+  boost::asio::write(socket, boost::asio::buffer(request));
+  std::string response;
+  boost::system::error_code error;
+  std::array<char, 4096> chunk{};
+  while (!error) {
+    const std::size_t size = socket.read_some(boost::asio::buffer(chunk), error);
+    response.append(chunk.data(), size);
+  }
+  HttpResponse out;
+  if (response.rfind("HTTP/1.1 ", 0) == 0) out.status = std::stoi(response.substr(9, 3));
+  const auto body = response.find("\r\n\r\n");
+  out.body = body == std::string::npos ? response : response.substr(body + 4);
+  return out;
+}
+
+/// Issue 29: an operator bans an account while it plays. Three players and Mallory in match 1,
+/// Mallory signed in on two control connections (one plays).
+class AccountBan : public ServerEndToEnd {
+ protected:
+  struct Seen {
+    std::uint64_t payloads = 0;
+    std::uint32_t tick = 0;
+  };
+
+  void SetUp() override {
+    ServerEndToEnd::SetUp();
+    for (const char* name : {"bob", "carol", "dave"}) victims_.push_back(signed_in(name));
+    mallory_ = std::make_unique<Player>(server_->control_port());
+    EXPECT_TRUE(mallory_->control.connect());
+    mallory_token_ = mallory_->control.sign_in("mallory").session_token();
+    idle_ = std::make_unique<Player>(server_->control_port());
+    EXPECT_TRUE(idle_->control.connect());
+    idle_->control.sign_in("mallory", false);
+    for (auto& victim : victims_) victim->join_and_connect(1, server_->game_port());
+    mallory_->join_and_connect(1, server_->game_port());
+  }
+
+  /// Every player's socket served in turn, a few milliseconds each, until `done` or `limit`.
+  template <class Done>
+  void play_until(Done done, std::chrono::milliseconds limit) {
+    const auto until = std::chrono::steady_clock::now() + limit;
+    while (!done() && std::chrono::steady_clock::now() < until) {
+      for (auto& victim : victims_) victim->play_for(4ms);
+      if (mallory_->game->transport().state() != proto::ConnectionState::Disconnected) {
+        mallory_->play_for(1ms);
+      }
+    }
+  }
+  void play_for(std::chrono::milliseconds duration) {
+    play_until([] { return false; }, duration);
+  }
+  std::vector<Seen> seen() const {
+    std::vector<Seen> out;
+    for (const auto& victim : victims_)
+      out.push_back({victim->payloads, victim->newest.server_tick()});
+    return out;
+  }
+  /// The worst victim's share of snapshots since `before` (one per tick), and each connected.
+  double worst_snapshot_share(const std::vector<Seen>& before) const {
+    double worst = 1;
+    for (std::size_t i = 0; i < victims_.size(); ++i) {
+      const Player& victim = *victims_[i];
+      EXPECT_EQ(victim.game->transport().state(), proto::ConnectionState::Connected)
+          << "victim " << i;
+      const double ticks = victim.newest.server_tick() - before[i].tick;
+      const double share = ticks > 0 ? (victim.payloads - before[i].payloads) / ticks : 0;
+      worst = std::min(worst, share);
+    }
+    return worst;
+  }
+
+  std::vector<std::unique_ptr<Player>> victims_;
+  std::unique_ptr<Player> mallory_;  ///< plays
+  std::unique_ptr<Player> idle_;     ///< mallory, signed in on a second connection
+  std::string mallory_token_;
+};
+
+TEST_F(AccountBan, ClosesItsConnectionsAtOnceWhileTheOthersPlayOnAndAnUnbanLetsItBack) {
+  play_for(300ms);
+  const std::vector<Seen> before = seen();
+
+  const auto banned_at = std::chrono::steady_clock::now();
+  const HttpResponse ban = http_request(server_->admin_port(), "POST", "/accounts/MALLORY/ban");
+  ASSERT_EQ(ban.status, 200) << ban.body;
+  EXPECT_NE(ban.body.find("2 control connections closed, taken out of its match"),
+            std::string::npos)
+      << ban.body;
+  play_until(
+      [&] { return mallory_->game->transport().state() == proto::ConnectionState::Disconnected; },
+      2s);
+  const auto disconnected_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                                   std::chrono::steady_clock::now() - banned_at)
+                                   .count();
+  ASSERT_EQ(mallory_->game->transport().state(), proto::ConnectionState::Disconnected);
+  EXPECT_EQ(mallory_->game->transport().disconnect_reason(), proto::DisconnectReason::Banned);
+  EXPECT_LT(disconnected_ms, 1000);
+  // Both control connections: told ACCOUNT_BANNED, then closed.
+  for (Player* session : {mallory_.get(), idle_.get()}) {
+    std::vector<wire::ServerMessage> told;
+    EXPECT_TRUE(session->control.wait_closed(2s, &told));
+    ASSERT_FALSE(told.empty());
+    EXPECT_EQ(told.back().error().code(), wire::ACCOUNT_BANNED) << told.back().DebugString();
+    EXPECT_EQ(told.back().request_id(), 0u);
+  }
+  play_for(1000ms);
+  const double worst = worst_snapshot_share(before);
+  EXPECT_GE(worst, 0.95);
+  std::printf(
+      "ban: mallory's game connection closed %lld ms after the request; worst victim kept "
+      "%.3f of its snapshots\n",
+      static_cast<long long>(disconnected_ms), worst);
+
+  // Neither a login nor the session token gets back in.
+  Player again(server_->control_port());
+  ASSERT_TRUE(again.control.connect());
+  EXPECT_EQ(
+      again.control.request(ControlTestClient::login("mallory", "password-mallory")).error().code(),
+      wire::ACCOUNT_BANNED);
+  EXPECT_EQ(again.control.request(ControlTestClient::resume(mallory_token_)).error().code(),
+            wire::UNKNOWN_SESSION);
+
+  const std::string page = http_get(server_->admin_port(), "/metrics");
+  EXPECT_EQ(metric(page, R"(ricochet_account_bans_total{action="ban"})"), 1) << page;
+  EXPECT_EQ(metric(page, R"(ricochet_ban_closed_total{what="control_sessions"})"), 2);
+  EXPECT_EQ(metric(page, R"(ricochet_ban_closed_total{what="players"})"), 1);
+  EXPECT_EQ(metric(page, R"(ricochet_game_disconnects_total{reason="banned"})"), 1);
+  EXPECT_EQ(metric(page, R"(ricochet_match_players{match="1",state="connected"})"), 3);
+
+  const HttpResponse unban = http_request(server_->admin_port(), "POST", "/accounts/mallory/unban");
+  ASSERT_EQ(unban.status, 200) << unban.body;
+  again.control.sign_in("mallory", false);
+  again.join_and_connect(1, server_->game_port());
+  again.play_for(200ms);
+  EXPECT_NE(again.newest.your_entity_id(), 0u);
+  EXPECT_EQ(metric(http_get(server_->admin_port(), "/metrics"),
+                   R"(ricochet_account_bans_total{action="unban"})"),
+            1);
+}
+
+TEST_F(AccountBan, OfAnUnknownNameOrByGetChangesNothing) {
+  EXPECT_EQ(http_request(server_->admin_port(), "POST", "/accounts/nobody/ban").status, 404);
+  EXPECT_EQ(http_request(server_->admin_port(), "GET", "/accounts/mallory/ban").status, 405);
+  EXPECT_EQ(http_request(server_->admin_port(), "POST", "/accounts/mal%20lory/ban").status, 404);
+  play_for(300ms);
+  EXPECT_EQ(mallory_->game->transport().state(), proto::ConnectionState::Connected);
+  EXPECT_TRUE(mallory_->control.request(ControlTestClient::list_matches()).has_list_matches());
+}
+
+TEST(AccountBanAccess, NeedsTheBearerTokenWhenOneIsSet) {
+  const TempDir dir("ricochet-e2e-ban-token");
+  server::ServerConfig config = test_config(dir.path());
+  {
+    std::ofstream token(dir.path() / "admin.token");
+    token << "s3cret\n";
+  }
+  config.admin.token_file = (dir.path() / "admin.token").string();
+  server::Server server(config);
+  server.start();
+  Player mallory(server.control_port());
+  ASSERT_TRUE(mallory.control.connect());
+  mallory.control.sign_in("mallory");
+  EXPECT_EQ(http_request(server.admin_port(), "POST", "/accounts/mallory/ban").status, 401);
+  EXPECT_EQ(http_request(server.admin_port(), "POST", "/accounts/mallory/ban", "wrong").status,
+            401);
+  EXPECT_TRUE(mallory.control.request(ControlTestClient::list_matches()).has_list_matches());
+  EXPECT_EQ(http_request(server.admin_port(), "POST", "/accounts/mallory/ban", "s3cret").status,
+            200);
+  EXPECT_TRUE(mallory.control.wait_closed(2s));
 }
 
 TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotationOpens) {

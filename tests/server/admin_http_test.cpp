@@ -9,6 +9,7 @@
 #include <boost/asio/write.hpp>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -109,7 +110,15 @@ class AdminHttpTest : public ::testing::Test {
     options.clock = [this] { return now_.load(); };
     server_.emplace(
         io_, options, metrics_,
-        AdminHttpCallbacks{[this] { return healthy_.load(); }, [this] { return ready_.load(); }});
+        AdminHttpCallbacks{[this] { return healthy_.load(); }, [this] { return ready_.load(); },
+                           [this](AccountAction action, std::function<void(AdminReply)> answer) {
+                             {
+                               const std::lock_guard lock(actions_mutex_);
+                               actions_.push_back(action);
+                             }
+                             answer({200, std::string(action.ban ? "banned " : "unbanned ") +
+                                              action.username + "\n"});
+                           }});
     ASSERT_FALSE(server_->start());
     port_ = server_->local_endpoint().port();
     ASSERT_NE(port_, 0);
@@ -138,6 +147,8 @@ class AdminHttpTest : public ::testing::Test {
   MetricsRegistry metrics_;
   std::atomic<bool> healthy_{true};
   std::atomic<bool> ready_{false};
+  std::mutex actions_mutex_;
+  std::vector<AccountAction> actions_;  ///< what the account callback was asked, in order
   std::optional<AdminHttp> server_;
   std::thread thread_;
   std::uint16_t port_ = 0;
@@ -348,6 +359,57 @@ TEST_F(AdminHttpTest, MetricsNeedsTheBearerTokenAndProbesDoNot) {
   EXPECT_EQ(status_line(exchange(with("Bearer s3cret-token"))), "HTTP/1.1 200 OK");
   EXPECT_EQ(status_line(exchange(get("/healthz"))), "HTTP/1.1 200 OK");
   EXPECT_EQ(server_->rejected(AdminRejectReason::Unauthorized), 4u);
+}
+
+std::string post(const std::string& target, const std::string& token = "") {
+  return "POST " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" +
+         (token.empty() ? std::string() : "Authorization: Bearer " + token + "\r\n") +
+         "Content-Length: 0\r\nConnection: close\r\n\r\n";
+}
+
+TEST_F(AdminHttpTest, AnAccountActionIsAnsweredOnceTheCallbackHasDoneIt) {
+  start();
+  const std::string ban = exchange(post("/accounts/Mallory_1.x-y/ban"));
+  EXPECT_EQ(status_line(ban), "HTTP/1.1 200 OK");
+  EXPECT_EQ(body_of(ban), "banned Mallory_1.x-y\n");
+  EXPECT_EQ(body_of(exchange(post("/accounts/mallory/unban"))), "unbanned mallory\n");
+  EXPECT_EQ(status_line(exchange(get("/accounts/mallory/ban"))), "HTTP/1.1 405 Method Not Allowed");
+  for (const char* bad : {"/accounts/mal%20lory/ban", "/accounts//ban", "/accounts/mallory/kick",
+                          "/accounts/mallory", "/accounts/mallory/ban/x"}) {
+    EXPECT_EQ(status_line(exchange(post(bad))), "HTTP/1.1 404 Not Found") << bad;
+  }
+  const std::lock_guard lock(actions_mutex_);
+  ASSERT_EQ(actions_.size(), 2u);
+  EXPECT_TRUE(actions_[0].ban);
+  EXPECT_EQ(actions_[0].operator_address, "127.0.0.1");
+  EXPECT_FALSE(actions_[1].ban);
+}
+
+TEST_F(AdminHttpTest, AccountActionsNeedTheBearerTokenWhenOneIsSet) {
+  AdminHttpOptions options;
+  options.bearer_token = "s3cret-token";
+  start(options);
+  EXPECT_EQ(status_line(exchange(post("/accounts/mallory/ban"))), "HTTP/1.1 401 Unauthorized");
+  EXPECT_EQ(status_line(exchange(post("/accounts/mallory/ban", "s3cret-tokeN"))),
+            "HTTP/1.1 401 Unauthorized");
+  EXPECT_EQ(status_line(exchange(post("/accounts/mallory/ban", "s3cret-token"))),
+            "HTTP/1.1 200 OK");
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Unauthorized), 2u);
+  const std::lock_guard lock(actions_mutex_);
+  EXPECT_EQ(actions_.size(), 1u);
+}
+
+TEST_F(AdminHttpTest, AccountActionsAreForbiddenBeyondLoopbackWithoutAToken) {
+  AdminHttpOptions options;
+  options.bind = "0.0.0.0";  // exposed, and no token configured
+  start(options);
+  const std::string refused = exchange(post("/accounts/mallory/ban"));
+  EXPECT_EQ(status_line(refused), "HTTP/1.1 403 Forbidden");
+  EXPECT_NE(body_of(refused).find("admin.token_file"), std::string::npos) << refused;
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Forbidden), 1u);
+  EXPECT_EQ(status_line(exchange(get("/healthz"))), "HTTP/1.1 200 OK");
+  const std::lock_guard lock(actions_mutex_);
+  EXPECT_TRUE(actions_.empty());
 }
 
 TEST_F(AdminHttpTest, StopClosesOpenConnectionsAndTheListener) {

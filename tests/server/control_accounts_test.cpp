@@ -3,8 +3,13 @@
 // connect from 127.0.0.2, 127.0.0.3 ... to be other addresses to the server).
 
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <sstream>
 
 #include "control_test_client.h"
+#include "episode_log.h"
 
 namespace ricochet::server::test {
 namespace {
@@ -208,6 +213,57 @@ TEST(ControlAccounts, RegistrationsFromOneAddressAreLimitedWhileAnotherRegisters
   const auto reply = player.request(ControlTestClient::register_account("ada", "lovelace1"));
   EXPECT_TRUE(reply.has_register_account()) << reply.DebugString();
   EXPECT_TRUE(player.request(ControlTestClient::login("ada", "lovelace1")).has_session());
+}
+
+// Issue 29: the account refusals were counted but not logged, so an operator saw the counter
+// climb without knowing from where; logging each one would let an attacker flood the log.
+TEST(ControlAccounts, AccountRefusalsAreLoggedOncePerEpisodeAndAddress) {
+  std::ostringstream lines;
+  auto previous = spdlog::default_logger();
+  auto capture = std::make_shared<spdlog::logger>(
+      "capture", std::make_shared<spdlog::sinks::ostream_sink_mt>(lines));
+  capture->set_level(spdlog::level::warn);
+  capture->set_pattern("%v");
+  spdlog::set_default_logger(capture);
+  {
+    EpisodeLog episodes;
+    db::AccountsOptions accounts;
+    accounts.registrations_per_address = {2, 3'600'000};
+    accounts.per_account_address = {{2, 60'000}};
+    ControlRig rig({}, {}, accounts, &episodes);
+    ControlTestClient flooder(rig.port());
+    flooder.use_source("127.0.0.2");
+    ASSERT_TRUE(flooder.connect());
+    for (int i = 0; i < 12; ++i) {
+      (void)flooder.request(
+          ControlTestClient::register_account("bot" + std::to_string(i), "password-bot"));
+    }
+    for (int i = 0; i < 12; ++i) {
+      (void)flooder.request(ControlTestClient::login("bot0", "wrong-password"));
+    }
+    EXPECT_TRUE(rig.wait_refusals(ControlRefusal::RegistrationRateLimited, 10));
+    EXPECT_TRUE(rig.wait_refusals(ControlRefusal::LoginRateLimited, 10));
+    ControlTestClient other(rig.port());
+    other.use_source("127.0.0.3");
+    ASSERT_TRUE(other.connect());
+    for (int i = 0; i < 4; ++i) {
+      (void)other.request(
+          ControlTestClient::register_account("other" + std::to_string(i), "password-bot"));
+    }
+    EXPECT_TRUE(rig.wait_refusals(ControlRefusal::RegistrationRateLimited, 12));
+  }
+  spdlog::set_default_logger(previous);
+  const std::string text = lines.str();
+  const auto count = [&text](const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  // 10 + 2 registrations and 10 logins refused: one line per (reason, address).
+  EXPECT_EQ(count("registration_rate_limited from 127.0.0.2:"), 1u) << text;
+  EXPECT_EQ(count("registration_rate_limited from 127.0.0.3:"), 1u) << text;
+  EXPECT_EQ(count("login_rate_limited from 127.0.0.2:"), 1u) << text;
+  EXPECT_EQ(count("registration_rate_limited"), 2u) << text;
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <future>
+#include <thread>
 
 #include "control_test_client.h"
 
@@ -42,6 +44,7 @@ class FakeTimeRig {
   }
   ControlServer& server() { return rig_.server(); }
   FakeDirectory& directory() { return rig_.directory(); }
+  db::DbWorker& db() { return rig_.db(); }
   std::uint16_t port() const { return rig_.port(); }
   std::uint64_t refusals(ControlRefusal refusal) const { return rig_.refusals(refusal); }
   /// Waits (in real time, bounded) until the server holds `count` connections.
@@ -199,6 +202,50 @@ TEST(ControlLimits, AConnectionThatNeverLogsInIsClosedEvenIfItPings) {
   // The logged-in player has no login deadline.
   EXPECT_TRUE(player.request(ControlTestClient::ping(4)).has_pong());
   EXPECT_FALSE(player.closed());
+}
+
+// Issue 29 (the sign-in storm): a registration that waited in the server's queues longer than
+// the login deadline was answered, and its connection closed with LOGIN_TIMEOUT right after,
+// so the client could never log in on it and registered again elsewhere.
+TEST(ControlLimits, TheLoginDeadlineDoesNotCountTheTimeTheServerTookToAnswer) {
+  ControlLimits limits;
+  limits.login_timeout_ms = 1'000;
+  FakeTimeRig rig(limits);
+  ControlTestClient player(rig.port());
+  ASSERT_TRUE(player.connect());
+  ASSERT_TRUE(rig.wait_connections(1));
+  // The database is busy: the registration waits behind another job.
+  std::promise<void> release;
+  std::atomic<bool> blocking{false};
+  rig.db().submit(
+      [&blocking, released = release.get_future().share()](db::DbServices&) {
+        blocking = true;
+        released.wait();
+        return db::DbStatus();
+      },
+      [](std::function<void()> completion) { completion(); }, [](db::DbStatus) {});
+  while (!blocking) std::this_thread::sleep_for(1ms);
+  const auto frame_of = [](wire::ClientMessage message, std::uint32_t request_id) {
+    message.set_request_id(request_id);
+    std::vector<std::uint8_t> bytes;
+    EXPECT_TRUE(proto::append_frame(message, bytes));
+    return bytes;
+  };
+  player.send_bytes(frame_of(ControlTestClient::register_account("ada", "lovelace1"), 1));
+  const auto registering = static_cast<std::size_t>(proto::ClientMessageKind::Register);
+  for (int i = 0; i < 2000 && rig.server().stats().requests[registering] == 0; ++i) {
+    std::this_thread::sleep_for(1ms);
+  }
+  ASSERT_EQ(rig.server().stats().requests[registering], 1u);
+  rig.advance(3'000 * kMs);  // the server took three login deadlines to answer
+  release.set_value();
+  const auto registered = player.receive();
+  ASSERT_TRUE(registered && registered->has_register_account())
+      << (registered ? registered->DebugString() : "nothing");
+  player.send_bytes(frame_of(ControlTestClient::login("ada", "lovelace1"), 2));
+  const auto session = player.receive();
+  ASSERT_TRUE(session && session->has_session()) << (session ? session->DebugString() : "nothing");
+  EXPECT_EQ(rig.refusals(ControlRefusal::LoginTimeout), 0u);
 }
 
 TEST(ControlLimits, HandshakeMustFinishInTime) {

@@ -98,7 +98,8 @@ class FakeDirectory : public MatchDirectory {
     }
     return Done{};
   }
-  DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) override {
+  DirectoryResult<Done> chat(std::uint64_t account, std::uint64_t,
+                             const std::string& text) override {
     std::lock_guard lock(mutex_);
     if (!seated_.count(account)) {
       return DirectoryError{DirectoryErrorCode::NotInMatch, "not in a match"};
@@ -132,11 +133,12 @@ class FakeDirectory : public MatchDirectory {
 /// A server whose io_context runs on two threads of its own (the control server keeps its
 /// state on one strand, so any number of threads must be safe). Its clock is the steady one
 /// unless the test hands it another (control_limits_test's fake time); `accounts` sets the
-/// account rules' limits (the password cost stays the minimum).
+/// account rules' limits (the password cost stays the minimum); `episodes` logs the account
+/// refusals.
 class ControlRig {
  public:
   explicit ControlRig(ControlLimits limits = {}, std::function<proto::TimeUs()> clock = {},
-                      db::AccountsOptions accounts = {}) {
+                      db::AccountsOptions accounts = {}, EpisodeLog* episodes = nullptr) {
     db::DbWorkerOptions options;
     options.accounts = std::move(accounts);
     options.accounts.cost = db::PasswordCost::Minimum;
@@ -149,6 +151,7 @@ class ControlRig {
     config.tls.data_dir = dir_.path() / "data";
     config.limits = limits;
     if (clock) config.clock = std::move(clock);
+    config.episodes = episodes;
     server_ = std::make_unique<ControlServer>(io_, config, *db_, directory_);
     server_->start();
     for (auto& thread : threads_) thread = std::thread([this] { io_.run(); });
@@ -167,6 +170,7 @@ class ControlRig {
 
   ControlServer& server() { return *server_; }
   FakeDirectory& directory() { return directory_; }
+  db::DbWorker& db() { return *db_; }
   std::uint16_t port() const { return server_->port(); }
   std::uint64_t refusals(ControlRefusal refusal) const {
     return server_->counters().refusals(refusal);

@@ -184,6 +184,51 @@ TEST_F(MatchRegistryTest, OneMatchAtATimeAndUnknownMatchesAreErrors) {
   EXPECT_EQ(refusal(registry_->join(2, "two", 999, kHere)), DirectoryErrorCode::MatchNotFound);
 }
 
+// Issue 29: a session replaced by a newer join of the account still chatted as it, and a line
+// sent while the game connection was away was accepted and then dropped by the match unseen.
+TEST_F(MatchRegistryTest, OnlyTheSessionThatPlaysTheAccountChatsAndOnlyWhileConnected) {
+  const std::uint32_t match = open("a", 4);
+  const auto chat = [this](std::uint64_t session) {
+    const auto result = registry_->chat(7, session, "hello");
+    return std::holds_alternative<DirectoryError>(result)
+               ? std::optional(std::get<DirectoryError>(result))
+               : std::nullopt;
+  };
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(7, "seven", match, kHere)));
+  ASSERT_TRUE(chat(kHere.session));  // reserved, no game connection yet
+  EXPECT_EQ(chat(kHere.session)->code, DirectoryErrorCode::NotInMatch);
+  EXPECT_NE(chat(kHere.session)->message.find("game connection is not up"), std::string::npos);
+  registry_->connected(7, match);
+  EXPECT_FALSE(chat(kHere.session));
+  // Another session takes the seat over: the first one no longer speaks for the account.
+  const JoinOrigin newer{kHere.host, 2};
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(7, "seven", match, newer)));
+  registry_->connected(7, match);
+  ASSERT_TRUE(chat(kHere.session));
+  EXPECT_NE(chat(kHere.session)->message.find("another control connection"), std::string::npos);
+  EXPECT_FALSE(chat(newer.session));
+  registry_->disconnected(7, proto::DisconnectReason::TimedOut);  // away, within the grace
+  ASSERT_TRUE(chat(newer.session));
+  EXPECT_EQ(chat(newer.session)->code, DirectoryErrorCode::NotInMatch);
+}
+
+// Issue 29: created matches' names let bidi overrides through (listed to every player).
+TEST_F(MatchRegistryTest, AMatchNameFollowsTheChatTextRule) {
+  const auto refusal = [this](const std::string& name) -> std::string {
+    auto result = registry_->create({.name = name, .max_players = 4, .map = "", .creator = 1});
+    return std::holds_alternative<DirectoryError>(result) ? std::get<DirectoryError>(result).message
+                                                          : "";
+  };
+  EXPECT_NE(refusal("\xE2\x80\xAE"
+                    "evil"),
+            "");                                    // U+202E right-to-left override
+  EXPECT_NE(refusal("zero\xE2\x80\x8Bwidth"), "");  // U+200B zero width space
+  EXPECT_NE(refusal("tab\there"), "");
+  EXPECT_NE(refusal("\xC3"), "");  // cut UTF-8
+  EXPECT_NE(refusal(std::string(33, 'a')), "");
+  EXPECT_EQ(refusal("caf\xC3\xA9 du coin"), "");
+}
+
 TEST_F(MatchRegistryTest, CreateValidatesItsFieldsAndTheMatchCap) {
   const auto invalid = [this](CreateMatchRequest request) {
     auto result = registry_->create(request);

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string_view>
 #include <unordered_set>
+#include <variant>
 
 #include "ricochet/proto/address.h"
 
@@ -47,6 +48,8 @@ const char* name(AdminRejectReason reason) {
       return "too_many_from_address";
     case AdminRejectReason::Unauthorized:
       return "unauthorized";
+    case AdminRejectReason::Forbidden:
+      return "forbidden";
   }
   return "unknown";
 }
@@ -146,11 +149,85 @@ proto::HostKey host_key_of(const tcp::socket& socket) {
   return proto::host_key(address);
 }
 
-Response route(State& state, const AdminConnection& connection,
-               const http::request<http::string_body>& request) {
+/// "/accounts/<name>/ban" or "/accounts/<name>/unban" as an action (no operator yet), or nothing.
+std::optional<AccountAction> account_path(std::string_view path) {
+  constexpr std::string_view kPrefix = "/accounts/";
+  if (path.substr(0, kPrefix.size()) != kPrefix) return std::nullopt;
+  path.remove_prefix(kPrefix.size());
+  const auto slash = path.find('/');
+  if (slash == std::string_view::npos) return std::nullopt;
+  const std::string_view username = path.substr(0, slash);
+  const std::string_view verb = path.substr(slash + 1);
+  constexpr std::size_t kMaxName = 64;
+  const bool name_ok = !username.empty() && username.size() <= kMaxName &&
+                       std::all_of(username.begin(), username.end(), [](char c) {
+                         return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                                (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '-';
+                       });
+  if (!name_ok || (verb != "ban" && verb != "unban")) return std::nullopt;
+  return AccountAction{std::string(username), verb == "ban", {}};
+}
+
+bool loopback_only(const State& state) {
+  boost::system::error_code error;
+  const asio::ip::address bound = asio::ip::make_address(state.options.bind, error);
+  return !error && bound.is_loopback();
+}
+
+/// The 401 of a request without the bearer token, logged once per episode per address.
+Response unauthorized(State& state, const AdminConnection& connection, unsigned version,
+                      std::string_view what) {
+  state.reject(AdminRejectReason::Unauthorized);
+  const std::string detail = std::string(what) + " without the admin bearer token";
+  if (state.options.episodes) {
+    state.options.episodes->refuse(name(AdminRejectReason::Unauthorized),
+                                   connection.host.to_string(), detail, state.options.clock());
+  }
+  Response response = text_response(http::status::unauthorized, version,
+                                    std::string(what) + " needs Authorization: Bearer <token>\n");
+  response.set(http::field::www_authenticate, "Bearer");
+  return response;
+}
+
+/// What a request gets: a response now, or an account action to do first.
+using Routed = std::variant<Response, AccountAction>;
+
+Routed route_account(State& state, const AdminConnection& connection,
+                     const http::request<http::string_body>& request, AccountAction action) {
+  const unsigned version = request.version();
+  if (request.method() != http::verb::post) {
+    state.reject(AdminRejectReason::MethodNotAllowed);
+    Response response =
+        text_response(http::status::method_not_allowed, version, "only POST is allowed here\n");
+    response.set(http::field::allow, "POST");
+    return response;
+  }
+  if (state.options.bearer_token.empty() && !loopback_only(state)) {
+    state.reject(AdminRejectReason::Forbidden);
+    if (state.options.episodes) {
+      state.options.episodes->refuse(name(AdminRejectReason::Forbidden),
+                                     connection.host.to_string(),
+                                     "an account action on an admin port bound to " +
+                                         state.options.bind + " without admin.token_file",
+                                     state.options.clock());
+    }
+    return text_response(http::status::forbidden, version,
+                         "account actions need admin.token_file when the admin port is not "
+                         "bound to a loopback address\n");
+  }
+  if (!authorized(state, request)) return unauthorized(state, connection, version, "/accounts");
+  action.operator_address = connection.host.to_string();
+  return action;
+}
+
+Routed route(State& state, const AdminConnection& connection,
+             const http::request<http::string_body>& request) {
   const unsigned version = request.version();
   std::string_view path{request.target().data(), request.target().size()};
   path = path.substr(0, path.find('?'));
+  if (auto action = state.callbacks.account ? account_path(path) : std::nullopt) {
+    return route_account(state, connection, request, std::move(*action));
+  }
   const bool known = path == "/metrics" || path == "/healthz" || path == "/readyz";
   if (!known) {
     state.reject(AdminRejectReason::NotFound);
@@ -165,18 +242,7 @@ Response route(State& state, const AdminConnection& connection,
     return response;
   }
   if (path == "/metrics") {
-    if (!authorized(state, request)) {
-      state.reject(AdminRejectReason::Unauthorized);
-      if (state.options.episodes) {
-        state.options.episodes->refuse(
-            name(AdminRejectReason::Unauthorized), connection.host.to_string(),
-            "/metrics without the admin bearer token", state.options.clock());
-      }
-      Response response = text_response(http::status::unauthorized, version,
-                                        "/metrics needs Authorization: Bearer <token>\n");
-      response.set(http::field::www_authenticate, "Bearer");
-      return response;
-    }
+    if (!authorized(state, request)) return unauthorized(state, connection, version, "/metrics");
     try {
       return text_response(http::status::ok, version, state.metrics.render(),
                            kPrometheusContentType);
@@ -218,6 +284,27 @@ std::optional<Response> refusal(State& state, const beast::error_code& error) {
     return text_response(http::status::bad_request, 11, "malformed HTTP request\n");
   }
   return std::nullopt;  // closed or reset by the peer
+}
+
+/// Runs the account callback and resumes on the strand with its reply.
+asio::awaitable<AdminReply> run_action(std::shared_ptr<State> state, AccountAction action) {
+  struct Pending {
+    explicit Pending(const asio::any_io_executor& executor) : wake(executor) {}
+    std::optional<AdminReply> reply;
+    asio::steady_timer wake;
+  };
+  auto pending = std::make_shared<Pending>(state->strand);
+  pending->wake.expires_at(asio::steady_timer::time_point::max());
+  state->callbacks.account(std::move(action), [state, pending](AdminReply reply) {
+    asio::post(state->strand, [pending, reply = std::move(reply)]() mutable {
+      pending->reply = std::move(reply);
+      pending->wake.cancel();
+    });
+  });
+  while (!pending->reply) {
+    co_await pending->wake.async_wait(asio::as_tuple(asio::use_awaitable));
+  }
+  co_return std::move(*pending->reply);
 }
 
 proto::TimeUs deadline_from_now(const State& state) {
@@ -283,7 +370,15 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
       response.keep_alive(false);
     } else {
       const auto& request = parser.get();
-      response = route(*state, *connection, request);
+      Routed routed = route(*state, *connection, request);
+      if (auto* action = std::get_if<AccountAction>(&routed)) {
+        // The action and its response within request_timeout, as any response.
+        connection->deadline = deadline_from_now(*state);
+        const AdminReply reply = co_await run_action(state, std::move(*action));
+        routed =
+            text_response(static_cast<http::status>(reply.status), request.version(), reply.body);
+      }
+      response = std::move(std::get<Response>(routed));
       keep_alive = request.keep_alive();
       response.keep_alive(keep_alive);
     }

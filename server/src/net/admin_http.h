@@ -2,6 +2,9 @@
 /// The admin HTTP port (Boost.Beast, coroutines): GET /metrics (Prometheus text 0.0.4),
 /// GET /healthz (200 while the health callback says the matches tick on time, else 503),
 /// GET /readyz (200 once the ready callback says sockets are bound and the DB is open, else 503).
+/// POST /accounts/<name>/ban and POST /accounts/<name>/unban (an operator's action, answered
+/// once the account callback has done it: 200, 404 for an unknown name, 503 when the database
+/// cannot take it now).
 /// Other paths: 404; other methods on these paths: 405. HTTP/1.1 keep-alive.
 ///
 /// Requests are untrusted: a request must arrive whole within request_timeout of the server
@@ -16,7 +19,9 @@
 /// connections open without using them cannot keep a /healthz probe out; only when every one is
 /// busy writing a response is the newcomer closed. With a bearer token, /metrics answers 401
 /// without "Authorization: Bearer <token>" (compared in constant time; each address's refusals
-/// logged once per episode); /healthz and /readyz stay open to probes.
+/// logged once per episode); /healthz and /readyz stay open to probes. The account actions
+/// need the token too, and without one they are allowed only when the port is bound to a
+/// loopback address (403 otherwise: whoever reaches an exposed port could ban anyone).
 ///
 /// Everything runs on a strand of the given io_context; the callbacks are called there and must
 /// be thread-safe towards the code that owns what they read. Deadlines are on options.clock; a
@@ -63,17 +68,33 @@ enum class AdminRejectReason {
   MethodNotAllowed,    ///< not GET: 405
   TooManyConnections,  ///< above max_connections: the longest waiting (or the new one) closed
   TooManyFromAddress,  ///< above max_connections_per_address: likewise, among that address's
-  Unauthorized,        ///< /metrics without the bearer token: 401
+  Unauthorized,        ///< /metrics or an account action without the bearer token: 401
+  Forbidden,           ///< an account action, no token configured, bound beyond loopback: 403
 };
 inline constexpr std::size_t kAdminRejectReasonCount =
-    static_cast<std::size_t>(AdminRejectReason::Unauthorized) + 1;
+    static_cast<std::size_t>(AdminRejectReason::Forbidden) + 1;
 /// "malformed", "oversized", "timeout", "not_found", "method_not_allowed", "too_many_connections",
-/// "too_many_from_address", "unauthorized".
+/// "too_many_from_address", "unauthorized", "forbidden".
 const char* name(AdminRejectReason reason);
+
+/// What an operator asks of an account.
+struct AccountAction {
+  std::string username;          ///< 1..64 of [A-Za-z0-9_.-], as in the path
+  bool ban = true;               ///< false: unban
+  std::string operator_address;  ///< who asked (proto::HostKey text), for the log
+};
+
+/// The answer to an AccountAction: an HTTP status and a line for the operator.
+struct AdminReply {
+  unsigned status = 200;
+  std::string body;
+};
 
 struct AdminHttpCallbacks {
   std::function<bool()> healthy;  ///< true while every match ticks on time
   std::function<bool()> ready;    ///< true once sockets are bound and the DB is open
+  /// Does an account action and calls `answer` once, from any thread; empty: /accounts is 404.
+  std::function<void(AccountAction action, std::function<void(AdminReply)> answer)> account;
 };
 
 class AdminHttp {

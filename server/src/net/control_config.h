@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 
+#include "episode_log.h"
 #include "ricochet/proto/clock.h"
 #include "steady_time.h"
 #include "tls_identity.h"
@@ -38,6 +39,9 @@ struct ControlServerConfig {
   /// MatchDirectory must issue its tokens on it too. Tests pass fake time and call
   /// ControlServer::check_deadlines() after moving it.
   std::function<proto::TimeUs()> clock = steady_now_us;
+  /// Logs the account refusals (login_timeout, login_rate_limited, registration_rate_limited,
+  /// server_busy) once per episode per address; nullptr: they are only counted.
+  EpisodeLog* episodes = nullptr;
 
   std::string validate() const;
 };

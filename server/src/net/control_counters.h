@@ -32,9 +32,18 @@ enum class ControlRefusal : std::uint8_t {
   LoginTimeout,             ///< not logged in within login_timeout_ms of the handshake: closed
   LoginRateLimited,         ///< a login past a failed-login limit: refused before any hashing
   RegistrationRateLimited,  ///< a registration past the address's limit: refused, no hashing
+  ServerBusy,  ///< a registration, login or resume refused SERVER_BUSY (a database queue full)
 };
 inline constexpr std::size_t kControlRefusalCount =
-    static_cast<std::size_t>(ControlRefusal::RegistrationRateLimited) + 1;
+    static_cast<std::size_t>(ControlRefusal::ServerBusy) + 1;
+
+/// Refusals that say an address is (or many are) pushing at the accounts' limits: logged once
+/// per episode and address (EpisodeLog), the rest only at debug.
+inline bool is_account_refusal(ControlRefusal refusal) {
+  return refusal == ControlRefusal::LoginTimeout || refusal == ControlRefusal::LoginRateLimited ||
+         refusal == ControlRefusal::RegistrationRateLimited ||
+         refusal == ControlRefusal::ServerBusy;
+}
 
 inline const char* name(ControlRefusal refusal) {
   switch (refusal) {
@@ -74,6 +83,8 @@ inline const char* name(ControlRefusal refusal) {
       return "login_rate_limited";
     case ControlRefusal::RegistrationRateLimited:
       return "registration_rate_limited";
+    case ControlRefusal::ServerBusy:
+      return "server_busy";
   }
   return "unknown";
 }

@@ -200,6 +200,9 @@ asio::awaitable<wire::ServerMessage> ControlSession::login(const wire::LoginRequ
   if (machine_.state() != proto::ControlState::Unauthenticated) {
     co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the login");
   }
+  if (context_.banned.contains(static_cast<std::uint64_t>(result.value().account))) {
+    co_return error_reply(wire::ACCOUNT_BANNED, "account '" + request.username() + "' is banned");
+  }
   authenticated(static_cast<std::uint64_t>(result.value().account), request.username(),
                 result.value().token, "logged in as account ");
   wire::ServerMessage reply;
@@ -220,9 +223,13 @@ asio::awaitable<wire::ServerMessage> ControlSession::resume(const wire::ResumeRe
             },
             std::move(post), std::move(done));
       });
-  if (!result.ok()) co_return error_reply(result.error());
+  if (!result.ok()) co_return account_refusal(result.error(), ControlRefusal::LoginRateLimited);
   if (machine_.state() != proto::ControlState::Unauthenticated) {
     co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the resume");
+  }
+  if (context_.banned.contains(static_cast<std::uint64_t>(result.value().account))) {
+    co_return error_reply(wire::ACCOUNT_BANNED,
+                          "account '" + result.value().username + "' is banned");
   }
   authenticated(static_cast<std::uint64_t>(result.value().account), result.value().username,
                 request.session_token(), "resumed the session of account ");
@@ -236,6 +243,10 @@ asio::awaitable<wire::ServerMessage> ControlSession::resume(const wire::ResumeRe
 
 wire::ServerMessage ControlSession::account_refusal(const db::DbError& error,
                                                     ControlRefusal rate_limited) {
+  if (error.code == db::DbErrorCode::QueueFull || error.code == db::DbErrorCode::Busy) {
+    refuse(ControlRefusal::ServerBusy, error.message);
+    return error_reply(error);
+  }
   if (error.code != db::DbErrorCode::RateLimited) return error_reply(error);
   refuse(rate_limited, error.message);
   return error_reply(rate_limited == ControlRefusal::RegistrationRateLimited
@@ -354,7 +365,7 @@ wire::ServerMessage ControlSession::chat(const wire::ChatRequest& request) {
     refuse(ControlRefusal::InvalidRequest, refusal->message);
     return error_reply(wire::INVALID_REQUEST, refusal->message);
   }
-  DirectoryResult<Done> result = context_.matches.chat(account_, request.text());
+  DirectoryResult<Done> result = context_.matches.chat(account_, id_, request.text());
   if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
   wire::ServerMessage reply;
   reply.mutable_chat();

@@ -56,7 +56,7 @@ ControlServer::ControlServer(asio::io_context& io, ControlServerConfig config, d
       tls_(asio::ssl::context::tls_server),
       strand_(asio::make_strand(io)),
       acceptor_(strand_),
-      context_{config_.limits, counters_, db, matches, config_.clock} {
+      context_{config_.limits, counters_, db, matches, config_.clock, config_.episodes, {}} {
   configure_tls(tls_, identity_);
 }
 
@@ -107,6 +107,23 @@ void ControlServer::send_to_account(std::uint64_t account, wire::ServerMessage m
       if (session->account() == account) session->push(message);
     }
   });
+}
+
+void ControlServer::ban_account(std::uint64_t account, std::string message,
+                                std::function<void(std::size_t closed)> then) {
+  asio::post(strand_, [this, account, message = std::move(message), then = std::move(then)] {
+    context_.banned.insert(account);
+    std::vector<std::shared_ptr<ControlSession>> signed_in;
+    for (auto& [id, session] : sessions_) {
+      if (session->account() == account) signed_in.push_back(session);
+    }
+    for (auto& session : signed_in) session->close(wire::ACCOUNT_BANNED, message, "banned");
+    if (then) then(signed_in.size());
+  });
+}
+
+void ControlServer::unban_account(std::uint64_t account) {
+  asio::post(strand_, [this, account] { context_.banned.erase(account); });
 }
 
 asio::awaitable<void> ControlServer::accept_loop() {

@@ -69,6 +69,14 @@ class ControlServer {
   /// Queues `message` (request_id 0) to every session logged in as `account`; a MatchResults
   /// body also moves those sessions from InMatch back to Authenticated.
   void send_to_account(std::uint64_t account, wire::ServerMessage message);
+  /// A ban: closes every session logged in as `account` with an Error ACCOUNT_BANNED
+  /// (request_id 0, `message`), and from now on refuses its logins and resumes that complete
+  /// here (one the database let through just before the ban). Then runs `then` on the strand
+  /// with how many sessions it closed (nothing can sign the account in between).
+  void ban_account(std::uint64_t account, std::string message,
+                   std::function<void(std::size_t closed)> then);
+  /// Undoes ban_account's refusal of the account's logins (the database's ban is the caller's).
+  void unban_account(std::uint64_t account);
 
  private:
   boost::asio::awaitable<void> accept_loop();

@@ -184,9 +184,14 @@ asio::awaitable<void> ControlSession::drain_frames() {
     context_.counters.add(context_.counters.frames_in);
     times_.frame_started.reset();
     times_.busy = true;
+    const proto::TimeUs handling_from = context_.clock();
     co_await handle(payload);
     times_.busy = false;
     const proto::TimeUs now = context_.clock();
+    // The login deadline counts the client's time, not the server's: a registration queued
+    // behind a sign-in storm's hashing may take longer than the whole deadline. (Refused
+    // requests are answered at once, so nobody stretches it by asking.)
+    if (!times_.logged_in) times_.opened_at += now - handling_from;
     times_.last_frame_at = now;
     note_partial_frame(now);
     check_deadlines();
@@ -272,6 +277,9 @@ void ControlSession::reply_error(std::uint32_t request_id, wire::ErrorCode code,
 void ControlSession::refuse(ControlRefusal refusal, const std::string& detail) {
   context_.counters.refused(refusal);
   spdlog::debug("control #{} {}: refused ({}): {}", id_, address_, name(refusal), detail);
+  if (context_.episodes && is_account_refusal(refusal)) {
+    context_.episodes->refuse(name(refusal), host_key_, detail, context_.clock());
+  }
 }
 
 void ControlSession::refuse_frame(proto::FrameRefusal refusal) {

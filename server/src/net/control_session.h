@@ -20,11 +20,13 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_set>
 #include <vector>
 
 #include "control_config.h"
 #include "control_counters.h"
 #include "control_deadlines.h"
+#include "episode_log.h"
 #include "match_directory.h"
 #include "ricochet/db/db_worker.h"
 #include "ricochet/proto/control_states.h"
@@ -43,6 +45,11 @@ struct ControlContext {
   /// The server's clock in µs (ControlServerConfig::clock): deadlines, the message rate and
   /// connect tokens' expiry.
   std::function<proto::TimeUs()> clock;
+  /// Logs the account refusals once per episode (ControlServerConfig::episodes); may be null.
+  EpisodeLog* episodes;
+  /// Accounts banned while this server ran (ControlServer::ban_account): a login or resume the
+  /// database let through just before the ban is refused when it completes. On the strand.
+  std::unordered_set<std::uint64_t> banned;
 };
 
 class ControlSession : public std::enable_shared_from_this<ControlSession> {
@@ -100,7 +107,8 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   void reply_error(std::uint32_t request_id, wire::ErrorCode code, const std::string& message);
   /// Counts and logs a refusal.
   void refuse(ControlRefusal refusal, const std::string& detail);
-  /// The reply to a login, resume or registration the database refused; counts its limits.
+  /// The reply to a login, resume or registration the database refused; counts its limits and
+  /// SERVER_BUSY (ControlRefusal::ServerBusy).
   wire::ServerMessage account_refusal(const db::DbError& error, ControlRefusal rate_limited);
   /// Logged in or resumed as `account` with `token`: no login deadline any more.
   void authenticated(std::uint64_t account, std::string username, std::string token,

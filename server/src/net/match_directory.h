@@ -117,8 +117,11 @@ class MatchDirectory {
   /// Gives the account's seat up, when `session` holds it.
   virtual DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t session) = 0;
   /// Echoed to every player of the account's match over the game channel's reliable messages,
-  /// within the chat rate limits (RateLimited beyond them).
-  virtual DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) = 0;
+  /// within the chat rate limits (RateLimited beyond them). Only from the `session` that plays
+  /// the account, and while its game connection is up (NotInMatch otherwise: nobody would see
+  /// the line as coming from it).
+  virtual DirectoryResult<Done> chat(std::uint64_t account, std::uint64_t session,
+                                     const std::string& text) = 0;
 };
 
 }  // namespace ricochet::server

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "collision_world.h"
+#include "ricochet/proto/chat_text.h"
 #include "ricochet/proto/connect_token.h"
 #include "steady_time.h"
 
@@ -37,9 +38,16 @@ std::string account_key(std::uint64_t account) {
   return "account " + std::to_string(account);
 }
 
-bool printable_name(const std::string& name) {
-  return !name.empty() && name.size() <= 32 &&
-         std::all_of(name.begin(), name.end(), [](char c) { return c >= 0x20 && c != 0x7f; });
+/// Why a created match's name is refused (the chat text rule, 32 bytes at most), or nothing.
+std::optional<std::string> refuse_match_name(const std::string& name) {
+  constexpr std::size_t kMaxMatchNameBytes = 32;
+  if (name.empty() || name.size() > kMaxMatchNameBytes) {
+    return "name must be 1.." + std::to_string(kMaxMatchNameBytes) + " bytes, got " +
+           std::to_string(name.size());
+  }
+  // The chat rule's message speaks of chat text: the field is named before it.
+  if (const auto refusal = proto::check_chat_text(name)) return "name: " + refusal->message;
+  return std::nullopt;
 }
 
 }  // namespace
@@ -165,10 +173,8 @@ std::uint64_t MatchRegistry::refused(SeatRefusal refusal) const {
 }
 
 DirectoryResult<MatchSummary> MatchRegistry::create(const CreateMatchRequest& request) {
-  if (!printable_name(request.name)) {
-    return error(DirectoryErrorCode::InvalidRequest,
-                 "name must be 1..32 printable characters, got " +
-                     std::to_string(request.name.size()) + " bytes");
+  if (const auto refusal = refuse_match_name(request.name)) {
+    return error(DirectoryErrorCode::InvalidRequest, *refusal);
   }
   if (request.max_players < 1 || request.max_players > 64) {
     return error(DirectoryErrorCode::InvalidRequest,
@@ -258,7 +264,8 @@ DirectoryResult<JoinGrant> MatchRegistry::join_locked(std::uint64_t account,
       return *refused;
     }
     seat =
-        seats_.emplace(account, Seat{match_id, username, false, 0, 0, origin.host, 0, now}).first;
+        seats_.emplace(account, Seat{match_id, username, false, false, 0, 0, origin.host, 0, now})
+            .first;
   } else if (seat->second.session != origin.session) {
     // One session plays the account: the newest join's. The older session's game connection
     // goes (the player keeps its place within the reconnect grace and comes back with this
@@ -306,9 +313,39 @@ DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account, std::uint64_t 
   return Done{};
 }
 
-DirectoryResult<Done> MatchRegistry::chat(std::uint64_t account, const std::string& text) {
-  const auto host = host_of(account);
-  if (!host) return error(DirectoryErrorCode::NotInMatch, "not in a match");
+bool MatchRegistry::remove(std::uint64_t account, proto::DisconnectReason reason) {
+  std::shared_ptr<MatchHost> host;
+  {
+    const std::lock_guard lock(mutex_);
+    issued_tokens_.erase(account);
+    const auto seat = seats_.find(account);
+    if (seat == seats_.end()) return false;
+    host = hosts_.at(seat->second.match_id).host;
+    seats_.erase(seat);
+  }
+  channel_.kick(account, reason);  // now, as leave() does
+  host->leave(account);
+  return true;
+}
+
+DirectoryResult<Done> MatchRegistry::chat(std::uint64_t account, std::uint64_t session,
+                                          const std::string& text) {
+  std::shared_ptr<MatchHost> host;
+  {
+    const std::lock_guard lock(mutex_);
+    const auto seat = seats_.find(account);
+    if (seat == seats_.end()) return error(DirectoryErrorCode::NotInMatch, "not in a match");
+    if (seat->second.session != session) {
+      return error(DirectoryErrorCode::NotInMatch,
+                   "the account is played from another control connection now; chat from that one");
+    }
+    if (!seat->second.connected) {
+      return error(DirectoryErrorCode::NotInMatch,
+                   "your game connection is not up, so the match would drop the line; chat once "
+                   "it is connected");
+    }
+    host = hosts_.at(seat->second.match_id).host;
+  }
   const auto over = config_.chat_limiter
                         ? config_.chat_limiter->take(account, host->id(), config_.clock())
                         : std::nullopt;
@@ -327,6 +364,7 @@ void MatchRegistry::connected(std::uint64_t account, std::uint32_t match_id) {
     const auto seat = seats_.find(account);
     if (!closed_ && seat != seats_.end() && seat->second.match_id == match_id) {
       seat->second.taken = true;
+      seat->second.connected = true;
       seat->second.generation = next_generation_++;
       generation = seat->second.generation;
       host = hosts_.at(match_id).host;
@@ -345,6 +383,13 @@ void MatchRegistry::connected(std::uint64_t account, std::uint32_t match_id) {
 }
 
 void MatchRegistry::disconnected(std::uint64_t account, proto::DisconnectReason reason) {
+  {
+    const std::lock_guard lock(mutex_);
+    // The channel reports only the end of the account's newest connection.
+    if (const auto seat = seats_.find(account); seat != seats_.end()) {
+      seat->second.connected = false;
+    }
+  }
   if (const auto host = host_of(account)) {
     spdlog::debug("game channel: account {} gone ({})", account, proto::name(reason));
     host->disconnect(account);

@@ -137,6 +137,10 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   /// and join; the server calls it every few seconds.
   void close_empty_matches();
   std::uint64_t refused(SeatRefusal refusal) const;
+  /// Takes the account out of its match, whichever session plays it (a ban): the seat given
+  /// back, its token forgotten, the game connection ended with `reason`, its entity gone for
+  /// good. False when it held no seat.
+  bool remove(std::uint64_t account, proto::DisconnectReason reason);
   std::uint64_t empty_matches_closed() const { return empty_matches_closed_.load(); }
 
   // MatchDirectory
@@ -145,7 +149,8 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
                                   std::uint32_t match_id, const JoinOrigin& origin) override;
   DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t session) override;
-  DirectoryResult<Done> chat(std::uint64_t account, const std::string& text) override;
+  DirectoryResult<Done> chat(std::uint64_t account, std::uint64_t session,
+                             const std::string& text) override;
 
   // GameRouter
   void connected(std::uint64_t account, std::uint32_t match_id) override;
@@ -157,7 +162,8 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   struct Seat {
     std::uint32_t match_id = 0;
     std::string username;
-    bool taken = false;  ///< the game channel connected at least once
+    bool taken = false;      ///< the game channel connected at least once
+    bool connected = false;  ///< its game connection is up now
     /// While not taken: the newest token's expiry plus its timeout (a handshake accepted just
     /// before the expiry may take that long to finish).
     proto::TimeUs reserved_until = 0;

@@ -254,7 +254,9 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
           if (results) send_results(*results, recipients);
         });
       });
-  control_ = std::make_unique<ControlServer>(io_, control_config(config_), *db_, *matches_);
+  ControlServerConfig control = control_config(config_);
+  control.episodes = &episodes_;
+  control_ = std::make_unique<ControlServer>(io_, std::move(control), *db_, *matches_);
 
   AdminHttpOptions admin;
   admin.bind = config_.admin.bind;
@@ -267,7 +269,10 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   admin.episodes = &episodes_;
   admin_ = std::make_unique<AdminHttp>(
       io_, std::move(admin), metrics_,
-      AdminHttpCallbacks{[this] { return healthy(); }, [this] { return ready(); }});
+      AdminHttpCallbacks{[this] { return healthy(); }, [this] { return ready(); },
+                         [this](AccountAction action, std::function<void(AdminReply)> answer) {
+                           act_on_account(std::move(action), std::move(answer));
+                         }});
   register_metrics();
 }
 
@@ -546,6 +551,58 @@ void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt,
         timer->async_wait([this, timer, match, attempt, done](const std::error_code&) {
           write_record(match, attempt + 1, done);
         });
+      });
+}
+
+void Server::act_on_account(AccountAction action, std::function<void(AdminReply)> answer) {
+  const bool ban = action.ban;
+  const std::string username = action.username;
+  db_->submit(
+      [username, ban](db::DbServices& services) {
+        return services.accounts.set_banned_by_name(username, ban);
+      },
+      [](std::function<void()> completion) { completion(); },  // runs on the DB thread
+      [this, action = std::move(action),
+       answer = std::move(answer)](db::DbResult<db::Account> result) {
+        if (!result) {
+          const db::DbError& error = result.error();
+          if (error.code == db::DbErrorCode::UnknownAccount) {
+            answer({404, error.message + "\n"});
+            return;
+          }
+          spdlog::error("admin {}: {} of '{}' failed: {}", action.operator_address,
+                        action.ban ? "the ban" : "the unban", action.username, error.message);
+          answer({503, std::string("the database could not take it now (") +
+                           db::to_string(error.code) + "); try again\n"});
+          return;
+        }
+        const db::Account account = std::move(result).value();
+        const auto id = static_cast<std::uint64_t>(account.id);
+        if (!action.ban) {
+          control_->unban_account(id);
+          unbans_.fetch_add(1);
+          spdlog::warn("admin {}: account '{}' ({}) unbanned", action.operator_address,
+                       account.username, id);
+          answer(
+              {200, "account '" + account.username + "' (" + std::to_string(id) + ") unbanned\n"});
+          return;
+        }
+        // Closing the sessions and taking the seat happen on the control strand in one go, so
+        // no session of the account can join a match in between.
+        control_->ban_account(
+            id, "account '" + account.username + "' is banned",
+            [this, id, account, action, answer](std::size_t closed) {
+              const bool removed = matches_->remove(id, proto::DisconnectReason::Banned);
+              bans_.fetch_add(1);
+              banned_sessions_closed_.fetch_add(closed);
+              banned_players_removed_.fetch_add(removed ? 1 : 0);
+              const std::string done = "account '" + account.username + "' (" + std::to_string(id) +
+                                       ") banned: its sessions revoked, " + std::to_string(closed) +
+                                       " control connections closed, " +
+                                       (removed ? "taken out of its match" : "in no match");
+              spdlog::warn("admin {}: {}", action.operator_address, done);
+              answer({200, done + "\n"});
+            });
       });
 }
 

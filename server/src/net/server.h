@@ -48,6 +48,8 @@ class MatchResults;
 namespace ricochet::server {
 
 class AdminHttp;
+struct AccountAction;
+struct AdminReply;
 class ChatLimiter;
 struct EndedMatch;
 class ControlServer;
@@ -109,6 +111,10 @@ class Server {
   /// On the DB thread: writes one ended match and reads back its players' ratings.
   static db::DbResult<wire::MatchResults> record(const EndedMatch& match, db::DbServices& services);
   void register_metrics();
+  /// An operator's ban or unban (admin HTTP): the database first (a ban revokes the account's
+  /// sessions), then, for a ban, the account's control sessions closed with ACCOUNT_BANNED and
+  /// its game connection with reason banned, its seat given back. `answer` once, any thread.
+  void act_on_account(AccountAction action, std::function<void(AdminReply)> answer);
   /// Every few seconds: the created matches empty for too long are closed.
   void sweep_empty_matches();
 
@@ -133,9 +139,13 @@ class Server {
   std::atomic<bool> ready_{false};
   std::atomic<int> exit_code_{0};
   std::atomic<bool> stopping_{false};
-  std::atomic<std::uint64_t> records_pending_{0};  ///< kept after a failed write, to retry
-  std::atomic<std::uint64_t> records_retried_{0};  ///< writes submitted again
-  std::atomic<std::uint64_t> records_lost_{0};     ///< refused for good (or while stopping)
+  std::atomic<std::uint64_t> records_pending_{0};         ///< kept after a failed write, to retry
+  std::atomic<std::uint64_t> records_retried_{0};         ///< writes submitted again
+  std::atomic<std::uint64_t> records_lost_{0};            ///< refused for good (or while stopping)
+  std::atomic<std::uint64_t> bans_{0};                    ///< accounts banned through admin HTTP
+  std::atomic<std::uint64_t> unbans_{0};                  ///< and unbanned
+  std::atomic<std::uint64_t> banned_sessions_closed_{0};  ///< control sessions a ban closed
+  std::atomic<std::uint64_t> banned_players_removed_{0};  ///< seats (and game connections) too
   std::mutex done_mutex_;
   std::condition_variable done_;
   bool stopped_ = false;

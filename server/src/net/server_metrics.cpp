@@ -211,6 +211,19 @@ void Server::register_metrics() {
     sink.counter("ricochet_match_records_lost_total",
                  "Match records refused for good, or still unwritten when the server stopped", {},
                  static_cast<double>(records_lost_.load()));
+    for (const auto& [action, count] :
+         {std::pair{"ban", bans_.load()}, std::pair{"unban", unbans_.load()}}) {
+      sink.counter("ricochet_account_bans_total",
+                   "Accounts banned or unbanned by an operator (admin HTTP), by action",
+                   {{"action", action}}, static_cast<double>(count));
+    }
+    for (const auto& [what, count] : {std::pair{"control_sessions", banned_sessions_closed_.load()},
+                                      std::pair{"players", banned_players_removed_.load()}}) {
+      sink.counter("ricochet_ban_closed_total",
+                   "What bans closed: control connections signed in as the banned account, and "
+                   "players taken out of their match (seat and game connection)",
+                   {{"what", what}}, static_cast<double>(count));
+    }
     sink.gauge("ricochet_db_queue_depth", "Jobs waiting for the DB thread", {},
                static_cast<double>(db_->queued()));
     sink.gauge("ricochet_up", "1 while the server is ready", {}, ready() ? 1 : 0);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "ricochet/bot/refusal_policy.h"
 #include "ricochet/proto/connect_token.h"
 
 namespace ricochet::bot {
@@ -101,6 +102,7 @@ Bot::Bot(asio::io_context& io, asio::ssl::context& tls, ServerTrust& trust, BotC
       tls_(tls),
       trust_(trust),
       config_(std::move(config)),
+      retry_random_(static_cast<std::uint_fast32_t>(config_.seed)),
       brain_(config_.skill, config_.seed),
       deadline_(io),
       tick_timer_(io),
@@ -183,6 +185,23 @@ void Bot::fail_attempt(const std::string& reason, Retry retry) {
       sign_in();
     } else {
       find_match();
+    }
+  });
+}
+
+void Bot::retry_busy(const std::string& reason) {
+  if (state_ == BotState::Done) return;
+  ++busy_retries_;
+  const double wait =
+      busy_backoff_s(busy_retries_, std::uniform_real_distribution<double>(0, 1)(retry_random_));
+  spdlog::info("bot {}: {}; signing in again in {:.1f} s (busy {} times in a row)", config_.name,
+               reason, wait, busy_retries_);
+  arm(wait, [this] {
+    if (!control_ || !control_->is_open()) {
+      transition(BotState::Connecting, "retrying the control channel");
+      connect_control();
+    } else {
+      sign_in();
     }
   });
 }
@@ -278,10 +297,14 @@ void Bot::sign_in() {
   registration.mutable_register_account()->set_password(config_.password);
   control_->request(
       std::move(registration), guarded([this](const wire::ServerMessage& reply) {
-        if (reply.has_register_account() || is_error(reply, wire::DUPLICATE_USERNAME))
+        // Rate limited: an earlier attempt whose reply was lost (a sign-in that
+        // timed out on a busy server) may have registered the account; the login
+        // tells.
+        if (reply.has_register_account() || is_error(reply, wire::DUPLICATE_USERNAME) ||
+            is_error(reply, wire::REGISTRATION_RATE_LIMITED))
           return log_in();
         if (is_error(reply, wire::SERVER_BUSY))
-          return fail_attempt("registration: " + describe(reply), Retry::SameConnection);
+          return retry_busy("registration: " + describe(reply));
         finish("registration refused", "cannot register " + config_.name + ": " + describe(reply));
       }));
 }
@@ -296,7 +319,8 @@ void Bot::log_in() {
 
 void Bot::on_session(const wire::ServerMessage& reply) {
   if (!reply.has_session()) {
-    if (is_error(reply, wire::SERVER_BUSY) || is_error(reply, wire::LOGIN_RATE_LIMITED)) {
+    if (is_error(reply, wire::SERVER_BUSY)) return retry_busy("login: " + describe(reply));
+    if (is_error(reply, wire::LOGIN_RATE_LIMITED)) {
       return fail_attempt("login: " + describe(reply), Retry::SameConnection);
     }
     return finish("login refused", "cannot log in as " + config_.name + ": " + describe(reply) +
@@ -305,6 +329,7 @@ void Bot::on_session(const wire::ServerMessage& reply) {
                                             : ""));
   }
   signed_in_ = true;
+  busy_retries_ = 0;
   record_.account_id = reply.session().account_id();
   if (!reply.session().session_token().empty()) session_token_ = reply.session().session_token();
   transition(BotState::Joining, "logged in as account " + std::to_string(record_.account_id));
@@ -354,7 +379,10 @@ void Bot::on_join(const wire::ServerMessage& reply) {
     return finish("cannot join",
                   "cannot join match " + std::to_string(config_.match_id) + ": " + describe(reply));
   }
-  if (is_error(reply, wire::MATCH_FULL)) {
+  if (reply.has_error() && refusal_action(reply.error().code()) == RefusalAction::WaitForRoom) {
+    // No seat now (the match, or this address, holds its most): seats free as players leave.
+    spdlog::info("bot {}: join_match: {}; looking again in {} s", config_.name, describe(reply),
+                 kNoRoomRetryS);
     return arm(kNoRoomRetryS, [this] { find_match(); });
   }
   if (is_error(reply, wire::ALREADY_IN_MATCH)) {

@@ -106,6 +106,9 @@ class Accounts {
                            std::string_view new_password);
   /// Banning revokes every session of the account; unbanning lets it log in again.
   DbStatus set_banned(AccountId id, bool banned);
+  /// set_banned of the account named `username` (ignoring case); the account as it is now, or
+  /// UnknownAccount when no account has that name.
+  DbResult<Account> set_banned_by_name(std::string_view username, bool banned);
 
   // --- register: check (DB) → hash_new_password (any thread) → finish_registration (DB) ---
   /// The name and password rules, the name not taken, and the address's registration limit

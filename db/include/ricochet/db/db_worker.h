@@ -21,7 +21,8 @@
 /// threads take a waiting login check of an existing account before any other hash, so a storm of
 /// registrations delays an existing account's login by at most the hashes already running;
 /// registrations and password changes past `max_queued_hashes` are refused at once (QueueFull)
-/// instead of waiting minutes. The password threads run at a low priority (`password_nice`), so
+/// instead of waiting minutes, and such a registration is not counted against its address's
+/// registration limit. The password threads run at a low priority (`password_nice`), so
 /// Argon2id gets the cores the game ticks leave, never the ones they need.
 
 #include <condition_variable>
@@ -145,6 +146,8 @@ class DbWorker {
                       Finish finish);
   bool enqueue(Task task);
   bool enqueue_cpu(PasswordWork kind, CpuTask task);
+  /// True when a NewHash task would be refused now (max_queued_hashes waiting).
+  bool hash_queue_full() const;
   void run();
   void run_cpu();
 

@@ -62,9 +62,10 @@ enum class DisconnectReason : std::uint8_t {
   Kicked,             ///< the server's application removed the client
   HostFull,           ///< denied: too many clients from the client's host (host_key)
   Left,               ///< the player left its match (LeaveMatch on the control channel)
+  Banned,             ///< an operator banned the player's account
 };
 inline constexpr std::size_t kDisconnectReasonCount =
-    static_cast<std::size_t>(DisconnectReason::Left) + 1;
+    static_cast<std::size_t>(DisconnectReason::Banned) + 1;
 std::string_view name(DisconnectReason reason);
 
 /// Connection states. Server side per address: Connecting → Challenged → Connected →

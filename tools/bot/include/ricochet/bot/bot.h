@@ -20,6 +20,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -108,6 +109,9 @@ class Bot {
   /// connection is gone).
   enum class Retry : std::uint8_t { SameConnection, NewConnection };
   void fail_attempt(const std::string& reason, Retry retry);
+  /// The sign-in was refused SERVER_BUSY: signs in again after busy_backoff_s(), which is not
+  /// a failed attempt (refusal_policy.h).
+  void retry_busy(const std::string& reason);
   void reconnect(const std::string& reason);
   void finish(std::string_view reason, std::string error = {});
 
@@ -159,6 +163,8 @@ class Bot {
   std::uint32_t match_id_ = 0;  ///< the match the bot is seated in (0: none)
   bool awaiting_results_ = false;
   int failed_attempts_ = 0;
+  int busy_retries_ = 0;           ///< SERVER_BUSY in a row at sign-in
+  std::minstd_rand retry_random_;  ///< spreads the busy retries of bots refused together
 
   std::shared_ptr<SharedGamePort> shared_port_;  ///< null: a socket per game connection
   std::shared_ptr<GameSession> game_;
