@@ -17,8 +17,8 @@ packages=(
   libtomlplusplus-dev # the server's config file
   gnuplot-nox        # plots of the physics study (tools/physics-study)
   clang-format       # the formatter; tools/test.sh checks the tree against .clang-format
-  clang              # the libFuzzer targets (tests/fuzz, tools/fuzz.sh)
-  libclang-rt-14-dev # their fuzzer and sanitizer runtimes
+  clang-16           # the sanitized builds of tools/test.sh and the libFuzzer targets (tools/fuzz.sh)
+  libclang-rt-16-dev # their sanitizer and fuzzer runtimes
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
 if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then

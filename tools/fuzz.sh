@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The libFuzzer targets (tests/fuzz): builds them with clang, libFuzzer, ASan and UBSan into
+# The libFuzzer targets (tests/fuzz): builds them with clang 16, libFuzzer, ASan and UBSan into
 # build/fuzz, then fuzzes each target NAME_fuzz on a temporary copy of its seed corpus
 # tests/fuzz/corpus/NAME/, so the repo's corpora stay as they are.
 #   tools/fuzz.sh [--seconds N] [--jobs J] [--only NAME] [-flag=value ...]
@@ -47,7 +47,7 @@ launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 
 echo "=== $dir ==="
-cmake -S tests/fuzz -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++ "${launcher[@]}"
+cmake -S tests/fuzz -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++-16 "${launcher[@]}"
 cmake --build "$dir" -j "$(nproc)"
 
 export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
