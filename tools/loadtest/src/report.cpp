@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 
+#include "report_files.h"
 #include "ricochet/tools/json_text.h"
 
 namespace ricochet::loadtest {
@@ -72,16 +71,6 @@ std::string steps_lines(const LoadRun& run, const LoadTestConfig& config,
   return out;
 }
 
-bool write_file(const fs::path& path, const std::string& text, std::string& error) {
-  std::ofstream file(path);
-  file << text;
-  if (!file) {
-    error = "cannot write " + path.string();
-    return false;
-  }
-  return true;
-}
-
 std::string samples_table(const std::vector<RunSample>& samples) {
   std::string out =
       "# t_s step_bots measuring playing joining gave_up matches tick_p50 tick_p95 tick_p99 "
@@ -137,18 +126,6 @@ std::string sweep_table(const std::vector<StepSummary>& steps) {
   return out;
 }
 
-std::string errors_table(const ErrorCounts& errors) {
-  std::string out = "# kind count\n";
-  bool any = false;
-  for (const auto& [kind, n] : errors) {
-    if (n == 0) continue;
-    out += kind + ' ' + std::to_string(n) + '\n';
-    any = true;
-  }
-  if (!any) out += "none 0\n";
-  return out;
-}
-
 std::string connect_table(std::vector<double> ms) {
   std::sort(ms.begin(), ms.end());
   std::string out = "# connect_ms fraction_of_bots\n";
@@ -193,12 +170,9 @@ std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
   const fs::path dir(config.out);
   std::set<std::uint32_t> ids;
   for (const MatchTickRow& row : run.match_rows()) ids.insert(row.match);
-  std::string gp =
-      "set terminal pngcairo size 960,600 noenhanced font 'sans,10'\n"
-      "set grid\nset key top left\nset xlabel 'time since start (s)'\n";
+  std::string gp = std::string(kGnuplotPreamble);
   const auto png = [&gp](const char* file, const char* title, const char* ylabel) {
-    gp += std::string("set output '") + file + "'\nset title '" + title + "'\nset ylabel '" +
-          ylabel + "'\n";
+    gp += gnuplot_png(file, title, ylabel);
   };
   png("tick_ms.png", "server tick time, worst match (last 600 ticks)", "ms");
   gp +=
@@ -251,16 +225,7 @@ std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
     gp += "plot 'sweep.dat' u 1:7 w lp lw 2 t 'in (server to bot)', '' u 1:8 w lp t 'out'\n";
   }
   gp += "unset output\n";
-  std::string error;
-  if (!write_file(dir / "plots.gp", gp, error)) return error;
-  const std::string command = "cd '" + dir.string() + "' && gnuplot plots.gp > gnuplot.log 2>&1";
-  if (dir.string().find('\'') != std::string::npos) return "the out directory's name has a quote";
-  const int status = std::system(command.c_str());
-  if (status != 0) {
-    return "gnuplot failed (status " + std::to_string(status) + "; see " +
-           (dir / "gnuplot.log").string() + "; tools/deps.sh installs gnuplot-nox)";
-  }
-  return {};
+  return run_gnuplot(dir, gp);
 }
 
 }  // namespace ricochet::loadtest

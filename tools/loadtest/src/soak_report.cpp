@@ -1,10 +1,9 @@
 #include "ricochet/loadtest/soak_report.h"
 
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 
+#include "report_files.h"
 #include "ricochet/tools/json_text.h"
 
 namespace ricochet::loadtest {
@@ -27,16 +26,6 @@ std::string number(const std::optional<double>& value) {
 
 std::string field(const char* key, const std::string& value) {
   return std::string(",\"") + key + "\":" + value;
-}
-
-bool write_file(const fs::path& path, const std::string& text, std::string& error) {
-  std::ofstream file(path);
-  file << text;
-  if (!file) {
-    error = "cannot write " + path.string();
-    return false;
-  }
-  return true;
 }
 
 std::string errors_json(const ErrorCounts& errors) {
@@ -128,18 +117,6 @@ std::string samples_table(const std::vector<SoakSample>& samples) {
   return out;
 }
 
-std::string errors_table(const ErrorCounts& errors) {
-  std::string out = "# kind count\n";
-  bool any = false;
-  for (const auto& [kind, n] : errors) {
-    if (n == 0) continue;
-    out += kind + ' ' + std::to_string(n) + '\n';
-    any = true;
-  }
-  if (!any) out += "none 0\n";
-  return out;
-}
-
 }  // namespace
 
 std::string write_soak_report(const SoakRun& run, const SoakSummary& summary,
@@ -162,16 +139,13 @@ std::string write_soak_report(const SoakRun& run, const SoakSummary& summary,
 std::string draw_soak_plots(const SoakSummary& summary, const LoadTestConfig& config) {
   const fs::path dir(config.out);
   const std::string warmup = number(summary.flatness.warmup_s);
-  std::string gp =
-      "set terminal pngcairo size 960,600 noenhanced font 'sans,10'\n"
-      "set grid\nset key top left\nset xlabel 'time since start (s)'\n"
-      "set fit quiet logfile 'fit.log'\n"
-      // The warm-up, left out of the slopes, shaded.
-      "set object 1 rect from graph 0, graph 0 to first " +
-      warmup + ", graph 1 fc rgb '#eeeeee' behind\n";
+  std::string gp = std::string(kGnuplotPreamble) +
+                   "set fit quiet logfile 'fit.log'\n"
+                   // The warm-up, left out of the slopes, shaded.
+                   "set object 1 rect from graph 0, graph 0 to first " +
+                   warmup + ", graph 1 fc rgb '#eeeeee' behind\n";
   const auto png = [&gp](const char* file, const char* title, const char* ylabel) {
-    gp += std::string("set output '") + file + "'\nset title '" + title + "'\nset ylabel '" +
-          ylabel + "'\n";
+    gp += gnuplot_png(file, title, ylabel);
   };
   // Lines fitted over the samples after the warm-up (the slopes of report.json), when there are
   // enough of them; the columns are soak.dat's.
@@ -215,16 +189,7 @@ std::string draw_soak_plots(const SoakSummary& summary, const LoadTestConfig& co
       "unset object 1\nset xlabel ''\nset style fill solid 0.6\nset boxwidth 0.6\n"
       "set xtics rotate by -30\nplot 'errors.dat' u 0:2:xtic(1) w boxes notitle\n";
   gp += "unset output\n";
-  std::string error;
-  if (!write_file(dir / "plots.gp", gp, error)) return error;
-  if (dir.string().find('\'') != std::string::npos) return "the out directory's name has a quote";
-  const std::string command = "cd '" + dir.string() + "' && gnuplot plots.gp > gnuplot.log 2>&1";
-  const int status = std::system(command.c_str());
-  if (status != 0) {
-    return "gnuplot failed (status " + std::to_string(status) + "; see " +
-           (dir / "gnuplot.log").string() + "; tools/deps.sh installs gnuplot-nox)";
-  }
-  return {};
+  return run_gnuplot(dir, gp);
 }
 
 }  // namespace ricochet::loadtest
