@@ -51,8 +51,8 @@ TEST(Soak, TwoMinutesOfBadLinksChurnAndRotatingMatchesLeaveTheServerFlat) {
       "--soak --server 127.0.0.1 --port " + std::to_string(server.control_port()) +
           " --admin-port " + std::to_string(server.admin_port()) + " --fingerprint " +
           server.fingerprint() + " --bots " + std::to_string(kBots) + " --match-size " +
-          std::to_string(kMatchSize) + " --ramp 4 --duration " +
-          std::to_string(kDuration.count()) + "s --warmup " + std::to_string(kWarmup.count()) +
+          std::to_string(kMatchSize) + " --ramp 4 --duration " + std::to_string(kDuration.count()) +
+          "s --warmup " + std::to_string(kWarmup.count()) +
           "s --scrape-interval 0.5 --churn-min-life 20s --churn-max-life 45s"
           " --churn-new-account 0.25 --max-rss-slope " +
           std::to_string(kRssBoundMibPerHour) + " --max-fd-slope " +
@@ -95,8 +95,8 @@ TEST(Soak, TwoMinutesOfBadLinksChurnAndRotatingMatchesLeaveTheServerFlat) {
   EXPECT_LE(number_field(report, "rss_slope_mib_per_hour").value_or(1e9), kRssBoundMibPerHour);
   EXPECT_LE(number_field(report, "fds_slope_per_hour").value_or(1e9), kFdsBoundPerHour);
   EXPECT_GE(number_field(report, "samples_after_warmup").value_or(0), 150) << report;
-  for (const char* file : {"soak.dat", "rss_fds.png", "db.png", "tick_p99.png",
-                           "snapshot_loss.png", "bots.png", "cpu.png", "errors.png"}) {
+  for (const char* file : {"soak.dat", "rss_fds.png", "db.png", "tick_p99.png", "snapshot_loss.png",
+                           "bots.png", "cpu.png", "errors.png"}) {
     EXPECT_TRUE(fs::exists(out.path() / file) && fs::file_size(out.path() / file) > 500) << file;
   }
 }

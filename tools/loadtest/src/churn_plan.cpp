@@ -24,7 +24,8 @@ Incarnation ChurnPlan::next(int slot) {
     out.account += std::to_string(used - 1);
   }
   if (churn_.active()) {
-    out.life_s = std::uniform_real_distribution<double>(churn_.min_life_s, churn_.max_life_s)(random_);
+    out.life_s =
+        std::uniform_real_distribution<double>(churn_.min_life_s, churn_.max_life_s)(random_);
   }
   return out;
 }

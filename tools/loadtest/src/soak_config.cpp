@@ -29,7 +29,8 @@ double ChurnConfig::registrations_in_an_hour(int bots_per_address, double durati
 }
 
 std::string ChurnConfig::validate() const {
-  if (!within(max_life_s, 0, 86400)) return "churn max life must be 0..86400 s, got " + number(max_life_s);
+  if (!within(max_life_s, 0, 86400))
+    return "churn max life must be 0..86400 s, got " + number(max_life_s);
   if (!active()) return {};
   if (!within(min_life_s, 1, max_life_s)) {
     return "churn min life must be 1 s..the max life (" + number(max_life_s) + " s), got " +

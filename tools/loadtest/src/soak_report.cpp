@@ -61,11 +61,10 @@ std::string report_json(const SoakRun& run, const SoakSummary& s, const LoadTest
   out += field("match_size", std::to_string(config.match_size));
   out += field("bots_per_address", std::to_string(config.bots_per_address));
   out += field("scrape_interval_s", number(config.scrape_interval_s));
-  out += field("link", "{\"latency_ms\":" + number(soak.link.latency_ms) +
-                           ",\"jitter_ms\":" + number(soak.link.jitter_ms) +
-                           ",\"loss\":" + number(soak.link.loss) +
-                           ",\"duplicate\":" + number(soak.link.duplicate) +
-                           ",\"reorder\":" + number(soak.link.reorder) + ",\"each_direction\":true}");
+  out += field("link", "{\"latency_ms\":" + number(soak.link.latency_ms) + ",\"jitter_ms\":" +
+                           number(soak.link.jitter_ms) + ",\"loss\":" + number(soak.link.loss) +
+                           ",\"duplicate\":" + number(soak.link.duplicate) + ",\"reorder\":" +
+                           number(soak.link.reorder) + ",\"each_direction\":true}");
   out += field("churn", "{\"min_life_s\":" + number(soak.churn.min_life_s) +
                             ",\"max_life_s\":" + number(soak.churn.max_life_s) +
                             ",\"new_account_share\":" + number(soak.churn.new_account_share) + "}");
@@ -178,13 +177,18 @@ std::string draw_soak_plots(const SoakSummary& summary, const LoadTestConfig& co
   // enough of them; the columns are soak.dat's.
   const bool fitted = summary.flatness.rss_mib_per_hour && summary.flatness.fds_per_hour;
   if (fitted) {
-    gp += "r(x) = ra + rb * x\nf(x) = fa + fb * x\n"
-          "fit [" + warmup + ":*] r(x) 'soak.dat' u 1:($10 >= 0 ? $10 : 1/0) via ra, rb\n"
-          "fit [" + warmup + ":*] f(x) 'soak.dat' u 1:($11 >= 0 ? $11 : 1/0) via fa, fb\n";
+    gp +=
+        "r(x) = ra + rb * x\nf(x) = fa + fb * x\n"
+        "fit [" +
+        warmup +
+        ":*] r(x) 'soak.dat' u 1:($10 >= 0 ? $10 : 1/0) via ra, rb\n"
+        "fit [" +
+        warmup + ":*] f(x) 'soak.dat' u 1:($11 >= 0 ? $11 : 1/0) via fa, fb\n";
   }
   png("rss_fds.png", "server RSS and open file descriptors (grey: warm-up)", "RSS (MiB)");
-  gp += "set y2label 'open fds'\nset y2tics\nplot 'soak.dat' u 1:($10 >= 0 ? $10 : 1/0) w l lw 2 "
-        "t 'RSS MiB', '' u 1:($11 >= 0 ? $11 : 1/0) w l axes x1y2 t 'open fds'";
+  gp +=
+      "set y2label 'open fds'\nset y2tics\nplot 'soak.dat' u 1:($10 >= 0 ? $10 : 1/0) w l lw 2 "
+      "t 'RSS MiB', '' u 1:($11 >= 0 ? $11 : 1/0) w l axes x1y2 t 'open fds'";
   if (fitted) {
     gp += ", [" + warmup + ":*] r(x) w l dt 2 lc rgb 'black' t 'RSS fit', [" + warmup +
           ":*] f(x) axes x1y2 w l dt 3 lc rgb 'black' t 'fds fit'";
@@ -193,20 +197,23 @@ std::string draw_soak_plots(const SoakSummary& summary, const LoadTestConfig& co
   png("db.png", "database file and WAL", "MiB");
   gp += "plot 'soak.dat' u 1:($12 >= 0 ? $12 : 1/0) w l lw 2 t 'db + wal MiB'\n";
   png("tick_p99.png", "server tick time, worst match (last 600 ticks)", "ms");
-  gp += "plot 'soak.dat' u 1:($2 > 0 ? $8 : 1/0) w l lw 2 t 'p99', '' u 1:($2 > 0 ? $9 : 1/0) w "
-        "l t 'max', 4 w l lc rgb 'red' dt 3 t '4 ms'\n";
+  gp +=
+      "plot 'soak.dat' u 1:($2 > 0 ? $8 : 1/0) w l lw 2 t 'p99', '' u 1:($2 > 0 ? $9 : 1/0) w "
+      "l t 'max', 4 w l lc rgb 'red' dt 3 t '4 ms'\n";
   png("snapshot_loss.png", "snapshot loss seen by bots (each scrape interval)", "%");
   gp += "plot 'soak.dat' u 1:13 w l t 'loss %'\n";
   png("bots.png", "bots and what they did", "bots");
-  gp += "set y2label 'since start'\nset y2tics\nplot 'soak.dat' u 1:3 w l lw 2 t 'playing', '' u "
-        "1:4 w l t 'joining', '' u 1:5 w l t 'gave up', '' u 1:16 w l axes x1y2 t 'sign-ins', '' "
-        "u 1:18 w l axes x1y2 t 'left', '' u 1:19 w l axes x1y2 t 'matches finished', '' u 1:20 "
-        "w l axes x1y2 t 'errors'\nunset y2tics\nunset y2label\n";
+  gp +=
+      "set y2label 'since start'\nset y2tics\nplot 'soak.dat' u 1:3 w l lw 2 t 'playing', '' u "
+      "1:4 w l t 'joining', '' u 1:5 w l t 'gave up', '' u 1:16 w l axes x1y2 t 'sign-ins', '' "
+      "u 1:18 w l axes x1y2 t 'left', '' u 1:19 w l axes x1y2 t 'matches finished', '' u 1:20 "
+      "w l axes x1y2 t 'errors'\nunset y2tics\nunset y2label\n";
   png("cpu.png", "CPU (100 % = one core), from /proc", "CPU %");
   gp += "plot 'soak.dat' u 1:14 w l lw 2 t 'server', '' u 1:15 w l t 'generator'\n";
   png("errors.png", "errors by kind (whole run)", "count");
-  gp += "unset object 1\nset xlabel ''\nset style fill solid 0.6\nset boxwidth 0.6\n"
-        "set xtics rotate by -30\nplot 'errors.dat' u 0:2:xtic(1) w boxes notitle\n";
+  gp +=
+      "unset object 1\nset xlabel ''\nset style fill solid 0.6\nset boxwidth 0.6\n"
+      "set xtics rotate by -30\nplot 'errors.dat' u 0:2:xtic(1) w boxes notitle\n";
   gp += "unset output\n";
   std::string error;
   if (!write_file(dir / "plots.gp", gp, error)) return error;

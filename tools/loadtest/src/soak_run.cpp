@@ -87,11 +87,11 @@ void SoakRun::start() {
                config_.bots, config_.ramp_per_s, config_.duration_s, soak_.link.latency_ms,
                soak_.link.jitter_ms, soak_.link.loss * 100, soak_.link.duplicate * 100,
                soak_.link.reorder * 100,
-               soak_.churn.active() ? (std::to_string(static_cast<int>(soak_.churn.min_life_s)) +
-                                       ".." + std::to_string(static_cast<int>(soak_.churn.max_life_s)) +
-                                       " s")
-                                          .c_str()
-                                    : "the whole run");
+               soak_.churn.active()
+                   ? (std::to_string(static_cast<int>(soak_.churn.min_life_s)) + ".." +
+                      std::to_string(static_cast<int>(soak_.churn.max_life_s)) + " s")
+                         .c_str()
+                   : "the whole run");
   end_timer_.expires_after(micros(config_.duration_s));
   end_timer_.async_wait([this](const boost::system::error_code& error) {
     if (!error) stop("duration reached");

@@ -20,11 +20,11 @@ struct SoakSample {
   int gave_up = 0;         ///< bots that stopped on their own (their slot waits for its turn)
   int server_matches = 0;  ///< matches the server lists
   int server_players = 0;
-  double tick_p99_ms = 0;   ///< the worst match's, over its last 600 ticks (matches with players)
-  double tick_max_ms = 0;   ///< likewise
-  double rss_mib = -1;      ///< the server's resident memory from /proc; -1: not read
-  double open_fds = -1;     ///< process_open_fds; -1: not scraped
-  double db_mib = -1;       ///< ricochet_db_file_bytes; -1: not scraped
+  double tick_p99_ms = 0;  ///< the worst match's, over its last 600 ticks (matches with players)
+  double tick_max_ms = 0;  ///< likewise
+  double rss_mib = -1;     ///< the server's resident memory from /proc; -1: not read
+  double open_fds = -1;    ///< process_open_fds; -1: not scraped
+  double db_mib = -1;      ///< ricochet_db_file_bytes; -1: not scraped
   /// Snapshots the bots could not use since the previous sample, 0..1: lost on the link, or
   /// come after a newer one (stale: the decoder refuses them). With a jitter of ± 50 ms at 60
   /// snapshots a second, stale ones outnumber the lost.
@@ -38,9 +38,9 @@ struct SoakSample {
   double server_cpu_percent = 0;  ///< since the previous sample (100: one core)
   double generator_cpu_percent = 0;
   // Since the run started:
-  std::uint64_t sign_ins = 0;      ///< bots that got a session (password logins)
-  std::uint64_t new_accounts = 0;  ///< bots that started on an account new to this run
-  std::uint64_t departures = 0;    ///< bots that left at the end of their lifetime
+  std::uint64_t sign_ins = 0;          ///< bots that got a session (password logins)
+  std::uint64_t new_accounts = 0;      ///< bots that started on an account new to this run
+  std::uint64_t departures = 0;        ///< bots that left at the end of their lifetime
   std::uint64_t matches_finished = 0;  ///< distinct matches whose results a bot received
   std::uint64_t errors = 0;            ///< failed attempts and scrapes, every kind
 };

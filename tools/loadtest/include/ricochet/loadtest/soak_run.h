@@ -118,7 +118,7 @@ class SoakRun {
   std::uint64_t departures_ = 0;
   std::set<std::uint32_t> matches_finished_;
   Retired retired_;
-  ErrorCounts errors_;  ///< failures reported by bots, plus the scrapes' own
+  ErrorCounts errors_;           ///< failures reported by bots, plus the scrapes' own
   std::shared_ptr<bool> alive_;  ///< the scrape's callback holds a weak_ptr
 };
 
