@@ -18,6 +18,7 @@ packages=(
   gnuplot-nox        # plots of the physics study (tools/physics-study)
   clang-format       # the formatter; tools/test.sh checks the tree against .clang-format
   clang-16           # the sanitized builds of tools/test.sh and the libFuzzer targets (tools/fuzz.sh)
+  lld-16             # their linker (links the sanitized binaries in less than half of bfd's time)
   libclang-rt-16-dev # their sanitizer and fuzzer runtimes
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.

@@ -8,6 +8,8 @@
 #                          libFuzzer (-runs=100000, -fork=2 ...)
 #   tools/fuzz.sh --seeds  rewrite every corpus that has a writer (tests/fuzz/NAME_seeds.cpp),
 #                          after a format change
+#   tools/fuzz.sh --build-only  build the targets and stop (tools/test.sh builds them while
+#                          the previous pass's tests run)
 # Exits non-zero when a fuzzer finds a crash, a leak or a timeout, and prints the reproducer's
 # path; replay one with `build/fuzz/NAME_fuzz PATH`.
 set -euo pipefail
@@ -16,6 +18,7 @@ cd "$(dirname "$0")/.."
 seconds=30
 jobs=$(nproc)
 seeds=0
+build_only=0
 only=
 passthrough=()
 while (($#)); do
@@ -27,7 +30,8 @@ while (($#)); do
     --only) only=${2:-}; shift 2 || shift ;;
     --only=*) only=${1#*=}; shift ;;
     --seeds) seeds=1; shift ;;
-    -h | --help) sed -n '2,12p' "$0"; exit 0 ;;
+    --build-only) build_only=1; shift ;;
+    -h | --help) sed -n '2,14p' "$0"; exit 0 ;;
     -*=*) passthrough+=("$1"); shift ;;
     *) echo "fuzz.sh: unknown argument '$1' (see tools/fuzz.sh --help)" >&2; exit 2 ;;
   esac
@@ -47,8 +51,10 @@ launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 
 echo "=== $dir ==="
-cmake -S tests/fuzz -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++-16 "${launcher[@]}"
+cmake -S tests/fuzz -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++-16 "${launcher[@]}" \
+  -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld  # lld-16: links the sanitized targets in half bfd's time
 cmake --build "$dir" -j "$(nproc)"
+if ((build_only)); then exit 0; fi
 
 export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 names=()

@@ -9,7 +9,9 @@
 #      (control, tick and database threads of one Server); only their targets are built
 #   4. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only (and only
 #      their targets are built)
-# Warnings are errors in all four. Then every libFuzzer target runs for 20 s (tools/fuzz.sh).
+# Warnings are errors in all four. Then every libFuzzer target runs for 10 s (tools/fuzz.sh): a
+# smoke run on its seeds and a little past them; fuzz longer with tools/fuzz.sh --seconds N.
+# Each pass's tests run while the next pass builds (below).
 # Before any of it, every C++ file must be as .clang-format (clang-format 14) formats it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,34 +24,68 @@ export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros}"  # cach
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 
-# build_and_test DIR SELECT TARGETS CMAKE_ARGS...: SELECT (ctest's test selection options) and
-# TARGETS empty for everything; both are space-separated lists.
-build_and_test() {
+lld=(-DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld)  # lld-16 for the clang trees: less than half bfd's link time
+
+# Each tree's tests run while the next tree builds: they mostly wait on sockets and timers (the
+# Release tests keep a third of two cores busy), and the build, at nice 10, takes only what they
+# leave idle. A pass's test output is printed whole when its tests end.
+
+# build DIR TARGETS CMAKE_ARGS...: configures and builds DIR (TARGETS: a space-separated list,
+# empty for everything).
+build() {
   local dir=$1; shift
-  local select=$1; shift
   local targets=$1; shift
-  echo "=== $dir ==="
+  echo "=== $dir: build (at ${SECONDS} s) ==="
   cmake -S . -B "$dir" -G Ninja -DRICOCHET_WERROR=ON "${launcher[@]}" "$@"
-  if [[ -n "$targets" ]]; then
-    # shellcheck disable=SC2086  # a list of target names
-    cmake --build "$dir" -j "$jobs" --target $targets
-  else
-    cmake --build "$dir" -j "$jobs"
-  fi
-  # shellcheck disable=SC2086  # a list of ctest options
-  ctest --test-dir "$dir" --output-on-failure -j "$jobs" --timeout 600 $select
+  # shellcheck disable=SC2086  # a list of target names
+  nice -n 10 cmake --build "$dir" -j "$jobs" ${targets:+--target $targets}
 }
 
-build_and_test build/release "" "" -DCMAKE_BUILD_TYPE=Release
+tests_pid=
+tests_dir=
+# start_tests DIR SELECT: runs DIR's tests (SELECT: ctest's selection options, empty for all) in
+# the background, in a session of their own (the trap stops all of it); the caller's environment
+# reaches them.
+start_tests() {
+  tests_dir=$1
+  # shellcheck disable=SC2086  # a list of ctest options
+  setsid --wait ctest --test-dir "$1" --output-on-failure -j "$jobs" --timeout 600 $2 \
+    >"$1/ctest.log" 2>&1 &
+  tests_pid=$!
+}
+# finish_tests: waits for the tests start_tests began, prints their output, fails when they did.
+finish_tests() {
+  local status=0
+  wait "$tests_pid" || status=$?
+  tests_pid=
+  echo "=== $tests_dir: tests (ended by ${SECONDS} s) ==="
+  cat "$tests_dir/ctest.log"
+  return "$status"
+}
+trap 'if [[ -n $tests_pid ]]; then kill -- "-$tests_pid" 2>/dev/null || true; fi' EXIT
+
+build build/release "" -DCMAKE_BUILD_TYPE=Release
+start_tests build/release ""
+
+build build/sanitize "" -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=address \
+  -DCMAKE_CXX_COMPILER=clang++-16 "${lld[@]}" -DRICOCHET_TEST_SHARDS=8
+finish_tests
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  build_and_test build/sanitize "" "" -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=address \
-  -DCMAKE_CXX_COMPILER=clang++-16 -DRICOCHET_TEST_SHARDS=8
+  start_tests build/sanitize ""
+
+build build/tsan "db_tests server_tests integration_tests" -DCMAKE_BUILD_TYPE=Debug \
+  -DRICOCHET_SANITIZE=thread -DCMAKE_CXX_COMPILER=clang++-16 "${lld[@]}" -DRICOCHET_TEST_SHARDS=8
+finish_tests
 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
-  build_and_test build/tsan "-R ^(db|server|integration)_tests_shard_" \
-  "db_tests server_tests integration_tests" -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=thread \
-  -DCMAKE_CXX_COMPILER=clang++-16 -DRICOCHET_TEST_SHARDS=8
-build_and_test build/double "-L physics" \
-  "physics_tests physics_allocation_tests physics-bench arena-bench rewind-bench" \
+  start_tests build/tsan "-R ^(db|server|integration)_tests_shard_"
+
+build build/double "physics_tests physics_allocation_tests physics-bench arena-bench rewind-bench" \
   -DCMAKE_BUILD_TYPE=Release -DRICOCHET_DOUBLE=ON
-./tools/fuzz.sh --seconds 20
-echo "tools/test.sh: all tests passed"
+finish_tests
+start_tests build/double "-L physics"
+
+nice -n 10 ./tools/fuzz.sh --build-only
+finish_tests
+echo "=== fuzzing (at ${SECONDS} s) ==="
+./tools/fuzz.sh --seconds 10
+echo "tools/test.sh: all tests passed in ${SECONDS} s"
