@@ -20,6 +20,10 @@ packages=(
   clang-16           # the sanitized builds of tools/test.sh and the libFuzzer targets (tools/fuzz.sh)
   lld-16             # their linker (links the sanitized binaries in less than half of bfd's time)
   libclang-rt-16-dev # their sanitizer and fuzzer runtimes
+  openjdk-17-jdk-headless  # the Java client library (clients/java), built for Java 8 / Android
+  libprotobuf-java         # its messages' runtime (3.21.12, the same as protoc)
+  libbcprov-java libbctls-java libbcutil-java  # its ChaCha20-Poly1305 and TLS 1.3 (Bouncy Castle)
+  junit5                   # its tests
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
 if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then

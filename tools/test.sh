@@ -7,6 +7,7 @@
 #   3. ThreadSanitizer (clang 16, -O1): the binaries whose code runs on several threads, the
 #      database's (password threads, worker), the server's and the in-process integration tests
 #      (control, tick and database threads of one Server); only their targets are built
+#      The Java client's tests run in the Release pass only (no sanitizer sees into the JVM).
 #   4. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only (and only
 #      their targets are built)
 # Warnings are errors in all four. Then every libFuzzer target runs for 10 s (tools/fuzz.sh): a
@@ -68,7 +69,7 @@ build build/release "" -DCMAKE_BUILD_TYPE=Release
 start_tests build/release ""
 
 build build/sanitize "" -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=address \
-  -DCMAKE_CXX_COMPILER=clang++-16 "${lld[@]}" -DRICOCHET_TEST_SHARDS=8
+  -DCMAKE_CXX_COMPILER=clang++-16 "${lld[@]}" -DRICOCHET_TEST_SHARDS=8 -DRICOCHET_JAVA=OFF
 finish_tests
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   start_tests build/sanitize ""

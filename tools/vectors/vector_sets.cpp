@@ -1,0 +1,17 @@
+#include <array>
+
+#include "vector_file.h"
+
+namespace ricochet::vectors {
+
+// One writer per *_vectors.cpp file.
+std::string write_control_frames_vectors();
+
+std::span<const VectorSet> vector_sets() {
+  static constexpr std::array kSets = {
+      VectorSet{"control_frames", &write_control_frames_vectors},
+  };
+  return kSets;
+}
+
+}  // namespace ricochet::vectors
