@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Formats every tracked C++ file with .clang-format, or with --check says which differ and fails.
+# Formats every tracked C++ and Java file with .clang-format, or with --check says which differ and fails.
 # Debian 12's clang-format is version 14; the tree is formatted by that version.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-mapfile -t files < <(git ls-files '*.cpp' '*.h')
+mapfile -t files < <(git ls-files '*.cpp' '*.h' '*.java')
 if [[ "${1:-}" == "--check" ]]; then
   report=$(mktemp)
   trap 'rm -f "$report"' EXIT

@@ -41,7 +41,8 @@ public final class FrameReader {
   /** Appends received bytes {@code bytes[offset, offset + length)}; ignored after a refusal. */
   public void feed(byte[] bytes, int offset, int length) {
     if (offset < 0 || length < 0 || offset > bytes.length - length) {
-      throw new IndexOutOfBoundsException("feed(" + offset + ", " + length + ") of " + bytes.length);
+      throw new IndexOutOfBoundsException(
+          "feed(" + offset + ", " + length + ") of " + bytes.length);
     }
     if (refusal != null || length == 0) return;
     if (start >= COMPACT_THRESHOLD || (start > 0 && start == end)) {
@@ -102,9 +103,7 @@ public final class FrameReader {
   }
 
   private static long readLength(byte[] bytes, int at) {
-    return ((bytes[at] & 0xFFL) << 24)
-        | ((bytes[at + 1] & 0xFFL) << 16)
-        | ((bytes[at + 2] & 0xFFL) << 8)
-        | (bytes[at + 3] & 0xFFL);
+    return ((bytes[at] & 0xFFL) << 24) | ((bytes[at + 1] & 0xFFL) << 16)
+        | ((bytes[at + 2] & 0xFFL) << 8) | (bytes[at + 3] & 0xFFL);
   }
 }

@@ -11,11 +11,10 @@ import org.junit.jupiter.api.Test;
 
 class FrameReaderTest {
   private static byte[] pingFrame(int requestId) {
-    ClientMessage message =
-        ClientMessage.newBuilder()
-            .setRequestId(requestId)
-            .setPing(Ping.newBuilder().setClientTimeUs(1234))
-            .build();
+    ClientMessage message = ClientMessage.newBuilder()
+                                .setRequestId(requestId)
+                                .setPing(Ping.newBuilder().setClientTimeUs(1234))
+                                .build();
     return Frames.frame(message);
   }
 
@@ -45,12 +44,11 @@ class FrameReaderTest {
   @Test
   void aFrameIsItsBigEndianLengthThenTheMessage() {
     byte[] frame = pingFrame(7);
-    byte[] body =
-        ClientMessage.newBuilder()
-            .setRequestId(7)
-            .setPing(Ping.newBuilder().setClientTimeUs(1234))
-            .build()
-            .toByteArray();
+    byte[] body = ClientMessage.newBuilder()
+                      .setRequestId(7)
+                      .setPing(Ping.newBuilder().setClientTimeUs(1234))
+                      .build()
+                      .toByteArray();
     assertArrayEquals(new byte[] {0, 0, 0, (byte) body.length}, Arrays.copyOf(frame, 4));
     assertArrayEquals(body, Arrays.copyOfRange(frame, 4, frame.length));
   }

@@ -59,7 +59,8 @@ public final class Vectors {
   /** The directory of the vectors (the system property ricochet.vectors_dir, set by ctest). */
   public static Path directory() {
     String dir = System.getProperty("ricochet.vectors_dir");
-    if (dir == null) throw new IllegalStateException("run with -Dricochet.vectors_dir=tests/vectors");
+    if (dir == null)
+      throw new IllegalStateException("run with -Dricochet.vectors_dir=tests/vectors");
     return Paths.get(dir);
   }
 
@@ -67,9 +68,8 @@ public final class Vectors {
   public static List<Record> read(String set) throws IOException {
     Path path = directory().resolve(set + ".txt");
     List<Record> records = new ArrayList<>();
-    try (BufferedReader reader =
-        new BufferedReader(
-            new InputStreamReader(Files.newInputStream(path), StandardCharsets.UTF_8))) {
+    try (BufferedReader reader = new BufferedReader(
+             new InputStreamReader(Files.newInputStream(path), StandardCharsets.UTF_8))) {
       String text;
       int line = 0;
       while ((text = reader.readLine()) != null) {
