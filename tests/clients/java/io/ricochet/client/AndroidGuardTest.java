@@ -74,7 +74,7 @@ class AndroidGuardTest {
     for (Map.Entry<String, TreeSet<String>> each : used.entrySet()) {
       assertTrue(allowed.containsKey(each.getKey()),
           each.getKey() + " is not in clients/java/android-packages.txt; used by "
-              + each.getValue());
+              + each.getValue().size() + " classes, first " + each.getValue().first());
     }
   }
 
