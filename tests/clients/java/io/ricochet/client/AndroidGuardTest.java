@@ -25,41 +25,37 @@ import org.junit.jupiter.api.Test;
 
 /**
  * What an Android app at API level 24 can load: class files no newer than Java 8 (major 52), and
- * only JDK packages of clients/java/android-packages.txt (jdeps lists what the jars use). The
+ * only JDK packages of clients/java/android-packages.txt (jdeps lists what the jar uses). The
  * real check is a build for a device, which this repository cannot run; this is what it can.
  */
 class AndroidGuardTest {
   private static final int JAVA_8_MAJOR = 52;
   private static final int MIN_API_LEVEL = 24;
 
-  private static List<Path> libraryJars() {
-    List<Path> jars = new ArrayList<>();
-    for (String key : new String[] {"ricochet.client_jar", "ricochet.wire_jar"}) {
-      String path = System.getProperty(key);
-      if (path == null) throw new IllegalStateException("run with -D" + key + "=JAR");
-      jars.add(Paths.get(path));
-    }
-    return jars;
+  /** The jar an app adds (ricochet-client-VERSION.jar: the library and its messages). */
+  private static Path libraryJar() {
+    String path = System.getProperty("ricochet.client_jar");
+    if (path == null) throw new IllegalStateException("run with -Dricochet.client_jar=JAR");
+    return Paths.get(path);
   }
 
   @Test
   void everyClassIsJava8() throws IOException {
     int classes = 0;
-    for (Path jar : libraryJars()) {
-      try (JarFile file = new JarFile(jar.toFile())) {
-        Enumeration<JarEntry> entries = file.entries();
-        while (entries.hasMoreElements()) {
-          JarEntry entry = entries.nextElement();
-          if (!entry.getName().endsWith(".class")) continue;
-          ++classes;
-          try (InputStream in = file.getInputStream(entry)) {
-            DataInputStream data = new DataInputStream(in);
-            assertEquals(0xCAFEBABE, data.readInt(), entry.getName());
-            data.readUnsignedShort(); // minor
-            int major = data.readUnsignedShort();
-            assertTrue(
-                major <= JAVA_8_MAJOR, jar.getFileName() + "!" + entry.getName() + ": " + major);
-          }
+    Path jar = libraryJar();
+    try (JarFile file = new JarFile(jar.toFile())) {
+      Enumeration<JarEntry> entries = file.entries();
+      while (entries.hasMoreElements()) {
+        JarEntry entry = entries.nextElement();
+        if (!entry.getName().endsWith(".class")) continue;
+        ++classes;
+        try (InputStream in = file.getInputStream(entry)) {
+          DataInputStream data = new DataInputStream(in);
+          assertEquals(0xCAFEBABE, data.readInt(), entry.getName());
+          data.readUnsignedShort(); // minor
+          int major = data.readUnsignedShort();
+          assertTrue(
+              major <= JAVA_8_MAJOR, jar.getFileName() + "!" + entry.getName() + ": " + major);
         }
       }
     }
@@ -112,7 +108,7 @@ class AndroidGuardTest {
     command.add("-verbose:class");
     command.add("-cp");
     command.add(System.getProperty("ricochet.dependency_jars"));
-    for (Path jar : libraryJars()) command.add(jar.toString());
+    command.add(libraryJar().toString());
     Process process = new ProcessBuilder(command).redirectErrorStream(true).start();
     Map<String, TreeSet<String>> used = new TreeMap<>();
     StringBuilder all = new StringBuilder();
