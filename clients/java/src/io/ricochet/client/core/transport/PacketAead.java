@@ -1,26 +1,24 @@
 package io.ricochet.client.core.transport;
 
-import org.bouncycastle.crypto.engines.ChaCha7539Engine;
+import java.util.Arrays;
 import org.bouncycastle.crypto.macs.Poly1305;
 import org.bouncycastle.crypto.params.KeyParameter;
-import org.bouncycastle.crypto.params.ParametersWithIV;
 
 /**
  * ChaCha20-Poly1305 IETF (RFC 8439, libsodium's {@code crypto_aead_chacha20poly1305_ietf}) for the
  * game packets of one key (PROTOCOL.md Game channel transport §5.2): nonce = 4 zero bytes || u64
  * sequence, additional data = version || u64 protocol_id || u8 type. Built from Bouncy Castle's
- * lightweight ChaCha7539Engine and Poly1305 rather than its ChaCha20Poly1305 mode, which allocates
- * a key block and parameters per message: this one reuses its buffers, so sealing and opening
- * allocate nothing once warm. One per key and direction; not thread-safe.
+ * lightweight ChaCha7539Engine ({@link PacketChaCha}) and Poly1305 rather than its ChaCha20Poly1305
+ * mode, which allocates a key block and parameters per message: this one reuses its buffers, so
+ * sealing and opening allocate nothing once warm (PacketAeadTest checks both the bytes, against
+ * that mode, and the allocation). One per key and direction; not thread-safe.
  */
 final class PacketAead {
   private static final int AD_BYTES = 16 + 8 + 1;
   private static final byte[] ZERO_PAD = new byte[16];
 
-  private final ChaCha7539Engine chacha = new ChaCha7539Engine();
+  private final PacketChaCha chacha;
   private final Poly1305 poly = new Poly1305();
-  private final KeyParameter cipherKey;
-  private final ParametersWithIV cipherParameters;
   private final KeyParameter macKey = new KeyParameter(new byte[32]);
   private final byte[] ad = new byte[AD_BYTES];
   private final byte[] keyBlock = new byte[64];
@@ -32,8 +30,7 @@ final class PacketAead {
     if (key.length != Packets.KEY_BYTES) {
       throw new IllegalArgumentException("a key is 32 bytes, got " + key.length);
     }
-    cipherKey = new KeyParameter(key);
-    cipherParameters = new ParametersWithIV(cipherKey, new byte[12]);
+    chacha = new PacketChaCha(key);
     System.arraycopy(Packets.VERSION, 0, ad, 0, 16);
     Packets.putU64(ad, 16, protocolId);
   }
@@ -73,14 +70,12 @@ final class PacketAead {
 
   /** Keys ChaCha20 with the packet's nonce, takes the Poly1305 key from block 0 (RFC 8439). */
   private void start(byte type, long sequence) {
-    // ParametersWithIV hands out its own nonce array: writing the sequence there saves a new
-    // parameters object per packet. The vectors test catches a Bouncy Castle that copies it.
-    byte[] nonce = cipherParameters.getIV();
-    Packets.putU64(nonce, 4, sequence);
     ad[AD_BYTES - 1] = type;
-    chacha.init(true, cipherParameters);
-    java.util.Arrays.fill(keyBlock, (byte) 0);
+    chacha.start(sequence);
+    Arrays.fill(keyBlock, (byte) 0);
     chacha.processBytes(keyBlock, 0, 64, keyBlock, 0); // the counter is at block 1 after this
+    // KeyParameter hands out its own array: the block's first 32 bytes become the Poly1305 key
+    // without a new parameters object per packet.
     System.arraycopy(keyBlock, 0, macKey.getKey(), 0, 32);
     poly.init(macKey);
   }

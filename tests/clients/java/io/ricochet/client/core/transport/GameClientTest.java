@@ -379,4 +379,36 @@ class GameClientTest {
     assertEquals(1, client.serverPacketsLate());
     assertNull(client.disconnectReason());
   }
+
+  @Test
+  void aConnectedClientsTrafficAllocatesNothingOnceWarm() {
+    com.sun.management.ThreadMXBean threads =
+        (com.sun.management.ThreadMXBean) java.lang.management.ManagementFactory.getThreadMXBean();
+    long thread = Thread.currentThread().getId();
+    GameClient client = new GameClient(FakeServer.grant(60), new GameClientListener() {}, START_US);
+    FakeServer.connect(client, server, START_US);
+    byte[][][] passes = new byte[10][1000][]; // fresh sequences for every pass
+    for (byte[][] snapshots : passes) {
+      for (int i = 0; i < snapshots.length; ++i) {
+        snapshots[i] = server.payload(new int[0], new byte[0][], FakeServer.filled(300, i));
+      }
+    }
+    byte[] input = FakeServer.filled(40, 3);
+    long t = START_US;
+    long allocated = -1;
+    for (int pass = 0; pass < 10 && (pass < 3 || allocated != 0); ++pass) { // warm up, compile
+      long before = threads.getThreadAllocatedBytes(thread);
+      for (byte[] snapshot : passes[pass]) {
+        t += 16 * MS;
+        client.receive(snapshot, snapshot.length, t);
+        client.sendPayload(input, 0, input.length, t);
+        client.update(t);
+        client.outbox().clear();
+      }
+      allocated = threads.getThreadAllocatedBytes(thread) - before;
+      assertEquals(0, client.counters().droppedTotal());
+      assertEquals(1 + 1000L * (pass + 1), client.serverPacketsSent());
+    }
+    assertEquals(0, allocated, "bytes allocated by 1000 ticks of a connected client once warm");
+  }
 }
