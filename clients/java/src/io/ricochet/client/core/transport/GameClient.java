@@ -120,6 +120,24 @@ public final class GameClient {
   }
 
   /**
+   * The earliest time (µs) at which {@link #update} has something to do (a handshake resend, a
+   * keep-alive, a reliable resend, a timeout), so that an I/O loop can sleep until then or until a
+   * datagram arrives; {@code Long.MAX_VALUE} once disconnected. Calls to {@code sendPayload},
+   * {@code sendReliable} and {@code receive} may move it earlier: ask again after each.
+   */
+  public long nextUpdateUs() {
+    switch (state) {
+      case SENDING_REQUEST:
+      case SENDING_RESPONSE:
+        return Math.min(lastHandshakeSendUs + HANDSHAKE_RESEND_US, handshakeDeadlineUs);
+      case CONNECTED:
+        return session.nextDueUs();
+      default:
+        return Long.MAX_VALUE;
+    }
+  }
+
+  /**
    * Connected only: one payload packet with {@code payload[offset, offset + length)} (a {@code
    * ClientPayload}, at most {@link Packets#MAX_UNRELIABLE_BYTES}) and the reliable messages due
    * that fit beside it. False (nothing sent) when not connected or the payload is too large.

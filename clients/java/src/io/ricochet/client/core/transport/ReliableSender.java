@@ -98,6 +98,22 @@ public final class ReliableSender {
     return takenBytes;
   }
 
+  /**
+   * When {@link #hasDue} next turns true: {@code Long.MIN_VALUE} when a message in the window was
+   * never sent, the earliest resend time of those in flight, {@code Long.MAX_VALUE} when none.
+   */
+  public long nextDueUs(long resendUs) {
+    long next = Long.MAX_VALUE;
+    int end = Math.min(window, count);
+    for (int i = 0; i < end; ++i) {
+      int slot = slot(i);
+      if (acked[slot]) continue;
+      if (!sent[slot]) return Long.MIN_VALUE;
+      next = Math.min(next, lastSentUs[slot] + resendUs);
+    }
+    return next;
+  }
+
   /** A packet that carried message {@code id} was acked: it is delivered. */
   public void acknowledge(int id) {
     if (count == 0) return;

@@ -117,6 +117,12 @@ final class Session {
     return sender.hasDue(nowUs, reliableResendUs);
   }
 
+  /** The earliest time at which a reliable resend, a keep-alive or the timeout is due. */
+  long nextDueUs() {
+    long next = Math.min(lastSentUs + keepAliveUs, lastReceivedUs + timeoutUs);
+    return Math.min(next, sender.nextDueUs(reliableResendUs));
+  }
+
   boolean keepAliveDue(long nowUs) {
     return nowUs - lastSentUs >= keepAliveUs;
   }

@@ -411,4 +411,51 @@ class GameClientTest {
     }
     assertEquals(0, allocated, "bytes allocated by 1000 ticks of a connected client once warm");
   }
+
+  /** Drives two clients over the same script: one updated every ms, one only at nextUpdateUs. */
+  @Test
+  void updatingOnlyAtNextUpdateUsSendsWhatUpdatingEveryMillisecondSends() {
+    FakeServer everyMsServer = new FakeServer();
+    FakeServer sleepyServer = new FakeServer();
+    RecordingListener everyMsEvents = new RecordingListener();
+    RecordingListener sleepyEvents = new RecordingListener();
+    GameClient everyMs = new GameClient(FakeServer.grant(2), everyMsEvents, START_US);
+    GameClient sleepy = new GameClient(FakeServer.grant(2), sleepyEvents, START_US);
+    java.util.List<String> everyMsSent = new java.util.ArrayList<>();
+    java.util.List<String> sleepySent = new java.util.ArrayList<>();
+    byte[] message = {5};
+    int sleepyUpdates = 0;
+    for (long t = START_US; t <= START_US + 6_000 * MS; t += MS) {
+      long elapsedMs = (t - START_US) / MS;
+      if (elapsedMs == 350) { // the challenge, then the first keep-alive
+        FakeServer.deliver(everyMs, everyMsServer.challenge(), t);
+        FakeServer.deliver(sleepy, sleepyServer.challenge(), t);
+      }
+      if (elapsedMs == 420 || (elapsedMs >= 1_000 && elapsedMs <= 2_500 && elapsedMs % 500 == 0)) {
+        FakeServer.deliver(everyMs, everyMsServer.keepAlive(), t);
+        FakeServer.deliver(sleepy, sleepyServer.keepAlive(), t);
+      }
+      if (elapsedMs == 700 || elapsedMs == 1_234) {
+        everyMs.sendReliable(message, 0, 1, t);
+        sleepy.sendReliable(message, 0, 1, t);
+      }
+      if (elapsedMs >= 900 && elapsedMs < 1_100 && elapsedMs % 16 == 0) {
+        everyMs.sendPayload(message, 0, 1, t);
+        sleepy.sendPayload(message, 0, 1, t);
+      }
+      everyMs.update(t);
+      if (t >= sleepy.nextUpdateUs()) {
+        sleepy.update(t);
+        ++sleepyUpdates;
+      }
+      everyMsSent.addAll(RecordingListener.drain(everyMs.outbox()));
+      sleepySent.addAll(RecordingListener.drain(sleepy.outbox()));
+      assertEquals(everyMsSent, sleepySent, "at " + elapsedMs + " ms");
+    }
+    assertEquals(everyMsEvents.events, sleepyEvents.events);
+    assertEquals(DisconnectReason.TIMED_OUT, sleepy.disconnectReason()); // at 2.5 s + 2 s
+    assertEquals(Long.MAX_VALUE, sleepy.nextUpdateUs());
+    assertTrue(sleepyUpdates < 80, sleepyUpdates + " updates");
+    assertTrue(everyMsSent.size() > 40);
+  }
 }
