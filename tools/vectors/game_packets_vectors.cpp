@@ -439,6 +439,58 @@ void add_handshake_session(VectorFile& file) {
   client.end();
 }
 
+/// A lossy session that the client ends: a lost payload's reliable event resent by the server,
+/// a reordered keep-alive, then the client's three disconnect packets.
+void add_leave_session(VectorFile& file) {
+  file.comment("the client against a GameServer over loss; the client leaves");
+  file.add(Record("session").word("name", "leave"));
+  const proto::Key token_key = pattern_key(0x21, 3);
+  TimeUs t = 40'000 * kMs;
+  const proto::TokenGrant grant = fixed_grant(token_key, 45, t + 10'000 * kMs, 2);
+  ServerSide server(token_key);
+  ClientScript client(file, grant, t);
+  deliver_all(client, server.deliver(client.take_sent(), t + 5 * kMs), t + 10 * kMs);
+  deliver_all(client, server.deliver(client.take_sent(), t + 15 * kMs), t + 20 * kMs);
+  const proto::ClientId id = server.client();
+  if (id == 0) throw std::logic_error("the leave session did not connect");
+  proto::GameServer& s = server.server();
+  s.send_reliable(id, text("spawned"), t + 30 * kMs);
+  server.update(t + 30 * kMs);  // lost
+  std::vector<Bytes> late;
+  for (TimeUs at = t + 40 * kMs; at <= t + 400 * kMs; at += 40 * kMs) {
+    s.send_unreliable(id, text("tick"), at);
+    std::vector<Bytes> out = server.update(at);
+    if (at == t + 80 * kMs) {
+      late = out;  // delivered after the next one
+      continue;
+    }
+    deliver_all(client, out, at + 3 * kMs);
+    if (at == t + 120 * kMs) deliver_all(client, late, at + 4 * kMs);
+    client.send_unreliable(text("in"), at + 5 * kMs);
+    client.update(at + 6 * kMs);
+    server.deliver(client.take_sent(), at + 8 * kMs);
+  }
+  client.disconnect(t + 410 * kMs);
+  server.deliver(client.take_sent(), t + 415 * kMs);
+  client.update(t + 500 * kMs);
+  client.end();
+}
+
+/// Connected, then the server goes silent: keep-alives at 10 Hz, then timed_out at timeout_s.
+void add_timeout_session(VectorFile& file) {
+  file.comment("a connected client whose server goes silent");
+  file.add(Record("session").word("name", "timeout"));
+  const proto::Key token_key = pattern_key(0x31, 5);
+  TimeUs t = 50'000 * kMs;
+  const proto::TokenGrant grant = fixed_grant(token_key, 46, t + 10'000 * kMs, 1);
+  ServerSide server(token_key);
+  ClientScript client(file, grant, t);
+  deliver_all(client, server.deliver(client.take_sent(), t), t + kMs);
+  deliver_all(client, server.deliver(client.take_sent(), t + kMs), t + 2 * kMs);
+  for (TimeUs at = t + 25 * kMs; at <= t + 1'100 * kMs; at += 25 * kMs) client.update(at);
+  client.end();
+}
+
 /// Before a challenge: what a client sending requests refuses, and a denied packet.
 void add_denied_session(VectorFile& file) {
   file.comment("a client refused by a full server; what it drops before the challenge");
@@ -494,6 +546,8 @@ std::string write_game_packets_vectors() {
   add_sealed(file);
   add_replay(file);
   add_handshake_session(file);
+  add_leave_session(file);
+  add_timeout_session(file);
   add_denied_session(file);
   add_silent_session(file);
   return file.text();
