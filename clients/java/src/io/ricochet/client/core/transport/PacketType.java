@@ -4,7 +4,7 @@ package io.ricochet.client.core.transport;
  * The type byte that starts every game packet (PROTOCOL.md Game channel transport §5), with the
  * smallest body each encrypted type can have. Any other byte is {@link DropReason#MALFORMED}.
  */
-public enum PacketType {
+enum PacketType {
   /** Client → server, unencrypted, exactly 1200 bytes. */
   CONNECTION_REQUEST("connection_request", 0),
   /** Server → client: u8 reason. */

@@ -6,7 +6,7 @@ package io.ricochet.client.core.transport;
  * one is buffered; one already delivered (up to 32768 behind) is a duplicate; one 256 or more ahead
  * is out of the window. Ids are u16 and wrap. Mirrors the C++ {@code proto::ReliableReceiver}.
  */
-public final class ReliableReceiver {
+final class ReliableReceiver {
   /** How far ahead of the next expected id a message is buffered. */
   public static final int WINDOW = 256;
 

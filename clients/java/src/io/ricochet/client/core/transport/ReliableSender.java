@@ -8,7 +8,7 @@ package io.ricochet.client.core.transport;
  * (the client then disconnects with {@link DisconnectReason#RELIABLE_OVERFLOW}). Mirrors the C++
  * {@code proto::ReliableSender}.
  */
-public final class ReliableSender {
+final class ReliableSender {
   private final int window;
   private final byte[][] messages;
   private final int[] lengths;

@@ -6,7 +6,7 @@ package io.ricochet.client.core.transport;
  * The same window gives the ack header this end sends, and the loss figures of the link towards
  * it. Sequences are unsigned 64-bit values in a long. Mirrors the C++ {@code proto::ReplayWindow}.
  */
-public final class ReplayWindow {
+final class ReplayWindow {
   /** Sequences the window remembers. */
   public static final int SIZE = 256;
 

@@ -5,7 +5,7 @@ package io.ricochet.client.core.transport;
  * which packets arrived, which reliable messages they carried, and the round trip (smoothed, 1/8
  * gain). Remembers the last 256 packets. Mirrors the C++ {@code proto::SentPacketWindow}.
  */
-public final class SentPacketWindow {
+final class SentPacketWindow {
   /** Packets remembered. */
   public static final int SIZE = 256;
 
