@@ -10,9 +10,11 @@ package io.ricochet.client.core.transport;
  * {@link #outbox}, events out through the {@link GameClientListener}.
  *
  * <p>An I/O loop: {@code receive} each datagram from the server's address (a connected socket
- * drops the rest), call {@code update} at least every 10 ms (it resends the handshake at 10 Hz,
- * sends keep-alives when nothing else went out for 100 ms, resends reliable messages and times
- * out), and after every call write the outbox's datagrams and clear it. One client per connect
+ * drops the rest), call {@code update} at {@link #nextUpdateUs} or more often (it resends the
+ * handshake at 10 Hz, sends keep-alives when nothing else went out for 100 ms, resends reliable
+ * messages and times out), and after every call write the outbox's datagrams and clear it. Once
+ * warm, a connected client's unreliable traffic (receive, sendPayload, update) allocates nothing;
+ * each reliable message is copied once each way. One client per connect
  * token: a reconnect takes a new token and a new client. Not thread-safe. Untrusted bytes never
  * throw: each refused datagram is counted by reason in {@link #counters}.
  */
