@@ -128,7 +128,11 @@ class GamePacketsVectorsTest {
               listener, record.number("t_us"));
           break;
         case "client_update":
+          long dueUs = client.nextUpdateUs();
           client.update(record.number("t_us"));
+          // update() has work exactly when nextUpdateUs said so: it sends or ends, or does nothing.
+          boolean worked = client.outbox().size() > 0 || !listener.events.isEmpty();
+          assertEquals(dueUs <= record.number("t_us"), worked, "nextUpdateUs at " + context);
           break;
         case "client_receive":
           byte[] datagram = record.bytes("bytes");
