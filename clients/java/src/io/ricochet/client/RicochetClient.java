@@ -332,6 +332,23 @@ public final class RicochetClient implements AutoCloseable {
     if (connection != null) connection.dropForTest();
   }
 
+  /**
+   * Runs {@code calls} (calls of this client) so that every request they make is checked by the
+   * session before any reply is handled, as if they were made faster than the server answers:
+   * the connection's lock is held throughout (tests of a request crossing a reply).
+   */
+  void pipelineForTest(Runnable calls) {
+    synchronized (this) {
+      if (connection == null) {
+        calls.run();
+        return;
+      }
+      synchronized (connection) {
+        calls.run();
+      }
+    }
+  }
+
   /** Turns a reply into a call's result; may throw to fail the call. */
   private interface Converter<T> {
     T convert(ServerMessage reply, long nowMs) throws RicochetException;

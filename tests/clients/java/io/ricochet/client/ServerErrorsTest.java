@@ -131,8 +131,13 @@ class ServerErrorsTest {
       await(client.joinMatch(arenaId(client)));
       // Both are allowed locally (the state is InMatch until the leave's reply); the server
       // handles them in order, so the chat finds the connection Authenticated.
-      CompletableFuture<Void> leave = client.leave();
-      CompletableFuture<Void> chat = client.chat("bye");
+      List<CompletableFuture<Void>> calls = new ArrayList<>();
+      client.pipelineForTest(() -> {
+        calls.add(client.leave());
+        calls.add(client.chat("bye"));
+      });
+      CompletableFuture<Void> leave = calls.get(0);
+      CompletableFuture<Void> chat = calls.get(1);
       await(leave);
       assertServerError(ErrorCode.WRONG_STATE, chat);
       assertEquals(ControlState.AUTHENTICATED, client.state());
