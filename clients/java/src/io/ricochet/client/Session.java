@@ -22,7 +22,10 @@ public final class Session {
     return accountId;
   }
 
-  /** The username as registered. */
+  /**
+   * The username as the server names it: for a resume, as registered; for a login, as typed
+   * (names are unique ignoring case).
+   */
   public String username() {
     return username;
   }
@@ -32,7 +35,7 @@ public final class Session {
     return sessionToken;
   }
 
-  /** When the token stops working, Unix ms on the server's clock (0 after a resume). */
+  /** When the token stops working, Unix ms on the server's clock. */
   public long expiresUnixMs() {
     return expiresUnixMs;
   }

@@ -2,14 +2,17 @@ package io.ricochet.client.core.control;
 
 import com.google.protobuf.InvalidProtocolBufferException;
 import io.ricochet.client.core.FrameReader;
+import io.ricochet.client.core.FrameRefusal;
 import io.ricochet.client.core.Frames;
 import io.ricochet.wire.ControlProto.ClientMessage;
 import io.ricochet.wire.ControlProto.Error;
+import io.ricochet.wire.ControlProto.ErrorCode;
 import io.ricochet.wire.ControlProto.Ping;
 import io.ricochet.wire.ControlProto.ServerMessage;
 import java.io.ByteArrayOutputStream;
 import java.util.ArrayDeque;
 import java.util.Iterator;
+import java.util.Locale;
 
 /**
  * The client end of the control channel as a sans-IO state machine (PROTOCOL.md, Control channel,
@@ -110,7 +113,7 @@ public final class ControlSession {
       FrameReader.Status status = reader.next();
       if (status == FrameReader.Status.NEED_MORE) return;
       if (status == FrameReader.Status.REFUSED) {
-        boolean oversize = reader.refusal() == io.ricochet.client.core.FrameRefusal.OVERSIZE;
+        boolean oversize = reader.refusal() == FrameRefusal.OVERSIZE;
         end(oversize ? ControlCloseReason.FRAME_OVERSIZE : ControlCloseReason.FRAME_EMPTY,
             "the server sent a frame header declaring " + reader.refusedLength()
                 + " bytes; a frame holds 1.." + FrameReader.MAX_PAYLOAD_BYTES,
@@ -290,8 +293,7 @@ public final class ControlSession {
         break;
       case ERROR:
         if (request.kind == RequestKind.LEAVE_MATCH
-            && message.getError().getCode()
-                == io.ricochet.wire.ControlProto.ErrorCode.NOT_IN_MATCH) {
+            && message.getError().getCode() == ErrorCode.NOT_IN_MATCH) {
           state = ControlState.AUTHENTICATED; // the match had already let go of the seat
         }
         break;
@@ -320,10 +322,12 @@ public final class ControlSession {
   }
 
   private static String bodyName(ServerMessage message) {
-    return message.getBodyCase().name().toLowerCase(java.util.Locale.ROOT);
+    return message.getBodyCase().name().toLowerCase(Locale.ROOT);
   }
 
   private static String describe(Error error) {
-    return error.getCode() + ": " + error.getMessage();
+    String code = error.getCode() == ErrorCode.UNRECOGNIZED ? "error code " + error.getCodeValue()
+                                                            : error.getCode().name();
+    return code + ": " + error.getMessage();
   }
 }
