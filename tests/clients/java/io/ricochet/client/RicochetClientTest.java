@@ -4,6 +4,7 @@ import static io.ricochet.client.ClientTesting.await;
 import static io.ricochet.client.ClientTesting.failure;
 import static io.ricochet.client.ClientTesting.pinned;
 import static io.ricochet.client.ClientTesting.signedIn;
+import static org.junit.jupiter.api.Assertions.assertArrayEquals;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertNotEquals;
@@ -101,6 +102,16 @@ class RicochetClientTest {
       assertTrue(ticket.hasCollisionWorld());
       assertTrue(ticket.collisionWorldBytes().length > 0);
       assertFalse(ticket.weapons().isEmpty(), "one WeaponSpec per weapon");
+      // Joining the match again (how a client reconnects its game channel) within the token
+      // reuse window gives the same unused token, its lifetime shorter.
+      JoinTicket again = await(client.joinMatch(arena.matchId()));
+      assertEquals(ControlState.IN_MATCH, client.state());
+      assertEquals(32, again.clientToServerKey().length);
+      if (again.receivedAtMs() - ticket.receivedAtMs() < 500) { // well inside the 1 s window
+        assertArrayEquals(ticket.connectToken(), again.connectToken());
+        assertArrayEquals(ticket.clientToServerKey(), again.clientToServerKey());
+        assertTrue(again.tokenExpiresInMs() <= ticket.tokenExpiresInMs());
+      }
       for (MatchInfo match : await(client.listMatches())) {
         if (match.matchId() == arena.matchId()) assertEquals(1, match.players(), "a reserved seat");
       }
