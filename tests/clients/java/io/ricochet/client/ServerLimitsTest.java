@@ -85,7 +85,7 @@ class ServerLimitsTest {
   @Test
   void timeoutsKeepAlivesAndTheShutdown() throws Exception {
     try (ServerProcess server = ServerProcess.arena("",
-             "login_timeout_ms = 2000\nidle_timeout_ms = 1000\n", ClientTesting.FAST_ACCOUNTS)) {
+             "login_timeout_ms = 3000\nidle_timeout_ms = 1500\n", ClientTesting.FAST_ACCOUNTS)) {
       Disconnects idleEvents = new Disconnects();
       Disconnects pingingEvents = new Disconnects();
       Disconnects anonymousEvents = new Disconnects();
@@ -99,7 +99,7 @@ class ServerLimitsTest {
         await(pinging.login("pinging", "password-pinging"));
         await(anonymous.register("anonymous", "password-anonymous")); // never signs in
 
-        // Quiet for over a second: the server closes it with its reason.
+        // Quiet for 1.5 s: the server closes it with its reason.
         Disconnect idleEnd = idleEvents.next();
         assertEquals(ControlCloseReason.SERVER_ERROR, idleEnd.reason());
         assertEquals(ErrorCode.IDLE_TIMEOUT, idleEnd.errorCode(), idleEnd.toString());
