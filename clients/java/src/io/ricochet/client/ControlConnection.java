@@ -10,7 +10,6 @@ import io.ricochet.wire.ControlProto.ErrorCode;
 import io.ricochet.wire.ControlProto.MatchResults;
 import io.ricochet.wire.ControlProto.ServerMessage;
 import java.io.IOException;
-import java.io.InputStream;
 import java.io.OutputStream;
 import java.net.Socket;
 import java.util.ArrayDeque;
@@ -56,7 +55,7 @@ final class ControlConnection {
     }
   }
 
-  private final TlsConnector connector;
+  private final ControlTransport transport;
   private final long requestTimeoutMs;
   private final long keepAliveMs;
   private final Callbacks callbacks;
@@ -65,13 +64,13 @@ final class ControlConnection {
   private final Thread writer;
   private final ArrayDeque<Submission> submitted = new ArrayDeque<>();
   private final Map<Long, ReplyHandler> handlers = new HashMap<>();
-  private TlsConnector.Connected connected; // once TLS is up and pinned
+  private ControlTransport.Streams streams; // once TLS is up and pinned
   private ControlSession session; // once connected
   private boolean over;
 
   ControlConnection(
-      TlsConnector connector, long requestTimeoutMs, long keepAliveMs, Callbacks callbacks) {
-    this.connector = connector;
+      ControlTransport transport, long requestTimeoutMs, long keepAliveMs, Callbacks callbacks) {
+    this.transport = transport;
     this.requestTimeoutMs = requestTimeoutMs;
     this.keepAliveMs = keepAliveMs;
     this.callbacks = callbacks;
@@ -128,14 +127,14 @@ final class ControlConnection {
         end(new RicochetException(RicochetException.Kind.CLOSED, null, null, "client closed"));
       }
     }
-    TlsConnector.closeQuietly(tcp);
+    ControlTransport.closeQuietly(tcp);
     join(reader);
     join(writer);
   }
 
   /** Cuts the TCP connection as a lost network would (tests). */
   void dropForTest() {
-    TlsConnector.closeQuietly(tcp);
+    ControlTransport.closeQuietly(tcp);
   }
 
   private static void join(Thread thread) throws InterruptedException {
@@ -147,30 +146,28 @@ final class ControlConnection {
   }
 
   private void readLoop() {
-    TlsConnector.Connected tls;
-    InputStream in;
+    ControlTransport.Streams opened;
     try {
-      tls = connector.connect(tcp);
-      in = tls.tls.getInputStream();
+      opened = transport.open(tcp);
     } catch (RicochetException e) {
       synchronized (this) {
         end(e);
       }
       return;
-    } catch (IOException | RuntimeException e) {
+    } catch (RuntimeException e) {
       // A provider may throw unchecked exceptions from a handshake; none escapes this thread.
       synchronized (this) {
         end(new RicochetException(RicochetException.Kind.CONNECT_FAILED, e.toString(), e));
       }
-      TlsConnector.closeQuietly(tcp);
+      ControlTransport.closeQuietly(tcp);
       return;
     }
     synchronized (this) {
       if (over) {
-        TlsConnector.closeQuietly(tcp);
+        ControlTransport.closeQuietly(tcp);
         return;
       }
-      connected = tls;
+      streams = opened;
       session = new ControlSession(nowMs(), requestTimeoutMs, keepAliveMs);
       writer.start();
       notifyAll();
@@ -180,7 +177,7 @@ final class ControlConnection {
       int read;
       String failure = null;
       try {
-        read = in.read(buffer);
+        read = opened.in.read(buffer);
       } catch (IOException | RuntimeException e) {
         read = -1;
         failure = "reading failed: " + e;
@@ -196,20 +193,11 @@ final class ControlConnection {
         if (over) break;
       }
     }
-    TlsConnector.closeQuietly(tcp);
+    ControlTransport.closeQuietly(tcp);
   }
 
   private void writeLoop() {
-    OutputStream out;
-    try {
-      out = connected.tls.getOutputStream();
-    } catch (IOException e) {
-      synchronized (this) {
-        session.connectionLost("no output stream: " + e);
-        dispatchEvents();
-      }
-      return;
-    }
+    OutputStream out = streams.out;
     while (true) {
       byte[] bytes;
       synchronized (this) {
@@ -292,7 +280,7 @@ final class ControlConnection {
     for (Submission submission : submitted) waiting.add(submission.handler);
     submitted.clear();
     for (ReplyHandler handler : waiting) handler.onFailure(failure);
-    TlsConnector.closeQuietly(tcp);
+    ControlTransport.closeQuietly(tcp);
     notifyAll();
   }
 }

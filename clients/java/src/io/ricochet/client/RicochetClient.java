@@ -61,8 +61,15 @@ public final class RicochetClient implements AutoCloseable {
     private int connectTimeoutMs = 10_000;
     private long requestTimeoutMs = ControlSession.DEFAULT_REQUEST_TIMEOUT_MS;
     private long keepAliveMs = ControlSession.DEFAULT_KEEP_ALIVE_MS;
+    private ControlTransport transport; // null: TLS as configured
 
     private Builder() {}
+
+    /** Replaces TLS by {@code transport} (tests that play the server themselves). */
+    Builder transportForTest(ControlTransport transport) {
+      this.transport = transport;
+      return this;
+    }
 
     /** The server's host name or address (required). */
     public Builder host(String host) {
@@ -155,7 +162,7 @@ public final class RicochetClient implements AutoCloseable {
   }
 
   private final String host;
-  private final TlsConnector connector;
+  private final ControlTransport transport;
   private final long requestTimeoutMs;
   private final long keepAliveMs;
   private final Listener listener;
@@ -169,8 +176,10 @@ public final class RicochetClient implements AutoCloseable {
   private RicochetClient(Builder builder) {
     host = builder.host;
     String pin = builder.pinSha256 == null ? null : CertificatePin.normalize(builder.pinSha256);
-    connector = new TlsConnector(builder.host, builder.controlPort, pin, builder.pinStore,
-        builder.tlsProvider, builder.connectTimeoutMs);
+    transport = builder.transport != null
+        ? builder.transport
+        : new TlsConnector(builder.host, builder.controlPort, pin, builder.pinStore,
+            builder.tlsProvider, builder.connectTimeoutMs);
     requestTimeoutMs = builder.requestTimeoutMs;
     keepAliveMs = builder.keepAliveMs;
     listener = builder.listener;
@@ -401,7 +410,7 @@ public final class RicochetClient implements AutoCloseable {
           retired.add(connection);
         }
         // Submitted before it starts, so a connection that fails at once fails this call too.
-        connection = new ControlConnection(connector, requestTimeoutMs, keepAliveMs, callbacks());
+        connection = new ControlConnection(transport, requestTimeoutMs, keepAliveMs, callbacks());
         connection.submit(message, handler);
         connection.start();
       } else {

@@ -24,18 +24,7 @@ import javax.net.ssl.X509TrustManager;
  * the platform's, or one of the {@link Provider} instance the app passes (Bouncy Castle's JSSE
  * where the platform has no TLS 1.3).
  */
-final class TlsConnector {
-  /** The TLS socket and the TCP socket under it (closing it unblocks a read at once). */
-  static final class Connected {
-    final SSLSocket tls;
-    final Socket tcp;
-
-    Connected(SSLSocket tls, Socket tcp) {
-      this.tls = tls;
-      this.tcp = tcp;
-    }
-  }
-
+final class TlsConnector implements ControlTransport {
   /** Accepts any chain: the pin is checked after the handshake instead. */
   private static final class PinnedTrust implements X509TrustManager {
     @Override
@@ -68,7 +57,8 @@ final class TlsConnector {
   }
 
   /** Connects, shakes hands and checks the certificate; nothing is sent before that. */
-  Connected connect(Socket tcp) throws RicochetException {
+  @Override
+  public Streams open(Socket tcp) throws RicochetException {
     String hostPort = host + ":" + port;
     String expected = pin;
     if (expected == null && pinStore != null) {
@@ -132,22 +122,14 @@ final class TlsConnector {
               null);
         }
       }
-      return new Connected(tls, tcp);
+      return new Streams(tls.getInputStream(), tls.getOutputStream());
     } catch (RicochetException e) {
-      closeQuietly(tcp);
+      ControlTransport.closeQuietly(tcp);
       throw e;
     } catch (GeneralSecurityException | IOException e) {
-      closeQuietly(tcp);
+      ControlTransport.closeQuietly(tcp);
       throw new RicochetException(RicochetException.Kind.CONNECT_FAILED,
           "the TLS 1.3 handshake with " + hostPort + " failed: " + e, e);
-    }
-  }
-
-  static void closeQuietly(Socket socket) {
-    try {
-      socket.close();
-    } catch (IOException ignored) {
-      // closing: nothing more to do
     }
   }
 }
