@@ -7,11 +7,13 @@ namespace ricochet::vectors {
 // One writer per *_vectors.cpp file.
 std::string write_control_frames_vectors();
 std::string write_game_packets_vectors();
+std::string write_control_session_vectors();
 
 std::span<const VectorSet> vector_sets() {
   static constexpr std::array kSets = {
       VectorSet{"control_frames", &write_control_frames_vectors},
       VectorSet{"game_packets", &write_game_packets_vectors},
+      VectorSet{"control_session", &write_control_session_vectors},
   };
   return kSets;
 }

@@ -1,0 +1,192 @@
+package io.ricochet.client;
+
+import static io.ricochet.client.ClientTesting.await;
+import static io.ricochet.client.ClientTesting.failure;
+import static io.ricochet.client.ClientTesting.pinned;
+import static io.ricochet.client.ClientTesting.signedIn;
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertNotNull;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import io.ricochet.client.core.control.ControlCloseReason;
+import io.ricochet.client.core.control.ControlState;
+import io.ricochet.client.testing.ServerProcess;
+import io.ricochet.wire.ControlProto.ErrorCode;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.concurrent.ArrayBlockingQueue;
+import java.util.concurrent.BlockingQueue;
+import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.ExecutionException;
+import java.util.concurrent.TimeUnit;
+import org.junit.jupiter.api.AfterAll;
+import org.junit.jupiter.api.BeforeAll;
+import org.junit.jupiter.api.Test;
+
+/**
+ * Every error code one client can drive the real server to over the control channel arrives as a
+ * {@link RicochetException} of kind SERVER_ERROR with that code (or, for the server's closing
+ * Error, as the {@link Disconnect}'s code). The server's limits that need their own configuration
+ * are in {@link ServerLimitsTest}.
+ */
+class ServerErrorsTest {
+  private static ServerProcess server;
+
+  @BeforeAll
+  static void startServer() throws Exception {
+    server = ServerProcess.arena(ClientTesting.FAST_ACCOUNTS);
+  }
+
+  @AfterAll
+  static void stopServer() throws Exception {
+    if (server != null) server.close();
+  }
+
+  private static void assertServerError(ErrorCode code, CompletableFuture<?> call)
+      throws Exception {
+    RicochetException failed = failure(call);
+    assertEquals(RicochetException.Kind.SERVER_ERROR, failed.kind(), failed.getMessage());
+    assertEquals(code, failed.errorCode(), failed.getMessage());
+    assertTrue(failed.getMessage().startsWith(code.name()), failed.getMessage());
+  }
+
+  private static long arenaId(RicochetClient client) throws Exception {
+    for (MatchInfo match : await(client.listMatches())) {
+      if (match.players() < match.maxPlayers() && match.maxPlayers() == 16) return match.matchId();
+    }
+    throw new AssertionError("no arena match");
+  }
+
+  @Test
+  void registrationErrors() throws Exception {
+    try (RicochetClient client = pinned(server).build()) {
+      assertServerError(ErrorCode.INVALID_USERNAME, client.register("ab", "password-ab"));
+      assertServerError(ErrorCode.INVALID_USERNAME, client.register("spaces here", "password-1"));
+      assertServerError(ErrorCode.INVALID_PASSWORD, client.register("short_pw", "1234567"));
+      await(client.register("Taken", "password-taken"));
+      assertServerError(ErrorCode.DUPLICATE_USERNAME, client.register("tAKEN", "password-other"));
+      assertEquals(ControlState.UNAUTHENTICATED, client.state(), "errors keep it open");
+    }
+  }
+
+  @Test
+  void wrongCredentialsThenTheLoginRateLimit() throws Exception {
+    try (RicochetClient client = pinned(server).build()) {
+      await(client.register("guessed", "password-guessed"));
+      assertServerError(ErrorCode.WRONG_CREDENTIALS, client.login("nobody_here", "password-1"));
+      for (int i = 0; i < 5; ++i) {
+        assertServerError(ErrorCode.WRONG_CREDENTIALS, client.login("guessed", "wrong-" + i));
+      }
+      // Five failures a minute for one account from one address: the sixth is not even tried.
+      assertServerError(ErrorCode.LOGIN_RATE_LIMITED, client.login("guessed", "password-guessed"));
+    }
+  }
+
+  @Test
+  void unknownSessions() throws Exception {
+    try (RicochetClient client = pinned(server).build()) {
+      StringBuilder never = new StringBuilder();
+      for (int i = 0; i < 64; ++i) never.append('0');
+      assertServerError(ErrorCode.UNKNOWN_SESSION, client.resume(never.toString()));
+      assertServerError(ErrorCode.UNKNOWN_SESSION, client.resume("not hex"));
+      await(client.register("leaver", "password-leaver"));
+      Session session = await(client.login("leaver", "password-leaver"));
+      await(client.logout());
+      assertServerError(ErrorCode.UNKNOWN_SESSION, client.resume(session.sessionToken()));
+    }
+  }
+
+  @Test
+  void directoryErrors() throws Exception {
+    try (RicochetClient first = signedIn(server, "creator");
+         RicochetClient second = signedIn(server, "latecomer")) {
+      assertServerError(ErrorCode.MATCH_NOT_FOUND, first.joinMatch(987_654));
+      assertServerError(ErrorCode.INVALID_REQUEST, first.createMatch("too many", 65, ""));
+      assertServerError(ErrorCode.INVALID_REQUEST, first.createMatch("", 2, ""));
+      MatchInfo solo = await(first.createMatch("solo", 1, ""));
+      // One created match open per account (the counts are checked before the rates).
+      assertServerError(ErrorCode.TOO_MANY_MATCHES, first.createMatch("another", 2, ""));
+      assertServerError(ErrorCode.INVALID_REQUEST, second.createMatch("no map", 2, "atlantis"));
+      await(first.joinMatch(solo.matchId()));
+      assertServerError(ErrorCode.MATCH_FULL, second.joinMatch(solo.matchId()));
+      assertServerError(ErrorCode.ALREADY_IN_MATCH, first.joinMatch(arenaId(second)));
+      assertEquals(ControlState.IN_MATCH, first.state());
+    }
+  }
+
+  @Test
+  void chatWithoutAGameConnectionIsNotInMatch() throws Exception {
+    try (RicochetClient client = signedIn(server, "talker")) {
+      await(client.joinMatch(arenaId(client)));
+      assertServerError(ErrorCode.NOT_IN_MATCH, client.chat("hello"));
+      assertServerError(ErrorCode.INVALID_REQUEST, client.chat("bell\u0007"));
+      await(client.leave());
+    }
+  }
+
+  @Test
+  void aChatCrossingTheLeaveGetsWrongState() throws Exception {
+    try (RicochetClient client = signedIn(server, "racer")) {
+      await(client.joinMatch(arenaId(client)));
+      // Both are allowed locally (the state is InMatch until the leave's reply); the server
+      // handles them in order, so the chat finds the connection Authenticated.
+      List<CompletableFuture<Void>> calls = new ArrayList<>();
+      client.pipelineForTest(() -> {
+        calls.add(client.leave());
+        calls.add(client.chat("bye"));
+      });
+      CompletableFuture<Void> leave = calls.get(0);
+      CompletableFuture<Void> chat = calls.get(1);
+      await(leave);
+      assertServerError(ErrorCode.WRONG_STATE, chat);
+      assertEquals(ControlState.AUTHENTICATED, client.state());
+    }
+  }
+
+  @Test
+  void overTheRequestRateRequestsAreDropped() throws Exception {
+    try (RicochetClient client = signedIn(server, "flooder")) {
+      List<CompletableFuture<List<MatchInfo>>> calls = new ArrayList<>();
+      for (int i = 0; i < 80; ++i) calls.add(client.listMatches());
+      int limited = 0;
+      int answered = 0;
+      for (CompletableFuture<List<MatchInfo>> call : calls) {
+        try {
+          call.get(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
+          ++answered;
+        } catch (ExecutionException e) {
+          RicochetException failed = (RicochetException) e.getCause();
+          assertEquals(ErrorCode.RATE_LIMITED, failed.errorCode(), failed.getMessage());
+          ++limited;
+        }
+      }
+      assertTrue(limited > 0, "bursts of 40: " + answered + " answered");
+      assertTrue(answered >= 30, answered + " answered: a burst of 40, less the sign-in's");
+      assertEquals(ControlState.AUTHENTICATED, client.state(), "RATE_LIMITED keeps it open");
+    }
+  }
+
+  @Test
+  void aBanClosesTheConnectionThenRefusesTheLogin() throws Exception {
+    BlockingQueue<Disconnect> disconnects = new ArrayBlockingQueue<>(4);
+    RicochetClient.Listener listener = new RicochetClient.Listener() {
+      @Override
+      public void onDisconnected(Disconnect disconnect) {
+        disconnects.add(disconnect);
+      }
+    };
+    try (RicochetClient client = pinned(server).listener(listener).build()) {
+      await(client.register("mallory", "password-mallory"));
+      Session session = await(client.login("mallory", "password-mallory"));
+      assertEquals(200, server.ban("mallory"));
+      Disconnect disconnect = disconnects.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
+      assertNotNull(disconnect);
+      assertEquals(ControlCloseReason.SERVER_ERROR, disconnect.reason());
+      assertEquals(ErrorCode.ACCOUNT_BANNED, disconnect.errorCode());
+      assertServerError(ErrorCode.ACCOUNT_BANNED, client.login("mallory", "password-mallory"));
+      assertServerError(ErrorCode.UNKNOWN_SESSION, client.resume(session.sessionToken()));
+      assertFalse(client.state() == ControlState.AUTHENTICATED);
+    }
+  }
+}
