@@ -30,7 +30,8 @@ final class SnapshotStates {
       spec = QuantizationSpec.fromWire(Quantization.parseFrom(first.bytes("bytes")));
       if (spec == null) throw new IllegalStateException(set + ": unusable spec");
       for (Vectors.Record record : records) {
-        if (record.kind.equals("snapshot")) snapshots.add(Snapshot.parseFrom(record.bytes("bytes")));
+        if (record.kind.equals("snapshot"))
+          snapshots.add(Snapshot.parseFrom(record.bytes("bytes")));
       }
     }
   }
