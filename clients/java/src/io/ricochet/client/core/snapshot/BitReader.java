@@ -14,6 +14,8 @@ final class BitReader {
   private byte[] bytes = new byte[0];
   private int offset;
   private int length;
+  /** The input as big-endian 64-bit words, zeros after it (two more words than it covers). */
+  private long[] words = new long[2];
   private long totalBits;
   private long position; // bits read
   private boolean failed;
@@ -28,6 +30,22 @@ final class BitReader {
     this.position = 0;
     this.failed = false;
     this.malformed = false;
+    int whole = length >>> 3;
+    int needed = whole + 2;
+    if (words.length < needed) words = new long[Math.max(needed, 2 * words.length)];
+    int at = offset;
+    for (int w = 0; w < whole; ++w, at += 8) {
+      words[w] = (bytes[at] & 0xFFL) << 56 | (bytes[at + 1] & 0xFFL) << 48
+          | (bytes[at + 2] & 0xFFL) << 40 | (bytes[at + 3] & 0xFFL) << 32
+          | (bytes[at + 4] & 0xFFL) << 24 | (bytes[at + 5] & 0xFFL) << 16
+          | (bytes[at + 6] & 0xFFL) << 8 | (bytes[at + 7] & 0xFFL);
+    }
+    long last = 0;
+    for (int k = 0; k < 8; ++k) {
+      last = (last << 8) | (whole * 8 + k < length ? bytes[at + k] & 0xFFL : 0);
+    }
+    words[whole] = last;
+    words[whole + 1] = 0;
   }
 
   /** The next {@code bits} (0..64) bits as an unsigned value; 0 and failed() past the end. */
@@ -110,21 +128,9 @@ final class BitReader {
 
   /** The next 64 bits from the position, zeros past the end. */
   private long peek64() {
-    int first = (int) (position >>> 3);
-    int shift = (int) (position & 7);
-    long word = 0;
-    if (first + 8 <= length) {
-      int at = offset + first;
-      for (int k = 0; k < 8; ++k) word = (word << 8) | (bytes[at + k] & 0xFFL);
-    } else {
-      for (int k = first; k < first + 8; ++k) {
-        word = (word << 8) | (k < length ? bytes[offset + k] & 0xFFL : 0);
-      }
-    }
-    if (shift != 0) {
-      long next = first + 8 < length ? bytes[offset + first + 8] & 0xFFL : 0;
-      word = (word << shift) | (next >>> (8 - shift));
-    }
-    return word;
+    int word = (int) (position >>> 6);
+    int shift = (int) (position & 63);
+    long high = words[word];
+    return shift == 0 ? high : high << shift | words[word + 1] >>> (64 - shift);
   }
 }
