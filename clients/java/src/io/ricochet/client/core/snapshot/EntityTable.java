@@ -20,10 +20,6 @@ final class EntityTable {
     allocate(Math.max(1, capacity));
   }
 
-  int capacity() {
-    return id.length;
-  }
-
   /** Room for {@code entities} entities, keeping the first {@code count}. */
   void ensureCapacity(int entities) {
     if (entities <= id.length) return;

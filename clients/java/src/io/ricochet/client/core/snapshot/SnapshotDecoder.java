@@ -25,7 +25,6 @@ public final class SnapshotDecoder {
 
   private static final long MAX_TICK = 0xFFFFFFFFL;
 
-  private final QuantizationSpec spec;
   private final EntityTable[] ring;
   private final long[] ringTicks;
   private final boolean[] ringValid;
@@ -59,7 +58,6 @@ public final class SnapshotDecoder {
     if (maxEntities <= 0) {
       throw new IllegalArgumentException("maxEntities must be > 0, got " + maxEntities);
     }
-    this.spec = spec;
     ring = new EntityTable[ringSize];
     for (int i = 0; i < ringSize; ++i) ring[i] = new EntityTable(16);
     ringTicks = new long[ringSize];
