@@ -35,9 +35,9 @@
 #include <vector>
 
 #include "harness.h"
-#include "ricochet/physics/scene_profile.h"
 #include "ricochet/physics/world.h"
 #include "ricochet/proto/snapshot_codec.h"
+#include "snapshot_scenes.h"
 
 namespace rp = ricochet::physics;
 namespace proto = ricochet::proto;
@@ -135,162 +135,7 @@ class ClientLink {
   std::uint64_t pending_ = 0, moving_ = 0, mismatches_ = 0, deferred_snapshots_ = 0, refused_ = 0;
 };
 
-/// A physics scene the bench drives: its world, its bodies in id order and how it moves.
-struct Scene {
-  std::string name;
-  proto::QuantizationSpec spec;
-  rp::World world;
-  std::vector<rp::BodyId> bodies;  ///< entity id = index + 1
-  /// Scripted control before each step; `moving` false in the warm-up and rest phases.
-  std::function<void(Scene&, int step, bool moving)> drive;
-  /// Viewer position of client c, m.
-  std::function<std::array<float, 3>(const Scene&, int client)> viewer;
-  int clients = 1;
-};
-
-/// The world's entities this tick, quantised, sorted by id.
-void read_entities(const Scene& scene, std::vector<proto::QuantizedEntity>& out) {
-  const std::size_t n = scene.bodies.size();
-  std::vector<rp::Vec3> positions(n), velocities(n);
-  std::vector<rp::Quat> orientations(n);
-  (void)scene.world.read_bodies(
-      scene.bodies,
-      {.positions = positions, .orientations = orientations, .linear_velocities = velocities});
-  out.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    proto::EntityState state;
-    state.id = static_cast<std::uint32_t>(i + 1);
-    for (int a = 0; a < 3; ++a) {
-      state.position_m[a] = static_cast<float>(positions[i][a]);
-      state.velocity_mps[a] = static_cast<float>(velocities[i][a]);
-    }
-    state.orientation_xyzw = {
-        static_cast<float>(orientations[i].x()), static_cast<float>(orientations[i].y()),
-        static_cast<float>(orientations[i].z()), static_cast<float>(orientations[i].w())};
-    out[i] = proto::quantize(state, scene.spec);
-  }
-}
-
-constexpr int kGrid = 30;
-constexpr rp::Real kSmallRadius = 0.5;
-constexpr rp::Real kSpacing = 1.3;        ///< m between grid centres, 0.3 m gaps
-constexpr rp::Real kDenseSpacing = 1.05;  ///< m, 5 cm gaps: the ball ploughs a crowd ahead
-constexpr rp::Real kLargeRadius = 2.5;    ///< m
-constexpr rp::Real kDriveSpeed = 4;       ///< m/s, the large sphere's peak speed
-const rp::Material kPropMaterial{.restitution = 0, .friction = 0.5f, .rolling_resistance = 0.1f};
-
-Scene spheres_scene(const std::string& name, rp::Real spacing) {
-  rp::WorldDef def = rp::profiles::physics_props();
-  Scene scene{name, {}, rp::World::create(def).value(), {}, {}, {}, 1};
-  scene.spec.bounds = {{-32.0f, -1.0f, -32.0f}, {32.0f, 15.0f, 32.0f}};
-  // The floor resists rolling as the spheres do (a contact uses the geometric mean of both), so
-  // a knocked sphere rolls a metre or two and rests, as Fiedler's cubes slide and stop.
-  rp::PlaneDef floor;
-  floor.material = kPropMaterial;
-  (void)scene.world.add_plane(floor);
-  for (int side = 0; side < 4; ++side) {  // walls inside the snapshot bounds
-    const rp::Real sign = side % 2 == 0 ? 1 : -1;
-    rp::PlaneDef wall;
-    wall.normal = side < 2 ? rp::Vec3(sign, 0, 0) : rp::Vec3(0, 0, sign);
-    wall.offset = -31;
-    wall.material = kPropMaterial;
-    (void)scene.world.add_plane(wall);
-  }
-  const rp::Real half = (kGrid - 1) * spacing / 2;
-  for (int x = 0; x < kGrid; ++x) {
-    for (int z = 0; z < kGrid; ++z) {
-      rp::BodyDef body;
-      body.position = rp::Vec3(x * spacing - half, kSmallRadius, z * spacing - half);
-      body.radius = kSmallRadius;
-      body.material = kPropMaterial;
-      scene.bodies.push_back(scene.world.create_body(body).value());
-    }
-  }
-  rp::BodyDef large;
-  large.type = rp::BodyType::Kinematic;
-  large.radius = kLargeRadius;
-  large.position = rp::Vec3(-half - 6, kLargeRadius, 0);
-  scene.bodies.push_back(scene.world.create_body(large).value());
-  // A figure of eight through the pile, starting from the parked position's side.
-  scene.drive = [half](Scene& s, int step, bool moving) {
-    const rp::BodyId ball = s.bodies.back();
-    if (!moving) {
-      (void)s.world.set_linear_velocity(ball, rp::Vec3::Zero());
-      (void)s.world.set_angular_velocity(ball, rp::Vec3::Zero());
-      return;
-    }
-    const rp::Real t = static_cast<rp::Real>(step) / 60;
-    const rp::Real reach = half + 6;
-    const rp::Real w = kDriveSpeed / reach;
-    const rp::Vec3 target(-reach * std::cos(w * t), kLargeRadius,
-                          (reach / 2) * std::sin(2 * w * t));
-    const rp::Vec3 now = s.world.body_state(ball).value().position;
-    const rp::Vec3 velocity = (target - now) * 60;
-    (void)s.world.set_linear_velocity(ball, velocity);
-    // Rolling: spin about the horizontal axis across the motion.
-    (void)s.world.set_angular_velocity(ball, rp::Vec3::UnitY().cross(velocity) / -kLargeRadius);
-  };
-  scene.viewer = [](const Scene& s, int) {
-    const rp::Vec3 p = s.world.body_state(s.bodies.back()).value().position;
-    return std::array<float, 3>{static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                static_cast<float>(p.z())};
-  };
-  return scene;
-}
-
-constexpr rp::Real kArenaHalf = 20;  ///< m
-constexpr rp::Real kRunSpeed = 6;    ///< m/s
-
-Scene players_scene(int players) {
-  Scene scene{"players" + std::to_string(players),
-              {},
-              rp::World::create(rp::profiles::arena_players()).value(),
-              {},
-              {},
-              {},
-              players};
-  scene.spec.bounds = {{-24.0f, -2.0f, -24.0f}, {24.0f, 14.0f, 24.0f}};
-  (void)scene.world.add_plane({.normal = rp::Vec3::UnitY(), .offset = 0});
-  for (int side = 0; side < 4; ++side) {
-    const rp::Real sign = side % 2 == 0 ? 1 : -1;
-    const rp::Vec3 normal = side < 2 ? rp::Vec3(sign, 0, 0) : rp::Vec3(0, 0, sign);
-    (void)scene.world.add_plane({.normal = normal, .offset = -kArenaHalf});
-  }
-  for (int i = 0; i < players; ++i) {
-    const rp::Real angle = 2 * 3.14159265358979 * i / players;
-    const rp::Real radius = 4 + 12 * ((i * 7919) % 13) / 13.0;
-    scene.bodies.push_back(scene.world
-                               .create_body(rp::profiles::player(rp::Vec3(
-                                   radius * std::cos(angle), 0.4, radius * std::sin(angle))))
-                               .value());
-  }
-  // Each player runs on a heading that turns slowly, and jumps now and then.
-  scene.drive = [](Scene& s, int step, bool moving) {
-    for (std::size_t i = 0; i < s.bodies.size(); ++i) {
-      const rp::BodyState state = s.world.body_state(s.bodies[i]).value();
-      rp::Vec3 velocity = rp::Vec3::Zero();
-      if (moving) {
-        const rp::Real t = static_cast<rp::Real>(step) / 60;
-        const rp::Real heading = 1.7 * static_cast<rp::Real>(i) + 0.6 * t +
-                                 std::sin(0.37 * t + static_cast<rp::Real>(i));
-        velocity = rp::Vec3(std::cos(heading), 0, std::sin(heading)) * kRunSpeed;
-        // Turn back towards the centre near the walls.
-        if (std::abs(state.position.x()) > kArenaHalf - 3) velocity.x() = -state.position.x();
-        if (std::abs(state.position.z()) > kArenaHalf - 3) velocity.z() = -state.position.z();
-      }
-      const bool on_ground = state.position.y() < 0.41;
-      const bool jump = moving && on_ground && (step + 37 * static_cast<int>(i)) % 150 == 0;
-      velocity.y() = jump ? 5 : state.linear_velocity.y();
-      (void)s.world.set_linear_velocity(s.bodies[i], velocity);
-    }
-  };
-  scene.viewer = [](const Scene& s, int client) {
-    const rp::Vec3 p = s.world.body_state(s.bodies[client]).value().position;
-    return std::array<float, 3>{static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                static_cast<float>(p.z())};
-  };
-  return scene;
-}
+using Scene = bench::SnapshotScene;
 
 bench::JsonObject run(Scene scene, const BenchOptions& options) {
   scene.spec.velocity_step_mps = options.velocity_step_mps;
@@ -317,7 +162,7 @@ bench::JsonObject run(Scene scene, const BenchOptions& options) {
                                                         : ClientLink::Phase::Rest;
     scene.drive(scene, step - warmup_steps - rest_steps, moving);
     (void)scene.world.step(dt);
-    read_entities(scene, entities);
+    bench::read_entities(scene, entities);
     ++tick;
     for (int c = 0; c < scene.clients; ++c) {
       links[c].send(tick, entities, scene.viewer(scene, c), options.budget_bytes, phase);
@@ -396,13 +241,16 @@ int main(int argc, char** argv) {
 
   std::vector<bench::JsonObject> lines;
   if (scene == "all" || scene == "spheres901") {
-    lines.push_back(run(spheres_scene("spheres901", kSpacing), options));
+    lines.push_back(run(bench::spheres_scene("spheres901", bench::kSpheresSpacing), options));
   }
   if (scene == "all" || scene == "spheres901_dense") {
-    lines.push_back(run(spheres_scene("spheres901_dense", kDenseSpacing), options));
+    lines.push_back(
+        run(bench::spheres_scene("spheres901_dense", bench::kSpheresDenseSpacing), options));
   }
-  if (scene == "all" || scene == "players16") lines.push_back(run(players_scene(16), options));
-  if (scene == "all" || scene == "players64") lines.push_back(run(players_scene(64), options));
+  if (scene == "all" || scene == "players16")
+    lines.push_back(run(bench::players_scene(16), options));
+  if (scene == "all" || scene == "players64")
+    lines.push_back(run(bench::players_scene(64), options));
   for (const bench::JsonObject& line : lines) results.write(line);
   return 0;
 }

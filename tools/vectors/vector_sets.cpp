@@ -8,12 +8,16 @@ namespace ricochet::vectors {
 std::string write_control_frames_vectors();
 std::string write_game_packets_vectors();
 std::string write_control_session_vectors();
+std::string write_snapshots_spheres901_vectors();
+std::string write_snapshots_players64_vectors();
 
 std::span<const VectorSet> vector_sets() {
   static constexpr std::array kSets = {
       VectorSet{"control_frames", &write_control_frames_vectors},
       VectorSet{"game_packets", &write_game_packets_vectors},
       VectorSet{"control_session", &write_control_session_vectors},
+      VectorSet{"snapshots_spheres901", &write_snapshots_spheres901_vectors},
+      VectorSet{"snapshots_players64", &write_snapshots_players64_vectors},
   };
   return kSets;
 }
