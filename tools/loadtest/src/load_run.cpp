@@ -5,11 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <variant>
 
 #include "ricochet/bot/bot_metrics.h"
 #include "ricochet/loadtest/capacity.h"
-#include "ricochet/loadtest/prometheus_text.h"
 #include "ricochet/loadtest/server_figures.h"
 #include "ricochet/stats/percentile.h"
 
@@ -19,7 +17,6 @@ namespace asio = boost::asio;
 
 namespace {
 
-constexpr double kScrapeTimeoutS = 5;
 /// The bots' input ticks fall on 8 phases of a shared grid: 8 timer wake-ups per tick for the
 /// whole process (not one per bot), and bursts at the server of an eighth of the bots.
 constexpr int kTickPhases = 8;
@@ -63,9 +60,9 @@ LoadRun::LoadRun(asio::io_context& io, LoadTestConfig config)
                                   config_.bots_per_address)),
       admin_(asio::ip::make_address(config_.server), config_.admin_port),
       phase_timer_(io),
-      scrape_timer_(io),
-      server_pid_(config_.server_pid),
-      alive_(std::make_shared<bool>(true)) {}
+      scraper_(io, admin_, config_.scrape_interval_s,
+               [this](const std::string& kind) { count(kind); }),
+      server_pid_(config_.server_pid) {}
 
 LoadRun::~LoadRun() = default;
 
@@ -75,7 +72,8 @@ double LoadRun::now_s() const {
 
 void LoadRun::start() {
   started_at_ = std::chrono::steady_clock::now();
-  schedule_scrape();
+  scraper_.start(started_at_, nullptr,
+                 [this](MetricsScraper::Scrape scrape) { on_scrape(std::move(scrape)); });
   begin_step();
 }
 
@@ -166,75 +164,47 @@ void LoadRun::stop(std::string_view reason) {
 void LoadRun::finish() {
   phase_ = RunPhase::Finished;
   phase_timer_.cancel();
-  scrape_timer_.cancel();
-  alive_.reset();  // a scrape in flight completes into nothing
+  scraper_.stop();
   for (Step& step : steps_) step.fleet->stop(stop_reason_);
   std::fprintf(stderr, "ricochet-loadtest: finished (%s)\n", stop_reason_.c_str());
   if (auto callback = std::move(on_finished_)) callback();
 }
 
-void LoadRun::schedule_scrape() {
-  ++scrapes_;
-  scrape_timer_.expires_at(started_at_ +
-                           micros(config_.scrape_interval_s * static_cast<double>(scrapes_)));
-  scrape_timer_.async_wait([this](const boost::system::error_code& error) {
-    if (error || phase_ == RunPhase::Finished) return;
-    schedule_scrape();
-    if (scrape_in_flight_) return count("metrics_scrape_late");  // the previous is still out
-    scrape_in_flight_ = true;
-    fetch_metrics(io_, admin_, kScrapeTimeoutS,
-                  [this, alive = std::weak_ptr<bool>(alive_)](MetricsResponse response) {
-                    if (alive.expired()) return;
-                    scrape_in_flight_ = false;
-                    on_scrape(std::move(response));
-                  });
-  });
-}
-
-void LoadRun::on_scrape(MetricsResponse response) {
+void LoadRun::on_scrape(MetricsScraper::Scrape scrape) {
   RunSample sample;
   Totals totals;
   sample.t_s = totals.t_s = now_s();
   sample.step_bots = steps_.empty() ? 0 : steps_.back().target;
   sample.measuring = phase_ == RunPhase::Measuring;
-  sample.scrape_ms = response.elapsed_ms;
+  sample.scrape_ms = scrape.elapsed_ms;
   const Totals* previous = totals_.empty() ? nullptr : &totals_.back();
 
   // The server's figures.
-  if (!response.error.empty()) {
-    count("metrics_unavailable");
-  } else {
-    auto parsed = parse_prometheus_text(response.body);
-    if (const auto* problem = std::get_if<std::string>(&parsed)) {
-      count("metrics_malformed");
-      std::fprintf(stderr, "ricochet-loadtest: /metrics refused: %s\n", problem->c_str());
-    } else {
-      const ServerFigures figures =
-          read_server_figures(std::get<std::vector<MetricSample>>(parsed));
-      sample.server_ok = true;
-      sample.matches = figures.matches;
-      sample.server_players = figures.players;
-      sample.tick = figures.worst_tick();
-      double p99_sum = 0;
-      int with_players = 0;
-      for (const auto& [id, match] : figures.by_match) {
-        if (match.connected == 0) continue;
-        p99_sum += match.tick.p99_ms;
-        ++with_players;
-        match_rows_.push_back({sample.t_s, id, match.tick});
-      }
-      sample.tick_p99_mean_ms = safe_ratio(p99_sum, with_players);
-      if (overruns_base_ < 0) {
-        overruns_base_ = figures.overruns;
-        dropped_base_ = figures.dropped_steps;
-      }
-      sample.overruns = std::max(0.0, figures.overruns - overruns_base_);
-      sample.dropped_steps = std::max(0.0, figures.dropped_steps - dropped_base_);
-      totals.server_packets_in = figures.packets_in;
-      totals.server_packets_out = figures.packets_out;
-      totals.phase_seconds = figures.phase_seconds;
-      if (server_pid_ == 0) server_pid_ = figures.pid;
+  if (scrape.figures) {
+    const ServerFigures& figures = *scrape.figures;
+    sample.server_ok = true;
+    sample.matches = figures.matches;
+    sample.server_players = figures.players;
+    sample.tick = figures.worst_tick();
+    double p99_sum = 0;
+    int with_players = 0;
+    for (const auto& [id, match] : figures.by_match) {
+      if (match.connected == 0) continue;
+      p99_sum += match.tick.p99_ms;
+      ++with_players;
+      match_rows_.push_back({sample.t_s, id, match.tick});
     }
+    sample.tick_p99_mean_ms = safe_ratio(p99_sum, with_players);
+    if (overruns_base_ < 0) {
+      overruns_base_ = figures.overruns;
+      dropped_base_ = figures.dropped_steps;
+    }
+    sample.overruns = std::max(0.0, figures.overruns - overruns_base_);
+    sample.dropped_steps = std::max(0.0, figures.dropped_steps - dropped_base_);
+    totals.server_packets_in = figures.packets_in;
+    totals.server_packets_out = figures.packets_out;
+    totals.phase_seconds = figures.phase_seconds;
+    if (server_pid_ == 0) server_pid_ = figures.pid;
   }
 
   // /proc: the server's and our own.

@@ -5,12 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <variant>
 
 #include "ricochet/bot/bot_metrics.h"
 #include "ricochet/bot/control_client.h"
 #include "ricochet/loadtest/proc_stats.h"
-#include "ricochet/loadtest/prometheus_text.h"
 #include "ricochet/loadtest/server_figures.h"
 
 namespace ricochet::loadtest {
@@ -19,7 +17,6 @@ namespace asio = boost::asio;
 
 namespace {
 
-constexpr double kScrapeTimeoutS = 5;
 constexpr int kTickPhases = 8;  ///< as load_run.cpp: 8 timer wake-ups per tick for every bot
 /// Failed attempts in a row before a bot gives up (its slot then waits for its next bot).
 constexpr int kMaxReconnectAttempts = 20;
@@ -60,9 +57,9 @@ SoakRun::SoakRun(asio::io_context& io, LoadTestConfig run, SoakConfig soak)
       slots_(static_cast<std::size_t>(config_.bots)),
       end_timer_(io),
       starter_(io),
-      scrape_timer_(io),
-      server_pid_(config_.server_pid),
-      alive_(std::make_shared<bool>(true)) {}
+      scraper_(io, admin_, config_.scrape_interval_s,
+               [this](const std::string& kind) { count(kind); }),
+      server_pid_(config_.server_pid) {}
 
 SoakRun::~SoakRun() = default;
 
@@ -96,7 +93,9 @@ void SoakRun::start() {
   end_timer_.async_wait([this](const boost::system::error_code& error) {
     if (!error) stop("duration reached");
   });
-  schedule_scrape();
+  scraper_.start(
+      started_at_, [this] { churn(); },
+      [this](MetricsScraper::Scrape scrape) { on_scrape(std::move(scrape)); });
   start_next_slot();
 }
 
@@ -175,32 +174,12 @@ void SoakRun::finish() {
   finished_at_s_ = now_s();
   end_timer_.cancel();
   starter_.cancel();
-  scrape_timer_.cancel();
-  alive_.reset();  // a scrape in flight completes into nothing
+  scraper_.stop();
   for (Slot& slot : slots_) {
     if (slot.bot) slot.bot->stop(stop_reason_);
   }
   std::fprintf(stderr, "ricochet-loadtest: soak finished (%s)\n", stop_reason_.c_str());
   if (auto callback = std::move(on_finished_)) callback();
-}
-
-void SoakRun::schedule_scrape() {
-  ++scrapes_;
-  scrape_timer_.expires_at(started_at_ +
-                           micros(config_.scrape_interval_s * static_cast<double>(scrapes_)));
-  scrape_timer_.async_wait([this](const boost::system::error_code& error) {
-    if (error || finished_) return;
-    schedule_scrape();
-    churn();
-    if (scrape_in_flight_) return count("metrics_scrape_late");  // the previous is still out
-    scrape_in_flight_ = true;
-    fetch_metrics(io_, admin_, kScrapeTimeoutS,
-                  [this, alive = std::weak_ptr<bool>(alive_)](MetricsResponse response) {
-                    if (alive.expired()) return;
-                    scrape_in_flight_ = false;
-                    on_scrape(std::move(response));
-                  });
-  });
 }
 
 ErrorCounts SoakRun::refusals() const {
@@ -211,29 +190,20 @@ ErrorCounts SoakRun::refusals() const {
   return counters;
 }
 
-void SoakRun::on_scrape(MetricsResponse response) {
+void SoakRun::on_scrape(MetricsScraper::Scrape scrape) {
   SoakSample sample;
   sample.t_s = now_s();
-  if (!response.error.empty()) {
-    count("metrics_unavailable");
-  } else {
-    auto parsed = parse_prometheus_text(response.body);
-    if (const auto* problem = std::get_if<std::string>(&parsed)) {
-      count("metrics_malformed");
-      std::fprintf(stderr, "ricochet-loadtest: /metrics refused: %s\n", problem->c_str());
-    } else {
-      const ServerFigures figures =
-          read_server_figures(std::get<std::vector<MetricSample>>(parsed));
-      sample.server_ok = true;
-      sample.server_matches = figures.matches;
-      sample.server_players = figures.players;
-      const TickQuantiles tick = figures.worst_tick();
-      sample.tick_p99_ms = tick.p99_ms;
-      sample.tick_max_ms = tick.max_ms;
-      sample.open_fds = figures.open_fds;
-      if (figures.db_bytes >= 0) sample.db_mib = figures.db_bytes / kMiB;
-      if (server_pid_ == 0) server_pid_ = figures.pid;
-    }
+  if (scrape.figures) {
+    const ServerFigures& figures = *scrape.figures;
+    sample.server_ok = true;
+    sample.server_matches = figures.matches;
+    sample.server_players = figures.players;
+    const TickQuantiles tick = figures.worst_tick();
+    sample.tick_p99_ms = tick.p99_ms;
+    sample.tick_max_ms = tick.max_ms;
+    sample.open_fds = figures.open_fds;
+    if (figures.db_bytes >= 0) sample.db_mib = figures.db_bytes / kMiB;
+    if (server_pid_ == 0) server_pid_ = figures.pid;
   }
 
   std::string error;

@@ -20,7 +20,7 @@
 #include "ricochet/bot/fleet.h"
 #include "ricochet/loadtest/error_kinds.h"
 #include "ricochet/loadtest/loadtest_config.h"
-#include "ricochet/loadtest/metrics_client.h"
+#include "ricochet/loadtest/metrics_scraper.h"
 #include "ricochet/loadtest/proc_stats.h"
 #include "ricochet/loadtest/run_record.h"
 
@@ -79,8 +79,7 @@ class LoadRun {
   void begin_measuring();
   void end_step();
   void finish();
-  void schedule_scrape();
-  void on_scrape(MetricsResponse response);
+  void on_scrape(MetricsScraper::Scrape scrape);
   void count(const std::string& kind, std::uint64_t n = 1) { errors_[kind] += n; }
   void print_progress(const RunSample& sample) const;
   StepSummary summarise(const Step& step) const;
@@ -95,9 +94,7 @@ class LoadRun {
   std::function<void()> on_finished_;
   std::chrono::steady_clock::time_point started_at_;
   boost::asio::steady_timer phase_timer_;
-  boost::asio::steady_timer scrape_timer_;
-  std::uint64_t scrapes_ = 0;
-  bool scrape_in_flight_ = false;
+  MetricsScraper scraper_;
   int server_pid_ = 0;
 
   std::vector<Step> steps_;
@@ -110,7 +107,6 @@ class LoadRun {
   ErrorCounts bot_counters_;   ///< what the bots' metrics counted (latest totals)
   double overruns_base_ = -1;  ///< at the first scrape
   double dropped_base_ = -1;
-  std::shared_ptr<bool> alive_;  ///< the scrape's callback holds a weak_ptr
 };
 
 }  // namespace ricochet::loadtest

@@ -25,7 +25,7 @@
 #include "ricochet/loadtest/churn_plan.h"
 #include "ricochet/loadtest/error_kinds.h"
 #include "ricochet/loadtest/loadtest_config.h"
-#include "ricochet/loadtest/metrics_client.h"
+#include "ricochet/loadtest/metrics_scraper.h"
 #include "ricochet/loadtest/soak_config.h"
 #include "ricochet/loadtest/soak_record.h"
 
@@ -78,8 +78,7 @@ class SoakRun {
   void retire(Slot& slot);
   void note_results(const bot::Bot& bot);
   void finish();
-  void schedule_scrape();
-  void on_scrape(MetricsResponse response);
+  void on_scrape(MetricsScraper::Scrape scrape);
   void count(const std::string& kind) { errors_[kind] += 1; }
   void print_progress(const SoakSample& sample) const;
 
@@ -103,9 +102,7 @@ class SoakRun {
   std::chrono::steady_clock::time_point started_at_;
   boost::asio::steady_timer end_timer_;
   boost::asio::steady_timer starter_;
-  boost::asio::steady_timer scrape_timer_;
-  std::uint64_t scrapes_ = 0;
-  bool scrape_in_flight_ = false;
+  MetricsScraper scraper_;
   int server_pid_ = 0;
 
   std::vector<SoakSample> samples_;
@@ -118,8 +115,7 @@ class SoakRun {
   std::uint64_t departures_ = 0;
   std::set<std::uint32_t> matches_finished_;
   Retired retired_;
-  ErrorCounts errors_;           ///< failures reported by bots, plus the scrapes' own
-  std::shared_ptr<bool> alive_;  ///< the scrape's callback holds a weak_ptr
+  ErrorCounts errors_;  ///< failures reported by bots, plus the scrapes' own
 };
 
 }  // namespace ricochet::loadtest

@@ -1,0 +1,81 @@
+#include "ricochet/loadtest/metrics_scraper.h"
+
+#include <cstdio>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "ricochet/loadtest/metrics_client.h"
+#include "ricochet/loadtest/prometheus_text.h"
+
+namespace ricochet::loadtest {
+namespace {
+
+/// A scrape that has not answered in this long is abandoned (counted unavailable).
+constexpr double kScrapeTimeoutS = 5;
+
+}  // namespace
+
+MetricsScraper::MetricsScraper(boost::asio::io_context& io, boost::asio::ip::tcp::endpoint admin,
+                               double interval_s, Count count)
+    : io_(io),
+      admin_(std::move(admin)),
+      interval_s_(interval_s),
+      count_(std::move(count)),
+      timer_(io),
+      alive_(std::make_shared<bool>(true)) {}
+
+void MetricsScraper::start(std::chrono::steady_clock::time_point start,
+                           std::function<void()> on_due, std::function<void(Scrape)> on_scrape) {
+  start_ = start;
+  on_due_ = std::move(on_due);
+  on_scrape_ = std::move(on_scrape);
+  schedule();
+}
+
+void MetricsScraper::stop() {
+  stopped_ = true;
+  timer_.cancel();
+  alive_.reset();
+}
+
+void MetricsScraper::schedule() {
+  ++due_;
+  const auto offset = std::chrono::microseconds(
+      static_cast<std::int64_t>(interval_s_ * static_cast<double>(due_) * 1e6));
+  timer_.expires_at(start_ + offset);
+  timer_.async_wait([this](const boost::system::error_code& error) {
+    if (error || stopped_) return;
+    schedule();
+    if (on_due_) on_due_();
+    if (stopped_) return;                                  // on_due may have ended the run
+    if (in_flight_) return count_("metrics_scrape_late");  // the previous one is still out
+    in_flight_ = true;
+    fetch_metrics(io_, admin_, kScrapeTimeoutS,
+                  [this, alive = std::weak_ptr<bool>(alive_)](MetricsResponse response) {
+                    if (alive.expired()) return;
+                    in_flight_ = false;
+                    on_response(response.elapsed_ms, response.body, response.error);
+                  });
+  });
+}
+
+void MetricsScraper::on_response(double elapsed_ms, const std::string& body,
+                                 const std::string& error) {
+  Scrape scrape;
+  scrape.elapsed_ms = elapsed_ms;
+  if (!error.empty()) {
+    count_("metrics_unavailable");
+  } else {
+    auto parsed = parse_prometheus_text(body);
+    if (const auto* problem = std::get_if<std::string>(&parsed)) {
+      count_("metrics_malformed");
+      std::fprintf(stderr, "ricochet-loadtest: /metrics refused: %s\n", problem->c_str());
+    } else {
+      scrape.figures = read_server_figures(std::get<std::vector<MetricSample>>(parsed));
+    }
+  }
+  on_scrape_(std::move(scrape));
+}
+
+}  // namespace ricochet::loadtest
