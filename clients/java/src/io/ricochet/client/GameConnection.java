@@ -100,7 +100,8 @@ public final class GameConnection implements AutoCloseable {
     this.listener = listener;
     this.executor = executor;
     this.onEnded = onEnded;
-    for (int i = 0; i < SNAPSHOT_POOL; ++i) freeDeliveries.add(new Delivery(new GameSnapshot(spec)));
+    for (int i = 0; i < SNAPSHOT_POOL; ++i)
+      freeDeliveries.add(new Delivery(new GameSnapshot(spec)));
     thread = new Thread(this::run, "ricochet-game");
     thread.setDaemon(true);
   }
@@ -132,7 +133,8 @@ public final class GameConnection implements AutoCloseable {
     if (problem == null) {
       try {
         grant = new ConnectGrant(ticket.connectToken(), ticket.clientToServerKey(),
-            ticket.serverToClientKey(), (int) Math.min(Integer.MAX_VALUE, ticket.timeoutMs() / 1000));
+            ticket.serverToClientKey(),
+            (int) Math.min(Integer.MAX_VALUE, ticket.timeoutMs() / 1000));
       } catch (IllegalArgumentException e) {
         problem = "join reply: " + e.getMessage();
       }
@@ -230,9 +232,10 @@ public final class GameConnection implements AutoCloseable {
         channel.register(opened, SelectionKey.OP_READ);
         localPort = ((InetSocketAddress) channel.getLocalAddress()).getPort();
       } catch (IOException | RuntimeException e) {
-        post(() -> connected.completeExceptionally(
-            new RicochetException(RicochetException.Kind.GAME_CONNECT_FAILED,
-                "cannot open a UDP socket to " + server + ": " + e, e)));
+        post(()
+                 -> connected.completeExceptionally(
+                     new RicochetException(RicochetException.Kind.GAME_CONNECT_FAILED,
+                         "cannot open a UDP socket to " + server + ": " + e, e)));
         return;
       }
       selector = opened;
@@ -250,8 +253,8 @@ public final class GameConnection implements AutoCloseable {
 
   private void play(DatagramChannel channel, Selector selector) throws IOException {
     long now = nowUs();
-    session = new GameSession(grant, spec, tickRateHz, snapshotRateHz, INPUTS_PER_PAYLOAD,
-        new SessionEvents(), now);
+    session = new GameSession(
+        grant, spec, tickRateHz, snapshotRateHz, INPUTS_PER_PAYLOAD, new SessionEvents(), now);
     statsAtUs = now;
     send(channel);
     ByteBuffer in = ByteBuffer.wrap(receiveBuffer);
@@ -321,14 +324,16 @@ public final class GameConnection implements AutoCloseable {
       rejections[reason.ordinal()] = session.decoder().rejections(reason);
     }
     long[] drops = new long[DropReason.values().length];
-    for (DropReason reason : DropReason.values()) drops[reason.ordinal()] = counters.dropped(reason);
+    for (DropReason reason : DropReason.values())
+      drops[reason.ordinal()] = counters.dropped(reason);
     long connectedAt = session.connectedAtUs();
     long firstAt = session.firstSnapshotAtUs();
-    GameStats next = new GameStats(periodS, session.rttUs() / 1000.0,
-        (snapshots - statsSnapshots) / periodS, (missed - statsMissed) / periodS,
-        (counters.bytesIn() - statsBytesIn) / periodS, (counters.bytesOut() - statsBytesOut) / periodS,
-        firstAt < 0 || connectedAt < 0 ? -1 : (firstAt - connectedAt) / 1000.0, snapshots, missed,
-        snapshotsSkipped, refusals, rejections, drops);
+    GameStats next =
+        new GameStats(periodS, session.rttUs() / 1000.0, (snapshots - statsSnapshots) / periodS,
+            (missed - statsMissed) / periodS, (counters.bytesIn() - statsBytesIn) / periodS,
+            (counters.bytesOut() - statsBytesOut) / periodS,
+            firstAt < 0 || connectedAt < 0 ? -1 : (firstAt - connectedAt) / 1000.0, snapshots,
+            missed, snapshotsSkipped, refusals, rejections, drops);
     statsAtUs = nowUs;
     statsSnapshots = snapshots;
     statsMissed = missed;

@@ -139,8 +139,8 @@ public final class GameSnapshot {
   /** The unit orientation quaternion into {@code xyzw} (x, y, z, w). */
   public void orientation(int index, float[] xyzw) {
     int base = 3 * checked(index);
-    spec.orientation(largest[index], orientation[base], orientation[base + 1],
-        orientation[base + 2], xyzw);
+    spec.orientation(
+        largest[index], orientation[base], orientation[base + 1], orientation[base + 2], xyzw);
   }
 
   /** The entity's flag bits ({@link io.ricochet.client.core.snapshot.EntityFlags}). */

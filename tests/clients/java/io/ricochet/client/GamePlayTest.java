@@ -153,8 +153,8 @@ class GamePlayTest {
       assertTrue(last.snapshotsReceived() > 40L * TIME_LIMIT_S / 2, "received: " + last);
       assertTrue(last.snapshotsLost() <= last.snapshotsReceived() / 50, "lost: " + last);
       GameStats middle = recorder.stats.get(recorder.stats.size() / 2);
-      assertTrue(middle.snapshotsPerSecond() > 45 && middle.snapshotsPerSecond() < 70,
-          "rate: " + middle);
+      assertTrue(
+          middle.snapshotsPerSecond() > 45 && middle.snapshotsPerSecond() < 70, "rate: " + middle);
       assertTrue(middle.rttMs() > 0 && middle.rttMs() < 500, "rtt: " + middle);
       assertTrue(middle.bytesInPerSecond() > 1000 && middle.bytesOutPerSecond() > 1000,
           "bandwidth: " + middle);
@@ -169,8 +169,8 @@ class GamePlayTest {
         float[] expected = replayed.get(sample.tick);
         assertNotNull(expected, "tick " + sample.tick + " is not in the replay");
         for (int a = 0; a < 3; ++a) {
-          assertEquals(expected[a], sample.position[a], 0.0006,
-              "tick " + sample.tick + " axis " + a);
+          assertEquals(
+              expected[a], sample.position[a], 0.0006, "tick " + sample.tick + " axis " + a);
         }
         ++compared;
       }
@@ -178,7 +178,9 @@ class GamePlayTest {
     }
   }
 
-  /** The newest sample once {@code ms} have passed (pacing the play, not waiting for a deadline). */
+  /**
+   * The newest sample once {@code ms} have passed (pacing the play, not waiting for a deadline).
+   */
   private static Sample after(Recorder recorder, long ms) throws InterruptedException {
     Thread.sleep(ms);
     return recorder.last();
@@ -228,7 +230,8 @@ class GamePlayTest {
     command.add(recording.toString());
     command.add("--export");
     command.add(csv.toString());
-    Process replay = new ProcessBuilder(command).redirectErrorStream(true)
+    Process replay = new ProcessBuilder(command)
+                         .redirectErrorStream(true)
                          .redirectOutput(dir.resolve("replay.log").toFile())
                          .start();
     assertTrue(replay.waitFor(60, TimeUnit.SECONDS), "the replay did not end");
@@ -240,8 +243,9 @@ class GamePlayTest {
     for (String line : lines.subList(1, lines.size())) {
       String[] fields = line.split(",");
       if (Long.parseLong(fields[1]) != entity) continue;
-      positions.put(Long.parseLong(fields[0]), new float[] {Float.parseFloat(fields[2]),
-          Float.parseFloat(fields[3]), Float.parseFloat(fields[4])});
+      positions.put(Long.parseLong(fields[0]),
+          new float[] {Float.parseFloat(fields[2]), Float.parseFloat(fields[3]),
+              Float.parseFloat(fields[4])});
     }
     return positions;
   }

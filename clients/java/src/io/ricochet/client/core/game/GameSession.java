@@ -55,17 +55,18 @@ public final class GameSession {
    * inputsPerPayload} 1..8 (4 is the reference bot's). Throws IllegalArgumentException when out of
    * range.
    */
-  public GameSession(ConnectGrant grant, QuantizationSpec spec, int tickRateHz,
-      int snapshotRateHz, int inputsPerPayload, GameSessionListener listener, long nowUs) {
+  public GameSession(ConnectGrant grant, QuantizationSpec spec, int tickRateHz, int snapshotRateHz,
+      int inputsPerPayload, GameSessionListener listener, long nowUs) {
     if (tickRateHz < 10 || tickRateHz > 128) {
       throw new IllegalArgumentException("tick rate must be 10..128 Hz, got " + tickRateHz);
     }
     if (snapshotRateHz < 1 || snapshotRateHz > tickRateHz) {
-      throw new IllegalArgumentException("snapshot rate must be 1..tick rate, got "
-          + snapshotRateHz);
+      throw new IllegalArgumentException(
+          "snapshot rate must be 1..tick rate, got " + snapshotRateHz);
     }
     if (inputsPerPayload < 1 || inputsPerPayload > InputHistory.MAX_PER_PAYLOAD) {
-      throw new IllegalArgumentException("inputs per payload must be 1..8, got " + inputsPerPayload);
+      throw new IllegalArgumentException(
+          "inputs per payload must be 1..8, got " + inputsPerPayload);
     }
     this.listener = listener;
     this.tickRateHz = tickRateHz;

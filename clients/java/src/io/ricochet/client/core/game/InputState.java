@@ -34,8 +34,8 @@ public final class InputState {
    * Sets the controls: {@code moveRight} and {@code moveForward} -1..1 (full stick; larger values
    * are clamped), {@code yawRad} any finite angle (wrapped into [-π, π]; 0 looks along -Z, positive
    * turns left), {@code pitchRad} finite (clamped to ±π/2; positive looks up), {@code buttons}
-   * {@link #BUTTON_JUMP} | {@link #BUTTON_FIRE} | {@link #BUTTON_ALT_FIRE}, {@code weaponSlot} 0..9.
-   * Throws IllegalArgumentException for a non-finite number, another button bit or slot.
+   * {@link #BUTTON_JUMP} | {@link #BUTTON_FIRE} | {@link #BUTTON_ALT_FIRE}, {@code weaponSlot}
+   * 0..9. Throws IllegalArgumentException for a non-finite number, another button bit or slot.
    */
   public void set(float moveRight, float moveForward, float yawRad, float pitchRad, int buttons,
       int weaponSlot) {

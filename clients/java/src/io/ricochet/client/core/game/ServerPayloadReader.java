@@ -54,7 +54,8 @@ public final class ServerPayloadReader {
    */
   public boolean read(byte[] bytes, int offset, int length) {
     if (offset < 0 || length < 0 || offset > bytes.length - length) {
-      throw new IndexOutOfBoundsException("read(" + offset + ", " + length + ") of " + bytes.length);
+      throw new IndexOutOfBoundsException(
+          "read(" + offset + ", " + length + ") of " + bytes.length);
     }
     clear();
     this.bytes = bytes;
@@ -263,15 +264,18 @@ public final class ServerPayloadReader {
     if (ammoCount < MAX_AMMO) ammo[ammoCount++] = count;
   }
 
-  /** A field's key: field number >= 1, a wire type protobuf defines. */
+  /**
+   * A field's key: a varint whose low 32 bits are kept (as protobuf's readTag does), field number
+   * >= 1, a wire type protobuf defines.
+   */
   private int tag(int end) {
-    long key = varint(end);
+    int key = (int) varint(end);
     if (malformed) return 0;
-    if ((key >>> 3) == 0 || (key >>> 3) > 0x1FFFFFFF || (key & 7) > FIXED32) {
+    if ((key >>> 3) == 0 || (key & 7) > FIXED32) {
       malformed = true;
       return 0;
     }
-    return (int) key;
+    return key;
   }
 
   /** Reads a length and returns where the delimited bytes end; malformed when past {@code end}. */
