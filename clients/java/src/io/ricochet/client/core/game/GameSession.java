@@ -88,10 +88,12 @@ public final class GameSession {
     this.nowUs = nowUs;
     client.update(nowUs);
     if (client.state() != ConnectionState.CONNECTED || nowUs < inputDueUs(inputTicks)) return;
-    long behind = (nowUs - connectedAtUs) * tickRateHz / 1_000_000L - inputTicks;
-    if (behind > MAX_TICKS_BEHIND) inputTicks += behind; // a stalled thread: no burst
+    boolean stalled = nowUs >= inputDueUs(inputTicks + MAX_TICKS_BEHIND + 1);
     sendInput(nowUs);
     ++inputTicks;
+    if (stalled) { // a stalled thread sends the input due, not a burst of the ticks it missed
+      while (inputDueUs(inputTicks) <= nowUs) ++inputTicks;
+    }
   }
 
   /** When {@link #update} has something to do next (µs); {@code Long.MAX_VALUE} once over. */

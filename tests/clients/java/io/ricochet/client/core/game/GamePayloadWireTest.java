@@ -67,7 +67,8 @@ class GamePayloadWireTest {
   void inputStateRefusesWhatTheServerWould() {
     InputState input = new InputState();
     assertThrows(IllegalArgumentException.class, () -> input.set(Float.NaN, 0, 0, 0, 0, 0));
-    assertThrows(IllegalArgumentException.class, () -> input.set(0, 0, Float.POSITIVE_INFINITY, 0, 0, 0));
+    assertThrows(
+        IllegalArgumentException.class, () -> input.set(0, 0, Float.POSITIVE_INFINITY, 0, 0, 0));
     assertThrows(IllegalArgumentException.class, () -> input.set(0, 0, 0, 0, 8, 0));
     assertThrows(IllegalArgumentException.class, () -> input.set(0, 0, 0, 0, 0, 10));
     input.set(2f, -1f, (float) (3 * Math.PI), 3f, InputState.BUTTON_FIRE, 3);
@@ -183,8 +184,8 @@ class GamePayloadWireTest {
     assertEquals(expected.getSnapshot().getTick() & 0xFFFFFFFFL, reader.snapshotTick());
     assertEquals(expected.getSnapshot().getBaselineAge() & 0xFFFFFFFFL, reader.baselineAge());
     assertArrayEquals(expected.getSnapshot().getEntities().toByteArray(),
-        Arrays.copyOfRange(bytes, reader.entitiesOffset(),
-            reader.entitiesOffset() + reader.entitiesLength()));
+        Arrays.copyOfRange(
+            bytes, reader.entitiesOffset(), reader.entitiesOffset() + reader.entitiesLength()));
     assertEquals(expected.getLastInputSequence() & 0xFFFFFFFFL, reader.lastInputSequence());
     assertEquals(expected.getServerTick() & 0xFFFFFFFFL, reader.serverTick());
     assertEquals(expected.getYourEntityId() & 0xFFFFFFFFL, reader.yourEntityId());
