@@ -29,8 +29,8 @@ class GameSessionTicksTest {
   private final List<GameEvent> events = new ArrayList<>();
   private final List<DisconnectReason> ends = new ArrayList<>();
   private final FakeServer server = new FakeServer();
-  private final GameSession session = new GameSession(FakeServer.grant(5),
-      QuantizationSpec.defaults(), 60, 60, 4, new GameSessionListener() {
+  private final GameSession session = new GameSession(
+      FakeServer.grant(5), QuantizationSpec.defaults(), 60, 60, 4, new GameSessionListener() {
         @Override
         public void onEvent(GameEvent event) {
           events.add(event);
@@ -116,11 +116,12 @@ class GameSessionTicksTest {
     deliver(server.payload(new int[0], new byte[0][], mismatch.toByteArray()), START_US + 2000);
     ServerPayload unsent = ServerPayload.newBuilder().setLastInputSequence(99).build();
     deliver(server.payload(new int[0], new byte[0][], unsent.toByteArray()), START_US + 3000);
-    GameEvent chat = GameEvent.newBuilder()
-                         .setChat(ChatMessage.newBuilder().setEntityId(3).setName("a").setText("hi"))
-                         .build();
-    deliver(server.payload(new int[] {0, 1}, new byte[][] {{(byte) 0xFF}, chat.toByteArray()},
-                new byte[0]),
+    GameEvent chat =
+        GameEvent.newBuilder()
+            .setChat(ChatMessage.newBuilder().setEntityId(3).setName("a").setText("hi"))
+            .build();
+    deliver(server.payload(
+                new int[] {0, 1}, new byte[][] {{(byte) 0xFF}, chat.toByteArray()}, new byte[0]),
         START_US + 4000);
     assertEquals(1, session.refusals(PayloadRefusal.MALFORMED_PAYLOAD));
     assertEquals(1, session.refusals(PayloadRefusal.SNAPSHOT_TICK_MISMATCH));
