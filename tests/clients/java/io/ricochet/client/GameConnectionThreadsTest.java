@@ -41,8 +41,8 @@ class GameConnectionThreadsTest {
   private static final long WAIT_MS = 20_000;
   private static final byte[] EMPTY_STREAM = {(byte) 0xE0}; // PROTOCOL.md Snapshots §10
 
-  private final ExecutorService executor = Executors.newSingleThreadExecutor(
-      runnable -> new Thread(runnable, "app-listener"));
+  private final ExecutorService executor =
+      Executors.newSingleThreadExecutor(runnable -> new Thread(runnable, "app-listener"));
   private final FakeGameServer server;
   private final Recorder recorder = new Recorder();
 
@@ -113,21 +113,21 @@ class GameConnectionThreadsTest {
   }
 
   private JoinTicket ticket(int timeoutS) {
-    JoinMatchReply reply = JoinMatchReply.newBuilder()
-                               .setMatchId(1)
-                               .setUdpPort(server.port())
-                               .setConnectToken(ByteString.copyFrom(FakeGameServer.token()))
-                               .setClientToServerKey(
-                                   ByteString.copyFrom(FakeGameServer.clientToServerKey()))
-                               .setServerToClientKey(
-                                   ByteString.copyFrom(FakeGameServer.serverToClientKey()))
-                               .setTokenExpiresInMs(10_000)
-                               .setTimeoutS(timeoutS)
-                               .setQuantization(QuantizationSpec.defaults().toWire())
-                               .setTickRateHz(60)
-                               .setSnapshotRateHz(60)
-                               .build();
-    JoinTicket ticket = JoinTicket.of("127.0.0.1", reply, System.nanoTime() / 1_000_000, new String[1]);
+    JoinMatchReply reply =
+        JoinMatchReply.newBuilder()
+            .setMatchId(1)
+            .setUdpPort(server.port())
+            .setConnectToken(ByteString.copyFrom(FakeGameServer.token()))
+            .setClientToServerKey(ByteString.copyFrom(FakeGameServer.clientToServerKey()))
+            .setServerToClientKey(ByteString.copyFrom(FakeGameServer.serverToClientKey()))
+            .setTokenExpiresInMs(10_000)
+            .setTimeoutS(timeoutS)
+            .setQuantization(QuantizationSpec.defaults().toWire())
+            .setTickRateHz(60)
+            .setSnapshotRateHz(60)
+            .build();
+    JoinTicket ticket =
+        JoinTicket.of("127.0.0.1", reply, System.nanoTime() / 1_000_000, new String[1]);
     assertNotNull(ticket);
     return ticket;
   }
@@ -145,8 +145,9 @@ class GameConnectionThreadsTest {
                                 .setServerTick((int) tick)
                                 .setLastInputSequence((int) lastInput)
                                 .setYourEntityId(1)
-                                .setSnapshot(Snapshot.newBuilder().setTick((int) tick).setEntities(
-                                    ByteString.copyFrom(EMPTY_STREAM)))
+                                .setSnapshot(Snapshot.newBuilder()
+                                                 .setTick((int) tick)
+                                                 .setEntities(ByteString.copyFrom(EMPTY_STREAM)))
                                 .build();
     server.sendPayload(new int[0], new byte[0][], payload.toByteArray());
   }
@@ -188,7 +189,8 @@ class GameConnectionThreadsTest {
       assertNotNull(payload);
       assertTrue(payload.getInputsCount() >= 1 && payload.getInputsCount() <= 4);
       for (int i = 1; i < payload.getInputsCount(); ++i) {
-        assertEquals(payload.getInputs(i - 1).getSequence() + 1, payload.getInputs(i).getSequence());
+        assertEquals(
+            payload.getInputs(i - 1).getSequence() + 1, payload.getInputs(i).getSequence());
       }
       newest = payload.getInputs(payload.getInputsCount() - 1);
       if (newest.getWeaponSlot() == 3) break;
@@ -201,9 +203,10 @@ class GameConnectionThreadsTest {
 
     // Snapshots and an event reach the listener in order; the client acknowledges the newest.
     for (long tick = 1; tick <= 30; ++tick) sendSnapshot(server, tick, newest.getSequence());
-    GameEvent chat = GameEvent.newBuilder()
-                         .setChat(ChatMessage.newBuilder().setEntityId(1).setName("a").setText("hi"))
-                         .build();
+    GameEvent chat =
+        GameEvent.newBuilder()
+            .setChat(ChatMessage.newBuilder().setEntityId(1).setName("a").setText("hi"))
+            .build();
     server.sendPayload(new int[] {0}, new byte[][] {chat.toByteArray()}, new byte[0]);
     deadline = System.currentTimeMillis() + WAIT_MS;
     ClientPayload acked = null;
