@@ -3,17 +3,13 @@ package io.ricochet.client;
 import io.ricochet.client.core.game.GameSession;
 import io.ricochet.client.core.game.GameSessionListener;
 import io.ricochet.client.core.game.InputState;
-import io.ricochet.client.core.game.PayloadRefusal;
 import io.ricochet.client.core.game.ServerPayloadReader;
 import io.ricochet.client.core.snapshot.QuantizationSpec;
-import io.ricochet.client.core.snapshot.SnapshotRejection;
 import io.ricochet.client.core.snapshot.SnapshotView;
 import io.ricochet.client.core.transport.ConnectGrant;
 import io.ricochet.client.core.transport.ConnectionState;
 import io.ricochet.client.core.transport.DisconnectReason;
-import io.ricochet.client.core.transport.DropReason;
 import io.ricochet.client.core.transport.Outbox;
-import io.ricochet.client.core.transport.TransportCounters;
 import io.ricochet.wire.GameProto.GameEvent;
 import java.io.IOException;
 import java.net.InetSocketAddress;
@@ -22,10 +18,16 @@ import java.nio.ByteBuffer;
 import java.nio.channels.DatagramChannel;
 import java.nio.channels.SelectionKey;
 import java.nio.channels.Selector;
+import java.nio.channels.UnresolvedAddressException;
+import java.nio.channels.UnsupportedAddressTypeException;
 import java.util.concurrent.ArrayBlockingQueue;
 import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.ExecutionException;
 import java.util.concurrent.Executor;
 import java.util.concurrent.RejectedExecutionException;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.TimeoutException;
+import java.util.function.Supplier;
 
 /**
  * A match being played: the game channel (UDP) of one join, what an app plays with. Made by {@link
@@ -53,6 +55,12 @@ public final class GameConnection implements AutoCloseable {
   static final int SNAPSHOT_POOL = 4;
   /** How often {@link GameListener#onStats} is called, µs. */
   static final long STATS_PERIOD_US = 1_000_000;
+  /** A lost connection is reconnected within this long, µs (the server's grace: 30 s). */
+  static final long RECONNECT_WINDOW_US = 30_000_000;
+  /** The first reconnect attempt after a timeout waits about this long, µs (then doubling). */
+  static final long RECONNECT_FIRST_DELAY_US = 250_000;
+  /** Reconnect attempts wait at most about this long, µs. */
+  static final long RECONNECT_MAX_DELAY_US = 4_000_000;
   /** How long {@link #close()} waits for the thread, ms. */
   private static final long CLOSE_WAIT_MS = 10_000;
 
@@ -72,6 +80,9 @@ public final class GameConnection implements AutoCloseable {
   private final ArrayBlockingQueue<Delivery> freeDeliveries =
       new ArrayBlockingQueue<>(SNAPSHOT_POOL);
   private volatile boolean closeRequested;
+  private volatile boolean reconnectRequested;
+  private final Object wakeLock = new Object();
+  private final Supplier<CompletableFuture<JoinTicket>> ticketSource; // null: no reconnects
   private volatile Selector selector;
   private volatile int localPort;
   private volatile GameStats stats;
@@ -88,11 +99,21 @@ public final class GameConnection implements AutoCloseable {
   private long statsBytesOut;
   private long statsSnapshots;
   private long statsMissed;
+  private double firstSnapshotAfterMs = -1;
+  private final SessionTotals totals = new SessionTotals();
+  private final java.util.Random random = new java.util.Random();
+  private DisconnectReason sessionEnd; // set by the session as it ends
+  private boolean everConnected;
+  private boolean reconnecting;
+  private DisconnectReason outageReason;
+  private long outageStartUs;
+  private int reconnectAttempts;
 
   private GameConnection(SocketAddress server, ConnectGrant grant, QuantizationSpec spec,
       int tickRateHz, int snapshotRateHz, GameListener listener, Executor executor,
-      Runnable onEnded) {
+      Supplier<CompletableFuture<JoinTicket>> ticketSource, Runnable onEnded) {
     this.server = server;
+    this.ticketSource = ticketSource;
     this.grant = grant;
     this.spec = spec;
     this.tickRateHz = tickRateHz;
@@ -109,18 +130,22 @@ public final class GameConnection implements AutoCloseable {
   /**
    * Checks {@code ticket} and makes the connection (not started); throws a RicochetException
    * ({@link RicochetException.Kind#INVALID_REPLY}, or GAME_CONNECT_FAILED when the token has
-   * expired at {@code nowMs}, on the {@code System.nanoTime()} clock in ms). {@code onEnded} runs
-   * on the I/O thread as it ends. Called by {@link RicochetClient}.
+   * expired at {@code nowMs}, on the {@code System.nanoTime()} clock in ms). {@code ticketSource}
+   * asks the control channel for a fresh ticket of the same match when the connection must
+   * reconnect (null: it never does). {@code onEnded} runs on the I/O thread as it ends. Called by
+   * {@link RicochetClient}.
    */
   static GameConnection create(JoinTicket ticket, GameListener listener, Executor executor,
-      long nowMs, Runnable onEnded) throws RicochetException {
+      long nowMs, Supplier<CompletableFuture<JoinTicket>> ticketSource, Runnable onEnded)
+      throws RicochetException {
     return create(InetSocketAddress.createUnresolved(ticket.host(), ticket.udpPort()), ticket,
-        listener, executor, nowMs, onEnded);
+        listener, executor, nowMs, ticketSource, onEnded);
   }
 
   /** As above with the server's address given (resolved on the I/O thread when unresolved). */
   static GameConnection create(SocketAddress server, JoinTicket ticket, GameListener listener,
-      Executor executor, long nowMs, Runnable onEnded) throws RicochetException {
+      Executor executor, long nowMs, Supplier<CompletableFuture<JoinTicket>> ticketSource,
+      Runnable onEnded) throws RicochetException {
     if (listener == null) throw new NullPointerException("listener");
     QuantizationSpec spec = QuantizationSpec.fromWire(ticket.quantization());
     String problem = spec == null ? QuantizationSpec.problemWith(ticket.quantization()) : null;
@@ -146,7 +171,8 @@ public final class GameConnection implements AutoCloseable {
       throw new RicochetException(
           (DisconnectReason) null, "the connect token expired before the game channel connected");
     }
-    return new GameConnection(server, grant, spec, tick, snapshots, listener, executor, onEnded);
+    return new GameConnection(
+        server, grant, spec, tick, snapshots, listener, executor, ticketSource, onEnded);
   }
 
   /** Starts the thread; the future completes on the executor once connected, or fails. Once. */
@@ -193,6 +219,22 @@ public final class GameConnection implements AutoCloseable {
   }
 
   /**
+   * The network changed (a phone moved from Wi-Fi to cellular, or back): drops this socket and
+   * connects again from a new one (a new local port) with a fresh token from the control channel,
+   * as PROTOCOL.md's reconnect says; the player keeps its entity and score, the input sequence
+   * starts again at 1 and the first snapshot is a full one. {@link GameListener#onReconnecting}
+   * and then {@link GameListener#onConnected} follow; when no ticket comes (the match is over, the
+   * control channel refuses) {@link GameListener#onDisconnected} ends it. A connection lost to
+   * silence ({@link DisconnectReason#TIMED_OUT}) reconnects the same way by itself, with
+   * jittered, doubling back-off, for up to 30 s. Any thread; returns at once.
+   */
+  public void reconnect() {
+    reconnectRequested = true;
+    Selector waiting = selector;
+    if (waiting != null) waiting.wakeup();
+  }
+
+  /**
    * Leaves the game channel: the disconnect goes out (three packets), {@link
    * GameListener#onDisconnected} gets {@link DisconnectReason#REQUESTED}, and this waits for the
    * connection's thread to end (at most 10 s). Any thread; idempotent. Does not leave the match on
@@ -203,6 +245,9 @@ public final class GameConnection implements AutoCloseable {
     closeRequested = true;
     Selector waiting = selector;
     if (waiting != null) waiting.wakeup();
+    synchronized (wakeLock) {
+      wakeLock.notifyAll();
+    }
     if (Thread.currentThread() == thread || thread.getState() == Thread.State.NEW) return;
     try {
       thread.join(CLOSE_WAIT_MS);
@@ -216,54 +261,173 @@ public final class GameConnection implements AutoCloseable {
   }
 
   private void run() {
-    DatagramChannel channel = null;
-    Selector opened = null;
+    ConnectGrant nextGrant = grant;
     try {
-      try {
-        channel = DatagramChannel.open();
-        channel.configureBlocking(false);
-        SocketAddress target = server;
-        if (target instanceof InetSocketAddress && ((InetSocketAddress) target).isUnresolved()) {
-          InetSocketAddress named = (InetSocketAddress) target;
-          target = new InetSocketAddress(named.getHostString(), named.getPort()); // DNS, here
+      while (true) {
+        DisconnectReason reason;
+        try {
+          reason = playOnNewSocket(nextGrant);
+        } catch (IOException e) {
+          if (!everConnected) {
+            post(()
+                     -> connected.completeExceptionally(
+                         new RicochetException(RicochetException.Kind.GAME_CONNECT_FAILED,
+                             "cannot open a UDP socket to " + server + ": " + e, e)));
+            return;
+          }
+          reason = DisconnectReason.TIMED_OUT; // no network right now: an attempt that failed
         }
-        channel.connect(target);
-        opened = Selector.open();
-        channel.register(opened, SelectionKey.OP_READ);
-        localPort = ((InetSocketAddress) channel.getLocalAddress()).getPort();
-      } catch (IOException | RuntimeException e) {
-        post(()
-                 -> connected.completeExceptionally(
-                     new RicochetException(RicochetException.Kind.GAME_CONNECT_FAILED,
-                         "cannot open a UDP socket to " + server + ": " + e, e)));
-        return;
+        nextGrant = reconnectGrant(reason);
+        if (nextGrant == null) return;
       }
-      selector = opened;
-      play(channel, opened);
-    } catch (IOException e) {
-      // The selector failed (the system ran out of something): the session ends as timed out.
-      end(DisconnectReason.TIMED_OUT);
     } finally {
-      closeQuietly(channel);
-      closeQuietly(opened);
       ended = true;
       if (onEnded != null) onEnded.run();
     }
   }
 
-  private void play(DatagramChannel channel, Selector selector) throws IOException {
+  /**
+   * After a session ended with {@code reason} (null: the app asked to reconnect): the grant of the
+   * next attempt, after the back-off, or null when the connection is over (the listener told).
+   */
+  private ConnectGrant reconnectGrant(DisconnectReason reason) {
+    boolean lost = reason == null
+        || (everConnected
+            && (reason == DisconnectReason.TIMED_OUT
+                || reason == DisconnectReason.HANDSHAKE_TIMED_OUT));
+    if (closeRequested || connected.isCancelled() || ticketSource == null || !lost) {
+      end(closeRequested ? DisconnectReason.REQUESTED : reason);
+      return null;
+    }
     long now = nowUs();
+    if (!reconnecting) {
+      reconnecting = true;
+      outageStartUs = now;
+      outageReason = reason == null ? DisconnectReason.TIMED_OUT : reason;
+      post(() -> listener.onReconnecting(reason));
+    }
+    if (now - outageStartUs > RECONNECT_WINDOW_US) {
+      end(outageReason);
+      return null;
+    }
+    long delayUs = reason == null ? 0 : backoffUs(reconnectAttempts);
+    ++reconnectAttempts;
+    if (!pause(delayUs)) {
+      end(DisconnectReason.REQUESTED);
+      return null;
+    }
+    JoinTicket ticket = awaitTicket(outageStartUs + RECONNECT_WINDOW_US);
+    if (ticket == null) {
+      end(closeRequested ? DisconnectReason.REQUESTED : outageReason);
+      return null;
+    }
+    try {
+      return new ConnectGrant(ticket.connectToken(), ticket.clientToServerKey(),
+          ticket.serverToClientKey(), (int) Math.min(60, ticket.timeoutMs() / 1000));
+    } catch (IllegalArgumentException e) {
+      end(outageReason);
+      return null;
+    }
+  }
+
+  /** The wait before reconnect attempt {@code attempt} (0, 1, ...): doubling, capped, jittered. */
+  private long backoffUs(int attempt) {
+    long base = Math.min(RECONNECT_MAX_DELAY_US, RECONNECT_FIRST_DELAY_US << Math.min(attempt, 16));
+    return (long) (base * (0.5 + random.nextDouble())); // ±50 %: phones of a cell do not align
+  }
+
+  /** Waits {@code delayUs} unless closed first; false when closed. */
+  private boolean pause(long delayUs) {
+    long deadline = System.nanoTime() + delayUs * 1000;
+    synchronized (wakeLock) {
+      while (!closeRequested) {
+        long leftNs = deadline - System.nanoTime();
+        if (leftNs <= 0) return true;
+        try {
+          wakeLock.wait(Math.max(1, leftNs / 1_000_000));
+        } catch (InterruptedException e) {
+          Thread.currentThread().interrupt();
+          return false;
+        }
+      }
+    }
+    return false;
+  }
+
+  /** A fresh ticket from the control channel, or null (refused, failed, closed, too late). */
+  private JoinTicket awaitTicket(long deadlineUs) {
+    CompletableFuture<JoinTicket> future;
+    try {
+      future = ticketSource.get();
+    } catch (RuntimeException e) {
+      return null;
+    }
+    while (!closeRequested && nowUs() < deadlineUs) {
+      try {
+        return future.get(50, TimeUnit.MILLISECONDS);
+      } catch (TimeoutException e) {
+        // still asking; look at closeRequested again
+      } catch (ExecutionException e) {
+        return null;
+      } catch (InterruptedException e) {
+        Thread.currentThread().interrupt();
+        return null;
+      }
+    }
+    future.cancel(false);
+    return null;
+  }
+
+  /**
+   * Opens a new socket (a new local port) and plays one session with {@code grant} on it until it
+   * ends: its reason, or null when the app asked to reconnect (the session is abandoned without a
+   * disconnect: the server replaces it when the new one connects).
+   */
+  private DisconnectReason playOnNewSocket(ConnectGrant grant) throws IOException {
+    DatagramChannel channel = null;
+    Selector opened = null;
+    try {
+      channel = DatagramChannel.open();
+      channel.configureBlocking(false);
+      SocketAddress target = server;
+      if (target instanceof InetSocketAddress && ((InetSocketAddress) target).isUnresolved()) {
+        InetSocketAddress named = (InetSocketAddress) target;
+        target = new InetSocketAddress(named.getHostString(), named.getPort()); // DNS, here
+      }
+      channel.connect(target);
+      opened = Selector.open();
+      channel.register(opened, SelectionKey.OP_READ);
+      localPort = ((InetSocketAddress) channel.getLocalAddress()).getPort();
+      selector = opened;
+      return play(grant, channel, opened);
+    } catch (UnresolvedAddressException | UnsupportedAddressTypeException e) {
+      throw new IOException("cannot resolve " + server, e);
+    } finally {
+      closeQuietly(channel);
+      closeQuietly(opened);
+    }
+  }
+
+  private DisconnectReason play(ConnectGrant grant, DatagramChannel channel, Selector selector)
+      throws IOException {
+    long now = nowUs();
+    if (session != null) totals.fold(session);
+    sessionEnd = null;
     session = new GameSession(
         grant, spec, tickRateHz, snapshotRateHz, INPUTS_PER_PAYLOAD, new SessionEvents(), now);
-    statsAtUs = now;
+    if (statsAtUs == 0) statsAtUs = now;
     send(channel);
     ByteBuffer in = ByteBuffer.wrap(receiveBuffer);
-    while (session.state() != ConnectionState.DISCONNECTED) {
+    while (sessionEnd == null) {
       now = nowUs();
       if (closeRequested || connected.isCancelled()) {
         session.disconnect(now);
         send(channel);
         break;
+      }
+      if (reconnectRequested) {
+        reconnectRequested = false;
+        return null;
       }
       synchronized (inputLock) {
         if (inputChanged) {
@@ -283,7 +447,7 @@ public final class GameConnection implements AutoCloseable {
         selector.selectNow();
       }
       selector.selectedKeys().clear();
-      for (int i = 0; i < 64 && session.state() != ConnectionState.DISCONNECTED; ++i) {
+      for (int i = 0; i < 64 && sessionEnd == null; ++i) {
         in.clear();
         int length;
         try {
@@ -296,6 +460,7 @@ public final class GameConnection implements AutoCloseable {
         send(channel);
       }
     }
+    return sessionEnd != null ? sessionEnd : DisconnectReason.REQUESTED;
   }
 
   private void send(DatagramChannel channel) {
@@ -311,34 +476,24 @@ public final class GameConnection implements AutoCloseable {
   }
 
   private void publishStats(long nowUs) {
-    TransportCounters counters = session.transportCounters();
     double periodS = (nowUs - statsAtUs) / 1e6;
-    long snapshots = session.snapshotsReceived();
-    long missed = session.snapshotsMissed();
-    long[] refusals = new long[PayloadRefusal.values().length];
-    for (PayloadRefusal reason : PayloadRefusal.values()) {
-      refusals[reason.ordinal()] = session.refusals(reason);
+    long snapshots = totals.snapshots(session);
+    long missed = totals.missed(session);
+    long bytesIn = totals.bytesIn(session);
+    long bytesOut = totals.bytesOut(session);
+    if (firstSnapshotAfterMs < 0 && session.firstSnapshotAtUs() >= 0) {
+      firstSnapshotAfterMs = (session.firstSnapshotAtUs() - session.connectedAtUs()) / 1000.0;
     }
-    long[] rejections = new long[SnapshotRejection.values().length];
-    for (SnapshotRejection reason : SnapshotRejection.values()) {
-      rejections[reason.ordinal()] = session.decoder().rejections(reason);
-    }
-    long[] drops = new long[DropReason.values().length];
-    for (DropReason reason : DropReason.values())
-      drops[reason.ordinal()] = counters.dropped(reason);
-    long connectedAt = session.connectedAtUs();
-    long firstAt = session.firstSnapshotAtUs();
-    GameStats next =
-        new GameStats(periodS, session.rttUs() / 1000.0, (snapshots - statsSnapshots) / periodS,
-            (missed - statsMissed) / periodS, (counters.bytesIn() - statsBytesIn) / periodS,
-            (counters.bytesOut() - statsBytesOut) / periodS,
-            firstAt < 0 || connectedAt < 0 ? -1 : (firstAt - connectedAt) / 1000.0, snapshots,
-            missed, snapshotsSkipped, refusals, rejections, drops);
+    GameStats next = new GameStats(periodS, session.rttUs() / 1000.0,
+        (snapshots - statsSnapshots) / periodS, (missed - statsMissed) / periodS,
+        (bytesIn - statsBytesIn) / periodS, (bytesOut - statsBytesOut) / periodS,
+        firstSnapshotAfterMs, snapshots, missed, snapshotsSkipped, totals.refusals(session),
+        totals.rejections(session), totals.drops(session));
     statsAtUs = nowUs;
     statsSnapshots = snapshots;
     statsMissed = missed;
-    statsBytesIn = counters.bytesIn();
-    statsBytesOut = counters.bytesOut();
+    statsBytesIn = bytesIn;
+    statsBytesOut = bytesOut;
     stats = next;
     post(() -> listener.onStats(next));
   }
@@ -377,6 +532,9 @@ public final class GameConnection implements AutoCloseable {
   private final class SessionEvents implements GameSessionListener {
     @Override
     public void onConnected() {
+      everConnected = true;
+      reconnecting = false;
+      reconnectAttempts = 0;
       post(() -> {
         listener.onConnected();
         connected.complete(GameConnection.this);
@@ -401,7 +559,7 @@ public final class GameConnection implements AutoCloseable {
 
     @Override
     public void onDisconnected(DisconnectReason reason) {
-      end(reason);
+      sessionEnd = reason; // the run loop decides: the end, or a reconnect
     }
   }
 

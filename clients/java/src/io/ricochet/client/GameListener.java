@@ -8,7 +8,7 @@ import io.ricochet.wire.GameProto.GameEvent;
  * (never the I/O thread, never the caller's), in order, and has a no-op default.
  */
 public interface GameListener {
-  /** The game channel's handshake completed; inputs go out from now on. Once. */
+  /** The game channel's handshake completed; inputs go out from now on. Again after a reconnect. */
   default void onConnected() {}
 
   /**
@@ -21,6 +21,14 @@ public interface GameListener {
 
   /** A reliable game event (joins, leaves, chat, kills, hits, the match's state), in order. */
   default void onEvent(GameEvent event) {}
+
+  /**
+   * The connection was lost ({@code why}: {@link DisconnectReason#TIMED_OUT} when the server went
+   * silent) or the app asked for a reconnect ({@code why} null): it is connecting again from a new
+   * socket with a fresh token; {@link #onConnected} follows when it is back, or {@link
+   * #onDisconnected} when it gives up. Snapshots stop meanwhile.
+   */
+  default void onReconnecting(DisconnectReason why) {}
 
   /** About once a second: round trip, snapshot rate and loss, bandwidth. */
   default void onStats(GameStats stats) {}

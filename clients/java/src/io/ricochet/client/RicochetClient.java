@@ -296,8 +296,9 @@ public final class RicochetClient implements AutoCloseable {
         if (closed) {
           throw new RicochetException(RicochetException.Kind.CLOSED, null, null, "client closed");
         }
-        game = GameConnection.create(
-            ticket, listener, executor, System.nanoTime() / 1_000_000, this::forgetEndedGames);
+        long matchId = ticket.matchId();
+        game = GameConnection.create(ticket, listener, executor, System.nanoTime() / 1_000_000,
+            () -> joinMatch(matchId), this::forgetEndedGames);
       } catch (RicochetException e) {
         CompletableFuture<GameConnection> failed = new CompletableFuture<>();
         post(() -> failed.completeExceptionally(e));

@@ -63,6 +63,9 @@ class GameConnectionThreadsTest {
     final List<GameEvent> events = new CopyOnWriteArrayList<>();
     final List<GameStats> stats = new CopyOnWriteArrayList<>();
     final CountDownLatch connected = new CountDownLatch(1);
+    final java.util.concurrent.atomic.AtomicInteger connections =
+        new java.util.concurrent.atomic.AtomicInteger();
+    final List<String> reconnects = new CopyOnWriteArrayList<>();
     final CountDownLatch disconnected = new CountDownLatch(1);
     volatile CountDownLatch blockSnapshots;
     volatile DisconnectReason reason;
@@ -75,7 +78,14 @@ class GameConnectionThreadsTest {
     @Override
     public void onConnected() {
       onListenerThread();
+      connections.incrementAndGet();
       connected.countDown();
+    }
+
+    @Override
+    public void onReconnecting(DisconnectReason why) {
+      onListenerThread();
+      reconnects.add(String.valueOf(why));
     }
 
     @Override
@@ -135,7 +145,7 @@ class GameConnectionThreadsTest {
   private CompletableFuture<GameConnection> start(int timeoutS) throws Exception {
     return GameConnection
         .create(new InetSocketAddress("127.0.0.1", server.port()), ticket(timeoutS), recorder,
-            executor, System.nanoTime() / 1_000_000, null)
+            executor, System.nanoTime() / 1_000_000, null, null)
         .start();
   }
 
@@ -311,5 +321,77 @@ class GameConnectionThreadsTest {
       recorder.disconnected.await(10, TimeUnit.MILLISECONDS);
     }
     assertEquals(0, gameThreads());
+  }
+
+  /** Polls {@code condition} every 10 ms for at most {@link #WAIT_MS}; its last value. */
+  private boolean eventually(java.util.function.BooleanSupplier condition) throws Exception {
+    long deadline = System.currentTimeMillis() + WAIT_MS;
+    while (!condition.getAsBoolean()) {
+      if (System.currentTimeMillis() > deadline) return false;
+      recorder.disconnected.await(10, TimeUnit.MILLISECONDS);
+    }
+    return true;
+  }
+
+  @Test
+  void aSilentServerOrTheAppsAskReconnectsFromANewPortWithAFreshTicket() throws Exception {
+    java.util.concurrent.atomic.AtomicInteger tickets =
+        new java.util.concurrent.atomic.AtomicInteger();
+    CompletableFuture<GameConnection> future =
+        GameConnection
+            .create(new InetSocketAddress("127.0.0.1", server.port()), ticket(1), recorder,
+                executor, System.nanoTime() / 1_000_000,
+                ()
+                    -> {
+                  tickets.incrementAndGet();
+                  return CompletableFuture.completedFuture(ticket(1));
+                },
+                null)
+            .start();
+    assertTrue(server.handshake(WAIT_MS));
+    GameConnection game = future.get(WAIT_MS, TimeUnit.MILLISECONDS);
+    int firstPort = game.localPort();
+
+    // The server goes silent: after timeout_s (1 s) and a back-off, a new handshake, a new port.
+    assertTrue(server.handshake(WAIT_MS), "no second handshake");
+    assertTrue(eventually(() -> recorder.connections.get() == 2), "not connected again");
+    assertEquals(java.util.Arrays.asList("TIMED_OUT"), recorder.reconnects);
+    assertEquals(1, tickets.get());
+    int secondPort = game.localPort();
+    assertTrue(secondPort != firstPort, "the same port " + firstPort);
+    assertTrue(game.isOpen());
+
+    // The app asks (the network changed): at once, from another new port.
+    game.reconnect();
+    assertTrue(server.handshake(WAIT_MS), "no third handshake");
+    assertTrue(eventually(() -> recorder.connections.get() == 3), "not connected a third time");
+    assertEquals(java.util.Arrays.asList("TIMED_OUT", "null"), recorder.reconnects);
+    assertEquals(2, tickets.get());
+    assertTrue(game.localPort() != secondPort);
+
+    game.close();
+    assertEquals(0, gameThreads());
+    assertTrue(recorder.disconnected.await(WAIT_MS, TimeUnit.MILLISECONDS));
+    assertEquals(DisconnectReason.REQUESTED, recorder.reason);
+    assertTrue(recorder.wrongThreads.isEmpty(), "called on " + recorder.wrongThreads);
+  }
+
+  @Test
+  void noFreshTicketEndsTheConnectionWithWhyItWasLost() throws Exception {
+    CompletableFuture<JoinTicket> refused = new CompletableFuture<>();
+    refused.completeExceptionally(new RicochetException(
+        RicochetException.Kind.SERVER_ERROR, null, null, "NOT_IN_MATCH: the match is over"));
+    CompletableFuture<GameConnection> future =
+        GameConnection
+            .create(new InetSocketAddress("127.0.0.1", server.port()), ticket(1), recorder,
+                executor, System.nanoTime() / 1_000_000, () -> refused, null)
+            .start();
+    assertTrue(server.handshake(WAIT_MS));
+    GameConnection game = future.get(WAIT_MS, TimeUnit.MILLISECONDS);
+    assertTrue(recorder.disconnected.await(WAIT_MS, TimeUnit.MILLISECONDS), "never gave up");
+    assertEquals(DisconnectReason.TIMED_OUT, recorder.reason);
+    assertEquals(java.util.Arrays.asList("TIMED_OUT"), recorder.reconnects);
+    assertTrue(eventually(() -> gameThreads() == 0));
+    assertFalse(game.isOpen());
   }
 }

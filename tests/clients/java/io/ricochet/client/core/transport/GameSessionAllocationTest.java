@@ -50,15 +50,14 @@ class GameSessionAllocationTest {
     for (Vectors.Record record : records) {
       if (record.kind.equals("snapshot")) stream.add(Snapshot.parseFrom(record.bytes("bytes")));
     }
-    GameSession session = new GameSession(FakeServer.grant(5), spec, 60, 60, 4,
-        new GameSessionListener() {
+    GameSession session =
+        new GameSession(FakeServer.grant(5), spec, 60, 60, 4, new GameSessionListener() {
           @Override
           public void onSnapshot(SnapshotView view, ServerPayloadReader payload) {
             ++snapshots;
             entitiesSeen += view.count() + payload.ammoCount();
           }
-        },
-        nowUs);
+        }, nowUs);
     session.outbox().clear();
     deliver(session, server.challenge());
     deliver(session, server.keepAlive());
