@@ -92,6 +92,8 @@ public final class GameConnection implements AutoCloseable {
   // The I/O thread's own.
   private final InputState ioInput = new InputState();
   private final byte[] receiveBuffer = new byte[2048];
+  private byte[][] wrappedArrays = new byte[4][];
+  private ByteBuffer[] wrappers = new ByteBuffer[4];
   private GameSession session;
   private long snapshotsSkipped;
   private long statsAtUs;
@@ -467,12 +469,36 @@ public final class GameConnection implements AutoCloseable {
     Outbox outbox = session.outbox();
     for (int i = 0; i < outbox.size(); ++i) {
       try {
-        channel.write(ByteBuffer.wrap(outbox.datagram(i), 0, outbox.length(i)));
+        channel.write(wrapped(outbox.datagram(i), outbox.length(i)));
       } catch (IOException e) {
         // Unreachable for now (no route, ICMP): like a lost datagram; the timeout decides.
       }
     }
     outbox.clear();
+  }
+
+  /**
+   * {@code array[0, length)} as a ByteBuffer, reusing one wrapper per outbox buffer (the outbox
+   * reuses a few arrays), so that sending allocates nothing once warm.
+   */
+  private ByteBuffer wrapped(byte[] array, int length) {
+    int slot = 0;
+    while (slot < wrappedArrays.length && wrappedArrays[slot] != null
+        && wrappedArrays[slot] != array) {
+      ++slot;
+    }
+    if (slot == wrappedArrays.length) {
+      wrappedArrays = java.util.Arrays.copyOf(wrappedArrays, slot * 2);
+      wrappers = java.util.Arrays.copyOf(wrappers, slot * 2);
+    }
+    if (wrappedArrays[slot] == null) {
+      wrappedArrays[slot] = array;
+      wrappers[slot] = ByteBuffer.wrap(array);
+    }
+    ByteBuffer buffer = wrappers[slot];
+    buffer.clear();
+    buffer.limit(length);
+    return buffer;
   }
 
   private void publishStats(long nowUs) {
