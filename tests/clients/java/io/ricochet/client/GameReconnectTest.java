@@ -55,8 +55,8 @@ class GameReconnectTest {
     public void onSnapshot(GameSnapshot snapshot) {
       int index = snapshot.indexOf(snapshot.yourEntityId());
       if (index < 0) return;
-      own.add(new Own(snapshot.yourEntityId(), snapshot.positionM(index, 0),
-          snapshot.positionM(index, 2)));
+      own.add(new Own(
+          snapshot.yourEntityId(), snapshot.positionM(index, 0), snapshot.positionM(index, 2)));
     }
 
     @Override
