@@ -39,8 +39,9 @@ import java.util.function.Supplier;
  * few inputs and acknowledging the newest snapshot, PROTOCOL.md ClientPayload), receives the
  * server's datagrams on a connected non-blocking {@link DatagramChannel}, decodes the snapshots
  * and events and hands them to the {@link GameListener} on the client's listener executor. {@link
- * #close()} sends the disconnect and ends the thread. Bad bytes from the network are counted by
- * reason ({@link GameStats}), never thrown.
+ * #close()} sends the disconnect and ends the thread; {@link #reconnect()} (the network changed),
+ * or a silence, moves it to a new socket with a fresh token and the same entity. Bad bytes from
+ * the network are counted by reason ({@link GameStats}), never thrown.
  */
 public final class GameConnection implements AutoCloseable {
   /** Button bit of {@link #setInput}: jump. */
