@@ -63,7 +63,8 @@ class GameSnapshotTest {
     }
   }
 
-  private static void assertSame(SnapshotView view, ServerPayloadReader payload, GameSnapshot copy) {
+  private static void assertSame(
+      SnapshotView view, ServerPayloadReader payload, GameSnapshot copy) {
     assertEquals(view.tick(), copy.tick());
     assertEquals(view.count(), copy.count());
     float[] expected = new float[4];
