@@ -172,6 +172,7 @@ public final class RicochetClient implements AutoCloseable {
   private final List<ControlConnection> retired = new ArrayList<>(); // over, threads maybe alive
   private volatile Thread listenerThread; // the owned executor's thread, once started
   private boolean closed;
+  private final List<GameConnection> games = new ArrayList<>(); // started, not yet ended
 
   private RicochetClient(Builder builder) {
     host = builder.host;
@@ -271,6 +272,43 @@ public final class RicochetClient implements AutoCloseable {
     });
   }
 
+  /**
+   * Joins match {@code matchId} and connects its game channel: completes with the {@link
+   * GameConnection} once the handshake is done (after {@link GameListener#onConnected}), or fails
+   * with the join's error or {@link RicochetException.Kind#GAME_CONNECT_FAILED}. Calling it again
+   * while in the match gives a fresh token: how a client reconnects from a new address.
+   */
+  public CompletableFuture<GameConnection> joinMatch(long matchId, GameListener listener) {
+    if (listener == null) throw new NullPointerException("listener");
+    return joinMatch(matchId).thenCompose(ticket -> connectGame(ticket, listener));
+  }
+
+  /**
+   * Connects the game channel with a ticket of {@link #joinMatch(long)} (within its {@link
+   * JoinTicket#tokenExpiresInMs()}); completes as {@link #joinMatch(long, GameListener)} does. The
+   * listener is called on this client's listener executor. {@link #close()} closes it as well.
+   */
+  public CompletableFuture<GameConnection> connectGame(JoinTicket ticket, GameListener listener) {
+    if (ticket == null || listener == null) throw new NullPointerException("ticket or listener");
+    synchronized (this) {
+      GameConnection game;
+      try {
+        if (closed) {
+          throw new RicochetException(RicochetException.Kind.CLOSED, null, null, "client closed");
+        }
+        long matchId = ticket.matchId();
+        game = GameConnection.create(ticket, listener, executor, System.nanoTime() / 1_000_000,
+            () -> joinMatch(matchId), this::forgetEndedGames);
+      } catch (RicochetException e) {
+        CompletableFuture<GameConnection> failed = new CompletableFuture<>();
+        post(() -> failed.completeExceptionally(e));
+        return failed;
+      }
+      games.add(game);
+      return game.start();
+    }
+  }
+
   /** Says {@code text} (1..200 bytes of UTF-8, no control or format characters) to the match. */
   public CompletableFuture<Void> chat(String text) {
     ClientMessage message =
@@ -307,13 +345,17 @@ public final class RicochetClient implements AutoCloseable {
   @Override
   public void close() {
     List<ControlConnection> connections;
+    List<GameConnection> openGames;
     synchronized (this) {
       if (closed) return;
       closed = true;
+      openGames = new ArrayList<>(games);
+      games.clear();
       connections = new ArrayList<>(retired);
       retired.clear();
       if (connection != null) connections.add(connection);
     }
+    for (GameConnection game : openGames) game.close();
     boolean interrupted = false;
     for (ControlConnection each : connections) {
       try {
@@ -334,6 +376,11 @@ public final class RicochetClient implements AutoCloseable {
       }
     }
     if (interrupted) Thread.currentThread().interrupt();
+  }
+
+  /** Drops the game connections that ended (called on the I/O thread of one as it ends). */
+  private synchronized void forgetEndedGames() {
+    games.removeIf(game -> !game.isOpen());
   }
 
   /** Cuts the current TCP connection as a lost network would (tests of reconnects). */

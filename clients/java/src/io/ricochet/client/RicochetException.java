@@ -1,6 +1,7 @@
 package io.ricochet.client;
 
 import io.ricochet.client.core.control.RequestRefusal;
+import io.ricochet.client.core.transport.DisconnectReason;
 import io.ricochet.wire.ControlProto.ErrorCode;
 
 /**
@@ -26,18 +27,33 @@ public final class RicochetException extends Exception {
     /** The server's reply broke the protocol (a key of the wrong length ...). */
     INVALID_REPLY,
     /** The client was closed. */
-    CLOSED
+    CLOSED,
+    /**
+     * The game channel did not come up: the socket could not be opened, the token had expired,
+     * or the handshake ended ({@link #gameReason()} says why: denied, host_full, timed out ...).
+     */
+    GAME_CONNECT_FAILED
   }
 
   private final Kind kind;
   private final ErrorCode errorCode;
   private final RequestRefusal refusal;
+  private final DisconnectReason gameReason;
 
   RicochetException(Kind kind, ErrorCode errorCode, RequestRefusal refusal, String message) {
     super(message);
     this.kind = kind;
     this.errorCode = errorCode == null ? ErrorCode.ERROR_CODE_UNSPECIFIED : errorCode;
     this.refusal = refusal;
+    this.gameReason = null;
+  }
+
+  RicochetException(DisconnectReason gameReason, String message) {
+    super(message);
+    this.kind = Kind.GAME_CONNECT_FAILED;
+    this.errorCode = ErrorCode.ERROR_CODE_UNSPECIFIED;
+    this.refusal = null;
+    this.gameReason = gameReason;
   }
 
   RicochetException(Kind kind, String message, Throwable cause) {
@@ -45,6 +61,7 @@ public final class RicochetException extends Exception {
     this.kind = kind;
     this.errorCode = ErrorCode.ERROR_CODE_UNSPECIFIED;
     this.refusal = null;
+    this.gameReason = null;
   }
 
   /** What went wrong, broadly. */
@@ -59,6 +76,14 @@ public final class RicochetException extends Exception {
    */
   public ErrorCode errorCode() {
     return errorCode;
+  }
+
+  /**
+   * For {@link Kind#GAME_CONNECT_FAILED}: why the game channel's handshake ended; null otherwise
+   * (and when the socket failed or the token had expired).
+   */
+  public DisconnectReason gameReason() {
+    return gameReason;
   }
 
   /** For {@link Kind#REFUSED_LOCALLY}: why; null otherwise. */

@@ -1,0 +1,120 @@
+package io.ricochet.client;
+
+import io.ricochet.client.core.game.PayloadRefusal;
+import io.ricochet.client.core.snapshot.SnapshotRejection;
+import io.ricochet.client.core.transport.DropReason;
+
+/**
+ * A game connection's figures over the last period (about a second), given to {@link
+ * GameListener#onStats}: round trip, snapshots received and lost per second, bytes per second
+ * each way, and since the start the time to the first snapshot and every refusal by reason.
+ * Immutable.
+ */
+public final class GameStats {
+  private final double periodS;
+  private final double rttMs;
+  private final double snapshotsPerSecond;
+  private final double snapshotsLostPerSecond;
+  private final double bytesInPerSecond;
+  private final double bytesOutPerSecond;
+  private final double firstSnapshotAfterMs;
+  private final long snapshotsReceived;
+  private final long snapshotsLost;
+  private final long snapshotsSkipped;
+  private final long[] payloadRefusals;
+  private final long[] snapshotRejections;
+  private final long[] datagramDrops;
+
+  GameStats(double periodS, double rttMs, double snapshotsPerSecond, double snapshotsLostPerSecond,
+      double bytesInPerSecond, double bytesOutPerSecond, double firstSnapshotAfterMs,
+      long snapshotsReceived, long snapshotsLost, long snapshotsSkipped, long[] payloadRefusals,
+      long[] snapshotRejections, long[] datagramDrops) {
+    this.periodS = periodS;
+    this.rttMs = rttMs;
+    this.snapshotsPerSecond = snapshotsPerSecond;
+    this.snapshotsLostPerSecond = snapshotsLostPerSecond;
+    this.bytesInPerSecond = bytesInPerSecond;
+    this.bytesOutPerSecond = bytesOutPerSecond;
+    this.firstSnapshotAfterMs = firstSnapshotAfterMs;
+    this.snapshotsReceived = snapshotsReceived;
+    this.snapshotsLost = snapshotsLost;
+    this.snapshotsSkipped = snapshotsSkipped;
+    this.payloadRefusals = payloadRefusals;
+    this.snapshotRejections = snapshotRejections;
+    this.datagramDrops = datagramDrops;
+  }
+
+  /** The period these rates are over, s. */
+  public double periodS() {
+    return periodS;
+  }
+
+  /** Smoothed round trip, ms (0 before the first ack). */
+  public double rttMs() {
+    return rttMs;
+  }
+
+  /** Snapshots accepted per second. */
+  public double snapshotsPerSecond() {
+    return snapshotsPerSecond;
+  }
+
+  /** Snapshots lost (gaps in the ticks) per second. */
+  public double snapshotsLostPerSecond() {
+    return snapshotsLostPerSecond;
+  }
+
+  /** Datagram bytes received per second (UDP payloads). */
+  public double bytesInPerSecond() {
+    return bytesInPerSecond;
+  }
+
+  /** Datagram bytes sent per second (UDP payloads). */
+  public double bytesOutPerSecond() {
+    return bytesOutPerSecond;
+  }
+
+  /** From the handshake's completion to the first snapshot, ms; -1 before it. */
+  public double firstSnapshotAfterMs() {
+    return firstSnapshotAfterMs;
+  }
+
+  /** Snapshots accepted since the start. */
+  public long snapshotsReceived() {
+    return snapshotsReceived;
+  }
+
+  /** Snapshots lost since the start. */
+  public long snapshotsLost() {
+    return snapshotsLost;
+  }
+
+  /** Snapshots received but not delivered since the start: the listener was behind. */
+  public long snapshotsSkipped() {
+    return snapshotsSkipped;
+  }
+
+  /** Payloads or events refused since the start for {@code reason}. */
+  public long refusals(PayloadRefusal reason) {
+    return payloadRefusals[reason.ordinal()];
+  }
+
+  /** Snapshots the decoder refused since the start for {@code reason}. */
+  public long rejections(SnapshotRejection reason) {
+    return snapshotRejections[reason.ordinal()];
+  }
+
+  /** Datagrams the transport dropped since the start for {@code reason}. */
+  public long drops(DropReason reason) {
+    return datagramDrops[reason.ordinal()];
+  }
+
+  @Override
+  public String toString() {
+    return String.format(java.util.Locale.ROOT,
+        "GameStats{rtt %.1f ms, %.1f snapshots/s, %.1f lost/s, in %.0f B/s, out %.0f B/s, "
+            + "first snapshot after %.0f ms, %d received, %d lost}",
+        rttMs, snapshotsPerSecond, snapshotsLostPerSecond, bytesInPerSecond, bytesOutPerSecond,
+        firstSnapshotAfterMs, snapshotsReceived, snapshotsLost);
+  }
+}
