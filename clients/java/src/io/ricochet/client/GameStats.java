@@ -24,11 +24,39 @@ public final class GameStats {
   private final long[] payloadRefusals;
   private final long[] snapshotRejections;
   private final long[] datagramDrops;
+  private final Prediction prediction;
+
+  /**
+   * The prediction's figures of a period (PROTOCOL.md Prediction and reconciliation): the error is
+   * the distance between where the client predicted an acknowledged input to leave its player and
+   * where the server's snapshot says it is, m, as nearest-rank percentiles (stats/percentile.h).
+   */
+  static final class Prediction {
+    final boolean predicting;
+    final int samples;
+    final double p50M;
+    final double p99M;
+    final double maxM;
+    final long resets;
+    final String worldRefusal;
+
+    Prediction(boolean predicting, int samples, double p50M, double p99M, double maxM, long resets,
+        String worldRefusal) {
+      this.predicting = predicting;
+      this.samples = samples;
+      this.p50M = p50M;
+      this.p99M = p99M;
+      this.maxM = maxM;
+      this.resets = resets;
+      this.worldRefusal = worldRefusal;
+    }
+  }
 
   GameStats(double periodS, double rttMs, double snapshotsPerSecond, double snapshotsLostPerSecond,
       double bytesInPerSecond, double bytesOutPerSecond, double firstSnapshotAfterMs,
       long snapshotsReceived, long snapshotsLost, long snapshotsSkipped, long[] payloadRefusals,
-      long[] snapshotRejections, long[] datagramDrops) {
+      long[] snapshotRejections, long[] datagramDrops, Prediction prediction) {
+    this.prediction = prediction;
     this.periodS = periodS;
     this.rttMs = rttMs;
     this.snapshotsPerSecond = snapshotsPerSecond;
@@ -42,6 +70,44 @@ public final class GameStats {
     this.payloadRefusals = payloadRefusals;
     this.snapshotRejections = snapshotRejections;
     this.datagramDrops = datagramDrops;
+  }
+
+  /** Whether the own player is predicted (the join reply's collision world was usable). */
+  public boolean predicting() {
+    return prediction.predicting;
+  }
+
+  /** Prediction errors measured this period (one per newly acknowledged input). */
+  public int predictionErrorSamples() {
+    return prediction.samples;
+  }
+
+  /** Median prediction error this period, m (0 without samples). */
+  public double predictionErrorP50M() {
+    return prediction.p50M;
+  }
+
+  /** 99th-percentile prediction error this period (nearest rank), m. */
+  public double predictionErrorP99M() {
+    return prediction.p99M;
+  }
+
+  /** Largest prediction error this period, m. */
+  public double predictionErrorMaxM() {
+    return prediction.maxM;
+  }
+
+  /** Re-seeds of the prediction since the connection (spawns, teleports), not counted as error. */
+  public long predictionResets() {
+    return prediction.resets;
+  }
+
+  /**
+   * Why the join reply's collision world was refused (a {@code WorldRefusal} counter name, e.g.
+   * "bad_mesh"), so nothing is predicted; null when it was usable or absent.
+   */
+  public String collisionWorldRefusal() {
+    return prediction.worldRefusal;
   }
 
   /** The period these rates are over, s. */

@@ -114,6 +114,11 @@ public final class Predictor {
     sphere.velocity(velocityMps);
   }
 
+  /** The sequence of the newest input applied (the one {@link #predicted} is after); 0: none. */
+  public long newestInput() {
+    return inputs.newest();
+  }
+
   /** This stats period's errors (m). */
   public ErrorWindow errors() {
     return errors;
