@@ -16,9 +16,10 @@ import org.junit.jupiter.api.Timeout;
 
 /**
  * Prediction against the real server on loopback, in the foundry map (planes, boxes and triangle
- * ramps): a player runs, turns, strafes, jumps and stops for about 10 s; the prediction error (where
- * the client predicted each acknowledged input to leave it against where the server's snapshot
- * says it is, on the snapshot's grid) stays within the issue's clean-link bound, p99 ≤ 2 mm.
+ * ramps): a player runs, turns, strafes, jumps and stops for about 10 s; the prediction error
+ * (where the client predicted each acknowledged input to leave it against where the server's
+ * snapshot says it is, on the snapshot's grid) stays within the issue's clean-link bound, p99 ≤ 2
+ * mm.
  */
 @Timeout(value = 90, unit = TimeUnit.SECONDS)
 class PredictionPlayTest {
