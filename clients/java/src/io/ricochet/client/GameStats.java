@@ -179,8 +179,13 @@ public final class GameStats {
   public String toString() {
     return String.format(java.util.Locale.ROOT,
         "GameStats{rtt %.1f ms, %.1f snapshots/s, %.1f lost/s, in %.0f B/s, out %.0f B/s, "
-            + "first snapshot after %.0f ms, %d received, %d lost}",
+            + "first snapshot after %.0f ms, %d received, %d lost, prediction error "
+            + "p50 %.4f p99 %.4f max %.4f m of %d%s}",
         rttMs, snapshotsPerSecond, snapshotsLostPerSecond, bytesInPerSecond, bytesOutPerSecond,
-        firstSnapshotAfterMs, snapshotsReceived, snapshotsLost);
+        firstSnapshotAfterMs, snapshotsReceived, snapshotsLost, prediction.p50M, prediction.p99M,
+        prediction.maxM, prediction.samples,
+        prediction.predicting                 ? ""
+            : prediction.worldRefusal != null ? ", not predicting: " + prediction.worldRefusal
+                                              : ", not predicting");
   }
 }

@@ -42,7 +42,8 @@ class PredictionAllocationTest {
     assertTrue(measure(() -> sink = new byte[4096]) >= 4096, "the measure sees an allocation");
     for (int warm = 0; warm < 5; ++warm) play();
     long allocated = Long.MAX_VALUE;
-    for (int measured = 0; measured < 3; ++measured) allocated = Math.min(allocated, measure(this::play));
+    for (int measured = 0; measured < 3; ++measured)
+      allocated = Math.min(allocated, measure(this::play));
     assertEquals(0, allocated, "bytes allocated over " + TICKS + " warm ticks");
     assertTrue(predictor.replayed() > TICKS, "replayed " + predictor.replayed());
   }
