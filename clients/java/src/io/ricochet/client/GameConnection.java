@@ -106,6 +106,7 @@ public final class GameConnection implements AutoCloseable {
   private long statsMissed;
   private double firstSnapshotAfterMs = -1;
   private final double[] predictionErrors = new double[3];
+  private long statsOffTick; // the session's count at the last stats
   private final SessionTotals totals = new SessionTotals();
   private final java.util.Random random = new java.util.Random();
   private DisconnectReason sessionEnd; // set by the session as it ends
@@ -425,6 +426,7 @@ public final class GameConnection implements AutoCloseable {
     session = new GameSession(
         grant, spec, tickRateHz, snapshotRateHz, INPUTS_PER_PAYLOAD, new SessionEvents(), now);
     if (world != null) session.predictIn(world);
+    statsOffTick = 0;
     if (statsAtUs == 0) statsAtUs = now;
     send(channel);
     ByteBuffer in = ByteBuffer.wrap(receiveBuffer);
@@ -520,7 +522,12 @@ public final class GameConnection implements AutoCloseable {
     }
     int errorSamples = 0;
     long resets = 0;
+    double recentP99 = 0;
+    long offTick = 0;
     if (session.predictor() != null) {
+      offTick = session.predictor().inputsOffTick() - statsOffTick;
+      statsOffTick = session.predictor().inputsOffTick();
+      recentP99 = session.predictor().errors().recentP99();
       errorSamples = session.predictor().errors().count();
       resets = session.predictor().resets();
       session.predictor().errors().summarise(predictionErrors);
@@ -533,7 +540,7 @@ public final class GameConnection implements AutoCloseable {
         firstSnapshotAfterMs, snapshots, missed, snapshotsSkipped, totals.refusals(session),
         totals.rejections(session), totals.drops(session),
         new GameStats.Prediction(session.predictor() != null, errorSamples, predictionErrors[0],
-            predictionErrors[1], predictionErrors[2], resets,
+            predictionErrors[1], predictionErrors[2], recentP99, offTick, resets,
             world == null || world.refusal() == null ? null : world.refusal().counterName()));
     statsAtUs = nowUs;
     statsSnapshots = snapshots;

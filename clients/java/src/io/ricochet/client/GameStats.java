@@ -39,9 +39,13 @@ public final class GameStats {
     final double maxM;
     final long resets;
     final String worldRefusal;
+    final double recentP99M;
+    final long inputsOffTick;
 
-    Prediction(boolean predicting, int samples, double p50M, double p99M, double maxM, long resets,
-        String worldRefusal) {
+    Prediction(boolean predicting, int samples, double p50M, double p99M, double maxM,
+        double recentP99M, long inputsOffTick, long resets, String worldRefusal) {
+      this.inputsOffTick = inputsOffTick;
+      this.recentP99M = recentP99M;
       this.predicting = predicting;
       this.samples = samples;
       this.p50M = p50M;
@@ -90,6 +94,23 @@ public final class GameStats {
   /** 99th-percentile prediction error this period (nearest rank), m. */
   public double predictionErrorP99M() {
     return prediction.p99M;
+  }
+
+  /**
+   * 99th-percentile prediction error (nearest rank) over the newest 8192 acknowledged inputs of
+   * this connection, about two minutes at 60 Hz, m: the figure of a whole play.
+   */
+  public double predictionErrorRecentP99M() {
+    return prediction.recentP99M;
+  }
+
+  /**
+   * Ticks this period at which the server did not apply this client's next input in order (its
+   * jitter buffer repeated one while the next was late, or skipped some after a burst): each moves
+   * the player by up to max_speed · dt away from the prediction. 0 on a clean link.
+   */
+  public long inputsOffTick() {
+    return prediction.inputsOffTick;
   }
 
   /** Largest prediction error this period, m. */

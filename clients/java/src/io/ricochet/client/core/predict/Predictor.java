@@ -35,6 +35,9 @@ public final class Predictor {
   private long resets;
   private long corrections;
   private long replayed;
+  private long offTick;
+  private long previousTick = -1;
+  private long previousAcknowledged;
 
   /** A predictor in {@code world} (not refused) for a match of {@code tickRateHz}. */
   public Predictor(CollisionWorld world, QuantizationSpec spec, int tickRateHz) {
@@ -56,11 +59,18 @@ public final class Predictor {
   }
 
   /**
-   * A decoded snapshot: {@code alive} whether the own entity is in it as a living, connected
-   * player; its position (m) and velocity (m/s) as decoded; {@code acknowledged} the payload's
-   * {@code last_input_sequence}.
+   * A decoded snapshot of server tick {@code tick}: {@code alive} whether the own entity is in it
+   * as a living, connected player; its position (m) and velocity (m/s) as decoded; {@code
+   * acknowledged} the payload's {@code last_input_sequence}.
    */
-  public void reconcile(boolean alive, float[] positionM, float[] velocityMps, long acknowledged) {
+  public void reconcile(
+      long tick, boolean alive, float[] positionM, float[] velocityMps, long acknowledged) {
+    if (previousTick >= 0 && tick > previousTick && acknowledged >= previousAcknowledged
+        && previousAcknowledged > 0) {
+      offTick += Math.abs((acknowledged - previousAcknowledged) - (tick - previousTick));
+    }
+    previousTick = tick;
+    previousAcknowledged = acknowledged;
     if (!alive) {
       active = false;
       predictedFrom = Long.MAX_VALUE;
@@ -95,14 +105,6 @@ public final class Predictor {
     }
   }
 
-  /** Clears the inputs: a new game connection numbers its inputs from 1 again. */
-  public void restart() {
-    inputs.clear();
-    active = false;
-    predictedFrom = Long.MAX_VALUE;
-    measuredUpTo = 0;
-  }
-
   /** True while predicting (the own player is alive and was seen). */
   public boolean active() {
     return active;
@@ -132,6 +134,16 @@ public final class Predictor {
   /** Acknowledged inputs whose error was not 0. */
   public long corrections() {
     return corrections;
+  }
+
+  /**
+   * Ticks at which the server did not apply the next input in order (PROTOCOL.md, the jitter
+   * buffer: it repeated the last one while the next was late, or skipped some after a burst): the
+   * difference between how far {@code last_input_sequence} and the server tick advanced between
+   * snapshots. Each moves the player by up to max_speed · dt away from the prediction.
+   */
+  public long inputsOffTick() {
+    return offTick;
   }
 
   /** Inputs replayed after snapshots. */

@@ -61,7 +61,7 @@ class PredictionAllocationTest {
         own[1] = 0.4f;
         own[2] = 0;
       }
-      predictor.reconcile(true, own, ownVelocity, Math.max(0, sequence - 3));
+      predictor.reconcile(tick, true, own, ownVelocity, Math.max(0, sequence - 3));
       for (int k = 0; k < 9; ++k) positions[k] = (k + 1) * 0.1f * (tick % 50);
       interpolator.add(tick, 3, ids, positions, tick * 16_667);
       interpolator.position(2, interpolator.renderTick(tick * 16_667 + 5000), shown);

@@ -47,7 +47,7 @@ class PredictorTest {
     Predictor predictor = new Predictor(FLOOR, QuantizationSpec.defaults(), RATE);
     for (long seq = 1; seq <= 10; ++seq) applyScripted(predictor, seq);
     assertFalse(predictor.active()); // nothing seen yet: nothing predicted
-    predictor.reconcile(true, REST, STILL, 6);
+    predictor.reconcile(101, true, REST, STILL, 6);
     assertTrue(predictor.active());
     assertEquals(4, predictor.replayed()); // 7, 8, 9, 10
     float[] p = new float[3];
@@ -65,7 +65,7 @@ class PredictorTest {
   void aServerThatAgreesGivesZeroErrorAndOneThatDoesNotGivesTheDistance() {
     QuantizationSpec spec = QuantizationSpec.defaults();
     Predictor predictor = new Predictor(FLOOR, spec, RATE);
-    predictor.reconcile(true, REST, STILL, 0);
+    predictor.reconcile(102, true, REST, STILL, 0);
     for (long seq = 1; seq <= 10; ++seq) applyScripted(predictor, seq);
     // the server applied 1..4 from the same state: it is where the prediction was after 4
     float[] at4 = stepByHand(REST, STILL, 1, 4);
@@ -74,7 +74,7 @@ class PredictorTest {
       double steps = ((double) at4[axis] - spec.boundsMinM(axis)) / spec.positionStepM();
       onGrid[axis] = spec.positionM((int) Math.round(steps), axis);
     }
-    predictor.reconcile(true, onGrid, STILL, 4);
+    predictor.reconcile(103, true, onGrid, STILL, 4);
     assertEquals(6, predictor.replayed());
     double[] summary = new double[3];
     predictor.errors().summarise(summary);
@@ -89,7 +89,7 @@ class PredictorTest {
       moved[axis] = spec.positionM((int) Math.round(steps), axis);
     }
     moved[0] += 0.3f;
-    predictor.reconcile(true, moved, STILL, 8);
+    predictor.reconcile(104, true, moved, STILL, 8);
     predictor.errors().summarise(summary);
     assertEquals(0.3, summary[2], 0.002);
     assertEquals(1, predictor.corrections());
@@ -98,14 +98,29 @@ class PredictorTest {
   @Test
   void aDeadOwnPlayerIsNotPredictedAndItsRespawnIsAResetNotAnError() {
     Predictor predictor = new Predictor(FLOOR, QuantizationSpec.defaults(), RATE);
-    predictor.reconcile(true, REST, STILL, 0);
+    predictor.reconcile(105, true, REST, STILL, 0);
     applyScripted(predictor, 1);
-    predictor.reconcile(false, REST, STILL, 1);
+    predictor.reconcile(106, false, REST, STILL, 1);
     assertFalse(predictor.active());
     applyScripted(predictor, 2);
-    predictor.reconcile(true, new float[] {20, 0.4f, 20}, STILL, 2);
+    predictor.reconcile(107, true, new float[] {20, 0.4f, 20}, STILL, 2);
     assertEquals(2, predictor.resets());
     assertEquals(0, predictor.errors().count());
+  }
+
+  @Test
+  void inputsTheServerRepeatedOrSkippedAreCountedFromTheAcknowledgements() {
+    Predictor predictor = new Predictor(FLOOR, QuantizationSpec.defaults(), RATE);
+    for (long seq = 1; seq <= 12; ++seq) applyScripted(predictor, seq);
+    predictor.reconcile(10, true, REST, STILL, 5);
+    predictor.reconcile(11, true, REST, STILL, 6); // in order
+    assertEquals(0, predictor.inputsOffTick());
+    predictor.reconcile(12, true, REST, STILL, 6); // 6 repeated
+    assertEquals(1, predictor.inputsOffTick());
+    predictor.reconcile(13, true, REST, STILL, 9); // 7 and 8 skipped (or 6 repeated, then a burst)
+    assertEquals(3, predictor.inputsOffTick());
+    predictor.reconcile(15, true, REST, STILL, 11); // a snapshot lost, inputs in order
+    assertEquals(3, predictor.inputsOffTick());
   }
 
   @Test
