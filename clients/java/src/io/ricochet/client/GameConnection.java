@@ -4,6 +4,7 @@ import io.ricochet.client.core.game.GameSession;
 import io.ricochet.client.core.game.GameSessionListener;
 import io.ricochet.client.core.game.InputState;
 import io.ricochet.client.core.game.ServerPayloadReader;
+import io.ricochet.client.core.predict.CollisionWorld;
 import io.ricochet.client.core.snapshot.QuantizationSpec;
 import io.ricochet.client.core.snapshot.SnapshotView;
 import io.ricochet.client.core.transport.ConnectGrant;
@@ -68,6 +69,7 @@ public final class GameConnection implements AutoCloseable {
   private final SocketAddress server;
   private final ConnectGrant grant;
   private final QuantizationSpec spec;
+  private final CollisionWorld world; // null: the join reply had none
   private final int tickRateHz;
   private final int snapshotRateHz;
   private final GameListener listener;
@@ -103,6 +105,8 @@ public final class GameConnection implements AutoCloseable {
   private long statsSnapshots;
   private long statsMissed;
   private double firstSnapshotAfterMs = -1;
+  private final double[] predictionErrors = new double[3];
+  private long statsOffTick; // the session's count at the last stats
   private final SessionTotals totals = new SessionTotals();
   private final java.util.Random random = new java.util.Random();
   private DisconnectReason sessionEnd; // set by the session as it ends
@@ -113,12 +117,13 @@ public final class GameConnection implements AutoCloseable {
   private int reconnectAttempts;
 
   private GameConnection(SocketAddress server, ConnectGrant grant, QuantizationSpec spec,
-      int tickRateHz, int snapshotRateHz, GameListener listener, Executor executor,
-      Supplier<CompletableFuture<JoinTicket>> ticketSource, Runnable onEnded) {
+      CollisionWorld world, int tickRateHz, int snapshotRateHz, GameListener listener,
+      Executor executor, Supplier<CompletableFuture<JoinTicket>> ticketSource, Runnable onEnded) {
     this.server = server;
     this.ticketSource = ticketSource;
     this.grant = grant;
     this.spec = spec;
+    this.world = world;
     this.tickRateHz = tickRateHz;
     this.snapshotRateHz = snapshotRateHz;
     this.listener = listener;
@@ -174,8 +179,10 @@ public final class GameConnection implements AutoCloseable {
       throw new RicochetException(
           (DisconnectReason) null, "the connect token expired before the game channel connected");
     }
+    CollisionWorld world =
+        ticket.hasCollisionWorld() ? CollisionWorld.parse(ticket.collisionWorldBytes()) : null;
     return new GameConnection(
-        server, grant, spec, tick, snapshots, listener, executor, ticketSource, onEnded);
+        server, grant, spec, world, tick, snapshots, listener, executor, ticketSource, onEnded);
   }
 
   /** Starts the thread; the future completes on the executor once connected, or fails. Once. */
@@ -418,6 +425,8 @@ public final class GameConnection implements AutoCloseable {
     sessionEnd = null;
     session = new GameSession(
         grant, spec, tickRateHz, snapshotRateHz, INPUTS_PER_PAYLOAD, new SessionEvents(), now);
+    if (world != null) session.predictIn(world);
+    statsOffTick = 0;
     if (statsAtUs == 0) statsAtUs = now;
     send(channel);
     ByteBuffer in = ByteBuffer.wrap(receiveBuffer);
@@ -511,11 +520,28 @@ public final class GameConnection implements AutoCloseable {
     if (firstSnapshotAfterMs < 0 && session.firstSnapshotAtUs() >= 0) {
       firstSnapshotAfterMs = (session.firstSnapshotAtUs() - session.connectedAtUs()) / 1000.0;
     }
+    int errorSamples = 0;
+    long resets = 0;
+    double recentP99 = 0;
+    long offTick = 0;
+    if (session.predictor() != null) {
+      offTick = session.predictor().inputsOffTick() - statsOffTick;
+      statsOffTick = session.predictor().inputsOffTick();
+      recentP99 = session.predictor().errors().recentP99();
+      errorSamples = session.predictor().errors().count();
+      resets = session.predictor().resets();
+      session.predictor().errors().summarise(predictionErrors);
+    } else {
+      java.util.Arrays.fill(predictionErrors, 0);
+    }
     GameStats next = new GameStats(periodS, session.rttUs() / 1000.0,
         (snapshots - statsSnapshots) / periodS, (missed - statsMissed) / periodS,
         (bytesIn - statsBytesIn) / periodS, (bytesOut - statsBytesOut) / periodS,
         firstSnapshotAfterMs, snapshots, missed, snapshotsSkipped, totals.refusals(session),
-        totals.rejections(session), totals.drops(session));
+        totals.rejections(session), totals.drops(session),
+        new GameStats.Prediction(session.predictor() != null, errorSamples, predictionErrors[0],
+            predictionErrors[1], predictionErrors[2], recentP99, offTick, resets,
+            world == null || world.refusal() == null ? null : world.refusal().counterName()));
     statsAtUs = nowUs;
     statsSnapshots = snapshots;
     statsMissed = missed;
@@ -576,6 +602,7 @@ public final class GameConnection implements AutoCloseable {
         return;
       }
       delivery.snapshot.fill(view, payload);
+      delivery.snapshot.fillShown(session.predictor(), session.interpolator(), nowUs());
       if (!post(delivery)) freeDeliveries.offer(delivery);
     }
 

@@ -1,6 +1,8 @@
 package io.ricochet.client;
 
 import io.ricochet.client.core.game.ServerPayloadReader;
+import io.ricochet.client.core.predict.Interpolator;
+import io.ricochet.client.core.predict.Predictor;
 import io.ricochet.client.core.snapshot.QuantizationSpec;
 import io.ricochet.client.core.snapshot.SnapshotView;
 import java.util.Arrays;
@@ -35,6 +37,13 @@ public final class GameSnapshot {
   private long respawnTick;
   private long protectedUntilTick;
   private int team;
+  private float[] shown = new float[48];
+  private double renderTick;
+  private boolean predicting;
+  private long predictedInput;
+  private final float[] predictedPosition = new float[3];
+  private final float[] predictedVelocity = new float[3];
+  private final float[] sample = new float[3];
 
   GameSnapshot(QuantizationSpec spec) {
     this.spec = spec;
@@ -67,6 +76,65 @@ public final class GameSnapshot {
     respawnTick = payload.respawnTick();
     protectedUntilTick = payload.protectedUntilTick();
     team = payload.team();
+  }
+
+  /**
+   * Adds what the client shows (the I/O thread, after {@link #fill}): every entity interpolated at
+   * the render tick of {@code nowUs} (100 ms behind, never extrapolated), and the own player as
+   * predicted after the newest input ({@code predictor} null or idle: as the snapshot says).
+   */
+  void fillShown(Predictor predictor, Interpolator interpolator, long nowUs) {
+    if (shown.length < 3 * count) shown = new float[3 * Math.max(count, ids.length)];
+    renderTick = interpolator.hasSnapshot() ? interpolator.renderTick(nowUs) : tick;
+    predicting = predictor != null && predictor.active();
+    if (predicting) predictor.predicted(predictedPosition, predictedVelocity);
+    predictedInput = predicting ? predictor.newestInput() : 0;
+    for (int i = 0; i < count; ++i) {
+      boolean own = ids[i] == yourEntityId;
+      if (own && predicting) {
+        System.arraycopy(predictedPosition, 0, shown, 3 * i, 3);
+      } else if (!own && interpolator.position(ids[i], renderTick, sample)) {
+        System.arraycopy(sample, 0, shown, 3 * i, 3);
+      } else {
+        for (int a = 0; a < 3; ++a) shown[3 * i + a] = positionM(i, a);
+      }
+    }
+  }
+
+  /** Whether the own player is predicted (alive, and the join reply's world was usable). */
+  public boolean predicting() {
+    return predicting;
+  }
+
+  /**
+   * The sequence of the newest own input the prediction includes (the server acknowledges it in a
+   * later snapshot's {@link #lastInputSequence}); 0 when not predicting.
+   */
+  public long predictedInput() {
+    return predictedInput;
+  }
+
+  /** The own player's predicted position after the newest input, m; {@code axis} 0..2. */
+  public float predictedPositionM(int axis) {
+    return predictedPosition[checkedAxis(axis)];
+  }
+
+  /** The own player's predicted velocity after the newest input, m/s; {@code axis} 0..2. */
+  public float predictedVelocityMps(int axis) {
+    return predictedVelocity[checkedAxis(axis)];
+  }
+
+  /**
+   * Where to draw entity {@code index}, m: the others interpolated at {@link #renderTick}, the own
+   * player as predicted (as the snapshot says when not predicting).
+   */
+  public float shownPositionM(int index, int axis) {
+    return shown[3 * checked(index) + checkedAxis(axis)];
+  }
+
+  /** The server tick (with a fraction) the others are shown at: 100 ms behind the newest. */
+  public double renderTick() {
+    return renderTick;
   }
 
   private void grow(int atLeast) {

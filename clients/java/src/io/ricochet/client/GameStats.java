@@ -24,11 +24,43 @@ public final class GameStats {
   private final long[] payloadRefusals;
   private final long[] snapshotRejections;
   private final long[] datagramDrops;
+  private final Prediction prediction;
+
+  /**
+   * The prediction's figures of a period (PROTOCOL.md Prediction and reconciliation): the error is
+   * the distance between where the client predicted an acknowledged input to leave its player and
+   * where the server's snapshot says it is, m, as nearest-rank percentiles (stats/percentile.h).
+   */
+  static final class Prediction {
+    final boolean predicting;
+    final int samples;
+    final double p50M;
+    final double p99M;
+    final double maxM;
+    final long resets;
+    final String worldRefusal;
+    final double recentP99M;
+    final long inputsOffTick;
+
+    Prediction(boolean predicting, int samples, double p50M, double p99M, double maxM,
+        double recentP99M, long inputsOffTick, long resets, String worldRefusal) {
+      this.inputsOffTick = inputsOffTick;
+      this.recentP99M = recentP99M;
+      this.predicting = predicting;
+      this.samples = samples;
+      this.p50M = p50M;
+      this.p99M = p99M;
+      this.maxM = maxM;
+      this.resets = resets;
+      this.worldRefusal = worldRefusal;
+    }
+  }
 
   GameStats(double periodS, double rttMs, double snapshotsPerSecond, double snapshotsLostPerSecond,
       double bytesInPerSecond, double bytesOutPerSecond, double firstSnapshotAfterMs,
       long snapshotsReceived, long snapshotsLost, long snapshotsSkipped, long[] payloadRefusals,
-      long[] snapshotRejections, long[] datagramDrops) {
+      long[] snapshotRejections, long[] datagramDrops, Prediction prediction) {
+    this.prediction = prediction;
     this.periodS = periodS;
     this.rttMs = rttMs;
     this.snapshotsPerSecond = snapshotsPerSecond;
@@ -42,6 +74,61 @@ public final class GameStats {
     this.payloadRefusals = payloadRefusals;
     this.snapshotRejections = snapshotRejections;
     this.datagramDrops = datagramDrops;
+  }
+
+  /** Whether the own player is predicted (the join reply's collision world was usable). */
+  public boolean predicting() {
+    return prediction.predicting;
+  }
+
+  /** Prediction errors measured this period (one per newly acknowledged input). */
+  public int predictionErrorSamples() {
+    return prediction.samples;
+  }
+
+  /** Median prediction error this period, m (0 without samples). */
+  public double predictionErrorP50M() {
+    return prediction.p50M;
+  }
+
+  /** 99th-percentile prediction error this period (nearest rank), m. */
+  public double predictionErrorP99M() {
+    return prediction.p99M;
+  }
+
+  /**
+   * 99th-percentile prediction error (nearest rank) over the newest 8192 acknowledged inputs of
+   * this connection, about two minutes at 60 Hz, m: the figure of a whole play.
+   */
+  public double predictionErrorRecentP99M() {
+    return prediction.recentP99M;
+  }
+
+  /**
+   * Ticks this period at which the server did not apply this client's next input in order (its
+   * jitter buffer repeated one while the next was late, or skipped some after a burst): each moves
+   * the player by up to max_speed · dt away from the prediction. 0 on a clean link.
+   */
+  public long inputsOffTick() {
+    return prediction.inputsOffTick;
+  }
+
+  /** Largest prediction error this period, m. */
+  public double predictionErrorMaxM() {
+    return prediction.maxM;
+  }
+
+  /** Re-seeds of the prediction since the connection (spawns, teleports), not counted as error. */
+  public long predictionResets() {
+    return prediction.resets;
+  }
+
+  /**
+   * Why the join reply's collision world was refused (a {@code WorldRefusal} counter name, e.g.
+   * "bad_mesh"), so nothing is predicted; null when it was usable or absent.
+   */
+  public String collisionWorldRefusal() {
+    return prediction.worldRefusal;
   }
 
   /** The period these rates are over, s. */
@@ -113,8 +200,13 @@ public final class GameStats {
   public String toString() {
     return String.format(java.util.Locale.ROOT,
         "GameStats{rtt %.1f ms, %.1f snapshots/s, %.1f lost/s, in %.0f B/s, out %.0f B/s, "
-            + "first snapshot after %.0f ms, %d received, %d lost}",
+            + "first snapshot after %.0f ms, %d received, %d lost, prediction error "
+            + "p50 %.4f p99 %.4f max %.4f m of %d%s}",
         rttMs, snapshotsPerSecond, snapshotsLostPerSecond, bytesInPerSecond, bytesOutPerSecond,
-        firstSnapshotAfterMs, snapshotsReceived, snapshotsLost);
+        firstSnapshotAfterMs, snapshotsReceived, snapshotsLost, prediction.p50M, prediction.p99M,
+        prediction.maxM, prediction.samples,
+        prediction.predicting                 ? ""
+            : prediction.worldRefusal != null ? ", not predicting: " + prediction.worldRefusal
+                                              : ", not predicting");
   }
 }

@@ -1,8 +1,13 @@
 package io.ricochet.client.core.game;
 
 import com.google.protobuf.InvalidProtocolBufferException;
+import io.ricochet.client.core.predict.CollisionWorld;
+import io.ricochet.client.core.predict.Interpolator;
+import io.ricochet.client.core.predict.Predictor;
+import io.ricochet.client.core.snapshot.EntityFlags;
 import io.ricochet.client.core.snapshot.QuantizationSpec;
 import io.ricochet.client.core.snapshot.SnapshotDecoder;
+import io.ricochet.client.core.snapshot.SnapshotView;
 import io.ricochet.client.core.transport.ConnectGrant;
 import io.ricochet.client.core.transport.ConnectionState;
 import io.ricochet.client.core.transport.DisconnectReason;
@@ -40,6 +45,11 @@ public final class GameSession {
   private final byte[] payloadBytes = new byte[ClientPayloadWriter.MAX_BYTES];
   private final long[] refusals = new long[PayloadRefusal.values().length];
   private final int tickRateHz;
+  private final QuantizationSpec spec;
+  private final Interpolator interpolator;
+  private Predictor predictor; // null: no (valid) collision world, no prediction
+  private final float[] ownPosition = new float[3];
+  private final float[] ownVelocity = new float[3];
   private final int inputsPerPayload;
   private final double ticksPerSnapshot;
   private long nowUs;
@@ -73,6 +83,8 @@ public final class GameSession {
     this.inputsPerPayload = inputsPerPayload;
     this.ticksPerSnapshot = (double) tickRateHz / snapshotRateHz;
     this.decoder = new SnapshotDecoder(spec);
+    this.spec = spec;
+    this.interpolator = new Interpolator(tickRateHz);
     this.nowUs = nowUs;
     this.client = new GameClient(grant, new TransportEvents(), nowUs);
   }
@@ -112,6 +124,25 @@ public final class GameSession {
   public void disconnect(long nowUs) {
     this.nowUs = nowUs;
     client.disconnect(nowUs);
+  }
+
+  /**
+   * Predicts the own player in {@code world} (the join reply's, checked; a refused one predicts
+   * nothing): each input moves it at once, each snapshot reconciles (PROTOCOL.md Prediction and
+   * reconciliation). Call before the first input.
+   */
+  public void predictIn(CollisionWorld world) {
+    predictor = world.refusal() == null ? new Predictor(world, spec, tickRateHz) : null;
+  }
+
+  /** The own player's prediction; null when not predicting. */
+  public Predictor predictor() {
+    return predictor;
+  }
+
+  /** Where the others are shown (100 ms behind the newest snapshot) and each input's view tick. */
+  public Interpolator interpolator() {
+    return interpolator;
   }
 
   /** The datagrams to send after a call; the I/O layer sends and clears them. */
@@ -187,10 +218,14 @@ public final class GameSession {
   }
 
   private void sendInput(long nowUs) {
-    long viewTick = decoder.hasSnapshot() ? decoder.newestTick() : 0;
-    history.push(input, viewTick, 0);
+    history.push(input, interpolator.viewTick(nowUs), interpolator.viewFraction(nowUs));
+    if (predictor != null) {
+      predictor.apply(history.lastSequence(), input.moveRight(), input.moveForward(), input.yaw(),
+          input.buttons());
+    }
     int count = Math.min(inputsPerPayload, history.held());
-    int length = ClientPayloadWriter.write(history, count, viewTick, payloadBytes);
+    long ackTick = decoder.hasSnapshot() ? decoder.newestTick() : 0;
+    int length = ClientPayloadWriter.write(history, count, ackTick, payloadBytes);
     if (client.sendPayload(payloadBytes, 0, length, nowUs)) ++inputsSent;
   }
 
@@ -219,7 +254,25 @@ public final class GameSession {
     } else {
       firstSnapshotAtUs = nowUs;
     }
+    interpolator.add(decoder.view(), nowUs);
+    if (predictor != null) reconcile();
     listener.onSnapshot(decoder.view(), payload);
+  }
+
+  /** The own entity's state at the snapshot's tick re-seeds the prediction. */
+  private void reconcile() {
+    SnapshotView view = decoder.view();
+    int own = view.indexOf(payload.yourEntityId());
+    int flags = own >= 0 ? view.flags(own) : 0;
+    boolean alive = own >= 0 && EntityFlags.kind(flags) == EntityFlags.KIND_PLAYER
+        && (flags & (EntityFlags.DEAD | EntityFlags.DISCONNECTED)) == 0;
+    if (alive) {
+      for (int axis = 0; axis < 3; ++axis) {
+        ownPosition[axis] = view.positionM(own, axis);
+        ownVelocity[axis] = view.velocityMps(own, axis);
+      }
+    }
+    predictor.reconcile(view.tick(), alive, ownPosition, ownVelocity, payload.lastInputSequence());
   }
 
   private void readEvent(byte[] message) {
