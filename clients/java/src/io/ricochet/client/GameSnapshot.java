@@ -1,5 +1,6 @@
 package io.ricochet.client;
 
+import io.ricochet.client.core.game.PlayerStatus;
 import io.ricochet.client.core.game.ServerPayloadReader;
 import io.ricochet.client.core.predict.Interpolator;
 import io.ricochet.client.core.predict.Predictor;
@@ -27,16 +28,7 @@ public final class GameSnapshot {
   private long tick;
   private long yourEntityId;
   private long lastInputSequence;
-  private boolean hasStatus;
-  private int health;
-  private int armor;
-  private int weapon;
-  private final int[] ammo = new int[ServerPayloadReader.MAX_AMMO];
-  private int ammoCount;
-  private boolean alive;
-  private long respawnTick;
-  private long protectedUntilTick;
-  private int team;
+  private final PlayerStatus status = new PlayerStatus();
   private float[] shown = new float[48];
   private double renderTick;
   private boolean predicting;
@@ -66,16 +58,7 @@ public final class GameSnapshot {
     tick = view.tick();
     yourEntityId = payload.yourEntityId();
     lastInputSequence = payload.lastInputSequence();
-    hasStatus = payload.hasStatus();
-    health = payload.health();
-    armor = payload.armor();
-    weapon = payload.weapon();
-    ammoCount = payload.ammoCount();
-    for (int i = 0; i < ammoCount; ++i) ammo[i] = payload.ammo(i);
-    alive = payload.alive();
-    respawnTick = payload.respawnTick();
-    protectedUntilTick = payload.protectedUntilTick();
-    team = payload.team();
+    status.copyFrom(payload.status());
   }
 
   /**
@@ -216,57 +199,9 @@ public final class GameSnapshot {
     return flags[checked(index)];
   }
 
-  /** Whether the payload carried the own player's status (the fields below). */
-  public boolean hasStatus() {
-    return hasStatus;
-  }
-
-  /** Own health, 0..100. */
-  public int health() {
-    return health;
-  }
-
-  /** Own armour, 0..100. */
-  public int armor() {
-    return armor;
-  }
-
-  /** The selected weapon (1 rifle, 2 rocket launcher, 3 grenade launcher). */
-  public int weapon() {
-    return weapon;
-  }
-
-  /** Ammunition counts carried, one per weapon. */
-  public int ammoCount() {
-    return ammoCount;
-  }
-
-  /** Ammunition of weapon {@code index + 1}. */
-  public int ammo(int index) {
-    if (index < 0 || index >= ammoCount) {
-      throw new IndexOutOfBoundsException("ammo " + index + " of " + ammoCount);
-    }
-    return ammo[index];
-  }
-
-  /** Whether the own player is alive. */
-  public boolean alive() {
-    return alive;
-  }
-
-  /** While dead: the tick of the respawn. */
-  public long respawnTick() {
-    return respawnTick;
-  }
-
-  /** Spawn protection lasts until this tick. */
-  public long protectedUntilTick() {
-    return protectedUntilTick;
-  }
-
-  /** The own team (0 none, 1 red, 2 blue). */
-  public int team() {
-    return team;
+  /** The own player's status (health, armour, weapon, ammunition, alive, team ...). */
+  public PlayerStatus status() {
+    return status;
   }
 
   private int checked(int index) {

@@ -86,18 +86,18 @@ class GameSnapshotTest {
     assertThrows(IndexOutOfBoundsException.class, () -> copy.id(view.count()));
     assertEquals(payload.yourEntityId(), copy.yourEntityId());
     assertEquals(payload.lastInputSequence(), copy.lastInputSequence());
-    assertTrue(copy.hasStatus());
-    assertEquals(payload.health(), copy.health());
-    assertEquals(7, copy.armor());
-    assertEquals(2, copy.weapon());
-    assertEquals(2, copy.ammoCount());
-    assertEquals(payload.ammo(0), copy.ammo(0));
-    assertEquals(4, copy.ammo(1));
-    assertThrows(IndexOutOfBoundsException.class, () -> copy.ammo(2));
-    assertEquals(payload.alive(), copy.alive());
-    assertEquals(payload.respawnTick(), copy.respawnTick());
-    assertEquals(payload.protectedUntilTick(), copy.protectedUntilTick());
-    assertEquals(1, copy.team());
+    assertTrue(copy.status().present());
+    assertEquals(payload.status().health(), copy.status().health());
+    assertEquals(7, copy.status().armor());
+    assertEquals(2, copy.status().weapon());
+    assertEquals(2, copy.status().ammoCount());
+    assertEquals(payload.status().ammo(0), copy.status().ammo(0));
+    assertEquals(4, copy.status().ammo(1));
+    assertThrows(IndexOutOfBoundsException.class, () -> copy.status().ammo(2));
+    assertEquals(payload.status().alive(), copy.status().alive());
+    assertEquals(payload.status().respawnTick(), copy.status().respawnTick());
+    assertEquals(payload.status().protectedUntilTick(), copy.status().protectedUntilTick());
+    assertEquals(1, copy.status().team());
     assertFalse(copy.count() > 0 && copy.indexOf(copy.id(copy.count() - 1)) != copy.count() - 1);
   }
 }

@@ -11,9 +11,6 @@ package io.ricochet.client.core.game;
  * Single-threaded; the values are those of the last {@code read}, valid until the next.
  */
 public final class ServerPayloadReader {
-  /** {@code ammo} counts kept at most (one per weapon: 3 today); more are skipped. */
-  public static final int MAX_AMMO = 16;
-
   private static final int VARINT = 0;
   private static final int FIXED64 = 1;
   private static final int LENGTH_DELIMITED = 2;
@@ -35,16 +32,7 @@ public final class ServerPayloadReader {
   private long lastInputSequence;
   private long serverTick;
   private long yourEntityId;
-  private boolean hasStatus;
-  private int health;
-  private int armor;
-  private int weapon;
-  private final int[] ammo = new int[MAX_AMMO];
-  private int ammoCount;
-  private boolean alive;
-  private long respawnTick;
-  private long protectedUntilTick;
-  private int team;
+  private final PlayerStatus status = new PlayerStatus();
 
   /**
    * Reads {@code bytes[offset, offset + length)}; true when it is a well-formed ServerPayload (the
@@ -106,57 +94,9 @@ public final class ServerPayloadReader {
     return yourEntityId;
   }
 
-  /** Whether field 5 ({@code status}) was present. */
-  public boolean hasStatus() {
-    return hasStatus;
-  }
-
-  /** {@code status.health}, 0..100 from a well-behaved server. */
-  public int health() {
-    return health;
-  }
-
-  /** {@code status.armor}, 0..100 from a well-behaved server. */
-  public int armor() {
-    return armor;
-  }
-
-  /** {@code status.weapon}: a {@code Weapon} number (1 rifle, 2 rockets, 3 grenades). */
-  public int weapon() {
-    return weapon;
-  }
-
-  /** How many {@code status.ammo} counts were kept (at most {@link #MAX_AMMO}). */
-  public int ammoCount() {
-    return ammoCount;
-  }
-
-  /** {@code status.ammo[index]}: the ammunition of weapon {@code index + 1}. */
-  public int ammo(int index) {
-    if (index < 0 || index >= ammoCount) {
-      throw new IndexOutOfBoundsException("ammo " + index + " of " + ammoCount);
-    }
-    return ammo[index];
-  }
-
-  /** {@code status.alive}. */
-  public boolean alive() {
-    return alive;
-  }
-
-  /** {@code status.respawn_tick} (while dead), unsigned 32-bit. */
-  public long respawnTick() {
-    return respawnTick;
-  }
-
-  /** {@code status.protected_until_tick}, unsigned 32-bit. */
-  public long protectedUntilTick() {
-    return protectedUntilTick;
-  }
-
-  /** {@code status.team}: a {@code Team} number (0 none, 1 red, 2 blue). */
-  public int team() {
-    return team;
+  /** The own player's status (field 5; {@link PlayerStatus#present()} says whether it came). */
+  public PlayerStatus status() {
+    return status;
   }
 
   private void clear() {
@@ -168,15 +108,7 @@ public final class ServerPayloadReader {
     lastInputSequence = 0;
     serverTick = 0;
     yourEntityId = 0;
-    hasStatus = false;
-    health = 0;
-    armor = 0;
-    weapon = 0;
-    ammoCount = 0;
-    alive = false;
-    respawnTick = 0;
-    protectedUntilTick = 0;
-    team = 0;
+    status.clear();
   }
 
   private void readPayload(int end) {
@@ -199,7 +131,7 @@ public final class ServerPayloadReader {
       } else if (field == 5 && wire == LENGTH_DELIMITED) {
         int stop = lengthEnd(end);
         if (malformed) return;
-        hasStatus = true;
+        status.setPresent();
         readStatus(stop);
       } else {
         skip(key, end, 0);
@@ -236,32 +168,28 @@ public final class ServerPayloadReader {
       int field = key >>> 3;
       int wire = key & 7;
       if (field == 1 && wire == VARINT) {
-        health = (int) varint(end);
+        status.setHealth((int) varint(end));
       } else if (field == 2 && wire == VARINT) {
-        armor = (int) varint(end);
+        status.setArmor((int) varint(end));
       } else if (field == 3 && wire == VARINT) {
-        weapon = (int) varint(end);
+        status.setWeapon((int) varint(end));
       } else if (field == 4 && wire == VARINT) {
-        addAmmo((int) varint(end));
+        status.addAmmo((int) varint(end));
       } else if (field == 4 && wire == LENGTH_DELIMITED) {
         int stop = lengthEnd(end);
-        while (!malformed && position < stop) addAmmo((int) varint(stop));
+        while (!malformed && position < stop) status.addAmmo((int) varint(stop));
       } else if (field == 5 && wire == VARINT) {
-        alive = varint(end) != 0;
+        status.setAlive(varint(end) != 0);
       } else if (field == 6 && wire == VARINT) {
-        respawnTick = varint(end) & U32;
+        status.setRespawnTick(varint(end) & U32);
       } else if (field == 7 && wire == VARINT) {
-        protectedUntilTick = varint(end) & U32;
+        status.setProtectedUntilTick(varint(end) & U32);
       } else if (field == 8 && wire == VARINT) {
-        team = (int) varint(end);
+        status.setTeam((int) varint(end));
       } else {
         skip(key, end, 0);
       }
     }
-  }
-
-  private void addAmmo(int count) {
-    if (ammoCount < MAX_AMMO) ammo[ammoCount++] = count;
   }
 
   /**

@@ -112,7 +112,7 @@ class GamePayloadWireTest {
     ServerPayloadReader reader = new ServerPayloadReader();
     assertTrue(reader.read(bytes, 0, bytes.length));
     assertSame(parsed, reader, bytes);
-    assertEquals(3, reader.ammoCount());
+    assertEquals(3, reader.status().ammoCount());
     assertEquals(2, reader.baselineAge());
   }
 
@@ -146,7 +146,7 @@ class GamePayloadWireTest {
         assertSame(parsed, reader, bytes);
       } else {
         ++refused;
-        assertFalse(reader.hasSnapshot() || reader.hasStatus() || reader.serverTick() != 0);
+        assertFalse(reader.hasSnapshot() || reader.status().present() || reader.serverTick() != 0);
       }
     }
     assertTrue(refused > 500, "refused " + refused);
@@ -190,16 +190,20 @@ class GamePayloadWireTest {
     assertEquals(expected.getServerTick() & 0xFFFFFFFFL, reader.serverTick());
     assertEquals(expected.getYourEntityId() & 0xFFFFFFFFL, reader.yourEntityId());
     PlayerStatus status = expected.getStatus();
-    assertEquals(expected.hasStatus(), reader.hasStatus());
-    assertEquals(status.getHealth(), reader.health());
-    assertEquals(status.getArmor(), reader.armor());
-    assertEquals(status.getWeaponValue(), reader.weapon());
-    assertEquals(Math.min(status.getAmmoCount(), ServerPayloadReader.MAX_AMMO), reader.ammoCount());
-    for (int i = 0; i < reader.ammoCount(); ++i) assertEquals(status.getAmmo(i), reader.ammo(i));
-    assertEquals(status.getAlive(), reader.alive());
-    assertEquals(status.getRespawnTick() & 0xFFFFFFFFL, reader.respawnTick());
-    assertEquals(status.getProtectedUntilTick() & 0xFFFFFFFFL, reader.protectedUntilTick());
-    assertEquals(status.getTeamValue(), reader.team());
+    assertEquals(expected.hasStatus(), reader.status().present());
+    assertEquals(status.getHealth(), reader.status().health());
+    assertEquals(status.getArmor(), reader.status().armor());
+    assertEquals(status.getWeaponValue(), reader.status().weapon());
+    assertEquals(
+        Math.min(status.getAmmoCount(), io.ricochet.client.core.game.PlayerStatus.MAX_AMMO),
+        reader.status().ammoCount());
+    for (int i = 0; i < reader.status().ammoCount(); ++i)
+      assertEquals(status.getAmmo(i), reader.status().ammo(i));
+    assertEquals(status.getAlive(), reader.status().alive());
+    assertEquals(status.getRespawnTick() & 0xFFFFFFFFL, reader.status().respawnTick());
+    assertEquals(
+        status.getProtectedUntilTick() & 0xFFFFFFFFL, reader.status().protectedUntilTick());
+    assertEquals(status.getTeamValue(), reader.status().team());
   }
 
   private static byte[] concat(byte[]... parts) {

@@ -55,7 +55,7 @@ class GameSessionAllocationTest {
           @Override
           public void onSnapshot(SnapshotView view, ServerPayloadReader payload) {
             ++snapshots;
-            entitiesSeen += view.count() + payload.ammoCount();
+            entitiesSeen += view.count() + payload.status().ammoCount();
           }
         }, nowUs);
     session.outbox().clear();
