@@ -66,6 +66,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   bool cheap = false;
   app.add_flag("--cheap", cheap, "no prediction or interpolation (load tests)");
+  app.add_option("--dump-states", bot.dump_states,
+                 "write every decoded snapshot's players to this CSV file (tick,entity,x,y,z); "
+                 "with --bots N, bot k writes FILE-k");
   app.add_option("--duration-s", duration_s, "stop after this many seconds; 0: no limit")
       ->capture_default_str();
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error|off (on stderr)")

@@ -135,6 +135,11 @@ void Bot::arm(double seconds, std::function<void()> on_expiry) {
 
 void Bot::start() {
   started_at_us_ = steady_now_us();
+  if (!config_.dump_states.empty()) {
+    std::string error;
+    dump_ = StateDump::create(config_.dump_states, error);
+    if (!dump_) return finish("cannot dump states", error);
+  }
   spdlog::info("bot {}: connecting to {}", config_.name, config_.host);
   connect_control();
 }
@@ -516,6 +521,7 @@ void Bot::on_payload(std::span<const std::uint8_t> bytes, proto::TimeUs now) {
     }
   }
   if (!snapshot) return;
+  if (dump_) dump_->write(feed_->view());
   if (rendered_) rendered_->on_snapshot(*feed_, seconds_between(started_at_us_, now));
   if (metrics_.first_snapshot_ms < 0) {
     metrics_.first_snapshot_ms = seconds_between(started_at_us_, now) * 1000;

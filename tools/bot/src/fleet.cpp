@@ -50,6 +50,7 @@ Fleet::Fleet(boost::asio::io_context& io, FleetConfig config)
     if (config_.bots > 1) {
       bot.name += '-';
       bot.name += std::to_string(k);
+      if (!bot.dump_states.empty()) bot.dump_states += '-' + std::to_string(k);
     }
     bot.seed = config_.bot.seed + static_cast<std::uint64_t>(k) - 1;
     if (!config_.bind_addresses.empty()) {

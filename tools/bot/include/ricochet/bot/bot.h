@@ -32,6 +32,7 @@
 #include "ricochet/bot/game_feed.h"
 #include "ricochet/bot/game_session.h"
 #include "ricochet/bot/rendered_view.h"
+#include "ricochet/bot/state_dump.h"
 #include "ricochet/wire/control.pb.h"
 #include "ricochet/wire/game.pb.h"
 
@@ -171,6 +172,7 @@ class Bot {
   std::optional<GameFeed> feed_;  ///< the current game connection's
   /// The current connection's interpolation and prediction; empty in cheap mode (predict off).
   std::optional<RenderedView> rendered_;
+  std::unique_ptr<StateDump> dump_;  ///< config_.dump_states, from start(); null: none
   Brain brain_;
   bool arrived_ = false;          ///< the first MatchState of this connection was seen
   bool entity_recorded_ = false;  ///< this connection's entity is in record_.entity_ids

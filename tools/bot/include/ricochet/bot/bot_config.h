@@ -39,6 +39,9 @@ struct BotConfig {
   int matches = 0;  ///< matches to finish (MatchResults received) before stopping; 0: no limit
   int max_reconnect_attempts = 5;  ///< failed reconnects in a row before giving up, 1..1000
   bool predict = true;  ///< false: cheap mode, no prediction or interpolation (load tests)
+  /// A CSV file of every decoded snapshot's players (state_dump.h); empty: none. A fleet of N
+  /// bots gives bot k the file `<dump_states>-k`.
+  std::string dump_states;
 
   /// Empty when usable; otherwise the first wrong field, its allowed range and its value.
   std::string validate() const;

@@ -148,6 +148,14 @@ public final class ServerProcess implements AutoCloseable {
     return fingerprint;
   }
 
+  /**
+   * The server's data directory: its database {@code ricochet.db}, and {@code recordings/} when
+   * the matches are recorded without a recordings_dir. Removed by {@link #close()}.
+   */
+  public Path dataDir() {
+    return dir.resolve("data");
+  }
+
   /** The server's log so far. */
   public String log() {
     try {
