@@ -8,7 +8,7 @@ import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import io.ricochet.client.core.control.ControlState;
-import io.ricochet.client.testing.ServerProcess;
+import io.ricochet.client.testing.RealServer;
 import java.security.NoSuchAlgorithmException;
 import java.security.Provider;
 import java.security.Security;
@@ -17,6 +17,7 @@ import org.bouncycastle.jsse.provider.BouncyCastleJsseProvider;
 import org.junit.jupiter.api.AfterAll;
 import org.junit.jupiter.api.BeforeAll;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.extension.RegisterExtension;
 
 /**
  * The client on a platform without TLS 1.3 of its own (Android before 10): the JDK's JSSE
@@ -24,12 +25,13 @@ import org.junit.jupiter.api.Test;
  * JSSE, passed to the builder as an instance, carries the whole connection.
  */
 class BouncyCastleTlsTest {
-  private static ServerProcess server;
+  @RegisterExtension static final RealServer server = RealServer.arena(ClientTesting.FAST_ACCOUNTS);
+
   private static Provider removed;
   private static int removedAt;
 
   @BeforeAll
-  static void removeTheJdkTlsAndStartTheServer() throws Exception {
+  static void removeTheJdkTls() throws Exception {
     Provider[] providers = Security.getProviders();
     for (int i = 0; i < providers.length; ++i) {
       if (providers[i].getName().equals("SunJSSE")) {
@@ -38,12 +40,10 @@ class BouncyCastleTlsTest {
       }
     }
     Security.removeProvider("SunJSSE");
-    server = ServerProcess.arena(ClientTesting.FAST_ACCOUNTS);
   }
 
   @AfterAll
-  static void stopTheServerAndRestore() throws Exception {
-    if (server != null) server.close();
+  static void restoreTheJdkTls() {
     if (removed != null) Security.insertProviderAt(removed, removedAt);
   }
 
@@ -55,8 +55,9 @@ class BouncyCastleTlsTest {
 
   @Test
   void bouncyCastleCarriesTheConnectionWithThePin() throws Exception {
-    try (RicochetClient client =
-             ClientTesting.pinned(server).tlsProvider(new BouncyCastleJsseProvider()).build()) {
+    try (RicochetClient client = ClientTesting.pinned(server.get())
+                                     .tlsProvider(new BouncyCastleJsseProvider())
+                                     .build()) {
       long id = await(client.register("bouncy", "password-bouncy"));
       Session session = await(client.login("bouncy", "password-bouncy"));
       assertEquals(id, session.accountId());
@@ -73,7 +74,7 @@ class BouncyCastleTlsTest {
         + "00000000000000000000000000000000";
     try (RicochetClient client = RicochetClient.builder()
                                      .host("127.0.0.1")
-                                     .controlPort(server.controlPort())
+                                     .controlPort(server.get().controlPort())
                                      .pinSha256(wrong)
                                      .tlsProvider(new BouncyCastleJsseProvider())
                                      .build()) {
@@ -84,7 +85,7 @@ class BouncyCastleTlsTest {
 
   @Test
   void withoutAProviderTheClientSaysTlsIsMissing() throws Exception {
-    try (RicochetClient client = ClientTesting.pinned(server).build()) {
+    try (RicochetClient client = ClientTesting.pinned(server.get()).build()) {
       RicochetException failed = failure(client.register("no_tls", "password-no-tls"));
       assertEquals(RicochetException.Kind.CONNECT_FAILED, failed.kind());
       assertTrue(failed.getMessage().contains("BouncyCastleJsseProvider"), failed.getMessage());

@@ -7,6 +7,7 @@ import static org.junit.jupiter.api.Assertions.assertNotNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import io.ricochet.client.core.transport.DisconnectReason;
+import io.ricochet.client.testing.RealServer;
 import io.ricochet.client.testing.ServerProcess;
 import io.ricochet.wire.GameProto.GameEvent;
 import java.io.File;
@@ -22,6 +23,7 @@ import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.Timeout;
+import org.junit.jupiter.api.extension.RegisterExtension;
 
 /**
  * The game connection against the real server on loopback: a player joins a recorded match that
@@ -33,6 +35,16 @@ import org.junit.jupiter.api.Timeout;
 class GamePlayTest {
   private static final int TIME_LIMIT_S = 10;
   private static final long WAIT_MS = ClientTesting.WAIT_MS;
+
+  /** A recorded match of the arena (into the data directory) that ends at its time limit. */
+  @RegisterExtension
+  final RealServer realServer = RealServer.starting(() -> {
+    String source = System.getProperty("ricochet.source_dir", ".");
+    return new ServerProcess("count = 1\nmax_players = 16\nmaps = [\"" + source
+            + "/server/maps/arena.toml\"]\nseed = 42\nwarmup_s = 0\nfrag_limit = 0\n"
+            + "record = true\nmin_players = 1\ntime_limit_s = " + TIME_LIMIT_S + "\n",
+        "", ClientTesting.FAST_ACCOUNTS, WAIT_MS);
+  });
 
   /** One snapshot's own entity, as the listener saw it. */
   private static final class Sample {
@@ -89,93 +101,85 @@ class GamePlayTest {
 
   @Test
   void playsARecordedMatchThatReplaysToTheSamePositions() throws Exception {
-    Path recordings = Files.createTempDirectory("ricochet-java-recordings");
-    String source = System.getProperty("ricochet.source_dir", ".");
-    String matches = "count = 1\nmax_players = 16\nmaps = [\"" + source
-        + "/server/maps/arena.toml\"]\nseed = 42\nwarmup_s = 0\nfrag_limit = 0\n"
-        + "record = true\nrecordings_dir = \"" + recordings + "\"\nmin_players = 1\n"
-        + "time_limit_s = " + TIME_LIMIT_S + "\n";
     assertEquals(0, gameThreads());
     Recorder recorder = new Recorder();
-    try (ServerProcess server =
-             new ServerProcess(matches, "", ClientTesting.FAST_ACCOUNTS, WAIT_MS)) {
-      RicochetClient client = ClientTesting.signedIn(server, "java_player");
-      try {
-        long matchId = await(client.listMatches()).get(0).matchId();
-        GameConnection game = await(client.joinMatch(matchId, recorder));
-        assertTrue(game.isOpen());
-        assertTrue(game.localPort() > 0);
-        assertEquals(1, gameThreads());
-        assertTrue(recorder.firstSnapshot.await(WAIT_MS, TimeUnit.MILLISECONDS), "no snapshot");
+    ServerProcess server = realServer.get();
+    RicochetClient client = ClientTesting.signedIn(server, "java_player");
+    try {
+      long matchId = await(client.listMatches()).get(0).matchId();
+      GameConnection game = await(client.joinMatch(matchId, recorder));
+      assertTrue(game.isOpen());
+      assertTrue(game.localPort() > 0);
+      assertEquals(1, gameThreads());
+      assertTrue(recorder.firstSnapshot.await(WAIT_MS, TimeUnit.MILLISECONDS), "no snapshot");
 
-        // Forward towards the arena's centre, stand still, back again: the own entity follows.
-        Sample start = recorder.last();
-        float yaw = (float) Math.atan2(start.position[0], start.position[2]);
-        double[] towardsCentre = {-Math.sin(yaw), -Math.cos(yaw)};
-        game.setInput(0f, 1f, yaw, 0f, 0, 0);
-        Sample forward = after(recorder, 800);
-        game.setInput(0f, 0f, yaw + 1.5f, 0.3f, 0, 0);
-        after(recorder, 500);
-        Sample stopped = recorder.last();
-        Sample stillStopped = after(recorder, 500);
-        game.setInput(0f, -1f, yaw, -0.2f, 0, 2);
-        Sample back = after(recorder, 800);
-        double forwardM = along(start, forward, towardsCentre);
-        double backM = along(back, stillStopped, towardsCentre);
-        assertTrue(forwardM > 1.5, "forward moved " + forwardM + " m towards the centre");
-        assertTrue(distance(stopped, stillStopped) < 0.3,
-            "standing still moved " + distance(stopped, stillStopped) + " m");
-        assertTrue(backM > 1.5, "backward moved " + backM + " m away from the centre");
+      // Forward towards the arena's centre, stand still, back again: the own entity follows.
+      Sample start = recorder.last();
+      float yaw = (float) Math.atan2(start.position[0], start.position[2]);
+      double[] towardsCentre = {-Math.sin(yaw), -Math.cos(yaw)};
+      game.setInput(0f, 1f, yaw, 0f, 0, 0);
+      Sample forward = after(recorder, 800);
+      game.setInput(0f, 0f, yaw + 1.5f, 0.3f, 0, 0);
+      after(recorder, 500);
+      Sample stopped = recorder.last();
+      Sample stillStopped = after(recorder, 500);
+      game.setInput(0f, -1f, yaw, -0.2f, 0, 2);
+      Sample back = after(recorder, 800);
+      double forwardM = along(start, forward, towardsCentre);
+      double backM = along(back, stillStopped, towardsCentre);
+      assertTrue(forwardM > 1.5, "forward moved " + forwardM + " m towards the centre");
+      assertTrue(distance(stopped, stillStopped) < 0.3,
+          "standing still moved " + distance(stopped, stillStopped) + " m");
+      assertTrue(backM > 1.5, "backward moved " + backM + " m away from the centre");
 
-        // Then anything, changing every 100 ms, until the time limit ends the match.
-        java.util.Random random = new java.util.Random(7);
-        while (recorder.disconnected.getCount() > 0 && game.isOpen()) {
-          game.setInput(random.nextFloat() * 2 - 1, random.nextFloat() * 2 - 1,
-              (float) (random.nextFloat() * 2 * Math.PI), 0f,
-              random.nextInt(8) & GameConnection.BUTTON_JUMP, 0);
-          recorder.disconnected.await(100, TimeUnit.MILLISECONDS);
-          if (recorder.samples.size() > 60 * (TIME_LIMIT_S + 20)) break; // bounded
-        }
-        assertTrue(recorder.disconnected.await(WAIT_MS, TimeUnit.MILLISECONDS), "never ended");
-        assertEquals(DisconnectReason.KICKED, recorder.reason, "the match is over");
-        assertTrue(hasMatchEnded(recorder.events), "a match_ended event: " + recorder.events);
-        game.close();
-        assertFalse(game.isOpen());
-      } finally {
-        client.close();
+      // Then anything, changing every 100 ms, until the time limit ends the match.
+      java.util.Random random = new java.util.Random(7);
+      while (recorder.disconnected.getCount() > 0 && game.isOpen()) {
+        game.setInput(random.nextFloat() * 2 - 1, random.nextFloat() * 2 - 1,
+            (float) (random.nextFloat() * 2 * Math.PI), 0f,
+            random.nextInt(8) & GameConnection.BUTTON_JUMP, 0);
+        recorder.disconnected.await(100, TimeUnit.MILLISECONDS);
+        if (recorder.samples.size() > 60 * (TIME_LIMIT_S + 20)) break; // bounded
       }
-      assertEquals(0, gameThreads(), "a game thread left behind");
-      for (String thread : recorder.threads) assertEquals("ricochet-listener", thread);
-
-      // Snapshots at the match's rate (60 Hz by default) with next to no loss on loopback.
-      assertFalse(recorder.stats.isEmpty());
-      GameStats last = recorder.stats.get(recorder.stats.size() - 1);
-      assertTrue(last.snapshotsReceived() > 40L * TIME_LIMIT_S / 2, "received: " + last);
-      assertTrue(last.snapshotsLost() <= last.snapshotsReceived() / 50, "lost: " + last);
-      GameStats middle = recorder.stats.get(recorder.stats.size() / 2);
-      assertTrue(
-          middle.snapshotsPerSecond() > 45 && middle.snapshotsPerSecond() < 70, "rate: " + middle);
-      assertTrue(middle.rttMs() > 0 && middle.rttMs() < 500, "rtt: " + middle);
-      assertTrue(middle.bytesInPerSecond() > 1000 && middle.bytesOutPerSecond() > 1000,
-          "bandwidth: " + middle);
-      assertTrue(last.firstSnapshotAfterMs() >= 0 && last.firstSnapshotAfterMs() < 5000,
-          "first snapshot: " + last);
-      assertTrue(last.snapshotsSkipped() <= last.snapshotsReceived() / 100, "skipped: " + last);
-
-      // The recording replays to the positions decoded, at every tick received.
-      Map<Long, float[]> replayed = exportedPositions(recordings, recorder.last().entity);
-      int compared = 0;
-      for (Sample sample : recorder.samples) {
-        float[] expected = replayed.get(sample.tick);
-        assertNotNull(expected, "tick " + sample.tick + " is not in the replay");
-        for (int a = 0; a < 3; ++a) {
-          assertEquals(
-              expected[a], sample.position[a], 0.0006, "tick " + sample.tick + " axis " + a);
-        }
-        ++compared;
-      }
-      assertTrue(compared > 40 * TIME_LIMIT_S / 2, "compared " + compared);
+      assertTrue(recorder.disconnected.await(WAIT_MS, TimeUnit.MILLISECONDS), "never ended");
+      assertEquals(DisconnectReason.KICKED, recorder.reason, "the match is over");
+      assertTrue(hasMatchEnded(recorder.events), "a match_ended event: " + recorder.events);
+      game.close();
+      assertFalse(game.isOpen());
+    } finally {
+      client.close();
     }
+    assertEquals(0, gameThreads(), "a game thread left behind");
+    for (String thread : recorder.threads) assertEquals("ricochet-listener", thread);
+
+    // Snapshots at the match's rate (60 Hz by default) with next to no loss on loopback.
+    assertFalse(recorder.stats.isEmpty());
+    GameStats last = recorder.stats.get(recorder.stats.size() - 1);
+    assertTrue(last.snapshotsReceived() > 40L * TIME_LIMIT_S / 2, "received: " + last);
+    assertTrue(last.snapshotsLost() <= last.snapshotsReceived() / 50, "lost: " + last);
+    GameStats middle = recorder.stats.get(recorder.stats.size() / 2);
+    assertTrue(
+        middle.snapshotsPerSecond() > 45 && middle.snapshotsPerSecond() < 70, "rate: " + middle);
+    assertTrue(middle.rttMs() > 0 && middle.rttMs() < 500, "rtt: " + middle);
+    assertTrue(middle.bytesInPerSecond() > 1000 && middle.bytesOutPerSecond() > 1000,
+        "bandwidth: " + middle);
+    assertTrue(last.firstSnapshotAfterMs() >= 0 && last.firstSnapshotAfterMs() < 5000,
+        "first snapshot: " + last);
+    assertTrue(last.snapshotsSkipped() <= last.snapshotsReceived() / 100, "skipped: " + last);
+
+    // The recording replays to the positions decoded, at every tick received.
+    Map<Long, float[]> replayed =
+        exportedPositions(server.dataDir().resolve("recordings"), recorder.last().entity);
+    int compared = 0;
+    for (Sample sample : recorder.samples) {
+      float[] expected = replayed.get(sample.tick);
+      assertNotNull(expected, "tick " + sample.tick + " is not in the replay");
+      for (int a = 0; a < 3; ++a) {
+        assertEquals(expected[a], sample.position[a], 0.0006, "tick " + sample.tick + " axis " + a);
+      }
+      ++compared;
+    }
+    assertTrue(compared > 40 * TIME_LIMIT_S / 2, "compared " + compared);
   }
 
   /**

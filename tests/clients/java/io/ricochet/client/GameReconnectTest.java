@@ -6,6 +6,7 @@ import static org.junit.jupiter.api.Assertions.assertNotEquals;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import io.ricochet.client.core.transport.DisconnectReason;
+import io.ricochet.client.testing.RealServer;
 import io.ricochet.client.testing.ServerProcess;
 import io.ricochet.wire.GameProto.GameEvent;
 import java.util.List;
@@ -15,6 +16,7 @@ import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.Timeout;
+import org.junit.jupiter.api.extension.RegisterExtension;
 
 /**
  * A phone's network change against the real server: mid-match the game connection moves to a new
@@ -23,6 +25,8 @@ import org.junit.jupiter.api.Timeout;
  */
 @Timeout(value = 90, unit = TimeUnit.SECONDS)
 class GameReconnectTest {
+  @RegisterExtension final RealServer realServer = RealServer.arena(ClientTesting.FAST_ACCOUNTS);
+
   private static final long WAIT_MS = ClientTesting.WAIT_MS;
 
   /** The own entity in one snapshot. */
@@ -101,43 +105,42 @@ class GameReconnectTest {
   @Test
   void aNewLocalPortMidMatchKeepsTheEntity() throws Exception {
     Recorder recorder = new Recorder();
-    try (ServerProcess server = ServerProcess.arena(ClientTesting.FAST_ACCOUNTS)) {
-      RicochetClient client = ClientTesting.signedIn(server, "java_roamer");
-      try {
-        long matchId = await(client.listMatches()).get(0).matchId();
-        GameConnection game = await(client.joinMatch(matchId, recorder));
-        int firstPort = game.localPort();
-        assertTrue(eventually(recorder, () -> recorder.own.size() >= 30), "no snapshots");
-        long entity = recorder.own.get(0).entity;
-        assertTrue(entity > 0);
-        assertTrue(!rejoined(recorder.events, entity), "rejoined before a reconnect");
+    ServerProcess server = realServer.get();
+    RicochetClient client = ClientTesting.signedIn(server, "java_roamer");
+    try {
+      long matchId = await(client.listMatches()).get(0).matchId();
+      GameConnection game = await(client.joinMatch(matchId, recorder));
+      int firstPort = game.localPort();
+      assertTrue(eventually(recorder, () -> recorder.own.size() >= 30), "no snapshots");
+      long entity = recorder.own.get(0).entity;
+      assertTrue(entity > 0);
+      assertTrue(!rejoined(recorder.events, entity), "rejoined before a reconnect");
 
-        game.reconnect();
-        assertTrue(eventually(recorder, () -> recorder.connections.get() == 2), "not back");
-        int before = recorder.own.size();
-        Own last = recorder.own.get(before - 1);
-        assertTrue(eventually(recorder, () -> recorder.own.size() >= before + 30),
-            "no snapshots after the reconnect");
-        assertNotEquals(firstPort, game.localPort());
-        assertEquals(1, recorder.reconnects.size());
-        assertEquals(null, recorder.reconnects.get(0), "asked by the app");
-        assertTrue(eventually(recorder, () -> rejoined(recorder.events, entity)),
-            "no PlayerJoined{reconnected} for entity " + entity + ": " + recorder.events);
-        Own after = recorder.own.get(recorder.own.size() - 1);
-        assertEquals(entity, after.entity, "the same entity");
-        double moved = Math.hypot(after.x - last.x, after.z - last.z);
-        assertTrue(moved < 0.5, "the entity moved " + moved + " m: not where it stood");
-        assertTrue(game.isOpen());
-        assertEquals(1, recorder.disconnected.getCount(), "ended: " + recorder.reason);
+      game.reconnect();
+      assertTrue(eventually(recorder, () -> recorder.connections.get() == 2), "not back");
+      int before = recorder.own.size();
+      Own last = recorder.own.get(before - 1);
+      assertTrue(eventually(recorder, () -> recorder.own.size() >= before + 30),
+          "no snapshots after the reconnect");
+      assertNotEquals(firstPort, game.localPort());
+      assertEquals(1, recorder.reconnects.size());
+      assertEquals(null, recorder.reconnects.get(0), "asked by the app");
+      assertTrue(eventually(recorder, () -> rejoined(recorder.events, entity)),
+          "no PlayerJoined{reconnected} for entity " + entity + ": " + recorder.events);
+      Own after = recorder.own.get(recorder.own.size() - 1);
+      assertEquals(entity, after.entity, "the same entity");
+      double moved = Math.hypot(after.x - last.x, after.z - last.z);
+      assertTrue(moved < 0.5, "the entity moved " + moved + " m: not where it stood");
+      assertTrue(game.isOpen());
+      assertEquals(1, recorder.disconnected.getCount(), "ended: " + recorder.reason);
 
-        game.close();
-        assertEquals(DisconnectReason.REQUESTED, game.disconnectReason());
-      } finally {
-        client.close();
-      }
-      for (Thread thread : Thread.getAllStackTraces().keySet()) {
-        assertTrue(!thread.isAlive() || !thread.getName().equals("ricochet-game"), "left behind");
-      }
+      game.close();
+      assertEquals(DisconnectReason.REQUESTED, game.disconnectReason());
+    } finally {
+      client.close();
+    }
+    for (Thread thread : Thread.getAllStackTraces().keySet()) {
+      assertTrue(!thread.isAlive() || !thread.getName().equals("ricochet-game"), "left behind");
     }
   }
 }

@@ -7,6 +7,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import static org.junit.jupiter.api.Assumptions.assumeTrue;
 
 import io.ricochet.client.core.predict.Predictor;
+import io.ricochet.client.testing.RealServer;
 import io.ricochet.client.testing.ServerProcess;
 import java.util.List;
 import java.util.concurrent.CopyOnWriteArrayList;
@@ -14,6 +15,7 @@ import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.Timeout;
+import org.junit.jupiter.api.extension.RegisterExtension;
 
 /**
  * Prediction against the real server on loopback, in the foundry map (planes, boxes and triangle
@@ -24,6 +26,16 @@ import org.junit.jupiter.api.Timeout;
  */
 @Timeout(value = 90, unit = TimeUnit.SECONDS)
 class PredictionPlayTest {
+  /** One match of foundry (planes, boxes and meshes), two minutes long. */
+  @RegisterExtension
+  final RealServer realServer = RealServer.starting(() -> {
+    String source = System.getProperty("ricochet.source_dir", ".");
+    return new ServerProcess("count = 1\nmax_players = 4\nmaps = [\"" + source
+            + "/server/maps/foundry.toml\"]\nseed = 3\nwarmup_s = 0\nfrag_limit = 0\n"
+            + "min_players = 1\ntime_limit_s = 120\n",
+        "", ClientTesting.FAST_ACCOUNTS, ClientTesting.WAIT_MS);
+  });
+
   private static final double CLEAN_LINK_P99_M = 0.002;
   private static final long WAIT_MS = ClientTesting.WAIT_MS;
 
@@ -83,57 +95,51 @@ class PredictionPlayTest {
 
   @Test
   void predictionErrorOnACleanLinkIsWithinTwoMillimetres() throws Exception {
-    String source = System.getProperty("ricochet.source_dir", ".");
-    String matches = "count = 1\nmax_players = 4\nmaps = [\"" + source
-        + "/server/maps/foundry.toml\"]\nseed = 3\nwarmup_s = 0\nfrag_limit = 0\n"
-        + "min_players = 1\ntime_limit_s = 120\n";
     Recorder recorder = new Recorder();
-    try (ServerProcess server =
-             new ServerProcess(matches, "", ClientTesting.FAST_ACCOUNTS, WAIT_MS)) {
-      RicochetClient client = ClientTesting.signedIn(server, "java_predictor");
-      try {
-        long matchId = await(client.listMatches()).get(0).matchId();
-        GameConnection game = await(client.joinMatch(matchId, recorder));
-        assertTrue(recorder.firstPrediction.await(WAIT_MS, TimeUnit.MILLISECONDS),
-            "never predicted: " + game.stats());
-        // Run, turn while running, strafe, jump, stop: 40 phases of 250 ms (paced, not waited on).
-        float yaw = 0;
-        for (int phase = 0; phase < 40; ++phase) {
-          switch (phase % 8) {
-            case 0:
-              game.setInput(0f, 1f, yaw, 0f, 0, 0);
-              break;
-            case 1:
-              yaw += 0.8f;
-              game.setInput(0f, 1f, yaw, 0f, 0, 0);
-              break;
-            case 2:
-              game.setInput(1f, 0.5f, yaw, 0f, GameConnection.BUTTON_JUMP, 0);
-              break;
-            case 3:
-              game.setInput(0f, 0f, yaw, 0f, 0, 0);
-              break;
-            case 4:
-              yaw -= 2.1f;
-              game.setInput(-1f, 1f, yaw, 0f, 0, 0);
-              break;
-            case 5:
-              game.setInput(0f, -1f, yaw, 0f, GameConnection.BUTTON_JUMP, 0);
-              break;
-            case 6:
-              game.setInput(0.3f, 0.2f, yaw, 0f, 0, 0);
-              break;
-            default:
-              game.setInput(0f, 0f, yaw + 3f, 0f, 0, 0);
-              break;
-          }
-          Thread.sleep(250);
+    ServerProcess server = realServer.get();
+    RicochetClient client = ClientTesting.signedIn(server, "java_predictor");
+    try {
+      long matchId = await(client.listMatches()).get(0).matchId();
+      GameConnection game = await(client.joinMatch(matchId, recorder));
+      assertTrue(recorder.firstPrediction.await(WAIT_MS, TimeUnit.MILLISECONDS),
+          "never predicted: " + game.stats());
+      // Run, turn while running, strafe, jump, stop: 40 phases of 250 ms (paced, not waited on).
+      float yaw = 0;
+      for (int phase = 0; phase < 40; ++phase) {
+        switch (phase % 8) {
+          case 0:
+            game.setInput(0f, 1f, yaw, 0f, 0, 0);
+            break;
+          case 1:
+            yaw += 0.8f;
+            game.setInput(0f, 1f, yaw, 0f, 0, 0);
+            break;
+          case 2:
+            game.setInput(1f, 0.5f, yaw, 0f, GameConnection.BUTTON_JUMP, 0);
+            break;
+          case 3:
+            game.setInput(0f, 0f, yaw, 0f, 0, 0);
+            break;
+          case 4:
+            yaw -= 2.1f;
+            game.setInput(-1f, 1f, yaw, 0f, 0, 0);
+            break;
+          case 5:
+            game.setInput(0f, -1f, yaw, 0f, GameConnection.BUTTON_JUMP, 0);
+            break;
+          case 6:
+            game.setInput(0.3f, 0.2f, yaw, 0f, 0, 0);
+            break;
+          default:
+            game.setInput(0f, 0f, yaw + 3f, 0f, 0, 0);
+            break;
         }
-        Thread.sleep(1200); // one more stats period after the last input
-        game.close();
-      } finally {
-        client.close();
+        Thread.sleep(250);
       }
+      Thread.sleep(1200); // one more stats period after the last input
+      game.close();
+    } finally {
+      client.close();
     }
     int samples = 0;
     int cleanPeriods = 0;

@@ -13,7 +13,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import io.ricochet.client.core.control.ControlCloseReason;
 import io.ricochet.client.core.control.ControlState;
-import io.ricochet.client.testing.ServerProcess;
+import io.ricochet.client.testing.RealServer;
 import java.util.List;
 import java.util.concurrent.ArrayBlockingQueue;
 import java.util.concurrent.BlockingQueue;
@@ -21,27 +21,19 @@ import java.util.concurrent.CompletableFuture;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
 import java.util.concurrent.TimeUnit;
-import org.junit.jupiter.api.AfterAll;
-import org.junit.jupiter.api.BeforeAll;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.extension.RegisterExtension;
 
-/** The client against the real ricochet-server on 127.0.0.1: sign in, the directory, reconnects. */
+/**
+ * The client against the real ricochet-server.get() on 127.0.0.1: sign in, the directory,
+ * reconnects.
+ */
 class RicochetClientTest {
-  private static ServerProcess server;
-
-  @BeforeAll
-  static void startServer() throws Exception {
-    server = ServerProcess.arena(ClientTesting.FAST_ACCOUNTS);
-  }
-
-  @AfterAll
-  static void stopServer() throws Exception {
-    if (server != null) server.close();
-  }
+  @RegisterExtension static final RealServer server = RealServer.arena(ClientTesting.FAST_ACCOUNTS);
 
   @Test
   void registerAndLoginWithTheRightPin() throws Exception {
-    try (RicochetClient client = pinned(server).build()) {
+    try (RicochetClient client = pinned(server.get()).build()) {
       assertEquals(ControlState.CLOSED, client.state(), "no connection before the first call");
       long accountId = await(client.register("Alice_1", "correct horse"));
       assertTrue(accountId > 0);
@@ -57,10 +49,10 @@ class RicochetClientTest {
 
   @Test
   void thePinWorksWithoutColonsAndInLowerCase() throws Exception {
-    String bare = server.fingerprint().replace(":", "").toLowerCase(java.util.Locale.ROOT);
+    String bare = server.get().fingerprint().replace(":", "").toLowerCase(java.util.Locale.ROOT);
     try (RicochetClient client = RicochetClient.builder()
                                      .host("127.0.0.1")
-                                     .controlPort(server.controlPort())
+                                     .controlPort(server.get().controlPort())
                                      .pinSha256(bare)
                                      .build()) {
       assertTrue(await(client.register("bare_pin", "password-1")) > 0);
@@ -69,7 +61,7 @@ class RicochetClientTest {
 
   @Test
   void theDirectoryGivesTypedResults() throws Exception {
-    try (RicochetClient client = signedIn(server, "directory")) {
+    try (RicochetClient client = signedIn(server.get(), "directory")) {
       List<MatchInfo> matches = await(client.listMatches());
       assertEquals(1, matches.size(), matches.toString());
       MatchInfo arena = matches.get(0);
@@ -89,7 +81,7 @@ class RicochetClientTest {
       assertEquals(ControlState.IN_MATCH, client.state());
       assertEquals(arena.matchId(), ticket.matchId());
       assertEquals("127.0.0.1", ticket.host());
-      assertEquals(server.gamePort(), ticket.udpPort());
+      assertEquals(server.get().gamePort(), ticket.udpPort());
       assertEquals(32, ticket.clientToServerKey().length);
       assertEquals(32, ticket.serverToClientKey().length);
       assertFalse(java.util.Arrays.equals(ticket.clientToServerKey(), ticket.serverToClientKey()));
@@ -133,7 +125,7 @@ class RicochetClientTest {
       }
     };
     int threadsBefore = ClientTesting.ricochetThreads();
-    try (RicochetClient client = pinned(server).listener(listener).build()) {
+    try (RicochetClient client = pinned(server.get()).listener(listener).build()) {
       await(client.register("roamer", "password-roamer"));
       Session first = await(client.login("roamer", "password-roamer"));
       client.dropConnectionForTest();
@@ -155,7 +147,7 @@ class RicochetClientTest {
 
   @Test
   void requestsBeforeTheLoginReplyAreRefusedLocally() throws Exception {
-    try (RicochetClient client = pinned(server).build()) {
+    try (RicochetClient client = pinned(server.get()).build()) {
       RicochetException refused = failure(client.listMatches());
       assertEquals(RicochetException.Kind.REFUSED_LOCALLY, refused.kind());
       assertEquals(io.ricochet.client.core.control.RequestRefusal.WRONG_STATE, refused.refusal());
@@ -174,7 +166,7 @@ class RicochetClientTest {
       }
     };
     try (RicochetClient client =
-             pinned(server).listenerExecutor(executor).listener(listener).build()) {
+             pinned(server.get()).listenerExecutor(executor).listener(listener).build()) {
       CompletableFuture<Long> registered = client.register("threads", "password-threads");
       CompletableFuture<Void> seen =
           registered.thenAccept(id -> threads.add("future:" + Thread.currentThread().getName()));
@@ -194,7 +186,7 @@ class RicochetClientTest {
 
   @Test
   void theDefaultListenerThreadIsNeitherTheCallersNorAnIoThread() throws Exception {
-    try (RicochetClient client = pinned(server).build()) {
+    try (RicochetClient client = pinned(server.get()).build()) {
       String thread = await(client.register("default_thread", "password-x")
                                 .thenApply(id -> Thread.currentThread().getName()));
       assertEquals("ricochet-listener", thread);
@@ -205,7 +197,7 @@ class RicochetClientTest {
   @Test
   void closeFromAListenerCallbackDoesNotWaitForItself() throws Exception {
     int before = ClientTesting.ricochetThreads();
-    RicochetClient client = pinned(server).build();
+    RicochetClient client = pinned(server.get()).build();
     CompletableFuture<Void> closedInside =
         client.register("self_closer", "password-self").thenAccept(id -> client.close());
     await(closedInside);
@@ -219,7 +211,7 @@ class RicochetClientTest {
   @Test
   void closeLeavesNoThreadBehindAndFailsWhatIsPending() throws Exception {
     int before = ClientTesting.ricochetThreads();
-    RicochetClient client = signedIn(server, "closer");
+    RicochetClient client = signedIn(server.get(), "closer");
     await(client.listMatches());
     assertTrue(ClientTesting.ricochetThreads() >= before + 3, "read, write and listener threads");
     CompletableFuture<List<MatchInfo>> pending = client.listMatches();

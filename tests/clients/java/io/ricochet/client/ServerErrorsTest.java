@@ -11,7 +11,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import io.ricochet.client.core.control.ControlCloseReason;
 import io.ricochet.client.core.control.ControlState;
-import io.ricochet.client.testing.ServerProcess;
+import io.ricochet.client.testing.RealServer;
 import io.ricochet.wire.ControlProto.ErrorCode;
 import java.util.ArrayList;
 import java.util.List;
@@ -20,28 +20,18 @@ import java.util.concurrent.BlockingQueue;
 import java.util.concurrent.CompletableFuture;
 import java.util.concurrent.ExecutionException;
 import java.util.concurrent.TimeUnit;
-import org.junit.jupiter.api.AfterAll;
-import org.junit.jupiter.api.BeforeAll;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.extension.RegisterExtension;
 
 /**
- * Every error code one client can drive the real server to over the control channel arrives as a
- * {@link RicochetException} of kind SERVER_ERROR with that code (or, for the server's closing
- * Error, as the {@link Disconnect}'s code). The server's limits that need their own configuration
- * are in {@link ServerLimitsTest}.
+ * Every error code one client can drive the real server.get() to over the control channel arrives
+ * as a
+ * {@link RicochetException} of kind SERVER_ERROR with that code (or, for the server.get()'s closing
+ * Error, as the {@link Disconnect}'s code). The server.get()'s limits that need their own
+ * configuration are in {@link ServerLimitsTest}.
  */
 class ServerErrorsTest {
-  private static ServerProcess server;
-
-  @BeforeAll
-  static void startServer() throws Exception {
-    server = ServerProcess.arena(ClientTesting.FAST_ACCOUNTS);
-  }
-
-  @AfterAll
-  static void stopServer() throws Exception {
-    if (server != null) server.close();
-  }
+  @RegisterExtension static final RealServer server = RealServer.arena(ClientTesting.FAST_ACCOUNTS);
 
   private static void assertServerError(ErrorCode code, CompletableFuture<?> call)
       throws Exception {
@@ -60,7 +50,7 @@ class ServerErrorsTest {
 
   @Test
   void registrationErrors() throws Exception {
-    try (RicochetClient client = pinned(server).build()) {
+    try (RicochetClient client = pinned(server.get()).build()) {
       assertServerError(ErrorCode.INVALID_USERNAME, client.register("ab", "password-ab"));
       assertServerError(ErrorCode.INVALID_USERNAME, client.register("spaces here", "password-1"));
       assertServerError(ErrorCode.INVALID_PASSWORD, client.register("short_pw", "1234567"));
@@ -72,7 +62,7 @@ class ServerErrorsTest {
 
   @Test
   void wrongCredentialsThenTheLoginRateLimit() throws Exception {
-    try (RicochetClient client = pinned(server).build()) {
+    try (RicochetClient client = pinned(server.get()).build()) {
       await(client.register("guessed", "password-guessed"));
       assertServerError(ErrorCode.WRONG_CREDENTIALS, client.login("nobody_here", "password-1"));
       for (int i = 0; i < 5; ++i) {
@@ -85,7 +75,7 @@ class ServerErrorsTest {
 
   @Test
   void unknownSessions() throws Exception {
-    try (RicochetClient client = pinned(server).build()) {
+    try (RicochetClient client = pinned(server.get()).build()) {
       StringBuilder never = new StringBuilder();
       for (int i = 0; i < 64; ++i) never.append('0');
       assertServerError(ErrorCode.UNKNOWN_SESSION, client.resume(never.toString()));
@@ -99,8 +89,8 @@ class ServerErrorsTest {
 
   @Test
   void directoryErrors() throws Exception {
-    try (RicochetClient first = signedIn(server, "creator");
-         RicochetClient second = signedIn(server, "latecomer")) {
+    try (RicochetClient first = signedIn(server.get(), "creator");
+         RicochetClient second = signedIn(server.get(), "latecomer")) {
       assertServerError(ErrorCode.MATCH_NOT_FOUND, first.joinMatch(987_654));
       assertServerError(ErrorCode.INVALID_REQUEST, first.createMatch("too many", 65, ""));
       assertServerError(ErrorCode.INVALID_REQUEST, first.createMatch("", 2, ""));
@@ -117,7 +107,7 @@ class ServerErrorsTest {
 
   @Test
   void chatWithoutAGameConnectionIsNotInMatch() throws Exception {
-    try (RicochetClient client = signedIn(server, "talker")) {
+    try (RicochetClient client = signedIn(server.get(), "talker")) {
       await(client.joinMatch(arenaId(client)));
       assertServerError(ErrorCode.NOT_IN_MATCH, client.chat("hello"));
       assertServerError(ErrorCode.INVALID_REQUEST, client.chat("bell\u0007"));
@@ -127,9 +117,9 @@ class ServerErrorsTest {
 
   @Test
   void aChatCrossingTheLeaveGetsWrongState() throws Exception {
-    try (RicochetClient client = signedIn(server, "racer")) {
+    try (RicochetClient client = signedIn(server.get(), "racer")) {
       await(client.joinMatch(arenaId(client)));
-      // Both are allowed locally (the state is InMatch until the leave's reply); the server
+      // Both are allowed locally (the state is InMatch until the leave's reply); the server.get()
       // handles them in order, so the chat finds the connection Authenticated.
       List<CompletableFuture<Void>> calls = new ArrayList<>();
       client.pipelineForTest(() -> {
@@ -146,7 +136,7 @@ class ServerErrorsTest {
 
   @Test
   void overTheRequestRateRequestsAreDropped() throws Exception {
-    try (RicochetClient client = signedIn(server, "flooder")) {
+    try (RicochetClient client = signedIn(server.get(), "flooder")) {
       List<CompletableFuture<List<MatchInfo>>> calls = new ArrayList<>();
       for (int i = 0; i < 80; ++i) calls.add(client.listMatches());
       int limited = 0;
@@ -176,10 +166,10 @@ class ServerErrorsTest {
         disconnects.add(disconnect);
       }
     };
-    try (RicochetClient client = pinned(server).listener(listener).build()) {
+    try (RicochetClient client = pinned(server.get()).listener(listener).build()) {
       await(client.register("mallory", "password-mallory"));
       Session session = await(client.login("mallory", "password-mallory"));
-      assertEquals(200, server.ban("mallory"));
+      assertEquals(200, server.get().ban("mallory"));
       Disconnect disconnect = disconnects.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
       assertNotNull(disconnect);
       assertEquals(ControlCloseReason.SERVER_ERROR, disconnect.reason());
