@@ -68,7 +68,8 @@ class MovementVectorsTest {
       }
     }
     assertTrue(ticks >= MIN_TICKS_PER_MAP, map + " has " + ticks + " ticks");
-    if (differences.length() > 0) fail("the Java prediction differs from the match's movement:\n" + differences);
+    if (differences.length() > 0)
+      fail("the Java prediction differs from the match's movement:\n" + differences);
   }
 
   private static List<Run> runsOf(List<Vectors.Record> records) {
@@ -88,7 +89,9 @@ class MovementVectorsTest {
     return runs;
   }
 
-  /** The run through CharacterMotion and SphereWorld, as Predictor steps: ground, velocity, step. */
+  /**
+   * The run through CharacterMotion and SphereWorld, as Predictor steps: ground, velocity, step.
+   */
   private static void checkBuildingBlocks(CollisionWorld world, int tickRateHz, Run run) {
     SphereWorld sphere = new SphereWorld(world);
     sphere.seed(run.startM, new float[3]);
@@ -98,16 +101,16 @@ class MovementVectorsTest {
     float[] velocity = new float[3];
     float[] position = new float[3];
     for (Vectors.Record tick : run.ticks) {
-      CharacterMotion.wish((int) tick.number("right"), (int) tick.number("forward"),
-          yaw(tick), wish);
+      CharacterMotion.wish(
+          (int) tick.number("right"), (int) tick.number("forward"), yaw(tick), wish);
       boolean grounded = sphere.grounded();
       if (grounded != (tick.number("grounded") == 1)) {
         sphere.position(position);
         fail(describe(run, tick, "ground test " + grounded, position, null));
       }
       sphere.velocity(velocity);
-      CharacterMotion.velocity(rules, wish, (tick.number("buttons") & 1) != 0, grounded, tickS,
-          velocity);
+      CharacterMotion.velocity(
+          rules, wish, (tick.number("buttons") & 1) != 0, grounded, tickS, velocity);
       sphere.setVelocity(velocity);
       sphere.step(tickS);
       sphere.position(position);
@@ -124,8 +127,8 @@ class MovementVectorsTest {
     float[] position = new float[3];
     float[] velocity = new float[3];
     for (Vectors.Record tick : run.ticks) {
-      predictor.apply(tick.number("t"), (int) tick.number("right"),
-          (int) tick.number("forward"), yaw(tick), (int) tick.number("buttons"));
+      predictor.apply(tick.number("t"), (int) tick.number("right"), (int) tick.number("forward"),
+          yaw(tick), (int) tick.number("buttons"));
       predictor.predicted(position, velocity);
       expectBits(run, tick, position, velocity);
     }
