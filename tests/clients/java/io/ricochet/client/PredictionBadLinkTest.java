@@ -71,8 +71,8 @@ class PredictionBadLinkTest {
       lastInputSequence = snapshot.lastInputSequence();
       int own = snapshot.indexOf(snapshot.yourEntityId());
       if (own >= 0) {
-        float[] now = {snapshot.positionM(own, 0), snapshot.positionM(own, 1),
-            snapshot.positionM(own, 2)};
+        float[] now = {
+            snapshot.positionM(own, 0), snapshot.positionM(own, 1), snapshot.positionM(own, 2)};
         if (previous != null) {
           double sum = 0;
           for (int a = 0; a < 3; ++a) sum += (now[a] - previous[a]) * (now[a] - previous[a]);
@@ -110,9 +110,9 @@ class PredictionBadLinkTest {
             "the server's collision world of arena differs from tests/vectors/movement_arena.txt");
         // The same ticket, sent to the relay's port instead of the server's.
         String[] why = new String[1];
-        JoinTicket viaRelay = JoinTicket.of("127.0.0.1",
-            direct.reply().toBuilder().setUdpPort(relay.port()).build(), direct.receivedAtMs(),
-            why);
+        JoinTicket viaRelay =
+            JoinTicket.of("127.0.0.1", direct.reply().toBuilder().setUdpPort(relay.port()).build(),
+                direct.receivedAtMs(), why);
         assertNotNull(viaRelay, why[0]);
         GameConnection game = await(client.connectGame(viaRelay, recorder));
         assertTrue(recorder.firstPrediction.await(WAIT_MS, TimeUnit.MILLISECONDS),
@@ -197,8 +197,8 @@ class PredictionBadLinkTest {
             + "%.4f m, %d samples, %d inputs off tick, %d resets; %d snapshots applied over %d "
             + "ticks (%.2f); travelled %.1f m; relay up: %s; down: %s",
         last.predictionErrorRecentP99M(), BAD_LINK_P99_BOUND_M, worstMax, samples, offTick,
-        last.predictionResets(), recorder.snapshots, ticks, applied, recorder.travelledM,
-        relay.up, relay.down);
+        last.predictionResets(), recorder.snapshots, ticks, applied, recorder.travelledM, relay.up,
+        relay.down);
     System.out.println(summary);
     System.out.println("per stats period:" + periods);
     // It still plays: snapshots keep coming, the player moves, its inputs reach the server.

@@ -64,7 +64,8 @@ public final class BadLinkRelay implements AutoCloseable {
   private final DatagramChannel back; // connected to the server
   private final Selector selector;
   private final PriorityQueue<InFlight> queue = new PriorityQueue<>(256,
-      (a, b) -> a.dueNs != b.dueNs ? Long.compare(a.dueNs, b.dueNs) : Long.compare(a.order, b.order));
+      (a, b)
+          -> a.dueNs != b.dueNs ? Long.compare(a.dueNs, b.dueNs) : Long.compare(a.order, b.order));
   private final Thread thread;
   private volatile boolean running = true;
   private volatile Throwable failure;
