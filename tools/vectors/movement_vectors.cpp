@@ -16,7 +16,8 @@
 ///     A new run: the player's sphere is created at rest at V, its spawn.
 ///   tick run=NAME t=N right=R forward=F yaw=F32 buttons=B grounded=G position=V velocity=V
 ///     Tick N (from 1) of the run: the wire Input's move_right R and move_forward F (steps of
-///     1/127), yaw (F32: its IEEE bits, 4 bytes big-endian) and buttons B (bit 0 jump); G is 1
+///     1/127), yaw (F32: its IEEE bits, 4 bytes big-endian; one whose sine and cosine every
+///     library rounds alike, portable_yaw()) and buttons B (bit 0 jump); G is 1
 ///     when is_grounded() held before the step (the ground the movement rules used), 0 when
 ///     not; the position (m) and velocity (m/s) after the step.
 /// V is three floats x, y, z, each its IEEE bits as 4 bytes big-endian (24 hex digits).
@@ -99,10 +100,7 @@ const std::vector<MapRuns>& scripts() {
            // then stopping by friction.
            {"box_edge_corner",
             {4.6f, 0.45f, 6.75f},
-            {{60, 0, 127, -90},
-             {190, 0, 127, -18},
-             {30, 0, 127, -18, 0, true},
-             {40, 0, 0, -18}}},
+            {{60, 0, 127, -90}, {190, 0, 127, -18}, {30, 0, 127, -18, 0, true}, {40, 0, 0, -18}}},
        }},
       {"foundry",
        {
@@ -126,19 +124,50 @@ const std::vector<MapRuns>& scripts() {
             {12, 0.45f, -14},
             {{45, 0, 127, -90}, {30, 0, 127, -90, 0, true}, {120, 0, 127, -90, 3}, {20, 0, 0, 0}}},
            // Off the ground slab's edge into the pit, running across it against the far wall.
-           {"pit_edge",
-            {0, 0.45f, -8},
-            {{40, 0, 127, 180}, {60, 30, 127, 180}, {20, 0, 0, 180}}},
+           {"pit_edge", {0, 0.45f, -8}, {{40, 0, 127, 180}, {60, 30, 127, 180}, {20, 0, 0, 180}}},
        }},
   };
   return kScripts;
+}
+
+/// Whether `value` (a double sine or cosine) lies within a tenth of a float ulp of a float, so
+/// that any single-precision sine or cosine with an error under 0.4 ulp gives that float.
+bool far_from_rounding_boundary(double value) {
+  const float nearest = static_cast<float>(value);
+  const double ulp =
+      static_cast<double>(std::nextafter(std::fabs(nearest), INFINITY)) - std::fabs(nearest);
+  return std::fabs(value - nearest) <= 0.1 * ulp;
+}
+
+/// The float nearest to `yaw_rad` (a few ulps away at most) whose sine and cosine are far from a
+/// float rounding boundary. glibc's sinf and cosf are not correctly rounded (about 1 % of yaws
+/// in [0.001, 2 pi] give another float than the double sin rounded once, and glibc picks an FMA or
+/// an SSE2 variant by CPU); on these yaws every C library and Java's Math agree, so the vectors
+/// are the same on every machine and a client can match them bit for bit.
+float portable_yaw(float yaw_rad) {
+  float up = yaw_rad, down = yaw_rad;
+  for (int k = 0; k < 4096; ++k) {
+    for (const float yaw : {up, down}) {
+      const double exact = yaw;
+      if (far_from_rounding_boundary(std::sin(exact)) &&
+          far_from_rounding_boundary(std::cos(exact)) &&
+          std::sin(yaw) == static_cast<float>(std::sin(exact)) &&
+          std::cos(yaw) == static_cast<float>(std::cos(exact))) {
+        return yaw;
+      }
+    }
+    up = std::nextafter(up, INFINITY);
+    down = std::nextafter(down, -INFINITY);
+  }
+  throw std::runtime_error("movement vectors: no portable yaw near " + std::to_string(yaw_rad));
 }
 
 std::string float_hex(float value) {
   const auto bits = std::bit_cast<std::uint32_t>(value);
   static constexpr char kDigits[] = "0123456789abcdef";
   std::string out(8, '0');
-  for (int k = 0; k < 8; ++k) out[static_cast<std::size_t>(k)] = kDigits[(bits >> (28 - 4 * k)) & 15];
+  for (int k = 0; k < 8; ++k)
+    out[static_cast<std::size_t>(k)] = kDigits[(bits >> (28 - 4 * k)) & 15];
   return out;
 }
 
@@ -216,8 +245,10 @@ void write_run(const server::Map& map, const Run& run, VectorFile& file) {
   physics::World world = match_world(map);
   const physics::Vec3 start(run.start_m[0], run.start_m[1], run.start_m[2]);
   const physics::BodyId body = world.create_body(server::player_body_def(start)).value();
-  file.add(Record("run").word("map", map.name).word("name", run.name).word("position",
-                                                                           vector_hex(start)));
+  file.add(Record("run")
+               .word("map", map.name)
+               .word("name", run.name)
+               .word("position", vector_hex(start)));
   std::uint32_t tick = 0;
   for (const Segment& segment : run.script) {
     for (int k = 0; k < segment.ticks; ++k) {
@@ -228,7 +259,7 @@ void write_run(const server::Map& map, const Run& run, VectorFile& file) {
       in.set_sequence(tick);
       in.set_move_right(segment.right);
       in.set_move_forward(segment.forward);
-      in.set_yaw(yaw_deg * std::numbers::pi_v<float> / 180);
+      in.set_yaw(portable_yaw(yaw_deg * std::numbers::pi_v<float> / 180));
       in.set_buttons(segment.jump ? static_cast<std::uint32_t>(proto::kButtonJump) : 0u);
       server::PlayerInput input;
       server::InputDrop drop{};
@@ -266,10 +297,11 @@ std::string write_movement(const char* map_name) {
     VectorFile file(std::string("movement_") + map_name,
                     "one player's movement, tick by tick, as the match computes it "
                     "(tools/vectors/movement_vectors.cpp)");
-    file.add(Record("world")
-                 .word("map", map.name)
-                 .number("tick_hz", kTickRateHz)
-                 .bytes("bytes", collision_world(map, server::MovementConfig{}).SerializeAsString()));
+    file.add(
+        Record("world")
+            .word("map", map.name)
+            .number("tick_hz", kTickRateHz)
+            .bytes("bytes", collision_world(map, server::MovementConfig{}).SerializeAsString()));
     for (const Run& run : runs.runs) write_run(map, run, file);
     return file.text();
   }
