@@ -57,7 +57,7 @@ class MovementVectorsTest {
     List<Run> runs = runsOf(records);
     assertTrue(runs.size() >= 4, map + " has " + runs.size() + " runs");
     int ticks = 0;
-    StringBuilder differences = new StringBuilder();
+    StringBuilder differences = new StringBuilder(); // each run's first, all runs checked
     for (Run run : runs) {
       ticks += run.ticks.size();
       try {
