@@ -10,6 +10,8 @@ std::string write_game_packets_vectors();
 std::string write_control_session_vectors();
 std::string write_snapshots_spheres901_vectors();
 std::string write_snapshots_players64_vectors();
+std::string write_movement_arena_vectors();
+std::string write_movement_foundry_vectors();
 
 std::span<const VectorSet> vector_sets() {
   static constexpr std::array kSets = {
@@ -18,6 +20,8 @@ std::span<const VectorSet> vector_sets() {
       VectorSet{"control_session", &write_control_session_vectors},
       VectorSet{"snapshots_spheres901", &write_snapshots_spheres901_vectors},
       VectorSet{"snapshots_players64", &write_snapshots_players64_vectors},
+      VectorSet{"movement_arena", &write_movement_arena_vectors},
+      VectorSet{"movement_foundry", &write_movement_foundry_vectors},
   };
   return kSets;
 }

@@ -3,8 +3,9 @@ package io.ricochet.client.core.predict;
 /**
  * The movement rules of PROTOCOL.md (the physics core's character_motion.cpp and the server's
  * conversion of an Input, proto's stick_of), in single precision with the C++ operations in the
- * same order, so a prediction matches the server's bits. Stateless; vectors are float[3] (x, y,
- * z) written in place; nothing is allocated.
+ * same order (Eigen's x + (y + z) for dot products and norms), so a prediction matches the
+ * server's bits. Stateless; vectors are float[3] (x, y, z) written in place; nothing is
+ * allocated.
  */
 public final class CharacterMotion {
   /** Steps of a full move along one axis of an Input. */
@@ -33,7 +34,7 @@ public final class CharacterMotion {
     float x = -sinYaw * forward + cosYaw * right;
     float y = 0f * forward + 0f * right;
     float z = -cosYaw * forward + -sinYaw * right;
-    float length = (float) Math.sqrt(x * x + y * y + z * z);
+    float length = (float) Math.sqrt(x * x + (y * y + z * z));
     if (length > 1e-6f) {
       wish[0] = x / length;
       wish[1] = y / length;
@@ -69,7 +70,7 @@ public final class CharacterMotion {
 
   private static void accelerate(
       float[] v, float[] direction, float wishSpeed, float acceleration, float dtS) {
-    float along = v[0] * direction[0] + v[1] * direction[1] + v[2] * direction[2];
+    float along = v[0] * direction[0] + (v[1] * direction[1] + v[2] * direction[2]);
     float missing = wishSpeed - along;
     if (missing <= 0) return;
     float gain = Math.min(acceleration * wishSpeed * dtS, missing);

@@ -64,7 +64,7 @@ public final class CollisionWorld {
     for (int i = 0; i < planeCount; ++i) {
       WorldProto.CollisionPlane plane = in.getPlanes(i);
       float x = plane.getNormal(0), y = plane.getNormal(1), z = plane.getNormal(2);
-      float norm = (float) Math.sqrt(x * x + y * y + z * z);
+      float norm = (float) Math.sqrt(x * x + (y * y + z * z));
       planes[4 * i] = x / norm;
       planes[4 * i + 1] = y / norm;
       planes[4 * i + 2] = z / norm;
@@ -223,7 +223,7 @@ public final class CollisionWorld {
   }
 
   private static float length(float x, float y, float z) {
-    return (float) Math.sqrt(x * x + y * y + z * z);
+    return (float) Math.sqrt(x * x + (y * y + z * z));
   }
 
   /** Eigen's Vector4f squared norm with SSE: (x² + z²) + (y² + w²). */

@@ -8,7 +8,9 @@ package io.ricochet.client.core.predict;
  * order: speculative contacts with planes, oriented boxes and two-sided triangles (the mesh's
  * internal-edge filter included), gravity by semi-implicit Euler, sequential impulses along the
  * contact normals, then the move. The ground test is the core's is_grounded: a sphere 2 cm
- * smaller swept down by 2 cm + the probe.
+ * smaller swept down by 2 cm + the probe. Three-term sums that are Eigen reductions in the C++
+ * (dot products, norms, matrix times vector) add as x + (y + z), Eigen's order; the solver's
+ * normal velocity, written out in the C++, adds left to right.
  *
  * <p>Sans-IO and allocation-free once warm (contact arrays grow to the most contacts seen). Not
  * thread-safe. What differs from the C++: primitives are visited in their map order rather than
@@ -189,7 +191,7 @@ public final class SphereWorld {
     for (int i = 0; i < world.planeCount; ++i) {
       float[] p = world.planes;
       float separation =
-          (p[4 * i] * position[0] + p[4 * i + 1] * position[1] + p[4 * i + 2] * position[2])
+          (p[4 * i] * position[0] + (p[4 * i + 1] * position[1] + p[4 * i + 2] * position[2]))
           - p[4 * i + 3] - radius;
       if (separation < margin) {
         addContact(key(i, 0), p[4 * i], p[4 * i + 1], p[4 * i + 2], separation);
@@ -263,13 +265,13 @@ public final class SphereWorld {
     int mesh = world.triangleMesh[meshHitTriangle[edge]];
     float px = meshHitFeature[7 * edge], py = meshHitFeature[7 * edge + 1],
           pz = meshHitFeature[7 * edge + 2];
-    float tolerance = 1e-5f + 1e-6f * (float) Math.sqrt(px * px + py * py + pz * pz);
+    float tolerance = 1e-5f + 1e-6f * (float) Math.sqrt(px * px + (py * py + pz * pz));
     for (int h = 0; h < meshHits; ++h) {
       int t = meshHitTriangle[h];
       if (!meshHitOnFace[h] || world.triangleMesh[t] != mesh) continue;
       closestPointOnTriangle(px, py, pz, t, scratch);
       float dx = scratch[0] - px, dy = scratch[1] - py, dz = scratch[2] - pz;
-      if (dx * dx + dy * dy + dz * dz <= tolerance * tolerance) return true;
+      if (dx * dx + (dy * dy + dz * dz) <= tolerance * tolerance) return true;
     }
     return false;
   }
@@ -279,7 +281,7 @@ public final class SphereWorld {
     int at = 15 * b;
     for (int i = 0; i < 3; ++i) {
       float extent = Math.abs(s[at + 3 + 3 * i]) * s[at + 12]
-          + Math.abs(s[at + 4 + 3 * i]) * s[at + 13] + Math.abs(s[at + 5 + 3 * i]) * s[at + 14];
+          + (Math.abs(s[at + 4 + 3 * i]) * s[at + 13] + Math.abs(s[at + 5 + 3 * i]) * s[at + 14]);
       if (Math.abs(position[i] - s[at + i]) > extent + reach + 1e-3f) return false;
     }
     return true;
@@ -302,7 +304,7 @@ public final class SphereWorld {
     float dx = position[0] - s[at], dy = position[1] - s[at + 1], dz = position[2] - s[at + 2];
     float[] local = scratch;
     for (int i = 0; i < 3; ++i) { // rotationᵀ · d
-      local[i] = s[at + 3 + i] * dx + s[at + 6 + i] * dy + s[at + 9 + i] * dz;
+      local[i] = s[at + 3 + i] * dx + (s[at + 6 + i] * dy + s[at + 9 + i] * dz);
     }
     boolean outside = false;
     for (int i = 0; i < 3; ++i) {
@@ -312,7 +314,7 @@ public final class SphereWorld {
     }
     if (outside) {
       float nx = local[0] - clamped[0], ny = local[1] - clamped[1], nz = local[2] - clamped[2];
-      float dist = (float) Math.sqrt(nx * nx + ny * ny + nz * nz);
+      float dist = (float) Math.sqrt(nx * nx + (ny * ny + nz * nz));
       nx /= dist;
       ny /= dist;
       nz /= dist;
@@ -348,7 +350,7 @@ public final class SphereWorld {
   private void rotate(int at, float x, float y, float z, int to) {
     float[] s = world.boxes;
     for (int i = 0; i < 3; ++i) {
-      feature[to + i] = s[at + 3 + 3 * i] * x + s[at + 4 + 3 * i] * y + s[at + 5 + 3 * i] * z;
+      feature[to + i] = s[at + 3 + 3 * i] * x + (s[at + 4 + 3 * i] * y + s[at + 5 + 3 * i] * z);
     }
   }
 
@@ -361,7 +363,7 @@ public final class SphereWorld {
     float abx = v[a + 3] - v[a], aby = v[a + 4] - v[a + 1], abz = v[a + 5] - v[a + 2];
     float acx = v[a + 6] - v[a], acy = v[a + 7] - v[a + 1], acz = v[a + 8] - v[a + 2];
     float fx = aby * acz - abz * acy, fy = abz * acx - abx * acz, fz = abx * acy - aby * acx;
-    float faceLength = (float) Math.sqrt(fx * fx + fy * fy + fz * fz);
+    float faceLength = (float) Math.sqrt(fx * fx + (fy * fy + fz * fz));
     if (faceLength > 0) {
       fx /= faceLength;
       fy /= faceLength;
@@ -372,12 +374,12 @@ public final class SphereWorld {
       fz = 0;
     }
     float nx = position[0] - qx, ny = position[1] - qy, nz = position[2] - qz;
-    float dist = (float) Math.sqrt(nx * nx + ny * ny + nz * nz);
-    float along = fx * nx + fy * ny + fz * nz;
+    float dist = (float) Math.sqrt(nx * nx + (ny * ny + nz * nz));
+    float along = fx * nx + (fy * ny + fz * nz);
     float sx = nx - fx * along, sy = ny - fy * along, sz = nz - fz * along;
-    boolean onFace = sx * sx + sy * sy + sz * sz <= 1e-8f * (dist * dist) + 1e-12f;
+    boolean onFace = sx * sx + (sy * sy + sz * sz) <= 1e-8f * (dist * dist) + 1e-12f;
     float pointNorm = (float) Math.sqrt(
-        position[0] * position[0] + position[1] * position[1] + position[2] * position[2]);
+        position[0] * position[0] + (position[1] * position[1] + position[2] * position[2]));
     if (dist > 1e-12f * (1f + pointNorm)) {
       nx /= dist;
       ny /= dist;
@@ -407,13 +409,13 @@ public final class SphereWorld {
     float abx = bx - ax, aby = by - ay, abz = bz - az;
     float acx = cx - ax, acy = cy - ay, acz = cz - az;
     float apx = px - ax, apy = py - ay, apz = pz - az;
-    float d1 = abx * apx + aby * apy + abz * apz, d2 = acx * apx + acy * apy + acz * apz;
+    float d1 = abx * apx + (aby * apy + abz * apz), d2 = acx * apx + (acy * apy + acz * apz);
     if (d1 <= 0 && d2 <= 0) {
       set(out, ax, ay, az);
       return;
     }
     float bpx = px - bx, bpy = py - by, bpz = pz - bz;
-    float d3 = abx * bpx + aby * bpy + abz * bpz, d4 = acx * bpx + acy * bpy + acz * bpz;
+    float d3 = abx * bpx + (aby * bpy + abz * bpz), d4 = acx * bpx + (acy * bpy + acz * bpz);
     if (d3 >= 0 && d4 <= d3) {
       set(out, bx, by, bz);
       return;
@@ -425,7 +427,7 @@ public final class SphereWorld {
       return;
     }
     float cpx = px - cx, cpy = py - cy, cpz = pz - cz;
-    float d5 = abx * cpx + aby * cpy + abz * cpz, d6 = acx * cpx + acy * cpy + acz * cpz;
+    float d5 = abx * cpx + (aby * cpy + abz * cpz), d6 = acx * cpx + (acy * cpy + acz * cpz);
     if (d6 >= 0 && d5 <= d6) {
       set(out, cx, cy, cz);
       return;
@@ -454,7 +456,7 @@ public final class SphereWorld {
   }
 
   private static float dot(float[] a, float[] b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    return a[0] * b[0] + (a[1] * b[1] + a[2] * b[2]);
   }
 
   // --- the ground probe: sweeps of a sphere from the position along (0, dy, 0) ---
@@ -472,8 +474,8 @@ public final class SphereWorld {
     float[] p = world.planes;
     float nx = p[4 * i], ny = p[4 * i + 1], nz = p[4 * i + 2];
     float start =
-        (nx * position[0] + ny * position[1] + nz * position[2]) - p[4 * i + 3] - castRadius;
-    float speed = nx * 0f + ny * dy + nz * 0f;
+        (nx * position[0] + (ny * position[1] + nz * position[2])) - p[4 * i + 3] - castRadius;
+    float speed = nx * 0f + (ny * dy + nz * 0f);
     if (start < 0 || speed >= 0) return false;
     float t = -start / speed;
     if (t > 1) return false;
@@ -487,8 +489,8 @@ public final class SphereWorld {
     float[] o = castOrigin;
     float[] d = castPath;
     for (int i = 0; i < 3; ++i) {
-      o[i] = s[at + 3 + i] * rx + s[at + 6 + i] * ry + s[at + 9 + i] * rz;
-      d[i] = s[at + 3 + i] * 0f + s[at + 6 + i] * dy + s[at + 9 + i] * 0f;
+      o[i] = s[at + 3 + i] * rx + (s[at + 6 + i] * ry + s[at + 9 + i] * rz);
+      d[i] = s[at + 3 + i] * 0f + (s[at + 6 + i] * dy + s[at + 9 + i] * 0f);
     }
     float enter = 0, leave = 1;
     for (int axis = 0; axis < 3; ++axis) {
@@ -552,25 +554,25 @@ public final class SphereWorld {
   private boolean recordLocal(int at, float t, float[] n) {
     if (at < 0) return record(t, n[0], n[1], n[2]);
     float[] s = world.boxes;
-    float x = s[at + 3] * n[0] + s[at + 4] * n[1] + s[at + 5] * n[2];
-    float y = s[at + 6] * n[0] + s[at + 7] * n[1] + s[at + 8] * n[2];
-    float z = s[at + 9] * n[0] + s[at + 10] * n[1] + s[at + 11] * n[2];
+    float x = s[at + 3] * n[0] + (s[at + 4] * n[1] + s[at + 5] * n[2]);
+    float y = s[at + 6] * n[0] + (s[at + 7] * n[1] + s[at + 8] * n[2]);
+    float z = s[at + 9] * n[0] + (s[at + 10] * n[1] + s[at + 11] * n[2]);
     return record(t, x, y, z);
   }
 
   private boolean sweepPoint(float[] o, float[] d, float r, float[] c, int at) {
     float mx = o[0] - c[0], my = o[1] - c[1], mz = o[2] - c[2];
-    float cc = (mx * mx + my * my + mz * mz) - r * r;
+    float cc = (mx * mx + (my * my + mz * mz)) - r * r;
     if (cc <= 0) return false;
-    float a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    float b = mx * d[0] + my * d[1] + mz * d[2];
+    float a = d[0] * d[0] + (d[1] * d[1] + d[2] * d[2]);
+    float b = mx * d[0] + (my * d[1] + mz * d[2]);
     if (b >= 0 || a <= 0) return false;
     float disc = b * b - a * cc;
     if (disc < 0) return false;
     float t = (-b - (float) Math.sqrt(disc)) / a;
     if (!(t >= 0 && t <= 1)) return false;
     float nx = o[0] + d[0] * t - c[0], ny = o[1] + d[1] * t - c[1], nz = o[2] + d[2] * t - c[2];
-    float len = (float) Math.sqrt(nx * nx + ny * ny + nz * nz);
+    float len = (float) Math.sqrt(nx * nx + (ny * ny + nz * nz));
     setNormal(len, nx, ny, nz);
     return recordLocal(at, t, hitNormal);
   }
@@ -579,19 +581,19 @@ public final class SphereWorld {
     boolean found = sweepPoint(o, d, r, p, at);
     found = sweepPoint(o, d, r, q, at) || found;
     float ax = q[0] - p[0], ay = q[1] - p[1], az = q[2] - p[2];
-    float axisLen2 = ax * ax + ay * ay + az * az;
+    float axisLen2 = ax * ax + (ay * ay + az * az);
     if (axisLen2 <= 0) return found;
     float mx = o[0] - p[0], my = o[1] - p[1], mz = o[2] - p[2];
-    float ma = (mx * ax + my * ay + mz * az) / axisLen2;
-    float da = (d[0] * ax + d[1] * ay + d[2] * az) / axisLen2;
+    float ma = (mx * ax + (my * ay + mz * az)) / axisLen2;
+    float da = (d[0] * ax + (d[1] * ay + d[2] * az)) / axisLen2;
     float mpx = mx - ax * ma, mpy = my - ay * ma, mpz = mz - az * ma;
     float dpx = d[0] - ax * da, dpy = d[1] - ay * da, dpz = d[2] - az * da;
-    float a = dpx * dpx + dpy * dpy + dpz * dpz;
-    float b = mpx * dpx + mpy * dpy + mpz * dpz;
-    float cc = (mpx * mpx + mpy * mpy + mpz * mpz) - r * r;
+    float a = dpx * dpx + (dpy * dpy + dpz * dpz);
+    float b = mpx * dpx + (mpy * dpy + mpz * dpz);
+    float cc = (mpx * mpx + (mpy * mpy + mpz * mpz)) - r * r;
     if (a <= 0 || b >= 0) return found;
     if (cc <= 0) {
-      float s = (mx * ax + my * ay + mz * az) / axisLen2;
+      float s = (mx * ax + (my * ay + mz * az)) / axisLen2;
       if (s >= 0 && s <= 1) return found;
     }
     float disc = b * b - a * cc;
@@ -599,10 +601,10 @@ public final class SphereWorld {
     float t = (-b - (float) Math.sqrt(disc)) / a;
     if (t < 0 || t > 1) return found;
     float cx = o[0] + d[0] * t, cy = o[1] + d[1] * t, cz = o[2] + d[2] * t;
-    float s = ((cx - p[0]) * ax + (cy - p[1]) * ay + (cz - p[2]) * az) / axisLen2;
+    float s = ((cx - p[0]) * ax + ((cy - p[1]) * ay + (cz - p[2]) * az)) / axisLen2;
     if (s < 0 || s > 1) return found;
     float nx = cx - (p[0] + ax * s), ny = cy - (p[1] + ay * s), nz = cz - (p[2] + az * s);
-    float len = (float) Math.sqrt(nx * nx + ny * ny + nz * nz);
+    float len = (float) Math.sqrt(nx * nx + (ny * ny + nz * nz));
     setNormal(len, nx, ny, nz);
     return recordLocal(at, t, hitNormal) || found;
   }
@@ -623,18 +625,18 @@ public final class SphereWorld {
     float abx = b[0] - a[0], aby = b[1] - a[1], abz = b[2] - a[2];
     float acx = c[0] - a[0], acy = c[1] - a[1], acz = c[2] - a[2];
     float wx = aby * acz - abz * acy, wy = abz * acx - abx * acz, wz = abx * acy - aby * acx;
-    float windingLen = (float) Math.sqrt(wx * wx + wy * wy + wz * wz);
+    float windingLen = (float) Math.sqrt(wx * wx + (wy * wy + wz * wz));
     boolean found = false;
     if (windingLen > 0) {
       float nx = wx / windingLen, ny = wy / windingLen, nz = wz / windingLen;
-      float side = nx * (o[0] - a[0]) + ny * (o[1] - a[1]) + nz * (o[2] - a[2]);
+      float side = nx * (o[0] - a[0]) + (ny * (o[1] - a[1]) + nz * (o[2] - a[2]));
       if (side < 0) {
         nx = -nx;
         ny = -ny;
         nz = -nz;
         side = -side;
       }
-      float approach = nx * d[0] + ny * d[1] + nz * d[2];
+      float approach = nx * d[0] + (ny * d[1] + nz * d[2]);
       if (side > castRadius && approach < 0) {
         float tt = (castRadius - side) / approach;
         if (tt >= 0 && tt <= 1) {
@@ -670,6 +672,6 @@ public final class SphereWorld {
     float ex = q[0] - p[0], ey = q[1] - p[1], ez = q[2] - p[2];
     float tx = x - p[0], ty = y - p[1], tz = z - p[2];
     float cx = ey * tz - ez * ty, cy = ez * tx - ex * tz, cz = ex * ty - ey * tx;
-    return cx * wx + cy * wy + cz * wz;
+    return cx * wx + (cy * wy + cz * wz);
   }
 }
