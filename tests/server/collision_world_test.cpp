@@ -1,7 +1,7 @@
 // The collision world a join reply carries (collision_world.h): the map's shapes in the order
 // add_map_to_world() adds them, the player's body, gravity and the movement rules; a world too
 // large for the reply is left out.
-#include "collision_world.h"
+#include "ricochet/server/collision_world.h"
 
 #include <gtest/gtest.h>
 

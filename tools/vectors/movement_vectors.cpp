@@ -11,7 +11,7 @@
 /// physics step does to a predicting client's sphere) must reproduce every tick.
 ///   world map=NAME tick_hz=60 bytes=HEX
 ///     HEX: the wire::CollisionWorld a join reply of a match on this map carries (the same
-///     shapes in the same order as the physics world; server/src/net/collision_world.cpp).
+///     shapes in the same order as the physics world; server::collision_world()).
 ///   run map=NAME name=NAME position=V
 ///     A new run: the player's sphere is created at rest at V, its spawn.
 ///   tick run=NAME t=N right=R forward=F yaw=F32 buttons=B grounded=G position=V velocity=V
@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "ricochet/physics/world.h"
+#include "ricochet/server/collision_world.h"
 #include "ricochet/server/input_buffer.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/movement.h"
@@ -175,50 +176,6 @@ std::string vector_hex(const physics::Vec3& v) {
   return float_hex(v.x()) + float_hex(v.y()) + float_hex(v.z());
 }
 
-/// What a join reply carries for a match on `map` (server/src/net/collision_world.cpp, which is
-/// not reachable from tools; the Java test against the real server checks they agree).
-wire::CollisionWorld collision_world(const server::Map& map,
-                                     const server::MovementConfig& movement) {
-  wire::CollisionWorld world;
-  const auto put = [](const physics::Vec3& v, google::protobuf::RepeatedField<float>& out) {
-    for (int axis = 0; axis < 3; ++axis) out.Add(static_cast<float>(v[axis]));
-  };
-  if (map.floor_y_m) {
-    wire::CollisionPlane& floor = *world.add_planes();
-    put(physics::Vec3::UnitY(), *floor.mutable_normal());
-    floor.set_offset_m(*map.floor_y_m);
-  }
-  for (const server::MapBox& box : map.boxes) {
-    wire::CollisionBox& out = *world.add_boxes();
-    put(box.center_m, *out.mutable_center_m());
-    const physics::Quat q(
-        Eigen::AngleAxis<physics::Real>(physics::Real(box.yaw_rad), physics::Vec3::UnitY()));
-    for (const physics::Real c : {q.x(), q.y(), q.z(), q.w()}) {
-      out.add_orientation(static_cast<float>(c));
-    }
-    put(box.half_extents_m, *out.mutable_half_extents_m());
-  }
-  for (const server::MapMesh& mesh : map.meshes) {
-    wire::CollisionMesh& out = *world.add_meshes();
-    for (const physics::Vec3& vertex : mesh.vertices_m) put(vertex, *out.mutable_vertices_m());
-    out.mutable_indices()->Add(mesh.indices.begin(), mesh.indices.end());
-  }
-  const physics::BodyDef player = server::player_body_def(physics::Vec3::Zero());
-  world.set_player_radius_m(static_cast<float>(player.radius));
-  world.set_player_mass_kg(static_cast<float>(player.mass));
-  put(server::combat_world_def().gravity, *world.mutable_gravity_mps2());
-  wire::MovementRules& rules = *world.mutable_movement();
-  rules.set_max_speed_mps(movement.max_speed_mps);
-  rules.set_ground_acceleration(movement.ground_acceleration);
-  rules.set_air_acceleration(movement.air_acceleration);
-  rules.set_friction(movement.friction);
-  rules.set_stop_speed_mps(movement.stop_speed_mps);
-  rules.set_jump_speed_mps(movement.jump_speed_mps);
-  rules.set_ground_max_slope_deg(movement.ground_max_slope_deg);
-  rules.set_ground_probe_m(movement.ground_probe_m);
-  return world;
-}
-
 server::Map load(const char* name) {
   const std::string path = std::string(RICOCHET_MAPS_DIR) + "/" + name + ".toml";
   server::MapResult loaded = server::load_map_file(path);
@@ -301,7 +258,8 @@ std::string write_movement(const char* map_name) {
         Record("world")
             .word("map", map.name)
             .number("tick_hz", kTickRateHz)
-            .bytes("bytes", collision_world(map, server::MovementConfig{}).SerializeAsString()));
+            .bytes("bytes",
+                   server::collision_world(map, server::MovementConfig{})->SerializeAsString()));
     for (const Run& run : runs.runs) write_run(map, run, file);
     return file.text();
   }

@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include "collision_world.h"
 #include "ricochet/proto/chat_text.h"
 #include "ricochet/proto/connect_token.h"
+#include "ricochet/server/collision_world.h"
 #include "steady_time.h"
 
 namespace ricochet::server {
@@ -114,6 +114,12 @@ DirectoryResult<MatchSummary> MatchRegistry::open(const std::string& name, int m
       [this, id](EndedMatch ended) { match_ended(id, std::move(ended)); }, config_.recordings);
   std::shared_ptr<const wire::CollisionWorld> world =
       collision_world(maps_[map], match_config.movement);
+  if (!world) {
+    spdlog::warn(
+        "map {}: its collision world is over the {} bytes a join reply carries; clients of "
+        "its matches cannot predict (simplify the meshes)",
+        maps_[map].name, kMaxCollisionWorldBytes);
+  }
   const std::lock_guard lock(mutex_);
   const proto::TimeUs now = config_.clock();
   // Checked again: the registry may have closed or filled while the world was built.

@@ -17,8 +17,8 @@ namespace ricochet::server {
 /// channel's 64 KiB frame with the token and keys); clients then cannot predict.
 inline constexpr std::size_t kMaxCollisionWorldBytes = 56 * 1024;
 
-/// The world of `map` moved by `movement`; nullptr (logged) when it is over
-/// kMaxCollisionWorldBytes.
+/// The world of `map` moved by `movement`; nullptr when it is over kMaxCollisionWorldBytes (the
+/// caller says so: the match's clients cannot predict).
 std::shared_ptr<const wire::CollisionWorld> collision_world(const Map& map,
                                                             const MovementConfig& movement);
 

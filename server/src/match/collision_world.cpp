@@ -1,8 +1,6 @@
 /// A map's collision world for the join reply (collision_world.h).
 
-#include "collision_world.h"
-
-#include <spdlog/spdlog.h>
+#include "ricochet/server/collision_world.h"
 
 #include <Eigen/Geometry>
 
@@ -56,13 +54,7 @@ std::shared_ptr<const wire::CollisionWorld> collision_world(const Map& map,
   rules.set_jump_speed_mps(movement.jump_speed_mps);
   rules.set_ground_max_slope_deg(movement.ground_max_slope_deg);
   rules.set_ground_probe_m(movement.ground_probe_m);
-  if (const std::size_t bytes = world->ByteSizeLong(); bytes > kMaxCollisionWorldBytes) {
-    spdlog::warn(
-        "map {}: its collision world is {} bytes, over the {} a join reply carries; "
-        "clients of its matches cannot predict (simplify the meshes)",
-        map.name, bytes, kMaxCollisionWorldBytes);
-    return nullptr;
-  }
+  if (world->ByteSizeLong() > kMaxCollisionWorldBytes) return nullptr;
   return world;
 }
 
