@@ -480,6 +480,7 @@ public final class RicochetClient implements AutoCloseable {
     if (Thread.currentThread() != resumerThread) {
       try {
         resumer.awaitTermination(10, TimeUnit.SECONDS);
+        joinEnding(resumerThread);
       } catch (InterruptedException e) {
         interrupted = true;
       }
@@ -498,12 +499,21 @@ public final class RicochetClient implements AutoCloseable {
       if (Thread.currentThread() != listenerThread) {
         try {
           if (!ownedExecutor.awaitTermination(10, TimeUnit.SECONDS)) ownedExecutor.shutdownNow();
+          joinEnding(listenerThread);
         } catch (InterruptedException e) {
           interrupted = true;
         }
       }
     }
     if (interrupted) Thread.currentThread().interrupt();
+  }
+
+  /**
+   * Waits (at most 10 s) for a terminated executor's last thread to finish exiting: an executor
+   * is terminated a moment before its worker thread is no longer alive.
+   */
+  private static void joinEnding(Thread thread) throws InterruptedException {
+    if (thread != null) thread.join(10_000);
   }
 
   /** Drops the game connections that ended (called on the I/O thread of one as it ends). */

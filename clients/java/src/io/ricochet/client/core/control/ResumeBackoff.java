@@ -51,9 +51,11 @@ public final class ResumeBackoff {
   /**
    * Whether a signed-in connection that closed for {@code reason} (with the server's closing
    * {@code serverError} for {@link ControlCloseReason#SERVER_ERROR}, else anything) should be
-   * resumed: yes when the network or the server went away (lost, timed out, the server stopping
-   * or timing the connection out); no when the client closed it, the server banned the account or
-   * refused the client's bytes, or the client refused the server's (retrying would repeat it).
+   * resumed: yes when the network or the server went away (lost, a request timed out, the server
+   * stopping, a frame cut off mid-way); no when the client closed it, the server closed it as idle
+   * (the client sends no keep-alives: it chose to be closed; the next call connects again), the
+   * server banned the account or refused the client's bytes, or the client refused the server's
+   * (retrying would repeat it).
    */
   public static boolean worthResuming(ControlCloseReason reason, ErrorCode serverError) {
     switch (reason) {
@@ -61,8 +63,7 @@ public final class ResumeBackoff {
       case REQUEST_TIMEOUT:
         return true;
       case SERVER_ERROR:
-        return serverError == ErrorCode.SHUTTING_DOWN || serverError == ErrorCode.IDLE_TIMEOUT
-            || serverError == ErrorCode.FRAME_TIMEOUT || serverError == ErrorCode.LOGIN_TIMEOUT;
+        return serverError == ErrorCode.SHUTTING_DOWN || serverError == ErrorCode.FRAME_TIMEOUT;
       default:
         return false; // requested, or a protocol refusal either way
     }

@@ -172,6 +172,8 @@ class ResumeBackoffTest {
     assertTrue(
         ResumeBackoff.worthResuming(ControlCloseReason.SERVER_ERROR, ErrorCode.SHUTTING_DOWN));
     assertTrue(
+        ResumeBackoff.worthResuming(ControlCloseReason.SERVER_ERROR, ErrorCode.FRAME_TIMEOUT));
+    assertFalse(
         ResumeBackoff.worthResuming(ControlCloseReason.SERVER_ERROR, ErrorCode.IDLE_TIMEOUT));
     assertFalse(ResumeBackoff.worthResuming(ControlCloseReason.REQUESTED, none));
     assertFalse(
