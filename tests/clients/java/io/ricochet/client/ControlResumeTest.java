@@ -286,6 +286,10 @@ class ControlResumeTest {
       MatchInfo match = await(client.listMatches()).get(0);
       assertEquals(matchId, match.matchId());
       assertTrue(match.players() >= 1, match.toString());
+      // The resumed connection is signed in, not in the match: leave is refused there.
+      assertEquals(ControlState.AUTHENTICATED, client.state());
+      assertEquals(RequestRefusal.WRONG_STATE, failure(client.leave()).refusal());
+      assertTrue(game.isOpen());
       game.close();
     }
   }
