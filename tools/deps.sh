@@ -24,6 +24,7 @@ packages=(
   libprotobuf-java         # its messages' runtime (3.21.12, the same as protoc)
   libbcprov-java libbctls-java libbcutil-java  # its ChaCha20-Poly1305 and TLS 1.3 (Bouncy Castle)
   junit5                   # its tests
+  jq                       # tools/bench/java_decode.sh (its ratio lines and smoke test)
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
 if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then

@@ -31,8 +31,11 @@ import java.util.Map;
 final class ControlConnection {
   /** Gets the answer to one request. */
   interface ReplyHandler {
-    /** The reply (its body answers the request, or is an Error) arrived at {@code nowMs}. */
-    void onReply(ServerMessage message, long nowMs);
+    /**
+     * The reply (its body answers the request, or is an Error) arrived on {@code from} at {@code
+     * nowMs}.
+     */
+    void onReply(ControlConnection from, ServerMessage message, long nowMs);
 
     /** No reply will come. */
     void onFailure(RicochetException failure);
@@ -67,6 +70,7 @@ final class ControlConnection {
   private ControlTransport.Streams streams; // once TLS is up and pinned
   private ControlSession session; // once connected
   private boolean over;
+  private Disconnect disconnect; // how it ended, once over after TLS was up
 
   ControlConnection(
       ControlTransport transport, long requestTimeoutMs, long keepAliveMs, Callbacks callbacks) {
@@ -105,6 +109,11 @@ final class ControlConnection {
   /** Whether it is over (a new request needs a new connection). */
   synchronized boolean isOver() {
     return over;
+  }
+
+  /** How it ended once over, when TLS had come up; null before, or when it never connected. */
+  synchronized Disconnect disconnect() {
+    return disconnect;
   }
 
   /** Whether it is over and its threads have ended. */
@@ -257,7 +266,7 @@ final class ControlConnection {
       if (event instanceof ControlEvent.Reply) {
         ControlEvent.Reply reply = (ControlEvent.Reply) event;
         ReplyHandler handler = handlers.remove(reply.requestId());
-        if (handler != null) handler.onReply(reply.message(), nowMs());
+        if (handler != null) handler.onReply(this, reply.message(), nowMs());
       } else if (event instanceof ControlEvent.MatchResultsArrived) {
         callbacks.onMatchResults(((ControlEvent.MatchResultsArrived) event).results());
       } else if (event instanceof ControlEvent.Closed) {
@@ -267,7 +276,8 @@ final class ControlConnection {
         end(new RicochetException(
             requested ? RicochetException.Kind.CLOSED : RicochetException.Kind.DISCONNECTED, code,
             null, closed.detail()));
-        callbacks.onDisconnected(new Disconnect(closed.reason(), code, closed.detail()));
+        disconnect = new Disconnect(closed.reason(), code, closed.detail());
+        callbacks.onDisconnected(disconnect);
       }
     }
   }

@@ -2,9 +2,12 @@ package io.ricochet.client;
 
 import io.ricochet.client.core.control.ControlSession;
 import io.ricochet.client.core.control.ControlState;
+import io.ricochet.client.core.control.ResumeBackoff;
+import io.ricochet.client.core.control.ResumeState;
 import io.ricochet.wire.ControlProto.ChatRequest;
 import io.ricochet.wire.ControlProto.ClientMessage;
 import io.ricochet.wire.ControlProto.CreateMatchRequest;
+import io.ricochet.wire.ControlProto.ErrorCode;
 import io.ricochet.wire.ControlProto.JoinMatchRequest;
 import io.ricochet.wire.ControlProto.LeaveMatchRequest;
 import io.ricochet.wire.ControlProto.ListMatchesRequest;
@@ -16,6 +19,7 @@ import io.ricochet.wire.ControlProto.ResumeRequest;
 import io.ricochet.wire.ControlProto.ServerMessage;
 import io.ricochet.wire.ControlProto.SessionReply;
 import java.security.Provider;
+import java.util.ArrayDeque;
 import java.util.ArrayList;
 import java.util.Collections;
 import java.util.List;
@@ -24,7 +28,10 @@ import java.util.concurrent.Executor;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
 import java.util.concurrent.RejectedExecutionException;
+import java.util.concurrent.ScheduledThreadPoolExecutor;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicReference;
+import java.util.function.DoubleSupplier;
 
 /**
  * A client of a Ricochet server's control channel (PROTOCOL.md, Control channel): accounts,
@@ -32,9 +39,16 @@ import java.util.concurrent.TimeUnit;
  * completes with a typed result, or fails with a {@link RicochetException} carrying the server's
  * error code. Made by {@link #builder()}; thread-safe; call it from any thread (it never blocks).
  *
- * <p>The first call connects (TCP, TLS 1.3, the certificate pin) on a background thread; when the
- * connection ends ({@link Listener#onDisconnected}), the next call connects again, unauthenticated:
- * {@link #resume} with the session token signs the new connection in. Futures complete, and the
+ * <p>The first call connects (TCP, TLS 1.3, the certificate pin) on a background thread. When a
+ * connection signed in (by {@link #login} or {@link #resume}) is lost, the client resumes by
+ * itself: it reconnects after a back-off with jitter ({@link Builder#resumeBackoffMs}) and signs
+ * the new connection in with the session token ({@link Listener#onDisconnected}, then {@link
+ * Listener#onResumed}, or {@link Listener#onResumeFailed} once it gives up); calls made meanwhile
+ * wait for it and go out on the resumed connection, or fail with the reason it gave up. It does
+ * not resume after {@link #close()} or {@link #logout}, nor when the server ended the session (a
+ * ban, an expired or revoked token). Any other ended connection: the next call connects again,
+ * unauthenticated. A running {@link GameConnection} (UDP) goes on meanwhile. Futures complete, and
+ * the
  * {@link Listener} is called, on the listener executor only (by default one thread of the client's
  * own), never on the caller's thread or an I/O thread. {@link #close()} ends every thread the
  * client started.
@@ -45,8 +59,29 @@ public final class RicochetClient implements AutoCloseable {
     /** A match this account played ended; the connection is back out of the match. */
     default void onMatchResults(MatchResults results) {}
 
-    /** The control connection ended (the next call opens a new one). */
+    /**
+     * The control connection ended, {@code disconnect} says why. When it was signed in and lost
+     * (not closed, not refused by the server), the client now resumes the session by itself:
+     * {@link #onResumed} or {@link #onResumeFailed} follows. Otherwise the next call opens a new,
+     * unauthenticated connection.
+     */
     default void onDisconnected(Disconnect disconnect) {}
+
+    /**
+     * After a lost connection the client reconnected and resumed {@code session} (the same account
+     * and token) by itself; the calls made meanwhile go out now. Seats are the game channel's: a
+     * match joined before is still joined.
+     */
+    default void onResumed(Session session) {}
+
+    /**
+     * The client gave up resuming after a lost connection: the server refused the session ({@link
+     * RicochetException#errorCode()}: UNKNOWN_SESSION when revoked, EXPIRED_SESSION,
+     * ACCOUNT_BANNED), the certificate no longer matched the pin, or none of the attempts
+     * connected. The calls made meanwhile failed with {@code failure}; sign in again ({@link
+     * RicochetClient#login}).
+     */
+    default void onResumeFailed(RicochetException failure) {}
   }
 
   /** Sets up a {@link RicochetClient}. */
@@ -62,8 +97,39 @@ public final class RicochetClient implements AutoCloseable {
     private long requestTimeoutMs = ControlSession.DEFAULT_REQUEST_TIMEOUT_MS;
     private long keepAliveMs = ControlSession.DEFAULT_KEEP_ALIVE_MS;
     private ControlTransport transport; // null: TLS as configured
+    private long resumeBaseMs = ResumeBackoff.DEFAULT_BASE_MS;
+    private long resumeMaxMs = ResumeBackoff.DEFAULT_MAX_MS;
+    private int resumeAttempts = ResumeBackoff.DEFAULT_MAX_ATTEMPTS;
+    private DoubleSupplier resumeJitter = Math::random;
 
     private Builder() {}
+
+    /** Draws the resume back-off's jitter from {@code jitter} (values in [0, 1]; tests). */
+    Builder resumeJitterForTest(DoubleSupplier jitter) {
+      this.resumeJitter = jitter;
+      return this;
+    }
+
+    /**
+     * The back-off between attempts to resume a lost connection: attempt n (from 0) waits a
+     * uniformly random time up to min({@code maxMs}, {@code baseMs} * 2^n) (ms; default 500 and
+     * 30 000; 1 <= baseMs <= maxMs).
+     */
+    public Builder resumeBackoffMs(long baseMs, long maxMs) {
+      this.resumeBaseMs = baseMs;
+      this.resumeMaxMs = maxMs;
+      return this;
+    }
+
+    /**
+     * How many attempts to resume a lost connection before {@link Listener#onResumeFailed}
+     * (default 10: with the default back-off at most 151.5 s of waiting in all; 0: never resume by
+     * itself, the next call connects unauthenticated).
+     */
+    public Builder resumeAttempts(int attempts) {
+      this.resumeAttempts = attempts;
+      return this;
+    }
 
     /** Replaces TLS by {@code transport} (tests that play the server themselves). */
     Builder transportForTest(ControlTransport transport) {
@@ -152,6 +218,11 @@ public final class RicochetClient implements AutoCloseable {
         throw new IllegalArgumentException("timeouts must be positive");
       }
       if (listener == null) throw new IllegalArgumentException("listener is null");
+      if (resumeAttempts < 0 || resumeBaseMs < 1 || resumeMaxMs < resumeBaseMs) {
+        throw new IllegalArgumentException(
+            "resume needs attempts >= 0 and 1 <= baseMs <= maxMs, got " + resumeAttempts + ", "
+            + resumeBaseMs + ", " + resumeMaxMs);
+      }
       return new RicochetClient(this);
     }
   }
@@ -173,6 +244,36 @@ public final class RicochetClient implements AutoCloseable {
   private volatile Thread listenerThread; // the owned executor's thread, once started
   private boolean closed;
   private final List<GameConnection> games = new ArrayList<>(); // started, not yet ended
+  private final ResumeBackoff backoff; // null: never resume by itself
+  // Resume attempts wait and run here ("ricochet-control-resume", started on the first loss).
+  private final ScheduledThreadPoolExecutor resumer;
+  private volatile Thread resumerThread;
+  // The connection signed in and its session; set and cleared by the replies on its I/O thread.
+  private final AtomicReference<SignedIn> signedIn = new AtomicReference<>();
+  private Session resuming; // the session being resumed, while backoff is not IDLE
+  private final ArrayDeque<Call> waitingForResume = new ArrayDeque<>();
+
+  /** A connection and the session it signed in with. */
+  private static final class SignedIn {
+    final ControlConnection connection;
+    final Session session;
+
+    SignedIn(ControlConnection connection, Session session) {
+      this.connection = connection;
+      this.session = session;
+    }
+  }
+
+  /** A request and who gets its reply. */
+  private static final class Call {
+    final ClientMessage message;
+    final ControlConnection.ReplyHandler handler;
+
+    Call(ClientMessage message, ControlConnection.ReplyHandler handler) {
+      this.message = message;
+      this.handler = handler;
+    }
+  }
 
   private RicochetClient(Builder builder) {
     host = builder.host;
@@ -196,6 +297,18 @@ public final class RicochetClient implements AutoCloseable {
       });
       executor = ownedExecutor;
     }
+    backoff = builder.resumeAttempts == 0
+        ? null
+        : new ResumeBackoff(builder.resumeBaseMs, builder.resumeMaxMs, builder.resumeAttempts,
+            builder.resumeJitter);
+    resumer = new ScheduledThreadPoolExecutor(1, runnable -> {
+      Thread thread = new Thread(runnable, "ricochet-control-resume");
+      thread.setDaemon(true);
+      resumerThread = thread;
+      return thread;
+    });
+    resumer.setKeepAliveTime(5, TimeUnit.SECONDS);
+    resumer.allowCoreThreadTimeOut(true);
   }
 
   /** Creates an account (it does not sign in); completes with its account id. */
@@ -346,17 +459,33 @@ public final class RicochetClient implements AutoCloseable {
   public void close() {
     List<ControlConnection> connections;
     List<GameConnection> openGames;
+    List<Call> waiting;
     synchronized (this) {
       if (closed) return;
       closed = true;
+      if (backoff != null) backoff.stop();
+      waiting = new ArrayList<>(waitingForResume);
+      waitingForResume.clear();
       openGames = new ArrayList<>(games);
       games.clear();
       connections = new ArrayList<>(retired);
       retired.clear();
       if (connection != null) connections.add(connection);
     }
-    for (GameConnection game : openGames) game.close();
+    RicochetException closedFailure =
+        new RicochetException(RicochetException.Kind.CLOSED, null, null, "client closed");
+    for (Call call : waiting) call.handler.onFailure(closedFailure);
+    resumer.shutdownNow();
     boolean interrupted = false;
+    if (Thread.currentThread() != resumerThread) {
+      try {
+        resumer.awaitTermination(10, TimeUnit.SECONDS);
+        joinEnding(resumerThread);
+      } catch (InterruptedException e) {
+        interrupted = true;
+      }
+    }
+    for (GameConnection game : openGames) game.close();
     for (ControlConnection each : connections) {
       try {
         each.close();
@@ -370,12 +499,21 @@ public final class RicochetClient implements AutoCloseable {
       if (Thread.currentThread() != listenerThread) {
         try {
           if (!ownedExecutor.awaitTermination(10, TimeUnit.SECONDS)) ownedExecutor.shutdownNow();
+          joinEnding(listenerThread);
         } catch (InterruptedException e) {
           interrupted = true;
         }
       }
     }
     if (interrupted) Thread.currentThread().interrupt();
+  }
+
+  /**
+   * Waits (at most 10 s) for a terminated executor's last thread to finish exiting: an executor
+   * is terminated a moment before its worker thread is no longer alive.
+   */
+  private static void joinEnding(Thread thread) throws InterruptedException {
+    if (thread != null) thread.join(10_000);
   }
 
   /** Drops the game connections that ended (called on the I/O thread of one as it ends). */
@@ -419,7 +557,7 @@ public final class RicochetClient implements AutoCloseable {
     CompletableFuture<T> future = new CompletableFuture<>();
     ControlConnection.ReplyHandler handler = new ControlConnection.ReplyHandler() {
       @Override
-      public void onReply(ServerMessage reply, long nowMs) {
+      public void onReply(ControlConnection from, ServerMessage reply, long nowMs) {
         if (reply.getBodyCase() == ServerMessage.BodyCase.ERROR) {
           io.ricochet.wire.ControlProto.Error error = reply.getError();
           fail(new RicochetException(RicochetException.Kind.SERVER_ERROR, error.getCode(), null,
@@ -432,6 +570,11 @@ public final class RicochetClient implements AutoCloseable {
         } catch (RicochetException e) {
           fail(e);
           return;
+        }
+        if (result instanceof Session) {
+          signedIn.set(new SignedIn(from, (Session) result)); // login or resume
+        } else if (message.hasLogout()) {
+          signedIn.set(null);
         }
         post(() -> future.complete(result));
       }
@@ -451,34 +594,182 @@ public final class RicochetClient implements AutoCloseable {
             new RicochetException(RicochetException.Kind.CLOSED, null, null, "client closed"));
         return future;
       }
-      if (connection == null || connection.isOver()) {
-        if (connection != null) {
-          retired.removeIf(ControlConnection::finished);
-          retired.add(connection);
-        }
-        // Submitted before it starts, so a connection that fails at once fails this call too.
-        connection = new ControlConnection(transport, requestTimeoutMs, keepAliveMs, callbacks());
-        connection.submit(message, handler);
-        connection.start();
+      if (resumingAfter(connection)) {
+        waitingForResume.addLast(new Call(message, handler));
       } else {
-        connection.submit(message, handler);
+        submitNow(message, handler);
       }
     }
     return future;
   }
 
-  private ControlConnection.Callbacks callbacks() {
-    return new ControlConnection.Callbacks() {
-      @Override
-      public void onMatchResults(MatchResults results) {
-        post(() -> listener.onMatchResults(results));
+  /**
+   * Submits on the current connection, or on a new one when there is none or it is over (lock
+   * held).
+   */
+  private void submitNow(ClientMessage message, ControlConnection.ReplyHandler handler) {
+    if (connection == null || connection.isOver()) {
+      if (connection != null) {
+        retired.removeIf(ControlConnection::finished);
+        retired.add(connection);
       }
+      ConnectionEvents events = new ConnectionEvents();
+      connection = new ControlConnection(transport, requestTimeoutMs, keepAliveMs, events);
+      events.connection = connection;
+      // Submitted before it starts, so a connection that fails at once fails this call too.
+      connection.submit(message, handler);
+      connection.start();
+    } else {
+      connection.submit(message, handler);
+    }
+  }
 
-      @Override
-      public void onDisconnected(Disconnect disconnect) {
-        post(() -> listener.onDisconnected(disconnect));
+  /**
+   * Whether the client is resuming, having just started to when {@code ended} (the current
+   * connection) is over, was signed in and ended for a reason worth resuming (lock held). Called
+   * by the next call and by the connection's end, whichever comes first: the first starts it.
+   */
+  private boolean resumingAfter(ControlConnection ended) {
+    if (backoff == null) return false;
+    if (backoff.state() != ResumeState.IDLE) return true;
+    if (closed || ended == null || ended != connection || !ended.isOver()) return false;
+    SignedIn was = signedIn.get();
+    if (was == null || was.connection != ended) return false;
+    Disconnect why = ended.disconnect();
+    if (why == null || !signedIn.compareAndSet(was, null)) return false;
+    if (!ResumeBackoff.worthResuming(why.reason(), why.errorCode())) return false;
+    resuming = was.session;
+    backoff.lost(nowMs());
+    scheduleAttempt();
+    return true;
+  }
+
+  /** Runs {@link #attemptResume} when the back-off says (lock held). */
+  private void scheduleAttempt() {
+    long delayMs = Math.max(0, backoff.nextAttemptAtMs() - nowMs());
+    try {
+      resumer.schedule(this::attemptResume, delayMs, TimeUnit.MILLISECONDS);
+    } catch (RejectedExecutionException e) {
+      // closing: nothing more to resume
+    }
+  }
+
+  /** The back-off's time came: connect (or reuse the open connection) and send the resume. */
+  private void attemptResume() {
+    synchronized (this) {
+      if (closed || backoff.state() != ResumeState.WAITING) return;
+      if (!backoff.startAttempt(nowMs())) {
+        scheduleAttempt(); // early
+        return;
       }
-    };
+      String token = resuming.sessionToken();
+      ClientMessage message = ClientMessage.newBuilder()
+                                  .setResume(ResumeRequest.newBuilder().setSessionToken(token))
+                                  .build();
+      submitNow(message, new ControlConnection.ReplyHandler() {
+        @Override
+        public void onReply(ControlConnection from, ServerMessage reply, long nowMs) {
+          onResumer(() -> resumeAnswered(from, reply, null));
+        }
+
+        @Override
+        public void onFailure(RicochetException failure) {
+          onResumer(() -> resumeAnswered(null, null, failure));
+        }
+      });
+    }
+  }
+
+  /**
+   * An attempt's answer: the {@code reply} on {@code from}, or the {@code failure} that ended it.
+   * Signed in: sends the waiting calls. Else tries again after the back-off, or gives up.
+   */
+  private void resumeAnswered(
+      ControlConnection from, ServerMessage reply, RicochetException failure) {
+    List<Call> failed = null;
+    RicochetException gaveUp = null;
+    synchronized (this) {
+      if (closed || backoff.state() != ResumeState.ATTEMPTING) return;
+      if (reply != null && reply.getBodyCase() == ServerMessage.BodyCase.SESSION) {
+        Session session = session(reply.getSession(), resuming.sessionToken());
+        signedIn.set(new SignedIn(from, session));
+        backoff.resumed();
+        resuming = null;
+        Call call;
+        while ((call = waitingForResume.pollFirst()) != null) submitNow(call.message, call.handler);
+        post(() -> listener.onResumed(session));
+        return;
+      }
+      boolean retryable;
+      RicochetException why;
+      if (reply != null && reply.getBodyCase() == ServerMessage.BodyCase.ERROR) {
+        ErrorCode code = reply.getError().getCode();
+        retryable = ResumeBackoff.worthRetrying(code);
+        why = new RicochetException(RicochetException.Kind.SERVER_ERROR, code, null,
+            "resuming the session: " + code + ": " + reply.getError().getMessage());
+      } else if (reply != null) {
+        retryable = false;
+        why = new RicochetException(RicochetException.Kind.INVALID_REPLY, null, null,
+            "resume answered with " + reply.getBodyCase());
+      } else {
+        retryable = failure.kind() != RicochetException.Kind.PIN_MISMATCH;
+        why = failure;
+      }
+      if (backoff.attemptFailed(nowMs(), retryable)) {
+        scheduleAttempt();
+        return;
+      }
+      int attempts = backoff.failedAttempts();
+      backoff.stop();
+      resuming = null;
+      gaveUp = new RicochetException(why.kind() == RicochetException.Kind.SERVER_ERROR
+              ? RicochetException.Kind.SERVER_ERROR
+              : RicochetException.Kind.DISCONNECTED,
+          why.errorCode(), null,
+          "gave up resuming the session after " + attempts + " attempt(s): " + why.getMessage());
+      failed = new ArrayList<>(waitingForResume);
+      waitingForResume.clear();
+    }
+    for (Call call : failed) call.handler.onFailure(gaveUp);
+    RicochetException reported = gaveUp;
+    post(() -> listener.onResumeFailed(reported));
+  }
+
+  /** Runs {@code task} on the resume thread (unless closing). */
+  private void onResumer(Runnable task) {
+    try {
+      resumer.execute(task);
+    } catch (RejectedExecutionException e) {
+      // closing: nothing more to resume
+    }
+  }
+
+  /** A connection ended: starts resuming when it should (unless a call already did). */
+  private void connectionEnded(ControlConnection ended) {
+    synchronized (this) {
+      resumingAfter(ended);
+    }
+  }
+
+  private static long nowMs() {
+    return System.nanoTime() / 1_000_000;
+  }
+
+  /** What one connection reports, handed on to the listener and the resume thread. */
+  private final class ConnectionEvents implements ControlConnection.Callbacks {
+    ControlConnection connection; // set before it starts
+
+    @Override
+    public void onMatchResults(MatchResults results) {
+      post(() -> listener.onMatchResults(results));
+    }
+
+    @Override
+    public void onDisconnected(Disconnect disconnect) {
+      post(() -> listener.onDisconnected(disconnect));
+      ControlConnection ended = connection;
+      onResumer(() -> connectionEnded(ended));
+    }
   }
 
   /**

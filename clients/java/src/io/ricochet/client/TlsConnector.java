@@ -14,6 +14,8 @@ import javax.net.ssl.SSLParameters;
 import javax.net.ssl.SSLSocket;
 import javax.net.ssl.TrustManager;
 import javax.net.ssl.X509TrustManager;
+import org.bouncycastle.jce.provider.BouncyCastleProvider;
+import org.bouncycastle.jsse.provider.BouncyCastleJsseProvider;
 
 /**
  * Opens the control channel's TLS 1.3 connection (PROTOCOL.md, Transport and TLS) on the
@@ -21,8 +23,10 @@ import javax.net.ssl.X509TrustManager;
  * check. With a pin (given, or from the {@link PinStore}) chain validation is skipped and the
  * leaf's SHA-256 must equal the pin; with a store and no pin yet, the leaf's pin is saved (trust on
  * first use); with neither, the platform validates the chain and the host name. The SSLContext is
- * the platform's, or one of the {@link Provider} instance the app passes (Bouncy Castle's JSSE
- * where the platform has no TLS 1.3).
+ * one of the {@link Provider} instance the app passes, else the platform's when it has TLS 1.3
+ * (Android 10+, JDK 11+), else Bouncy Castle's JSSE over Bouncy Castle's own JCA provider (Android
+ * 7-9, or a JVM whose JDK providers were removed): nothing of the platform's TLS or ciphers is
+ * needed then.
  */
 final class TlsConnector implements ControlTransport {
   /** Accepts any chain: the pin is checked after the handshake instead. */
@@ -45,6 +49,7 @@ final class TlsConnector implements ControlTransport {
   private final PinStore pinStore; // or null
   private final Provider provider; // or null: the platform's
   private final int connectTimeoutMs;
+  private Provider fallback; // Bouncy Castle's JSSE, made by the first connection that needs it
 
   TlsConnector(String host, int port, String pin, PinStore pinStore, Provider provider,
       int connectTimeoutMs) {
@@ -67,16 +72,7 @@ final class TlsConnector implements ControlTransport {
     }
     boolean pinned = expected != null || pinStore != null;
     SSLSocket tls;
-    SSLContext context;
-    try {
-      context = provider == null ? SSLContext.getInstance("TLS")
-                                 : SSLContext.getInstance("TLS", provider);
-    } catch (NoSuchAlgorithmException e) {
-      throw new RicochetException(RicochetException.Kind.CONNECT_FAILED,
-          "this platform has no TLS (SSLContext \"TLS\"); pass Bouncy Castle's JSSE provider (new"
-              + " BouncyCastleJsseProvider()) to the builder",
-          e);
-    }
+    SSLContext context = tlsContext();
     try {
       // An explicit SecureRandom: Bouncy Castle's JSSE otherwise asks the JCA for a "DEFAULT"
       // one, which only its own JCA provider registers.
@@ -94,9 +90,7 @@ final class TlsConnector implements ControlTransport {
         tls.setEnabledProtocols(new String[] {"TLSv1.3"});
       } catch (IllegalArgumentException e) {
         throw new RicochetException(RicochetException.Kind.CONNECT_FAILED,
-            "this platform has no TLS 1.3 (Android 10+ or JDK 11+ has); pass Bouncy Castle's"
-                + " JSSE provider (new BouncyCastleJsseProvider()) to the builder",
-            e);
+            "the TLS provider " + context.getProvider().getName() + " has no TLS 1.3", e);
       }
       if (!pinned) {
         SSLParameters parameters = tls.getSSLParameters();
@@ -130,6 +124,26 @@ final class TlsConnector implements ControlTransport {
       ControlTransport.closeQuietly(tcp);
       throw new RicochetException(RicochetException.Kind.CONNECT_FAILED,
           "the TLS 1.3 handshake with " + hostPort + " failed: " + e, e);
+    }
+  }
+
+  /**
+   * A new SSLContext of the app's provider; else the platform's "TLSv1.3" (registered by Android
+   * 10+ and JDK 11+); else Bouncy Castle's JSSE over Bouncy Castle's JCA provider, both instances
+   * (never registered, never looked up by name), made once per connector. Not yet initialised.
+   */
+  private synchronized SSLContext tlsContext() throws RicochetException {
+    try {
+      if (provider != null) return SSLContext.getInstance("TLS", provider);
+      try {
+        return SSLContext.getInstance("TLSv1.3");
+      } catch (NoSuchAlgorithmException platformHasNone) {
+        if (fallback == null) fallback = new BouncyCastleJsseProvider(new BouncyCastleProvider());
+        return SSLContext.getInstance("TLS", fallback);
+      }
+    } catch (NoSuchAlgorithmException e) {
+      throw new RicochetException(RicochetException.Kind.CONNECT_FAILED,
+          "no SSLContext \"TLS\" in " + (provider != null ? provider : fallback) + ": " + e, e);
     }
   }
 }

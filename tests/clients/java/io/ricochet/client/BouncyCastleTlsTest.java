@@ -13,6 +13,7 @@ import java.security.NoSuchAlgorithmException;
 import java.security.Provider;
 import java.security.Security;
 import javax.net.ssl.SSLContext;
+import org.bouncycastle.jce.provider.BouncyCastleProvider;
 import org.bouncycastle.jsse.provider.BouncyCastleJsseProvider;
 import org.junit.jupiter.api.AfterAll;
 import org.junit.jupiter.api.BeforeAll;
@@ -22,13 +23,22 @@ import org.junit.jupiter.api.extension.RegisterExtension;
 /**
  * The client on a platform without TLS 1.3 of its own (Android before 10): the JDK's JSSE
  * provider is removed from this JVM (each test class runs in a JVM of its own), so Bouncy Castle's
- * JSSE, passed to the builder as an instance, carries the whole connection.
+ * JSSE carries the whole connection: passed to the builder as an instance, or picked by the client
+ * itself when none is passed.
  */
 class BouncyCastleTlsTest {
   @RegisterExtension static final RealServer server = RealServer.arena(ClientTesting.FAST_ACCOUNTS);
 
   private static Provider removed;
   private static int removedAt;
+
+  /**
+   * Bouncy Castle's JSSE over Bouncy Castle's JCA, as instances: it needs nothing of the JDK's, so
+   * it carries the connection in the suite's JVM without the JDK's ciphers too.
+   */
+  private static Provider bouncyCastle() {
+    return new BouncyCastleJsseProvider(new BouncyCastleProvider());
+  }
 
   @BeforeAll
   static void removeTheJdkTls() throws Exception {
@@ -55,9 +65,8 @@ class BouncyCastleTlsTest {
 
   @Test
   void bouncyCastleCarriesTheConnectionWithThePin() throws Exception {
-    try (RicochetClient client = ClientTesting.pinned(server.get())
-                                     .tlsProvider(new BouncyCastleJsseProvider())
-                                     .build()) {
+    try (RicochetClient client =
+             ClientTesting.pinned(server.get()).tlsProvider(bouncyCastle()).build()) {
       long id = await(client.register("bouncy", "password-bouncy"));
       Session session = await(client.login("bouncy", "password-bouncy"));
       assertEquals(id, session.accountId());
@@ -76,7 +85,7 @@ class BouncyCastleTlsTest {
                                      .host("127.0.0.1")
                                      .controlPort(server.get().controlPort())
                                      .pinSha256(wrong)
-                                     .tlsProvider(new BouncyCastleJsseProvider())
+                                     .tlsProvider(bouncyCastle())
                                      .build()) {
       RicochetException refused = failure(client.register("x_y_z", "pw-12345678"));
       assertEquals(RicochetException.Kind.PIN_MISMATCH, refused.kind(), refused.getMessage());
@@ -84,11 +93,13 @@ class BouncyCastleTlsTest {
   }
 
   @Test
-  void withoutAProviderTheClientSaysTlsIsMissing() throws Exception {
+  void withoutAProviderTheClientPicksBouncyCastleByItself() throws Exception {
     try (RicochetClient client = ClientTesting.pinned(server.get()).build()) {
-      RicochetException failed = failure(client.register("no_tls", "password-no-tls"));
-      assertEquals(RicochetException.Kind.CONNECT_FAILED, failed.kind());
-      assertTrue(failed.getMessage().contains("BouncyCastleJsseProvider"), failed.getMessage());
+      long id = await(client.register("no_tls", "password-no-tls"));
+      assertEquals(id, await(client.login("no_tls", "password-no-tls")).accountId());
+      assertEquals(ControlState.AUTHENTICATED, client.state());
     }
+    assertNull(Security.getProvider("BCJSSE"), "the client registered a provider by name");
+    assertNull(Security.getProvider("BC"), "the client registered a provider by name");
   }
 }

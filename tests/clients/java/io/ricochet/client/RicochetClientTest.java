@@ -7,13 +7,16 @@ import static io.ricochet.client.ClientTesting.signedIn;
 import static org.junit.jupiter.api.Assertions.assertArrayEquals;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertNotEquals;
 import static org.junit.jupiter.api.Assertions.assertNotNull;
+import static org.junit.jupiter.api.Assertions.assertNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import io.ricochet.client.core.control.ControlCloseReason;
 import io.ricochet.client.core.control.ControlState;
 import io.ricochet.client.testing.RealServer;
+import io.ricochet.wire.ControlProto.ErrorCode;
 import java.util.List;
 import java.util.concurrent.ArrayBlockingQueue;
 import java.util.concurrent.BlockingQueue;
@@ -25,7 +28,7 @@ import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.extension.RegisterExtension;
 
 /**
- * The client against the real ricochet-server.get() on 127.0.0.1: sign in, the directory,
+ * The client against the real ricochet-server on 127.0.0.1: sign in, the directory,
  * reconnects.
  */
 class RicochetClientTest {
@@ -116,12 +119,17 @@ class RicochetClientTest {
   }
 
   @Test
-  void resumeWithTheSessionTokenAfterADroppedConnection() throws Exception {
-    BlockingQueue<Disconnect> disconnects = new ArrayBlockingQueue<>(4);
+  void aDroppedSignedInConnectionResumesByItself() throws Exception {
+    BlockingQueue<Object> events = new ArrayBlockingQueue<>(8);
     RicochetClient.Listener listener = new RicochetClient.Listener() {
       @Override
       public void onDisconnected(Disconnect disconnect) {
-        disconnects.add(disconnect);
+        events.add(disconnect);
+      }
+
+      @Override
+      public void onResumed(Session session) {
+        events.add(session);
       }
     };
     int threadsBefore = ClientTesting.ricochetThreads();
@@ -129,20 +137,50 @@ class RicochetClientTest {
       await(client.register("roamer", "password-roamer"));
       Session first = await(client.login("roamer", "password-roamer"));
       client.dropConnectionForTest();
-      Disconnect disconnect = disconnects.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
+      Object disconnect = events.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
       assertNotNull(disconnect, "onDisconnected after the drop");
-      assertEquals(ControlCloseReason.CONNECTION_LOST, disconnect.reason());
-      assertEquals(ControlState.CLOSED, client.state());
+      assertEquals(ControlCloseReason.CONNECTION_LOST, ((Disconnect) disconnect).reason());
 
-      // The next call opens a new connection, unauthenticated: resume signs it in.
-      Session resumed = await(client.resume(first.sessionToken()));
-      assertEquals(first.accountId(), resumed.accountId());
-      assertEquals("roamer", resumed.username());
-      assertEquals(first.sessionToken(), resumed.sessionToken());
-      assertEquals(ControlState.AUTHENTICATED, client.state());
+      // The client reconnects and resumes with the token by itself: a call made meanwhile waits.
       assertFalse(await(client.listMatches()).isEmpty());
+      Object resumed = events.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
+      assertInstanceOf(Session.class, resumed, "onResumed after onDisconnected");
+      assertEquals(first.accountId(), ((Session) resumed).accountId());
+      assertEquals("roamer", ((Session) resumed).username());
+      assertEquals(first.sessionToken(), ((Session) resumed).sessionToken());
+      assertEquals(ControlState.AUTHENTICATED, client.state());
     }
     assertEquals(threadsBefore, ClientTesting.ricochetThreads(), "both connections' threads ended");
+  }
+
+  @Test
+  void aDroppedConnectionAfterLogoutIsNotResumed() throws Exception {
+    BlockingQueue<Object> events = new ArrayBlockingQueue<>(8);
+    RicochetClient.Listener listener = new RicochetClient.Listener() {
+      @Override
+      public void onDisconnected(Disconnect disconnect) {
+        events.add(disconnect);
+      }
+
+      @Override
+      public void onResumed(Session session) {
+        events.add(session);
+      }
+    };
+    try (RicochetClient client = pinned(server).listener(listener).build()) {
+      await(client.register("leaver", "password-leaver"));
+      Session session = await(client.login("leaver", "password-leaver"));
+      await(client.logout());
+      client.dropConnectionForTest();
+      assertInstanceOf(Disconnect.class, events.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS));
+      // The next call connects unauthenticated; the revoked token is not tried.
+      RicochetException refused = failure(client.listMatches());
+      assertEquals(RicochetException.Kind.REFUSED_LOCALLY, refused.kind());
+      assertEquals(ControlState.UNAUTHENTICATED, client.state());
+      assertNull(events.poll(), "no resume after a logout");
+      RicochetException revoked = failure(client.resume(session.sessionToken()));
+      assertEquals(ErrorCode.UNKNOWN_SESSION, revoked.errorCode());
+    }
   }
 
   @Test

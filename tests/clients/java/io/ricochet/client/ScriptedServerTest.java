@@ -10,6 +10,8 @@ import io.ricochet.client.core.FrameReader;
 import io.ricochet.client.core.Frames;
 import io.ricochet.client.core.control.ControlCloseReason;
 import io.ricochet.wire.ControlProto.ClientMessage;
+import io.ricochet.wire.ControlProto.ErrorCode;
+import io.ricochet.wire.ControlProto.ListMatchesReply;
 import io.ricochet.wire.ControlProto.MatchResults;
 import io.ricochet.wire.ControlProto.Pong;
 import io.ricochet.wire.ControlProto.ServerMessage;
@@ -48,6 +50,17 @@ class ScriptedServerTest {
     final BlockingQueue<Disconnect> disconnects = new ArrayBlockingQueue<>(4);
     final BlockingQueue<MatchResults> results = new ArrayBlockingQueue<>(4);
     final BlockingQueue<String> threads = new ArrayBlockingQueue<>(8);
+    final BlockingQueue<Object> resumes = new ArrayBlockingQueue<>(4); // Session or failure
+
+    @Override
+    public void onResumed(Session session) {
+      resumes.add(session);
+    }
+
+    @Override
+    public void onResumeFailed(RicochetException failure) {
+      resumes.add(failure);
+    }
 
     @Override
     public void onMatchResults(MatchResults matchResults) {
@@ -79,6 +92,11 @@ class ScriptedServerTest {
   }
 
   private RicochetClient client(Recorder recorder, long requestTimeoutMs, long keepAliveMs) {
+    return builder(recorder, requestTimeoutMs, keepAliveMs).build();
+  }
+
+  private RicochetClient.Builder builder(
+      Recorder recorder, long requestTimeoutMs, long keepAliveMs) {
     InetSocketAddress address =
         new InetSocketAddress(listening.getInetAddress(), listening.getLocalPort());
     return RicochetClient.builder()
@@ -94,8 +112,7 @@ class ScriptedServerTest {
           } catch (IOException e) {
             throw new RicochetException(RicochetException.Kind.CONNECT_FAILED, e.toString(), e);
           }
-        })
-        .build();
+        });
   }
 
   /** Accepts the client's connection. */
@@ -131,8 +148,82 @@ class ScriptedServerTest {
     assertTrue(login.hasLogin(), login.toString());
     send(ServerMessage.newBuilder()
              .setRequestId(login.getRequestId())
-             .setSession(SessionReply.newBuilder().setAccountId(5).setUsername("scripted"))
+             .setSession(SessionReply.newBuilder()
+                             .setAccountId(5)
+                             .setUsername("scripted")
+                             .setSessionToken(TOKEN))
              .build());
+  }
+
+  private static final String TOKEN =
+      "00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff";
+
+  /** Signs the client in, then drops its connection as a lost network would. */
+  private CompletableFuture<List<MatchInfo>> signInAndLoseTheConnection(
+      RicochetClient client, Recorder recorder) throws Exception {
+    CompletableFuture<Session> login = client.login("scripted", "password-1");
+    accept();
+    signIn();
+    await(login);
+    peer.close();
+    Disconnect lost = recorder.disconnects.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
+    assertNotNull(lost);
+    assertEquals(ControlCloseReason.CONNECTION_LOST, lost.reason(), lost.toString());
+    return client.listMatches(); // waits for the resume
+  }
+
+  /** Answers the client's next message, a resume with the session's token, with {@code body}. */
+  private void answerResume(ServerMessage.Builder reply) throws IOException {
+    ClientMessage resume = next();
+    assertTrue(resume.hasResume(), resume.toString());
+    assertEquals(TOKEN, resume.getResume().getSessionToken());
+    send(reply.setRequestId(resume.getRequestId()).build());
+  }
+
+  private static ServerMessage.Builder error(ErrorCode code) {
+    return ServerMessage.newBuilder().setError(
+        io.ricochet.wire.ControlProto.Error.newBuilder().setCode(code).setMessage("scripted"));
+  }
+
+  @Test
+  void aBusyServerIsAskedAgainOnTheSameConnectionThenTheWaitingCallGoesOut() throws Exception {
+    Recorder recorder = new Recorder();
+    try (RicochetClient client = builder(recorder, 60_000, 0).resumeBackoffMs(10, 40).build()) {
+      CompletableFuture<List<MatchInfo>> waiting = signInAndLoseTheConnection(client, recorder);
+      accept();
+      answerResume(error(ErrorCode.SERVER_BUSY));
+      assertTrue(recorder.resumes.isEmpty(), "a busy server is retried");
+      answerResume(ServerMessage.newBuilder().setSession(
+          SessionReply.newBuilder().setAccountId(5).setUsername("scripted")));
+      Object resumed = recorder.resumes.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
+      assertTrue(resumed instanceof Session, "onResumed: " + resumed);
+      assertEquals(TOKEN, ((Session) resumed).sessionToken());
+      ClientMessage list = next();
+      assertTrue(list.hasListMatches(), "the waiting call, after the resume: " + list);
+      send(ServerMessage.newBuilder()
+               .setRequestId(list.getRequestId())
+               .setListMatches(ListMatchesReply.getDefaultInstance())
+               .build());
+      assertTrue(await(waiting).isEmpty());
+    }
+  }
+
+  @Test
+  void anExpiredSessionGivesUpAtOnceAndFailsTheWaitingCall() throws Exception {
+    Recorder recorder = new Recorder();
+    try (RicochetClient client = builder(recorder, 60_000, 0).resumeBackoffMs(10, 40).build()) {
+      CompletableFuture<List<MatchInfo>> waiting = signInAndLoseTheConnection(client, recorder);
+      accept();
+      answerResume(error(ErrorCode.EXPIRED_SESSION));
+      Object gaveUp = recorder.resumes.poll(ClientTesting.WAIT_MS, TimeUnit.MILLISECONDS);
+      assertTrue(gaveUp instanceof RicochetException, "onResumeFailed: " + gaveUp);
+      assertEquals(ErrorCode.EXPIRED_SESSION, ((RicochetException) gaveUp).errorCode());
+      assertEquals(ErrorCode.EXPIRED_SESSION, failure(waiting).errorCode());
+      // Not resuming any more: a call goes out at once, on the open unauthenticated connection.
+      CompletableFuture<Session> login = client.login("scripted", "password-1");
+      signIn();
+      assertEquals(5, await(login).accountId());
+    }
   }
 
   @Test
