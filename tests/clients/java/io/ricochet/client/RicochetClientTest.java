@@ -167,7 +167,7 @@ class RicochetClientTest {
         events.add(session);
       }
     };
-    try (RicochetClient client = pinned(server).listener(listener).build()) {
+    try (RicochetClient client = pinned(server.get()).listener(listener).build()) {
       await(client.register("leaver", "password-leaver"));
       Session session = await(client.login("leaver", "password-leaver"));
       await(client.logout());
