@@ -167,7 +167,11 @@ class GamePlayTest {
         "first snapshot: " + last);
     assertTrue(last.snapshotsSkipped() <= last.snapshotsReceived() / 100, "skipped: " + last);
 
-    // The recording replays to the positions decoded, at every tick received.
+    // The recording replays to the positions decoded, at every tick received. It is complete
+    // once the server has exited (a graceful stop finishes every recording it was writing; the
+    // match_ended event may arrive before the file is renamed into place).
+    server.terminate();
+    assertEquals(Integer.valueOf(0), server.waitExit(WAIT_MS), "the server's exit");
     Map<Long, float[]> replayed =
         exportedPositions(server.dataDir().resolve("recordings"), recorder.last().entity);
     int compared = 0;
