@@ -197,8 +197,16 @@ void ControlClient::on_reply(const wire::ServerMessage& message) {
   pending_.erase(found);
   switch (message.body_case()) {
     case wire::ServerMessage::kSession:
-      machine_.transition(ControlState::Authenticated,
-                          "signed in as account " + std::to_string(message.session().account_id()));
+      // A resume back in the match its sign-in plays (PROTOCOL.md, resume): InMatch at once.
+      if (request.kind == ClientMessageKind::Resume && message.session().match_id() != 0) {
+        machine_.transition(ControlState::InMatch,
+                            "resumed account " + std::to_string(message.session().account_id()) +
+                                " into match " + std::to_string(message.session().match_id()));
+      } else {
+        machine_.transition(
+            ControlState::Authenticated,
+            "signed in as account " + std::to_string(message.session().account_id()));
+      }
       break;
     case wire::ServerMessage::kJoinMatch:
       machine_.transition(ControlState::InMatch,

@@ -276,6 +276,41 @@ TEST(ControlClient, RepliesAndMatchResultsMoveTheState) {
                          }));
 }
 
+// A resumed connection back in its match (PROTOCOL.md, resume): InMatch at once, so leave and
+// chat go out; a login's reply never does this, and a resume without match_id is Authenticated.
+TEST(ControlClient, AResumeBackInTheMatchIsInMatch) {
+  std::vector<std::string> transitions;
+  ControlClientConfig config;
+  config.on_transition = [&](ControlState from, ControlState to, std::string_view reason) {
+    transitions.push_back(std::string(name(from)) + ">" + name(to) + ": " + std::string(reason));
+  };
+  ControlClient resumed(0, config);
+  wire::ServerMessage back = session(ask(resumed, ClientMessageKind::Resume));
+  back.mutable_session()->set_match_id(3);
+  resumed.receive(frame(back));
+  EXPECT_EQ(reply_event(resumed).message.session().match_id(), 3u);
+  EXPECT_EQ(resumed.state(), ControlState::InMatch);
+  EXPECT_TRUE(resumed.request(request_of(ClientMessageKind::Chat), 0));
+  resumed.receive(frame(left(ask(resumed, ClientMessageKind::LeaveMatch))));
+  EXPECT_EQ(resumed.state(), ControlState::Authenticated);
+  EXPECT_EQ(transitions, (std::vector<std::string>{
+                             "unauthenticated>in_match: resumed account 7 into match 3",
+                             "in_match>authenticated: left the match",
+                         }));
+
+  ControlClient only_signed_in(0);
+  only_signed_in.receive(frame(session(ask(only_signed_in, ClientMessageKind::Resume))));
+  EXPECT_EQ(only_signed_in.state(), ControlState::Authenticated);
+  EXPECT_EQ(only_signed_in.request(request_of(ClientMessageKind::Chat), 0).refusal,
+            RequestRefusal::WrongState);
+
+  ControlClient logged_in(0);
+  wire::ServerMessage odd = session(ask(logged_in, ClientMessageKind::Login));
+  odd.mutable_session()->set_match_id(3);  // a match_id answering a login means nothing
+  logged_in.receive(frame(odd));
+  EXPECT_EQ(logged_in.state(), ControlState::Authenticated);
+}
+
 TEST(ControlClient, MatchesRepliesToTheirRequestsInAnyOrder) {
   ControlClient client = client_in(ControlState::Authenticated);
   const std::uint32_t list_id = ask(client, ClientMessageKind::ListMatches);

@@ -1,6 +1,6 @@
 // The match side of the control channel through a fake directory: list, create, join (the
-// connect token and keys), chat, leave, match results pushed by the server, and the state table
-// enforced on each.
+// connect token and keys), chat, leave, match results pushed by the server, the state table
+// enforced on each, and a resumed connection back in its match.
 
 #include <gtest/gtest.h>
 
@@ -179,6 +179,99 @@ TEST(ControlMatches, MatchResultsReachThePlayerAndEndInMatch) {
   EXPECT_EQ(client.protocol().state(), proto::ControlState::Authenticated);
   EXPECT_EQ(client.request(ControlTestClient::chat("gg")).error().code(), wire::WRONG_STATE);
   EXPECT_TRUE(client.request(ControlTestClient::join(1)).has_join_match());
+}
+
+// A phone's TCP connection drops while its game connection plays on: the resumed connection
+// is back in the match (PROTOCOL.md, resume, "Back in the match"); before, it was only signed
+// in, so its leave and chat were refused and a join moved the seat, kicking the game connection.
+TEST(ControlMatches, AResumedConnectionIsBackInItsMatchAndLeaves) {
+  ControlRig rig;
+  ControlTestClient lost(rig.port());
+  ASSERT_TRUE(lost.connect());
+  const wire::SessionReply session = lost.sign_in("ada");
+  ASSERT_TRUE(lost.request(ControlTestClient::join(1)).has_join_match());
+
+  ControlTestClient resumed(rig.port());
+  ASSERT_TRUE(resumed.connect());
+  const auto reply = resumed.request(ControlTestClient::resume(session.session_token()));
+  ASSERT_TRUE(reply.has_session()) << reply.DebugString();
+  EXPECT_EQ(reply.session().match_id(), 1u);
+  EXPECT_EQ(resumed.protocol().state(), proto::ControlState::InMatch);
+  // It plays the seat now (the server's state table lets chat through, the directory the
+  // session); the older connection, never seen to end, no longer speaks for the account.
+  EXPECT_TRUE(resumed.request(ControlTestClient::chat("back")).has_chat());
+  EXPECT_EQ(rig.directory().chats_seen(), (std::vector<std::string>{"back"}));
+  EXPECT_EQ(lost.request(ControlTestClient::chat("ghost")).error().code(), wire::NOT_IN_MATCH);
+  EXPECT_EQ(rig.directory().joined_names.size(), 1u) << "no join: the seat was taken back";
+
+  EXPECT_TRUE(resumed.request(ControlTestClient::leave()).has_leave_match());
+  EXPECT_FALSE(rig.directory().seated(session.account_id()));
+  EXPECT_EQ(resumed.protocol().state(), proto::ControlState::Authenticated);
+  EXPECT_EQ(resumed.request(ControlTestClient::chat("anyone?")).error().code(), wire::WRONG_STATE);
+}
+
+TEST(ControlMatches, MatchResultsReachTheResumedConnection) {
+  ControlRig rig;
+  wire::SessionReply session;
+  {
+    ControlTestClient lost(rig.port());
+    ASSERT_TRUE(lost.connect());
+    session = lost.sign_in("ada");
+    ASSERT_TRUE(lost.request(ControlTestClient::join(1)).has_join_match());
+  }
+  ControlTestClient resumed(rig.port());
+  ASSERT_TRUE(resumed.connect());
+  ASSERT_EQ(
+      resumed.request(ControlTestClient::resume(session.session_token())).session().match_id(), 1u);
+  wire::ServerMessage results;
+  results.mutable_match_results()->set_match_id(1);
+  results.mutable_match_results()->set_end_reason(wire::MATCH_END_REASON_TIME_LIMIT);
+  rig.server().send_to_account(session.account_id(), results);
+  const auto pushed = resumed.receive();
+  ASSERT_TRUE(pushed && pushed->has_match_results());
+  EXPECT_EQ(pushed->match_results().match_id(), 1u);
+  EXPECT_EQ(resumed.protocol().state(), proto::ControlState::Authenticated);
+  EXPECT_EQ(resumed.request(ControlTestClient::leave()).error().code(), wire::WRONG_STATE);
+}
+
+TEST(ControlMatches, AResumeWithoutAHeldSeatIsOnlySignedIn) {
+  ControlRig rig;
+  ControlTestClient first(rig.port());
+  ASSERT_TRUE(first.connect());
+  const wire::SessionReply session = first.sign_in("ada");
+  ASSERT_TRUE(first.request(ControlTestClient::join(1)).has_join_match());
+  ASSERT_TRUE(first.request(ControlTestClient::leave()).has_leave_match());
+
+  ControlTestClient resumed(rig.port());
+  ASSERT_TRUE(resumed.connect());
+  const auto reply = resumed.request(ControlTestClient::resume(session.session_token()));
+  ASSERT_TRUE(reply.has_session()) << reply.DebugString();
+  EXPECT_EQ(reply.session().match_id(), 0u);
+  EXPECT_EQ(resumed.protocol().state(), proto::ControlState::Authenticated);
+  EXPECT_EQ(resumed.request(ControlTestClient::chat("hi")).error().code(), wire::WRONG_STATE);
+}
+
+// Issue 29's rule holds: one connection plays an account, and only the sign-in that joined gets
+// the seat back by resuming. Another login's token (another device) is only signed in.
+TEST(ControlMatches, AResumeOfAnotherSignInDoesNotTakeTheSeatOver) {
+  ControlRig rig;
+  ControlTestClient player(rig.port());
+  ASSERT_TRUE(player.connect());
+  player.sign_in("ada");
+  ASSERT_TRUE(player.request(ControlTestClient::join(1)).has_join_match());
+
+  ControlTestClient other_device(rig.port());
+  ASSERT_TRUE(other_device.connect());
+  const wire::SessionReply other = other_device.sign_in("ada", false);
+  ControlTestClient resumed(rig.port());
+  ASSERT_TRUE(resumed.connect());
+  const auto reply = resumed.request(ControlTestClient::resume(other.session_token()));
+  ASSERT_TRUE(reply.has_session()) << reply.DebugString();
+  EXPECT_EQ(reply.session().match_id(), 0u);
+  EXPECT_EQ(resumed.protocol().state(), proto::ControlState::Authenticated);
+  // The player's connection still plays the seat.
+  EXPECT_TRUE(player.request(ControlTestClient::chat("still here")).has_chat());
+  EXPECT_TRUE(player.request(ControlTestClient::leave()).has_leave_match());
 }
 
 }  // namespace

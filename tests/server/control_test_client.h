@@ -47,7 +47,9 @@ class TempDir : public ricochet::test::TempDir {
   TempDir() : ricochet::test::TempDir("ricochet-control") {}
 };
 
-/// A match directory that records what it is asked and answers from a small table.
+/// A match directory that records what it is asked and answers from a small table. Like the
+/// registry, one control session plays a seated account (the newest join's, or a resume's of
+/// the same session token): leave and chat from another session are NotInMatch.
 class FakeDirectory : public MatchDirectory {
  public:
   FakeDirectory() { matches_.push_back({1, "arena 1", "ffa", "arena", 0, 16}); }
@@ -73,13 +75,13 @@ class FakeDirectory : public MatchDirectory {
     return summary;
   }
   DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
-                                  std::uint32_t match_id, const JoinOrigin&) override {
+                                  std::uint32_t match_id, const JoinOrigin& origin) override {
     std::lock_guard lock(mutex_);
     if (match_id == 0 || match_id > matches_.size()) {
       return DirectoryError{DirectoryErrorCode::MatchNotFound,
                             "no match " + std::to_string(match_id)};
     }
-    seated_[account] = match_id;
+    seated_[account] = Seat{match_id, origin.session, origin.session_token};
     joined_names.push_back(username);
     JoinGrant grant;
     grant.match_id = match_id;
@@ -91,19 +93,26 @@ class FakeDirectory : public MatchDirectory {
     grant.token.timeout_s = 5;
     return grant;
   }
-  DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t) override {
+  std::optional<std::uint32_t> rejoin(std::uint64_t account, const JoinOrigin& origin) override {
     std::lock_guard lock(mutex_);
-    if (seated_.erase(account) == 0) {
-      return DirectoryError{DirectoryErrorCode::NotInMatch, "not in a match"};
+    const auto seat = seated_.find(account);
+    if (seat == seated_.end() || origin.session_token.empty() ||
+        seat->second.session_token != origin.session_token) {
+      return std::nullopt;
     }
+    seat->second.session = origin.session;
+    return seat->second.match_id;
+  }
+  DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t session) override {
+    std::lock_guard lock(mutex_);
+    if (const auto refused = refuse_session(account, session)) return *refused;
+    seated_.erase(account);
     return Done{};
   }
-  DirectoryResult<Done> chat(std::uint64_t account, std::uint64_t,
+  DirectoryResult<Done> chat(std::uint64_t account, std::uint64_t session,
                              const std::string& text) override {
     std::lock_guard lock(mutex_);
-    if (!seated_.count(account)) {
-      return DirectoryError{DirectoryErrorCode::NotInMatch, "not in a match"};
-    }
+    if (const auto refused = refuse_session(account, session)) return *refused;
     chats.push_back(text);
     return Done{};
   }
@@ -125,9 +134,27 @@ class FakeDirectory : public MatchDirectory {
   std::vector<std::string> joined_names;
 
  private:
+  struct Seat {
+    std::uint32_t match_id = 0;
+    std::uint64_t session = 0;  ///< the control session that plays the account
+    std::string session_token;  ///< what it signed in with
+  };
+  /// NotInMatch when the account holds no seat or `session` does not play it. Holds mutex_.
+  std::optional<DirectoryError> refuse_session(std::uint64_t account, std::uint64_t session) {
+    const auto seat = seated_.find(account);
+    if (seat == seated_.end()) {
+      return DirectoryError{DirectoryErrorCode::NotInMatch, "not in a match"};
+    }
+    if (seat->second.session != session) {
+      return DirectoryError{DirectoryErrorCode::NotInMatch,
+                            "the account is played from another control connection now"};
+    }
+    return std::nullopt;
+  }
+
   mutable std::mutex mutex_;
   std::vector<MatchSummary> matches_;
-  std::map<std::uint64_t, std::uint32_t> seated_;
+  std::map<std::uint64_t, Seat> seated_;
 };
 
 /// A server whose io_context runs on two threads of its own (the control server keeps its

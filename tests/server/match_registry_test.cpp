@@ -212,6 +212,53 @@ TEST_F(MatchRegistryTest, OnlyTheSessionThatPlaysTheAccountChatsAndOnlyWhileConn
   EXPECT_EQ(chat(newer.session)->code, DirectoryErrorCode::NotInMatch);
 }
 
+// Issue 30: a control connection resumed after a loss was signed in but not in its match; the
+// sign-in that joined (the same session token) takes its seat back, nobody else does.
+TEST_F(MatchRegistryTest, AResumeOfTheSignInThatJoinedTakesTheSeatBack) {
+  const std::uint32_t match = open("a", 4);
+  const JoinOrigin phone{kHere.host, 1, std::string(64, 'a')};
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(7, "seven", match, phone)));
+  registry_->connected(7, match);
+  // Another sign-in of the account, a seatless account, a connection not signed in: nothing.
+  EXPECT_FALSE(registry_->rejoin(7, JoinOrigin{kHere.host, 2, std::string(64, 'b')}));
+  EXPECT_FALSE(registry_->rejoin(8, JoinOrigin{kHere.host, 2, phone.session_token}));
+  EXPECT_FALSE(registry_->rejoin(7, JoinOrigin{kHere.host, 2}));
+  EXPECT_TRUE(std::holds_alternative<DirectoryError>(registry_->leave(7, 2)))
+      << "session 2 never played the seat";
+
+  // On mobile now: another address, a new control connection, the same token.
+  const JoinOrigin resumed{proto::host_key(proto::Address::ipv4(10, 0, 0, 2, 0)), 3,
+                           phone.session_token};
+  EXPECT_EQ(registry_->rejoin(7, resumed), std::optional<std::uint32_t>(match));
+  EXPECT_EQ(players_in(match), 1);
+  // The game connection is still the seat's (chat needs it up); the resumed session plays it,
+  // the lost one no longer does.
+  EXPECT_TRUE(std::holds_alternative<Done>(registry_->chat(7, resumed.session, "back")));
+  const auto ghost = registry_->chat(7, phone.session, "ghost");
+  ASSERT_TRUE(std::holds_alternative<DirectoryError>(ghost));
+  EXPECT_NE(std::get<DirectoryError>(ghost).message.find("another control connection"),
+            std::string::npos);
+  EXPECT_TRUE(std::holds_alternative<DirectoryError>(registry_->leave(7, phone.session)));
+  // A join from the resumed session is a plain reconnect (no move, no kick), then it leaves.
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(7, "seven", match, resumed)));
+  EXPECT_TRUE(std::holds_alternative<Done>(registry_->leave(7, resumed.session)));
+  EXPECT_EQ(registry_->seats(), 0u);
+  EXPECT_FALSE(registry_->rejoin(7, resumed)) << "the seat is gone";
+}
+
+TEST_F(MatchRegistryTest, AResumeAfterTheReservationRanOutIsNotInTheMatch) {
+  const std::uint32_t match = open("a", 4);
+  const JoinOrigin phone{kHere.host, 1, std::string(64, 'a')};
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(7, "seven", match, phone)));
+  // Reserved, never connected: held while its token (10 s) and the handshake's timeout (1 s) run.
+  now_ += 10 * proto::kMicrosPerSecond;
+  EXPECT_EQ(registry_->rejoin(7, JoinOrigin{kHere.host, 2, phone.session_token}),
+            std::optional<std::uint32_t>(match));
+  now_ += 2 * proto::kMicrosPerSecond;
+  EXPECT_FALSE(registry_->rejoin(7, JoinOrigin{kHere.host, 3, phone.session_token}));
+  EXPECT_EQ(registry_->seats(), 0u);
+}
+
 // Issue 29: created matches' names let bidi overrides through (listed to every player).
 TEST_F(MatchRegistryTest, AMatchNameFollowsTheChatTextRule) {
   const auto refusal = [this](const std::string& name) -> std::string {

@@ -238,6 +238,13 @@ asio::awaitable<wire::ServerMessage> ControlSession::resume(const wire::ResumeRe
   session.set_account_id(account_);
   session.set_username(username_);
   session.set_expires_unix_ms(result.value().expires_ms);
+  // Back in the match this sign-in joined, when its seat is still held (PROTOCOL.md, resume).
+  if (const auto match_id = context_.matches.rejoin(
+          account_, JoinOrigin{host_key_of(address_), id_, session_token_})) {
+    session.set_match_id(*match_id);
+    machine_.transition(proto::ControlState::InMatch,
+                        "resumed into match " + std::to_string(*match_id));
+  }
   co_return reply;
 }
 
@@ -318,8 +325,9 @@ wire::ServerMessage ControlSession::create_match(const wire::CreateMatchRequest&
 }
 
 wire::ServerMessage ControlSession::join_match(const wire::JoinMatchRequest& request) {
-  DirectoryResult<JoinGrant> result = context_.matches.join(account_, username_, request.match_id(),
-                                                            JoinOrigin{host_key_of(address_), id_});
+  DirectoryResult<JoinGrant> result =
+      context_.matches.join(account_, username_, request.match_id(),
+                            JoinOrigin{host_key_of(address_), id_, session_token_});
   if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
   const JoinGrant& grant = std::get<JoinGrant>(result);
   const proto::TimeUs now = context_.clock();

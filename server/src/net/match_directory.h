@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -40,6 +41,9 @@ struct CreateMatchRequest {
 struct JoinOrigin {
   proto::HostKey host;        ///< the control connection's peer (proto::host_key)
   std::uint64_t session = 0;  ///< the control connection's id: one session plays the account
+  /// The session token the control connection signed in (or resumed) with: a resume with the
+  /// same token on a new connection takes the seat back (MatchDirectory::rejoin).
+  std::string session_token = {};
 };
 
 /// Everything the client needs to open the game channel.
@@ -114,6 +118,12 @@ class MatchDirectory {
   /// connection is kicked; its leave is refused with NotInMatch).
   virtual DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
                                           std::uint32_t match_id, const JoinOrigin& origin) = 0;
+  /// A resumed control connection back in its match (PROTOCOL.md, resume, "Back in the match"):
+  /// when the account holds a seat joined (or taken back) from a connection signed in with
+  /// `origin.session_token`, the seat is played from `origin.session` from now on, its game
+  /// connection untouched; returns the match's id. Nothing when the account holds no seat, or
+  /// another sign-in (another token) plays it: that one is not taken over.
+  virtual std::optional<std::uint32_t> rejoin(std::uint64_t account, const JoinOrigin& origin) = 0;
   /// Gives the account's seat up, when `session` holds it.
   virtual DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t session) = 0;
   /// Echoed to every player of the account's match over the game channel's reliable messages,

@@ -281,6 +281,7 @@ DirectoryResult<JoinGrant> MatchRegistry::join_locked(std::uint64_t account,
     if (seat->second.taken) channel_.kick(account, proto::DisconnectReason::Kicked);
   }
   seat->second.session = origin.session;
+  seat->second.session_token = origin.session_token;
   seat->second.host = origin.host;
   JoinGrant grant;
   grant.match_id = match_id;
@@ -296,6 +297,24 @@ DirectoryResult<JoinGrant> MatchRegistry::join_locked(std::uint64_t account,
       grant.token.expires_at +
       static_cast<proto::TimeUs>(grant.token.timeout_s) * proto::kMicrosPerSecond;
   return grant;
+}
+
+std::optional<std::uint32_t> MatchRegistry::rejoin(std::uint64_t account,
+                                                   const JoinOrigin& origin) {
+  const std::lock_guard lock(mutex_);
+  expire_reservations(config_.clock());
+  const auto seat = seats_.find(account);
+  // Only the sign-in that joined gets the seat back: another device's token does not take over
+  // a game connection it does not play (it may join, which kicks that connection instead).
+  if (seat == seats_.end() || origin.session_token.empty() ||
+      seat->second.session_token != origin.session_token) {
+    return std::nullopt;
+  }
+  spdlog::info("match {}: account {} resumed on control session {} (was {})", seat->second.match_id,
+               account, origin.session, seat->second.session);
+  seat->second.session = origin.session;
+  seat->second.host = origin.host;
+  return seat->second.match_id;
 }
 
 DirectoryResult<Done> MatchRegistry::leave(std::uint64_t account, std::uint64_t session) {

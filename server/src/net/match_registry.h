@@ -148,6 +148,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   DirectoryResult<MatchSummary> create(const CreateMatchRequest& request) override;
   DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
                                   std::uint32_t match_id, const JoinOrigin& origin) override;
+  std::optional<std::uint32_t> rejoin(std::uint64_t account, const JoinOrigin& origin) override;
   DirectoryResult<Done> leave(std::uint64_t account, std::uint64_t session) override;
   DirectoryResult<Done> chat(std::uint64_t account, std::uint64_t session,
                              const std::string& text) override;
@@ -171,6 +172,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
     proto::HostKey host;            ///< where the newest join came from
     std::uint64_t session = 0;      ///< the control session that plays the account
     proto::TimeUs reserved_at = 0;  ///< the first join (joining again does not move it)
+    std::string session_token = {};  ///< what `session` signed in with (rejoin)
   };
 
   /// Why no match can be opened now (closed, at the cap, or `creator` at a created-match

@@ -8,7 +8,8 @@
 /// TLS connection, made once TLS is up. No sockets, no threads, no clock. Not thread-safe.
 ///
 ///   Unauthenticated ──SessionReply──▶ Authenticated ──JoinMatchReply──▶ InMatch
-///                                       ▲ ◀──LeaveMatchReply / NOT_IN_MATCH / MatchResults──┘
+///         │                             ▲ ◀──LeaveMatchReply / NOT_IN_MATCH / MatchResults──┘
+///         └──SessionReply with match_id, answering a resume (back in the match)──────▶ InMatch
 ///   any state ──close(), connection_lost(), the server's closing Error, a request timeout,
 ///               a refused server frame──▶ Closed (final: ControlClosed says why)
 
