@@ -7,6 +7,7 @@
 ///   Unauthenticated ──login / resume──▶ Authenticated ──join──▶ InMatch
 ///        ▲                               ▲   ◀──leave / match results──┘
 ///        └──────────── logout ◀──────────┴──────────────────────────┘
+///   Unauthenticated ──resume, the sign-in's seat still held (back in the match)──▶ InMatch
 ///   any state ──close(reason)──▶ Closed (final)
 ///
 ///   message        Unauthenticated  Authenticated  InMatch  Closed
