@@ -225,6 +225,42 @@ void refused_requests(VectorFile& file) {
   s.request(login(), 5);  // signed in already
 }
 
+wire::ClientMessage resume() {
+  wire::ClientMessage m;
+  m.mutable_resume()->set_session_token(std::string(64, 'a'));
+  return m;
+}
+
+/// A resume whose reply names the match the sign-in plays (PROTOCOL.md, resume, "Back in the
+/// match"): InMatch at once; then one without it, only signed in.
+void resume_back_in_match(VectorFile& file) {
+  {
+    Scenario s(file, "resume_back_in_match");
+    s.request(resume(), 0);
+    wire::ServerMessage back = session_reply(1);
+    back.mutable_session()->clear_session_token();  // a resume's reply: the client keeps its own
+    back.mutable_session()->set_match_id(9);
+    s.reply(back);
+    s.request(chat("back"), 10);
+    wire::ServerMessage chatted;
+    chatted.set_request_id(2);
+    chatted.mutable_chat();
+    s.reply(chatted);
+    s.request(leave(), 20);
+    wire::ServerMessage left;
+    left.set_request_id(3);
+    left.mutable_leave_match();
+    s.reply(left);
+    s.request(chat("gone"), 30);  // refused: left
+  }
+  Scenario s(file, "resume_signed_in_only");
+  s.request(resume(), 0);
+  wire::ServerMessage signed_in = session_reply(1);
+  signed_in.mutable_session()->clear_session_token();
+  s.reply(signed_in);
+  s.request(leave(), 10);  // refused: not in a match
+}
+
 void keep_alive_and_timeout(VectorFile& file) {
   Scenario s(file, "keep_alive_and_timeout");
   s.update(29'999);
@@ -298,6 +334,7 @@ std::string write_control_session_vectors() {
                   "requests, the server's bytes and the time in; frames, events and states out.");
   sign_in_and_play(file);
   refused_requests(file);
+  resume_back_in_match(file);
   keep_alive_and_timeout(file);
   split_frames(file);
   refused_servers(file);

@@ -70,7 +70,10 @@ public final class RicochetClient implements AutoCloseable {
     /**
      * After a lost connection the client reconnected and resumed {@code session} (the same account
      * and token) by itself; the calls made meanwhile go out now. Seats are the game channel's: a
-     * match joined before is still joined.
+     * match joined before is still joined, and the resumed connection is back in it ({@link
+     * Session#matchId()}, {@link #state()} IN_MATCH: {@link #leave} and {@link #chat} work, its
+     * results arrive; the running {@link GameConnection} is not touched). {@code matchId} 0: the
+     * seat was given up meanwhile (the server's 30 s grace ran out, or the match ended).
      */
     default void onResumed(Session session) {}
 
@@ -330,7 +333,10 @@ public final class RicochetClient implements AutoCloseable {
     return send(message, (reply, nowMs) -> session(reply.getSession(), null));
   }
 
-  /** Signs in with the token of an earlier login (after a reconnect); no password needed. */
+  /**
+   * Signs in with the token of an earlier login (after a reconnect); no password needed. When that
+   * sign-in still holds a seat, this connection is back in the match ({@link Session#matchId()}).
+   */
   public CompletableFuture<Session> resume(String sessionToken) {
     ClientMessage message = ClientMessage.newBuilder()
                                 .setResume(ResumeRequest.newBuilder().setSessionToken(sessionToken))
@@ -549,8 +555,10 @@ public final class RicochetClient implements AutoCloseable {
   }
 
   private static Session session(SessionReply reply, String resumedToken) {
+    // A login's match_id means nothing (PROTOCOL.md): only a resume is back in a match.
     return new Session(reply.getAccountId(), reply.getUsername(),
-        resumedToken != null ? resumedToken : reply.getSessionToken(), reply.getExpiresUnixMs());
+        resumedToken != null ? resumedToken : reply.getSessionToken(), reply.getExpiresUnixMs(),
+        resumedToken != null ? reply.getMatchId() & 0xffffffffL : 0);
   }
 
   private <T> CompletableFuture<T> send(ClientMessage message, Converter<T> converter) {

@@ -9,12 +9,14 @@ public final class Session {
   private final String username;
   private final String sessionToken;
   private final long expiresUnixMs;
+  private final long matchId;
 
-  Session(long accountId, String username, String sessionToken, long expiresUnixMs) {
+  Session(long accountId, String username, String sessionToken, long expiresUnixMs, long matchId) {
     this.accountId = accountId;
     this.username = username;
     this.sessionToken = sessionToken;
     this.expiresUnixMs = expiresUnixMs;
+    this.matchId = matchId;
   }
 
   /** The account's id on the server. */
@@ -40,8 +42,19 @@ public final class Session {
     return expiresUnixMs;
   }
 
+  /**
+   * For a resume, the match this sign-in still holds a seat in: the resumed connection is back in
+   * it ({@link io.ricochet.client.core.control.ControlState#IN_MATCH}: {@code leave} and {@code
+   * chat} work, its results arrive; a running game connection plays on). 0 for a login, or when
+   * the seat was given up meanwhile (the connection is then only signed in).
+   */
+  public long matchId() {
+    return matchId;
+  }
+
   @Override
   public String toString() {
-    return "Session{account " + accountId + " " + username + "}";
+    return "Session{account " + accountId + " " + username
+        + (matchId != 0 ? " in match " + matchId : "") + "}";
   }
 }

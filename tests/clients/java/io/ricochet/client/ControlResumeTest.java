@@ -12,9 +12,11 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import io.ricochet.client.core.control.ControlCloseReason;
 import io.ricochet.client.core.control.ControlState;
 import io.ricochet.client.core.control.RequestRefusal;
+import io.ricochet.client.core.transport.DisconnectReason;
 import io.ricochet.client.testing.ServerProcess;
 import io.ricochet.client.testing.TcpRelay;
 import io.ricochet.wire.ControlProto.ErrorCode;
+import io.ricochet.wire.ControlProto.MatchResults;
 import java.util.ArrayList;
 import java.util.HashSet;
 import java.util.List;
@@ -24,6 +26,7 @@ import java.util.concurrent.CompletableFuture;
 import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
+import java.util.concurrent.atomic.AtomicReference;
 import java.util.function.BooleanSupplier;
 import org.junit.jupiter.api.AfterAll;
 import org.junit.jupiter.api.AfterEach;
@@ -37,7 +40,9 @@ import org.junit.jupiter.api.Timeout;
  * sides see the connection end, as when a phone loses its network) and can keep refusing (the
  * network still down): the client resumes with the session token by itself, calls made meanwhile
  * wait, a revoked or banned session is not retried, attempts that never connect give up, and a
- * game connection plays on while the control channel is away. Bounded waits only.
+ * game connection plays on while the control channel is away; the resumed connection is back in
+ * its match (chat, leave and the match's results work there, nothing is kicked). Bounded waits
+ * only.
  */
 @Timeout(value = 120, unit = TimeUnit.SECONDS)
 class ControlResumeTest {
@@ -61,6 +66,11 @@ class ControlResumeTest {
     @Override
     public void onResumeFailed(RicochetException failure) {
       seen.add(failure);
+    }
+
+    @Override
+    public void onMatchResults(MatchResults results) {
+      seen.add(results);
     }
 
     <T> T next(Class<T> kind) throws InterruptedException {
@@ -93,10 +103,16 @@ class ControlResumeTest {
 
   /** A client through the relay, pinned, with a short deterministic back-off (bound 50 ms, ×2). */
   private RicochetClient.Builder viaRelay(Events events) {
+    return viaRelay(events, server, relay);
+  }
+
+  /** As {@link #viaRelay(Events)}, through {@code through} to {@code pinned}. */
+  private static RicochetClient.Builder viaRelay(
+      Events events, ServerProcess pinned, TcpRelay through) {
     return RicochetClient.builder()
         .host("127.0.0.1")
-        .controlPort(relay.port())
-        .pinSha256(server.fingerprint())
+        .controlPort(through.port())
+        .pinSha256(pinned.fingerprint())
         .listener(events)
         .resumeBackoffMs(50, 400)
         .resumeAttempts(50)
@@ -162,6 +178,7 @@ class ControlResumeTest {
       assertEquals(session.accountId(), resumed.accountId());
       assertEquals("resumer", resumed.username());
       assertEquals(session.sessionToken(), resumed.sessionToken());
+      assertEquals(0, resumed.matchId(), "it held no seat");
       assertEquals(ControlState.AUTHENTICATED, client.state());
       // The same account, signed in: a call that needs it succeeds.
       MatchInfo created = await(client.createMatch("resumed_match", 4, ""));
@@ -258,13 +275,19 @@ class ControlResumeTest {
   }
 
   @Test
-  void theGameConnectionPlaysOnWhileTheControlChannelIsAway() throws Exception {
+  void theGameConnectionPlaysOnAndTheResumedConnectionIsBackInItsMatch() throws Exception {
     Events events = new Events();
     AtomicInteger snapshots = new AtomicInteger();
+    AtomicReference<DisconnectReason> gameEnded = new AtomicReference<>();
     GameListener counting = new GameListener() {
       @Override
       public void onSnapshot(GameSnapshot snapshot) {
         snapshots.incrementAndGet();
+      }
+
+      @Override
+      public void onDisconnected(DisconnectReason reason) {
+        gameEnded.set(reason);
       }
     };
     try (RicochetClient client = viaRelay(events).build()) {
@@ -278,19 +301,62 @@ class ControlResumeTest {
       assertTrue(eventually(() -> snapshots.get() >= atLoss + 60), "a second of snapshots");
       assertTrue(game.isOpen());
       relay.refuse(false);
-      events.next(Session.class);
-      // The seat is the game channel's: still held, still playing after the resume.
+      // Back in the match (PROTOCOL.md, resume): the sign-in that joined plays its seat again.
+      Session resumed = events.next(Session.class);
+      assertEquals(matchId, resumed.matchId(), resumed.toString());
+      assertEquals(ControlState.IN_MATCH, client.state());
       int atResume = snapshots.get();
       assertTrue(eventually(() -> snapshots.get() >= atResume + 30), "snapshots after the resume");
-      assertTrue(game.isOpen());
       MatchInfo match = await(client.listMatches()).get(0);
       assertEquals(matchId, match.matchId());
-      assertTrue(match.players() >= 1, match.toString());
-      // The resumed connection is signed in, not in the match: leave is refused there.
-      assertEquals(ControlState.AUTHENTICATED, client.state());
-      assertEquals(RequestRefusal.WRONG_STATE, failure(client.leave()).refusal());
+      assertEquals(1, match.players(), match.toString());
+      // Chat goes out on the resumed connection (the server takes it only from the connection that
+      // plays the account, while its game connection is up).
+      await(client.chat("back on mobile"));
+      // A fresh ticket for the same match moves nothing: the game connection is not kicked.
+      JoinTicket ticket = await(client.joinMatch(matchId));
+      assertEquals(matchId, ticket.matchId());
+      int atTicket = snapshots.get();
+      assertTrue(eventually(() -> snapshots.get() >= atTicket + 30), "snapshots after the ticket");
+      assertNull(gameEnded.get(), "the game connection played on");
       assertTrue(game.isOpen());
+      // Leaving works there and gives the seat up: the server ends the game connection, as left.
+      await(client.leave());
+      assertEquals(ControlState.AUTHENTICATED, client.state());
+      assertTrue(eventually(() -> gameEnded.get() != null), "the game connection ended");
+      assertEquals(DisconnectReason.LEFT, gameEnded.get());
+      assertEquals(0, await(client.listMatches()).get(0).players());
       game.close();
+      assertNull(events.seen.poll(), "nothing more: " + events.seen);
+    }
+  }
+
+  @Test
+  void theMatchResultsReachTheResumedConnection() throws Exception {
+    String source = System.getProperty("ricochet.source_dir", ".");
+    // A match that ends by itself a few seconds after its first player connects.
+    try (ServerProcess shortMatch = new ServerProcess("count = 1\nmax_players = 4\nmaps = [\""
+                 + source + "/server/maps/arena.toml\"]\nseed = 42\nwarmup_s = 0\n"
+                 + "frag_limit = 0\nrecord = false\nmin_players = 1\ntime_limit_s = 6\n",
+             "", ClientTesting.FAST_ACCOUNTS, ClientTesting.WAIT_MS);
+         TcpRelay toShortMatch = new TcpRelay(shortMatch.controlPort())) {
+      Events events = new Events();
+      try (RicochetClient client = viaRelay(events, shortMatch, toShortMatch).build()) {
+        await(client.register("results_player", "password-results"));
+        await(client.login("results_player", "password-results"));
+        long matchId = await(client.listMatches()).get(0).matchId();
+        GameConnection game = await(client.joinMatch(matchId, new GameListener() {}));
+        toShortMatch.cut(); // the network comes back at once: the next attempt gets through
+        assertEquals(ControlCloseReason.CONNECTION_LOST, events.next(Disconnect.class).reason());
+        assertEquals(matchId, events.next(Session.class).matchId());
+        assertEquals(ControlState.IN_MATCH, client.state());
+        // The time limit ends the match: its results come to the resumed connection.
+        MatchResults results = events.next(MatchResults.class);
+        assertEquals(matchId, results.getMatchId() & 0xffffffffL);
+        assertEquals(1, results.getPlayersCount(), results.toString());
+        assertEquals(ControlState.AUTHENTICATED, client.state());
+        game.close();
+      }
     }
   }
 }

@@ -280,7 +280,10 @@ public final class ControlSession {
     pending.remove(request);
     switch (message.getBodyCase()) {
       case SESSION:
-        state = ControlState.AUTHENTICATED;
+        // A resume back in the match its sign-in plays (PROTOCOL.md, resume): in the match again.
+        state = request.kind == RequestKind.RESUME && message.getSession().getMatchId() != 0
+            ? ControlState.IN_MATCH
+            : ControlState.AUTHENTICATED;
         break;
       case JOIN_MATCH:
         state = ControlState.IN_MATCH;

@@ -26,6 +26,7 @@ import io.ricochet.wire.ControlProto.LogoutReply;
 import io.ricochet.wire.ControlProto.LogoutRequest;
 import io.ricochet.wire.ControlProto.MatchResults;
 import io.ricochet.wire.ControlProto.Pong;
+import io.ricochet.wire.ControlProto.ResumeRequest;
 import io.ricochet.wire.ControlProto.ServerMessage;
 import io.ricochet.wire.ControlProto.SessionReply;
 import java.util.ArrayList;
@@ -53,6 +54,16 @@ class ControlSessionTest {
       ClientMessage.newBuilder().setChat(ChatRequest.newBuilder().setText("hi")).build();
   private static final ClientMessage LOGOUT =
       ClientMessage.newBuilder().setLogout(LogoutRequest.getDefaultInstance()).build();
+  private static final ClientMessage RESUME =
+      ClientMessage.newBuilder()
+          .setResume(ResumeRequest.newBuilder().setSessionToken(repeat('a', 64)))
+          .build();
+
+  private static String repeat(char c, int times) {
+    StringBuilder out = new StringBuilder();
+    for (int i = 0; i < times; ++i) out.append(c);
+    return out.toString();
+  }
 
   /** The client messages in {@code bytes}, which must be whole frames. */
   private static List<ClientMessage> sent(byte[] bytes) throws Exception {
@@ -184,6 +195,38 @@ class ControlSessionTest {
     assertEquals(RequestKind.LIST_MATCHES, second.kind());
     assertEquals(0, session.pending());
     assertNull(session.pollEvent());
+  }
+
+  /** A resumed connection back in its match (PROTOCOL.md, resume): in the match at once. */
+  @Test
+  void aResumeBackInTheMatchIsInTheMatch() throws Exception {
+    ControlSession resumed = new ControlSession(0);
+    deliver(resumed,
+        reply(resumed.request(RESUME, 0).requestId(),
+            ServerMessage.newBuilder().setSession(
+                SessionReply.newBuilder().setAccountId(3).setUsername("alice").setMatchId(7))));
+    assertEquals(ControlState.IN_MATCH, resumed.state());
+    RequestResult chat = resumed.request(CHAT, 0);
+    assertTrue(chat.queued(), chat.toString());
+    assertEquals(2, sent(resumed.pollTransmit()).size(), "the resume, then the chat");
+    deliver(resumed,
+        reply(resumed.request(LEAVE, 0).requestId(),
+            ServerMessage.newBuilder().setLeaveMatch(LeaveMatchReply.getDefaultInstance())));
+    assertEquals(ControlState.AUTHENTICATED, resumed.state());
+
+    // No match_id: only signed in, so leave is refused locally.
+    ControlSession signedInOnly = new ControlSession(0);
+    deliver(signedInOnly, reply(signedInOnly.request(RESUME, 0).requestId(), session()));
+    assertEquals(ControlState.AUTHENTICATED, signedInOnly.state());
+    assertEquals(RequestRefusal.WRONG_STATE, signedInOnly.request(LEAVE, 0).refusal());
+
+    // A match_id answering a login means nothing.
+    ControlSession loggedIn = new ControlSession(0);
+    deliver(loggedIn,
+        reply(loggedIn.request(LOGIN, 0).requestId(),
+            ServerMessage.newBuilder().setSession(
+                SessionReply.newBuilder().setAccountId(3).setUsername("alice").setMatchId(7))));
+    assertEquals(ControlState.AUTHENTICATED, loggedIn.state());
   }
 
   @Test
