@@ -172,7 +172,8 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
     proto::HostKey host;            ///< where the newest join came from
     std::uint64_t session = 0;      ///< the control session that plays the account
     proto::TimeUs reserved_at = 0;  ///< the first join (joining again does not move it)
-    std::string session_token = {};  ///< what `session` signed in with (rejoin)
+    /// What `session` signed in with: a resume with it takes the seat back (rejoin).
+    std::string session_token = {};
   };
 
   /// Why no match can be opened now (closed, at the cap, or `creator` at a created-match
