@@ -391,8 +391,9 @@ void Bot::on_join(const wire::ServerMessage& reply) {
     return arm(kNoRoomRetryS, [this] { find_match(); });
   }
   if (is_error(reply, wire::ALREADY_IN_MATCH)) {
-    // Seated elsewhere. From this connection's match, leave; a seat an earlier connection took
-    // cannot be left from here (Authenticated): it lapses with its token, so try again later.
+    // Seated elsewhere. From this connection's match, leave (a resume with the token that took the
+    // seat is back in its match, PROTOCOL.md); a seat another login took cannot be left from here
+    // (Authenticated): it lapses with its token, so try again later.
     wire::ClientMessage leave;
     leave.mutable_leave_match();
     if (!control_->request(std::move(leave),
