@@ -5,8 +5,9 @@
 #      about 60 % of GCC's time), each gtest binary in shards (tests/CMakeLists.txt: a sanitized
 #      process is slow to start)
 #   3. ThreadSanitizer (clang 16, -O1): the binaries whose code runs on several threads, the
-#      database's (password threads, worker), the server's and the in-process integration tests
-#      (control, tick and database threads of one Server); only their targets are built
+#      database's (password threads, worker), the network layer's (server_tests; not match_tests,
+#      the single-threaded match library) and the in-process integration tests (control, tick and
+#      database threads of one Server); only their targets are built
 #      The Java client's tests run in the Release pass only (no sanitizer sees into the JVM).
 #   4. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only (and only
 #      their targets are built)

@@ -55,8 +55,7 @@ TEST(MatchRecord, ThoseWhoTookPartWhileRunningCountForTheirRunningTicks) {
 class MatchRecordFixture : public ::testing::Test {
  protected:
   static Match make(int min_players) {
-    const std::string path =
-        (std::filesystem::path(__FILE__).parent_path() / "../../server/maps/arena.toml").string();
+    const std::string path = std::string(RICOCHET_SOURCE_DIR "/server/maps/arena.toml");
     MapResult map = load_map_file(path);
     EXPECT_TRUE(std::holds_alternative<Map>(map));
     MatchConfig config;

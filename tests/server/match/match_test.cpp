@@ -22,8 +22,7 @@ constexpr TimeUs kStart = 1'000'000;
 constexpr TimeUs kTickUs = kMicrosPerSecond / 60 + 1;  // a little over one 60 Hz period
 
 Map sample_map() {
-  const std::string path =
-      (std::filesystem::path(__FILE__).parent_path() / "../../server/maps/arena.toml").string();
+  const std::string path = std::string(RICOCHET_SOURCE_DIR "/server/maps/arena.toml");
   MapResult result = load_map_file(path);
   EXPECT_TRUE(std::holds_alternative<Map>(result));
   return std::get<Map>(std::move(result));

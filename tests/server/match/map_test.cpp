@@ -22,7 +22,7 @@ const std::string kHeader =
 const std::string kSpawn = "[[spawn]]\nposition = [0, 0.5, 0]\n";
 
 std::string shipped(const char* name) {
-  return (std::filesystem::path(__FILE__).parent_path() / "../../server/maps" / name).string();
+  return (std::filesystem::path(RICOCHET_SOURCE_DIR "/server/maps") / name).string();
 }
 
 /// A reader over in-memory files, as a recording gives them.

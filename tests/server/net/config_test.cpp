@@ -12,9 +12,9 @@
 namespace ricochet::server {
 namespace {
 
-/// The repository's root, found from this file's path (CMake passes absolute source paths).
+/// The repository's root (tests/server/CMakeLists.txt defines it).
 std::filesystem::path source_root() {
-  return std::filesystem::path{__FILE__}.parent_path().parent_path().parent_path();
+  return RICOCHET_SOURCE_DIR;
 }
 
 /// Runs parse_command_line on "ricochet-server" followed by `args`.
