@@ -34,13 +34,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
 constexpr std::chrono::seconds kMargin{6};
 constexpr std::chrono::seconds kStartBudget{10};

@@ -12,14 +12,9 @@
 #include <sstream>
 #include <string>
 
-namespace ricochet::test {
+#include "text_file.h"
 
-inline std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+namespace ricochet::test {
 
 /// The number after `"key":` at the top level of report.json (its last occurrence: the step
 /// objects come first); nullopt when absent.

@@ -25,6 +25,7 @@
 #include <thread>
 
 #include "temp_dir.h"
+#include "text_file.h"
 
 namespace ricochet::test {
 
@@ -66,7 +67,7 @@ class ServerProcess {
       std::smatch port_match;
       std::smatch fingerprint_match;
       std::smatch file_match;
-      const std::string file = read_file(ports_path());
+      const std::string file = read_text(ports_path());
       if (std::regex_search(text, port_match, ports) &&
           std::regex_search(text, fingerprint_match, fingerprint) &&
           std::regex_match(file, file_match, file_fields)) {
@@ -124,7 +125,7 @@ class ServerProcess {
   std::filesystem::path db_path() const { return data_dir_ / "ricochet.db"; }
   const std::filesystem::path& data_dir() const { return data_dir_; }
   const std::filesystem::path& dir() const { return dir_.path(); }
-  std::string log() const { return read_file(log_path()); }
+  std::string log() const { return read_text(log_path()); }
 
  private:
   /// Writes the configuration (the ports known so far, 0 before the first start) and forks the
@@ -161,12 +162,6 @@ class ServerProcess {
       _exit(127);
     }
     close(log_fd);
-  }
-  static std::string read_file(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
   }
   std::filesystem::path ports_path() const { return dir_.path() / "ports.json"; }
   std::filesystem::path config_path() const { return dir_.path() / "server.toml"; }
