@@ -3,7 +3,8 @@
 #   1. Release (-O3, GCC: what ./tools/run.sh builds), float physics
 #   2. Debug with AddressSanitizer + UndefinedBehaviorSanitizer (clang 16: it builds this tree in
 #      about 60 % of GCC's time), each gtest binary in shards (tests/CMakeLists.txt: a sanitized
-#      process is slow to start)
+#      process is slow to start); this tree also builds the libFuzzer targets (RICOCHET_FUZZ), so
+#      the libraries they reach compile once for both
 #   3. ThreadSanitizer (clang 16, -O1): the binaries whose code runs on several threads, the
 #      database's (password threads, worker), the network layer's (server_tests; not match_tests,
 #      the single-threaded match library) and the in-process integration tests (control, tick and
@@ -11,8 +12,9 @@
 #      The Java client's tests run in the Release pass only (no sanitizer sees into the JVM).
 #   4. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only (and only
 #      their targets are built)
-# Warnings are errors in all four. Then every libFuzzer target runs for 10 s (tools/fuzz.sh): a
-# smoke run on its seeds and a little past them; fuzz longer with tools/fuzz.sh --seconds N.
+# Warnings are errors in all four. Every libFuzzer target runs for 10 s (tools/fuzz.sh) beside the
+# double pass's tests: a smoke run on its seeds and a little past them; fuzz longer with
+# tools/fuzz.sh --seconds N.
 # Each pass's tests run while the next pass builds (below).
 # Before any of it, every C++ file must be as .clang-format (clang-format 14) formats it.
 set -euo pipefail
@@ -70,7 +72,8 @@ build build/release "" -DCMAKE_BUILD_TYPE=Release
 start_tests build/release ""
 
 build build/sanitize "" -DCMAKE_BUILD_TYPE=Debug -DRICOCHET_SANITIZE=address \
-  -DCMAKE_CXX_COMPILER=clang++-16 "${lld[@]}" -DRICOCHET_TEST_SHARDS=8 -DRICOCHET_JAVA=OFF
+  -DCMAKE_CXX_COMPILER=clang++-16 "${lld[@]}" -DRICOCHET_TEST_SHARDS=8 -DRICOCHET_JAVA=OFF \
+  -DRICOCHET_FUZZ=ON
 finish_tests
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   start_tests build/sanitize ""
@@ -86,8 +89,7 @@ build build/double "physics_tests physics_allocation_tests physics-bench arena-b
 finish_tests
 start_tests build/double "-L physics"
 
-nice -n 10 ./tools/fuzz.sh --build-only
-finish_tests
 echo "=== fuzzing (at ${SECONDS} s) ==="
-./tools/fuzz.sh --seconds 10
+./tools/fuzz.sh --build-dir build/sanitize --seconds 10
+finish_tests
 echo "tools/test.sh: all tests passed in ${SECONDS} s"
