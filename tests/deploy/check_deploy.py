@@ -124,11 +124,13 @@ def check_config_file(path, server, problems):
     return toml
 
 
-def expand_env(arg, env_names, problems, where):
+def expand_env(arg, env_values, problems, where):
     """$(NAME) as kubelet expands it from the container's env: each must be defined."""
-    for name in re.findall(r"\$\(([A-Za-z_][A-Za-z0-9_]*)\)", arg):
-        problems.check(name in env_names, f"{where}: {arg} names $({name}), not in env")
-    return re.sub(r"\$\(([A-Za-z_][A-Za-z0-9_]*)\)", "placeholder", arg)
+    def value(match):
+        name = match.group(1)
+        problems.check(name in env_values, f"{where}: {arg} names $({name}), not in env")
+        return env_values.get(name, "")
+    return re.sub(r"\$\(([A-Za-z_][A-Za-z0-9_]*)\)", value, arg)
 
 
 def flag_value(args, flag):
@@ -208,6 +210,21 @@ class Kustomization:
                 return entry
         return None
 
+    def env_value(self, env):
+        """A container env entry's value: given, or a literal of a generated Secret or
+        ConfigMap; empty when it is neither."""
+        if "value" in env:
+            return env["value"]
+        source = env.get("valueFrom", {})
+        for kind, ref_key in (("Secret", "secretKeyRef"), ("ConfigMap", "configMapKeyRef")):
+            ref = source.get(ref_key)
+            entry = self.generator(kind, ref["name"]) if ref else None
+            for literal in (entry or {}).get("literals", []):
+                key, _, value = literal.partition("=")
+                if key == ref["key"]:
+                    return value
+        return ""
+
     def generated_keys(self, kind, name, problems):
         """The keys (file names) a generator makes, or None when no generator has `name`."""
         entry = self.generator(kind, name)
@@ -258,8 +275,8 @@ def check_fleet(base, source, server, problems):
     problems.check(args[:1] == ["ricochet-server"], f"{where}: the container must run "
                    f"ricochet-server, runs {args[:1]}")
     args = args[1:]
-    env_names = {env["name"] for env in container.get("env", [])}
-    args = [expand_env(arg, env_names, problems, where) for arg in args]
+    env_values = {env["name"]: base.env_value(env) for env in container.get("env", [])}
+    args = [expand_env(arg, env_values, problems, where) for arg in args]
     config_path = flag_value(args, "--config")
     config_file = None
     for name, mount in mounts.items():
