@@ -25,6 +25,7 @@ packages=(
   libbcprov-java libbctls-java libbcutil-java  # its ChaCha20-Poly1305 and TLS 1.3 (Bouncy Castle)
   junit5                   # its tests
   jq                       # tools/bench/java_decode.sh (its ratio lines and smoke test)
+  prometheus python3-yaml  # tests/deploy: promtool checks /metrics and deploy/prometheus; YAML of deploy/
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
 if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then

@@ -9,6 +9,8 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/use_awaitable.hpp>
 #include <chrono>
+#include <numeric>
+#include <string_view>
 #include <utility>
 
 #include "recording_files.h"
@@ -208,14 +210,18 @@ void MatchHost::report_phases(MetricsSink& sink) const {
     const std::lock_guard lock(stats_mutex_);
     ticks = tick_window_.summary();
   }
-  const std::array<std::pair<const char*, double>, 4> quantiles{
-      {{"0.5", ticks.p50}, {"0.95", ticks.p95}, {"0.99", ticks.p99}, {"1", ticks.max}}};
-  for (const auto& [quantile, seconds] : quantiles) {
-    sink.gauge("ricochet_tick_seconds",
+  // The quantiles are the window's; the sum and count every tick's, from the "total" phase.
+  static_assert(std::string_view{kPhaseNames.back()} == "total");
+  const HistogramSnapshot total = phase_histograms_.back()->snapshot();
+  SummarySnapshot summary{
+      .quantiles = {{0.5, ticks.p50}, {0.95, ticks.p95}, {0.99, ticks.p99}, {1.0, ticks.max}},
+      .sum = total.sum,
+      .count = std::accumulate(total.bucket_counts.begin(), total.bucket_counts.end(),
+                               std::uint64_t{0})};
+  sink.summary("ricochet_tick_seconds",
                "Tick time quantiles (nearest rank) over the match's last 600 ticks (1: the max), "
-               "per match",
-               {{"match", std::to_string(id_)}, {"quantile", quantile}}, seconds);
-  }
+               "and the time and count of all its ticks, per match",
+               {{"match", std::to_string(id_)}}, summary);
 }
 
 asio::awaitable<void> MatchHost::tick_loop(std::shared_ptr<MatchHost> self) {

@@ -9,7 +9,7 @@
 namespace ricochet::server {
 namespace {
 
-enum class MetricType { Counter, Gauge, Histogram };
+enum class MetricType { Counter, Gauge, Histogram, Summary };
 
 const char* type_name(MetricType type) {
   switch (type) {
@@ -19,6 +19,8 @@ const char* type_name(MetricType type) {
       return "gauge";
     case MetricType::Histogram:
       return "histogram";
+    case MetricType::Summary:
+      return "summary";
   }
   return "untyped";
 }
@@ -60,6 +62,10 @@ void check_names(std::string_view name, const MetricLabels& labels, MetricType t
     if (type == MetricType::Histogram && label == "le") {
       throw std::invalid_argument("histogram " + std::string{name} +
                                   " cannot have a label \"le\" (it names the buckets)");
+    }
+    if (type == MetricType::Summary && label == "quantile") {
+      throw std::invalid_argument("summary " + std::string{name} +
+                                  " cannot have a label \"quantile\" (it names the quantiles)");
     }
     if (!seen.insert(label).second) {
       throw std::invalid_argument("label \"" + label + "\" given twice for " + std::string{name});
@@ -129,6 +135,7 @@ struct SeriesValue {
   MetricLabels labels;
   double value = 0.0;
   HistogramSnapshot histogram;
+  SummarySnapshot summary;
 };
 
 /// One family as a scrape renders it.
@@ -169,11 +176,11 @@ class ScrapeSink final : public MetricsSink {
 
   void counter(std::string_view name, std::string_view help, const MetricLabels& labels,
                double value) override {
-    add(name, help, labels, MetricType::Counter, value, {});
+    add(name, help, MetricType::Counter, SeriesValue{labels, value, {}, {}});
   }
   void gauge(std::string_view name, std::string_view help, const MetricLabels& labels,
              double value) override {
-    add(name, help, labels, MetricType::Gauge, value, {});
+    add(name, help, MetricType::Gauge, SeriesValue{labels, value, {}, {}});
   }
   void histogram(std::string_view name, std::string_view help, const MetricLabels& labels,
                  const HistogramSnapshot& histogram) override {
@@ -183,14 +190,23 @@ class ScrapeSink final : public MetricsSink {
                                   " bounds, so needs that many + 1 bucket counts, got " +
                                   std::to_string(histogram.bucket_counts.size()));
     }
-    add(name, help, labels, MetricType::Histogram, 0.0, histogram);
+    add(name, help, MetricType::Histogram, SeriesValue{labels, 0.0, histogram, {}});
+  }
+  void summary(std::string_view name, std::string_view help, const MetricLabels& labels,
+               const SummarySnapshot& summary) override {
+    for (const auto& [quantile, value] : summary.quantiles) {
+      if (!(quantile >= 0.0 && quantile <= 1.0)) {
+        throw std::invalid_argument("summary " + std::string{name} + ": quantile " +
+                                    format_value(quantile) + " is not in 0..1");
+      }
+    }
+    add(name, help, MetricType::Summary, SeriesValue{labels, 0.0, {}, summary});
   }
 
  private:
-  void add(std::string_view name, std::string_view help, const MetricLabels& labels,
-           MetricType type, double value, const HistogramSnapshot& histogram) {
-    check_names(name, labels, type);
-    add_series(family_of(scrape_, name, help, type), name, SeriesValue{labels, value, histogram});
+  void add(std::string_view name, std::string_view help, MetricType type, SeriesValue series) {
+    check_names(name, series.labels, type);
+    add_series(family_of(scrape_, name, help, type), name, std::move(series));
   }
 
   Scrape& scrape_;
@@ -200,6 +216,17 @@ void render_family(std::string& out, const std::string& name, const FamilyValue&
   out += "# HELP " + name + ' ' + escape_help(family.help) + '\n';
   out += "# TYPE " + name + ' ' + type_name(family.type) + '\n';
   for (const SeriesValue& series : family.series) {
+    if (family.type == MetricType::Summary) {
+      const SummarySnapshot& summary = series.summary;
+      for (const auto& [quantile, value] : summary.quantiles) {
+        out += name + format_labels(series.labels, "quantile", format_value(quantile)) + ' ' +
+               format_value(value) + '\n';
+      }
+      out += name + "_sum" + format_labels(series.labels) + ' ' + format_value(summary.sum) + '\n';
+      out += name + "_count" + format_labels(series.labels) + ' ' + std::to_string(summary.count) +
+             '\n';
+      continue;
+    }
     if (family.type != MetricType::Histogram) {
       out += name + format_labels(series.labels) + ' ' + format_value(series.value) + '\n';
       continue;
@@ -352,7 +379,7 @@ std::string MetricsRegistry::render() const {
     for (const auto& [name, family] : families_) {
       FamilyValue& value = family_of(scrape, name, family->help, family->type);
       for (const Family::Series& series : family->series) {
-        SeriesValue series_value{series.labels, 0.0, {}};
+        SeriesValue series_value{series.labels, 0.0, {}, {}};
         if (series.counter) series_value.value = series.counter->value();
         if (series.gauge) series_value.value = series.gauge->value();
         if (series.histogram) series_value.histogram = series.histogram->snapshot();

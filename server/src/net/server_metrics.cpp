@@ -1,10 +1,15 @@
 // What /metrics reports about the running server, read at scrape time from the copies each
 // part publishes (the game channel after every update, each match after every tick, the control
 // channel's atomic counters, the DB worker's queue), so a scrape never touches game state.
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <cinttypes>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <sstream>
 #include <string>
 
 #include "chat_limiter.h"
@@ -132,15 +137,55 @@ void report_match(const MatchHost& host, MetricsSink& sink) {
   }
 }
 
-/// What a soak run watches for leaks, read at scrape time: the process's resident memory and open
-/// file descriptors (Prometheus' standard process_* names), and the database's size on disk.
+/// Seconds since the Unix epoch at which this process started: its start in clock ticks after
+/// boot (/proc/self/stat, field 22) plus the boot time (/proc/stat, btime). nullopt when either
+/// cannot be read.
+std::optional<double> process_start_time_s() {
+  std::ifstream stat_file("/proc/self/stat");
+  std::string stat;
+  std::getline(stat_file, stat);
+  // Field 2, the command name, is in parentheses and may hold spaces and ')': the fields after
+  // it start after the last ')', at field 3.
+  const auto name_end = stat.rfind(')');
+  if (name_end == std::string::npos) return std::nullopt;
+  std::istringstream fields(stat.substr(name_end + 1));
+  std::string skipped;
+  for (int field = 3; field < 22; ++field) fields >> skipped;
+  std::uint64_t start_ticks = 0;
+  if (!(fields >> start_ticks)) return std::nullopt;
+  std::ifstream system_stat("/proc/stat");
+  std::string line;
+  while (std::getline(system_stat, line)) {
+    std::uint64_t boot_s = 0;
+    if (std::sscanf(line.c_str(), "btime %" SCNu64, &boot_s) == 1) {
+      return static_cast<double>(boot_s) +
+             static_cast<double>(start_ticks) / static_cast<double>(sysconf(_SC_CLK_TCK));
+    }
+  }
+  return std::nullopt;
+}
+
+/// Prometheus' standard process metrics (the names and types of its client libraries), read at
+/// scrape time: what a soak run watches for leaks, and what a load test reads of a server whose
+/// /proc it cannot see. Then the database's size on disk.
 void report_process(const std::string& db_file, MetricsSink& sink) {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) == 0) {
+    const auto seconds = [](const timeval& time) {
+      return static_cast<double>(time.tv_sec) + static_cast<double>(time.tv_usec) / 1e6;
+    };
+    sink.counter("process_cpu_seconds_total", "Total user and system CPU time spent in seconds", {},
+                 seconds(usage.ru_utime) + seconds(usage.ru_stime));
+  }
   std::ifstream statm("/proc/self/statm");
   std::uint64_t pages = 0;
   std::uint64_t resident = 0;
   if (statm >> pages >> resident) {
+    const auto page_bytes = static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE));
     sink.gauge("process_resident_memory_bytes", "Resident memory size in bytes", {},
-               static_cast<double>(resident * static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE))));
+               static_cast<double>(resident * page_bytes));
+    sink.gauge("process_virtual_memory_bytes", "Virtual memory size in bytes", {},
+               static_cast<double>(pages * page_bytes));
   }
   std::error_code error;
   std::size_t fds = 0;
@@ -151,6 +196,15 @@ void report_process(const std::string& db_file, MetricsSink& sink) {
   if (!error) {
     sink.gauge("process_open_fds", "Number of open file descriptors", {},
                static_cast<double>(fds > 0 ? fds - 1 : 0));  // less the one listing them
+  }
+  rlimit fd_limit{};
+  if (getrlimit(RLIMIT_NOFILE, &fd_limit) == 0 && fd_limit.rlim_cur != RLIM_INFINITY) {
+    sink.gauge("process_max_fds", "Maximum number of open file descriptors", {},
+               static_cast<double>(fd_limit.rlim_cur));
+  }
+  if (const auto start_s = process_start_time_s()) {
+    sink.gauge("process_start_time_seconds",
+               "Start time of the process since unix epoch in seconds", {}, *start_s);
   }
   std::uint64_t bytes = 0;
   for (const char* suffix : {"", "-wal"}) {

@@ -146,6 +146,29 @@ TEST(Metrics, CollectCallbacksReportAtScrapeTimeMergedIntoFamilies) {
                                    expected_tail);
 }
 
+TEST(Metrics, SummaryRendersQuantilesThenSumAndCount) {
+  MetricsRegistry registry;
+  registry.add_collect_callback([](MetricsSink& sink) {
+    for (const char* match : {"1", "2"}) {
+      sink.summary("ricochet_tick_seconds", "Tick time.", {{"match", match}},
+                   SummarySnapshot{{{0.5, 0.001}, {0.99, 0.004}, {1, 0.008}}, 1.5, 600});
+    }
+  });
+  EXPECT_EQ(registry.render(),
+            "# HELP ricochet_tick_seconds Tick time.\n"
+            "# TYPE ricochet_tick_seconds summary\n"
+            "ricochet_tick_seconds{match=\"1\",quantile=\"0.5\"} 0.001\n"
+            "ricochet_tick_seconds{match=\"1\",quantile=\"0.99\"} 0.004\n"
+            "ricochet_tick_seconds{match=\"1\",quantile=\"1\"} 0.008\n"
+            "ricochet_tick_seconds_sum{match=\"1\"} 1.5\n"
+            "ricochet_tick_seconds_count{match=\"1\"} 600\n"
+            "ricochet_tick_seconds{match=\"2\",quantile=\"0.5\"} 0.001\n"
+            "ricochet_tick_seconds{match=\"2\",quantile=\"0.99\"} 0.004\n"
+            "ricochet_tick_seconds{match=\"2\",quantile=\"1\"} 0.008\n"
+            "ricochet_tick_seconds_sum{match=\"2\"} 1.5\n"
+            "ricochet_tick_seconds_count{match=\"2\"} 600\n");
+}
+
 TEST(Metrics, CollectCallbackMayRegisterMetrics) {
   MetricsRegistry registry;
   registry.add_collect_callback(
@@ -183,6 +206,17 @@ TEST(Metrics, ProgrammingErrorsAreRefused) {
     sink.histogram("s", "S.", {}, HistogramSnapshot{{1, 2}, {1, 2}, 0});
   });
   EXPECT_THROW(short_histogram.render(), std::invalid_argument);
+
+  MetricsRegistry quantile_label;
+  quantile_label.add_collect_callback([](MetricsSink& sink) {
+    sink.summary("q", "Q.", {{"quantile", "0.5"}}, SummarySnapshot{{{0.5, 1}}, 1, 1});
+  });
+  EXPECT_THROW(quantile_label.render(), std::invalid_argument);
+  MetricsRegistry quantile_range;
+  quantile_range.add_collect_callback([](MetricsSink& sink) {
+    sink.summary("q", "Q.", {}, SummarySnapshot{{{1.5, 1}}, 1, 1});
+  });
+  EXPECT_THROW(quantile_range.render(), std::invalid_argument);
 }
 
 TEST(Metrics, ExponentialBuckets) {

@@ -10,7 +10,8 @@
 /// Families are rendered sorted by name, each with one HELP and one TYPE line; series in the order
 /// they were registered, then reported. Names follow Prometheus rules: metric
 /// [a-zA-Z_:][a-zA-Z0-9_:]*, label [a-zA-Z_][a-zA-Z0-9_]* not starting with "__"; a histogram
-/// has no label "le". Breaking a rule is a programming error: std::invalid_argument.
+/// has no label "le", a summary none "quantile". Breaking a rule is a programming error:
+/// std::invalid_argument.
 
 #include <atomic>
 #include <cstdint>
@@ -63,6 +64,14 @@ struct HistogramSnapshot {
   double sum = 0.0;
 };
 
+/// Quantiles of the observations in a window, and the sum and count of every observation, as a
+/// scrape sees them (a Prometheus summary).
+struct SummarySnapshot {
+  std::vector<std::pair<double, double>> quantiles;  ///< (quantile 0..1, value), rendered in order
+  double sum = 0.0;                                  ///< of every observation since the start
+  std::uint64_t count = 0;                           ///< observations since the start
+};
+
 /// Observations counted into fixed buckets (value <= bound); also their sum.
 class Histogram {
  public:
@@ -92,6 +101,8 @@ class MetricsSink {
                      double value) = 0;
   virtual void histogram(std::string_view name, std::string_view help, const MetricLabels& labels,
                          const HistogramSnapshot& histogram) = 0;
+  virtual void summary(std::string_view name, std::string_view help, const MetricLabels& labels,
+                       const SummarySnapshot& summary) = 0;
 };
 
 class MetricsRegistry {
