@@ -98,7 +98,7 @@ TEST(AgonesSdk, AStuckMatchWithholdsThePingsUntilItTicksAgain) {
   // The ping due at 4 s is 1 s after the last tick: on time by stuck_after_us; none after.
   EXPECT_LE(Driven::count(stuck, "POST /health"), 1);
   EXPECT_GE(driven.sdk.counters().health_withheld, 4u);
-  // It ticks again: the pings resume at once.
+  // It ticks again: the next ping due goes.
   const auto resumed = driven.run_until(driven.now + 4 * kSecond);
   EXPECT_GE(Driven::count(resumed, "POST /health"), 2);
 }
