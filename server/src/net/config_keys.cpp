@@ -653,6 +653,15 @@ const std::array kKeys = {
         .integer = &integer_of<&S::admin, &AdminConfig::max_connections_per_address>,
         .min = 1,
         .max = 1024},
+    // Agones (issue 31): the SDK sidecar is used when AGONES_SDK_HTTP_PORT is set.
+    Key{.section = "agones",
+        .name = "shutdown_after_matches",
+        .flag = "--agones-shutdown-after-matches",
+        .help = "under Agones: matches that end by themselves before the server asks Agones to "
+                "shut its GameServer down (POST /shutdown); 0: never",
+        .integer = &integer_of<&S::agones, &AgonesConfig::shutdown_after_matches>,
+        .min = 0,
+        .max = 1'000'000},
     Key{.section = "log",
         .name = "level",
         .flag = "--log-level",
@@ -677,8 +686,8 @@ const std::array kKeys = {
             }},
 };
 
-constexpr std::array<std::string_view, 8> kSections = {"server", "db",      "tls",   "control",
-                                                       "game",   "matches", "admin", "log"};
+constexpr std::array<std::string_view, 9> kSections = {
+    "server", "db", "tls", "control", "game", "matches", "admin", "agones", "log"};
 
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include <boost/system/system_error.hpp>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -17,6 +18,7 @@
 #include <utility>
 
 #include "admin_http.h"
+#include "agones_http.h"
 #include "chat_limiter.h"
 #include "control_server.h"
 #include "episode_log.h"
@@ -29,6 +31,7 @@
 #include "ricochet/proto/crypto.h"
 #include "ricochet/proto/token_grant.h"
 #include "ricochet/server/map.h"
+#include "ricochet/server/rules.h"
 #include "ricochet/wire/control.pb.h"
 #include "steady_time.h"
 
@@ -249,6 +252,7 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));
   matches_ = std::make_unique<MatchRegistry>(
       io_, std::move(registry), std::move(maps), *game_, [this](EndedMatch match) {
+        if (agones_) agones_->match_finished();
         finish_match(std::move(match), [this](std::optional<wire::MatchResults> results,
                                               const std::vector<std::uint64_t>& recipients) {
           if (results) send_results(*results, recipients);
@@ -274,6 +278,7 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
                            act_on_account(std::move(action), std::move(answer));
                          }});
   register_metrics();
+  if (const char* sdk_port = std::getenv("AGONES_SDK_HTTP_PORT")) start_agones(sdk_port);
 }
 
 Server::~Server() {
@@ -319,12 +324,36 @@ void Server::start() {
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
   ready_ = true;
+  if (agones_) agones_->ready();
   spdlog::info(
       "ricochet-server {}: control TLS 1.3 on {}:{}, game UDP on {}:{}, admin HTTP on "
       "{}:{}, {} matches, {} threads",
       RICOCHET_VERSION, config_.control.bind, control_port(), config_.game.bind, game_port(),
       config_.admin.bind, admin_port(), config_.matches.count, threads);
   spdlog::info("TLS certificate SHA-256 fingerprint (pin it in clients): {}", fingerprint());
+}
+
+void Server::start_agones(const char* sdk_port) {
+  AgonesHttpOptions options;
+  options.port = parse_agones_sdk_port(sdk_port);
+  options.sdk.shutdown_after_matches = config_.agones.shutdown_after_matches;
+  options.matches = [this] {
+    std::vector<AgonesMatchView> views;
+    for (const auto& host : matches_->hosts()) {
+      const MatchHostStats stats = host->stats();
+      views.push_back(AgonesMatchView{.id = host->id(),
+                                      .map = host->map_name(),
+                                      .mode = name(host->mode()),
+                                      .players = stats.seated,
+                                      .capacity = host->max_players(),
+                                      .last_tick_at = stats.last_tick_at,
+                                      .overruns = stats.counters.overruns});
+    }
+    return views;
+  };
+  agones_ = std::make_unique<AgonesHttp>(std::move(options), metrics_);
+  spdlog::info("agones: the SDK sidecar's REST gateway is 127.0.0.1:{} (AGONES_SDK_HTTP_PORT)",
+               sdk_port);
 }
 
 void Server::sweep_empty_matches() {
@@ -411,6 +440,7 @@ void Server::shut_down() {
   spdlog::info("stopping: ending {} matches, {} s grace", matches_->hosts().size(),
                config_.server.shutdown_grace_s);
   ready_ = false;
+  if (agones_) agones_->stopping();
   matches_->close();  // no joins, no new game connections into a match
   // The DB writes get the grace less 2 s (at least half of it), so that telling the game and
   // control clients always has time left.
@@ -434,6 +464,13 @@ void Server::shut_down() {
   recordings_->stop();  // every match has handed its recording over by now
   db_->stop();
   if (!in_time) spdlog::warn("stopping: the grace period ran out");
+  // Drained: Agones may delete the pod now. Within the signals' backstop (the grace and 2 s).
+  const auto shutdown_wait = std::chrono::duration_cast<std::chrono::milliseconds>(
+      deadline + std::chrono::seconds(1) - Clock::now());
+  if (agones_ && !agones_->drained(std::clamp(shutdown_wait, std::chrono::milliseconds(200),
+                                              std::chrono::milliseconds(2000)))) {
+    spdlog::warn("agones: POST /shutdown was not answered; Agones ends the pod on its own");
+  }
   spdlog::info("stopped");
   exit_code_ = in_time ? 0 : 1;
   const std::lock_guard lock(done_mutex_);

@@ -48,6 +48,7 @@ class MatchResults;
 namespace ricochet::server {
 
 class AdminHttp;
+class AgonesHttp;
 struct AccountAction;
 struct AdminReply;
 class ChatLimiter;
@@ -115,6 +116,9 @@ class Server {
   /// sessions), then, for a ban, the account's control sessions closed with ACCOUNT_BANNED and
   /// its game connection with reason banned, its seat given back. `answer` once, any thread.
   void act_on_account(AccountAction action, std::function<void(AdminReply)> answer);
+  /// The Agones SDK client on the sidecar's `sdk_port` (AGONES_SDK_HTTP_PORT); throws
+  /// std::runtime_error when it is not a port.
+  void start_agones(const char* sdk_port);
   /// Every few seconds: the created matches empty for too long are closed.
   void sweep_empty_matches();
 
@@ -132,6 +136,8 @@ class Server {
   std::unique_ptr<MatchRegistry> matches_;
   std::unique_ptr<ControlServer> control_;
   std::unique_ptr<AdminHttp> admin_;
+  /// Under Agones (AGONES_SDK_HTTP_PORT set); after matches_, whose stats it reads.
+  std::unique_ptr<AgonesHttp> agones_;
   boost::asio::steady_timer empty_match_sweep_{io_};
   std::vector<std::thread> threads_;
   std::thread stopper_;

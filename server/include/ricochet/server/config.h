@@ -140,6 +140,11 @@ struct AdminConfig {
   int max_connections_per_address = 4;
 };
 
+/// [agones]: the Agones SDK, used when AGONES_SDK_HTTP_PORT is set (server/README.md).
+struct AgonesConfig {
+  int shutdown_after_matches = 0;  ///< matches ended by themselves before POST /shutdown; 0: never
+};
+
 /// [log]
 struct LogConfig {
   LogLevel level = LogLevel::Info;
@@ -154,6 +159,7 @@ struct ServerConfig {
   GameConfig game;
   MatchesConfig matches;
   AdminConfig admin;
+  AgonesConfig agones;
   LogConfig log;
 
   /// Every problem, one message each, naming the key, the allowed range and what came

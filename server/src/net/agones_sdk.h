@@ -1,0 +1,183 @@
+#pragma once
+/// What the server tells Agones, and when: a sans-IO state machine (no sockets, no clock). Events
+/// and the time (steady µs) come in; the HTTP calls to make go out, one at a time, to the SDK
+/// sidecar's REST gateway on localhost:${AGONES_SDK_HTTP_PORT}. The I/O is AgonesHttp's
+/// (agones_http.h).
+///
+/// The gateway's contract (Agones' sdks/swagger/sdk.swagger.json; every body JSON,
+/// Content-Type application/json; every answer 200 with `{}`):
+///
+///   POST /ready           {}                             the server takes players
+///   POST /health          {}                             a ping; health.periodSeconds apart
+///   POST /allocate        {}                             the GameServer is Allocated
+///   POST /shutdown        {}                             the GameServer is shut down (pod deleted)
+///   PUT  /metadata/label  {"key":"map","value":"arena"}  label agones.dev/sdk-map=arena
+///
+/// The rules:
+///   - POST /ready once, after ready() (sockets bound, the database open);
+///   - POST /health every health_interval_us from then on, while every match ticks on time: each
+///     ticked within stuck_after_us and none overran its catch-up cap since the previous ping. A
+///     stuck or overrunning match withholds pings (counted, logged once per episode), so after
+///     failureThreshold missed pings of periodSeconds the sidecar marks the GameServer
+///     Unhealthy and Agones replaces it. While stopping, pings go on whatever the matches do
+///     (they are being ended on purpose);
+///   - PUT /metadata/label for map, mode, players and capacity when their value changes, each
+///     key at most once per label_interval_us (the latest value goes);
+///   - POST /allocate once, after players_placed() (the first players seated);
+///   - POST /shutdown once, after drained() (the graceful stop is done) or when
+///     shutdown_after_matches matches have finished (Agones then deletes the pod, whose SIGTERM
+///     drains the server); nothing is sent after it is answered.
+/// A call that finds no sidecar (connection refused: it may still be starting), times out or is
+/// answered 5xx stays pending and is retried after a back-off (retry_first_us doubling up to
+/// retry_last_us); a 4xx answer drops the call (our request is wrong: retrying cannot help).
+/// Each outcome is counted; a failing episode is logged once when it starts and once when the
+/// sidecar answers again.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "ricochet/proto/clock.h"
+
+namespace ricochet::server {
+
+enum class AgonesCall : std::uint8_t { Ready, Health, Label, Allocate, Shutdown };
+inline constexpr std::size_t kAgonesCallCount = 5;
+/// "ready", "health", "label", "allocate", "shutdown"
+const char* name(AgonesCall call);
+
+enum class AgonesOutcome : std::uint8_t {
+  Ok,           ///< 2xx
+  IoError,      ///< no connection (refused, reset) or no HTTP answer
+  Timeout,      ///< no answer within the call's time limit
+  ServerError,  ///< 5xx
+  ClientError,  ///< 4xx, or another status: the request is wrong; dropped
+};
+inline constexpr std::size_t kAgonesOutcomeCount = 5;
+/// "ok", "io_error", "timeout", "http_5xx", "http_4xx"
+const char* name(AgonesOutcome outcome);
+
+/// One HTTP call to the sidecar.
+struct AgonesRequest {
+  AgonesCall call = AgonesCall::Ready;
+  std::string method;  ///< "POST" or "PUT"
+  std::string path;    ///< "/ready", "/metadata/label", ...
+  std::string body;    ///< JSON: "{}" or {"key":"...","value":"..."}
+};
+
+/// One match as the SDK sees it, read from its host's published stats.
+struct AgonesMatchView {
+  std::uint32_t id = 0;
+  std::string map;                 ///< the map's name
+  std::string mode;                ///< "ffa", "tdm"
+  int players = 0;                 ///< seated
+  int capacity = 0;                ///< max players
+  proto::TimeUs last_tick_at = 0;  ///< steady µs of its last tick
+  std::uint64_t overruns = 0;      ///< ticks that hit the catch-up cap, since it opened
+};
+
+struct AgonesSdkConfig {
+  /// Agones' fleet must allow for it: health.periodSeconds at least this, failureThreshold
+  /// missed pings before Unhealthy.
+  proto::TimeUs health_interval_us = 2 * proto::kMicrosPerSecond;
+  /// A match whose last tick is older than this is stuck (it ticks 10-128 times a second).
+  proto::TimeUs stuck_after_us = proto::kMicrosPerSecond;
+  /// At most one PUT of a label key per this long.
+  proto::TimeUs label_interval_us = proto::kMicrosPerSecond;
+  proto::TimeUs retry_first_us = 250 * proto::kMicrosPerMilli;
+  proto::TimeUs retry_last_us = 2 * proto::kMicrosPerSecond;
+  /// agones.shutdown_after_matches: matches finished before POST /shutdown; 0: never.
+  int shutdown_after_matches = 0;
+};
+
+struct AgonesCounters {
+  /// By call and outcome.
+  std::array<std::array<std::uint64_t, kAgonesOutcomeCount>, kAgonesCallCount> calls{};
+  std::uint64_t health_withheld = 0;  ///< pings not sent: a match was stuck or overran
+  std::uint64_t matches_finished = 0;
+};
+
+class AgonesSdk {
+ public:
+  explicit AgonesSdk(AgonesSdkConfig config = {});
+
+  // Events.
+  /// Sockets bound and the database open: POST /ready, then the pings begin.
+  void ready(proto::TimeUs now);
+  /// The matches now; labels follow their changes, pings their ticks, and the first seated
+  /// player is players_placed().
+  void observe(std::vector<AgonesMatchView> matches);
+  /// The first players were placed here: POST /allocate (once; not while stopping), so that a
+  /// scale-down never picks this GameServer while players are on it.
+  void players_placed();
+  /// A match ended by itself (frag or time limit).
+  void match_finished();
+  /// The graceful stop began: no more labels or allocation; pings go on.
+  void stopping();
+  /// The graceful stop is done: POST /shutdown.
+  void drained();
+
+  /// The call to make now, if any (none while one is in flight, during a back-off, or after the
+  /// shutdown was answered). Answer it with call_done().
+  std::optional<AgonesRequest> next_call(proto::TimeUs now);
+  /// How the call from next_call() went.
+  void call_done(AgonesOutcome outcome, proto::TimeUs now);
+  /// When next_call() may have something without a new event (a ping or a label due, a
+  /// back-off ending); nullopt: only an event can bring a call.
+  std::optional<proto::TimeUs> next_due(proto::TimeUs now) const;
+
+  /// POST /shutdown was answered (or refused for good): nothing more will be sent.
+  bool finished() const { return shutdown_done_; }
+  bool is_ready() const { return ready_done_; }
+  const AgonesCounters& counters() const { return counters_; }
+
+  /// The label keys, as PUT (the sidecar prefixes them with "agones.dev/sdk-").
+  static constexpr std::array<std::string_view, 4> kLabelKeys = {"map", "mode", "players",
+                                                                 "capacity"};
+  /// `text` as a Kubernetes label value: at most 63 of [A-Za-z0-9._-], beginning and ending
+  /// with a letter or digit; other characters become '-'.
+  static std::string label_value(std::string_view text);
+
+ private:
+  struct Label {
+    std::string wanted;  ///< the value the matches have now
+    std::optional<std::string> sent;
+    proto::TimeUs sent_at = 0;
+  };
+  /// Whether a ping may go now; counts and logs a withheld one.
+  bool ticking_on_time(proto::TimeUs now);
+  std::optional<AgonesRequest> due_label(proto::TimeUs now);
+  AgonesRequest post(AgonesCall call) const;
+  void succeeded(proto::TimeUs now);
+  void gave_up(proto::TimeUs now);
+
+  AgonesSdkConfig config_;
+  bool ready_requested_ = false;
+  bool ready_done_ = false;
+  bool allocate_requested_ = false;
+  bool allocate_done_ = false;
+  bool shutdown_requested_ = false;
+  bool shutdown_done_ = false;
+  bool stopping_ = false;
+  proto::TimeUs health_due_at_ = 0;
+  std::vector<AgonesMatchView> matches_;
+  std::map<std::uint32_t, std::uint64_t> overruns_at_last_ping_;  ///< by match id
+  bool withholding_ = false;  ///< in an episode of withheld pings
+  std::map<std::string, Label, std::less<>> labels_;
+  std::optional<AgonesRequest> in_flight_;
+  proto::TimeUs in_flight_since_ = 0;
+  std::pair<std::string, std::string> in_flight_label_;  ///< key and value a Label call sets
+  proto::TimeUs retry_at_ = 0;
+  proto::TimeUs backoff_us_ = 0;
+  std::uint64_t failures_in_episode_ = 0;
+  proto::TimeUs episode_started_at_ = 0;
+  AgonesCounters counters_;
+};
+
+}  // namespace ricochet::server
