@@ -397,7 +397,8 @@ TEST(BotMatch, TheServerKeepsItsAccountsAndResultsInPostgres) {
   constexpr std::chrono::seconds kTimeLimit{3};
   static_assert(fits_ctest(kStartBudget + play_budget(kTimeLimit) + kExitBudget));
   const std::string url = PostgresCluster::shared().create_database();
-  ServerProcess server(matches_toml(2, kTimeLimit), kShutdownGraceS, "[db]\nurl = \"" + url + "\"\n");
+  ServerProcess server(matches_toml(2, kTimeLimit), kShutdownGraceS,
+                       "[db]\nurl = \"" + url + "\"\n");
   ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
   asio::io_context io;
   bot::FleetConfig config;
@@ -425,8 +426,7 @@ TEST(BotMatch, TheServerKeepsItsAccountsAndResultsInPostgres) {
     ASSERT_TRUE(account.ok()) << each->config().name;
     EXPECT_EQ(account.value().username, each->config().name);
     EXPECT_TRUE(account.value().last_login_ms.has_value());
-    const auto stats =
-        store.value()->player_stats(static_cast<db::AccountId>(record.account_id));
+    const auto stats = store.value()->player_stats(static_cast<db::AccountId>(record.account_id));
     ASSERT_TRUE(stats.ok()) << each->config().name;
     EXPECT_EQ(stats.value().matches, 1) << each->config().name;
     EXPECT_EQ(stats.value().kills, mine->kills()) << each->config().name;
