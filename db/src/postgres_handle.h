@@ -121,7 +121,8 @@ class Result {
     std::int64_t value = 0;
     const std::string_view text = raw(row, column);
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size()) return wrong(column, "integer");
+    if (ec != std::errc() || end != text.data() + text.size())
+      return wrong(column, text, "integer");
     return value;
   }
   std::optional<std::int64_t> optional_integer(int row, int column) {
@@ -134,7 +135,7 @@ class Result {
     const std::string_view text = raw(row, column);
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
     if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
-      return wrong(column, "finite number");
+      return wrong(column, text, "finite number");
     return value;
   }
   std::string text(int row, int column) { return std::string(raw(row, column)); }
@@ -144,17 +145,19 @@ class Result {
  private:
   std::string_view raw(int row, int column) {
     if (is_null(row, column)) {
-      wrong(column, "a value");
+      wrong(column, "NULL", "a value");
       return {};
     }
     return {PQgetvalue(result_, row, column),
             static_cast<std::size_t>(PQgetlength(result_, row, column))};
   }
-  int wrong(int column, const char* expected) {
+  /// Notes the first column that did not read as expected: "column rating holds 'abc',
+  /// expected finite number".
+  int wrong(int column, std::string_view value, const char* expected) {
     if (column_error_.empty()) {
       const char* name = PQfname(result_, column);
       column_error_ = std::string("column ") + (name ? name : "?") + " holds '" +
-                      (PQgetisnull(result_, 0, column) ? "NULL" : "") + "', expected " + expected;
+                      std::string(value.substr(0, 40)) + "', expected " + expected;
     }
     return 0;
   }
