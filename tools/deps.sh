@@ -7,6 +7,8 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev      # physics math
   libsqlite3-dev     # the embedded database (db/)
+  libpq-dev          # the PostgreSQL store's client library, libpq 15 (db/)
+  postgresql-15      # the real PostgreSQL cluster the db tests start (initdb + pg_ctl)
   libsodium-dev      # Argon2id password hashing and session tokens (db/)
   libgtest-dev       # unit and integration tests
   libcli11-dev       # command-line parsing for the server and the tools

@@ -38,6 +38,8 @@ const char* to_string(DbErrorCode code) {
       return "cannot_open";
     case DbErrorCode::Busy:
       return "busy";
+    case DbErrorCode::Unavailable:
+      return "unavailable";
     case DbErrorCode::QueueFull:
       return "queue_full";
     case DbErrorCode::Storage:

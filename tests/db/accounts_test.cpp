@@ -1,12 +1,11 @@
-// Accounts over a real SQLite file: usernames, Argon2id passwords, sessions, bans, rate limits,
-// each refusal with its own error code and a message.
+// Accounts over both backends (a real SQLite file, a real PostgreSQL database): usernames, Argon2id
+// passwords, sessions, bans, rate limits, each refusal with its own error code and a message.
 
 #include "ricochet/db/accounts.h"
 
-#include <sqlite3.h>
-
 #include "db_test_util.h"
 #include "password.h"
+#include "test_database.h"
 
 namespace ricochet::db::test {
 namespace {
@@ -19,29 +18,12 @@ AccountsOptions fast_options() {
   return o;
 }
 
-/// One text or blob value from the database file through a separate raw connection.
-std::string query_one(const std::string& path, const std::string& sql) {
-  sqlite3* raw = nullptr;
-  std::string out;
-  if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
-    sqlite3_stmt* stmt = nullptr;
-    if (sqlite3_prepare_v2(raw, sql.c_str(), -1, &stmt, nullptr) == SQLITE_OK &&
-        sqlite3_step(stmt) == SQLITE_ROW) {
-      const auto* bytes = static_cast<const char*>(sqlite3_column_blob(stmt, 0));
-      out.assign(bytes ? bytes : "", static_cast<std::size_t>(sqlite3_column_bytes(stmt, 0)));
-    }
-    sqlite3_finalize(stmt);
-  }
-  sqlite3_close(raw);
-  return out;
-}
-
-class AccountsTest : public ::testing::Test {
+class AccountsTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override { open(fast_options()); }
   void open(const AccountsOptions& options) {
     accounts_.reset();
-    store_ = must(open_sqlite_store({.path = path_}), "open_sqlite_store");
+    store_ = db_.open();
     accounts_ = std::make_unique<Accounts>(*store_, options);
   }
   Accounts& accounts() { return *accounts_; }
@@ -50,13 +32,12 @@ class AccountsTest : public ::testing::Test {
   }
   std::uint64_t errors(DbErrorCode code) const { return accounts_->refusals().count(code); }
 
-  TempDir dir_;
-  std::string path_ = dir_.file("ricochet.db");
+  TestDatabase db_{GetParam()};
   std::unique_ptr<Store> store_;
   std::unique_ptr<Accounts> accounts_;
 };
 
-TEST_F(AccountsTest, RegisterLoginAndCheckTheSession) {
+TEST_P(AccountsTest, RegisterLoginAndCheckTheSession) {
   const AccountId id = register_ok("Alice");
   const LoginResult login =
       must(accounts().login("Alice", "correct horse", "10.0.0.1", kT0 + 5), "login");
@@ -77,35 +58,35 @@ TEST_F(AccountsTest, RegisterLoginAndCheckTheSession) {
   EXPECT_TRUE(accounts().check_session(again.token, kT0 + 10).ok());
 }
 
-TEST_F(AccountsTest, OnlyHashesAreStored) {
+TEST_P(AccountsTest, OnlyHashesAreStored) {
   register_ok("bob", "open sesame 123");
   const LoginResult login = must(accounts().login("bob", "open sesame 123", "", kT0), "login");
-  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  const std::string hash = db_.query_one("SELECT password_hash FROM accounts");
   EXPECT_EQ(hash.rfind("$argon2id$", 0), 0u) << hash;
   EXPECT_EQ(hash.find("open sesame"), std::string::npos);
-  const std::string token_hash = query_one(path_, "SELECT token_hash FROM sessions");
+  const std::string token_hash = db_.query_one("SELECT token_hash FROM sessions");
   EXPECT_EQ(token_hash.size(), 32u);
   EXPECT_EQ(token_hash.find(login.token.substr(0, 16)), std::string::npos);
 }
 
-TEST_F(AccountsTest, DefaultCostIsArgon2idInteractive) {
+TEST_P(AccountsTest, DefaultCostIsArgon2idInteractive) {
   open(AccountsOptions{});
   register_ok("carol");
-  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  const std::string hash = db_.query_one("SELECT password_hash FROM accounts");
   // libsodium's interactive limits: 64 MiB, 2 passes.
   EXPECT_EQ(hash.rfind("$argon2id$v=19$m=65536,t=2,p=1$", 0), 0u) << hash;
 }
 
-TEST_F(AccountsTest, LoginRehashesAPasswordMadeWithOtherLimits) {
+TEST_P(AccountsTest, LoginRehashesAPasswordMadeWithOtherLimits) {
   register_ok("dave");  // Minimum cost
   open(AccountsOptions{});
   ASSERT_TRUE(accounts().login("dave", "correct horse", "", kT0).ok());
-  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  const std::string hash = db_.query_one("SELECT password_hash FROM accounts");
   EXPECT_EQ(hash.rfind("$argon2id$v=19$m=65536,t=2,p=1$", 0), 0u) << hash;
   EXPECT_TRUE(accounts().login("dave", "correct horse", "", kT0 + 1).ok());
 }
 
-TEST_F(AccountsTest, UsernameRules) {
+TEST_P(AccountsTest, UsernameRules) {
   const std::vector<std::string> bad_names = {
       "",      "ab",    "abcdefghijklmnopqrstuvwxy", "a b",
       "name!", "émile", std::string("nul\0byte", 8), "semi;colon",
@@ -121,7 +102,7 @@ TEST_F(AccountsTest, UsernameRules) {
   EXPECT_EQ(errors(DbErrorCode::InvalidUsername), 9u);
 }
 
-TEST_F(AccountsTest, UsernamesAreUniqueIgnoringCase) {
+TEST_P(AccountsTest, UsernamesAreUniqueIgnoringCase) {
   register_ok("Alice");
   EXPECT_TRUE(fails_with(accounts().register_account("alice", "correct horse", "", kT0),
                          DbErrorCode::DuplicateUsername));
@@ -131,7 +112,7 @@ TEST_F(AccountsTest, UsernamesAreUniqueIgnoringCase) {
   EXPECT_EQ(errors(DbErrorCode::DuplicateUsername), 2u);
 }
 
-TEST_F(AccountsTest, PasswordRules) {
+TEST_P(AccountsTest, PasswordRules) {
   EXPECT_TRUE(
       fails_with(accounts().register_account("erin", "", "", kT0), DbErrorCode::EmptyPassword));
   EXPECT_TRUE(fails_with(accounts().register_account("erin", "1234567", "", kT0),
@@ -143,7 +124,7 @@ TEST_F(AccountsTest, PasswordRules) {
                          DbErrorCode::PasswordTooLong));
 }
 
-TEST_F(AccountsTest, WrongPasswordAndUnknownNameLookTheSameAndCostTheSame) {
+TEST_P(AccountsTest, WrongPasswordAndUnknownNameLookTheSameAndCostTheSame) {
   register_ok("frank");
   const std::uint64_t checks = password_verifications();
   const auto wrong = accounts().login("frank", "wrong horse", "", kT0);
@@ -157,7 +138,7 @@ TEST_F(AccountsTest, WrongPasswordAndUnknownNameLookTheSameAndCostTheSame) {
   EXPECT_EQ(password_verifications() - checks, 3u);
 }
 
-TEST_F(AccountsTest, BannedAccountsCannotLogInAndLoseTheirSessions) {
+TEST_P(AccountsTest, BannedAccountsCannotLogInAndLoseTheirSessions) {
   const AccountId id = register_ok("grace");
   const LoginResult login = must(accounts().login("grace", "correct horse", "", kT0), "login");
   RICOCHET_DB_ASSERT_OK(accounts().set_banned(id, true));
@@ -174,7 +155,7 @@ TEST_F(AccountsTest, BannedAccountsCannotLogInAndLoseTheirSessions) {
   EXPECT_TRUE(fails_with(accounts().set_banned(9999, true), DbErrorCode::UnknownAccount));
 }
 
-TEST_F(AccountsTest, AnAccountIsBannedByItsNameIgnoringCase) {
+TEST_P(AccountsTest, AnAccountIsBannedByItsNameIgnoringCase) {
   const AccountId id = register_ok("Heidi");
   const LoginResult login = must(accounts().login("Heidi", "correct horse", "", kT0), "login");
   const Account banned = must(accounts().set_banned_by_name("hEIDI", true), "ban");
@@ -191,7 +172,7 @@ TEST_F(AccountsTest, AnAccountIsBannedByItsNameIgnoringCase) {
       fails_with(accounts().set_banned_by_name("nobody", true), DbErrorCode::UnknownAccount));
 }
 
-TEST_F(AccountsTest, SessionsExpire) {
+TEST_P(AccountsTest, SessionsExpire) {
   AccountsOptions o = fast_options();
   o.session_lifetime_ms = 1000;
   open(o);
@@ -205,7 +186,7 @@ TEST_F(AccountsTest, SessionsExpire) {
       fails_with(accounts().check_session(login.token, kT0 + 1001), DbErrorCode::UnknownSession));
 }
 
-TEST_F(AccountsTest, RevokedAndMalformedTokensAreUnknown) {
+TEST_P(AccountsTest, RevokedAndMalformedTokensAreUnknown) {
   register_ok("ivan");
   const LoginResult login = must(accounts().login("ivan", "correct horse", "", kT0), "login");
   RICOCHET_DB_ASSERT_OK(accounts().revoke_session(login.token));
@@ -220,7 +201,7 @@ TEST_F(AccountsTest, RevokedAndMalformedTokensAreUnknown) {
   }
 }
 
-TEST_F(AccountsTest, ChangePassword) {
+TEST_P(AccountsTest, ChangePassword) {
   const AccountId id = register_ok("judy");
   const LoginResult login = must(accounts().login("judy", "correct horse", "", kT0), "login");
   EXPECT_TRUE(fails_with(accounts().change_password(id, "wrong horse", "battery staple"),
@@ -240,40 +221,40 @@ TEST_F(AccountsTest, ChangePassword) {
 
 // --- compound writes fail whole: the second write fails, and the first is undone ---
 
-TEST_F(AccountsTest, APasswordChangeFailingHalfWayKeepsTheOldPasswordAndSessions) {
+TEST_P(AccountsTest, APasswordChangeFailingHalfWayKeepsTheOldPasswordAndSessions) {
   const AccountId id = register_ok("kate");
   const LoginResult login = must(accounts().login("kate", "correct horse", "", kT0), "login");
-  inject_failure(path_, "BEFORE DELETE ON sessions");  // after the new hash is written
+  db_.inject_failure("BEFORE DELETE ON sessions");  // after the new hash is written
   EXPECT_TRUE(fails_with(accounts().change_password(id, "correct horse", "battery staple"),
                          DbErrorCode::Storage));
   EXPECT_TRUE(accounts().check_session(login.token, kT0 + 1).ok());
-  remove_failure(path_);
+  db_.remove_failure();
   EXPECT_TRUE(accounts().login("kate", "correct horse", "", kT0 + 2).ok());
   EXPECT_TRUE(fails_with(accounts().login("kate", "battery staple", "", kT0 + 3),
                          DbErrorCode::WrongCredentials));
 }
 
-TEST_F(AccountsTest, ABanFailingHalfWayLeavesTheAccountAsItWas) {
+TEST_P(AccountsTest, ABanFailingHalfWayLeavesTheAccountAsItWas) {
   const AccountId id = register_ok("liam");
   const LoginResult login = must(accounts().login("liam", "correct horse", "", kT0), "login");
-  inject_failure(path_, "BEFORE DELETE ON sessions");  // after the banned flag is written
+  db_.inject_failure("BEFORE DELETE ON sessions");  // after the banned flag is written
   EXPECT_TRUE(fails_with(accounts().set_banned(id, true), DbErrorCode::Storage));
   EXPECT_FALSE(must(store_->account(id), "account").banned);
   EXPECT_TRUE(accounts().check_session(login.token, kT0 + 1).ok());
 }
 
-TEST_F(AccountsTest, ALoginFailingHalfWayLeavesNoSessionAndNoUpgradedHash) {
+TEST_P(AccountsTest, ALoginFailingHalfWayLeavesNoSessionAndNoUpgradedHash) {
   register_ok("mia");  // Minimum cost: the login below upgrades the hash first
-  const std::string hash = query_one(path_, "SELECT password_hash FROM accounts");
+  const std::string hash = db_.query_one("SELECT password_hash FROM accounts");
   open(AccountsOptions{});
   // The hash upgrade and the session are written; the login time is the write that fails.
-  inject_failure(path_, "BEFORE UPDATE OF last_login_ms ON accounts");
+  db_.inject_failure("BEFORE UPDATE OF last_login_ms ON accounts");
   EXPECT_TRUE(fails_with(accounts().login("mia", "correct horse", "", kT0), DbErrorCode::Storage));
-  EXPECT_EQ(query_one(path_, "SELECT COUNT(*) FROM sessions"), "0");
-  EXPECT_EQ(query_one(path_, "SELECT password_hash FROM accounts"), hash);
+  EXPECT_EQ(db_.query_one("SELECT COUNT(*) FROM sessions"), "0");
+  EXPECT_EQ(db_.query_one("SELECT password_hash FROM accounts"), hash);
 }
 
-TEST_F(AccountsTest, FailedLoginsFromAllAddressesTogetherAreCappedPerAccount) {
+TEST_P(AccountsTest, FailedLoginsFromAllAddressesTogetherAreCappedPerAccount) {
   AccountsOptions o = fast_options();
   o.per_account = {3, 10'000};
   open(o);
@@ -292,7 +273,7 @@ TEST_F(AccountsTest, FailedLoginsFromAllAddressesTogetherAreCappedPerAccount) {
   EXPECT_TRUE(accounts().login("mallory", "correct horse", "10.0.0.9", kT0 + 10'001).ok());
 }
 
-TEST_F(AccountsTest, AGuesserFromOneAddressDoesNotLockTheOwnerOut) {
+TEST_P(AccountsTest, AGuesserFromOneAddressDoesNotLockTheOwnerOut) {
   register_ok("victim");  // the default limits
   for (int i = 0; i < 5; ++i) {
     EXPECT_TRUE(fails_with(accounts().login("victim", "guess", "198.51.100.7", kT0 + i),
@@ -310,7 +291,7 @@ TEST_F(AccountsTest, AGuesserFromOneAddressDoesNotLockTheOwnerOut) {
                          DbErrorCode::RateLimited));
 }
 
-TEST_F(AccountsTest, TheGuessersLimitBacksOff) {
+TEST_P(AccountsTest, TheGuessersLimitBacksOff) {
   AccountsOptions o = fast_options();
   o.per_account_address = {{2, 1'000}, {4, 100'000}};
   open(o);
@@ -329,7 +310,7 @@ TEST_F(AccountsTest, TheGuessersLimitBacksOff) {
   EXPECT_TRUE(fails_with(guess(kT0 + 100'000), DbErrorCode::WrongCredentials));
 }
 
-TEST_F(AccountsTest, TheOwnersSuccessForgetsItsOwnTyposOnly) {
+TEST_P(AccountsTest, TheOwnersSuccessForgetsItsOwnTyposOnly) {
   register_ok("owner");  // the default limits: 5 failures a minute per account and address
   for (int i = 0; i < 4; ++i) {
     EXPECT_TRUE(fails_with(accounts().login("owner", "typo", "203.0.113.5", kT0),
@@ -352,11 +333,11 @@ TEST_F(AccountsTest, TheOwnersSuccessForgetsItsOwnTyposOnly) {
                          DbErrorCode::RateLimited));
 }
 
-TEST_F(AccountsTest, RegistrationsPerAddressAreLimitedAcrossServerProcesses) {
+TEST_P(AccountsTest, RegistrationsPerAddressAreLimitedAcrossServerProcesses) {
   AccountsOptions o = fast_options();
   o.registrations_per_address = {2, 60'000};
   open(o);
-  std::unique_ptr<Store> other_store = must(open_sqlite_store({.path = path_}), "second store");
+  std::unique_ptr<Store> other_store = db_.open();
   Accounts other(*other_store, o);
   EXPECT_TRUE(accounts().register_account("bot1", "correct horse", "198.51.100.7", kT0).ok());
   // A taken name is refused before it counts (and before any hashing).
@@ -375,7 +356,7 @@ TEST_F(AccountsTest, RegistrationsPerAddressAreLimitedAcrossServerProcesses) {
       accounts().register_account("bot3", "correct horse", "198.51.100.7", kT0 + 60'000).ok());
 }
 
-TEST_F(AccountsTest, ExpiredSessionsAreDeletedAsLoginsGoOn) {
+TEST_P(AccountsTest, ExpiredSessionsAreDeletedAsLoginsGoOn) {
   AccountsOptions o = fast_options();
   o.session_lifetime_ms = 1'000;
   open(o);
@@ -390,7 +371,7 @@ TEST_F(AccountsTest, ExpiredSessionsAreDeletedAsLoginsGoOn) {
   EXPECT_TRUE(must(store_->find_session(token_hash(second.token)), "find").has_value());
 }
 
-TEST_F(AccountsTest, FailedLoginsPerAddressAreRateLimited) {
+TEST_P(AccountsTest, FailedLoginsPerAddressAreRateLimited) {
   AccountsOptions o = fast_options();
   o.per_address = {4, 60'000};
   open(o);
@@ -407,7 +388,7 @@ TEST_F(AccountsTest, FailedLoginsPerAddressAreRateLimited) {
   EXPECT_EQ(errors(DbErrorCode::WrongCredentials), 4u);
 }
 
-TEST_F(AccountsTest, ServerProcessesSharingADatabaseShareTheRateLimit) {
+TEST_P(AccountsTest, ServerProcessesSharingADatabaseShareTheRateLimit) {
   AccountsOptions o = fast_options();
   o.per_account = {3, 10'000};
   o.per_address = {5, 10'000};
@@ -416,7 +397,7 @@ TEST_F(AccountsTest, ServerProcessesSharingADatabaseShareTheRateLimit) {
   open(o);
   register_ok("nina");
   // A second server process: its own store (connection) and Accounts on the same file.
-  std::unique_ptr<Store> other_store = must(open_sqlite_store({.path = path_}), "second store");
+  std::unique_ptr<Store> other_store = db_.open();
   Accounts other(*other_store, o);
   EXPECT_TRUE(fails_with(accounts().login("nina", "guess 1", "10.3.3.3", kT0),
                          DbErrorCode::WrongCredentials));
@@ -443,12 +424,12 @@ TEST_F(AccountsTest, ServerProcessesSharingADatabaseShareTheRateLimit) {
                          DbErrorCode::WrongCredentials));
   EXPECT_TRUE(accounts().login("nina", "correct horse", "", kT0 + 10'003).ok());
   // Failures older than both windows are dropped from the file as logins go on.
-  EXPECT_EQ(query_one(path_, "SELECT COUNT(*) FROM login_failures WHERE at_ms <= " +
-                                 std::to_string(kT0 + 3)),
+  EXPECT_EQ(db_.query_one("SELECT COUNT(*) FROM login_failures WHERE at_ms <= " +
+                          std::to_string(kT0 + 3)),
             "0");
 }
 
-TEST_F(AccountsTest, EveryRefusalIsReportedForLoggingWithoutSecrets) {
+TEST_P(AccountsTest, EveryRefusalIsReportedForLoggingWithoutSecrets) {
   AccountsOptions o = fast_options();
   std::vector<DbError> refusals;
   o.on_refusal = [&](const DbError& e) { refusals.push_back(e); };
@@ -467,7 +448,7 @@ TEST_F(AccountsTest, EveryRefusalIsReportedForLoggingWithoutSecrets) {
   }
 }
 
-TEST_F(AccountsTest, StateSurvivesReopening) {
+TEST_P(AccountsTest, StateSurvivesReopening) {
   register_ok("peggy");
   const LoginResult login = must(accounts().login("peggy", "correct horse", "", kT0), "login");
   open(fast_options());
@@ -475,6 +456,8 @@ TEST_F(AccountsTest, StateSurvivesReopening) {
   EXPECT_TRUE(fails_with(accounts().register_account("Peggy", "correct horse", "", kT0),
                          DbErrorCode::DuplicateUsername));
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, AccountsTest, kBackends, backend_name);
 
 }  // namespace
 }  // namespace ricochet::db::test

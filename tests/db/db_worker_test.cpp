@@ -5,8 +5,6 @@
 
 #include "ricochet/db/db_worker.h"
 
-#include <sqlite3.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -17,6 +15,7 @@
 #include <sstream>
 
 #include "db_test_util.h"
+#include "test_database.h"
 
 namespace ricochet::db::test {
 namespace {
@@ -59,29 +58,6 @@ class CallerQueue {
   std::deque<std::function<void()>> pending_;
 };
 
-/// Another process's write lock on the file (here: a raw connection in this process).
-class OtherWriter {
- public:
-  explicit OtherWriter(const std::string& path) {
-    if (sqlite3_open(path.c_str(), &db_) != SQLITE_OK ||
-        sqlite3_exec(db_, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr) != SQLITE_OK) {
-      throw std::runtime_error("cannot take the write lock on " + path);
-    }
-  }
-  ~OtherWriter() { release(); }
-  OtherWriter(const OtherWriter&) = delete;
-  OtherWriter& operator=(const OtherWriter&) = delete;
-  void release() {
-    if (!db_) return;
-    sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
-    sqlite3_close(db_);
-    db_ = nullptr;
-  }
-
- private:
-  sqlite3* db_ = nullptr;
-};
-
 /// A job that holds the DB thread until released, so later jobs wait in the queue.
 class BlockingJob {
  public:
@@ -111,13 +87,17 @@ DbWorkerOptions fast_options() {
   return o;
 }
 
-std::unique_ptr<Store> open_store(const std::string& path, int busy_timeout_ms = 5000) {
-  return must(open_sqlite_store({.path = path, .busy_timeout_ms = busy_timeout_ms}), "open");
-}
+/// Each test on a fresh database of either backend (test_database.h).
+class DbWorkerTest : public ::testing::TestWithParam<Backend> {
+ protected:
+  std::unique_ptr<Store> open_store(int busy_timeout_ms = 5000) {
+    return db_.open(busy_timeout_ms);
+  }
+  TestDatabase db_{GetParam()};
+};
 
-TEST(DbWorker, JobsRunOnTheDbThreadAndCompleteOnTheCallers) {
-  TempDir dir;
-  DbWorker worker(open_store(dir.file("w.db")), fast_options());
+TEST_P(DbWorkerTest, JobsRunOnTheDbThreadAndCompleteOnTheCallers) {
+  DbWorker worker(open_store(), fast_options());
   CallerQueue caller;
   const auto caller_thread = std::this_thread::get_id();
   std::thread::id job_thread;
@@ -139,9 +119,8 @@ TEST(DbWorker, JobsRunOnTheDbThreadAndCompleteOnTheCallers) {
   EXPECT_EQ(completion_thread, caller_thread);
 }
 
-TEST(DbWorker, CompletionsArriveInSubmissionOrder) {
-  TempDir dir;
-  DbWorker worker(open_store(dir.file("w.db")), fast_options());
+TEST_P(DbWorkerTest, CompletionsArriveInSubmissionOrder) {
+  DbWorker worker(open_store(), fast_options());
   CallerQueue caller;
   std::vector<int> order;
   for (int i = 0; i < 50; ++i) {
@@ -160,11 +139,9 @@ TEST(DbWorker, CompletionsArriveInSubmissionOrder) {
   EXPECT_EQ(worker.completed(), 50u);
 }
 
-TEST(DbWorker, ALockedDatabaseIsLatencyNotABlockedCaller) {
-  TempDir dir;
-  const std::string path = dir.file("w.db");
-  DbWorker worker(open_store(path, 10'000), fast_options());
-  OtherWriter other(path);  // another process holds the write lock
+TEST_P(DbWorkerTest, ALockedDatabaseIsLatencyNotABlockedCaller) {
+  DbWorker worker(open_store(10'000), fast_options());
+  TestDatabase::WriteLock other(db_);  // another process holds the write lock
 
   CallerQueue caller;
   std::optional<DbResult<AccountId>> result;
@@ -173,7 +150,9 @@ TEST(DbWorker, ALockedDatabaseIsLatencyNotABlockedCaller) {
   worker.submit(
       [&started](DbServices& db) {
         started = true;
-        return db.accounts.register_account("bob", "correct horse", "", kT0);
+        // From an address: its registration limit is checked in a transaction (Store::
+        // transaction), which waits for the write lock on either backend.
+        return db.accounts.register_account("bob", "correct horse", "198.51.100.1", kT0);
       },
       caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
   const auto submit_took = std::chrono::steady_clock::now() - before;
@@ -189,27 +168,24 @@ TEST(DbWorker, ALockedDatabaseIsLatencyNotABlockedCaller) {
   EXPECT_TRUE(result->ok()) << describe(result->error());
 }
 
-TEST(DbWorker, ALockHeldPastTheBusyTimeoutIsBusy) {
-  TempDir dir;
-  const std::string path = dir.file("w.db");
-  DbWorker worker(open_store(path, 100), fast_options());
-  OtherWriter other(path);
+TEST_P(DbWorkerTest, ALockHeldPastTheBusyTimeoutIsBusy) {
+  DbWorker worker(open_store(100), fast_options());
+  TestDatabase::WriteLock other(db_);
   CallerQueue caller;
   std::optional<DbResult<AccountId>> result;
   worker.submit(
       [](DbServices& db) {
-        return db.accounts.register_account("carol", "correct horse", "", kT0);
+        return db.accounts.register_account("carol", "correct horse", "198.51.100.1", kT0);
       },
       caller.post(), [&](DbResult<AccountId> r) { result = std::move(r); });
   ASSERT_TRUE(caller.drain_until([&] { return result.has_value(); }));
   EXPECT_TRUE(fails_with(*result, DbErrorCode::Busy));
 }
 
-TEST(DbWorker, AFullQueueAnswersQueueFullAtOnce) {
-  TempDir dir;
+TEST_P(DbWorkerTest, AFullQueueAnswersQueueFullAtOnce) {
   DbWorkerOptions options = fast_options();
   options.max_queued = 1;
-  DbWorker worker(open_store(dir.file("w.db")), options);
+  DbWorker worker(open_store(), options);
   CallerQueue caller;
   std::vector<DbErrorCode> codes;
   std::vector<bool> oks;
@@ -232,9 +208,8 @@ TEST(DbWorker, AFullQueueAnswersQueueFullAtOnce) {
   EXPECT_EQ(std::count(oks.begin(), oks.end(), true), 2);
 }
 
-TEST(DbWorker, StopCompletesQueuedJobsWithStopped) {
-  TempDir dir;
-  auto worker = std::make_unique<DbWorker>(open_store(dir.file("w.db")), fast_options());
+TEST_P(DbWorkerTest, StopCompletesQueuedJobsWithStopped) {
+  auto worker = std::make_unique<DbWorker>(open_store(), fast_options());
   CallerQueue caller;
   std::vector<DbStatus> results;
   const auto record = [&](DbStatus s) { results.push_back(std::move(s)); };
@@ -257,9 +232,8 @@ TEST(DbWorker, StopCompletesQueuedJobsWithStopped) {
   worker.reset();  // a second stop in the destructor is harmless
 }
 
-TEST(DbWorker, RegisterAndLoginHashOnThePasswordThread) {
-  TempDir dir;
-  DbWorker worker(open_store(dir.file("w.db")), fast_options());
+TEST_P(DbWorkerTest, RegisterAndLoginHashOnThePasswordThread) {
+  DbWorker worker(open_store(), fast_options());
   CallerQueue caller;
   std::optional<DbResult<AccountId>> registered;
   worker.register_account("alice", "correct horse", "", kT0, caller.post(),
@@ -307,10 +281,9 @@ void submit_stats_read(DbWorker& worker, CallerQueue& caller, std::vector<std::s
                 });
 }
 
-TEST(DbWorker, ALoginBurstDoesNotHoldUpOtherDatabaseWork) {
-  TempDir dir;
+TEST_P(DbWorkerTest, ALoginBurstDoesNotHoldUpOtherDatabaseWork) {
   DbWorkerOptions options;  // Argon2id at the interactive cost: ~0.1 s per check
-  DbWorker worker(open_store(dir.file("w.db")), options);
+  DbWorker worker(open_store(), options);
   CallerQueue caller;
   register_through(worker, caller, "bob");
   std::vector<std::string> order;
@@ -328,10 +301,9 @@ TEST(DbWorker, ALoginBurstDoesNotHoldUpOtherDatabaseWork) {
   EXPECT_EQ(order.front(), "stats");
 }
 
-TEST(DbWorker, APasswordChangeHashesOnThePasswordThread) {
-  TempDir dir;
+TEST_P(DbWorkerTest, APasswordChangeHashesOnThePasswordThread) {
   DbWorkerOptions options;  // Argon2id at the interactive cost: ~0.1 s per hash
-  DbWorker worker(open_store(dir.file("w.db")), options);
+  DbWorker worker(open_store(), options);
   CallerQueue caller;
   const AccountId id = register_through(worker, caller, "dora");
   std::vector<std::string> order;
@@ -352,11 +324,10 @@ TEST(DbWorker, APasswordChangeHashesOnThePasswordThread) {
   EXPECT_TRUE(login->ok()) << describe(login->error());
 }
 
-TEST(DbWorker, ConcurrentWrongPasswordsCannotSlipPastTheRateLimit) {
-  TempDir dir;
+TEST_P(DbWorkerTest, ConcurrentWrongPasswordsCannotSlipPastTheRateLimit) {
   DbWorkerOptions options = fast_options();
   options.accounts.per_account = {3, 60'000};
-  DbWorker worker(open_store(dir.file("w.db")), options);
+  DbWorker worker(open_store(), options);
   CallerQueue caller;
   std::optional<DbResult<AccountId>> registered;
   worker.register_account("carol", "correct horse", "", kT0, caller.post(),
@@ -375,10 +346,9 @@ TEST(DbWorker, ConcurrentWrongPasswordsCannotSlipPastTheRateLimit) {
 }
 
 // Issue 29: registrations queued ahead of a login held it up for as long as they took.
-TEST(DbWorker, AnExistingAccountsLoginGoesBeforeQueuedRegistrations) {
-  TempDir dir;
+TEST_P(DbWorkerTest, AnExistingAccountsLoginGoesBeforeQueuedRegistrations) {
   DbWorkerOptions options;  // Argon2id at the interactive cost: ~0.1 s per hash, one thread
-  DbWorker worker(open_store(dir.file("w.db")), options);
+  DbWorker worker(open_store(), options);
   CallerQueue caller;
   register_through(worker, caller, "owner");
   std::vector<std::string> order;
@@ -402,11 +372,10 @@ TEST(DbWorker, AnExistingAccountsLoginGoesBeforeQueuedRegistrations) {
 }
 
 // Issue 29: registrations could queue minutes of Argon2id work.
-TEST(DbWorker, RegistrationsPastTheHashQueueAreRefusedAtOnce) {
-  TempDir dir;
+TEST_P(DbWorkerTest, RegistrationsPastTheHashQueueAreRefusedAtOnce) {
   DbWorkerOptions options;  // the interactive cost: the first hash is still running
   options.max_queued_hashes = 2;
-  DbWorker worker(open_store(dir.file("w.db")), options);
+  DbWorker worker(open_store(), options);
   CallerQueue caller;
   std::vector<DbErrorCode> codes;
   for (int i = 0; i < 8; ++i) {
@@ -424,12 +393,11 @@ TEST(DbWorker, RegistrationsPastTheHashQueueAreRefusedAtOnce) {
 
 // Issue 29: a registration refused SERVER_BUSY (the hash queue full) took a place in its
 // address's hourly limit, so a client retrying it later was refused REGISTRATION_RATE_LIMITED.
-TEST(DbWorker, ARegistrationRefusedForAFullHashQueueIsNotCountedAgainstItsAddress) {
-  TempDir dir;
+TEST_P(DbWorkerTest, ARegistrationRefusedForAFullHashQueueIsNotCountedAgainstItsAddress) {
   DbWorkerOptions options;  // the interactive cost: the first hash is still running
   options.max_queued_hashes = 1;
   options.accounts.registrations_per_address = {3, 3'600'000};
-  DbWorker worker(open_store(dir.file("w.db")), options);
+  DbWorker worker(open_store(), options);
   CallerQueue caller;
   std::vector<DbErrorCode> codes;
   const auto record = [&codes](DbResult<AccountId> r) {
@@ -476,8 +444,7 @@ std::vector<int> thread_nice_values() {
   return values;
 }
 
-TEST(DbWorker, PasswordThreadsRunAtTheirLowerPriority) {
-  TempDir dir;
+TEST_P(DbWorkerTest, PasswordThreadsRunAtTheirLowerPriority) {
   DbWorkerOptions options = fast_options();
   options.password_threads = 2;
   options.password_nice = 19;
@@ -486,7 +453,7 @@ TEST(DbWorker, PasswordThreadsRunAtTheirLowerPriority) {
     return std::count(nice.begin(), nice.end(), 19);
   };
   const auto before = lowest();
-  DbWorker worker(open_store(dir.file("w.db")), options);
+  DbWorker worker(open_store(), options);
   CallerQueue caller;
   register_through(worker, caller, "ada");  // a password thread has run
   const auto deadline = std::chrono::steady_clock::now() + 2s;
@@ -494,6 +461,8 @@ TEST(DbWorker, PasswordThreadsRunAtTheirLowerPriority) {
     std::this_thread::sleep_for(1ms);
   EXPECT_EQ(lowest(), before + 2);  // the two password threads, not the DB thread
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, DbWorkerTest, kBackends, backend_name);
 
 }  // namespace
 }  // namespace ricochet::db::test

@@ -1,4 +1,4 @@
-// Match rules over a real SQLite file (matches.h): validation before any write, winners and Elo
+// Match rules over both backends (matches.h): validation before any write, winners and Elo
 // ratings written with the match in one transaction, leaderboards best first with shared ranks
 // for ties, and rank_of agreeing with the boards. Expected ratings are computed by hand.
 
@@ -25,7 +25,7 @@ class MatchesTest : public StoreTest {
   Matches matches_{*store_};
 };
 
-TEST_F(MatchesTest, EqualPlayersTradeHalfOfK) {
+TEST_P(MatchesTest, EqualPlayersTradeHalfOfK) {
   const AccountId winner = add("alice");
   const AccountId loser = add("bob");
   const RecordedMatch recorded =
@@ -50,7 +50,7 @@ TEST_F(MatchesTest, EqualPlayersTradeHalfOfK) {
       1);
 }
 
-TEST_F(MatchesTest, TiedTopScoresAllWin) {
+TEST_P(MatchesTest, TiedTopScoresAllWin) {
   const AccountId a = add("a"), b = add("b"), c = add("c");
   must(matches_.record_match(match_of({result(a, 7), result(b, 7), result(c, 3)})), "record");
   // a and b drew each other and both beat c: +8 each (K / (N - 1) = 16 per duel), c -16.
@@ -59,7 +59,7 @@ TEST_F(MatchesTest, TiedTopScoresAllWin) {
   expect_totals(c, 0, 1484);
 }
 
-TEST_F(MatchesTest, RatingsCarryOverToTheNextMatch) {
+TEST_P(MatchesTest, RatingsCarryOverToTheNextMatch) {
   const AccountId a = add("a"), b = add("b");
   must(matches_.record_match(match_of({result(a, 10, 2), result(b, 5, 1)})), "first");
   must(matches_.record_match(match_of({result(a, 1, 4), result(b, 9, 6)})), "second");
@@ -82,7 +82,7 @@ PlayerResult on_team(PlayerResult p, std::int32_t team) {
   return p;
 }
 
-TEST_F(MatchesTest, TeamDeathmatchIsDecidedByTheTeamScores) {
+TEST_P(MatchesTest, TeamDeathmatchIsDecidedByTheTeamScores) {
   const AccountId r1 = add("r1"), r2 = add("r2"), b1 = add("b1"), b2 = add("b2");
   // Blue's best player has the top score of the match, but red has the top team score.
   must(matches_.record_match(
@@ -103,7 +103,7 @@ TEST_F(MatchesTest, TeamDeathmatchIsDecidedByTheTeamScores) {
             kTeamBlue);
 }
 
-TEST_F(MatchesTest, NegativeScoresAreRecorded) {
+TEST_P(MatchesTest, NegativeScoresAreRecorded) {
   // A suicide, a death by the world or a team kill costs a point, so a player who did nothing
   // else ends below zero, and so may a team (server/GAMEPLAY.md, Scoring).
   const AccountId a = add("a"), b = add("b");
@@ -119,7 +119,7 @@ TEST_F(MatchesTest, NegativeScoresAreRecorded) {
   expect_totals(u, 0, 1484);
 }
 
-TEST_F(MatchesTest, TiedTeamsAllWinAndDraw) {
+TEST_P(MatchesTest, TiedTeamsAllWinAndDraw) {
   const AccountId r = add("r"), b = add("b");
   must(matches_.record_match(
            tdm_of({on_team(result(r, 9), kTeamRed), on_team(result(b, 2), kTeamBlue)}, 7, 7)),
@@ -128,7 +128,7 @@ TEST_F(MatchesTest, TiedTeamsAllWinAndDraw) {
   expect_totals(b, 1, 1500);
 }
 
-TEST_F(MatchesTest, AnAbortedMatchCountsButDecidesNothing) {
+TEST_P(MatchesTest, AnAbortedMatchCountsButDecidesNothing) {
   const AccountId a = add("a"), b = add("b");
   must(matches_.record_match(match_of({result(a, 10, 3), result(b, 5, 1)})), "decided");
   MatchRecord aborted = match_of({result(a, 1, 1), result(b, 8, 6)});
@@ -153,7 +153,7 @@ TEST_F(MatchesTest, AnAbortedMatchCountsButDecidesNothing) {
   expect_totals(c, 0, kInitialRating);
 }
 
-TEST_F(MatchesTest, InvalidMatchesWriteNothing) {
+TEST_P(MatchesTest, InvalidMatchesWriteNothing) {
   const AccountId a = add("a"), b = add("b");
   const AccountId unknown = b + 1000;
   const auto with = [&](auto change) {
@@ -244,7 +244,7 @@ class LeaderboardTest : public MatchesTest {
   }
 };
 
-TEST_F(LeaderboardTest, RatingBoardIsBestFirstAndTiesShareRank) {
+TEST_P(LeaderboardTest, RatingBoardIsBestFirstAndTiesShareRank) {
   const AccountId a = add("a"), b = add("b"), c = add("c"), d = add("d"), idle = add("idle");
   duel(c, d);  // c 1516, d 1484
   duel(a, b);  // a 1516, b 1484
@@ -274,7 +274,7 @@ TEST_F(LeaderboardTest, RatingBoardIsBestFirstAndTiesShareRank) {
       fails_with(matches_.rank_of(idle + 1, LeaderboardKind::Rating), DbErrorCode::UnknownAccount));
 }
 
-TEST_F(LeaderboardTest, KillsBoard) {
+TEST_P(LeaderboardTest, KillsBoard) {
   const AccountId a = add("a"), b = add("b"), c = add("c"), idle = add("idle");
   duel(a, b, 4);
   duel(c, b, 9);
@@ -294,7 +294,7 @@ TEST_F(LeaderboardTest, KillsBoard) {
   EXPECT_FALSE(rank(idle, LeaderboardKind::Kills, 1).has_value());
 }
 
-TEST_F(LeaderboardTest, WinRateHonoursMinimumMatches) {
+TEST_P(LeaderboardTest, WinRateHonoursMinimumMatches) {
   const AccountId p1 = add("p1"), p2 = add("p2"), p3 = add("p3"), p4 = add("p4"), p5 = add("p5"),
                   p6 = add("p6");
   duel(p1, p2);
@@ -326,7 +326,7 @@ TEST_F(LeaderboardTest, WinRateHonoursMinimumMatches) {
   EXPECT_DOUBLE_EQ(rank(p1, LeaderboardKind::WinRate, 2)->value, 0.5);
 }
 
-TEST_F(LeaderboardTest, RankOfAgreesWithTheBoard) {
+TEST_P(LeaderboardTest, RankOfAgreesWithTheBoard) {
   std::vector<AccountId> ids;
   for (int i = 0; i < 30; ++i) ids.push_back(add("player" + std::to_string(i)));
   std::uint32_t seed = 12345;
@@ -371,5 +371,8 @@ TEST_F(LeaderboardTest, RankOfAgreesWithTheBoard) {
 }
 
 /// The query plan of `sql`, one detail line per row.
+INSTANTIATE_TEST_SUITE_P(Backends, MatchesTest, kBackends, backend_name);
+INSTANTIATE_TEST_SUITE_P(Backends, LeaderboardTest, kBackends, backend_name);
+
 }  // namespace
 }  // namespace ricochet::db::test

@@ -13,6 +13,7 @@ namespace {
 TEST(DbErrorCode, EveryCodeHasItsOwnName) {
   test::expect_counted<DbErrorCode>(kDbErrorCodeCount, [](DbErrorCode c) { return to_string(c); });
   EXPECT_STREQ(to_string(DbErrorCode::Busy), "busy");
+  EXPECT_STREQ(to_string(DbErrorCode::Unavailable), "unavailable");
   EXPECT_STREQ(to_string(DbErrorCode::QueueFull), "queue_full");
   EXPECT_STREQ(to_string(DbErrorCode::Storage), "storage");
   EXPECT_STREQ(to_string(DbErrorCode::OutOfMemory), "out_of_memory");

@@ -1,6 +1,7 @@
 #pragma once
-/// A SQLite store on a fresh file per test, a raw connection to look at what was written, and
-/// match records to feed it.
+/// A store on a fresh database per test, on the backend of the test's parameter (SQLite or
+/// PostgreSQL, test_database.h), a raw connection to look at what was written, and match records
+/// to feed it.
 
 #include <algorithm>
 #include <memory>
@@ -9,6 +10,7 @@
 
 #include "db_test_util.h"
 #include "ricochet/db/store.h"
+#include "test_database.h"
 
 namespace ricochet::db::test {
 
@@ -37,15 +39,13 @@ inline MatchRecord match_of(std::vector<PlayerResult> players) {
   return m;
 }
 
-class StoreTest : public ::testing::Test {
+class StoreTest : public ::testing::TestWithParam<Backend> {
  protected:
-  StoreTest() : path_(dir_.file("ricochet.db")) { reopen(); }
+  StoreTest() : db_(GetParam()) { reopen(); }
 
   void reopen() {
     store_.reset();
-    SqliteOptions options;
-    options.path = path_;
-    store_ = must(open_sqlite_store(options), "open_sqlite_store");
+    store_ = db_.open();
   }
 
   AccountId add(const std::string& name) {
@@ -56,20 +56,12 @@ class StoreTest : public ::testing::Test {
   }
 
   /// The first column of the first row of `sql`, through a separate raw connection.
-  std::int64_t raw_integer(const std::string& sql) {
-    sqlite::Connection raw;
-    EXPECT_EQ(sqlite::open(path_, SQLITE_OPEN_READONLY, raw), SQLITE_OK);
-    std::int64_t value = -1;
-    EXPECT_EQ(sqlite::single_integer(raw.get(), sql, value), SQLITE_OK)
-        << sql << ": " << sqlite3_errmsg(raw.get());
-    return value;
-  }
+  std::int64_t raw_integer(const std::string& sql) { return db_.raw_integer(sql); }
   std::int64_t rows(const std::string& table) {
     return raw_integer("SELECT COUNT(*) FROM " + table);
   }
 
-  TempDir dir_;
-  std::string path_;
+  TestDatabase db_;
   std::unique_ptr<Store> store_;
 };
 

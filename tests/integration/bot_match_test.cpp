@@ -1,6 +1,7 @@
 // End to end with nothing in-process but the bot: the real ricochet-server binary runs as a
 // child process on 127.0.0.1 (ports chosen free, a temporary data directory, a fixed seed), and
-// ricochet_bot plays it over real sockets. Every wait is bounded; the tests assert outcomes
+// ricochet_bot plays it over real sockets (one test on a PostgreSQL database, on a cluster the
+// test starts). Every wait is bounded; the tests assert outcomes
 // (results, the database, exit codes), never speeds.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -18,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "postgres_cluster.h"
 #include "replay_process.h"
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
@@ -386,6 +388,49 @@ TEST(BotMatch, SigtermDuringAMatchExitsZeroAndRecordsTheAbortedMatch) {
     EXPECT_EQ(stats.value().wins, 0) << each->config().name;
     EXPECT_EQ(stats.value().rating, 1500) << each->config().name;
     EXPECT_GT(stats.value().seconds_played, 0) << each->config().name;
+  }
+}
+
+TEST(BotMatch, TheServerKeepsItsAccountsAndResultsInPostgres) {
+  // db.url names a database on this test process's PostgreSQL cluster (postgres_cluster.h): the
+  // bots register and sign in, play, and the results are in PostgreSQL, with no SQLite file.
+  constexpr std::chrono::seconds kTimeLimit{3};
+  static_assert(fits_ctest(kStartBudget + play_budget(kTimeLimit) + kExitBudget));
+  const std::string url = PostgresCluster::shared().create_database();
+  ServerProcess server(matches_toml(2, kTimeLimit), kShutdownGraceS,
+                       "[db]\nurl = \"" + url + "\"\n");
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
+  asio::io_context io;
+  bot::FleetConfig config;
+  config.bot = bot_config(server, "pg");
+  config.bots = 2;
+  bot::Fleet fleet(io, config);
+  ASSERT_EQ(fleet.start(), "");
+  ASSERT_TRUE(run_until(
+      io, [&] { return fleet.done(); }, play_budget(kTimeLimit)))
+      << fleet.report_json();
+  server.terminate();
+  ASSERT_EQ(server.wait_exit(kExitBudget), std::optional<int>(0)) << server.log();
+  EXPECT_FALSE(std::filesystem::exists(server.db_path()));
+
+  auto store = db::open_store({.url_or_path = url});
+  ASSERT_TRUE(store.ok()) << store.error().message;
+  EXPECT_GE(store.value()->match_count().value(), 1);
+  for (const auto& each : fleet.bots()) {
+    const bot::BotRecord& record = each->record();
+    EXPECT_TRUE(record.error.empty()) << each->config().name << ": " << record.error;
+    ASSERT_EQ(record.results.size(), 1u) << each->config().name;
+    const wire::PlayerMatchResult* mine = result_of(record.results[0], record.account_id);
+    ASSERT_NE(mine, nullptr) << each->config().name;
+    const auto account = store.value()->account(static_cast<db::AccountId>(record.account_id));
+    ASSERT_TRUE(account.ok()) << each->config().name;
+    EXPECT_EQ(account.value().username, each->config().name);
+    EXPECT_TRUE(account.value().last_login_ms.has_value());
+    const auto stats = store.value()->player_stats(static_cast<db::AccountId>(record.account_id));
+    ASSERT_TRUE(stats.ok()) << each->config().name;
+    EXPECT_EQ(stats.value().matches, 1) << each->config().name;
+    EXPECT_EQ(stats.value().kills, mine->kills()) << each->config().name;
+    EXPECT_DOUBLE_EQ(stats.value().rating, mine->rating_after()) << each->config().name;
   }
 }
 

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "config_keys.h"
+#include "ricochet/db/store.h"
 
 namespace ricochet::server {
 namespace {
@@ -153,6 +154,11 @@ std::vector<std::string> ServerConfig::validate() const {
     std::string problem = keys::check(key, *this);
     if (!problem.empty()) problems.push_back(std::move(problem));
   }
+  if (!db.url.empty() && !db::is_postgres_url(db.url)) {
+    // Only the scheme: the rest may hold a password.
+    problems.push_back("db.url must start with postgresql:// or postgres://, got '" +
+                       db.url.substr(0, db.url.find(':')) + ":…'");
+  }
   if (game.snapshot_rate_hz > game.tick_rate_hz) {
     problems.push_back("game.snapshot_rate_hz must be 0..game.tick_rate_hz (" +
                        std::to_string(game.tick_rate_hz) + "; 0: the tick rate), got " +
@@ -241,6 +247,10 @@ std::string under_data_dir(const ProcessConfig& server, const std::string& path)
 
 std::string ServerConfig::db_file() const {
   return under_data_dir(server, db.path);
+}
+
+std::string ServerConfig::db_url_or_path() const {
+  return db.url.empty() ? db_file() : db.url;
 }
 
 std::string ServerConfig::recordings_path() const {

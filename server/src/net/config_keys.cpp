@@ -161,6 +161,15 @@ const std::array kKeys = {
         .kind = Kind::Text,
         .text = &text_of<&S::db, &DbConfig::path>},
     Key{.section = "db",
+        .name = "url",
+        .flag = "--db-url",
+        .help = "PostgreSQL database shared by many servers, postgresql://user@host:port/dbname "
+                "(the password in the URL, or from PGPASSWORD or ~/.pgpass); empty: the SQLite "
+                "file db.path",
+        .kind = Kind::Text,
+        .text = &text_of<&S::db, &DbConfig::url>,
+        .allow_empty = true},
+    Key{.section = "db",
         .name = "password_hashing",
         .flag = "--password-hashing",
         .help = "Argon2id cost of each password hash: interactive (64 MiB, ~100 ms; keep it for "

@@ -48,7 +48,7 @@ using Clock = std::chrono::steady_clock;
 constexpr std::size_t kMaxQueuedRecordingBytes = 32u << 20;
 
 std::unique_ptr<db::DbWorker> open_database(const ServerConfig& config) {
-  auto store = db::open_sqlite_store(db::SqliteOptions{.path = config.db_file()});
+  auto store = db::open_store(db::StoreOptions{.url_or_path = config.db_url_or_path()});
   if (!store) throw std::runtime_error("cannot open the database: " + store.error().message);
   db::DbWorkerOptions options;
   options.accounts.cost = config.db.password_hashing == PasswordHashing::Minimum
@@ -537,11 +537,13 @@ void Server::finish_match(EndedMatch match, ResultsHandler done) {
 namespace {
 
 /// A write that failed for a reason that can pass (a full disk, a lock held by another
-/// process, a queue or memory running out): the record is kept and written again.
+/// process, the database server away, a queue or memory running out): the record is kept and
+/// written again.
 bool worth_retrying(db::DbErrorCode code) {
   switch (code) {
     case db::DbErrorCode::Storage:
     case db::DbErrorCode::Busy:
+    case db::DbErrorCode::Unavailable:
     case db::DbErrorCode::QueueFull:
     case db::DbErrorCode::OutOfMemory:
       return true;

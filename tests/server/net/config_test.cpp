@@ -351,6 +351,23 @@ TEST(ServerConfig, ThePortsFileIsNoneUnlessAskedAndUnderTheDataDirWhenRelative) 
   EXPECT_EQ(absolute.config->ports_file_path(), "/run/ricochet/ports.json");
 }
 
+TEST(ServerConfig, TheStoreIsSqliteUnlessAPostgresUrlIsGiven) {
+  EXPECT_EQ(ServerConfig{}.db_url_or_path(), "data/ricochet.db");
+  const std::string url = "postgresql://ricochet@db.internal:5432/ricochet";
+  ParseOutcome flag = parse({"--db-url", url});
+  ASSERT_TRUE(flag.config) << flag.text;
+  EXPECT_EQ(flag.config->db_url_or_path(), url);
+  ServerConfig from_file;
+  EXPECT_TRUE(apply_config_toml("[db]\nurl = \"" + url + "\"\n", "test.toml", from_file).empty());
+  EXPECT_EQ(from_file.db_url_or_path(), url);
+  // Anything else is refused, without echoing what may be a password.
+  ParseOutcome wrong = parse({"--db-url", "mysql://root:hunter2@db/ricochet"});
+  EXPECT_FALSE(wrong.config);
+  EXPECT_NE(wrong.text.find("db.url must start with postgresql://"), std::string::npos)
+      << wrong.text;
+  EXPECT_EQ(wrong.text.find("hunter2"), std::string::npos) << wrong.text;
+}
+
 TEST(ServerConfig, WrongTypesOfTheMatchRulesAreNamed) {
   EXPECT_EQ(problems_of("[matches]\nmaps = \"a.toml\"\n"),
             std::vector<std::string>{"test.toml:2:8: matches.maps must be an array of strings, "

@@ -26,6 +26,7 @@ enum class DbErrorCode {
   CorruptDatabase,  ///< not a database, or integrity check failed
   CannotOpen,       ///< the file cannot be opened or created
   Busy,             ///< locked by another process for longer than the busy timeout
+  Unavailable,      ///< the database server is down or the connection was lost; retry later
   QueueFull,        ///< the DB worker already holds DbWorkerOptions::max_queued jobs
   Storage,          ///< any other storage failure (disk full, I/O error, a constraint)
   OutOfMemory,      ///< the memory for a password hash (64 MiB for Argon2id) or SQLite ran out

@@ -1,8 +1,9 @@
 #pragma once
 /// The persistence interface: what the server needs from a database, and nothing about how.
 ///
-/// SQLite (open_sqlite_store) is the embedded default: one file, no server. A backend for
-/// operators running many server processes (PostgreSQL) implements the same interface. Every
+/// SQLite (open_sqlite_store) is the embedded default: one file, no server. PostgreSQL
+/// (open_postgres_store), for operators running many server processes on one database,
+/// implements the same interface; open_store picks one by the form of its URL. Every
 /// call is synchronous and may block on the disk: the game thread never calls a Store directly,
 /// it goes through DbWorker (db_worker.h). One Store is used by one thread at a time.
 ///
@@ -31,9 +32,9 @@ class Store {
 
   /// Runs `work` as one unit: the store calls it makes are committed together when it succeeds,
   /// and none of them is when it fails (or the commit does). The write lock is taken before
-  /// `work` starts (SQLite: BEGIN IMMEDIATE), so what it reads cannot change under it and it
-  /// never fails half-way for another writer's lock. A transaction inside `work` joins this one.
-  /// Busy when the lock is not had within the busy timeout.
+  /// `work` starts (SQLite: BEGIN IMMEDIATE; PostgreSQL: an advisory lock), so what it reads cannot
+  /// change under it and it never fails half-way for another writer's lock. A transaction inside
+  /// `work` joins this one. Busy when the lock is not had within the busy timeout.
   virtual DbStatus transaction(const std::function<DbStatus()>& work) = 0;
 
   // --- accounts ---
@@ -126,5 +127,37 @@ DbResult<std::unique_ptr<Store>> open_sqlite_store(const SqliteOptions& options)
 
 /// The schema version this binary writes (PRAGMA user_version after migrating).
 int sqlite_schema_version();
+
+struct PostgresOptions {
+  /// A libpq connection string or URL: "postgresql://user:password@host:port/dbname?…". Error
+  /// messages name it without its password.
+  std::string url;
+  /// Wait this long for another server's write lock (Store::transaction), then Busy. At least 1.
+  int busy_timeout_ms = 5000;
+  int connect_timeout_s = 5;  ///< unless the URL sets connect_timeout
+};
+
+/// Connects to a PostgreSQL database and migrates it (the same numbered schema as SQLite's).
+/// Unavailable when the server cannot be reached (retry later); CannotOpen when it refuses the
+/// login or the database does not exist; SchemaTooNew when a newer Ricochet migrated it. A
+/// connection lost later is re-opened at the next call outside a transaction; the call that met
+/// the loss fails with Unavailable.
+DbResult<std::unique_ptr<Store>> open_postgres_store(const PostgresOptions& options);
+
+/// The schema version this binary writes to PostgreSQL: the same number as SQLite's.
+int postgres_schema_version();
+
+/// Where a server keeps its data: a PostgreSQL URL or a SQLite file.
+struct StoreOptions {
+  /// "postgresql://…" or "postgres://…" selects PostgreSQL; anything else is a SQLite file path.
+  std::string url_or_path;
+  int busy_timeout_ms = 5000;  ///< SqliteOptions / PostgresOptions::busy_timeout_ms
+};
+
+/// Whether `url_or_path` names a PostgreSQL database rather than a SQLite file.
+bool is_postgres_url(std::string_view url_or_path);
+
+/// open_postgres_store or open_sqlite_store, by the form of `url_or_path`.
+DbResult<std::unique_ptr<Store>> open_store(const StoreOptions& options);
 
 }  // namespace ricochet::db

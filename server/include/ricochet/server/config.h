@@ -43,6 +43,9 @@ const char* name(PasswordHashing hashing);
 /// [db]
 struct DbConfig {
   std::string path = "ricochet.db";  ///< SQLite file; relative paths are under data_dir
+  /// PostgreSQL (postgresql://user:password@host:port/dbname), shared by many servers; empty:
+  /// the SQLite file at `path`.
+  std::string url;
   PasswordHashing password_hashing = PasswordHashing::Interactive;
   // --- abuse limits of accounts (issue 29) ---
   int registrations_per_hour_per_address = 10;  ///< an IPv4 address or IPv6 /64, in the database
@@ -172,6 +175,8 @@ struct ServerConfig {
   int snapshot_rate_hz() const;
   /// db.path, under data_dir unless absolute.
   std::string db_file() const;
+  /// What the store is opened on: db.url when set, else db_file().
+  std::string db_url_or_path() const;
   /// matches.recordings_dir, under data_dir unless absolute.
   std::string recordings_path() const;
   /// server.ports_file, under data_dir unless absolute; empty when none is asked for.
