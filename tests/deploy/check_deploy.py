@@ -35,13 +35,6 @@ MAX_UNHEALTHY_DETECTION_S = 30
 # The server's backstop after its shutdown grace (server/src/main.cpp), in seconds.
 SHUTDOWN_BACKSTOP_S = 2
 
-# Flags the files use that another part of issue 31 is adding to the server. While the server
-# lacks one, it is left out of the server's check (with a note); once the server has it, the
-# entry must go, so the flag is checked like every other.
-PENDING_FLAGS = {
-    "--db-url": "the PostgreSQL URL, db.url (issue 31 §1)",
-}
-
 # Where the image installs what the server reads (Dockerfile).
 IMAGE_MAPS_DIR = "/usr/local/share/ricochet/maps/"
 
@@ -80,17 +73,8 @@ class Server:
     def effective_config(self, args, problems, where):
         """The configuration `args` give, as the server prints it; None when it refuses them."""
         kept = []
-        skip_value = False
         for arg in args:
-            if skip_value:
-                skip_value = False
-                continue
             flag = arg.split("=", 1)[0]
-            if flag in PENDING_FLAGS and flag not in self.flags:
-                print(f"note: {where}: {flag} ({PENDING_FLAGS[flag]}) is not in the server yet; "
-                      "left out of its check")
-                skip_value = "=" not in arg
-                continue
             if flag.startswith("--"):
                 problems.check(flag in self.flags, f"{where}: ricochet-server has no flag {flag}")
             kept.append(arg)
@@ -101,13 +85,6 @@ class Server:
                               f"{run.returncode}:\n{run.stderr}{run.stdout}"):
             return None
         return tomllib.loads(run.stdout)
-
-
-def check_pending_flags(server, problems):
-    for flag, what in PENDING_FLAGS.items():
-        problems.check(flag not in server.flags,
-                       f"ricochet-server now has {flag} ({what}): remove it from PENDING_FLAGS "
-                       "in tests/deploy/check_deploy.py so it is checked like every flag")
 
 
 def config_keys(toml):
@@ -549,7 +526,6 @@ def check_compose(source, server, problems):
 def check_manifests(source, binary):
     problems = Problems()
     server = Server(binary)
-    check_pending_flags(server, problems)
     base = Kustomization(source / "deploy/kubernetes/base")
     result = check_fleet(base, source, server, problems)
     fleet_name = result[0]["metadata"]["name"] if result else None

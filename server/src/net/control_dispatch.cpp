@@ -82,6 +82,10 @@ wire::ServerMessage error_reply(const db::DbError& error) {
     case db::DbErrorCode::QueueFull:
     case db::DbErrorCode::Busy:
       return error_reply(wire::SERVER_BUSY, error.message);
+    case db::DbErrorCode::Unavailable:  // the database server is down or unreachable: retryable
+      // Its message names the database's host: logged here, not sent.
+      spdlog::warn("control: database unavailable: {}", error.message);
+      return error_reply(wire::SERVER_BUSY, "the database is unavailable; retry after a moment");
     case db::DbErrorCode::Stopped:
       return error_reply(wire::SHUTTING_DOWN, error.message);
     default:
@@ -250,7 +254,8 @@ asio::awaitable<wire::ServerMessage> ControlSession::resume(const wire::ResumeRe
 
 wire::ServerMessage ControlSession::account_refusal(const db::DbError& error,
                                                     ControlRefusal rate_limited) {
-  if (error.code == db::DbErrorCode::QueueFull || error.code == db::DbErrorCode::Busy) {
+  if (error.code == db::DbErrorCode::QueueFull || error.code == db::DbErrorCode::Busy ||
+      error.code == db::DbErrorCode::Unavailable) {
     refuse(ControlRefusal::ServerBusy, error.message);
     return error_reply(error);
   }
