@@ -28,6 +28,18 @@ export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros}"  # cach
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 
+times_file=$(mktemp)
+# cpu_so_far: sets $cpu to the CPU seconds (user + system) of every process this script has waited
+# for so far (bash's `times`, run in this shell: a subshell would see only its own children). Each
+# phase's line shows it beside the elapsed time: on 2 cores the run is CPU-bound, so CPU is what
+# a phase costs.
+cpu=0
+cpu_so_far() {
+  times >"$times_file"
+  cpu=$(awk 'NR == 2 { split($1, u, /[ms]/); split($2, s, /[ms]/)
+                       printf "%.0f", u[1] * 60 + u[2] + s[1] * 60 + s[2] }' "$times_file")
+}
+
 lld=(-DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld)  # lld-16 for the clang trees: less than half bfd's link time
 
 # Each tree's tests run while the next tree builds: they mostly wait on sockets and timers (the
@@ -39,7 +51,8 @@ lld=(-DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld)  # lld-16 for the clang trees: less 
 build() {
   local dir=$1; shift
   local targets=$1; shift
-  echo "=== $dir: build (at ${SECONDS} s) ==="
+  cpu_so_far
+  echo "=== $dir: build (at ${SECONDS} s, CPU ${cpu} s) ==="
   cmake -S . -B "$dir" -G Ninja -DRICOCHET_WERROR=ON "${launcher[@]}" "$@"
   # shellcheck disable=SC2086  # a list of target names
   nice -n 10 cmake --build "$dir" -j "$jobs" ${targets:+--target $targets}
@@ -62,11 +75,13 @@ finish_tests() {
   local status=0
   wait "$tests_pid" || status=$?
   tests_pid=
-  echo "=== $tests_dir: tests (ended by ${SECONDS} s) ==="
+  cpu_so_far
+  echo "=== $tests_dir: tests (ended by ${SECONDS} s, CPU ${cpu} s) ==="
   cat "$tests_dir/ctest.log"
   return "$status"
 }
-trap 'if [[ -n $tests_pid ]]; then kill -- "-$tests_pid" 2>/dev/null || true; fi' EXIT
+trap 'if [[ -n $tests_pid ]]; then kill -- "-$tests_pid" 2>/dev/null || true; fi
+      rm -f "$times_file"' EXIT
 
 build build/release "" -DCMAKE_BUILD_TYPE=Release
 start_tests build/release ""
@@ -89,7 +104,9 @@ build build/double "physics_tests physics_allocation_tests physics-bench arena-b
 finish_tests
 start_tests build/double "-L physics"
 
-echo "=== fuzzing (at ${SECONDS} s) ==="
+cpu_so_far
+echo "=== fuzzing (at ${SECONDS} s, CPU ${cpu} s) ==="
 ./tools/fuzz.sh --build-dir build/sanitize --seconds 10
 finish_tests
-echo "tools/test.sh: all tests passed in ${SECONDS} s"
+cpu_so_far
+echo "tools/test.sh: all tests passed in ${SECONDS} s (CPU ${cpu} s)"
