@@ -211,11 +211,13 @@ std::optional<AgonesRequest> AgonesSdk::next_call(proto::TimeUs now) {
   return call;
 }
 
-void AgonesSdk::succeeded(proto::TimeUs now) {
+void AgonesSdk::settled(proto::TimeUs now, bool accepted) {
+  // A call the sidecar refused itself (4xx) is settled too: sending it again would be refused
+  // again.
   switch (in_flight_->call) {
     case AgonesCall::Ready:
       ready_done_ = true;
-      spdlog::info("agones: the GameServer is Ready");
+      if (accepted) spdlog::info("agones: the GameServer is Ready");
       break;
     case AgonesCall::Health:
       health_due_at_ = in_flight_since_ + config_.health_interval_us;
@@ -228,35 +230,11 @@ void AgonesSdk::succeeded(proto::TimeUs now) {
     }
     case AgonesCall::Allocate:
       allocate_done_ = true;
-      spdlog::info("agones: the GameServer is Allocated");
+      if (accepted) spdlog::info("agones: the GameServer is Allocated");
       break;
     case AgonesCall::Shutdown:
       shutdown_done_ = true;
-      spdlog::info("agones: the GameServer is shutting down");
-      break;
-  }
-}
-
-void AgonesSdk::gave_up(proto::TimeUs now) {
-  // The sidecar refused the request itself: sending it again would be refused again.
-  switch (in_flight_->call) {
-    case AgonesCall::Ready:
-      ready_done_ = true;
-      break;
-    case AgonesCall::Health:
-      health_due_at_ = in_flight_since_ + config_.health_interval_us;
-      break;
-    case AgonesCall::Label: {
-      Label& label = labels_[in_flight_label_.first];
-      label.sent = in_flight_label_.second;
-      label.sent_at = now;
-      break;
-    }
-    case AgonesCall::Allocate:
-      allocate_done_ = true;
-      break;
-    case AgonesCall::Shutdown:
-      shutdown_done_ = true;
+      if (accepted) spdlog::info("agones: the GameServer is shutting down");
       break;
   }
 }
@@ -273,12 +251,12 @@ void AgonesSdk::call_done(AgonesOutcome outcome, proto::TimeUs now) {
       }
       failures_in_episode_ = 0;
       backoff_us_ = config_.retry_first_us;
-      succeeded(now);
+      settled(now, /*accepted=*/true);
       break;
     case AgonesOutcome::ClientError:
       spdlog::error("agones: the SDK sidecar refused {} {} {} ({}); not sent again",
                     in_flight_->method, in_flight_->path, in_flight_->body, name(outcome));
-      gave_up(now);
+      settled(now, /*accepted=*/false);
       break;
     case AgonesOutcome::IoError:
     case AgonesOutcome::Timeout:

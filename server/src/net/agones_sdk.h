@@ -154,8 +154,8 @@ class AgonesSdk {
   bool ticking_on_time(proto::TimeUs now);
   std::optional<AgonesRequest> due_label(proto::TimeUs now);
   AgonesRequest post(AgonesCall call) const;
-  void succeeded(proto::TimeUs now);
-  void gave_up(proto::TimeUs now);
+  /// The call in flight is done with: answered 2xx (`accepted`) or refused with a 4xx.
+  void settled(proto::TimeUs now, bool accepted);
 
   AgonesSdkConfig config_;
   bool ready_requested_ = false;
