@@ -434,6 +434,68 @@ TEST(BotMatch, TheServerKeepsItsAccountsAndResultsInPostgres) {
   }
 }
 
+TEST(BotMatch, SignInsWhilePostgresIsDownAreRefusedAsBusyAndTheBotsPlayOnceItIsBack) {
+  // The server runs on PostgreSQL, then the cluster stops: a registration answers SERVER_BUSY
+  // (retryable; the server logs why), the bots back off and try again, and once the cluster is
+  // back they sign in, play, and their results are in PostgreSQL.
+  constexpr std::chrono::seconds kTimeLimit{3};
+  constexpr std::chrono::seconds kBusyBudget{10};
+  static_assert(fits_ctest(kStartBudget + kBusyBudget + play_budget(kTimeLimit) + kExitBudget));
+  PostgresCluster& cluster = PostgresCluster::shared();
+  const std::string url = cluster.create_database();
+  ServerProcess server(matches_toml(2, kTimeLimit), kShutdownGraceS,
+                       "[db]\nurl = \"" + url + "\"\n");
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
+
+  cluster.stop();
+  struct Restart {  // the cluster serves this process's other tests too
+    PostgresCluster& cluster;
+    bool started = false;
+    void operator()() {
+      if (!started) cluster.start();
+      started = true;
+    }
+    ~Restart() {
+      try {
+        (*this)();
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << "the PostgreSQL cluster did not start again: " << e.what();
+      }
+    }
+  } restart{cluster};
+
+  asio::io_context io;
+  bot::FleetConfig config;
+  config.bot = bot_config(server, "pgdown");
+  config.bots = 2;
+  bot::Fleet fleet(io, config);
+  ASSERT_EQ(fleet.start(), "");
+  ASSERT_TRUE(run_until(
+      io, [&] { return server.log().find("control: database unavailable") != std::string::npos; },
+      kBusyBudget))
+      << server.log();
+  EXPECT_FALSE(fleet.done());
+  restart();
+
+  ASSERT_TRUE(run_until(
+      io, [&] { return fleet.done(); }, play_budget(kTimeLimit)))
+      << fleet.report_json() << server.log();
+  server.terminate();
+  ASSERT_EQ(server.wait_exit(kExitBudget), std::optional<int>(0)) << server.log();
+
+  auto store = db::open_store({.url_or_path = url});
+  ASSERT_TRUE(store.ok()) << store.error().message;
+  EXPECT_GE(store.value()->match_count().value(), 1);
+  for (const auto& each : fleet.bots()) {
+    const bot::BotRecord& record = each->record();
+    EXPECT_TRUE(record.error.empty()) << each->config().name << ": " << record.error;
+    ASSERT_EQ(record.results.size(), 1u) << each->config().name;
+    const auto stats = store.value()->player_stats(static_cast<db::AccountId>(record.account_id));
+    ASSERT_TRUE(stats.ok()) << each->config().name;
+    EXPECT_EQ(stats.value().matches, 1) << each->config().name;
+  }
+}
+
 // One bot on a bad mobile link (the bot's own network simulator: 150 ms +- 50 ms each way,
 // 20 % loss each way) among three on loopback. It still plays: it connects, gets snapshots,
 // moves, fires, and predicts its own player with a bounded error. One of the three plays in the
