@@ -41,12 +41,13 @@ RUN install -D -m 0755 build/release/server/ricochet-server /out/bin/ricochet-se
 FROM debian:bookworm-slim AS runtime
 
 # Shared libraries the binaries link against beyond libc (ldd of ricochet-server): libstdc++,
-# libgcc_s; SQLite and libsodium (db/, the game channel's crypto); protobuf 3.21 (the wire
-# messages); OpenSSL 3 (TLS 1.3); spdlog and fmt (logs); toml++ (the config file). apt brings
-# their own dependencies (zlib for protobuf). Same Debian packages as tools/deps.sh's -dev ones.
+# libgcc_s; SQLite, libpq (PostgreSQL, db.url) and libsodium (db/, the game channel's crypto);
+# protobuf 3.21 (the wire messages); OpenSSL 3 (TLS 1.3); spdlog and fmt (logs); toml++ (the
+# config file). apt brings their own dependencies (zlib for protobuf, Kerberos and LDAP for
+# libpq). Same Debian packages as tools/deps.sh's -dev ones.
 # Installed only if missing, so the layer needs no network while the list is already in the base.
-RUN set -eu; runtime_packages="libstdc++6 libgcc-s1 libsqlite3-0 libsodium23 libprotobuf32 libssl3 \
-      libspdlog1.10 libfmt9 libtomlplusplus3"; missing=; \
+RUN set -eu; runtime_packages="libstdc++6 libgcc-s1 libsqlite3-0 libpq5 libsodium23 libprotobuf32 \
+      libssl3 libspdlog1.10 libfmt9 libtomlplusplus3"; missing=; \
     for p in $runtime_packages; do dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"; done; \
     if [ -n "$missing" ]; then \
       apt-get update -qq; \
