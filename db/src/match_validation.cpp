@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "ricochet/db/matches.h"
+
 namespace ricochet::db {
 
 namespace {
@@ -63,7 +65,16 @@ std::string check_teams(const MatchRecord& match) {
 
 }  // namespace
 
+bool is_match_uuid(std::string_view uuid) {
+  return uuid.size() == kMatchUuidChars && std::all_of(uuid.begin(), uuid.end(), [](char c) {
+           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+         });
+}
+
 std::string check_match(const MatchRecord& match) {
+  if (!is_match_uuid(match.uuid))
+    return "match uuid must be 32 lowercase hex digits, got \"" + match.uuid.substr(0, 40) +
+           "\" (" + std::to_string(match.uuid.size()) + " bytes)";
   if (match.players.empty()) return "a match needs at least one player";
   if (auto e = check_name("map", match.map); !e.empty()) return e;
   if (auto e = check_teams(match); !e.empty()) return e;

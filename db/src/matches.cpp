@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "match_validation.h"
+#include "password.h"
 #include "ricochet/db/rating.h"
 
 namespace ricochet::db {
@@ -45,12 +46,40 @@ std::vector<PlayerOutcome> outcomes_of(const MatchRecord& match,
   return outcomes;
 }
 
+/// The match as stored, its outcomes in the order of the record's players (won by the same
+/// rule as when it was written); InvalidMatch when the stored players are not the record's.
+DbResult<RecordedMatch> as_recorded(const MatchRecord& match, const StoredMatch& stored) {
+  std::vector<double> before;
+  RecordedMatch recorded{stored.id, {}, true};
+  for (const PlayerResult& p : match.players) {
+    const auto at = std::find(stored.accounts.begin(), stored.accounts.end(), p.account);
+    if (at == stored.accounts.end() || stored.accounts.size() != match.players.size())
+      return invalid_match("match " + match.uuid + " is stored as match " +
+                           std::to_string(stored.id) + " with other players");
+    before.push_back(
+        stored.outcomes[static_cast<std::size_t>(at - stored.accounts.begin())].rating_before);
+  }
+  const std::vector<PlayerOutcome> decided = outcomes_of(match, before);
+  for (std::size_t i = 0; i < match.players.size(); ++i) {
+    const auto at =
+        std::find(stored.accounts.begin(), stored.accounts.end(), match.players[i].account);
+    PlayerOutcome outcome = stored.outcomes[static_cast<std::size_t>(at - stored.accounts.begin())];
+    outcome.won = decided[i].won;
+    recorded.outcomes.push_back(outcome);
+  }
+  return recorded;
+}
+
 /// Rank 1 is best, and equal values share the better rank: 1 + how many are strictly better.
 std::int64_t rank_after(std::int64_t strictly_better) {
   return strictly_better + 1;
 }
 
 }  // namespace
+
+std::string new_match_uuid() {
+  return random_hex(kMatchUuidChars / 2);
+}
 
 Matches::Matches(Store& store, MatchesOptions options)
     : store_(store), options_(std::move(options)), refusals_(options_.on_refusal) {}
@@ -61,8 +90,17 @@ DbResult<RecordedMatch> Matches::record_match(const MatchRecord& match) {
     return refusals_(R(invalid_match(std::move(problem))));
   // The ratings are read and written in one transaction, so a match recorded at the same time
   // by another server process on the same database cannot be lost between the two.
+  // The uuid is looked up under the write lock, so two writers of one record cannot both miss it.
   RecordedMatch recorded;
   DbResult<MatchId> id = refusals_(atomically(store_, [&]() -> DbResult<MatchId> {
+    DbResult<std::optional<StoredMatch>> stored = store_.find_match(match.uuid);
+    if (!stored.ok()) return stored.error();
+    if (stored.value()) {
+      DbResult<RecordedMatch> found = as_recorded(match, *stored.value());
+      if (!found.ok()) return found.error();
+      recorded = std::move(found).value();
+      return recorded.id;
+    }
     std::vector<double> ratings;
     for (const PlayerResult& p : match.players) {
       DbResult<std::optional<double>> rating = store_.rating_of(p.account);

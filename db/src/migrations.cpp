@@ -118,10 +118,21 @@ ALTER TABLE matches ADD COLUMN blue_score INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE match_players ADD COLUMN team INTEGER NOT NULL DEFAULT 0 CHECK (team IN (0, 1, 2));
 )sql";
 
+// Version 4. Each match's uuid (MatchRecord::uuid), by which record_match finds a match already
+// written instead of writing it twice. Unique through an index (SQLite cannot add a UNIQUE
+// column); rows written before it keep a NULL uuid, and NULLs are all distinct in a unique index.
+// Looking a uuid up is a search of that index.
+constexpr const char* kSchemaV4 = R"sql(
+ALTER TABLE matches ADD COLUMN uuid TEXT
+  CHECK (uuid IS NULL OR (length(uuid) = 32 AND uuid NOT GLOB '*[^0-9a-f]*'));
+CREATE UNIQUE INDEX matches_by_uuid ON matches(uuid);
+)sql";
+
 constexpr std::array kMigrations = {
     Migration{1, "accounts, sessions, matches, player stats and leaderboard indexes", kSchemaV1},
     Migration{2, "failed logins for rate limits shared by every server process", kSchemaV2},
     Migration{3, "team deathmatch (teams, team scores) and aborted matches", kSchemaV3},
+    Migration{4, "a unique uuid per match, so that a result is written once", kSchemaV4},
 };
 
 DbResult<int> read_user_version(sqlite3* db, const std::string& path) {

@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <stdexcept>
+#include <vector>
 
 namespace ricochet::db {
 
@@ -68,14 +69,19 @@ bool needs_rehash(const std::string& hash, PasswordCost cost) {
   return crypto_pwhash_str_needs_rehash(hash.c_str(), limits.ops, limits.memory) != 0;
 }
 
-std::string random_token() {
+std::string random_hex(std::size_t count) {
   ensure_sodium();
-  std::array<unsigned char, kTokenBytes> bytes{};
+  std::vector<unsigned char> bytes(count);
   randombytes_buf(bytes.data(), bytes.size());
-  std::array<char, 2 * kTokenBytes + 1> hex{};
+  std::string hex(2 * count + 1, '\0');
   sodium_bin2hex(hex.data(), hex.size(), bytes.data(), bytes.size());
   sodium_memzero(bytes.data(), bytes.size());
-  return std::string(hex.data(), 2 * kTokenBytes);
+  hex.pop_back();  // the terminating NUL
+  return hex;
+}
+
+std::string random_token() {
+  return random_hex(kTokenBytes);
 }
 
 std::string token_hash(std::string_view token) {

@@ -22,6 +22,8 @@ std::uint64_t password_verifications();
 /// True when the hash was made with other limits than `cost` (rehash it at the next login).
 bool needs_rehash(const std::string& hash, PasswordCost cost);
 
+/// `count` random bytes from libsodium's CSPRNG, as 2 * count lowercase hex digits.
+std::string random_hex(std::size_t count);
 /// kTokenBytes random bytes from libsodium's CSPRNG, as lowercase hex.
 std::string random_token();
 /// SHA-256 of the token's bytes (32 raw bytes); empty when the text is not kTokenBytes of hex.

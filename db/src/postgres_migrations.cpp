@@ -104,10 +104,17 @@ ALTER TABLE matches ADD COLUMN blue_score BIGINT NOT NULL DEFAULT 0;
 ALTER TABLE match_players ADD COLUMN team BIGINT NOT NULL DEFAULT 0 CHECK (team IN (0, 1, 2));
 )sql";
 
+// Version 4. Each match's uuid, unique; old rows keep NULL (migrations.cpp).
+constexpr const char* kSchemaV4 = R"sql(
+ALTER TABLE matches ADD COLUMN uuid TEXT CHECK (uuid ~ '^[0-9a-f]{32}$');
+CREATE UNIQUE INDEX matches_by_uuid ON matches(uuid);
+)sql";
+
 constexpr std::array kMigrations = {
     Migration{1, "accounts, sessions, matches, player stats and leaderboard indexes", kSchemaV1},
     Migration{2, "failed logins for rate limits shared by every server process", kSchemaV2},
     Migration{3, "team deathmatch (teams, team scores) and aborted matches", kSchemaV3},
+    Migration{4, "a unique uuid per match, so that a result is written once", kSchemaV4},
 };
 
 /// The one-row version table; made inside the first migration's locked transaction.

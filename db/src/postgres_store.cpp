@@ -49,6 +49,7 @@ enum class Sql {
   InsertMatch,
   InsertMatchPlayer,
   UpsertStats,
+  FindMatch,
   MatchCount,
   PlayerStats,
   Top,  ///< then EntryOf and CountBetter, one per board each (board_statement)
@@ -78,7 +79,7 @@ constexpr std::array<const char*, kFixedStatements> kSql = {
     "SELECT s.rating FROM accounts AS a LEFT JOIN player_stats AS s ON s.account_id = a.id"
     " WHERE a.id = $1",
     "INSERT INTO matches (map, mode, started_ms, ended_ms, tick_rate, aborted, red_score,"
-    " blue_score) VALUES ($1, $2, $3, $4, $5, $6, $7, $8) RETURNING id",
+    " blue_score, uuid) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, NULLIF($9, '')) RETURNING id",
     "INSERT INTO match_players (match_id, account_id, kills, deaths, score, shots, hits,"
     " damage_dealt, damage_taken, seconds_played, rating_before, rating_after, team)"
     " VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13)",
@@ -93,6 +94,8 @@ constexpr std::array<const char*, kFixedStatements> kSql = {
     " damage_taken = s.damage_taken + excluded.damage_taken,"
     " seconds_played = s.seconds_played + excluded.seconds_played,"
     " rating = excluded.rating",
+    "SELECT m.id, p.account_id, p.rating_before, p.rating_after FROM matches AS m"
+    " JOIN match_players AS p ON p.match_id = m.id WHERE m.uuid = $1",
     "SELECT COUNT(*) FROM matches",
     "SELECT a.username, s.account_id IS NOT NULL, s.matches, s.wins, s.kills, s.deaths,"
     " s.score, s.shots, s.hits, s.damage_dealt, s.damage_taken, s.seconds_played, s.rating"
@@ -148,6 +151,7 @@ class PostgresStore final : public Store {
   DbResult<std::optional<double>> rating_of(AccountId id) override;
   DbResult<MatchId> insert_match(const MatchRecord& match,
                                  const std::vector<PlayerOutcome>& outcomes) override;
+  DbResult<std::optional<StoredMatch>> find_match(std::string_view uuid) override;
   DbResult<std::int64_t> match_count() override;
   DbResult<PlayerStats> player_stats(AccountId id) override;
   DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit,
@@ -474,7 +478,7 @@ DbResult<MatchId> PostgresStore::write_match(const MatchRecord& match,
   postgres::Params m;
   m.text(match.map).text(match.mode).integer(match.started_ms).integer(match.ended_ms);
   m.integer(match.tick_rate).integer(match.aborted ? 1 : 0);
-  m.integer(match.team_scores.red).integer(match.team_scores.blue);
+  m.integer(match.team_scores.red).integer(match.team_scores.blue).text(match.uuid);
   auto inserted = run(Sql::InsertMatch, m, "inserting a match");
   if (!inserted.ok()) return inserted.error();
   const MatchId id = inserted.value().integer(0, 0);
@@ -511,6 +515,22 @@ DbResult<MatchId> PostgresStore::insert_match(const MatchRecord& match,
                                                   std::to_string(outcomes.size())};
   }
   return atomically(*this, [&] { return write_match(match, outcomes); });
+}
+
+DbResult<std::optional<StoredMatch>> PostgresStore::find_match(std::string_view uuid) {
+  postgres::Params p;
+  p.text(uuid);
+  auto r = run(Sql::FindMatch, p, "finding a match by its uuid");
+  if (!r.ok()) return r.error();
+  postgres::Result& q = r.value();
+  std::optional<StoredMatch> found;
+  for (int row = 0; row < q.rows(); ++row) {
+    if (!found) found.emplace().id = q.integer(row, 0);
+    found->accounts.push_back(q.integer(row, 1));
+    found->outcomes.push_back({q.real(row, 2), q.real(row, 3), false});
+  }
+  if (!q.column_error().empty()) return bad_row(q, "finding a match by its uuid");
+  return found;
 }
 
 DbResult<std::int64_t> PostgresStore::match_count() {

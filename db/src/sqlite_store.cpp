@@ -66,6 +66,7 @@ class SqliteStore final : public Store {
   DbResult<std::optional<double>> rating_of(AccountId id) override;
   DbResult<MatchId> insert_match(const MatchRecord& match,
                                  const std::vector<PlayerOutcome>& outcomes) override;
+  DbResult<std::optional<StoredMatch>> find_match(std::string_view uuid) override;
   DbResult<std::int64_t> match_count() override;
   DbResult<PlayerStats> player_stats(AccountId id) override;
   DbResult<std::vector<LeaderboardEntry>> leaderboard(LeaderboardKind kind, int limit,
@@ -108,7 +109,7 @@ class SqliteStore final : public Store {
   sqlite::Statement insert_login_failure_, count_login_failures_, delete_login_failure_,
       delete_login_failures_of_, delete_login_failures_until_;
   sqlite::Statement rating_of_, insert_match_, insert_match_player_, upsert_stats_, match_count_,
-      player_stats_;
+      player_stats_, find_match_;
   std::array<sqlite::Statement, kBoards.size()> top_, entry_of_, count_better_;
 };
 
@@ -143,7 +144,10 @@ DbStatus SqliteStore::prepare_statements() {
        " WHERE a.id = ?1"},
       {&insert_match_,
        "INSERT INTO matches (map, mode, started_ms, ended_ms, tick_rate, aborted, red_score,"
-       " blue_score) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"},
+       " blue_score, uuid) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, NULLIF(?9, ''))"},
+      {&find_match_,
+       "SELECT m.id, p.account_id, p.rating_before, p.rating_after FROM matches AS m"
+       " JOIN match_players AS p ON p.match_id = m.id WHERE m.uuid = ?1"},
       {&insert_match_player_,
        "INSERT INTO match_players (match_id, account_id, kills, deaths, score, shots, hits,"
        " damage_dealt, damage_taken, seconds_played, rating_before, rating_after, team)"
@@ -389,6 +393,7 @@ DbResult<MatchId> SqliteStore::write_match(const MatchRecord& match,
     q.bind_text(match.map).bind_text(match.mode).bind_int(match.started_ms);
     q.bind_int(match.ended_ms).bind_int(match.tick_rate).bind_int(match.aborted ? 1 : 0);
     q.bind_int(match.team_scores.red).bind_int(match.team_scores.blue);
+    q.bind_text(match.uuid);
     if (const int rc = q.step(); rc != SQLITE_DONE) return failure(rc, "inserting a match");
     id = sqlite3_last_insert_rowid(db_.get());
   }
@@ -421,6 +426,21 @@ DbResult<MatchId> SqliteStore::insert_match(const MatchRecord& match,
                                                   std::to_string(outcomes.size())};
   }
   return atomically(*this, [&] { return write_match(match, outcomes); });
+}
+
+DbResult<std::optional<StoredMatch>> SqliteStore::find_match(std::string_view uuid) {
+  sqlite::Query q(find_match_);
+  q.bind_text(uuid);
+  std::optional<StoredMatch> found;
+  int rc = SQLITE_ROW;
+  while ((rc = q.step()) == SQLITE_ROW) {
+    if (!found) found.emplace().id = q.integer(0);
+    found->accounts.push_back(q.integer(1));
+    found->outcomes.push_back({q.real(2), q.real(3), false});
+  }
+  if (rc != SQLITE_DONE) return failure(rc, "finding a match by its uuid");
+  if (!q.column_error().empty()) return bad_row(q, "finding a match by its uuid");
+  return found;
 }
 
 DbResult<std::int64_t> SqliteStore::match_count() {

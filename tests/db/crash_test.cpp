@@ -51,6 +51,7 @@ SqliteOptions options_for(const std::string& path, bool synchronous_full) {
   while (Clock::now() < give_up) {
     std::vector<AccountId> pool = accounts;
     MatchRecord match;
+    match.uuid = new_match_uuid();
     match.map = "foundry";
     match.mode = "ffa";
     match.started_ms = 1000;

@@ -14,8 +14,11 @@
 
 #include "db_test_util.h"
 #include "migrations.h"
+#include "postgres_migrations.h"
+#include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
 #include "sqlite_handle.h"
+#include "store_fixture.h"
 
 namespace ricochet::db::test {
 namespace {
@@ -131,7 +134,7 @@ TEST(MigrationTest, AVersion2FileGainsTeamsAndAbortedMatchesAndKeepsItsData) {
         << sqlite3_errmsg(raw.get());
   }
   auto store = must(open_store(path), "open a version-2 file");
-  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), 3);
+  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), sqlite_schema_version());
   // The old match reads as what it was: a free-for-all that ended normally, no teams.
   EXPECT_EQ(raw_integer(path,
                         "SELECT COUNT(*) FROM matches WHERE id = 1 AND aborted = 0"
@@ -356,6 +359,69 @@ TEST(MigrationTest, ConnectionSettingsAreInEffect) {
   ASSERT_NE(db, nullptr);
   EXPECT_EQ(pragma(db, "PRAGMA synchronous"), 2);  // FULL
 }
+
+/// A version-3 database on either backend, as that binary left it: two accounts and one match
+/// they played, with their results and lifetime stats.
+class Version3Test : public ::testing::TestWithParam<Backend> {
+ protected:
+  Version3Test() : db_(GetParam()) {
+    if (db_.postgres()) {
+      db_.exec(
+          "CREATE TABLE schema_version (one_row BOOLEAN PRIMARY KEY DEFAULT TRUE"
+          " CHECK (one_row), version INTEGER NOT NULL)");
+      for (const Migration& m : postgres_migrations().first(3)) db_.exec(m.sql);
+      db_.exec("INSERT INTO schema_version (version) VALUES (3)");
+    } else {
+      sqlite::Connection created;  // the file, empty
+      if (sqlite::open(db_.url_or_path(), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, created) !=
+          SQLITE_OK)
+        throw std::runtime_error("cannot create " + db_.url_or_path());
+      for (const Migration& m : sqlite_migrations().first(3)) db_.exec(m.sql);
+      db_.exec("PRAGMA user_version = 3");
+    }
+    db_.exec(
+        "INSERT INTO accounts (username, username_key, password_hash, created_ms)"
+        " VALUES ('Ann', 'ann', 'h', 7), ('Bo', 'bo', 'h', 8)");
+    db_.exec(
+        "INSERT INTO matches (map, mode, started_ms, ended_ms, tick_rate)"
+        " VALUES ('arena', 'ffa', 100, 200, 60)");
+    db_.exec(
+        "INSERT INTO match_players (match_id, account_id, kills, deaths, score, shots, hits,"
+        " damage_dealt, damage_taken, seconds_played, rating_before, rating_after)"
+        " VALUES (1, 1, 3, 1, 3, 10, 4, 80, 20, 100, 1500, 1516),"
+        " (1, 2, 1, 3, 1, 9, 2, 20, 80, 100, 1500, 1484)");
+    db_.exec(
+        "INSERT INTO player_stats (account_id, matches, wins, kills, rating)"
+        " VALUES (1, 1, 1, 3, 1516), (2, 1, 0, 1, 1484)");
+  }
+  TestDatabase db_;
+};
+
+TEST_P(Version3Test, GainsMatchUuidsAndKeepsItsRows) {
+  auto store = db_.open();
+  const std::string version =
+      db_.postgres() ? "SELECT version FROM schema_version" : "PRAGMA user_version";
+  EXPECT_EQ(db_.raw_integer(version), 4);
+  // The old match is kept, without a uuid.
+  EXPECT_EQ(db_.raw_integer("SELECT COUNT(*) FROM matches WHERE id = 1 AND uuid IS NULL"), 1);
+  EXPECT_EQ(db_.raw_integer("SELECT COUNT(*) FROM match_players"), 2);
+  EXPECT_DOUBLE_EQ(must(store->player_stats(1), "Ann").rating, 1516);
+  // A new one is written with its uuid, and written once.
+  Matches matches(*store);
+  MatchRecord next = match_of({result(1, 5), result(2, 3)});
+  const RecordedMatch first = must(matches.record_match(next), "a new match");
+  EXPECT_EQ(must(matches.record_match(next), "again").id, first.id);
+  EXPECT_EQ(db_.query_one("SELECT uuid FROM matches WHERE id = " + std::to_string(first.id)),
+            next.uuid);
+  EXPECT_EQ(db_.raw_integer("SELECT COUNT(*) FROM matches"), 2);
+  EXPECT_EQ(must(store->player_stats(1), "Ann").matches, 2);
+  // The column holds uuids only, once each.
+  EXPECT_THROW(db_.exec("UPDATE matches SET uuid = 'NOT-HEX' WHERE id = 1"), std::runtime_error);
+  EXPECT_THROW(db_.exec("UPDATE matches SET uuid = '" + next.uuid + "' WHERE id = 1"),
+               std::runtime_error);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, Version3Test, kBackends, backend_name);
 
 }  // namespace
 }  // namespace ricochet::db::test

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "db_test_util.h"
+#include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
 #include "test_database.h"
 
@@ -30,6 +31,7 @@ inline PlayerResult result(AccountId account, std::int32_t score, std::int32_t k
 
 inline MatchRecord match_of(std::vector<PlayerResult> players) {
   MatchRecord m;
+  m.uuid = new_match_uuid();
   m.map = "foundry";
   m.mode = "ffa";
   m.started_ms = 1'000'000;

@@ -78,6 +78,7 @@ db::MatchRecord random_match(std::mt19937_64& rng, const std::vector<db::Account
   std::uniform_int_distribution<std::size_t> pick(0, ids.size() - 1);
   std::uniform_int_distribution<int> stat(0, 30);
   db::MatchRecord match;
+  match.uuid = db::new_match_uuid();
   match.map = "arena";
   match.mode = "ffa";
   match.started_ms = kT0 + m * 600'000LL;

@@ -27,6 +27,7 @@
 #include "match_registry.h"
 #include "recording_files.h"
 #include "ricochet/db/db_worker.h"
+#include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
 #include "ricochet/proto/crypto.h"
 #include "ricochet/proto/token_grant.h"
@@ -531,6 +532,8 @@ void Server::finish_match(EndedMatch match, ResultsHandler done) {
     return;
   }
   match.recording.clear();
+  // Its name in the database: a write that is tried again finds it there (matches.h).
+  match.record.uuid = db::new_match_uuid();
   write_record(std::make_shared<const EndedMatch>(std::move(match)), 1, std::move(done));
 }
 
@@ -685,8 +688,10 @@ db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbS
   auto recorded = services.matches.record_match(record);
   if (!recorded) return recorded.error();
   const std::vector<db::PlayerOutcome>& outcomes = recorded.value().outcomes;
-  spdlog::info("match {} recorded as {} ({} players, {}{})", match.id, recorded.value().id,
-               record.players.size(), record.mode, record.aborted ? ", aborted" : "");
+  spdlog::info("match {} ({}) recorded as {} ({} players, {}{}{})", match.id, record.uuid,
+               recorded.value().id, record.players.size(), record.mode,
+               record.aborted ? ", aborted" : "",
+               recorded.value().existed ? "; it was already: nothing written again" : "");
   wire::MatchResults results = results_header(match);
   for (std::size_t i = 0; i < record.players.size(); ++i) {
     const db::PlayerResult& player = record.players[i];

@@ -73,6 +73,11 @@ struct TeamScores {
 
 /// A finished match, written in one transaction with every player's result.
 struct MatchRecord {
+  /// The match's own name, drawn when it ends (new_match_uuid, matches.h): 16 random bytes as 32
+  /// lowercase hex digits. record_match writes a uuid once: a record written again (a retry
+  /// after a commit whose answer was lost, a result delivered again from the server's outbox)
+  /// finds the match already there.
+  std::string uuid;
   std::string map;
   std::string mode{kModeFreeForAll};  ///< kModeFreeForAll or kModeTeamDeathmatch
   UnixMillis started_ms = 0;
@@ -90,6 +95,15 @@ struct MatchRecord {
 struct RecordedMatch {
   MatchId id = 0;
   std::vector<PlayerOutcome> outcomes;
+  bool existed = false;  ///< found by its uuid, written before: nothing was written now
+};
+
+/// A match as the store keeps it, found by its uuid (Store::find_match): its id, and each
+/// player's account and ratings as written (won is not kept per match: false here).
+struct StoredMatch {
+  MatchId id = 0;
+  std::vector<AccountId> accounts;
+  std::vector<PlayerOutcome> outcomes;  ///< outcomes[i] is accounts[i]'s
 };
 
 /// Lifetime totals of one account.

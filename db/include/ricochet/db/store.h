@@ -75,11 +75,14 @@ class Store {
   // --- matches, stats, leaderboards ---
   /// The account's current rating; nullopt when it never played; UnknownAccount if none.
   virtual DbResult<std::optional<double>> rating_of(AccountId id) = 0;
-  /// Writes the match, every player's result and outcome (outcomes[i] is players[i]'s), and
-  /// adds them to the players' lifetime stats with their new ratings, in one transaction: after
-  /// a crash either all of it is there or none.
+  /// Writes the match (its uuid NULL when empty; Storage when another match has it), every
+  /// player's result and outcome (outcomes[i] is players[i]'s), and adds them to the players'
+  /// lifetime stats with their new ratings, in one transaction: after a crash either all of it is
+  /// there or none.
   virtual DbResult<MatchId> insert_match(const MatchRecord& match,
                                          const std::vector<PlayerOutcome>& outcomes) = 0;
+  /// The match written with this uuid (MatchRecord::uuid), nullopt when there is none.
+  virtual DbResult<std::optional<StoredMatch>> find_match(std::string_view uuid) = 0;
   virtual DbResult<std::int64_t> match_count() = 0;
   /// Zeros and the initial rating for an account that never played; UnknownAccount if none.
   virtual DbResult<PlayerStats> player_stats(AccountId id) = 0;
