@@ -253,6 +253,10 @@ std::string ServerConfig::db_url_or_path() const {
   return db.url.empty() ? db_file() : db.url;
 }
 
+std::string ServerConfig::outbox_path() const {
+  return under_data_dir(server, db.outbox_dir);
+}
+
 std::string ServerConfig::recordings_path() const {
   return under_data_dir(server, matches.recordings_dir);
 }

@@ -170,6 +170,14 @@ const std::array kKeys = {
         .text = &text_of<&S::db, &DbConfig::url>,
         .allow_empty = true},
     Key{.section = "db",
+        .name = "outbox_dir",
+        .flag = "--outbox-dir",
+        .help = "directory where each ended match's result is kept until the database has it "
+                "(it outlives the database being away and the server being killed); a relative "
+                "path is under server.data_dir",
+        .kind = Kind::Text,
+        .text = &text_of<&S::db, &DbConfig::outbox_dir>},
+    Key{.section = "db",
         .name = "password_hashing",
         .flag = "--password-hashing",
         .help = "Argon2id cost of each password hash: interactive (64 MiB, ~100 ms; keep it for "

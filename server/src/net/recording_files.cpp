@@ -10,37 +10,13 @@
 #include <system_error>
 #include <utility>
 
+#include "durable_files.h"
+
 namespace ricochet::server {
 
 namespace {
 
 constexpr std::string_view kPartSuffix = ".rcr.part";
-
-std::string errno_text() {
-  return std::strerror(errno);
-}
-
-/// Makes the directory's entries (a new file, a rename) durable; the error, or empty.
-std::string sync_directory(const std::filesystem::path& directory) {
-  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return "cannot open " + directory.string() + ": " + errno_text();
-  std::string error;
-  if (::fsync(fd) != 0) error = "cannot sync " + directory.string() + ": " + errno_text();
-  ::close(fd);
-  return error;
-}
-
-/// Every byte, retrying short writes and interruptions; the error, or empty.
-std::string write_all(int fd, const std::vector<std::uint8_t>& bytes) {
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t wrote = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (wrote < 0 && errno == EINTR) continue;
-    if (wrote <= 0) return "write failed after " + std::to_string(done) + " bytes: " + errno_text();
-    done += static_cast<std::size_t>(wrote);
-  }
-  return {};
-}
 
 }  // namespace
 

@@ -26,6 +26,7 @@
 #include "match_defaults.h"
 #include "match_registry.h"
 #include "recording_files.h"
+#include "results_outbox.h"
 #include "ricochet/db/db_worker.h"
 #include "ricochet/db/matches.h"
 #include "ricochet/db/store.h"
@@ -231,6 +232,7 @@ constexpr auto kEmptyMatchSweep = std::chrono::seconds(5);
 Server::Server(ServerConfig config) : config_(std::move(config)) {
   make_private_directory(config_.server.data_dir);
   db_ = open_database(config_);
+  outbox_ = std::make_unique<ResultsOutbox>(config_.outbox_path());
   recordings_ =
       std::make_unique<RecordingFiles>(config_.recordings_path(), kMaxQueuedRecordingBytes);
   const proto::Key token_key = proto::random_key();  // this process's only; tokens die with it
@@ -324,6 +326,7 @@ void Server::start() {
   sweep_empty_matches();
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
+  deliver_outbox();
   ready_ = true;
   if (agones_) agones_->ready();
   spdlog::info(
@@ -434,8 +437,10 @@ void Server::shut_down() {
   }
   stopping_ = true;
   if (const std::uint64_t pending = records_pending_.load()) {
-    spdlog::error("stopping: {} match records still could not be written; they are lost", pending);
-    records_lost_.fetch_add(pending);
+    spdlog::error(
+        "stopping: {} match records still could not be written; they stay in the results outbox "
+        "{} and are written at the next start",
+        pending, outbox_->directory().string());
   }
   const auto deadline = Clock::now() + std::chrono::seconds(config_.server.shutdown_grace_s);
   spdlog::info("stopping: ending {} matches, {} s grace", matches_->hosts().size(),
@@ -532,9 +537,26 @@ void Server::finish_match(EndedMatch match, ResultsHandler done) {
     return;
   }
   match.recording.clear();
-  // Its name in the database: a write that is tried again finds it there (matches.h).
+  // Journalled before the first attempt (results_outbox.h): from here on a kill -9 loses nothing.
   match.record.uuid = db::new_match_uuid();
+  outbox_->keep(OutboxRecord{match.id, match.record});
   write_record(std::make_shared<const EndedMatch>(std::move(match)), 1, std::move(done));
+}
+
+void Server::deliver_outbox() {
+  std::vector<OutboxRecord> left = outbox_->list();
+  if (left.empty()) return;
+  spdlog::warn("results outbox: {} match records left by an earlier process; writing them",
+               left.size());
+  for (OutboxRecord& kept : left) {
+    EndedMatch match;
+    match.id = kept.match_id;
+    match.usernames.resize(kept.record.players.size());  // nobody to tell: no names needed
+    match.record = std::move(kept.record);
+    write_record(
+        std::make_shared<const EndedMatch>(std::move(match)), 1,
+        [](std::optional<wire::MatchResults>, const std::vector<std::uint64_t>&) {}, true);
+  }
 }
 
 namespace {
@@ -557,41 +579,53 @@ bool worth_retrying(db::DbErrorCode code) {
 
 }  // namespace
 
-void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt,
-                          ResultsHandler done) {
+void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt, ResultsHandler done,
+                          bool from_outbox) {
   db_->submit(
       [match](db::DbServices& services) { return record(*match, services); },
       [](std::function<void()> completion) { completion(); },  // runs on the DB thread
-      [this, match, attempt, done = std::move(done)](db::DbResult<wire::MatchResults> result) {
+      [this, match, attempt, from_outbox,
+       done = std::move(done)](db::DbResult<wire::MatchResults> result) {
+        const std::string& uuid = match->record.uuid;
         if (result) {
+          outbox_->remove(uuid);
+          if (from_outbox) outbox_delivered_.fetch_add(1);
           if (attempt > 1) {
             spdlog::info("match {}: its record was written at attempt {}", match->id, attempt);
             records_pending_.fetch_sub(1);
           }
-          done(std::move(result).value(), match->seated);
+          if (done) done(std::move(result).value(), match->seated);
           return;
         }
         const db::DbError& error = result.error();
-        if (!worth_retrying(error.code) || stopping_.load()) {
-          spdlog::error("match {}: its record was refused{}: {}", match->id,
-                        stopping_.load() ? " while stopping" : "", error.message);
+        if (!worth_retrying(error.code)) {
+          spdlog::error("match {} ({}): its record was refused: {}", match->id, uuid,
+                        error.message);
+          outbox_->remove(uuid);
           if (attempt > 1) records_pending_.fetch_sub(1);
           records_lost_.fetch_add(1);
-          done(std::nullopt, match->seated);
+          if (done) done(std::nullopt, match->seated);
+          return;
+        }
+        if (stopping_.load()) {
+          spdlog::error(
+              "match {} ({}): its record could not be written while stopping ({}: {}); it stays "
+              "in the results outbox for the next start",
+              match->id, uuid, db::to_string(error.code), error.message);
+          if (attempt > 1) records_pending_.fetch_sub(1);
+          if (done) done(std::nullopt, match->seated);
           return;
         }
         if (attempt == 1) records_pending_.fetch_add(1);
         records_retried_.fetch_add(1);
-        const auto wait = kRecordRetryFirst * (1 << std::min(attempt - 1, 5));
+        const std::chrono::seconds wait =
+            std::min(kRecordRetryFirst * (1 << std::min(attempt - 1, 5)), kRecordRetryLast);
         spdlog::error(
-            "match {}: its record could not be written ({}: {}); kept, attempt {} in "
-            "{} s",
-            match->id, db::to_string(error.code), error.message, attempt + 1,
-            std::chrono::duration_cast<std::chrono::seconds>(std::min(wait, kRecordRetryLast))
-                .count());
-        auto timer = std::make_shared<asio::steady_timer>(io_, std::min(wait, kRecordRetryLast));
-        timer->async_wait([this, timer, match, attempt, done](const std::error_code&) {
-          write_record(match, attempt + 1, done);
+            "match {} ({}): its record could not be written ({}: {}); kept, attempt {} in {} s",
+            match->id, uuid, db::to_string(error.code), error.message, attempt + 1, wait.count());
+        auto timer = std::make_shared<asio::steady_timer>(io_, wait);
+        timer->async_wait([this, timer, match, attempt, done, from_outbox](const std::error_code&) {
+          write_record(match, attempt + 1, done, from_outbox);
         });
       });
 }

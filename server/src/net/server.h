@@ -9,8 +9,11 @@
 ///   int code = server.wait(); // 0 after a graceful stop within the grace period
 ///
 /// A match that ends by itself (frag or time limit) is followed by the next of the rotation
-/// (MatchRegistry); its record goes to the DB thread, each player gets its MatchResults over the
-/// control channel once it is written, and its recording goes to a file (RecordingFiles).
+/// (MatchRegistry); its record gets a uuid, is kept in the results outbox on local disk
+/// (ResultsOutbox: it outlives the database being away and this process being killed) and goes
+/// to the DB thread; each player gets its MatchResults over the control channel once it is
+/// written; its recording goes to a file (RecordingFiles). At the start, the records an earlier
+/// process left in the outbox are written (they have no one to tell).
 ///
 /// Graceful stop, in order: refuse new joins; end every match and write the records of those
 /// that had players to the DB (waiting for the writes), aborted; send each player its
@@ -57,6 +60,7 @@ class ControlServer;
 class GameChannel;
 class MatchRegistry;
 class RecordingFiles;
+class ResultsOutbox;
 
 class Server {
  public:
@@ -101,9 +105,15 @@ class Server {
   /// seated (nothing when nobody was).
   void finish_match(EndedMatch match, ResultsHandler done);
   /// Submits the record; a write that failed for a passing reason (disk full, database
-  /// locked) is kept and submitted again after kRecordRetryFirst, doubling up to
-  /// kRecordRetryLast, until it is written or the server stops. `done` runs once.
-  void write_record(std::shared_ptr<const EndedMatch> match, int attempt, ResultsHandler done);
+  /// locked or away) is kept and submitted again after kRecordRetryFirst, doubling up to
+  /// kRecordRetryLast, until it is written or the server stops (its outbox file stays for the
+  /// next start). `done` runs once: with the results once written, or with none when refused
+  /// for good or while stopping. The outbox file goes once written or refused for good;
+  /// `from_outbox`: left by an earlier process, counted delivered once written.
+  void write_record(std::shared_ptr<const EndedMatch> match, int attempt, ResultsHandler done,
+                    bool from_outbox = false);
+  /// At the start: every record an earlier process left in the outbox, to the database.
+  void deliver_outbox();
   /// The match's MatchResults over the control channel to each of `recipients`.
   void send_results(const wire::MatchResults& results,
                     const std::vector<std::uint64_t>& recipients);
@@ -132,6 +142,7 @@ class Server {
   std::unique_ptr<ChatLimiter> chat_limiter_;
   std::unique_ptr<db::DbWorker> db_;
   std::unique_ptr<RecordingFiles> recordings_;
+  std::unique_ptr<ResultsOutbox> outbox_;
   std::unique_ptr<GameChannel> game_;
   std::unique_ptr<MatchRegistry> matches_;
   std::unique_ptr<ControlServer> control_;
@@ -145,11 +156,12 @@ class Server {
   std::atomic<bool> ready_{false};
   std::atomic<int> exit_code_{0};
   std::atomic<bool> stopping_{false};
-  std::atomic<std::uint64_t> records_pending_{0};         ///< kept after a failed write, to retry
-  std::atomic<std::uint64_t> records_retried_{0};         ///< writes submitted again
-  std::atomic<std::uint64_t> records_lost_{0};            ///< refused for good (or while stopping)
-  std::atomic<std::uint64_t> bans_{0};                    ///< accounts banned through admin HTTP
-  std::atomic<std::uint64_t> unbans_{0};                  ///< and unbanned
+  std::atomic<std::uint64_t> records_pending_{0};   ///< kept after a failed write, to retry
+  std::atomic<std::uint64_t> records_retried_{0};   ///< writes submitted again
+  std::atomic<std::uint64_t> records_lost_{0};      ///< refused for good
+  std::atomic<std::uint64_t> outbox_delivered_{0};  ///< left by an earlier process, now written
+  std::atomic<std::uint64_t> bans_{0};              ///< accounts banned through admin HTTP
+  std::atomic<std::uint64_t> unbans_{0};            ///< and unbanned
   std::atomic<std::uint64_t> banned_sessions_closed_{0};  ///< control sessions a ban closed
   std::atomic<std::uint64_t> banned_players_removed_{0};  ///< seats (and game connections) too
   std::mutex done_mutex_;

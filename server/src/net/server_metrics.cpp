@@ -17,6 +17,7 @@
 #include "game_channel.h"
 #include "match_registry.h"
 #include "recording_files.h"
+#include "results_outbox.h"
 #include "ricochet/db/db_worker.h"
 #include "server.h"
 
@@ -263,8 +264,18 @@ void Server::register_metrics() {
     sink.counter("ricochet_match_record_retries_total", "Match records submitted again", {},
                  static_cast<double>(records_retried_.load()));
     sink.counter("ricochet_match_records_lost_total",
-                 "Match records refused for good, or still unwritten when the server stopped", {},
+                 "Match records the database refused for good (invalid; logged)", {},
                  static_cast<double>(records_lost_.load()));
+    sink.gauge("ricochet_results_outbox_files",
+               "Ended matches' records kept on local disk until the database has them", {},
+               static_cast<double>(outbox_->files()));
+    sink.counter("ricochet_results_outbox_delivered_total",
+                 "Records left in the outbox by an earlier process, written since the start", {},
+                 static_cast<double>(outbox_delivered_.load()));
+    sink.counter("ricochet_results_outbox_rejected_total",
+                 "Outbox files that were not a match record (corrupt, truncated, oversized), "
+                 "moved to its rejected/ directory",
+                 {}, static_cast<double>(outbox_->rejected()));
     for (const auto& [action, count] :
          {std::pair{"ban", bans_.load()}, std::pair{"unban", unbans_.load()}}) {
       sink.counter("ricochet_account_bans_total",

@@ -46,6 +46,9 @@ struct DbConfig {
   /// PostgreSQL (postgresql://user:password@host:port/dbname), shared by many servers; empty:
   /// the SQLite file at `path`.
   std::string url;
+  /// Ended matches' results until the database has them (results_outbox.h); under data_dir
+  /// unless absolute.
+  std::string outbox_dir = "outbox";
   PasswordHashing password_hashing = PasswordHashing::Interactive;
   // --- abuse limits of accounts (issue 29) ---
   int registrations_per_hour_per_address = 10;  ///< an IPv4 address or IPv6 /64, in the database
@@ -177,6 +180,8 @@ struct ServerConfig {
   std::string db_file() const;
   /// What the store is opened on: db.url when set, else db_file().
   std::string db_url_or_path() const;
+  /// db.outbox_dir, under data_dir unless absolute.
+  std::string outbox_path() const;
   /// matches.recordings_dir, under data_dir unless absolute.
   std::string recordings_path() const;
   /// server.ports_file, under data_dir unless absolute; empty when none is asked for.

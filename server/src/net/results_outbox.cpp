@@ -1,0 +1,161 @@
+#include "results_outbox.h"
+
+#include <fcntl.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <system_error>
+
+#include "durable_files.h"
+#include "ricochet/db/matches.h"
+
+namespace ricochet::server {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::string_view kSuffix = ".rec";
+constexpr std::string_view kTempSuffix = ".rec.tmp";
+constexpr const char* kRejected = "rejected";
+
+bool ends_with(std::string_view name, std::string_view suffix) {
+  return name.size() >= suffix.size() && name.substr(name.size() - suffix.size()) == suffix;
+}
+
+/// The file's bytes, or why it cannot be read; at most kMaxOutboxFileBytes + 1 are read.
+std::string read_file(const fs::path& path, std::vector<std::uint8_t>& bytes) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "cannot open it";
+  bytes.resize(kMaxOutboxFileBytes + 1);
+  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (in.bad()) return "cannot read it";
+  bytes.resize(static_cast<std::size_t>(in.gcount()));
+  return {};
+}
+
+}  // namespace
+
+ResultsOutbox::ResultsOutbox(fs::path directory) : directory_(std::move(directory)) {
+  std::error_code error;
+  fs::create_directories(directory_ / kRejected, error);
+  if (error)
+    throw std::runtime_error("cannot create the results outbox " + directory_.string() + ": " +
+                             error.message());
+}
+
+bool ResultsOutbox::keep(const OutboxRecord& record) {
+  const std::string& uuid = record.record.uuid;
+  const fs::path temp = directory_ / (uuid + std::string(kTempSuffix));
+  const fs::path target = directory_ / (uuid + std::string(kSuffix));
+  const auto failed = [&](const std::string& why) {
+    spdlog::error("results outbox: match {} ({}) cannot be kept on disk: {}; it is kept in memory only",
+                  record.match_id, uuid, why);
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    return false;
+  };
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
+  if (fd < 0) return failed("cannot create " + temp.string() + ": " + errno_text());
+  std::string error = write_all(fd, encode_outbox_record(record));
+  if (error.empty() && ::fsync(fd) != 0) error = "fsync failed: " + errno_text();
+  ::close(fd);
+  if (!error.empty()) return failed(error);
+  std::error_code renamed;
+  fs::rename(temp, target, renamed);
+  if (renamed) return failed("cannot rename it to " + target.string() + ": " + renamed.message());
+  if (std::string synced = sync_directory(directory_); !synced.empty()) return failed(synced);
+  files_.fetch_add(1);
+  return true;
+}
+
+void ResultsOutbox::remove(std::string_view uuid) {
+  const fs::path file = directory_ / (std::string(uuid) + std::string(kSuffix));
+  std::error_code error;
+  if (!fs::remove(file, error)) {
+    if (error) spdlog::error("results outbox: cannot remove {}: {}", file.string(), error.message());
+    return;
+  }
+  files_.fetch_sub(1);
+  // Not synced, the removal may be undone by a power loss: the next start delivers the record
+  // again, which writes nothing (results_outbox.h).
+  if (std::string synced = sync_directory(directory_); !synced.empty())
+    spdlog::warn("results outbox: {}", synced);
+}
+
+void ResultsOutbox::reject(const fs::path& file, const std::string& reason) {
+  rejected_.fetch_add(1);
+  const fs::path target = directory_ / kRejected / file.filename();
+  std::error_code error;
+  fs::rename(file, target, error);
+  if (error) {
+    spdlog::error("results outbox: {} is not a match record ({}) and cannot be moved to {}: {}",
+                  file.string(), reason, target.string(), error.message());
+    return;
+  }
+  spdlog::error("results outbox: {} is not a match record ({}); moved to {}", file.string(),
+                reason, target.string());
+}
+
+std::vector<OutboxRecord> ResultsOutbox::list() {
+  std::vector<fs::path> names;
+  std::error_code error;
+  for (fs::directory_iterator it(directory_, error), end; !error && it != end;
+       it.increment(error)) {
+    if (it->is_directory(error) && it->path().filename() == kRejected) continue;
+    names.push_back(it->path());
+  }
+  if (error)
+    spdlog::error("results outbox: cannot list {}: {}", directory_.string(), error.message());
+  std::sort(names.begin(), names.end());
+  std::vector<OutboxRecord> kept;
+  for (const fs::path& path : names) {
+    const std::string name = path.filename().string();
+    if (ends_with(name, kTempSuffix)) {
+      std::error_code ignored;
+      fs::remove(path, ignored);
+      spdlog::info("results outbox: {} was cut short by a crash before it was kept; removed", name);
+      continue;
+    }
+    const std::string uuid = name.substr(0, name.size() - std::min(name.size(), kSuffix.size()));
+    if (!ends_with(name, kSuffix) || !db::is_match_uuid(uuid)) {
+      reject(path, "its name is not <uuid>.rec");
+      continue;
+    }
+    std::error_code size_error;
+    if (!fs::is_regular_file(path, size_error)) {
+      reject(path, "not a regular file");
+      continue;
+    }
+    const std::uintmax_t size = fs::file_size(path, size_error);
+    if (size_error || size > kMaxOutboxFileBytes) {
+      reject(path, size_error ? size_error.message()
+                              : "oversized: " + std::to_string(size) + " bytes, at most " +
+                                    std::to_string(kMaxOutboxFileBytes));
+      continue;
+    }
+    std::vector<std::uint8_t> bytes;
+    if (std::string unreadable = read_file(path, bytes); !unreadable.empty()) {
+      reject(path, unreadable);
+      continue;
+    }
+    DecodedOutbox decoded = decode_outbox_record(bytes);
+    if (!decoded.ok) {
+      reject(path, decoded.problem);
+      continue;
+    }
+    if (decoded.record.record.uuid != uuid) {
+      reject(path, "it holds match " + decoded.record.record.uuid);
+      continue;
+    }
+    kept.push_back(std::move(decoded.record));
+  }
+  files_.store(kept.size());
+  return kept;
+}
+
+}  // namespace ricochet::server

@@ -1,0 +1,66 @@
+#pragma once
+/// Match records kept on local disk until the database has them, so that a result outlives the
+/// database being away and the server being killed meanwhile.
+///
+/// Exactly once, in four steps:
+///   1. journal first: every ended match with players gets a uuid and is kept here (keep:
+///      written, fsync()ed, renamed into place, the directory fsync()ed) before its first
+///      database attempt;
+///   2. idempotent on the uuid: db::Matches::record_match finds a match already stored under it
+///      and writes nothing, so any number of attempts of one record store it once;
+///   3. removed after the commit (or after a refusal for good, logged and counted);
+///   4. a crash or kill -9 between the commit and the remove leaves the file, and the next start
+///      delivers it again (list): step 2 makes that a no-op. A crash before the commit delivers
+///      it for the first time. Either way the match is in the database once.
+///
+/// In the outbox directory (created when missing, with `rejected/` in it):
+///   `<uuid>.rec`       one kept record (results_outbox_format.h);
+///   `<uuid>.rec.tmp`   a keep a crash cut short: never renamed, so never delivered (its match
+///                      was not journalled, and had no database attempt either); removed by list;
+///   `rejected/<name>`  a file that cannot be read back as a record (corrupt, truncated,
+///                      oversized, misnamed), moved aside by list with the reason logged and
+///                      counted, for an operator to look at. Never deleted, never a crash.
+/// Thread-safe: keep on the match strands, remove on the DB thread, list at the start.
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "results_outbox_format.h"
+
+namespace ricochet::server {
+
+class ResultsOutbox {
+ public:
+  /// Creates `directory` and its `rejected/` when missing; throws std::runtime_error naming the
+  /// directory when it cannot.
+  explicit ResultsOutbox(std::filesystem::path directory);
+
+  /// Writes `<uuid>.rec` durably (the record must have a valid uuid). False, with the reason
+  /// logged, when the disk refused it: the record then lives in memory only, as before.
+  bool keep(const OutboxRecord& record);
+  /// Removes `<uuid>.rec` (and syncs the directory). Logged when it fails.
+  void remove(std::string_view uuid);
+  /// Every kept record in the directory, oldest name first; files that are not one are moved to
+  /// `rejected/` (logged, counted) and left `.tmp` files removed. Sets files() to the count.
+  std::vector<OutboxRecord> list();
+
+  /// Records kept now.
+  std::uint64_t files() const { return files_.load(); }
+  /// Files moved to rejected/ since the start.
+  std::uint64_t rejected() const { return rejected_.load(); }
+  const std::filesystem::path& directory() const { return directory_; }
+
+ private:
+  /// Moves `file` to rejected/ and logs why.
+  void reject(const std::filesystem::path& file, const std::string& reason);
+
+  std::filesystem::path directory_;
+  std::atomic<std::uint64_t> files_{0};
+  std::atomic<std::uint64_t> rejected_{0};
+};
+
+}  // namespace ricochet::server

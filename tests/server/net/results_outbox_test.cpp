@@ -1,0 +1,194 @@
+// The results outbox on a real directory: a kept record reads back whole in a new process's
+// outbox (every field, bit for bit), a removed one is gone, a keep cut short by a crash is never
+// delivered, and a file that is not a record (corrupt, truncated, oversized, misnamed, another
+// match inside) is moved to rejected/ with its reason, counted, and never stops the others.
+#include "results_outbox.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "temp_dir.h"
+
+namespace ricochet::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kUuidA = "0123456789abcdef0123456789abcdef";
+constexpr const char* kUuidB = "fedcba9876543210fedcba9876543210";
+
+OutboxRecord record(const std::string& uuid, const std::string& mode = "ffa") {
+  OutboxRecord out;
+  out.match_id = 42;
+  db::MatchRecord& r = out.record;
+  r.uuid = uuid;
+  r.map = "foundry";
+  r.mode = mode;
+  r.started_ms = 1'700'000'000'123;
+  r.ended_ms = 1'700'000'300'456;
+  r.tick_rate = 60;
+  r.aborted = true;
+  if (mode == "tdm") r.team_scores = {7, -2};
+  for (int i = 0; i < 3; ++i) {
+    db::PlayerResult p;
+    p.account = 9'000'000'000LL + i;
+    p.team = mode == "tdm" ? 1 + i % 2 : 0;
+    p.kills = 10 + i;
+    p.deaths = 3;
+    p.score = -1 - i;
+    p.shots = 100;
+    p.hits = 37;
+    p.damage_dealt = 512.125;
+    p.damage_taken = 0.1;  // not exact in binary: must come back bit for bit
+    p.seconds_played = 299.999;
+    r.players.push_back(p);
+  }
+  return out;
+}
+
+void expect_same(const OutboxRecord& a, const OutboxRecord& b) {
+  EXPECT_EQ(a.match_id, b.match_id);
+  const db::MatchRecord &x = a.record, &y = b.record;
+  EXPECT_EQ(x.uuid, y.uuid);
+  EXPECT_EQ(x.map, y.map);
+  EXPECT_EQ(x.mode, y.mode);
+  EXPECT_EQ(x.started_ms, y.started_ms);
+  EXPECT_EQ(x.ended_ms, y.ended_ms);
+  EXPECT_EQ(x.tick_rate, y.tick_rate);
+  EXPECT_EQ(x.aborted, y.aborted);
+  EXPECT_EQ(x.team_scores.red, y.team_scores.red);
+  EXPECT_EQ(x.team_scores.blue, y.team_scores.blue);
+  ASSERT_EQ(x.players.size(), y.players.size());
+  for (std::size_t i = 0; i < x.players.size(); ++i) {
+    const db::PlayerResult &p = x.players[i], &q = y.players[i];
+    EXPECT_EQ(p.account, q.account);
+    EXPECT_EQ(p.team, q.team);
+    EXPECT_EQ(p.kills, q.kills);
+    EXPECT_EQ(p.deaths, q.deaths);
+    EXPECT_EQ(p.score, q.score);
+    EXPECT_EQ(p.shots, q.shots);
+    EXPECT_EQ(p.hits, q.hits);
+    EXPECT_EQ(p.damage_dealt, q.damage_dealt);
+    EXPECT_EQ(p.damage_taken, q.damage_taken);
+    EXPECT_EQ(p.seconds_played, q.seconds_played);
+  }
+}
+
+void write(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.is_regular_file()) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(ResultsOutbox, AKeptRecordReadsBackWholeInTheNextProcessAndARemovedOneIsGone) {
+  test::TempDir dir;
+  const fs::path outbox = dir.path() / "outbox";
+  {
+    ResultsOutbox first(outbox);
+    ASSERT_TRUE(first.keep(record(kUuidA)));
+    ASSERT_TRUE(first.keep(record(kUuidB, "tdm")));
+    EXPECT_EQ(first.files(), 2u);
+    EXPECT_EQ(names_in(outbox), (std::vector<std::string>{std::string(kUuidA) + ".rec",
+                                                          std::string(kUuidB) + ".rec"}));
+  }
+  ResultsOutbox next(outbox);  // as the next start finds it
+  const std::vector<OutboxRecord> left = next.list();
+  ASSERT_EQ(left.size(), 2u);
+  EXPECT_EQ(next.files(), 2u);
+  expect_same(left[0], record(kUuidA));
+  expect_same(left[1], record(kUuidB, "tdm"));
+  next.remove(kUuidA);
+  EXPECT_EQ(next.files(), 1u);
+  EXPECT_EQ(names_in(outbox), std::vector<std::string>{std::string(kUuidB) + ".rec"});
+  next.remove(kUuidA);  // twice: nothing more
+  EXPECT_EQ(next.files(), 1u);
+  EXPECT_EQ(next.rejected(), 0u);
+}
+
+TEST(ResultsOutbox, AKeepCutShortByACrashIsNeverDelivered) {
+  test::TempDir dir;
+  ResultsOutbox outbox(dir.path());
+  const std::vector<std::uint8_t> bytes = encode_outbox_record(record(kUuidA));
+  write(dir.path() / (std::string(kUuidA) + ".rec.tmp"), bytes);
+  EXPECT_TRUE(outbox.list().empty());
+  EXPECT_TRUE(names_in(dir.path()).empty());
+  EXPECT_EQ(outbox.rejected(), 0u);
+}
+
+TEST(ResultsOutbox, FilesThatAreNotRecordsAreMovedAsideWithTheirReasonAndTheRestDelivered) {
+  test::TempDir dir;
+  ResultsOutbox outbox(dir.path());
+  const std::vector<std::uint8_t> good = encode_outbox_record(record(kUuidA));
+  ASSERT_TRUE(outbox.keep(record(kUuidA)));
+  const auto named = [&](char c) { return std::string(32, c) + ".rec"; };
+  std::vector<std::uint8_t> flipped = good;
+  flipped[good.size() - 3] ^= 0x10;
+  write(dir.path() / named('1'), flipped);  // CRC-32 mismatch
+  write(dir.path() / named('2'), std::vector<std::uint8_t>(good.begin(), good.begin() + 30));
+  write(dir.path() / named('3'), {});
+  write(dir.path() / named('4'), std::vector<std::uint8_t>(kMaxOutboxFileBytes + 1, 0));
+  write(dir.path() / "notes.txt", good);                       // not <uuid>.rec
+  write(dir.path() / (std::string(kUuidB) + ".rec"), good);  // holds kUuidA's match
+  const std::vector<OutboxRecord> left = outbox.list();
+  ASSERT_EQ(left.size(), 1u);
+  expect_same(left[0], record(kUuidA));
+  EXPECT_EQ(outbox.rejected(), 6u);
+  EXPECT_EQ(outbox.files(), 1u);
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{std::string(kUuidA) + ".rec"});
+  EXPECT_EQ(names_in(dir.path() / "rejected").size(), 6u);
+  EXPECT_TRUE(outbox.list().size() == 1u && outbox.rejected() == 6u);  // once moved, left alone
+}
+
+TEST(ResultsOutboxFormat, EachWayOfBeingBrokenIsRefusedWithWhatIsWrong) {
+  const std::vector<std::uint8_t> good = encode_outbox_record(record(kUuidA));
+  ASSERT_TRUE(decode_outbox_record(good).ok);
+  const auto problem = [](std::vector<std::uint8_t> bytes) {
+    const DecodedOutbox decoded = decode_outbox_record(bytes);
+    EXPECT_FALSE(decoded.ok);
+    return decoded.problem;
+  };
+  auto has = [](const std::string& text, const char* word) {
+    return text.find(word) != std::string::npos;
+  };
+  std::vector<std::uint8_t> magic = good;
+  magic[0] = 'X';
+  EXPECT_TRUE(has(problem(magic), "RCOUTBOX"));
+  std::vector<std::uint8_t> version = good;
+  version[8] = 2;
+  EXPECT_TRUE(has(problem(version), "version 2"));
+  EXPECT_TRUE(has(problem({good.begin(), good.begin() + 10}), "truncated"));
+  EXPECT_TRUE(has(problem({good.begin(), good.end() - 1}), "truncated"));
+  std::vector<std::uint8_t> longer = good;
+  longer.push_back(0);
+  EXPECT_TRUE(has(problem(longer), "trailing"));
+  std::vector<std::uint8_t> flipped = good;
+  flipped.back() ^= 1;
+  EXPECT_TRUE(has(problem(flipped), "CRC-32 mismatch"));
+  std::vector<std::uint8_t> huge = good;
+  huge[13] = 0x7f;  // a length of about 2 GB
+  EXPECT_TRUE(has(problem(huge), "oversized"));
+  // A payload whose CRC matches but whose content is wrong: the checks behind the CRC hold.
+  OutboxRecord bad_uuid = record(kUuidA);
+  bad_uuid.record.uuid = "0123456789ABCDEF0123456789ABCDEF";
+  EXPECT_TRUE(has(problem(encode_outbox_record(bad_uuid)), "uuid"));
+  OutboxRecord nobody = record(kUuidA);
+  nobody.record.players.clear();
+  EXPECT_TRUE(has(problem(encode_outbox_record(nobody)), "player count"));
+}
+
+}  // namespace
+}  // namespace ricochet::server
