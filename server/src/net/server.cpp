@@ -607,13 +607,14 @@ void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt, 
           if (done) done(std::nullopt, match->seated);
           return;
         }
+        // The players hear at once what is known; their ratings come with the record.
+        if (done) done(pending_results(*match), match->seated);
         if (stopping_.load()) {
           spdlog::error(
               "match {} ({}): its record could not be written while stopping ({}: {}); it stays "
               "in the results outbox for the next start",
               match->id, uuid, db::to_string(error.code), error.message);
           if (attempt > 1) records_pending_.fetch_sub(1);
-          if (done) done(std::nullopt, match->seated);
           return;
         }
         if (attempt == 1) records_pending_.fetch_add(1);
@@ -624,8 +625,8 @@ void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt, 
             "match {} ({}): its record could not be written ({}: {}); kept, attempt {} in {} s",
             match->id, uuid, db::to_string(error.code), error.message, attempt + 1, wait.count());
         auto timer = std::make_shared<asio::steady_timer>(io_, wait);
-        timer->async_wait([this, timer, match, attempt, done, from_outbox](const std::error_code&) {
-          write_record(match, attempt + 1, done, from_outbox);
+        timer->async_wait([this, timer, match, attempt, from_outbox](const std::error_code&) {
+          write_record(match, attempt + 1, nullptr, from_outbox);
         });
       });
 }
@@ -717,20 +718,12 @@ wire::MatchResults Server::results_header(const EndedMatch& match) {
   return results;
 }
 
-db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbServices& services) {
-  const db::MatchRecord& record = match.record;
-  auto recorded = services.matches.record_match(record);
-  if (!recorded) return recorded.error();
-  const std::vector<db::PlayerOutcome>& outcomes = recorded.value().outcomes;
-  spdlog::info("match {} ({}) recorded as {} ({} players, {}{}{})", match.id, record.uuid,
-               recorded.value().id, record.players.size(), record.mode,
-               record.aborted ? ", aborted" : "",
-               recorded.value().existed ? "; it was already: nothing written again" : "");
+wire::MatchResults Server::pending_results(const EndedMatch& match) {
   wire::MatchResults results = results_header(match);
+  results.set_record_pending(true);
+  const db::MatchRecord& record = match.record;
   for (std::size_t i = 0; i < record.players.size(); ++i) {
     const db::PlayerResult& player = record.players[i];
-    auto rank = services.matches.rank_of(player.account, db::LeaderboardKind::Rating);
-    if (!rank) return rank.error();
     wire::PlayerMatchResult& out = *results.add_players();
     out.set_account_id(static_cast<std::uint64_t>(player.account));
     out.set_username(match.usernames[i]);
@@ -743,6 +736,25 @@ db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbS
     out.set_damage_dealt(hit_points(player.damage_dealt));
     out.set_damage_taken(hit_points(player.damage_taken));
     out.set_seconds_played(player.seconds_played);
+  }
+  return results;
+}
+
+db::DbResult<wire::MatchResults> Server::record(const EndedMatch& match, db::DbServices& services) {
+  const db::MatchRecord& record = match.record;
+  auto recorded = services.matches.record_match(record);
+  if (!recorded) return recorded.error();
+  const std::vector<db::PlayerOutcome>& outcomes = recorded.value().outcomes;
+  spdlog::info("match {} ({}) recorded as {} ({} players, {}{}{})", match.id, record.uuid,
+               recorded.value().id, record.players.size(), record.mode,
+               record.aborted ? ", aborted" : "",
+               recorded.value().existed ? "; it was already: nothing written again" : "");
+  wire::MatchResults results = pending_results(match);
+  results.clear_record_pending();
+  for (std::size_t i = 0; i < record.players.size(); ++i) {
+    auto rank = services.matches.rank_of(record.players[i].account, db::LeaderboardKind::Rating);
+    if (!rank) return rank.error();
+    wire::PlayerMatchResult& out = *results.mutable_players(static_cast<int>(i));
     out.set_won(outcomes[i].won);
     out.set_rating_before(outcomes[i].rating_before);
     out.set_rating_after(outcomes[i].rating_after);

@@ -12,8 +12,9 @@
 /// (MatchRegistry); its record gets a uuid, is kept in the results outbox on local disk
 /// (ResultsOutbox: it outlives the database being away and this process being killed) and goes
 /// to the DB thread; each player gets its MatchResults over the control channel once it is
-/// written; its recording goes to a file (RecordingFiles). At the start, the records an earlier
-/// process left in the outbox are written (they have no one to tell).
+/// written, or at once with record_pending when the first write fails for a passing reason; its
+/// recording goes to a file (RecordingFiles). At the start, the records an earlier process left
+/// in the outbox are written (they have no one to tell).
 ///
 /// Graceful stop, in order: refuse new joins; end every match and write the records of those
 /// that had players to the DB (waiting for the writes), aborted; send each player its
@@ -107,13 +108,17 @@ class Server {
   /// Submits the record; a write that failed for a passing reason (disk full, database
   /// locked or away) is kept and submitted again after kRecordRetryFirst, doubling up to
   /// kRecordRetryLast, until it is written or the server stops (its outbox file stays for the
-  /// next start). `done` runs once: with the results once written, or with none when refused
-  /// for good or while stopping. The outbox file goes once written or refused for good;
-  /// `from_outbox`: left by an earlier process, counted delivered once written.
+  /// next start). `done` runs once: with the results once written, with them marked
+  /// record_pending after a first write that failed for a passing reason, or with none when
+  /// refused for good. The outbox file goes once written or refused for good; `from_outbox`:
+  /// left by an earlier process, counted delivered once written.
   void write_record(std::shared_ptr<const EndedMatch> match, int attempt, ResultsHandler done,
                     bool from_outbox = false);
   /// At the start: every record an earlier process left in the outbox, to the database.
   void deliver_outbox();
+  /// The results of a match whose record is not written yet: its players' kills, deaths, score
+  /// and the rest they played, no rating or rank, record_pending set.
+  static wire::MatchResults pending_results(const EndedMatch& match);
   /// The match's MatchResults over the control channel to each of `recipients`.
   void send_results(const wire::MatchResults& results,
                     const std::vector<std::uint64_t>& recipients);

@@ -258,8 +258,9 @@ void Bot::on_control_ready(const std::string& error) {
 void Bot::on_match_results(const wire::MatchResults& results) {
   record_.results.push_back(results);
   ++metrics_.matches;
-  spdlog::info("bot {}: results of match {} ({} players{})", config_.name, results.match_id(),
-               results.players_size(), results.aborted() ? ", aborted" : "");
+  spdlog::info("bot {}: results of match {} ({} players{}{})", config_.name, results.match_id(),
+               results.players_size(), results.aborted() ? ", aborted" : "",
+               results.record_pending() ? ", its record pending: no ratings yet" : "");
   if (awaiting_results_) after_match();
 }
 
