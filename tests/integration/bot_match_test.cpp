@@ -496,6 +496,122 @@ TEST(BotMatch, SignInsWhilePostgresIsDownAreRefusedAsBusyAndTheBotsPlayOnceItIsB
   }
 }
 
+/// The uuids of the match records kept in the server's results outbox (`<uuid>.rec`).
+std::vector<std::string> outbox_uuids(const std::filesystem::path& outbox) {
+  std::vector<std::string> uuids;
+  std::error_code ignored;
+  for (std::filesystem::directory_iterator it(outbox, ignored), end; it != end;
+       it.increment(ignored)) {
+    if (it->path().extension() == ".rec") uuids.push_back(it->path().stem().string());
+  }
+  return uuids;
+}
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t count = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++count;
+  return count;
+}
+
+TEST(BotMatch, ResultsOfMatchesEndedWhilePostgresIsDownSurviveAKill9AndAreWrittenOnce) {
+  // Two bots play two short matches on PostgreSQL; the cluster stops once they are in the first,
+  // so the matches end with the database away: their records land in the server's results
+  // outbox and the bots get their results at once, marked record_pending. Then kill -9 the
+  // server, start the cluster, start the server again on the same data directory: every match
+  // the bots played is in PostgreSQL exactly once, and each bot's ratings moved once per match.
+  constexpr std::chrono::seconds kTimeLimit{2};
+  constexpr int kMatches = 2;
+  constexpr std::chrono::seconds kInMatchBudget{15};  ///< register (Argon2), sign in, join
+  /// The matches' time, their results and the second join.
+  constexpr std::chrono::seconds kMatchesBudget = kTimeLimit * kMatches + std::chrono::seconds(10);
+  constexpr std::chrono::seconds kRestartBudget{5};  ///< the TLS pair and the database are there
+  constexpr std::chrono::seconds kDeliverBudget{5};
+  static_assert(
+      fits_ctest(kStartBudget + kInMatchBudget + kMatchesBudget + kRestartBudget + kDeliverBudget));
+  PostgresCluster& cluster = PostgresCluster::shared();
+  const std::string url = cluster.create_database();
+  ServerProcess server(matches_toml(2, kTimeLimit), kShutdownGraceS,
+                       "[db]\nurl = \"" + url + "\"\n");
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
+
+  asio::io_context io;
+  bot::FleetConfig config;
+  config.bot = bot_config(server, "outbox");
+  config.bot.matches = kMatches;
+  config.bots = 2;
+  bot::Fleet fleet(io, config);
+  ASSERT_EQ(fleet.start(), "");
+  ASSERT_TRUE(run_until(
+      io, [&] { return count_of(server.log(), " entered as entity ") >= 2; }, kInMatchBudget))
+      << fleet.report_json() << server.log();
+  cluster.stop();
+  struct Restart {  // the cluster serves this process's other tests too
+    PostgresCluster& cluster;
+    bool started = false;
+    void operator()() {
+      if (!started) cluster.start();
+      started = true;
+    }
+    ~Restart() {
+      try {
+        (*this)();
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << "the PostgreSQL cluster did not start again: " << e.what();
+      }
+    }
+  } restart{cluster};
+
+  ASSERT_TRUE(run_until(
+      io, [&] { return fleet.done(); }, kMatchesBudget))
+      << fleet.report_json() << server.log();
+  std::size_t pending = 0;
+  for (const auto& each : fleet.bots()) {
+    const bot::BotRecord& record = each->record();
+    ASSERT_EQ(record.results.size(), static_cast<std::size_t>(kMatches)) << each->config().name;
+    for (const wire::MatchResults& results : record.results) {
+      if (!results.record_pending()) continue;
+      ++pending;
+      const wire::PlayerMatchResult* mine = result_of(results, record.account_id);
+      ASSERT_NE(mine, nullptr) << each->config().name;
+      EXPECT_EQ(mine->rating_after(), 0) << "a pending record has no rating yet";
+    }
+  }
+  const std::filesystem::path outbox = server.data_dir() / "outbox";
+  const std::vector<std::string> kept = outbox_uuids(outbox);
+  // The first match may end before the cluster is down; the second cannot.
+  ASSERT_GE(kept.size(), 1u) << server.log();
+  EXPECT_EQ(pending, kept.size() * 2) << "each bot heard of every match kept, at once";
+
+  server.kill_now();
+  restart();
+  server.restart();
+  ASSERT_TRUE(server.wait_listening(kRestartBudget)) << server.log();
+  ASSERT_TRUE(run_until(
+      io, [&] { return outbox_uuids(outbox).empty(); }, kDeliverBudget))
+      << server.log();
+
+  auto store = db::open_store({.url_or_path = url});
+  ASSERT_TRUE(store.ok()) << store.error().message;
+  EXPECT_EQ(store.value()->match_count().value(), kMatches) << server.log();
+  for (const std::string& uuid : kept) {
+    const auto found = store.value()->find_match(uuid);
+    ASSERT_TRUE(found.ok()) << found.error().message;
+    ASSERT_TRUE(found.value().has_value()) << uuid << " is not in PostgreSQL";
+    EXPECT_EQ(found.value()->accounts.size(), 2u) << uuid;
+  }
+  for (const auto& each : fleet.bots()) {
+    const bot::BotRecord& record = each->record();
+    const auto stats = store.value()->player_stats(static_cast<db::AccountId>(record.account_id));
+    ASSERT_TRUE(stats.ok()) << each->config().name;
+    // Once per match: a record written twice would have counted a third.
+    EXPECT_EQ(stats.value().matches, kMatches) << each->config().name;
+  }
+  EXPECT_NE(server.log().find("results outbox: " + std::to_string(kept.size()) +
+                              " match records left by an earlier process"),
+            std::string::npos)
+      << server.log();
+}
+
 // One bot on a bad mobile link (the bot's own network simulator: 150 ms +- 50 ms each way,
 // 20 % loss each way) among three on loopback. It still plays: it connects, gets snapshots,
 // moves, fires, and predicts its own player with a bounded error. One of the three plays in the

@@ -153,10 +153,17 @@ class PostgresCluster {
     throw std::runtime_error(message);
   }
 
-  /// Runs an SQL command on the `postgres` database.
+  /// Runs an SQL command on the `postgres` database. A connection that stop()/start() cut only
+  /// shows it at its next command (PQstatus still says CONNECTION_OK before): then it is reset
+  /// and the command runs once more.
   void admin(const std::string& sql) {
-    if (PQstatus(admin_.get()) != CONNECTION_OK) PQreset(admin_.get());  // after stop()/start()
+    if (PQstatus(admin_.get()) != CONNECTION_OK) PQreset(admin_.get());
     PGresult* r = PQexec(admin_.get(), sql.c_str());
+    if (PQresultStatus(r) != PGRES_COMMAND_OK && PQstatus(admin_.get()) != CONNECTION_OK) {
+      PQclear(r);
+      PQreset(admin_.get());
+      r = PQexec(admin_.get(), sql.c_str());
+    }
     const bool ok = PQresultStatus(r) == PGRES_COMMAND_OK;
     const std::string error = PQresultErrorMessage(r);
     PQclear(r);
