@@ -51,7 +51,8 @@ OutboxRecord record(const char* mode, int players, bool aborted) {
 void write(const std::string& path, std::uint8_t mode, const std::vector<std::uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary);
   out.put(static_cast<char>(mode));
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
   if (!out) {
     std::fprintf(stderr, "results_outbox_seeds: cannot write %s\n", path.c_str());
     std::exit(1);

@@ -53,8 +53,9 @@ bool ResultsOutbox::keep(const OutboxRecord& record) {
   const fs::path temp = directory_ / (uuid + std::string(kTempSuffix));
   const fs::path target = directory_ / (uuid + std::string(kSuffix));
   const auto failed = [&](const std::string& why) {
-    spdlog::error("results outbox: match {} ({}) cannot be kept on disk: {}; it is kept in memory only",
-                  record.match_id, uuid, why);
+    spdlog::error(
+        "results outbox: match {} ({}) cannot be kept on disk: {}; it is kept in memory only",
+        record.match_id, uuid, why);
     std::error_code ignored;
     fs::remove(temp, ignored);
     return false;
@@ -77,7 +78,8 @@ void ResultsOutbox::remove(std::string_view uuid) {
   const fs::path file = directory_ / (std::string(uuid) + std::string(kSuffix));
   std::error_code error;
   if (!fs::remove(file, error)) {
-    if (error) spdlog::error("results outbox: cannot remove {}: {}", file.string(), error.message());
+    if (error)
+      spdlog::error("results outbox: cannot remove {}: {}", file.string(), error.message());
     return;
   }
   files_.fetch_sub(1);
@@ -97,8 +99,8 @@ void ResultsOutbox::reject(const fs::path& file, const std::string& reason) {
                   file.string(), reason, target.string(), error.message());
     return;
   }
-  spdlog::error("results outbox: {} is not a match record ({}); moved to {}", file.string(),
-                reason, target.string());
+  spdlog::error("results outbox: {} is not a match record ({}); moved to {}", file.string(), reason,
+                target.string());
 }
 
 std::vector<OutboxRecord> ResultsOutbox::list() {

@@ -151,8 +151,8 @@ DecodedOutbox decode_outbox_record(std::span<const std::uint8_t> bytes) {
     return refused("trailing bytes: " + std::to_string(payload.size() - length) +
                    " after the payload");
   if (const std::uint32_t actual = recording_format::crc32(payload); actual != crc)
-    return refused("CRC-32 mismatch: the header says " + std::to_string(crc) + ", the payload has " +
-                   std::to_string(actual));
+    return refused("CRC-32 mismatch: the header says " + std::to_string(crc) +
+                   ", the payload has " + std::to_string(actual));
 
   Reader in(payload);
   DecodedOutbox out;

@@ -83,7 +83,8 @@ void expect_same(const OutboxRecord& a, const OutboxRecord& b) {
 
 void write(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
 }
 
 std::vector<std::string> names_in(const fs::path& dir) {
@@ -135,13 +136,13 @@ TEST(ResultsOutbox, FilesThatAreNotRecordsAreMovedAsideWithTheirReasonAndTheRest
   const std::vector<std::uint8_t> good = encode_outbox_record(record(kUuidA));
   ASSERT_TRUE(outbox.keep(record(kUuidA)));
   const auto named = [&](char c) { return std::string(32, c) + ".rec"; };
-  std::vector<std::uint8_t> flipped = good;
-  flipped[good.size() - 3] ^= 0x10;
+  std::vector<std::uint8_t> flipped = encode_outbox_record(record(std::string(32, '1')));
+  flipped[flipped.size() - 3] ^= 0x10;      // in the last player's time: only the CRC tells
   write(dir.path() / named('1'), flipped);  // CRC-32 mismatch
   write(dir.path() / named('2'), std::vector<std::uint8_t>(good.begin(), good.begin() + 30));
   write(dir.path() / named('3'), {});
   write(dir.path() / named('4'), std::vector<std::uint8_t>(kMaxOutboxFileBytes + 1, 0));
-  write(dir.path() / "notes.txt", good);                       // not <uuid>.rec
+  write(dir.path() / "notes.txt", good);                     // not <uuid>.rec
   write(dir.path() / (std::string(kUuidB) + ".rec"), good);  // holds kUuidA's match
   const std::vector<OutboxRecord> left = outbox.list();
   ASSERT_EQ(left.size(), 1u);
