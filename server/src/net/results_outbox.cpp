@@ -66,11 +66,13 @@ bool ResultsOutbox::keep(const OutboxRecord& record) {
   if (error.empty() && ::fsync(fd) != 0) error = "fsync failed: " + errno_text();
   ::close(fd);
   if (!error.empty()) return failed(error);
+  std::error_code ignored;
+  const bool again = fs::exists(target, ignored);  // kept before: the same bytes
   std::error_code renamed;
   fs::rename(temp, target, renamed);
   if (renamed) return failed("cannot rename it to " + target.string() + ": " + renamed.message());
   if (std::string synced = sync_directory(directory_); !synced.empty()) return failed(synced);
-  files_.fetch_add(1);
+  if (!again) files_.fetch_add(1);
   return true;
 }
 

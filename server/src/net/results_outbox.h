@@ -20,7 +20,8 @@
 ///   `rejected/<name>`  a file that cannot be read back as a record (corrupt, truncated,
 ///                      oversized, misnamed), moved aside by list with the reason logged and
 ///                      counted, for an operator to look at. Never deleted, never a crash.
-/// Thread-safe: keep on the match strands, remove on the DB thread, list at the start.
+/// Thread-safe (the server keeps and removes on its DB thread, whose fsyncs stall no tick, and
+/// lists at the start).
 
 #include <atomic>
 #include <cstdint>
@@ -39,8 +40,9 @@ class ResultsOutbox {
   /// directory when it cannot.
   explicit ResultsOutbox(std::filesystem::path directory);
 
-  /// Writes `<uuid>.rec` durably (the record must have a valid uuid). False, with the reason
-  /// logged, when the disk refused it: the record then lives in memory only, as before.
+  /// Writes `<uuid>.rec` durably (the record must have a valid uuid); keeping it again rewrites
+  /// it. False, with the reason logged, when the disk refused it: the record then lives in
+  /// memory only.
   bool keep(const OutboxRecord& record);
   /// Removes `<uuid>.rec` (and syncs the directory). Logged when it fails.
   void remove(std::string_view uuid);

@@ -537,9 +537,7 @@ void Server::finish_match(EndedMatch match, ResultsHandler done) {
     return;
   }
   match.recording.clear();
-  // Journalled before the first attempt (results_outbox.h): from here on a kill -9 loses nothing.
   match.record.uuid = db::new_match_uuid();
-  outbox_->keep(OutboxRecord{match.id, match.record});
   write_record(std::make_shared<const EndedMatch>(std::move(match)), 1, std::move(done));
 }
 
@@ -582,7 +580,13 @@ bool worth_retrying(db::DbErrorCode code) {
 void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt, ResultsHandler done,
                           bool from_outbox) {
   db_->submit(
-      [match](db::DbServices& services) { return record(*match, services); },
+      [this, match, from_outbox](db::DbServices& services) {
+        // Journalled before the attempt (results_outbox.h): from here on a kill -9 loses nothing.
+        // On the DB thread, as its fsyncs must not stall a tick; again at each attempt, in case
+        // the first never ran (a full queue), rewriting the same bytes.
+        if (!from_outbox) outbox_->keep(OutboxRecord{match->id, match->record});
+        return record(*match, services);
+      },
       [](std::function<void()> completion) { completion(); },  // runs on the DB thread
       [this, match, attempt, from_outbox,
        done = std::move(done)](db::DbResult<wire::MatchResults> result) {

@@ -102,6 +102,7 @@ TEST(ResultsOutbox, AKeptRecordReadsBackWholeInTheNextProcessAndARemovedOneIsGon
     ResultsOutbox first(outbox);
     ASSERT_TRUE(first.keep(record(kUuidA)));
     ASSERT_TRUE(first.keep(record(kUuidB, "tdm")));
+    ASSERT_TRUE(first.keep(record(kUuidB, "tdm")));  // again: the same file
     EXPECT_EQ(first.files(), 2u);
     EXPECT_EQ(names_in(outbox), (std::vector<std::string>{std::string(kUuidA) + ".rec",
                                                           std::string(kUuidB) + ".rec"}));
