@@ -131,7 +131,7 @@ TEST(MigrationTest, AVersion2FileGainsTeamsAndAbortedMatchesAndKeepsItsData) {
         << sqlite3_errmsg(raw.get());
   }
   auto store = must(open_store(path), "open a version-2 file");
-  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), 3);
+  EXPECT_EQ(raw_integer(path, "PRAGMA user_version"), sqlite_schema_version());
   // The old match reads as what it was: a free-for-all that ended normally, no teams.
   EXPECT_EQ(raw_integer(path,
                         "SELECT COUNT(*) FROM matches WHERE id = 1 AND aborted = 0"
