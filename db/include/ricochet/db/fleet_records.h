@@ -27,9 +27,9 @@ struct GameServerRow {
 
 /// One match a game server hosts, as its last heartbeat described it.
 struct HostedMatch {
-  MatchId match_id = 0;    ///< the hosting server's id for it, at least 1
-  std::string mode;        ///< "ffa", "tdm": 1–32 of [a-z0-9_-]
-  std::string map;         ///< 1–64 of [A-Za-z0-9_.-]
+  MatchId match_id = 0;       ///< the hosting server's id for it, at least 1
+  std::string mode;           ///< "ffa", "tdm": 1–32 of [a-z0-9_-]
+  std::string map;            ///< 1–64 of [A-Za-z0-9_.-]
   std::int32_t players = 0;   ///< seated now, 0..capacity
   std::int32_t capacity = 0;  ///< seats, at least 1
   bool open = false;          ///< joinable (not ending or reserved)
