@@ -34,7 +34,7 @@
 ///   held_seats    the open tickets on one server, per match: seats it holds for them against
 ///                 players joining directly
 ///
-/// Time is a parameter (Unix ms) of every call; the server ids, hosts and times in the directory
+/// Time is a parameter (Unix ms) of every call that needs it; the rows and times in the directory
 /// are what each server wrote, so the TTL must be well above the clock skew between servers.
 
 #include <cstdint>
