@@ -128,11 +128,59 @@ ALTER TABLE matches ADD COLUMN uuid TEXT
 CREATE UNIQUE INDEX matches_by_uuid ON matches(uuid);
 )sql";
 
+// Version 5. Placement (placement.h): the fleet directory, one row per game server (replaced at
+// each heartbeat, with its hosted matches), and the tickets of assignments, keyed by the SHA-256 of
+// their token. A ticket names its server without a foreign key: a server that leaves deletes
+// its unclaimed tickets only, the claimed ones go when they expire. Live servers are a range on
+// heartbeat_ms; an account's tickets, a server's, and the expired ones each have an index.
+constexpr const char* kSchemaV5 = R"sql(
+CREATE TABLE game_servers (
+  server_id TEXT NOT NULL PRIMARY KEY,
+  host TEXT NOT NULL,
+  control_port INTEGER NOT NULL CHECK (control_port BETWEEN 1 AND 65535),
+  game_port INTEGER NOT NULL CHECK (game_port BETWEEN 1 AND 65535),
+  certificate_sha256 TEXT NOT NULL CHECK (length(certificate_sha256) = 64),
+  version TEXT NOT NULL,
+  capacity INTEGER NOT NULL CHECK (capacity >= 1),
+  players INTEGER NOT NULL CHECK (players >= 0),
+  heartbeat_ms INTEGER NOT NULL,
+  started_ms INTEGER NOT NULL
+) STRICT, WITHOUT ROWID;
+CREATE INDEX game_servers_by_heartbeat ON game_servers(heartbeat_ms);
+
+CREATE TABLE game_server_matches (
+  server_id TEXT NOT NULL REFERENCES game_servers(server_id) ON DELETE CASCADE,
+  match_id INTEGER NOT NULL CHECK (match_id >= 1),
+  mode TEXT NOT NULL,
+  map TEXT NOT NULL,
+  players INTEGER NOT NULL CHECK (players >= 0),
+  capacity INTEGER NOT NULL CHECK (capacity >= 1),
+  open INTEGER NOT NULL CHECK (open IN (0, 1)),
+  PRIMARY KEY (server_id, match_id)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE tickets (
+  token_hash BLOB NOT NULL PRIMARY KEY CHECK (length(token_hash) = 32),
+  account_id INTEGER NOT NULL REFERENCES accounts(id) ON DELETE CASCADE,
+  server_id TEXT NOT NULL,
+  match_id INTEGER NOT NULL CHECK (match_id >= 0),
+  mode TEXT NOT NULL,
+  map TEXT NOT NULL,
+  created_ms INTEGER NOT NULL,
+  expires_ms INTEGER NOT NULL,
+  claimed_ms INTEGER
+) STRICT, WITHOUT ROWID;
+CREATE INDEX tickets_by_account ON tickets(account_id);
+CREATE INDEX tickets_by_server ON tickets(server_id, match_id);
+CREATE INDEX tickets_by_expiry ON tickets(expires_ms);
+)sql";
+
 constexpr std::array kMigrations = {
     Migration{1, "accounts, sessions, matches, player stats and leaderboard indexes", kSchemaV1},
     Migration{2, "failed logins for rate limits shared by every server process", kSchemaV2},
     Migration{3, "team deathmatch (teams, team scores) and aborted matches", kSchemaV3},
     Migration{4, "a unique uuid per match, so that a result is written once", kSchemaV4},
+    Migration{5, "placement: the fleet directory of game servers and tickets", kSchemaV5},
 };
 
 DbResult<int> read_user_version(sqlite3* db, const std::string& path) {

@@ -110,11 +110,56 @@ ALTER TABLE matches ADD COLUMN uuid TEXT CHECK (uuid ~ '^[0-9a-f]{32}$');
 CREATE UNIQUE INDEX matches_by_uuid ON matches(uuid);
 )sql";
 
+// Version 5. Placement: the fleet directory and tickets (migrations.cpp says why no foreign key
+// names a ticket's server).
+constexpr const char* kSchemaV5 = R"sql(
+CREATE TABLE game_servers (
+  server_id TEXT NOT NULL PRIMARY KEY,
+  host TEXT NOT NULL,
+  control_port BIGINT NOT NULL CHECK (control_port BETWEEN 1 AND 65535),
+  game_port BIGINT NOT NULL CHECK (game_port BETWEEN 1 AND 65535),
+  certificate_sha256 TEXT NOT NULL CHECK (length(certificate_sha256) = 64),
+  version TEXT NOT NULL,
+  capacity BIGINT NOT NULL CHECK (capacity >= 1),
+  players BIGINT NOT NULL CHECK (players >= 0),
+  heartbeat_ms BIGINT NOT NULL,
+  started_ms BIGINT NOT NULL
+);
+CREATE INDEX game_servers_by_heartbeat ON game_servers(heartbeat_ms);
+
+CREATE TABLE game_server_matches (
+  server_id TEXT NOT NULL REFERENCES game_servers(server_id) ON DELETE CASCADE,
+  match_id BIGINT NOT NULL CHECK (match_id >= 1),
+  mode TEXT NOT NULL,
+  map TEXT NOT NULL,
+  players BIGINT NOT NULL CHECK (players >= 0),
+  capacity BIGINT NOT NULL CHECK (capacity >= 1),
+  open BIGINT NOT NULL CHECK (open IN (0, 1)),
+  PRIMARY KEY (server_id, match_id)
+);
+
+CREATE TABLE tickets (
+  token_hash BYTEA NOT NULL PRIMARY KEY CHECK (length(token_hash) = 32),
+  account_id BIGINT NOT NULL REFERENCES accounts(id) ON DELETE CASCADE,
+  server_id TEXT NOT NULL,
+  match_id BIGINT NOT NULL CHECK (match_id >= 0),
+  mode TEXT NOT NULL,
+  map TEXT NOT NULL,
+  created_ms BIGINT NOT NULL,
+  expires_ms BIGINT NOT NULL,
+  claimed_ms BIGINT
+);
+CREATE INDEX tickets_by_account ON tickets(account_id);
+CREATE INDEX tickets_by_server ON tickets(server_id, match_id);
+CREATE INDEX tickets_by_expiry ON tickets(expires_ms);
+)sql";
+
 constexpr std::array kMigrations = {
     Migration{1, "accounts, sessions, matches, player stats and leaderboard indexes", kSchemaV1},
     Migration{2, "failed logins for rate limits shared by every server process", kSchemaV2},
     Migration{3, "team deathmatch (teams, team scores) and aborted matches", kSchemaV3},
     Migration{4, "a unique uuid per match, so that a result is written once", kSchemaV4},
+    Migration{5, "placement: the fleet directory of game servers and tickets", kSchemaV5},
 };
 
 /// The one-row version table; made inside the first migration's locked transaction.

@@ -52,6 +52,22 @@ enum class Sql {
   FindMatch,
   MatchCount,
   PlayerStats,
+  // fleet directory and tickets
+  UpsertGameServer,
+  DeleteServerMatches,
+  InsertServerMatch,
+  GameServers,
+  DirectoryMatches,
+  DeleteServerTickets,
+  DeleteGameServer,
+  DeleteStaleTickets,
+  DeleteStaleServers,
+  InsertTicket,
+  FindTicket,
+  HeldSeats,
+  DeleteUnclaimedTicketsOf,
+  ClaimTicket,
+  DeleteExpiredTickets,
   Top,  ///< then EntryOf and CountBetter, one per board each (board_statement)
 };
 constexpr int kFixedStatements = static_cast<int>(Sql::Top);
@@ -101,6 +117,41 @@ constexpr std::array<const char*, kFixedStatements> kSql = {
     " s.score, s.shots, s.hits, s.damage_dealt, s.damage_taken, s.seconds_played, s.rating"
     " FROM accounts AS a LEFT JOIN player_stats AS s ON s.account_id = a.id"
     " WHERE a.id = $1",
+    // fleet directory and tickets
+    "INSERT INTO game_servers (server_id, host, control_port, game_port, certificate_sha256,"
+    " version, capacity, players, heartbeat_ms, started_ms)"
+    " VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10)"
+    " ON CONFLICT (server_id) DO UPDATE SET host = excluded.host,"
+    " control_port = excluded.control_port, game_port = excluded.game_port,"
+    " certificate_sha256 = excluded.certificate_sha256, version = excluded.version,"
+    " capacity = excluded.capacity, players = excluded.players,"
+    " heartbeat_ms = excluded.heartbeat_ms, started_ms = excluded.started_ms",
+    "DELETE FROM game_server_matches WHERE server_id = $1",
+    "INSERT INTO game_server_matches (server_id, match_id, mode, map, players, capacity, open)"
+    " VALUES ($1, $2, $3, $4, $5, $6, $7)",
+    "SELECT server_id, host, control_port, game_port, certificate_sha256, version, capacity,"
+    " players, heartbeat_ms, started_ms FROM game_servers WHERE heartbeat_ms > $1"
+    " ORDER BY server_id",
+    "SELECT m.server_id, m.match_id, m.mode, m.map, m.players, m.capacity, m.open"
+    " FROM game_server_matches AS m JOIN game_servers AS s ON s.server_id = m.server_id"
+    " WHERE s.heartbeat_ms > $1 ORDER BY m.server_id, m.match_id",
+    "DELETE FROM tickets WHERE server_id = $1 AND claimed_ms IS NULL",
+    "DELETE FROM game_servers WHERE server_id = $1",
+    "DELETE FROM tickets WHERE server_id IN"
+    " (SELECT server_id FROM game_servers WHERE heartbeat_ms <= $1)",
+    "DELETE FROM game_servers WHERE heartbeat_ms <= $1",
+    "INSERT INTO tickets (token_hash, account_id, server_id, match_id, mode, map, created_ms,"
+    " expires_ms) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)",
+    "SELECT account_id, server_id, match_id, mode, map, created_ms, expires_ms, claimed_ms"
+    " FROM tickets WHERE token_hash = $1",
+    "SELECT server_id, match_id, COUNT(*) FROM tickets"
+    " WHERE claimed_ms IS NULL AND expires_ms > $1"
+    " GROUP BY server_id, match_id ORDER BY server_id, match_id",
+    "DELETE FROM tickets WHERE account_id = $1 AND claimed_ms IS NULL",
+    "UPDATE tickets SET claimed_ms = $4 WHERE token_hash = $1 AND claimed_ms IS NULL"
+    " AND server_id = $2 AND account_id = $3 AND expires_ms > $4"
+    " RETURNING match_id, mode, map",
+    "DELETE FROM tickets WHERE expires_ms <= $1",
 };
 
 enum class BoardQuery { Top, EntryOf, CountBetter };
@@ -160,6 +211,22 @@ class PostgresStore final : public Store {
                                                         LeaderboardKind kind) override;
   DbResult<std::int64_t> count_better(LeaderboardKind kind, double value,
                                       std::int64_t min_matches) override;
+
+  DbStatus upsert_game_server(const GameServerRow& server) override;
+  DbStatus replace_game_server_matches(std::string_view server_id,
+                                       const std::vector<HostedMatch>& matches) override;
+  DbResult<std::vector<GameServerRow>> game_servers(UnixMillis heartbeat_after_ms) override;
+  DbResult<std::vector<DirectoryMatch>> directory_matches(UnixMillis heartbeat_after_ms) override;
+  DbResult<bool> delete_game_server(std::string_view server_id) override;
+  DbResult<std::int64_t> delete_game_servers_until(UnixMillis heartbeat_until_ms) override;
+  DbStatus insert_ticket(const TicketRow& ticket) override;
+  DbResult<std::optional<TicketRow>> find_ticket(std::string_view token_hash) override;
+  DbResult<std::vector<HeldSeats>> held_seats(UnixMillis now) override;
+  DbResult<std::int64_t> delete_unclaimed_tickets_of(AccountId account) override;
+  DbResult<std::optional<ClaimedTicket>> claim_ticket(std::string_view token_hash,
+                                                      std::string_view server_id, AccountId account,
+                                                      UnixMillis now) override;
+  DbResult<std::int64_t> delete_expired_tickets(UnixMillis now) override;
 
  private:
   /// Re-opens a lost connection, outside a transaction only (one that lost its connection has
@@ -629,6 +696,192 @@ DbResult<std::int64_t> PostgresStore::count_better(LeaderboardKind kind, double 
   const std::int64_t better = r.value().integer(0, 0);
   if (!r.value().column_error().empty()) return bad_row(r.value(), "ranking an account");
   return better;
+}
+
+// --- fleet directory and tickets ---
+
+DbStatus PostgresStore::upsert_game_server(const GameServerRow& server) {
+  postgres::Params p;
+  p.text(server.server_id).text(server.host).integer(server.control_port);
+  p.integer(server.game_port).text(server.certificate_sha256).text(server.version);
+  p.integer(server.capacity).integer(server.players).integer(server.heartbeat_ms);
+  p.integer(server.started_ms);
+  return execute(Sql::UpsertGameServer, p, "writing a game server's directory row");
+}
+
+DbStatus PostgresStore::replace_game_server_matches(std::string_view server_id,
+                                                    const std::vector<HostedMatch>& matches) {
+  return transaction([&]() -> DbStatus {
+    postgres::Params clear;
+    clear.text(server_id);
+    if (DbStatus s = execute(Sql::DeleteServerMatches, clear, "clearing a game server's matches");
+        !s)
+      return s;
+    for (const HostedMatch& m : matches) {
+      postgres::Params p;
+      p.text(server_id).integer(m.match_id).text(m.mode).text(m.map);
+      p.integer(m.players).integer(m.capacity).integer(m.open ? 1 : 0);
+      if (DbStatus s = execute(Sql::InsertServerMatch, p, "writing a game server's match"); !s)
+        return s;
+    }
+    return {};
+  });
+}
+
+DbResult<std::vector<GameServerRow>> PostgresStore::game_servers(UnixMillis heartbeat_after_ms) {
+  postgres::Params p;
+  p.integer(heartbeat_after_ms);
+  auto r = run(Sql::GameServers, p, "reading the game servers");
+  if (!r.ok()) return r.error();
+  postgres::Result& q = r.value();
+  std::vector<GameServerRow> rows;
+  for (int i = 0; i < q.rows(); ++i) {
+    GameServerRow row;
+    row.server_id = q.text(i, 0);
+    row.host = q.text(i, 1);
+    row.control_port = static_cast<std::int32_t>(q.integer(i, 2));
+    row.game_port = static_cast<std::int32_t>(q.integer(i, 3));
+    row.certificate_sha256 = q.text(i, 4);
+    row.version = q.text(i, 5);
+    row.capacity = static_cast<std::int32_t>(q.integer(i, 6));
+    row.players = static_cast<std::int32_t>(q.integer(i, 7));
+    row.heartbeat_ms = q.integer(i, 8);
+    row.started_ms = q.integer(i, 9);
+    rows.push_back(std::move(row));
+  }
+  if (!q.column_error().empty()) return bad_row(q, "reading the game servers");
+  return rows;
+}
+
+DbResult<std::vector<DirectoryMatch>> PostgresStore::directory_matches(
+    UnixMillis heartbeat_after_ms) {
+  postgres::Params p;
+  p.integer(heartbeat_after_ms);
+  auto r = run(Sql::DirectoryMatches, p, "reading the game servers' matches");
+  if (!r.ok()) return r.error();
+  postgres::Result& q = r.value();
+  std::vector<DirectoryMatch> rows;
+  for (int i = 0; i < q.rows(); ++i) {
+    DirectoryMatch row;
+    row.server_id = q.text(i, 0);
+    row.match.match_id = q.integer(i, 1);
+    row.match.mode = q.text(i, 2);
+    row.match.map = q.text(i, 3);
+    row.match.players = static_cast<std::int32_t>(q.integer(i, 4));
+    row.match.capacity = static_cast<std::int32_t>(q.integer(i, 5));
+    row.match.open = q.integer(i, 6) != 0;
+    rows.push_back(std::move(row));
+  }
+  if (!q.column_error().empty()) return bad_row(q, "reading the game servers' matches");
+  return rows;
+}
+
+DbResult<bool> PostgresStore::delete_game_server(std::string_view server_id) {
+  return atomically(*this, [&]() -> DbResult<bool> {
+    postgres::Params p;
+    p.text(server_id);
+    if (DbStatus s = execute(Sql::DeleteServerTickets, p, "deleting a game server's tickets"); !s)
+      return s.error();
+    auto r = run(Sql::DeleteGameServer, p, "deleting a game server");  // matches: ON DELETE CASCADE
+    if (!r.ok()) return r.error();
+    return r.value().changed() > 0;
+  });
+}
+
+DbResult<std::int64_t> PostgresStore::delete_game_servers_until(UnixMillis heartbeat_until_ms) {
+  return atomically(*this, [&]() -> DbResult<std::int64_t> {
+    postgres::Params p;
+    p.integer(heartbeat_until_ms);
+    if (DbStatus s = execute(Sql::DeleteStaleTickets, p, "deleting stale game servers' tickets");
+        !s)
+      return s.error();
+    auto r = run(Sql::DeleteStaleServers, p, "deleting stale game servers");
+    if (!r.ok()) return r.error();
+    return r.value().changed();
+  });
+}
+
+DbStatus PostgresStore::insert_ticket(const TicketRow& ticket) {
+  if (ticket.token_hash.size() != kTokenHashBytes)
+    return DbError{DbErrorCode::UnknownTicket,
+                   "a ticket token hash is " + std::to_string(kTokenHashBytes) + " bytes, got " +
+                       std::to_string(ticket.token_hash.size())};
+  postgres::Params p;
+  p.bytes(ticket.token_hash).integer(ticket.account).text(ticket.server_id);
+  p.integer(ticket.match_id).text(ticket.mode).text(ticket.map);
+  p.integer(ticket.created_ms).integer(ticket.expires_ms);
+  auto r = run(Sql::InsertTicket, p, "inserting a ticket");
+  if (!r.ok() && r.error().message.find("tickets_account_id_fkey") != std::string::npos)
+    return unknown_account(ticket.account);
+  if (!r.ok()) return r.error();
+  return {};
+}
+
+DbResult<std::optional<TicketRow>> PostgresStore::find_ticket(std::string_view token_hash) {
+  if (token_hash.size() != kTokenHashBytes) return std::optional<TicketRow>();
+  postgres::Params p;
+  p.bytes(token_hash);
+  auto r = run(Sql::FindTicket, p, "finding a ticket");
+  if (!r.ok()) return r.error();
+  postgres::Result& q = r.value();
+  if (q.rows() == 0) return std::optional<TicketRow>();
+  TicketRow row;
+  row.token_hash = std::string(token_hash);
+  row.account = q.integer(0, 0);
+  row.server_id = q.text(0, 1);
+  row.match_id = q.integer(0, 2);
+  row.mode = q.text(0, 3);
+  row.map = q.text(0, 4);
+  row.created_ms = q.integer(0, 5);
+  row.expires_ms = q.integer(0, 6);
+  row.claimed_ms = q.optional_integer(0, 7);
+  if (!q.column_error().empty()) return bad_row(q, "reading a ticket");
+  return std::optional<TicketRow>(std::move(row));
+}
+
+DbResult<std::vector<HeldSeats>> PostgresStore::held_seats(UnixMillis now) {
+  postgres::Params p;
+  p.integer(now);
+  auto r = run(Sql::HeldSeats, p, "counting held seats");
+  if (!r.ok()) return r.error();
+  postgres::Result& q = r.value();
+  std::vector<HeldSeats> rows;
+  for (int i = 0; i < q.rows(); ++i)
+    rows.push_back({q.text(i, 0), q.integer(i, 1), q.integer(i, 2)});
+  if (!q.column_error().empty()) return bad_row(q, "counting held seats");
+  return rows;
+}
+
+DbResult<std::int64_t> PostgresStore::delete_unclaimed_tickets_of(AccountId account) {
+  postgres::Params p;
+  p.integer(account);
+  auto r = run(Sql::DeleteUnclaimedTicketsOf, p, "deleting an account's open tickets");
+  if (!r.ok()) return r.error();
+  return r.value().changed();
+}
+
+DbResult<std::optional<ClaimedTicket>> PostgresStore::claim_ticket(std::string_view token_hash,
+                                                                   std::string_view server_id,
+                                                                   AccountId account,
+                                                                   UnixMillis now) {
+  if (token_hash.size() != kTokenHashBytes) return std::optional<ClaimedTicket>();
+  postgres::Params p;
+  p.bytes(token_hash).text(server_id).integer(account).integer(now);
+  auto r = run(Sql::ClaimTicket, p, "claiming a ticket");
+  if (!r.ok()) return r.error();
+  postgres::Result& q = r.value();
+  if (q.rows() == 0) return std::optional<ClaimedTicket>();
+  ClaimedTicket claimed{q.integer(0, 0), q.text(0, 1), q.text(0, 2)};
+  if (!q.column_error().empty()) return bad_row(q, "claiming a ticket");
+  return std::optional<ClaimedTicket>(std::move(claimed));
+}
+
+DbResult<std::int64_t> PostgresStore::delete_expired_tickets(UnixMillis now) {
+  postgres::Params p;
+  p.integer(now);
+  auto r = run(Sql::DeleteExpiredTickets, p, "deleting expired tickets");
+  if (!r.ok()) return r.error();
+  return r.value().changed();
 }
 
 }  // namespace

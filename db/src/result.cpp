@@ -30,6 +30,16 @@ const char* to_string(DbErrorCode code) {
       return "rate_limited";
     case DbErrorCode::InvalidMatch:
       return "invalid_match";
+    case DbErrorCode::InvalidPlacement:
+      return "invalid_placement";
+    case DbErrorCode::NoServerAvailable:
+      return "no_server_available";
+    case DbErrorCode::UnknownModeOrMap:
+      return "unknown_mode_or_map";
+    case DbErrorCode::UnknownTicket:
+      return "unknown_ticket";
+    case DbErrorCode::ExpiredTicket:
+      return "expired_ticket";
     case DbErrorCode::SchemaTooNew:
       return "schema_too_new";
     case DbErrorCode::CorruptDatabase:

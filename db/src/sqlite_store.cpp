@@ -76,6 +76,22 @@ class SqliteStore final : public Store {
   DbResult<std::int64_t> count_better(LeaderboardKind kind, double value,
                                       std::int64_t min_matches) override;
 
+  DbStatus upsert_game_server(const GameServerRow& server) override;
+  DbStatus replace_game_server_matches(std::string_view server_id,
+                                       const std::vector<HostedMatch>& matches) override;
+  DbResult<std::vector<GameServerRow>> game_servers(UnixMillis heartbeat_after_ms) override;
+  DbResult<std::vector<DirectoryMatch>> directory_matches(UnixMillis heartbeat_after_ms) override;
+  DbResult<bool> delete_game_server(std::string_view server_id) override;
+  DbResult<std::int64_t> delete_game_servers_until(UnixMillis heartbeat_until_ms) override;
+  DbStatus insert_ticket(const TicketRow& ticket) override;
+  DbResult<std::optional<TicketRow>> find_ticket(std::string_view token_hash) override;
+  DbResult<std::vector<HeldSeats>> held_seats(UnixMillis now) override;
+  DbResult<std::int64_t> delete_unclaimed_tickets_of(AccountId account) override;
+  DbResult<std::optional<ClaimedTicket>> claim_ticket(std::string_view token_hash,
+                                                      std::string_view server_id, AccountId account,
+                                                      UnixMillis now) override;
+  DbResult<std::int64_t> delete_expired_tickets(UnixMillis now) override;
+
  private:
   DbError failure(int rc, std::string_view what) const {
     return sqlite::error_from(db_.get(), rc, path_, what);
@@ -111,6 +127,10 @@ class SqliteStore final : public Store {
   sqlite::Statement rating_of_, insert_match_, insert_match_player_, upsert_stats_, match_count_,
       player_stats_, find_match_;
   std::array<sqlite::Statement, kBoards.size()> top_, entry_of_, count_better_;
+  sqlite::Statement upsert_game_server_, delete_server_matches_, insert_server_match_,
+      game_servers_, directory_matches_, delete_server_tickets_, delete_game_server_,
+      delete_stale_tickets_, delete_stale_servers_, insert_ticket_, find_ticket_, held_seats_,
+      delete_unclaimed_tickets_of_, claim_ticket_, delete_expired_tickets_;
 };
 
 DbStatus SqliteStore::prepare_statements() {
@@ -183,6 +203,55 @@ DbStatus SqliteStore::prepare_statements() {
       if (const int rc = statement->prepare(db_.get(), sql); rc != SQLITE_OK)
         return failure(rc, std::string("preparing \"") + sql + "\"");
   }
+  const std::pair<sqlite::Statement*, const char*> fleet_statements[] = {
+      {&upsert_game_server_,
+       "INSERT INTO game_servers (server_id, host, control_port, game_port, certificate_sha256,"
+       " version, capacity, players, heartbeat_ms, started_ms)"
+       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)"
+       " ON CONFLICT (server_id) DO UPDATE SET host = excluded.host,"
+       " control_port = excluded.control_port, game_port = excluded.game_port,"
+       " certificate_sha256 = excluded.certificate_sha256, version = excluded.version,"
+       " capacity = excluded.capacity, players = excluded.players,"
+       " heartbeat_ms = excluded.heartbeat_ms, started_ms = excluded.started_ms"},
+      {&delete_server_matches_, "DELETE FROM game_server_matches WHERE server_id = ?1"},
+      {&insert_server_match_,
+       "INSERT INTO game_server_matches (server_id, match_id, mode, map, players, capacity, open)"
+       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)"},
+      {&game_servers_,
+       "SELECT server_id, host, control_port, game_port, certificate_sha256, version, capacity,"
+       " players, heartbeat_ms, started_ms FROM game_servers WHERE heartbeat_ms > ?1"
+       " ORDER BY server_id"},
+      {&directory_matches_,
+       "SELECT m.server_id, m.match_id, m.mode, m.map, m.players, m.capacity, m.open"
+       " FROM game_server_matches AS m JOIN game_servers AS s ON s.server_id = m.server_id"
+       " WHERE s.heartbeat_ms > ?1 ORDER BY m.server_id, m.match_id"},
+      {&delete_server_tickets_, "DELETE FROM tickets WHERE server_id = ?1 AND claimed_ms IS NULL"},
+      {&delete_game_server_, "DELETE FROM game_servers WHERE server_id = ?1"},
+      {&delete_stale_tickets_,
+       "DELETE FROM tickets WHERE server_id IN"
+       " (SELECT server_id FROM game_servers WHERE heartbeat_ms <= ?1)"},
+      {&delete_stale_servers_, "DELETE FROM game_servers WHERE heartbeat_ms <= ?1"},
+      {&insert_ticket_,
+       "INSERT INTO tickets (token_hash, account_id, server_id, match_id, mode, map, created_ms,"
+       " expires_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"},
+      {&find_ticket_,
+       "SELECT account_id, server_id, match_id, mode, map, created_ms, expires_ms, claimed_ms"
+       " FROM tickets WHERE token_hash = ?1"},
+      {&held_seats_,
+       "SELECT server_id, match_id, COUNT(*) FROM tickets"
+       " WHERE claimed_ms IS NULL AND expires_ms > ?1"
+       " GROUP BY server_id, match_id ORDER BY server_id, match_id"},
+      {&delete_unclaimed_tickets_of_,
+       "DELETE FROM tickets WHERE account_id = ?1 AND claimed_ms IS NULL"},
+      {&claim_ticket_,
+       "UPDATE tickets SET claimed_ms = ?4 WHERE token_hash = ?1 AND claimed_ms IS NULL"
+       " AND server_id = ?2 AND account_id = ?3 AND expires_ms > ?4"
+       " RETURNING match_id, mode, map"},
+      {&delete_expired_tickets_, "DELETE FROM tickets WHERE expires_ms <= ?1"},
+  };
+  for (const auto& [statement, sql] : fleet_statements)
+    if (const int rc = statement->prepare(db_.get(), sql); rc != SQLITE_OK)
+      return failure(rc, std::string("preparing \"") + sql + "\"");
   return {};
 }
 
@@ -534,6 +603,195 @@ DbResult<std::int64_t> SqliteStore::count_better(LeaderboardKind kind, double va
   const std::int64_t better = q.integer(0);
   if (!q.column_error().empty()) return bad_row(q, "ranking an account");
   return better;
+}
+
+// --- fleet directory and tickets ---
+
+DbStatus SqliteStore::upsert_game_server(const GameServerRow& server) {
+  sqlite::Query q(upsert_game_server_);
+  q.bind_text(server.server_id).bind_text(server.host).bind_int(server.control_port);
+  q.bind_int(server.game_port).bind_text(server.certificate_sha256).bind_text(server.version);
+  q.bind_int(server.capacity).bind_int(server.players).bind_int(server.heartbeat_ms);
+  q.bind_int(server.started_ms);
+  return run(q, "writing a game server's directory row");
+}
+
+DbStatus SqliteStore::replace_game_server_matches(std::string_view server_id,
+                                                  const std::vector<HostedMatch>& matches) {
+  return transaction([&]() -> DbStatus {
+    sqlite::Query clear(delete_server_matches_);
+    clear.bind_text(server_id);
+    if (DbStatus s = run(clear, "clearing a game server's matches"); !s) return s;
+    for (const HostedMatch& m : matches) {
+      sqlite::Query q(insert_server_match_);
+      q.bind_text(server_id).bind_int(m.match_id).bind_text(m.mode).bind_text(m.map);
+      q.bind_int(m.players).bind_int(m.capacity).bind_int(m.open ? 1 : 0);
+      if (DbStatus s = run(q, "writing a game server's match"); !s) return s;
+    }
+    return {};
+  });
+}
+
+DbResult<std::vector<GameServerRow>> SqliteStore::game_servers(UnixMillis heartbeat_after_ms) {
+  sqlite::Query q(game_servers_);
+  q.bind_int(heartbeat_after_ms);
+  std::vector<GameServerRow> rows;
+  int rc;
+  while ((rc = q.step()) == SQLITE_ROW) {
+    GameServerRow row;
+    row.server_id = q.text(0);
+    row.host = q.text(1);
+    row.control_port = static_cast<std::int32_t>(q.integer(2));
+    row.game_port = static_cast<std::int32_t>(q.integer(3));
+    row.certificate_sha256 = q.text(4);
+    row.version = q.text(5);
+    row.capacity = static_cast<std::int32_t>(q.integer(6));
+    row.players = static_cast<std::int32_t>(q.integer(7));
+    row.heartbeat_ms = q.integer(8);
+    row.started_ms = q.integer(9);
+    if (!q.column_error().empty()) return bad_row(q, "reading the game servers");
+    rows.push_back(std::move(row));
+  }
+  if (rc != SQLITE_DONE) return failure(rc, "reading the game servers");
+  return rows;
+}
+
+DbResult<std::vector<DirectoryMatch>> SqliteStore::directory_matches(
+    UnixMillis heartbeat_after_ms) {
+  sqlite::Query q(directory_matches_);
+  q.bind_int(heartbeat_after_ms);
+  std::vector<DirectoryMatch> rows;
+  int rc;
+  while ((rc = q.step()) == SQLITE_ROW) {
+    DirectoryMatch row;
+    row.server_id = q.text(0);
+    row.match.match_id = q.integer(1);
+    row.match.mode = q.text(2);
+    row.match.map = q.text(3);
+    row.match.players = static_cast<std::int32_t>(q.integer(4));
+    row.match.capacity = static_cast<std::int32_t>(q.integer(5));
+    row.match.open = q.integer(6) != 0;
+    if (!q.column_error().empty()) return bad_row(q, "reading the game servers' matches");
+    rows.push_back(std::move(row));
+  }
+  if (rc != SQLITE_DONE) return failure(rc, "reading the game servers' matches");
+  return rows;
+}
+
+DbResult<bool> SqliteStore::delete_game_server(std::string_view server_id) {
+  return atomically(*this, [&]() -> DbResult<bool> {
+    sqlite::Query tickets(delete_server_tickets_);
+    tickets.bind_text(server_id);
+    if (DbStatus s = run(tickets, "deleting a game server's tickets"); !s) return s.error();
+    sqlite::Query q(delete_game_server_);  // its matches go by ON DELETE CASCADE
+    q.bind_text(server_id);
+    if (DbStatus s = run(q, "deleting a game server"); !s) return s.error();
+    return sqlite3_changes64(db_.get()) > 0;
+  });
+}
+
+DbResult<std::int64_t> SqliteStore::delete_game_servers_until(UnixMillis heartbeat_until_ms) {
+  return atomically(*this, [&]() -> DbResult<std::int64_t> {
+    sqlite::Query tickets(delete_stale_tickets_);
+    tickets.bind_int(heartbeat_until_ms);
+    if (DbStatus s = run(tickets, "deleting stale game servers' tickets"); !s) return s.error();
+    sqlite::Query q(delete_stale_servers_);
+    q.bind_int(heartbeat_until_ms);
+    if (DbStatus s = run(q, "deleting stale game servers"); !s) return s.error();
+    return static_cast<std::int64_t>(sqlite3_changes64(db_.get()));
+  });
+}
+
+/// UnknownTicket for a hash of the wrong size: the caller passes SHA-256 digests only.
+DbStatus check_ticket_hash(std::string_view token_hash) {
+  if (token_hash.size() == kTokenHashBytes) return {};
+  return DbError{DbErrorCode::UnknownTicket, "a ticket token hash is " +
+                                                 std::to_string(kTokenHashBytes) + " bytes, got " +
+                                                 std::to_string(token_hash.size())};
+}
+
+DbStatus SqliteStore::insert_ticket(const TicketRow& ticket) {
+  if (DbStatus s = check_ticket_hash(ticket.token_hash); !s) return s;
+  sqlite::Query q(insert_ticket_);
+  q.bind_blob(ticket.token_hash).bind_int(ticket.account).bind_text(ticket.server_id);
+  q.bind_int(ticket.match_id).bind_text(ticket.mode).bind_text(ticket.map);
+  q.bind_int(ticket.created_ms).bind_int(ticket.expires_ms);
+  const int rc = q.step();
+  if (rc == SQLITE_CONSTRAINT_FOREIGNKEY) return unknown_account(ticket.account);
+  if (rc != SQLITE_DONE) return failure(rc, "inserting a ticket");
+  return {};
+}
+
+DbResult<std::optional<TicketRow>> SqliteStore::find_ticket(std::string_view token_hash) {
+  if (token_hash.size() != kTokenHashBytes) return std::optional<TicketRow>();
+  sqlite::Query q(find_ticket_);
+  q.bind_blob(token_hash);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return std::optional<TicketRow>();
+  if (rc != SQLITE_ROW) return failure(rc, "finding a ticket");
+  TicketRow row;
+  row.token_hash = std::string(token_hash);
+  row.account = q.integer(0);
+  row.server_id = q.text(1);
+  row.match_id = q.integer(2);
+  row.mode = q.text(3);
+  row.map = q.text(4);
+  row.created_ms = q.integer(5);
+  row.expires_ms = q.integer(6);
+  row.claimed_ms = q.optional_integer(7);
+  if (!q.column_error().empty()) return bad_row(q, "reading a ticket");
+  return std::optional<TicketRow>(std::move(row));
+}
+
+DbResult<std::vector<HeldSeats>> SqliteStore::held_seats(UnixMillis now) {
+  sqlite::Query q(held_seats_);
+  q.bind_int(now);
+  std::vector<HeldSeats> rows;
+  int rc;
+  while ((rc = q.step()) == SQLITE_ROW) {
+    HeldSeats row;
+    row.server_id = q.text(0);
+    row.match_id = q.integer(1);
+    row.seats = q.integer(2);
+    if (!q.column_error().empty()) return bad_row(q, "counting held seats");
+    rows.push_back(std::move(row));
+  }
+  if (rc != SQLITE_DONE) return failure(rc, "counting held seats");
+  return rows;
+}
+
+DbResult<std::int64_t> SqliteStore::delete_unclaimed_tickets_of(AccountId account) {
+  sqlite::Query q(delete_unclaimed_tickets_of_);
+  q.bind_int(account);
+  if (DbStatus s = run(q, "deleting an account's open tickets"); !s) return s.error();
+  return static_cast<std::int64_t>(sqlite3_changes64(db_.get()));
+}
+
+DbResult<std::optional<ClaimedTicket>> SqliteStore::claim_ticket(std::string_view token_hash,
+                                                                 std::string_view server_id,
+                                                                 AccountId account,
+                                                                 UnixMillis now) {
+  if (token_hash.size() != kTokenHashBytes) return std::optional<ClaimedTicket>();
+  sqlite::Query q(claim_ticket_);
+  q.bind_blob(token_hash).bind_text(server_id).bind_int(account).bind_int(now);
+  const int rc = q.step();
+  if (rc == SQLITE_DONE) return std::optional<ClaimedTicket>();
+  if (rc != SQLITE_ROW) return failure(rc, "claiming a ticket");
+  ClaimedTicket claimed;
+  claimed.match_id = q.integer(0);
+  claimed.mode = q.text(1);
+  claimed.map = q.text(2);
+  if (!q.column_error().empty()) return bad_row(q, "claiming a ticket");
+  // The change is made by the first step; the statement ends (and commits) at SQLITE_DONE.
+  if (const int done = q.step(); done != SQLITE_DONE) return failure(done, "claiming a ticket");
+  return std::optional<ClaimedTicket>(std::move(claimed));
+}
+
+DbResult<std::int64_t> SqliteStore::delete_expired_tickets(UnixMillis now) {
+  sqlite::Query q(delete_expired_tickets_);
+  q.bind_int(now);
+  if (DbStatus s = run(q, "deleting expired tickets"); !s) return s.error();
+  return static_cast<std::int64_t>(sqlite3_changes64(db_.get()));
 }
 
 // --- opening ---

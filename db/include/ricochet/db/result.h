@@ -20,8 +20,14 @@ enum class DbErrorCode {
   UnknownAccount,  ///< no account with this id
   UnknownSession,  ///< never issued, revoked, or malformed token
   ExpiredSession,
-  RateLimited,      ///< too many failed logins for this account or address; retry later
-  InvalidMatch,     ///< a match record with missing or out-of-range fields
+  RateLimited,   ///< too many failed logins for this account or address; retry later
+  InvalidMatch,  ///< a match record with missing or out-of-range fields
+  // placement (placement.h)
+  InvalidPlacement,   ///< a directory row, hosted match, request or ticket with bad fields
+  NoServerAvailable,  ///< no live game server has a free seat for the mode and map; retry later
+  UnknownModeOrMap,   ///< no live game server hosts that mode (and map)
+  UnknownTicket,      ///< never issued, malformed, already claimed, or another server's/account's
+  ExpiredTicket,
   SchemaTooNew,     ///< the file was written by a newer Ricochet; this binary refuses it
   CorruptDatabase,  ///< not a database, or integrity check failed
   CannotOpen,       ///< the file cannot be opened or created

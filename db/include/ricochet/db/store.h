@@ -21,6 +21,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "ricochet/db/fleet_records.h"
 #include "ricochet/db/records.h"
 #include "ricochet/db/result.h"
 
@@ -99,6 +100,40 @@ class Store {
   /// above `value`.
   virtual DbResult<std::int64_t> count_better(LeaderboardKind kind, double value,
                                               std::int64_t min_matches) = 0;
+
+  // --- fleet directory and tickets (the rules: placement.h) ---
+  /// Inserts the server's row, or replaces every field of it (by server_id).
+  virtual DbStatus upsert_game_server(const GameServerRow& server) = 0;
+  /// Replaces every hosted match of the server with `matches`, in one transaction.
+  virtual DbStatus replace_game_server_matches(std::string_view server_id,
+                                               const std::vector<HostedMatch>& matches) = 0;
+  /// The rows with heartbeat_ms > `heartbeat_after_ms`, by server_id.
+  virtual DbResult<std::vector<GameServerRow>> game_servers(UnixMillis heartbeat_after_ms) = 0;
+  /// The matches of the servers with heartbeat_ms > `heartbeat_after_ms`, by server then match.
+  virtual DbResult<std::vector<DirectoryMatch>> directory_matches(
+      UnixMillis heartbeat_after_ms) = 0;
+  /// Deletes the server's row, its matches and its unclaimed tickets, in one transaction;
+  /// whether there was a row.
+  virtual DbResult<bool> delete_game_server(std::string_view server_id) = 0;
+  /// Deletes the servers with heartbeat_ms <= `heartbeat_until_ms`, their matches and all their
+  /// tickets, in one transaction; how many servers.
+  virtual DbResult<std::int64_t> delete_game_servers_until(UnixMillis heartbeat_until_ms) = 0;
+  /// UnknownAccount when the ticket's account does not exist.
+  virtual DbStatus insert_ticket(const TicketRow& ticket) = 0;
+  virtual DbResult<std::optional<TicketRow>> find_ticket(std::string_view token_hash) = 0;
+  /// Unclaimed tickets with expires_ms > `now`, counted per server and match, by server then
+  /// match.
+  virtual DbResult<std::vector<HeldSeats>> held_seats(UnixMillis now) = 0;
+  /// Deletes the account's unclaimed tickets; how many.
+  virtual DbResult<std::int64_t> delete_unclaimed_tickets_of(AccountId account) = 0;
+  /// Sets claimed_ms = `now` in one statement if the ticket is unclaimed, for this server and
+  /// account, and expires after `now`; what it was for, or nullopt when any of that fails.
+  virtual DbResult<std::optional<ClaimedTicket>> claim_ticket(std::string_view token_hash,
+                                                              std::string_view server_id,
+                                                              AccountId account,
+                                                              UnixMillis now) = 0;
+  /// Deletes the tickets with expires_ms <= `now`, claimed or not; how many.
+  virtual DbResult<std::int64_t> delete_expired_tickets(UnixMillis now) = 0;
 };
 
 /// store.transaction(work) for a `work` that returns a DbResult<T> or a DbStatus: its own
