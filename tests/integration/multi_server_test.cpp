@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "control_test_client.h"
@@ -242,6 +243,27 @@ TEST(MultiServer, AccountsSessionsAndLimitsOfOneServerHoldOnTheOthers) {
       connect(c, "127.0.0.5")
           ->request(ControlTestClient::register_account("one-too-many", password));
   EXPECT_TRUE(elsewhere.has_register_account()) << elsewhere.DebugString();
+
+  // One name registered on A and on B at the same moment (a client each, on threads of their
+  // own) is one account: one registration succeeds, the other is DUPLICATE_USERNAME.
+  for (int round = 0; round < 3; ++round) {
+    const std::string name = "racer" + std::to_string(round);
+    auto from_a = connect(a, "127.0.0.6");
+    auto from_b = connect(b, "127.0.0.7");
+    std::array<wire::ServerMessage, 2> replies;
+    std::thread on_a(
+        [&] { replies[0] = from_a->request(ControlTestClient::register_account(name, password)); });
+    replies[1] = from_b->request(ControlTestClient::register_account(name, password));
+    on_a.join();
+    int accounts = 0;
+    int duplicates = 0;
+    for (const wire::ServerMessage& reply : replies) {
+      accounts += reply.has_register_account();
+      duplicates += error_of(reply) == wire::DUPLICATE_USERNAME;
+    }
+    EXPECT_TRUE(accounts == 1 && duplicates == 1)
+        << replies[0].DebugString() << replies[1].DebugString();
+  }
 
   EXPECT_TRUE(servers.stop()) << servers.logs();
   if (HasFailure()) std::cout << servers.logs();
