@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "control_test_client.h"
 #include "ricochet/proto/chat_text.h"
 
@@ -272,6 +274,62 @@ TEST(ControlMatches, AResumeOfAnotherSignInDoesNotTakeTheSeatOver) {
   // The player's connection still plays the seat.
   EXPECT_TRUE(player.request(ControlTestClient::chat("still here")).has_chat());
   EXPECT_TRUE(player.request(ControlTestClient::leave()).has_leave_match());
+}
+
+}  // namespace
+}  // namespace ricochet::server::test
+
+namespace ricochet::server::test {
+namespace {
+
+wire::ClientMessage find(const std::string& mode) {
+  wire::ClientMessage m;
+  m.mutable_find_match()->set_mode(mode);
+  return m;
+}
+
+TEST(ControlPlacement, FindMatchIsLimitedPerAccountAcrossItsConnectionsOnTheServersClock) {
+  std::atomic<proto::TimeUs> now{1'000 * proto::kMicrosPerSecond};
+  PlacementCounters counters;
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters};
+  ControlRig rig(
+      {}, [&now] { return now.load(); }, {}, nullptr, &placement);
+  ControlTestClient first(rig.port());
+  ControlTestClient second(rig.port());
+  ControlTestClient other(rig.port());
+  ASSERT_TRUE(first.connect() && second.connect() && other.connect());
+  first.sign_in("seeker");
+  second.sign_in("seeker", false);
+  other.sign_in("other");
+  // No server in the directory: every find_match the limit lets through is answered so.
+  for (int i = 0; i < 5; ++i) {
+    ControlTestClient& client = i % 2 ? second : first;
+    EXPECT_EQ(client.request(find("ffa")).error().code(), wire::NO_SERVER_AVAILABLE) << i;
+  }
+  const wire::ServerMessage limited = second.request(find("ffa"));
+  EXPECT_EQ(limited.error().code(), wire::FIND_MATCH_RATE_LIMITED) << limited.DebugString();
+  EXPECT_EQ(other.request(find("ffa")).error().code(), wire::NO_SERVER_AVAILABLE);
+  now += 2 * proto::kMicrosPerSecond;  // one more at 30 a minute
+  EXPECT_EQ(first.request(find("ffa")).error().code(), wire::NO_SERVER_AVAILABLE);
+  EXPECT_EQ(first.request(find("ffa")).error().code(), wire::FIND_MATCH_RATE_LIMITED);
+  EXPECT_EQ(counters.tickets[static_cast<std::size_t>(TicketResult::RateLimited)].load(), 2u);
+  EXPECT_EQ(counters.tickets[static_cast<std::size_t>(TicketResult::NoServerAvailable)].load(), 7u);
+  // A ticket that is not 32 bytes is refused before the database.
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket("not a ticket");
+  EXPECT_EQ(first.request(join).error().code(), wire::UNKNOWN_TICKET);
+}
+
+TEST(ControlPlacement, WithPlacementOffFindMatchAndTicketsAreRefused) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("alone");
+  EXPECT_EQ(client.request(find("ffa")).error().code(), wire::NO_SERVER_AVAILABLE);
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(std::string(32, 'x'));
+  EXPECT_EQ(client.request(join).error().code(), wire::UNKNOWN_TICKET);
+  EXPECT_EQ(client.state(), proto::ControlState::Authenticated);
 }
 
 }  // namespace
