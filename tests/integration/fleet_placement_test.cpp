@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -22,7 +23,8 @@ using ricochet::test::ServerProcess;
 
 /// One match of `mode` on the test map, nobody needed to start it.
 std::string matches_of(const std::string& mode) {
-  return "count = 1\nmax_players = 8\nmode = \"" + mode + "\"\nmaps = [\"" RICOCHET_SOURCE_DIR
+  return "count = 1\nmax_players = 8\nmode = \"" + mode +
+         "\"\nmaps = [\"" RICOCHET_SOURCE_DIR
          "/server/maps/arena.toml\"]\nseed = 7\nwarmup_s = 0\nrecord = false\n";
 }
 
@@ -122,6 +124,14 @@ TEST(FleetPlacement, FindMatchOnOneServerSeatsThePlayerOnTheOtherWithItsTicketOn
   EXPECT_EQ(on_b.request(join_with(ticket)).error().code(), wire::UNKNOWN_TICKET);
   EXPECT_EQ(on_a.request(join_with(ticket)).error().code(), wire::UNKNOWN_TICKET);
   EXPECT_EQ(on_a.request(join_with("short")).error().code(), wire::UNKNOWN_TICKET);
+
+  // B drains on SIGTERM and leaves the directory first: at once, nobody hosts tdm any more
+  // (its row would otherwise stay live for server_ttl_s).
+  b.terminate();
+  ASSERT_EQ(b.wait_exit(8s), std::optional<int>(0)) << b.log();
+  EXPECT_NE(b.log().find("left the fleet directory"), std::string::npos) << b.log();
+  const wire::ServerMessage gone = on_a.request(find_match("tdm"));
+  EXPECT_EQ(gone.error().code(), wire::UNKNOWN_MODE_OR_MAP) << gone.DebugString();
 }
 
 }  // namespace

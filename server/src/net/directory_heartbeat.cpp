@@ -87,8 +87,7 @@ void DirectoryHeartbeat::beat() {
           boost::unordered_flat_map<std::uint32_t, int> by_match;
           for (const db::HeldSeats& seats : held.value()) {
             if (seats.match_id > 0) {
-              by_match[static_cast<std::uint32_t>(seats.match_id)] =
-                  static_cast<int>(seats.seats);
+              by_match[static_cast<std::uint32_t>(seats.match_id)] = static_cast<int>(seats.seats);
             }
           }
           matches_.set_held_seats(std::move(by_match));
@@ -106,17 +105,17 @@ bool DirectoryHeartbeat::leave(std::chrono::milliseconds wait) {
     schedule_.stop();
     timer_.cancel();
     if (server_id_.empty()) return left->set_value(true);
-    db_.submit(
-        [id = server_id_](db::DbServices& services) { return services.placement.leave(id); },
-        [](std::function<void()> completion) { completion(); },  // on the DB thread
-        [left, id = server_id_](db::DbResult<bool> result) {
-          if (!result.ok()) {
-            spdlog::warn("placement: leaving the directory failed: {}", result.error().message);
-          } else {
-            spdlog::info("placement: server {} left the fleet directory", id);
-          }
-          left->set_value(result.ok());
-        });
+    db_.submit([id = server_id_](db::DbServices& services) { return services.placement.leave(id); },
+               [](std::function<void()> completion) { completion(); },  // on the DB thread
+               [left, id = server_id_](db::DbResult<bool> result) {
+                 if (!result.ok()) {
+                   spdlog::warn("placement: leaving the directory failed: {}",
+                                result.error().message);
+                 } else {
+                   spdlog::info("placement: server {} left the fleet directory", id);
+                 }
+                 left->set_value(result.ok());
+               });
   });
   return done.wait_for(wait) == std::future_status::ready && done.get();
 }
