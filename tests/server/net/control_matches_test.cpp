@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <future>
+#include <vector>
 
 #include "control_test_client.h"
 #include "ricochet/proto/chat_text.h"
@@ -318,6 +321,54 @@ TEST(ControlPlacement, FindMatchIsLimitedPerAccountAcrossItsConnectionsOnTheServ
   wire::ClientMessage join;
   join.mutable_join_match()->set_ticket("not a ticket");
   EXPECT_EQ(first.request(join).error().code(), wire::UNKNOWN_TICKET);
+}
+
+TEST(ControlPlacement, ATicketForANewMatchJoinsAnOpenMatchOfItsModeHereOnce) {
+  PlacementCounters counters;
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters};
+  ControlRig rig({}, {}, {}, nullptr, &placement);
+  // The directory: this server, its one ffa match full, so the assignment is a new match here.
+  const db::GameServerRow row{.server_id = "rs-test",
+                              .host = "127.0.0.1",
+                              .control_port = rig.port(),
+                              .game_port = 7778,
+                              .certificate_sha256 = std::string(64, 'a'),
+                              .version = "test",
+                              .capacity = 100,
+                              .players = 4};
+  const std::vector<db::HostedMatch> hosted{
+      {.match_id = 9, .mode = "ffa", .map = "arena", .players = 4, .capacity = 4, .open = true}};
+  std::promise<db::DbStatus> written;
+  rig.db().submit(
+      [&](db::DbServices& services) {
+        return services.placement.heartbeat(row, hosted,
+                                            std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                std::chrono::system_clock::now().time_since_epoch())
+                                                .count());
+      },
+      [](std::function<void()> completion) { completion(); },
+      [&](db::DbStatus status) { written.set_value(std::move(status)); });
+  ASSERT_TRUE(written.get_future().get().ok());
+
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("newcomer");
+  const wire::ServerMessage found = client.request(find("ffa"));
+  ASSERT_TRUE(found.has_find_match()) << found.DebugString();
+  const wire::Assignment& assignment = found.find_match().assignment();
+  EXPECT_EQ(assignment.match_id(), 0u);
+  EXPECT_TRUE(assignment.on_this_server());
+  EXPECT_EQ(assignment.connection(), "127.0.0.1:" + std::to_string(rig.port()));
+  EXPECT_EQ(assignment.certificate_sha256(), std::string(64, 'a'));
+  EXPECT_EQ(counters.tickets[static_cast<std::size_t>(TicketResult::Assigned)].load(), 1u);
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(assignment.ticket());
+  join.mutable_join_match()->set_match_id(77);  // ignored: the ticket names the match
+  const wire::ServerMessage joined = client.request(join);
+  ASSERT_TRUE(joined.has_join_match()) << joined.DebugString();
+  EXPECT_EQ(joined.join_match().match_id(), 1u);  // the fake directory's open ffa match
+  EXPECT_EQ(client.state(), proto::ControlState::InMatch);
+  EXPECT_EQ(client.request(join).error().code(), wire::UNKNOWN_TICKET);
 }
 
 TEST(ControlPlacement, WithPlacementOffFindMatchAndTicketsAreRefused) {
