@@ -31,6 +31,8 @@ bool answers(ClientMessageKind kind, Body body) {
       return body == wire::ServerMessage::kPong;
     case ClientMessageKind::Logout:
       return body == wire::ServerMessage::kLogout;
+    case ClientMessageKind::FindMatch:
+      return body == wire::ServerMessage::kFindMatch;
   }
   return false;
 }

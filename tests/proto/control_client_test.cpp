@@ -387,6 +387,24 @@ TEST(ControlClient, AReplyThatDoesNotAnswerItsRequestIsRefused) {
                  "answered request 1 (login) with a join_match");
 }
 
+TEST(ControlClient, AFindMatchIsAnsweredByItsAssignmentAndLeavesTheStateAlone) {
+  ControlClient client = client_in(ControlState::Authenticated);
+  const std::uint32_t id = ask(client, ClientMessageKind::FindMatch);
+  wire::ServerMessage reply;
+  reply.set_request_id(id);
+  wire::Assignment& assignment = *reply.mutable_find_match()->mutable_assignment();
+  assignment.set_connection("127.0.0.1:7777");
+  assignment.set_ticket(std::string(32, 't'));
+  client.receive(frame(reply));
+  const ControlReply answer = reply_event(client);
+  EXPECT_EQ(answer.kind, ClientMessageKind::FindMatch);
+  EXPECT_EQ(answer.message.find_match().assignment().connection(), "127.0.0.1:7777");
+  EXPECT_EQ(client.state(), ControlState::Authenticated);
+  // A list answering a find_match does not answer it.
+  const std::uint32_t again = ask(client, ClientMessageKind::FindMatch);
+  expect_refused(client, frame(list(again)), ControlCloseReason::WrongReply, "find_match");
+}
+
 TEST(ControlClient, MatchResultsAnsweringARequestIsRefused) {
   ControlClient client(0);
   const std::uint32_t id = ask(client, ClientMessageKind::Ping);

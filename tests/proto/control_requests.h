@@ -45,6 +45,9 @@ inline wire::ClientMessage request_of(ClientMessageKind kind) {
     case ClientMessageKind::Logout:
       m.mutable_logout();
       break;
+    case ClientMessageKind::FindMatch:
+      m.mutable_find_match()->set_mode("ffa");
+      break;
   }
   return m;
 }

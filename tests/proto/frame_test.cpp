@@ -203,6 +203,9 @@ TEST(ControlStates, TableAdmitsWhatEachStateAllows) {
   EXPECT_FALSE(admits(S::Unauthenticated, K::Logout));
   EXPECT_TRUE(admits(S::Authenticated, K::Logout));
   EXPECT_TRUE(admits(S::InMatch, K::Logout));
+  EXPECT_FALSE(admits(S::Unauthenticated, K::FindMatch));
+  EXPECT_TRUE(admits(S::Authenticated, K::FindMatch));
+  EXPECT_TRUE(admits(S::InMatch, K::FindMatch));
   for (std::size_t k = 0; k < kClientMessageKindCount; ++k) {
     EXPECT_FALSE(admits(S::Closed, static_cast<K>(k))) << name(static_cast<K>(k));
   }

@@ -159,6 +159,11 @@ std::vector<std::string> ServerConfig::validate() const {
     problems.push_back("db.url must start with postgresql:// or postgres://, got '" +
                        db.url.substr(0, db.url.find(':')) + ":…'");
   }
+  if (placement.server_ttl_s < 2 * placement.heartbeat_s) {
+    problems.push_back("placement.server_ttl_s must be at least twice placement.heartbeat_s (" +
+                       std::to_string(2 * placement.heartbeat_s) + "), got " +
+                       std::to_string(placement.server_ttl_s));
+  }
   if (game.snapshot_rate_hz > game.tick_rate_hz) {
     problems.push_back("game.snapshot_rate_hz must be 0..game.tick_rate_hz (" +
                        std::to_string(game.tick_rate_hz) + "; 0: the tick rate), got " +
@@ -255,6 +260,11 @@ std::string ServerConfig::db_url_or_path() const {
 
 std::string ServerConfig::outbox_path() const {
   return under_data_dir(server, db.outbox_dir);
+}
+
+bool PlacementConfig::on(const DbConfig& db) const {
+  if (enabled == PlacementMode::Auto) return !db.url.empty();
+  return enabled == PlacementMode::On;
 }
 
 std::string ServerConfig::recordings_path() const {

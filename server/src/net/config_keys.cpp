@@ -38,6 +38,18 @@ const char* name(PasswordHashing hashing) {
   return "unknown";
 }
 
+const char* name(PlacementMode mode) {
+  switch (mode) {
+    case PlacementMode::Auto:
+      return "auto";
+    case PlacementMode::On:
+      return "on";
+    case PlacementMode::Off:
+      return "off";
+  }
+  return "unknown";
+}
+
 const char* name(LogFormat format) {
   switch (format) {
     case LogFormat::Text:
@@ -120,6 +132,7 @@ constexpr std::array kLogLevels = {LogLevel::Trace, LogLevel::Debug, LogLevel::I
                                    LogLevel::Warn,  LogLevel::Error, LogLevel::Critical,
                                    LogLevel::Off};
 constexpr std::array kLogFormats = {LogFormat::Text, LogFormat::Json};
+constexpr std::array kPlacementModes = {PlacementMode::Auto, PlacementMode::On, PlacementMode::Off};
 constexpr std::array kPasswordHashings = {PasswordHashing::Interactive, PasswordHashing::Minimum};
 
 using S = ServerConfig;
@@ -679,6 +692,73 @@ const std::array kKeys = {
         .integer = &integer_of<&S::agones, &AgonesConfig::shutdown_after_matches>,
         .min = 0,
         .max = 1'000'000},
+    // Placement across a fleet (issue 31).
+    Key{.section = "placement",
+        .name = "enabled",
+        .flag = "--placement",
+        .help = "keep a row in the fleet directory and answer find_match: auto (when db.url is "
+                "PostgreSQL), on, off",
+        .kind = Kind::Choice,
+        .choices = "auto|on|off",
+        .get_choice = [](const ServerConfig& c) -> std::string_view {
+          return name(c.placement.enabled);
+        },
+        .set_choice =
+            [](ServerConfig& c, std::string_view text) {
+              return parse_enum(kPlacementModes, text, c.placement.enabled);
+            }},
+    Key{.section = "placement",
+        .name = "advertise_host",
+        .flag = "--advertise-host",
+        .help = "the host (DNS name or IP address) players of other servers are sent to; empty: "
+                "this machine's host name",
+        .kind = Kind::Text,
+        .text = &text_of<&S::placement, &PlacementConfig::advertise_host>,
+        .allow_empty = true},
+    Key{.section = "placement",
+        .name = "advertise_control_port",
+        .flag = "--advertise-control-port",
+        .help = "control port (TCP) players are sent to; 0: the bound one",
+        .integer = &integer_of<&S::placement, &PlacementConfig::advertise_control_port>,
+        .min = 0,
+        .max = kMaxPort},
+    Key{.section = "placement",
+        .name = "advertise_game_port",
+        .flag = "--advertise-game-port",
+        .help = "game port (UDP) players are sent to; 0: the bound one",
+        .integer = &integer_of<&S::placement, &PlacementConfig::advertise_game_port>,
+        .min = 0,
+        .max = kMaxPort},
+    Key{.section = "placement",
+        .name = "heartbeat_s",
+        .flag = "--placement-heartbeat-s",
+        .help = "seconds between two writes of this server's directory row",
+        .integer = &integer_of<&S::placement, &PlacementConfig::heartbeat_s>,
+        .min = 1,
+        .max = 60},
+    Key{.section = "placement",
+        .name = "server_ttl_s",
+        .flag = "--placement-server-ttl-s",
+        .help = "seconds without a heartbeat after which a server is no longer placed on; at "
+                "least twice heartbeat_s, well above the clock skew between servers",
+        .integer = &integer_of<&S::placement, &PlacementConfig::server_ttl_s>,
+        .min = 2,
+        .max = 3600},
+    Key{.section = "placement",
+        .name = "ticket_lifetime_s",
+        .flag = "--placement-ticket-lifetime-s",
+        .help = "seconds a ticket holds its seat and may be used",
+        .integer = &integer_of<&S::placement, &PlacementConfig::ticket_lifetime_s>,
+        .min = 1,
+        .max = 3600},
+    Key{.section = "placement",
+        .name = "find_match_per_minute",
+        .flag = "--find-match-per-minute",
+        .help = "find_match requests per minute from one account (in bursts of 5)",
+        .kind = Kind::Number,
+        .number = &number_of<&S::placement, &PlacementConfig::find_match_per_minute>,
+        .min_number = 0.1,
+        .max_number = 10'000},
     Key{.section = "log",
         .name = "level",
         .flag = "--log-level",
@@ -703,8 +783,8 @@ const std::array kKeys = {
             }},
 };
 
-constexpr std::array<std::string_view, 9> kSections = {
-    "server", "db", "tls", "control", "game", "matches", "admin", "agones", "log"};
+constexpr std::array<std::string_view, 10> kSections = {
+    "server", "db", "tls", "control", "game", "matches", "admin", "agones", "placement", "log"};
 
 }  // namespace
 

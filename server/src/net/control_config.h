@@ -8,6 +8,7 @@
 #include <string>
 
 #include "episode_log.h"
+#include "fleet_placement.h"
 #include "ricochet/proto/clock.h"
 #include "steady_time.h"
 #include "tls_identity.h"
@@ -42,6 +43,9 @@ struct ControlServerConfig {
   /// Logs the account refusals (login_timeout, login_rate_limited, registration_rate_limited,
   /// server_busy) once per episode per address; nullptr: they are only counted.
   EpisodeLog* episodes = nullptr;
+  /// find_match and tickets across the fleet ([placement] on); nullptr: placement is off here.
+  /// Used on the control strand; must outlive the ControlServer.
+  FleetPlacement* placement = nullptr;
 
   std::string validate() const;
 };

@@ -88,6 +88,16 @@ wire::ServerMessage error_reply(const db::DbError& error) {
       return error_reply(wire::SERVER_BUSY, "the database is unavailable; retry after a moment");
     case db::DbErrorCode::Stopped:
       return error_reply(wire::SHUTTING_DOWN, error.message);
+    case db::DbErrorCode::NoServerAvailable:
+      return error_reply(wire::NO_SERVER_AVAILABLE, error.message);
+    case db::DbErrorCode::UnknownModeOrMap:
+      return error_reply(wire::UNKNOWN_MODE_OR_MAP, error.message);
+    case db::DbErrorCode::UnknownTicket:
+      return error_reply(wire::UNKNOWN_TICKET, error.message);
+    case db::DbErrorCode::ExpiredTicket:
+      return error_reply(wire::EXPIRED_TICKET, error.message);
+    case db::DbErrorCode::InvalidPlacement:
+      return error_reply(wire::INVALID_REQUEST, error.message);
     default:
       break;
   }
@@ -141,6 +151,30 @@ proto::HostKey host_key_of(const std::string& address) {
   return proto::host_key(out);
 }
 
+/// How a find_match the database refused is counted.
+TicketResult ticket_result(db::DbErrorCode code) {
+  switch (code) {
+    case db::DbErrorCode::NoServerAvailable:
+      return TicketResult::NoServerAvailable;
+    case db::DbErrorCode::UnknownModeOrMap:
+      return TicketResult::UnknownModeOrMap;
+    case db::DbErrorCode::InvalidPlacement:
+      return TicketResult::InvalidRequest;
+    case db::DbErrorCode::QueueFull:
+    case db::DbErrorCode::Busy:
+    case db::DbErrorCode::Unavailable:
+      return TicketResult::ServerBusy;
+    default:
+      return TicketResult::Failed;
+  }
+}
+
+/// "host:port", the host in brackets when it is an IPv6 address.
+std::string connection_of(const std::string& host, std::int32_t port) {
+  const bool v6 = host.find(':') != std::string::npos;
+  return (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port);
+}
+
 void fill(const MatchSummary& summary, wire::MatchInfo& info) {
   info.set_match_id(summary.id);
   info.set_name(summary.name);
@@ -165,7 +199,7 @@ asio::awaitable<wire::ServerMessage> ControlSession::dispatch(const wire::Client
     case wire::ClientMessage::kCreateMatch:
       co_return create_match(message.create_match());
     case wire::ClientMessage::kJoinMatch:
-      co_return join_match(message.join_match());
+      co_return co_await join_match(message.join_match());
     case wire::ClientMessage::kLeaveMatch:
       co_return leave_match();
     case wire::ClientMessage::kChat:
@@ -174,6 +208,8 @@ asio::awaitable<wire::ServerMessage> ControlSession::dispatch(const wire::Client
       co_return pong(message.ping());
     case wire::ClientMessage::kLogout:
       co_return co_await logout();
+    case wire::ClientMessage::kFindMatch:
+      co_return co_await find_match(message.find_match());
     case wire::ClientMessage::BODY_NOT_SET:
       break;
   }
@@ -329,10 +365,106 @@ wire::ServerMessage ControlSession::create_match(const wire::CreateMatchRequest&
   return reply;
 }
 
-wire::ServerMessage ControlSession::join_match(const wire::JoinMatchRequest& request) {
+asio::awaitable<wire::ServerMessage> ControlSession::find_match(
+    const wire::FindMatchRequest& request) {
+  FleetPlacement* placement = context_.placement;
+  if (!placement) {
+    co_return error_reply(wire::NO_SERVER_AVAILABLE,
+                          "placement is off on this server ([placement] enabled); use "
+                          "list_matches and join_match here");
+  }
+  if (!placement->limiter.take(account_, context_.clock())) {
+    placement->counters.count(TicketResult::RateLimited);
+    co_return error_reply(wire::FIND_MATCH_RATE_LIMITED,
+                          "an account may ask find_match " +
+                              std::to_string(static_cast<int>(FindMatchLimiter::kBurst)) +
+                              " times at once, then at the server's rate; retry later");
+  }
+  const db::DbResult<db::Assignment> result =
+      co_await await_db<db::DbResult<db::Assignment>>([&](db::Post post, auto done) {
+        context_.db.submit(
+            [account = static_cast<db::AccountId>(account_), mode = request.mode(),
+             map = request.map(), now = unix_now_ms()](db::DbServices& services) {
+              return services.placement.assign(account, mode, map, now);
+            },
+            std::move(post), std::move(done));
+      });
+  if (!result.ok()) {
+    placement->counters.count(ticket_result(result.error().code));
+    co_return error_reply(result.error());
+  }
+  placement->counters.count(TicketResult::Assigned);
+  const db::Assignment& found = result.value();
+  wire::ServerMessage reply;
+  wire::Assignment& assignment = *reply.mutable_find_match()->mutable_assignment();
+  assignment.set_connection(connection_of(found.host, found.control_port));
+  assignment.set_game_port(static_cast<std::uint32_t>(found.game_port));
+  assignment.set_certificate_sha256(found.certificate_sha256);
+  assignment.set_match_id(static_cast<std::uint32_t>(found.match_id));
+  assignment.set_mode(found.mode);
+  assignment.set_map(found.map);
+  assignment.set_ticket(ticket_bytes(found.token));
+  assignment.set_ticket_expires_in_ms(static_cast<std::uint32_t>(
+      std::clamp<db::UnixMillis>(found.expires_ms - unix_now_ms(), 0, UINT32_MAX)));
+  assignment.set_on_this_server(found.server_id == placement->server_id);
+  co_return reply;
+}
+
+asio::awaitable<wire::ServerMessage> ControlSession::join_match(
+    const wire::JoinMatchRequest& request) {
+  if (request.ticket().empty()) co_return join_seat(request.match_id(), false);
+  if (!context_.placement) {
+    co_return error_reply(wire::UNKNOWN_TICKET,
+                          "placement is off on this server: it takes no tickets");
+  }
+  const std::optional<std::string> token = ticket_hex(request.ticket());
+  if (!token) {
+    co_return error_reply(wire::UNKNOWN_TICKET, "a ticket is " + std::to_string(kTicketBytes) +
+                                                    " bytes, got " +
+                                                    std::to_string(request.ticket().size()));
+  }
+  const db::DbResult<db::ClaimedTicket> claimed =
+      co_await await_db<db::DbResult<db::ClaimedTicket>>([&](db::Post post, auto done) {
+        context_.db.submit(
+            [token = *token, server = context_.placement->server_id,
+             account = static_cast<db::AccountId>(account_),
+             now = unix_now_ms()](db::DbServices& services) {
+              return services.placement.claim(token, server, account, now);
+            },
+            std::move(post), std::move(done));
+      });
+  if (!claimed.ok()) co_return error_reply(claimed.error());
+  if (machine_.state() == proto::ControlState::Closed) {
+    co_return error_reply(wire::SHUTTING_DOWN, "the connection closed during the join");
+  }
+  const DirectoryResult<std::uint32_t> match = placed_match(claimed.value());
+  if (const auto* error = std::get_if<DirectoryError>(&match)) co_return error_reply(*error);
+  co_return join_seat(std::get<std::uint32_t>(match), true);
+}
+
+DirectoryResult<std::uint32_t> ControlSession::placed_match(const db::ClaimedTicket& ticket) {
+  if (ticket.match_id != 0) return static_cast<std::uint32_t>(ticket.match_id);
+  const std::vector<MatchSummary> hosted = context_.matches.list();
+  const MatchSummary* fullest = nullptr;
+  for (const MatchSummary& summary : hosted) {
+    if (summary.mode != ticket.mode || (!ticket.map.empty() && summary.map != ticket.map)) continue;
+    if (summary.players >= summary.max_players) continue;
+    if (!fullest || summary.players > fullest->players) fullest = &summary;
+  }
+  if (fullest) return fullest->id;
+  CreateMatchRequest create;
+  create.name = ticket.mode + "-placed";
+  create.map = ticket.map;
+  create.creator = account_;
+  DirectoryResult<MatchSummary> made = context_.matches.create(create);
+  if (const auto* error = std::get_if<DirectoryError>(&made)) return *error;
+  return std::get<MatchSummary>(made).id;
+}
+
+wire::ServerMessage ControlSession::join_seat(std::uint32_t match_id, bool placed) {
   DirectoryResult<JoinGrant> result =
-      context_.matches.join(account_, username_, request.match_id(),
-                            JoinOrigin{host_key_of(address_), id_, session_token_});
+      context_.matches.join(account_, username_, match_id,
+                            JoinOrigin{host_key_of(address_), id_, session_token_, placed});
   if (const auto* error = std::get_if<DirectoryError>(&result)) return error_reply(*error);
   const JoinGrant& grant = std::get<JoinGrant>(result);
   const proto::TimeUs now = context_.clock();

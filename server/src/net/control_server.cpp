@@ -56,7 +56,8 @@ ControlServer::ControlServer(asio::io_context& io, ControlServerConfig config, d
       tls_(asio::ssl::context::tls_server),
       strand_(asio::make_strand(io)),
       acceptor_(strand_),
-      context_{config_.limits, counters_, db, matches, config_.clock, config_.episodes, {}} {
+      context_{config_.limits, counters_,        db, matches,
+               config_.clock,  config_.episodes, {}, config_.placement} {
   configure_tls(tls_, identity_);
 }
 

@@ -50,6 +50,8 @@ struct ControlContext {
   /// Accounts banned while this server ran (ControlServer::ban_account): a login or resume the
   /// database let through just before the ban is refused when it completes. On the strand.
   std::unordered_set<std::uint64_t> banned;
+  /// Placement across the fleet (find_match, tickets); nullptr when off on this server.
+  FleetPlacement* placement;
 };
 
 class ControlSession : public std::enable_shared_from_this<ControlSession> {
@@ -97,7 +99,14 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   boost::asio::awaitable<wire::ServerMessage> logout();
   wire::ServerMessage list_matches();
   wire::ServerMessage create_match(const wire::CreateMatchRequest& r);
-  wire::ServerMessage join_match(const wire::JoinMatchRequest& r);
+  /// A direct join, or one with a ticket (claimed in the database first).
+  boost::asio::awaitable<wire::ServerMessage> join_match(const wire::JoinMatchRequest& r);
+  /// Seats the account in `match_id`; `placed`: by a ticket, whose seat the held ones include.
+  wire::ServerMessage join_seat(std::uint32_t match_id, bool placed);
+  /// A claimed ticket's match: the one it names, else this server's fullest open match of its
+  /// mode (and map) with a seat free, else a new one.
+  DirectoryResult<std::uint32_t> placed_match(const db::ClaimedTicket& ticket);
+  boost::asio::awaitable<wire::ServerMessage> find_match(const wire::FindMatchRequest& r);
   wire::ServerMessage leave_match();
   wire::ServerMessage chat(const wire::ChatRequest& r);
   wire::ServerMessage pong(const wire::Ping& r);

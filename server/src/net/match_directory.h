@@ -44,6 +44,9 @@ struct JoinOrigin {
   /// The session token the control connection signed in (or resumed) with: a resume with the
   /// same token on a new connection takes the seat back (MatchDirectory::rejoin).
   std::string session_token = {};
+  /// Joined with a placement ticket: the seats open tickets hold in the match (the ticket's own
+  /// among them until the directory is next read) do not count against it.
+  bool placed = false;
 };
 
 /// Everything the client needs to open the game channel.

@@ -165,6 +165,11 @@ std::vector<MatchSummary> MatchRegistry::list() const {
   return out;
 }
 
+void MatchRegistry::set_held_seats(boost::unordered_flat_map<std::uint32_t, int> held) {
+  const std::lock_guard lock(mutex_);
+  held_by_tickets_ = std::move(held);
+}
+
 void MatchRegistry::close_empty_matches() {
   std::vector<std::shared_ptr<MatchHost>> empty;
   {
@@ -518,6 +523,16 @@ std::optional<DirectoryError> MatchRegistry::refuse_seat(std::uint32_t match_id,
   if (held >= max_players) {
     return error(DirectoryErrorCode::MatchFull, "match " + std::to_string(match_id) + " has all " +
                                                     std::to_string(max_players) + " seats taken");
+  }
+  if (!origin.placed) {
+    const auto tickets = held_by_tickets_.find(match_id);
+    const int for_tickets = tickets == held_by_tickets_.end() ? 0 : tickets->second;
+    if (held + for_tickets >= max_players) {
+      return error(DirectoryErrorCode::MatchFull,
+                   "match " + std::to_string(match_id) + " has " + std::to_string(held) +
+                       " seats taken and " + std::to_string(for_tickets) +
+                       " held for players placed here, of " + std::to_string(max_players));
+    }
   }
   if (from_address >= limits.seats_per_address) {
     return refuse(SeatRefusal::AddressSeats, origin.host.to_string(),

@@ -142,6 +142,9 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   /// good. False when it held no seat.
   bool remove(std::uint64_t account, proto::DisconnectReason reason);
   std::uint64_t empty_matches_closed() const { return empty_matches_closed_.load(); }
+  /// Seats that open placement tickets hold, by match (the directory's held_seats, read at each
+  /// heartbeat): a join without a ticket counts them as taken.
+  void set_held_seats(boost::unordered_flat_map<std::uint32_t, int> held);
 
   // MatchDirectory
   std::vector<MatchSummary> list() const override;
@@ -223,6 +226,7 @@ class MatchRegistry final : public MatchDirectory, public GameRouter {
   std::map<std::uint32_t, Hosted> hosts_;
   /// By account; open addressing (every datagram received looks its sender's seat up).
   boost::unordered_flat_map<std::uint64_t, Seat> seats_;
+  boost::unordered_flat_map<std::uint32_t, int> held_by_tickets_;  ///< set_held_seats()
   /// Each account's newest token while it may be given again (token_for); forgotten when the
   /// account connects or leaves, or the reuse window passes.
   struct IssuedToken {

@@ -4,8 +4,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/system/system_error.hpp>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -21,6 +23,7 @@
 #include "agones_http.h"
 #include "chat_limiter.h"
 #include "control_server.h"
+#include "directory_heartbeat.h"
 #include "episode_log.h"
 #include "game_channel.h"
 #include "match_defaults.h"
@@ -65,6 +68,8 @@ std::unique_ptr<db::DbWorker> open_database(const ServerConfig& config) {
   options.accounts.registrations_per_address = {config.db.registrations_per_hour_per_address,
                                                 3'600'000};
   options.password_nice = config.db.password_thread_nice;
+  options.placement.server_ttl_ms = config.placement.server_ttl_s * 1000LL;
+  options.placement.ticket_lifetime_ms = config.placement.ticket_lifetime_s * 1000LL;
   return std::make_unique<db::DbWorker>(std::move(store).value(), std::move(options));
 }
 
@@ -263,6 +268,12 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
       });
   ControlServerConfig control = control_config(config_);
   control.episodes = &episodes_;
+  if (config_.placement.on(config_.db)) {
+    placement_ = std::make_unique<FleetPlacement>(
+        FleetPlacement{draw_server_id(), FindMatchLimiter(config_.placement.find_match_per_minute),
+                       placement_counters_});
+    control.placement = placement_.get();
+  }
   control_ = std::make_unique<ControlServer>(io_, std::move(control), *db_, *matches_);
 
   AdminHttpOptions admin;
@@ -324,6 +335,7 @@ void Server::start() {
   }
   write_ports_file();
   sweep_empty_matches();
+  if (placement_) start_placement();
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
   deliver_outbox();
@@ -358,6 +370,51 @@ void Server::start_agones(const char* sdk_port) {
   agones_ = std::make_unique<AgonesHttp>(std::move(options), metrics_);
   spdlog::info("agones: the SDK sidecar's REST gateway is 127.0.0.1:{} (AGONES_SDK_HTTP_PORT)",
                sdk_port);
+}
+
+void Server::start_placement() {
+  const PlacementConfig& placement = config_.placement;
+  std::string host = placement.advertise_host;
+  if (host.empty()) {
+    std::array<char, 256> name{};
+    if (gethostname(name.data(), name.size() - 1) == 0) host = name.data();
+  }
+  std::string fingerprint_hex;  // 64 lowercase hex digits, as the directory keeps it
+  for (char c : fingerprint()) {
+    if (c != ':') fingerprint_hex += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  db::GameServerRow row;
+  row.server_id = placement_->server_id;
+  row.host = host;
+  row.control_port =
+      placement.advertise_control_port != 0 ? placement.advertise_control_port : control_port();
+  row.game_port = placement.advertise_game_port != 0 ? placement.advertise_game_port : game_port();
+  row.certificate_sha256 = fingerprint_hex;
+  row.version = RICOCHET_VERSION;
+  row.capacity = config_.game.max_clients;
+  row.started_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                       std::chrono::system_clock::now().time_since_epoch())
+                       .count();
+  heartbeat_ = std::make_unique<DirectoryHeartbeat>(
+      io_, *db_, *matches_, placement_counters_, placement.heartbeat_s * proto::kMicrosPerSecond,
+      placement.server_ttl_s * proto::kMicrosPerSecond, [this, row] {
+        DirectoryEntry entry{row, {}};
+        int players = 0;
+        for (const MatchSummary& match : matches_->list()) {
+          entry.matches.push_back(db::HostedMatch{.match_id = match.id,
+                                                  .mode = match.mode,
+                                                  .map = match.map,
+                                                  .players = match.players,
+                                                  .capacity = match.max_players,
+                                                  .open = !stopping_.load()});
+          players += match.players;
+        }
+        entry.server.players = std::min(players, entry.server.capacity);
+        return entry;
+      });
+  heartbeat_->start();
+  spdlog::info("placement: server {} advertises {}:{} (game port {}), heartbeat every {} s",
+               row.server_id, row.host, row.control_port, row.game_port, placement.heartbeat_s);
 }
 
 void Server::sweep_empty_matches() {
@@ -447,6 +504,11 @@ void Server::shut_down() {
                config_.server.shutdown_grace_s);
   ready_ = false;
   if (agones_) agones_->stopping();
+  // Out of the fleet directory first: no player is placed here while the matches end.
+  if (heartbeat_ && !heartbeat_->leave(std::chrono::seconds(2))) {
+    spdlog::warn("stopping: the directory row was not deleted; it goes stale in {} s",
+                 config_.placement.server_ttl_s);
+  }
   matches_->close();  // no joins, no new game connections into a match
   // The DB writes get the grace less 2 s (at least half of it), so that telling the game and
   // control clients always has time left.

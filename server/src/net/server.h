@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "episode_log.h"
+#include "fleet_placement.h"
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
 #include "ricochet/server/metrics.h"
@@ -58,6 +59,7 @@ struct AdminReply;
 class ChatLimiter;
 struct EndedMatch;
 class ControlServer;
+class DirectoryHeartbeat;
 class GameChannel;
 class MatchRegistry;
 class RecordingFiles;
@@ -136,6 +138,8 @@ class Server {
   void start_agones(const char* sdk_port);
   /// Every few seconds: the created matches empty for too long are closed.
   void sweep_empty_matches();
+  /// [placement] on: the directory heartbeat, once the ports are bound.
+  void start_placement();
 
   static constexpr std::chrono::seconds kRecordRetryFirst{1};
   static constexpr std::chrono::seconds kRecordRetryLast{30};
@@ -145,6 +149,9 @@ class Server {
   MetricsRegistry metrics_;
   EpisodeLog episodes_;  ///< abuse refused on any channel, logged once per episode
   std::unique_ptr<ChatLimiter> chat_limiter_;
+  PlacementCounters placement_counters_;
+  /// [placement] on; the control sessions use it; declared before control_, so it outlives it.
+  std::unique_ptr<FleetPlacement> placement_;
   std::unique_ptr<db::DbWorker> db_;
   std::unique_ptr<RecordingFiles> recordings_;
   std::unique_ptr<ResultsOutbox> outbox_;
@@ -154,6 +161,7 @@ class Server {
   std::unique_ptr<AdminHttp> admin_;
   /// Under Agones (AGONES_SDK_HTTP_PORT set); after matches_, whose stats it reads.
   std::unique_ptr<AgonesHttp> agones_;
+  std::unique_ptr<DirectoryHeartbeat> heartbeat_;
   boost::asio::steady_timer empty_match_sweep_{io_};
   std::vector<std::thread> threads_;
   std::thread stopper_;

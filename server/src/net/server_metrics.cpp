@@ -14,6 +14,7 @@
 
 #include "chat_limiter.h"
 #include "control_server.h"
+#include "fleet_placement.h"
 #include "game_channel.h"
 #include "match_registry.h"
 #include "recording_files.h"
@@ -222,6 +223,19 @@ void Server::register_metrics() {
   metrics_.add_collect_callback([this](MetricsSink& sink) {
     report_game_channel(game_->counters(), sink);
     report_control_channel(control_->stats(), sink);
+    for (std::size_t i = 0; i < kTicketResultCount; ++i) {
+      sink.counter("ricochet_placement_tickets_total",
+                   "find_match requests answered here, by result: assigned (a ticket issued) or "
+                   "why not",
+                   {{"result", name(static_cast<TicketResult>(i))}},
+                   static_cast<double>(placement_counters_.tickets[i].load()));
+    }
+    for (std::size_t i = 0; i < kHeartbeatOutcomeCount; ++i) {
+      sink.counter("ricochet_placement_heartbeats_total",
+                   "Writes of this server's fleet directory row, by outcome",
+                   {{"outcome", name(static_cast<HeartbeatOutcome>(i))}},
+                   static_cast<double>(placement_counters_.heartbeats[i].load()));
+    }
     const auto hosts = matches_->hosts();
     sink.gauge("ricochet_matches", "Matches hosted", {}, static_cast<double>(hosts.size()));
     sink.gauge("ricochet_players",

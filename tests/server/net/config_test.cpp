@@ -271,11 +271,11 @@ TEST(ServerConfig, UnknownKeysAndTablesAreNamed) {
   EXPECT_EQ(problems_of("[physics]\ngravity = 9\n"),
             std::vector<std::string>{
                 "test.toml:1:1: unknown key 'physics' (known tables: server, db, tls, control, "
-                "game, matches, admin, agones, log)"});
+                "game, matches, admin, agones, placement, log)"});
   EXPECT_EQ(problems_of("verbose = true\n"),
             std::vector<std::string>{
                 "test.toml:1:11: unknown key 'verbose' (known tables: server, db, tls, control, "
-                "game, matches, admin, agones, log)"});
+                "game, matches, admin, agones, placement, log)"});
   EXPECT_EQ(problems_of("game = 5\n"),
             std::vector<std::string>{"test.toml:1:8: 'game' must be a table ([game]), got an "
                                      "integer"});
@@ -483,6 +483,23 @@ TEST(ServerConfig, RenderedConfigLoadsBackToTheSameValues) {
   EXPECT_EQ(loaded.matches.self_damage, 0.1);
   EXPECT_EQ(loaded.matches.time_limit_s, 1e-5);
   EXPECT_TRUE(loaded.matches.friendly_fire);
+}
+
+TEST(ServerConfig, PlacementIsOnWithPostgresOrWhenAskedAndItsTtlCoversTwoHeartbeats) {
+  ServerConfig config;
+  EXPECT_FALSE(config.placement.on(config.db));  // SQLite, auto
+  config.db.url = "postgresql://ricochet@db/ricochet";
+  EXPECT_TRUE(config.placement.on(config.db));
+  config.placement.enabled = PlacementMode::Off;
+  EXPECT_FALSE(config.placement.on(config.db));
+  config.db.url.clear();
+  config.placement.enabled = PlacementMode::On;
+  EXPECT_TRUE(config.placement.on(config.db));
+  EXPECT_TRUE(config.validate().empty());
+  config.placement.heartbeat_s = 6;
+  EXPECT_EQ(config.validate(),
+            std::vector<std::string>{"placement.server_ttl_s must be at least twice "
+                                     "placement.heartbeat_s (12), got 10"});
 }
 
 TEST(ServerConfig, SampleFileDocumentsEveryKeyWithItsDefault) {

@@ -4,6 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <vector>
+
 #include "control_test_client.h"
 #include "ricochet/proto/chat_text.h"
 
@@ -272,6 +277,110 @@ TEST(ControlMatches, AResumeOfAnotherSignInDoesNotTakeTheSeatOver) {
   // The player's connection still plays the seat.
   EXPECT_TRUE(player.request(ControlTestClient::chat("still here")).has_chat());
   EXPECT_TRUE(player.request(ControlTestClient::leave()).has_leave_match());
+}
+
+}  // namespace
+}  // namespace ricochet::server::test
+
+namespace ricochet::server::test {
+namespace {
+
+wire::ClientMessage find(const std::string& mode) {
+  wire::ClientMessage m;
+  m.mutable_find_match()->set_mode(mode);
+  return m;
+}
+
+TEST(ControlPlacement, FindMatchIsLimitedPerAccountAcrossItsConnectionsOnTheServersClock) {
+  std::atomic<proto::TimeUs> now{1'000 * proto::kMicrosPerSecond};
+  PlacementCounters counters;
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters};
+  ControlRig rig(
+      {}, [&now] { return now.load(); }, {}, nullptr, &placement);
+  ControlTestClient first(rig.port());
+  ControlTestClient second(rig.port());
+  ControlTestClient other(rig.port());
+  ASSERT_TRUE(first.connect() && second.connect() && other.connect());
+  first.sign_in("seeker");
+  second.sign_in("seeker", false);
+  other.sign_in("other");
+  // No server in the directory: every find_match the limit lets through is answered so.
+  for (int i = 0; i < 5; ++i) {
+    ControlTestClient& client = i % 2 ? second : first;
+    EXPECT_EQ(client.request(find("ffa")).error().code(), wire::NO_SERVER_AVAILABLE) << i;
+  }
+  const wire::ServerMessage limited = second.request(find("ffa"));
+  EXPECT_EQ(limited.error().code(), wire::FIND_MATCH_RATE_LIMITED) << limited.DebugString();
+  EXPECT_EQ(other.request(find("ffa")).error().code(), wire::NO_SERVER_AVAILABLE);
+  now += 2 * proto::kMicrosPerSecond;  // one more at 30 a minute
+  EXPECT_EQ(first.request(find("ffa")).error().code(), wire::NO_SERVER_AVAILABLE);
+  EXPECT_EQ(first.request(find("ffa")).error().code(), wire::FIND_MATCH_RATE_LIMITED);
+  EXPECT_EQ(counters.tickets[static_cast<std::size_t>(TicketResult::RateLimited)].load(), 2u);
+  EXPECT_EQ(counters.tickets[static_cast<std::size_t>(TicketResult::NoServerAvailable)].load(), 7u);
+  // A ticket that is not 32 bytes is refused before the database.
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket("not a ticket");
+  EXPECT_EQ(first.request(join).error().code(), wire::UNKNOWN_TICKET);
+}
+
+TEST(ControlPlacement, ATicketForANewMatchJoinsAnOpenMatchOfItsModeHereOnce) {
+  PlacementCounters counters;
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters};
+  ControlRig rig({}, {}, {}, nullptr, &placement);
+  // The directory: this server, its one ffa match full, so the assignment is a new match here.
+  const db::GameServerRow row{.server_id = "rs-test",
+                              .host = "127.0.0.1",
+                              .control_port = rig.port(),
+                              .game_port = 7778,
+                              .certificate_sha256 = std::string(64, 'a'),
+                              .version = "test",
+                              .capacity = 100,
+                              .players = 4};
+  const std::vector<db::HostedMatch> hosted{
+      {.match_id = 9, .mode = "ffa", .map = "arena", .players = 4, .capacity = 4, .open = true}};
+  std::promise<db::DbStatus> written;
+  rig.db().submit(
+      [&](db::DbServices& services) {
+        return services.placement.heartbeat(row, hosted,
+                                            std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                std::chrono::system_clock::now().time_since_epoch())
+                                                .count());
+      },
+      [](std::function<void()> completion) { completion(); },
+      [&](db::DbStatus status) { written.set_value(std::move(status)); });
+  ASSERT_TRUE(written.get_future().get().ok());
+
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("newcomer");
+  const wire::ServerMessage found = client.request(find("ffa"));
+  ASSERT_TRUE(found.has_find_match()) << found.DebugString();
+  const wire::Assignment& assignment = found.find_match().assignment();
+  EXPECT_EQ(assignment.match_id(), 0u);
+  EXPECT_TRUE(assignment.on_this_server());
+  EXPECT_EQ(assignment.connection(), "127.0.0.1:" + std::to_string(rig.port()));
+  EXPECT_EQ(assignment.certificate_sha256(), std::string(64, 'a'));
+  EXPECT_EQ(counters.tickets[static_cast<std::size_t>(TicketResult::Assigned)].load(), 1u);
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(assignment.ticket());
+  join.mutable_join_match()->set_match_id(77);  // ignored: the ticket names the match
+  const wire::ServerMessage joined = client.request(join);
+  ASSERT_TRUE(joined.has_join_match()) << joined.DebugString();
+  EXPECT_EQ(joined.join_match().match_id(), 1u);  // the fake directory's open ffa match
+  EXPECT_EQ(client.state(), proto::ControlState::InMatch);
+  EXPECT_EQ(client.request(join).error().code(), wire::UNKNOWN_TICKET);
+}
+
+TEST(ControlPlacement, WithPlacementOffFindMatchAndTicketsAreRefused) {
+  ControlRig rig;
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("alone");
+  EXPECT_EQ(client.request(find("ffa")).error().code(), wire::NO_SERVER_AVAILABLE);
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(std::string(32, 'x'));
+  EXPECT_EQ(client.request(join).error().code(), wire::UNKNOWN_TICKET);
+  EXPECT_EQ(client.state(), proto::ControlState::Authenticated);
 }
 
 }  // namespace

@@ -165,7 +165,8 @@ class FakeDirectory : public MatchDirectory {
 class ControlRig {
  public:
   explicit ControlRig(ControlLimits limits = {}, std::function<proto::TimeUs()> clock = {},
-                      db::AccountsOptions accounts = {}, EpisodeLog* episodes = nullptr) {
+                      db::AccountsOptions accounts = {}, EpisodeLog* episodes = nullptr,
+                      FleetPlacement* placement = nullptr) {
     db::DbWorkerOptions options;
     options.accounts = std::move(accounts);
     options.accounts.cost = db::PasswordCost::Minimum;
@@ -179,6 +180,7 @@ class ControlRig {
     config.limits = limits;
     if (clock) config.clock = std::move(clock);
     config.episodes = episodes;
+    config.placement = placement;
     server_ = std::make_unique<ControlServer>(io_, config, *db_, directory_);
     server_->start();
     for (auto& thread : threads_) thread = std::thread([this] { io_.run(); });
@@ -299,6 +301,8 @@ class ControlTestClient {
     return text;
   }
   std::string negotiated_version() { return SSL_get_version(stream_.native_handle()); }
+  /// The connection's state as the replies so far have set it.
+  proto::ControlState state() const { return protocol_.state(); }
 
   /// Sends a request and waits for its reply (the reply body or an Error).
   wire::ServerMessage request(wire::ClientMessage message) {

@@ -176,6 +176,25 @@ TEST_F(MatchRegistryTest, AFullMatchRefusesAndLeavingGivesTheSeatBack) {
   EXPECT_TRUE(std::holds_alternative<DirectoryError>(registry_->leave(1, 1)));  // not in a match
 }
 
+TEST_F(MatchRegistryTest, SeatsHeldByPlacementTicketsCountAgainstDirectJoinsOnly) {
+  const std::uint32_t match = open("duel", 3);
+  const std::uint32_t other = open("other", 3);
+  ASSERT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(1, "one", match, kHere)));
+  registry_->connected(1, match);
+  // Two seats of the match held by open tickets (and one for a new match: no match of its own).
+  registry_->set_held_seats({{match, 2}, {999, 3}});
+  EXPECT_EQ(refusal(registry_->join(2, "two", match, kHere)), DirectoryErrorCode::MatchFull);
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(3, "three", other, kHere)));
+  // A ticket's player takes one of the held seats.
+  JoinOrigin placed = kHere;
+  placed.placed = true;
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(2, "two", match, placed)));
+  registry_->connected(2, match);
+  // The tickets went (claimed or expired): a direct join fits again.
+  registry_->set_held_seats({});
+  EXPECT_TRUE(std::holds_alternative<JoinGrant>(registry_->join(4, "four", match, kHere)));
+}
+
 TEST_F(MatchRegistryTest, OneMatchAtATimeAndUnknownMatchesAreErrors) {
   const std::uint32_t first = open("a", 4);
   const std::uint32_t second = open("b", 4);

@@ -39,6 +39,7 @@
 
 #include "ricochet/db/accounts.h"
 #include "ricochet/db/matches.h"
+#include "ricochet/db/placement.h"
 #include "ricochet/db/store.h"
 
 namespace ricochet::db {
@@ -76,11 +77,13 @@ class Delivery {
 struct DbServices {
   Accounts& accounts;
   Matches& matches;
+  Placement& placement;
 };
 
 struct DbWorkerOptions {
   AccountsOptions accounts;
   MatchesOptions matches;
+  PlacementOptions placement;
   std::size_t max_queued = 10'000;  ///< per queue (DB jobs, login password checks)
   /// Registrations and password changes waiting for a password thread (each ~100 ms of Argon2id
   /// at interactive cost: 256 are ~26 s of one thread's work); more are refused with QueueFull
@@ -154,6 +157,7 @@ class DbWorker {
   std::unique_ptr<Store> store_;
   Accounts accounts_;
   Matches matches_;
+  Placement placement_;
   DbServices services_;
   std::size_t max_queued_;
   std::size_t max_queued_hashes_;

@@ -120,7 +120,7 @@ class ControlClient {
  public:
   explicit ControlClient(TimeUs now, ControlClientConfig config = {});
 
-  /// Queues `message` (one of the nine requests, its body set) with the next request id
+  /// Queues `message` (one of the requests, its body set) with the next request id
   /// (numbered from 1, wrapping past 2^32-1 to 1; any request_id in it is replaced), unless the
   /// current state does not allow its kind. A request is checked against the state as it is,
   /// not as pending requests may leave it: send list_matches after the login's reply, not with

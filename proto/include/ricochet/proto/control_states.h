@@ -21,6 +21,7 @@
 ///   chat                  -              -           yes       -
 ///   ping                 yes            yes          yes       -
 ///   logout                -             yes          yes       -
+///   find_match            -             yes          yes       -
 
 #include <array>
 #include <cstddef>
@@ -63,9 +64,10 @@ enum class ClientMessageKind : std::uint8_t {
   Chat,
   Ping,
   Logout,
+  FindMatch,
 };
 inline constexpr std::size_t kClientMessageKindCount =
-    static_cast<std::size_t>(ClientMessageKind::Logout) + 1;
+    static_cast<std::size_t>(ClientMessageKind::FindMatch) + 1;
 
 inline const char* name(ClientMessageKind kind) {
   switch (kind) {
@@ -89,6 +91,8 @@ inline const char* name(ClientMessageKind kind) {
       return "ping";
     case ClientMessageKind::Logout:
       return "logout";
+    case ClientMessageKind::FindMatch:
+      return "find_match";
   }
   return "unknown";
 }
@@ -116,6 +120,8 @@ inline ClientMessageKind kind_of(const wire::ClientMessage& message) {
       return ClientMessageKind::Ping;
     case wire::ClientMessage::kLogout:
       return ClientMessageKind::Logout;
+    case wire::ClientMessage::kFindMatch:
+      return ClientMessageKind::FindMatch;
     case wire::ClientMessage::BODY_NOT_SET:
       break;
   }
@@ -126,11 +132,11 @@ inline ClientMessageKind kind_of(const wire::ClientMessage& message) {
 /// kAllowed[state][kind]: whether a message of that kind is dispatched in that state.
 inline constexpr std::array<std::array<bool, kClientMessageKindCount>, kControlStateCount>
     kAllowedMessages{{
-        // register login resume list  create join  leave  chat   ping   logout
-        {{true, true, true, false, false, false, false, false, true, false}},   // Unauthenticated
-        {{false, false, false, true, true, true, false, false, true, true}},   // Authenticated
-        {{false, false, false, true, true, true, true, true, true, true}},     // InMatch
-        {{false, false, false, false, false, false, false, false, false, false}},  // Closed
+        // register login resume list  create join  leave  chat   ping   logout find
+        {{true, true, true, false, false, false, false, false, true, false, false}},  // Unauthenticated
+        {{false, false, false, true, true, true, false, false, true, true, true}},    // Authenticated
+        {{false, false, false, true, true, true, true, true, true, true, true}},      // InMatch
+        {{false, false, false, false, false, false, false, false, false, false, false}},  // Closed
     }};
 // clang-format on
 

@@ -151,6 +151,27 @@ struct AgonesConfig {
   int shutdown_after_matches = 0;  ///< matches ended by themselves before POST /shutdown; 0: never
 };
 
+/// Whether the server keeps a row in the fleet directory and answers find_match.
+enum class PlacementMode : std::uint8_t { Auto, On, Off };
+const char* name(PlacementMode mode);
+
+/// [placement]: the fleet directory and FindMatch (PROTOCOL.md, Placement; OPERATIONS.md).
+struct PlacementConfig {
+  PlacementMode enabled = PlacementMode::Auto;  ///< auto: on when db.url is PostgreSQL
+  /// What clients of other servers connect to: a DNS name or an IP address; empty: this
+  /// machine's host name.
+  std::string advertise_host;
+  int advertise_control_port = 0;     ///< 0: the bound control port
+  int advertise_game_port = 0;        ///< 0: the bound game port
+  int heartbeat_s = 2;                ///< between two writes of the directory row
+  int server_ttl_s = 10;              ///< a row this old is not placed on (and is purged)
+  int ticket_lifetime_s = 30;         ///< a ticket holds its seat this long
+  double find_match_per_minute = 30;  ///< per account, in bursts of 5
+
+  /// enabled resolved against the database.
+  bool on(const DbConfig& db) const;
+};
+
 /// [log]
 struct LogConfig {
   LogLevel level = LogLevel::Info;
@@ -166,6 +187,7 @@ struct ServerConfig {
   MatchesConfig matches;
   AdminConfig admin;
   AgonesConfig agones;
+  PlacementConfig placement;
   LogConfig log;
 
   /// Every problem, one message each, naming the key, the allowed range and what came

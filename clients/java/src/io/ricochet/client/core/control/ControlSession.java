@@ -86,7 +86,7 @@ public final class ControlSession {
   }
 
   /**
-   * Queues {@code message} (one of the ten requests, its body set) with the next request id (any
+   * Queues {@code message} (one of the requests, its body set) with the next request id (any
    * request_id in it is replaced), unless the current state does not allow its kind. The state is
    * the one replies have set: send list_matches after the login's reply, not with it.
    */

@@ -4,7 +4,7 @@ import io.ricochet.wire.ControlProto.ClientMessage;
 import io.ricochet.wire.ControlProto.ServerMessage;
 
 /**
- * The ten client requests, in the order of {@code ClientMessage}'s oneof, with the one table of
+ * The client requests, in the order of {@code ClientMessage}'s oneof, with the one table of
  * which state allows which (PROTOCOL.md, Control channel, Connection states) and which reply body
  * answers each. {@link ControlSession} consults it before it sends anything.
  */
@@ -28,7 +28,9 @@ public enum RequestKind {
   /** {@code ping}: allowed in every open state. */
   PING("ping", ServerMessage.BodyCase.PONG, true, true, true),
   /** {@code logout}. */
-  LOGOUT("logout", ServerMessage.BodyCase.LOGOUT, false, true, true);
+  LOGOUT("logout", ServerMessage.BodyCase.LOGOUT, false, true, true),
+  /** {@code find_match}: an Assignment, possibly on another server (PROTOCOL.md, Placement). */
+  FIND_MATCH("find_match", ServerMessage.BodyCase.FIND_MATCH, false, true, true);
 
   private final String counterName;
   private final ServerMessage.BodyCase reply;
@@ -93,6 +95,8 @@ public enum RequestKind {
         return PING;
       case LOGOUT:
         return LOGOUT;
+      case FIND_MATCH:
+        return FIND_MATCH;
       case BODY_NOT_SET:
       default:
         return null;
