@@ -7,7 +7,7 @@
 #include "password.h"
 #include "test_database.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::accounts_test {
 namespace {
 
 constexpr UnixMillis kT0 = 1'700'000'000'000;  // a fixed "now"
@@ -460,4 +460,4 @@ TEST_P(AccountsTest, StateSurvivesReopening) {
 INSTANTIATE_TEST_SUITE_P(Backends, AccountsTest, kBackends, backend_name);
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::accounts_test

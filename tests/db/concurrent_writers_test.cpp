@@ -15,7 +15,7 @@
 #include "ricochet/db/rating.h"
 #include "store_fixture.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::concurrent_writers_test {
 namespace {
 
 constexpr int kWriters = 4;
@@ -105,4 +105,4 @@ TEST(ConcurrentWriters, ProcessesWritingResultsAtOnceLoseNoRatingUpdate) {
 }
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::concurrent_writers_test

@@ -18,7 +18,7 @@
 #include "ricochet/db/store.h"
 #include "sqlite_handle.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::crash_test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -198,4 +198,4 @@ TEST(CrashTest, KillDuringWritesLeavesOnlyWholeMatches) {
 }
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::crash_test

@@ -17,7 +17,7 @@
 #include "db_test_util.h"
 #include "test_database.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::db_worker_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -465,4 +465,4 @@ TEST_P(DbWorkerTest, PasswordThreadsRunAtTheirLowerPriority) {
 INSTANTIATE_TEST_SUITE_P(Backends, DbWorkerTest, kBackends, backend_name);
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::db_worker_test

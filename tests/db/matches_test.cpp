@@ -10,7 +10,7 @@
 #include "ricochet/db/rating.h"
 #include "store_fixture.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::matches_test {
 namespace {
 
 class MatchesTest : public StoreTest {
@@ -434,4 +434,4 @@ INSTANTIATE_TEST_SUITE_P(Backends, MatchesTest, kBackends, backend_name);
 INSTANTIATE_TEST_SUITE_P(Backends, LeaderboardTest, kBackends, backend_name);
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::matches_test

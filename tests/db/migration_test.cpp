@@ -20,7 +20,7 @@
 #include "sqlite_handle.h"
 #include "store_fixture.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::migration_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -424,4 +424,4 @@ TEST_P(Version3Test, GainsMatchUuidsAndKeepsItsRows) {
 INSTANTIATE_TEST_SUITE_P(Backends, Version3Test, kBackends, backend_name);
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::migration_test

@@ -14,7 +14,7 @@
 
 #include "store_fixture.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::placement_test {
 namespace {
 
 constexpr UnixMillis kTtlMs = 15'000;
@@ -463,4 +463,4 @@ TEST_P(PlacementTest, ProcessesRacingForTheLastSeatGetItOnce) {
 INSTANTIATE_TEST_SUITE_P(Backends, PlacementTest, kBackends, backend_name);
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::placement_test

@@ -17,7 +17,7 @@
 #include "postgres_migrations.h"
 #include "store_fixture.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::postgres_store_test {
 namespace {
 
 using PostgresStoreTest = StoreTest;
@@ -171,4 +171,4 @@ INSTANTIATE_TEST_SUITE_P(Postgres, PostgresStoreTest, ::testing::Values(Backend:
                          backend_name);
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::postgres_store_test

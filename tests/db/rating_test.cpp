@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::db {
+namespace ricochet::db::rating_test {
 namespace {
 
 TEST(Rating, EqualPlayersMoveByHalfK) {
@@ -75,4 +75,4 @@ TEST(Rating, ASoloMatchChangesNothing) {
 }
 
 }  // namespace
-}  // namespace ricochet::db
+}  // namespace ricochet::db::rating_test

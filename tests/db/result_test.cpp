@@ -7,11 +7,12 @@
 
 #include "enum_count.h"
 
-namespace ricochet::db {
+namespace ricochet::db::result_test {
 namespace {
 
 TEST(DbErrorCode, EveryCodeHasItsOwnName) {
-  test::expect_counted<DbErrorCode>(kDbErrorCodeCount, [](DbErrorCode c) { return to_string(c); });
+  ricochet::test::expect_counted<DbErrorCode>(kDbErrorCodeCount,
+                                              [](DbErrorCode c) { return to_string(c); });
   EXPECT_STREQ(to_string(DbErrorCode::Busy), "busy");
   EXPECT_STREQ(to_string(DbErrorCode::Unavailable), "unavailable");
   EXPECT_STREQ(to_string(DbErrorCode::QueueFull), "queue_full");
@@ -20,4 +21,4 @@ TEST(DbErrorCode, EveryCodeHasItsOwnName) {
 }
 
 }  // namespace
-}  // namespace ricochet::db
+}  // namespace ricochet::db::result_test

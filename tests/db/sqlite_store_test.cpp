@@ -10,7 +10,7 @@
 #include "sqlite_handle.h"
 #include "store_fixture.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::sqlite_store_test {
 namespace {
 
 using SqliteStoreTest = StoreTest;
@@ -58,4 +58,4 @@ TEST_P(SqliteStoreTest, LeaderboardQueriesWalkTheirIndexes) {
 INSTANTIATE_TEST_SUITE_P(Sqlite, SqliteStoreTest, ::testing::Values(Backend::Sqlite), backend_name);
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::sqlite_store_test

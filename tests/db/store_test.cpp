@@ -13,7 +13,7 @@
 #include "ricochet/db/rating.h"
 #include "store_fixture.h"
 
-namespace ricochet::db::test {
+namespace ricochet::db::test::store_test {
 namespace {
 
 std::string token_hash(char seed) {
@@ -285,4 +285,4 @@ TEST_P(StoreContractTest, DataSurvivesCloseAndReopen) {
 INSTANTIATE_TEST_SUITE_P(Backends, StoreContractTest, kBackends, backend_name);
 
 }  // namespace
-}  // namespace ricochet::db::test
+}  // namespace ricochet::db::test::store_test

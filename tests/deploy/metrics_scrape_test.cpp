@@ -23,7 +23,7 @@
 #include "server_process.h"
 #include "text_file.h"
 
-namespace ricochet::test {
+namespace ricochet::test::metrics_scrape_test {
 namespace {
 
 /// Series the alert rules name that another part of issue 31 is adding to the server; once the
@@ -188,4 +188,4 @@ TEST_F(MetricsScrape, EverySeriesTheAlertRulesUseIsExported) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::metrics_scrape_test

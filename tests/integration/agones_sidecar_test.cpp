@@ -28,7 +28,7 @@
 #include "run_until.h"
 #include "server_process.h"
 
-namespace ricochet::test {
+namespace ricochet::test::agones_sidecar_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -241,4 +241,4 @@ TEST(AgonesSidecar, AnInvalidPortIsAClearStartupError) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::agones_sidecar_test

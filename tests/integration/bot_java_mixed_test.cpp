@@ -29,7 +29,7 @@
 #include "ricochet/db/store.h"
 #include "server_process.h"
 
-namespace ricochet::test {
+namespace ricochet::test::bot_java_mixed_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -262,4 +262,4 @@ TEST(MixedBots, JavaAndCppBotsPlayToTheTimeLimitAndTheDatabaseHoldsTheKillsEachS
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::bot_java_mixed_test

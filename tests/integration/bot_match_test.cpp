@@ -29,7 +29,7 @@
 #include "run_until.h"
 #include "server_process.h"
 
-namespace ricochet::test {
+namespace ricochet::test::bot_match_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -761,4 +761,4 @@ TEST(BotMatch, TrustOnFirstUseWritesTheFingerprintAndRefusesAnotherLater) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::bot_match_test

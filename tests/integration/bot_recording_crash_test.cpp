@@ -21,7 +21,7 @@
 #include "ricochet/bot/fleet.h"
 #include "server_process.h"
 
-namespace ricochet::test {
+namespace ricochet::test::bot_recording_crash_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -107,4 +107,4 @@ TEST(RecordingCrash, AKilledServersRecordingReplaysToItsLastWholeChunk) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::bot_recording_crash_test

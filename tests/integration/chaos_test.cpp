@@ -33,7 +33,7 @@
 #include "run_until.h"
 #include "server_process.h"
 
-namespace ricochet::test {
+namespace ricochet::test::chaos_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -308,4 +308,4 @@ TEST(Chaos, AReadOnlyDataDirectoryIsRefusedAtStartWithAClearError) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::chaos_test

@@ -15,7 +15,7 @@
 #include "postgres_cluster.h"
 #include "server_process.h"
 
-namespace ricochet::server::test {
+namespace ricochet::server::test::fleet_placement_test {
 namespace {
 
 using ricochet::test::PostgresCluster;
@@ -135,4 +135,4 @@ TEST(FleetPlacement, FindMatchOnOneServerSeatsThePlayerOnTheOtherWithItsTicketOn
 }
 
 }  // namespace
-}  // namespace ricochet::server::test
+}  // namespace ricochet::server::test::fleet_placement_test

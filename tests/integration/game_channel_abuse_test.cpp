@@ -30,7 +30,7 @@
 #include "server.h"
 #include "temp_dir.h"
 
-namespace ricochet::test {
+namespace ricochet::test::game_channel_abuse_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -389,4 +389,4 @@ TEST(GameChannelAbuse, OneAccountMintingTokensFromThreeSessionsDoesNotBlockAVict
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::game_channel_abuse_test

@@ -14,7 +14,7 @@
 #include "server_process.h"
 #include "temp_dir.h"
 
-namespace ricochet::test {
+namespace ricochet::test::loadtest_run_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -107,4 +107,4 @@ TEST(LoadTest, BadOptionsAreRefusedWithTheReason) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::loadtest_run_test

@@ -26,7 +26,7 @@
 #include "run_until.h"
 #include "server_process.h"
 
-namespace ricochet::test {
+namespace ricochet::test::multi_server_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -368,4 +368,4 @@ TEST(MultiServer, MatchesOnTwoServersAtOnceMoveTheSameRatingsAndAThirdSeesBoth) 
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::multi_server_test

@@ -16,7 +16,7 @@
 #include "server.h"
 #include "temp_dir.h"
 
-namespace ricochet::test {
+namespace ricochet::test::seat_limits_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -167,4 +167,4 @@ TEST_F(SeatLimits, AnAccountHasOneCreatedMatchOpen) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::seat_limits_test

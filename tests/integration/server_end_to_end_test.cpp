@@ -30,7 +30,7 @@
 #include "server.h"
 #include "temp_dir.h"
 
-namespace ricochet::test {
+namespace ricochet::test::server_end_to_end_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -985,4 +985,4 @@ TEST(ServerStart, MinimumPasswordHashingIsALoudWarning) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::server_end_to_end_test

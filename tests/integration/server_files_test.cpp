@@ -11,7 +11,7 @@
 #include "server.h"
 #include "temp_dir.h"
 
-namespace ricochet::test {
+namespace ricochet::test::server_files_test {
 namespace {
 
 server::ServerConfig config_in(const std::filesystem::path& data_dir) {
@@ -57,4 +57,4 @@ TEST(ServerFiles, AnAdminTokenFileWithoutATokenStopsTheStart) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::server_files_test

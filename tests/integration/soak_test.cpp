@@ -15,7 +15,7 @@
 #include "server_process.h"
 #include "temp_dir.h"
 
-namespace ricochet::test {
+namespace ricochet::test::soak_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -102,4 +102,4 @@ TEST(Soak, TwoMinutesOfBadLinksChurnAndRotatingMatchesLeaveTheServerFlat) {
 }
 
 }  // namespace
-}  // namespace ricochet::test
+}  // namespace ricochet::test::soak_test

@@ -7,7 +7,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::bounce_test {
 namespace {
 
 constexpr Real kBounceDt = Real(1) / 240;
@@ -185,4 +185,4 @@ TEST(Bounce, ImpactSlowerThanRestitutionThresholdDoesNotBounce) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::bounce_test

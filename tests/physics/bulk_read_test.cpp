@@ -5,7 +5,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::bulk_read_test {
 namespace {
 
 BodyDef tagged(const Vec3& position, std::uint64_t user_data) {
@@ -214,4 +214,4 @@ TEST(BodyMoveEvents, ReusedSlotStartsFresh) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::bulk_read_test

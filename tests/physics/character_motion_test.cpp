@@ -10,7 +10,7 @@
 
 #include "ricochet/physics/scene_profile.h"
 
-namespace ricochet::physics {
+namespace ricochet::physics::character_motion_test {
 namespace {
 
 constexpr float kDt = 1.0f / 60;
@@ -123,4 +123,4 @@ TEST(CharacterBody, IsAFrictionlessPlayer) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics
+}  // namespace ricochet::physics::character_motion_test

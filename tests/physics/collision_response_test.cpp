@@ -8,7 +8,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::collision_response_test {
 namespace {
 
 struct HeadOn {
@@ -193,4 +193,4 @@ INSTANTIATE_TEST_SUITE_P(AllCorrections, CollisionResponseTest,
                          });
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::collision_response_test

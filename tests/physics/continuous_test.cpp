@@ -12,7 +12,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::continuous_test {
 namespace {
 
 constexpr Real kFastRadius = Real(0.025);
@@ -179,4 +179,4 @@ TEST(Continuous, FastSpheresGlancingStillCollide) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::continuous_test

@@ -6,7 +6,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::cradle_test {
 namespace {
 
 constexpr Real kRadius = Real(0.5);
@@ -129,4 +129,4 @@ INSTANTIATE_TEST_SUITE_P(AllCorrections, CradleTest, ::testing::ValuesIn(kAllCor
                          });
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::cradle_test

@@ -2,7 +2,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::determinism_test {
 namespace {
 
 #if defined(NDEBUG)
@@ -203,4 +203,4 @@ TEST(Determinism, GoldenHash) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::determinism_test

@@ -10,7 +10,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::energy_test {
 namespace {
 
 struct EnergyScene {
@@ -152,4 +152,4 @@ TEST(Energy, ZeroGravityElasticGasConservesEnergyWithinAllowance) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::energy_test

@@ -6,7 +6,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::events_test {
 namespace {
 
 struct EventLog {
@@ -219,4 +219,4 @@ TEST(Events, FilteredPairsProduceNothing) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::events_test

@@ -6,7 +6,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::extremes_degenerate_test {
 namespace {
 
 constexpr int kTwoSeconds = 120;  ///< steps at 60 Hz
@@ -447,4 +447,4 @@ TEST(ExtremeDegenerate, HugeSphereRestsAndCarriesSmallOnes) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::extremes_degenerate_test

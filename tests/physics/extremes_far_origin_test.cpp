@@ -11,7 +11,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::extremes_far_origin_test {
 namespace {
 
 constexpr int kSteps = 600;          ///< 10 s at 60 Hz
@@ -123,4 +123,4 @@ TEST(ExtremeFarOrigin, BodiesFarApartOnEveryAxisStepCleanly) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::extremes_far_origin_test

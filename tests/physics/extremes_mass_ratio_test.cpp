@@ -15,7 +15,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::extremes_mass_ratio_test {
 namespace {
 
 constexpr Real kRadius = Real(0.5);
@@ -233,4 +233,4 @@ INSTANTIATE_TEST_SUITE_P(ExtremeMassRatio, MassRatioStack, ::testing::ValuesIn(a
                          });
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::extremes_mass_ratio_test

@@ -13,7 +13,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::extremes_speed_test {
 namespace {
 
 /// A thin static target: the face is the rectangle |u|, |v| < half_size around center, its
@@ -277,4 +277,4 @@ TEST(ExtremeSpeed, FastSpheresHeadOnNeverPassThroughEachOther) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::extremes_speed_test

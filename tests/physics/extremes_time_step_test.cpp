@@ -6,7 +6,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::extremes_time_step_test {
 namespace {
 
 constexpr Real kTimeSteps[] = {Real(1) / 1000, Real(1) / 240, Real(1) / 60,
@@ -210,4 +210,4 @@ TEST(ExtremeTimeStep, PyramidStaysInsideAndNeverGainsEnergy) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::extremes_time_step_test

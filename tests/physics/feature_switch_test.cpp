@@ -8,7 +8,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::feature_switch_test {
 namespace {
 
 constexpr Real kR = Real(0.5);   ///< m, ball radius
@@ -265,4 +265,4 @@ TEST(FeatureSwitch, WithoutRestitutionABallLandsLikeOneWithNone) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::feature_switch_test

@@ -5,7 +5,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::force_field_test {
 namespace {
 
 constexpr Real kPi = std::numbers::pi_v<Real>;
@@ -218,4 +218,4 @@ TEST(ForceField, SaveRestoreCarriesFieldsBitExactly) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::force_field_test

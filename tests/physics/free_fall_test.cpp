@@ -9,7 +9,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::free_fall_test {
 namespace {
 
 struct FallCase {
@@ -141,4 +141,4 @@ TEST(FreeFall, SetGravityTakesEffectOnTheNextStep) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::free_fall_test

@@ -8,7 +8,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::friction_rolling_test {
 namespace {
 
 constexpr Real kRadius = Real(0.5);
@@ -165,4 +165,4 @@ TEST(Friction, LockedRotationSlidesAndStops) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::friction_rolling_test

@@ -7,7 +7,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::invalid_input_test {
 namespace {
 
 /// Lower-case, spaces and dots as underscores: "Relax iterations" matches "relax_iterations".
@@ -411,4 +411,4 @@ TEST(Capacity, DestroyingFreesCapacity) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::invalid_input_test

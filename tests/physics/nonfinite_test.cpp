@@ -4,7 +4,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::nonfinite_test {
 namespace {
 
 struct Crowd {
@@ -121,4 +121,4 @@ TEST(NonFinite, WorldKeepsSteppingAndHashingAfterAFreeze) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::nonfinite_test

@@ -5,7 +5,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::projectile_test {
 namespace {
 
 ProjectileDef bullet(const Vec3& position, const Vec3& velocity, Real radius = Real(0.01)) {
@@ -239,4 +239,4 @@ TEST(Projectile, OneThatLeavesTheFiniteRangeIsRemoved) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::projectile_test

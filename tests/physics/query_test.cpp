@@ -9,7 +9,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::query_test {
 namespace {
 
 constexpr double kAmbiguous = 1e-3;  ///< m
@@ -320,4 +320,4 @@ TEST(LagCompensation, InvalidProxiesAreSkipped) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::query_test

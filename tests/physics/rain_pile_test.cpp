@@ -7,7 +7,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::rain_pile_test {
 namespace {
 
 // The bench's scene (tools/bench/rain_scene.h) with 3 × 3 columns of 10 spheres: r = 0.5 m,
@@ -78,4 +78,4 @@ TEST(RainPile, OverlapsStayNearTheSlopWhileTheRainLands) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::rain_pile_test

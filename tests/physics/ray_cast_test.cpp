@@ -11,7 +11,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::ray_cast_test {
 namespace {
 
 constexpr double kRayTol = 1e-5;
@@ -394,4 +394,4 @@ TEST(OverlapSphere, FindsExactlyTheOverlappingObjects) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::ray_cast_test

@@ -4,7 +4,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::resting_contact_test {
 namespace {
 
 struct RestCase {
@@ -131,4 +131,4 @@ TEST(RestingContact, FourLayerPyramidInCornerHolds) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::resting_contact_test

@@ -3,7 +3,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::save_restore_test {
 namespace {
 
 /// A box of planes plus a static box and a mesh ramp, spheres falling into it; sleeping on.
@@ -179,4 +179,4 @@ TEST(SaveRestore, GarbageIsRejectedAndLeavesTheWorldUnchanged) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::save_restore_test

@@ -3,7 +3,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::sleep_test {
 namespace {
 
 WorldDef sleepy_def() {
@@ -174,4 +174,4 @@ TEST(Sleep, MovingBodyDoesNotSleep) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::sleep_test

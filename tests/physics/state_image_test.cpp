@@ -10,7 +10,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::state_image_test {
 namespace {
 
 constexpr std::size_t kReal = sizeof(Real);
@@ -476,4 +476,4 @@ TEST(StateImage, ADynamicImageIsSmallAndRewindsExactly) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::state_image_test

@@ -4,7 +4,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::static_shapes_test {
 namespace {
 
 struct RestResult {
@@ -210,4 +210,4 @@ TEST(StaticShapes, SphereRollsOffBoxEdgeAndFalls) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::static_shapes_test

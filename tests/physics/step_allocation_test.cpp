@@ -71,7 +71,7 @@ void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
   std::free(p);
 }
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::step_allocation_test {
 namespace {
 
 /// Allocations made by `steps` steps of `world`.
@@ -159,4 +159,4 @@ TEST(StepAllocation, TheCounterSeesAllocations) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::step_allocation_test

@@ -3,7 +3,7 @@
 
 #include "test_util.h"
 
-namespace ricochet::physics::test {
+namespace ricochet::physics::test::world_api_test {
 namespace {
 
 TEST(WorldApi, EmptyWorld) {
@@ -245,4 +245,4 @@ TEST(WorldApi, ProfileCountsBodiesAndContacts) {
 }
 
 }  // namespace
-}  // namespace ricochet::physics::test
+}  // namespace ricochet::physics::test::world_api_test

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::proto {
+namespace ricochet::proto::address_test {
 namespace {
 
 Address ipv6(std::array<std::uint8_t, 16> ip, std::uint16_t port) {
@@ -44,4 +44,4 @@ TEST(HostKey, AnIpv4AndAnIpv6KeyWithTheSameBytesDiffer) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::address_test

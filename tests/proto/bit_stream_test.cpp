@@ -4,7 +4,7 @@
 
 #include <random>
 
-namespace ricochet::proto {
+namespace ricochet::proto::bit_stream_test {
 namespace {
 
 TEST(BitStream, WritesMostSignificantBitFirstAndPadsWithZeros) {
@@ -207,4 +207,4 @@ TEST(BitStream, BitsForCount) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::bit_stream_test

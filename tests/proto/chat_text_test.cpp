@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace ricochet::proto {
+namespace ricochet::proto::chat_text_test {
 namespace {
 
 std::optional<ChatTextProblem> problem_of(std::string_view text) {
@@ -72,4 +72,4 @@ TEST(ChatText, MalformedUtf8IsRefused) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::chat_text_test

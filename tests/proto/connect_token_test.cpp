@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-namespace ricochet::proto {
+namespace ricochet::proto::connect_token_test {
 namespace {
 
 const Key kTokenKey = [] {
@@ -108,4 +108,4 @@ TEST(ConnectTokenPlaintext, RoundTripsAndRefusesBadTimeoutsAndLengths) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::connect_token_test

@@ -14,7 +14,7 @@
 
 #include "control_requests.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::control_client_test {
 namespace {
 
 constexpr TimeUs kSecond = kMicrosPerSecond;
@@ -605,4 +605,4 @@ TEST(ControlClient, BytesSplitAtEveryBoundaryGiveTheSameEvents) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::control_client_test

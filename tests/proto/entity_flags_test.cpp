@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::proto {
+namespace ricochet::proto::entity_flags_test {
 namespace {
 
 TEST(EntityFlags, TheKindRoundTripsBesideTheStateBits) {
@@ -32,4 +32,4 @@ TEST(EntityFlags, TheUnassignedKindIsNone) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::entity_flags_test

@@ -8,10 +8,10 @@
 #include "ricochet/proto/packet.h"
 #include "ricochet/proto/transport_counters.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::enum_count_test {
 namespace {
 
-using test::expect_counted;
+using ricochet::test::expect_counted;
 
 TEST(EnumCountTest, TransportCounters) {
   expect_counted<DropReason>(kDropReasonCount, [](DropReason r) { return name(r); });
@@ -35,4 +35,4 @@ TEST(EnumCountTest, ControlChannel) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::enum_count_test

@@ -12,7 +12,7 @@
 
 #include "ricochet/proto/control_states.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::frame_test {
 namespace {
 
 wire::ClientMessage login(std::uint32_t request_id, const std::string& username) {
@@ -237,4 +237,4 @@ TEST(ControlStates, KindFollowsTheBody) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::frame_test

@@ -3,7 +3,7 @@
 
 #include "transport_fixture.h"
 
-namespace ricochet::proto::test {
+namespace ricochet::proto::test::game_client_test {
 namespace {
 
 const Address kAlice = Address::ipv4(192, 0, 2, 10, 5000);
@@ -93,4 +93,4 @@ TEST_F(TransportTest, DisconnectBeforeConnectingSendsNothing) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto::test
+}  // namespace ricochet::proto::test::game_client_test

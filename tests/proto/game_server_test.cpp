@@ -3,7 +3,7 @@
 
 #include "transport_fixture.h"
 
-namespace ricochet::proto::test {
+namespace ricochet::proto::test::game_server_test {
 namespace {
 
 const Address kAlice = Address::ipv4(192, 0, 2, 10, 5000);
@@ -270,4 +270,4 @@ TEST(GameServerConfig, ValidateNamesTheFieldTheRangeAndWhatCame) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto::test
+}  // namespace ricochet::proto::test::game_server_test

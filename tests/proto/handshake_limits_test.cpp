@@ -7,7 +7,7 @@
 #include "ricochet/proto/connect_token.h"
 #include "transport_fixture.h"
 
-namespace ricochet::proto::test {
+namespace ricochet::proto::test::handshake_limits_test {
 namespace {
 
 const Address kAlice = Address::ipv4(192, 0, 2, 10, 5000);
@@ -170,4 +170,4 @@ TEST_F(TransportTest, PacketsSpoofedWithAClientsAddressDoNotSpendItsBudget) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto::test
+}  // namespace ricochet::proto::test::handshake_limits_test

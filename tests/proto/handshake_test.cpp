@@ -5,7 +5,7 @@
 #include "ricochet/proto/crypto.h"
 #include "transport_fixture.h"
 
-namespace ricochet::proto::test {
+namespace ricochet::proto::test::handshake_test {
 namespace {
 
 const Address kAlice = Address::ipv4(192, 0, 2, 10, 5000);
@@ -432,4 +432,4 @@ TEST_F(TransportTest, TheClientDropsStrangersForgeriesAndPacketsOutOfState) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto::test
+}  // namespace ricochet::proto::test::handshake_test

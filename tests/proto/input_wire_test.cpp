@@ -8,7 +8,7 @@
 #include <cmath>
 #include <limits>
 
-namespace ricochet::proto {
+namespace ricochet::proto::input_wire_test {
 namespace {
 
 TEST(InputWire, MoveStepsAreAFractionOfFullInput) {
@@ -69,4 +69,4 @@ TEST(InputWire, ButtonsAreTheLowThreeBits) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::input_wire_test

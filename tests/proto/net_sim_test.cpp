@@ -8,7 +8,7 @@
 #include <set>
 #include <string>
 
-namespace ricochet::proto::sim {
+namespace ricochet::proto::sim::net_sim_test {
 namespace {
 
 constexpr TimeUs kMs = kMicrosPerMilli;
@@ -125,4 +125,4 @@ TEST(NetSim, ACutLinkTimesOutBothEnds) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto::sim
+}  // namespace ricochet::proto::sim::net_sim_test

@@ -7,7 +7,7 @@
 
 #include "ricochet/proto/connect_token.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::packet_test {
 namespace {
 
 const Key kKey = [] {
@@ -185,4 +185,4 @@ TEST(Names, EveryReasonStateAndTypeHasItsOwnMetricLabel) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::packet_test

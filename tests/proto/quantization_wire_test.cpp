@@ -6,7 +6,7 @@
 
 #include "ricochet/proto/quantize.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::quantization_wire_test {
 namespace {
 
 QuantizationSpec arena_spec() {
@@ -63,4 +63,4 @@ TEST(QuantizationWire, OutOfRangeFieldsAreRefusedNamingTheField) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::quantization_wire_test

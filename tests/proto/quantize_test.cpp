@@ -6,7 +6,7 @@
 #include <limits>
 #include <random>
 
-namespace ricochet::proto {
+namespace ricochet::proto::quantize_test {
 namespace {
 
 QuantizationSpec arena_spec() {
@@ -160,4 +160,4 @@ TEST(Quantize, QuantizingADequantizedPositionAndVelocityGivesTheSameIntegers) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::quantize_test

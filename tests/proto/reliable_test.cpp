@@ -2,7 +2,7 @@
 
 #include "ricochet/proto/reliable_channel.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::reliable_test {
 namespace {
 
 std::vector<std::uint8_t> bytes(std::uint8_t value, std::size_t size = 3) {
@@ -108,4 +108,4 @@ TEST(ReliableChannel, IdsWrapAround16Bits) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::reliable_test

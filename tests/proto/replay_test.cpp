@@ -6,7 +6,7 @@
 #include "ricochet/proto/ack_window.h"
 #include "ricochet/proto/replay_window.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::replay_test {
 namespace {
 
 TEST(ReplayWindow, AcceptsEachSequenceOnceInAnyOrderWithin256) {
@@ -168,4 +168,4 @@ TEST(SentPacketWindow, AckOfASequenceNeverSentIsIgnored) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::replay_test

@@ -15,7 +15,7 @@
 #include "ricochet/proto/snapshot_codec.h"
 #include "snapshot_test_world.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::snapshot_cache_test {
 namespace {
 
 struct Client {
@@ -264,4 +264,4 @@ TEST(SnapshotEncodeCache,
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::snapshot_cache_test

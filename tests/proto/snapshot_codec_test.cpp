@@ -11,7 +11,7 @@
 
 #include "snapshot_test_world.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::snapshot_codec_test {
 namespace {
 
 using test::random_world;
@@ -377,4 +377,4 @@ TEST(SnapshotCodec, EntitiesJoinAndLeave) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::snapshot_codec_test

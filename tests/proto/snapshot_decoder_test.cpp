@@ -10,7 +10,7 @@
 #include "ricochet/proto/snapshot_codec.h"
 #include "snapshot_test_world.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::snapshot_decoder_test {
 namespace {
 
 using test::test_spec;
@@ -301,4 +301,4 @@ TEST(SnapshotRejectionNames, EveryReasonHasAName) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::snapshot_decoder_test

@@ -24,7 +24,7 @@
 #include "ricochet/proto/snapshot_codec.h"
 #include "snapshot_test_world.h"
 
-namespace ricochet::proto {
+namespace ricochet::proto::snapshot_golden_test {
 namespace {
 
 class Fnv1a {
@@ -466,4 +466,4 @@ TEST(SnapshotGolden, EncoderOutputIsUnchangedBitForBit) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::snapshot_golden_test

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::proto {
+namespace ricochet::proto::token_bucket_test {
 namespace {
 
 constexpr TimeUs kStart = 5 * kMicrosPerSecond;
@@ -67,4 +67,4 @@ TEST(TokenBucket, AFractionalRateAccumulatesAcrossCalls) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::token_bucket_test

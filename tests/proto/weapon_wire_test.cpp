@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::proto {
+namespace ricochet::proto::weapon_wire_test {
 namespace {
 
 TEST(WeaponWire, SlotNSelectsWeaponN) {
@@ -32,4 +32,4 @@ TEST(WeaponWire, AmmoIsIndexedByWeaponMinusOne) {
 }
 
 }  // namespace
-}  // namespace ricochet::proto
+}  // namespace ricochet::proto::weapon_wire_test

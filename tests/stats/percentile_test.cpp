@@ -5,7 +5,7 @@
 #include <numeric>
 #include <vector>
 
-namespace ricochet::stats {
+namespace ricochet::stats::percentile_test {
 namespace {
 
 /// 1, 2, ..., n: the sample of rank r is r.
@@ -81,4 +81,4 @@ TEST(PercentileTest, WholePercentsOfLargeCountsAreExact) {
 }
 
 }  // namespace
-}  // namespace ricochet::stats
+}  // namespace ricochet::stats::percentile_test

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-namespace ricochet::stats {
+namespace ricochet::stats::summary_test {
 namespace {
 
 TEST(SummaryTest, EmptyIsAllZeros) {
@@ -39,4 +39,4 @@ TEST(SummaryTest, OneOutlierInAHundredShowsInTheMaxNotTheP99) {
 }
 
 }  // namespace
-}  // namespace ricochet::stats
+}  // namespace ricochet::stats::summary_test

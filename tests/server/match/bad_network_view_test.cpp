@@ -25,7 +25,7 @@
 #include "ricochet/stats/percentile.h"
 #include "ricochet/wire/game.pb.h"
 
-namespace ricochet::server {
+namespace ricochet::server::bad_network_view_test {
 namespace {
 
 using proto::TimeUs;
@@ -239,4 +239,4 @@ TEST_F(BadNetworkView, TwentyPercentLossAt200msPlusMinus50StaysWithinTheStatedBo
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::bad_network_view_test

@@ -9,7 +9,7 @@
 
 #include "ricochet/server/weapons.h"
 
-namespace ricochet::server {
+namespace ricochet::server::collision_world_test {
 namespace {
 
 Map arena() {
@@ -66,4 +66,4 @@ TEST(CollisionWorld, ATooLargeWorldIsLeftOut) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::collision_world_test

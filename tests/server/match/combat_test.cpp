@@ -13,7 +13,7 @@
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/server/movement.h"
 
-namespace ricochet::server {
+namespace ricochet::server::combat_test {
 namespace {
 
 using physics::Real;
@@ -426,4 +426,4 @@ TEST(InputChecks, InputRateLimit) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::combat_test

@@ -8,7 +8,7 @@
 #include <limits>
 #include <numbers>
 
-namespace ricochet::server {
+namespace ricochet::server::input_buffer_test {
 namespace {
 
 wire::Input wire_input(std::uint32_t sequence) {
@@ -223,4 +223,4 @@ TEST(InputDrop, EveryReasonHasAName) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::input_buffer_test

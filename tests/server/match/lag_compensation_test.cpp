@@ -10,7 +10,7 @@
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/server/movement.h"
 
-namespace ricochet::server {
+namespace ricochet::server::lag_compensation_test {
 namespace {
 
 using physics::Real;
@@ -286,4 +286,4 @@ TEST(LagCompensationConfigTest, ValidateNamesTheFieldAndTheRange) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::lag_compensation_test

@@ -11,7 +11,7 @@
 
 #include "ricochet/physics/scene_profile.h"
 
-namespace ricochet::server {
+namespace ricochet::server::map_test {
 namespace {
 
 using physics::Vec3;
@@ -590,4 +590,4 @@ TEST(MapFiles, MissingOrExtraFilesAreRefused) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::map_test

@@ -12,7 +12,7 @@
 #include "ricochet/proto/entity_flags.h"
 #include "ricochet/server/match.h"
 
-namespace ricochet::server {
+namespace ricochet::server::match_game_test {
 namespace {
 
 using proto::kMicrosPerSecond;
@@ -591,4 +591,4 @@ TEST_F(GameFixture, TheSameScriptGivesTheSameHash) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::match_game_test

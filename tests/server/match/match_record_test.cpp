@@ -14,7 +14,7 @@
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
 
-namespace ricochet::server {
+namespace ricochet::server::match_record_test {
 namespace {
 
 using proto::kMicrosPerSecond;
@@ -151,4 +151,4 @@ TEST_F(MatchRecordFixture, APlayerWhoLeavesKeepsItsScoreOnlyWhenItCounts) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::match_record_test

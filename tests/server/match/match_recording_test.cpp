@@ -11,7 +11,7 @@
 #include "ricochet/server/match_record.h"
 #include "ricochet/server/recording.h"
 
-namespace ricochet::server {
+namespace ricochet::server::match_recording_test {
 namespace {
 
 using proto::kMicrosPerSecond;
@@ -209,4 +209,4 @@ TEST(MatchConfigCodec, RoundTripsExactlyAndRefusesBadText) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::match_recording_test

@@ -12,7 +12,7 @@
 
 #include "ricochet/proto/entity_flags.h"
 
-namespace ricochet::server {
+namespace ricochet::server::match_test {
 namespace {
 
 using proto::kMicrosPerSecond;
@@ -661,4 +661,4 @@ TEST(MatchSnapshotRate, SendsAtTheSnapshotRate) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::match_test

@@ -8,7 +8,7 @@
 
 #include "ricochet/physics/scene_profile.h"
 
-namespace ricochet::server {
+namespace ricochet::server::movement_test {
 namespace {
 
 using physics::Real;
@@ -201,4 +201,4 @@ TEST(MovementConfig, ValidatesEveryField) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::movement_test

@@ -15,7 +15,7 @@
 
 #include "recording_format.h"
 
-namespace ricochet::server {
+namespace ricochet::server::recording_test {
 namespace {
 
 namespace rf = recording_format;
@@ -630,4 +630,4 @@ TEST(RecordingTest, ARecordingOfManyBlocksRoundTripsAndItsSizeIsCountedAsItGrows
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::recording_test

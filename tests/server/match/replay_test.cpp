@@ -11,7 +11,7 @@
 #include <variant>
 #include <vector>
 
-namespace ricochet::server {
+namespace ricochet::server::replay_test {
 namespace {
 
 class MixingSimulation final : public ReplaySimulation {
@@ -124,4 +124,4 @@ TEST(ReplayTest, TicksTheRecordingSkipsAreSteppedEmpty) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::replay_test

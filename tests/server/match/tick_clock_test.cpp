@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::server {
+namespace ricochet::server::tick_clock_test {
 namespace {
 
 using proto::kMicrosPerSecond;
@@ -87,4 +87,4 @@ TEST(TickClock, ATimeGoingBackRunsNothing) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::tick_clock_test

@@ -12,7 +12,7 @@
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/server/movement.h"
 
-namespace ricochet::server {
+namespace ricochet::server::weapons_test {
 namespace {
 
 using physics::Real;
@@ -308,4 +308,4 @@ TEST(Grenade, LaunchOriginClearsShooterOrIsRefusedAgainstWall) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::weapons_test

@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-namespace ricochet::server {
+namespace ricochet::server::admin_http_test {
 namespace {
 
 namespace asio = boost::asio;
@@ -432,4 +432,4 @@ TEST_F(AdminHttpTest, StartReportsABindError) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::admin_http_test

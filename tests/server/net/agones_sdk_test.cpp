@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace ricochet::server {
+namespace ricochet::server::agones_sdk_test {
 namespace {
 
 constexpr proto::TimeUs kMs = proto::kMicrosPerMilli;
@@ -278,4 +278,4 @@ TEST(AgonesSdk, SeveralMatchesJoinTheirMapsAndAddTheirSeats) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::agones_sdk_test

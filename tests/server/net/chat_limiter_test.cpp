@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-namespace ricochet::server {
+namespace ricochet::server::chat_limiter_test {
 namespace {
 
 constexpr proto::TimeUs kSecond = proto::kMicrosPerSecond;
@@ -71,4 +71,4 @@ TEST(ChatLimiter, RefusesLimitsOutOfRange) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::chat_limiter_test

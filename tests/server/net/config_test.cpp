@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace ricochet::server {
+namespace ricochet::server::config_test {
 namespace {
 
 /// The repository's root (tests/server/CMakeLists.txt defines it).
@@ -515,4 +515,4 @@ TEST(ServerConfig, SampleFileDocumentsEveryKeyWithItsDefault) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::config_test

@@ -11,7 +11,7 @@
 #include "control_test_client.h"
 #include "episode_log.h"
 
-namespace ricochet::server::test {
+namespace ricochet::server::test::control_accounts_test {
 namespace {
 
 TEST(ControlAccounts, NegotiatesTls13AndPresentsThePinnedCertificate) {
@@ -267,4 +267,4 @@ TEST(ControlAccounts, AccountRefusalsAreLoggedOncePerEpisodeAndAddress) {
 }
 
 }  // namespace
-}  // namespace ricochet::server::test
+}  // namespace ricochet::server::test::control_accounts_test

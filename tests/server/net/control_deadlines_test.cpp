@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::server {
+namespace ricochet::server::control_deadlines_test {
 namespace {
 
 constexpr proto::TimeUs kMs = proto::kMicrosPerMilli;
@@ -104,4 +104,4 @@ TEST(ControlDeadlines, TheLongestTimeoutsDoNotOverflow) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::control_deadlines_test

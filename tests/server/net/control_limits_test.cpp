@@ -11,7 +11,7 @@
 
 #include "control_test_client.h"
 
-namespace ricochet::server::test {
+namespace ricochet::server::test::control_limits_test {
 namespace {
 
 constexpr proto::TimeUs kMs = proto::kMicrosPerMilli;
@@ -411,4 +411,4 @@ TEST(ControlLimits, CountersFollowTheConnections) {
 }
 
 }  // namespace
-}  // namespace ricochet::server::test
+}  // namespace ricochet::server::test::control_limits_test

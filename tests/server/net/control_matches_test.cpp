@@ -12,7 +12,7 @@
 #include "control_test_client.h"
 #include "ricochet/proto/chat_text.h"
 
-namespace ricochet::server::test {
+namespace ricochet::server::test::control_matches_test {
 namespace {
 
 wire::ClientMessage create(const std::string& name, std::uint32_t max_players) {
@@ -280,9 +280,9 @@ TEST(ControlMatches, AResumeOfAnotherSignInDoesNotTakeTheSeatOver) {
 }
 
 }  // namespace
-}  // namespace ricochet::server::test
+}  // namespace ricochet::server::test::control_matches_test
 
-namespace ricochet::server::test {
+namespace ricochet::server::test::control_matches_test {
 namespace {
 
 wire::ClientMessage find(const std::string& mode) {
@@ -384,4 +384,4 @@ TEST(ControlPlacement, WithPlacementOffFindMatchAndTicketsAreRefused) {
 }
 
 }  // namespace
-}  // namespace ricochet::server::test
+}  // namespace ricochet::server::test::control_matches_test

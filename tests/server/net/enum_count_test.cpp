@@ -10,10 +10,10 @@
 #include "ricochet/server/match.h"
 #include "ricochet/server/weapons.h"
 
-namespace ricochet::server {
+namespace ricochet::server::enum_count_test {
 namespace {
 
-using test::expect_counted;
+using ricochet::test::expect_counted;
 
 TEST(EnumCountTest, Match) {
   expect_counted<JoinRefusal>(kJoinRefusalCount, [](JoinRefusal r) { return name(r); });
@@ -31,4 +31,4 @@ TEST(EnumCountTest, Network) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::enum_count_test

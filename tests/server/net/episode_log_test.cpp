@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <sstream>
 
-namespace ricochet::server {
+namespace ricochet::server::episode_log_test {
 namespace {
 
 constexpr proto::TimeUs kSecond = proto::kMicrosPerSecond;
@@ -65,4 +65,4 @@ TEST_F(EpisodeLogTest, ManyKeysShareOneEpisodeSoMemoryStaysBounded) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::episode_log_test

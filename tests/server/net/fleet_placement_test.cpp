@@ -7,7 +7,7 @@
 
 #include "enum_count.h"
 
-namespace ricochet::server {
+namespace ricochet::server::fleet_placement_test {
 namespace {
 
 constexpr proto::TimeUs kSecond = proto::kMicrosPerSecond;
@@ -49,9 +49,10 @@ TEST(Placement, ServerIdsAreDrawnAndFitTheDirectory) {
 }
 
 TEST(Placement, ResultAndOutcomeEnumsAreCounted) {
-  test::expect_counted<TicketResult>(kTicketResultCount, [](auto v) { return name(v); });
-  test::expect_counted<HeartbeatOutcome>(kHeartbeatOutcomeCount, [](auto v) { return name(v); });
+  ricochet::test::expect_counted<TicketResult>(kTicketResultCount, [](auto v) { return name(v); });
+  ricochet::test::expect_counted<HeartbeatOutcome>(kHeartbeatOutcomeCount,
+                                                   [](auto v) { return name(v); });
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::fleet_placement_test

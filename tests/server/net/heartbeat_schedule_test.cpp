@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::server {
+namespace ricochet::server::heartbeat_schedule_test {
 namespace {
 
 constexpr proto::TimeUs kSecond = proto::kMicrosPerSecond;
@@ -71,4 +71,4 @@ TEST(HeartbeatSchedule, StoppedIsFinal) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::heartbeat_schedule_test

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-namespace ricochet::server {
+namespace ricochet::server::logging_test {
 namespace {
 
 /// A logger writing into a string, as the server's would to stderr.
@@ -90,4 +90,4 @@ TEST(Logging, SetupMakesTheDefaultLogger) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::logging_test

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::server {
+namespace ricochet::server::match_defaults_test {
 namespace {
 
 TEST(MatchDefaults, EveryMatchesKeyLandsOnItsMatchConfigField) {
@@ -80,4 +80,4 @@ TEST(MatchDefaults, TheServersDefaultsAndTheLimitsOfEveryRangeMakeAValidMatch) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::match_defaults_test

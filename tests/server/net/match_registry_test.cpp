@@ -20,7 +20,7 @@
 #include "game_channel.h"
 #include "ricochet/proto/connect_token.h"
 
-namespace ricochet::server {
+namespace ricochet::server::match_registry_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -527,4 +527,4 @@ TEST_F(LimitedRegistryTest, ACreatedMatchClosesWhenEmptyTooLongAndTheRotationSta
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::match_registry_test

@@ -8,7 +8,7 @@
 #include <thread>
 #include <vector>
 
-namespace ricochet::server {
+namespace ricochet::server::metrics_test {
 namespace {
 
 TEST(Metrics, EmptyRegistryRendersNothing) {
@@ -248,4 +248,4 @@ TEST(Metrics, UpdatesFromManyThreadsAreAllCounted) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::metrics_test

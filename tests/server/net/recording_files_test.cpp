@@ -15,7 +15,7 @@
 
 #include "temp_dir.h"
 
-namespace ricochet::server {
+namespace ricochet::server::recording_files_test {
 namespace {
 
 std::vector<std::uint8_t> read_all(const std::filesystem::path& path) {
@@ -38,7 +38,7 @@ TEST(RecordingFiles, Names) {
 }
 
 TEST(RecordingFiles, AFileGrowsAsThePartAndIsRenamedWholeWhenItEnds) {
-  const test::TempDir dir("ricochet-recordings");
+  const ricochet::test::TempDir dir("ricochet-recordings");
   const auto recordings = dir.path() / "a" / "recordings";
   RecordingFiles files(recordings, kRoom);
   EXPECT_TRUE(files.has_room());
@@ -68,7 +68,7 @@ TEST(RecordingFiles, AFileGrowsAsThePartAndIsRenamedWholeWhenItEnds) {
 }
 
 TEST(RecordingFiles, AFileWrittenInOnePieceAtTheEndIsTheSame) {
-  const test::TempDir dir("ricochet-recordings");
+  const ricochet::test::TempDir dir("ricochet-recordings");
   RecordingFiles files(dir.path(), kRoom);
   files.finish(RecordingFiles::part_name(4, 10), "match-4-20.rcr",
                std::vector<std::uint8_t>(1 << 20, 4));
@@ -78,7 +78,7 @@ TEST(RecordingFiles, AFileWrittenInOnePieceAtTheEndIsTheSame) {
 }
 
 TEST(RecordingFiles, APartLeftByACrashIsKeptUnderItsInterruptedNameAtStart) {
-  const test::TempDir dir("ricochet-recordings");
+  const ricochet::test::TempDir dir("ricochet-recordings");
   std::ofstream(dir.path() / "match-5-100.rcr.part") << "cut";
   std::ofstream(dir.path() / "match-6-200.rcr") << "whole";
   std::ofstream(dir.path() / "notes.txt") << "not ours";
@@ -94,7 +94,7 @@ TEST(RecordingFiles, APartLeftByACrashIsKeptUnderItsInterruptedNameAtStart) {
 }
 
 TEST(RecordingFiles, AnUnusableDirectoryIsCountedNotFatal) {
-  const test::TempDir dir("ricochet-recordings");
+  const ricochet::test::TempDir dir("ricochet-recordings");
   std::ofstream(dir.path() / "taken") << "a file where the directory should be";
   RecordingFiles files(dir.path() / "taken", kRoom);
   const std::string part = RecordingFiles::part_name(1, 1);
@@ -107,4 +107,4 @@ TEST(RecordingFiles, AnUnusableDirectoryIsCountedNotFatal) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::recording_files_test

@@ -16,7 +16,7 @@
 
 #include "temp_dir.h"
 
-namespace ricochet::server {
+namespace ricochet::server::results_outbox_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -96,7 +96,7 @@ std::vector<std::string> names_in(const fs::path& dir) {
 }
 
 TEST(ResultsOutbox, AKeptRecordReadsBackWholeInTheNextProcessAndARemovedOneIsGone) {
-  test::TempDir dir;
+  ricochet::test::TempDir dir;
   const fs::path outbox = dir.path() / "outbox";
   {
     ResultsOutbox first(outbox);
@@ -122,7 +122,7 @@ TEST(ResultsOutbox, AKeptRecordReadsBackWholeInTheNextProcessAndARemovedOneIsGon
 }
 
 TEST(ResultsOutbox, AKeepCutShortByACrashIsNeverDelivered) {
-  test::TempDir dir;
+  ricochet::test::TempDir dir;
   ResultsOutbox outbox(dir.path());
   const std::vector<std::uint8_t> bytes = encode_outbox_record(record(kUuidA));
   write(dir.path() / (std::string(kUuidA) + ".rec.tmp"), bytes);
@@ -132,7 +132,7 @@ TEST(ResultsOutbox, AKeepCutShortByACrashIsNeverDelivered) {
 }
 
 TEST(ResultsOutbox, FilesThatAreNotRecordsAreMovedAsideWithTheirReasonAndTheRestDelivered) {
-  test::TempDir dir;
+  ricochet::test::TempDir dir;
   ResultsOutbox outbox(dir.path());
   const std::vector<std::uint8_t> good = encode_outbox_record(record(kUuidA));
   ASSERT_TRUE(outbox.keep(record(kUuidA)));
@@ -193,4 +193,4 @@ TEST(ResultsOutboxFormat, EachWayOfBeingBrokenIsRefusedWithWhatIsWrong) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::results_outbox_test

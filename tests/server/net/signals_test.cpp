@@ -6,7 +6,7 @@
 #include <chrono>
 #include <csignal>
 
-namespace ricochet::server {
+namespace ricochet::server::signals_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -58,4 +58,4 @@ TEST(ShutdownSignalsDeathTest, GracePeriodRunningOutExitsWithOne) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::signals_test

@@ -6,7 +6,7 @@
 
 #include <set>
 
-namespace ricochet::server {
+namespace ricochet::server::tick_wake_test {
 namespace {
 
 using proto::TimeUs;
@@ -51,4 +51,4 @@ TEST(TickWake, MatchesDueWithinOneGrainShareOneWake) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::tick_wake_test

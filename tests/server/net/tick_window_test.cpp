@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::server {
+namespace ricochet::server::tick_window_test {
 namespace {
 
 TEST(TickWindow, EmptyIsZeros) {
@@ -33,4 +33,4 @@ TEST(TickWindow, KeepsOnlyTheLastSamples) {
 }
 
 }  // namespace
-}  // namespace ricochet::server
+}  // namespace ricochet::server::tick_window_test

@@ -12,7 +12,7 @@
 
 #include "control_test_client.h"
 
-namespace ricochet::server::test {
+namespace ricochet::server::test::tls_identity_test {
 namespace {
 
 std::string slurp(const std::filesystem::path& path) {
@@ -131,4 +131,4 @@ TEST(TlsIdentity, ServerConfigIsValidated) {
 }
 
 }  // namespace
-}  // namespace ricochet::server::test
+}  // namespace ricochet::server::test::tls_identity_test

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::bot {
+namespace ricochet::bot::bot_metrics_test {
 namespace {
 
 TEST(SnapshotGapCounter, CountsTheSnapshotsMissingBetweenTwoAtTheSnapshotInterval) {
@@ -45,4 +45,4 @@ TEST(BotMetrics, RatesArePerSecondOfConnectionAndTheJsonIsOneLine) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::bot_metrics_test

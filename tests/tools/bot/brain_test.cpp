@@ -10,7 +10,7 @@
 
 #include "ricochet/proto/input_wire.h"
 
-namespace ricochet::bot {
+namespace ricochet::bot::brain_test {
 namespace {
 
 /// The shipped weapons as a join reply gives them.
@@ -197,4 +197,4 @@ TEST(Brain, AGrenadeIsLobbedByTheReplysGravity) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::brain_test

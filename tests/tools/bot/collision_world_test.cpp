@@ -10,7 +10,7 @@
 
 #include "collision_world_fixture.h"
 
-namespace ricochet::bot {
+namespace ricochet::bot::collision_world_test {
 namespace {
 
 std::string refusal(const wire::CollisionWorld& world) {
@@ -90,4 +90,4 @@ TEST(CollisionWorldCheck, RefusesTooManyTrianglesInAll) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::collision_world_test

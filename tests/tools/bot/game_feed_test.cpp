@@ -9,7 +9,7 @@
 
 #include "ricochet/proto/snapshot_codec.h"
 
-namespace ricochet::bot {
+namespace ricochet::bot::game_feed_test {
 namespace {
 
 std::span<const std::uint8_t> bytes_of(const std::string& text) {
@@ -129,4 +129,4 @@ TEST(GameFeed, RandomAndCorruptedBytesAreCountedNeverTrusted) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::game_feed_test

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::bot {
+namespace ricochet::bot::input_history_test {
 namespace {
 
 TEST(InputHistory, NumbersFromOneAndSendsTheNewestFewOldestFirst) {
@@ -36,4 +36,4 @@ TEST(InputHistory, KeepsABoundedNumberUnacknowledged) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::input_history_test

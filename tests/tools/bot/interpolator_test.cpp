@@ -7,7 +7,7 @@
 
 #include <vector>
 
-namespace ricochet::bot {
+namespace ricochet::bot::interpolator_test {
 namespace {
 
 std::vector<SeenEntity> one(float x, std::uint32_t id = 7) {
@@ -86,4 +86,4 @@ TEST(Interpolator, IgnoresOlderSnapshots) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::interpolator_test

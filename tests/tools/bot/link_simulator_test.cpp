@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace ricochet::bot {
+namespace ricochet::bot::link_simulator_test {
 namespace {
 
 constexpr int kPackets = 20000;
@@ -150,4 +150,4 @@ TEST(LinkConfig, ValidatesEveryField) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::link_simulator_test

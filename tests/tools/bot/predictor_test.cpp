@@ -12,7 +12,7 @@
 #include "collision_world_fixture.h"
 #include "ricochet/bot/input_history.h"
 
-namespace ricochet::bot {
+namespace ricochet::bot::predictor_test {
 namespace {
 
 constexpr float kTickS = 1.0f / 60;
@@ -188,4 +188,4 @@ TEST(Predictor, TheInputConversionIsTheServers) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::predictor_test

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::bot {
+namespace ricochet::bot::refusal_policy_test {
 namespace {
 
 TEST(RefusalPolicy, ABusyServerIsRetriedAndAFullOneWaitedForNeitherCountsAsAFailure) {
@@ -28,4 +28,4 @@ TEST(RefusalPolicy, BusyBackOffDoublesToEightSecondsAndSpreadsTheBots) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::refusal_policy_test

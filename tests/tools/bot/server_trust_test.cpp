@@ -7,7 +7,7 @@
 
 #include "temp_dir.h"
 
-namespace ricochet::bot {
+namespace ricochet::bot::server_trust_test {
 namespace {
 
 std::string fingerprint_of(const std::string& pair) {
@@ -44,7 +44,7 @@ TEST(ServerTrust, PinnedTrustsOnlyItsFingerprint) {
 }
 
 TEST(ServerTrust, FirstUseWritesTheFileAndRefusesAnotherFingerprintLater) {
-  test::TempDir dir("ricochet-trust");
+  ricochet::test::TempDir dir("ricochet-trust");
   const auto file = dir.path() / "trusted";
   ServerTrust first = ServerTrust::on_first_use(file);
   EXPECT_EQ(first.check(fingerprint_of("AB")), "");
@@ -64,7 +64,7 @@ TEST(ServerTrust, FirstUseWritesTheFileAndRefusesAnotherFingerprintLater) {
 }
 
 TEST(ServerTrust, AFileThatHoldsNoFingerprintIsRefused) {
-  test::TempDir dir("ricochet-trust");
+  ricochet::test::TempDir dir("ricochet-trust");
   const auto file = dir.path() / "trusted";
   std::ofstream(file) << "not a fingerprint\n";
   ServerTrust trust = ServerTrust::on_first_use(file);
@@ -72,4 +72,4 @@ TEST(ServerTrust, AFileThatHoldsNoFingerprintIsRefused) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::server_trust_test

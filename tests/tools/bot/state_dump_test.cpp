@@ -10,7 +10,7 @@
 
 #include "temp_dir.h"
 
-namespace ricochet::bot {
+namespace ricochet::bot::state_dump_test {
 namespace {
 
 proto::QuantizedEntity entity(std::uint32_t id, Vec3 position, std::uint8_t flags = 0) {
@@ -29,7 +29,7 @@ std::string contents(const std::filesystem::path& path) {
 }
 
 TEST(StateDump, WritesEachSnapshotsPlayersAsDecodedAndNoProjectiles) {
-  test::TempDir dir("state-dump");
+  ricochet::test::TempDir dir("state-dump");
   const auto path = dir.path() / "states.csv";
   std::string error;
   auto dump = StateDump::create(path.string(), error);
@@ -73,4 +73,4 @@ TEST(StateDump, AFileThatCannotBeWrittenIsAnError) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::state_dump_test

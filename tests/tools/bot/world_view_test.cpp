@@ -4,7 +4,7 @@
 
 #include <vector>
 
-namespace ricochet::bot {
+namespace ricochet::bot::world_view_test {
 namespace {
 
 proto::QuantizedEntity entity(std::uint32_t id, Vec3 position, std::uint8_t flags = 0) {
@@ -84,4 +84,4 @@ TEST(WorldView, LearnsSpawnPointsAndPickupPlacesFromEvents) {
 }
 
 }  // namespace
-}  // namespace ricochet::bot
+}  // namespace ricochet::bot::world_view_test

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-namespace ricochet::loadtest {
+namespace ricochet::loadtest::capacity_test {
 namespace {
 
 /// A step that meets every criterion with nothing to spare: each field sits on its threshold.
@@ -90,4 +90,4 @@ TEST(CapacityTest, TheGeneratorIsSaturatedFromNinetyPercent) {
 }
 
 }  // namespace
-}  // namespace ricochet::loadtest
+}  // namespace ricochet::loadtest::capacity_test

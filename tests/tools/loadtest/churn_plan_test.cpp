@@ -6,7 +6,7 @@
 
 #include "ricochet/bot/bot_config.h"
 
-namespace ricochet::loadtest {
+namespace ricochet::loadtest::churn_plan_test {
 namespace {
 
 TEST(ChurnPlan, EachSlotStartsOnItsOwnAccountAndStaysWithinTheLives) {
@@ -71,4 +71,4 @@ TEST(ChurnPlan, WithoutChurnABotStaysForTheWholeRun) {
 }
 
 }  // namespace
-}  // namespace ricochet::loadtest
+}  // namespace ricochet::loadtest::churn_plan_test

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-namespace ricochet::loadtest {
+namespace ricochet::loadtest::flatness_test {
 namespace {
 
 constexpr FlatnessBounds kBounds{16.0, 10.0};
@@ -93,4 +93,4 @@ TEST(Flatness, TooFewSamplesAreNotFlat) {
 }
 
 }  // namespace
-}  // namespace ricochet::loadtest
+}  // namespace ricochet::loadtest::flatness_test

@@ -4,7 +4,7 @@
 
 #include "ricochet/loadtest/error_kinds.h"
 
-namespace ricochet::loadtest {
+namespace ricochet::loadtest::loadtest_config_test {
 namespace {
 
 TEST(LoadTestConfig, DefaultsAreValid) {
@@ -70,4 +70,4 @@ TEST(ErrorKinds, NameTheServersCodeOrWhatFailed) {
 }
 
 }  // namespace
-}  // namespace ricochet::loadtest
+}  // namespace ricochet::loadtest::loadtest_config_test

@@ -6,7 +6,7 @@
 
 #include "ricochet/loadtest/server_figures.h"
 
-namespace ricochet::loadtest {
+namespace ricochet::loadtest::prometheus_text_test {
 namespace {
 
 std::vector<MetricSample> parse_ok(std::string_view text) {
@@ -104,4 +104,4 @@ TEST(ServerFigures, ReadsTheProcessFiguresASoakFollows) {
 }
 
 }  // namespace
-}  // namespace ricochet::loadtest
+}  // namespace ricochet::loadtest::prometheus_text_test

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace ricochet::loadtest {
+namespace ricochet::loadtest::soak_config_test {
 namespace {
 
 LoadTestConfig hour_run() {
@@ -63,4 +63,4 @@ TEST(SoakConfig, NoChurnIsAllowed) {
 }
 
 }  // namespace
-}  // namespace ricochet::loadtest
+}  // namespace ricochet::loadtest::soak_config_test

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-namespace ricochet::loadtest {
+namespace ricochet::loadtest::soak_record_test {
 namespace {
 
 constexpr FlatnessBounds kBounds{16.0, 10.0};
@@ -90,4 +90,4 @@ TEST(SoakSummary, NoSamplesGiveAnEmptySummaryThatIsNotFlat) {
 }
 
 }  // namespace
-}  // namespace ricochet::loadtest
+}  // namespace ricochet::loadtest::soak_record_test
