@@ -296,6 +296,7 @@ TEST(MultiServer, MatchesOnTwoServersAtOnceMoveTheSameRatingsAndAThirdSeesBoth) 
       ids[i] = id.value();
     }
     db::MatchRecord won;
+    won.uuid = db::new_match_uuid();
     won.map = "arena";
     won.started_ms = 1000;
     won.ended_ms = 61'000;
