@@ -114,6 +114,24 @@ std::unique_ptr<db::Store> open_database(const std::filesystem::path& path) {
   return std::move(store).value();
 }
 
+/// Starts a stopped cluster again, when called or at the latest when the test ends: the cluster
+/// serves this process's other tests too.
+struct ClusterRestart {
+  PostgresCluster& cluster;
+  bool started = false;
+  void operator()() {
+    if (!started) cluster.start();
+    started = true;
+  }
+  ~ClusterRestart() {
+    try {
+      (*this)();
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "the PostgreSQL cluster did not start again: " << e.what();
+    }
+  }
+};
+
 TEST(BotMatch, BotsSharingOneGameSocketPlayAMatchFromAnAddressEach) {
   // The load test's mode: one UDP socket for every bot's game channel, a loopback source
   // address per connection, the bots' inputs of one tick in one sendmmsg.
@@ -448,21 +466,7 @@ TEST(BotMatch, SignInsWhilePostgresIsDownAreRefusedAsBusyAndTheBotsPlayOnceItIsB
   ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
 
   cluster.stop();
-  struct Restart {  // the cluster serves this process's other tests too
-    PostgresCluster& cluster;
-    bool started = false;
-    void operator()() {
-      if (!started) cluster.start();
-      started = true;
-    }
-    ~Restart() {
-      try {
-        (*this)();
-      } catch (const std::exception& e) {
-        ADD_FAILURE() << "the PostgreSQL cluster did not start again: " << e.what();
-      }
-    }
-  } restart{cluster};
+  ClusterRestart restart{cluster};
 
   asio::io_context io;
   bot::FleetConfig config;
@@ -545,21 +549,7 @@ TEST(BotMatch, ResultsOfMatchesEndedWhilePostgresIsDownSurviveAKill9AndAreWritte
       io, [&] { return count_of(server.log(), " entered as entity ") >= 2; }, kInMatchBudget))
       << fleet.report_json() << server.log();
   cluster.stop();
-  struct Restart {  // the cluster serves this process's other tests too
-    PostgresCluster& cluster;
-    bool started = false;
-    void operator()() {
-      if (!started) cluster.start();
-      started = true;
-    }
-    ~Restart() {
-      try {
-        (*this)();
-      } catch (const std::exception& e) {
-        ADD_FAILURE() << "the PostgreSQL cluster did not start again: " << e.what();
-      }
-    }
-  } restart{cluster};
+  ClusterRestart restart{cluster};
 
   ASSERT_TRUE(run_until(
       io, [&] { return fleet.done(); }, kMatchesBudget))
