@@ -490,7 +490,8 @@ public final class RicochetClient implements AutoCloseable {
    * came over this client's own pinned (or validated) connection, from a server of the same
    * fleet. Completes once the resume is answered; then {@link #joinMatch(Assignment,
    * GameListener)} on the client it gives, before the ticket expires. A new client is the
-   * caller's to close; this one stays open and signed in (close it when done with it). Fails
+   * caller's to close, and calls the same {@link Listener} (its MatchResults, its disconnects);
+   * this one stays open and signed in (close it when done with it). Fails
    * with REFUSED_LOCALLY when this client is not signed in ({@link
    * io.ricochet.client.core.control.RequestRefusal#WRONG_STATE}) or the ticket has already
    * expired (errorCode EXPIRED_TICKET: nothing was sent; {@link #findMatch} again), or with what
