@@ -28,6 +28,7 @@ import java.util.ArrayList;
 import java.util.Collections;
 import java.util.List;
 import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.CompletionException;
 import java.util.concurrent.Executor;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
@@ -495,7 +496,8 @@ public final class RicochetClient implements AutoCloseable {
    * with REFUSED_LOCALLY when this client is not signed in ({@link
    * io.ricochet.client.core.control.RequestRefusal#WRONG_STATE}) or the ticket has already
    * expired (errorCode EXPIRED_TICKET: nothing was sent; {@link #findMatch} again), or with what
-   * ended the resume there (the new client is then closed).
+   * ended the resume there, or CLOSED when this client was closed meanwhile (the new client is
+   * then closed).
    */
   public CompletableFuture<RicochetClient> follow(Assignment assignment) {
     if (assignment == null) throw new NullPointerException("assignment");
@@ -527,12 +529,19 @@ public final class RicochetClient implements AutoCloseable {
     RicochetClient there = new RicochetClient(settings.copyFor(
         assignment.host(), assignment.controlPort(), assignment.certificateSha256()));
     there.resume(was.session.sessionToken()).whenComplete((session, failure) -> {
-      if (failure == null) {
+      boolean closedMeanwhile;
+      synchronized (this) {
+        closedMeanwhile = closed;
+      }
+      if (failure == null && !closedMeanwhile) {
         post(() -> future.complete(there));
         return;
       }
       there.close();
-      Throwable cause = failure.getCause() != null ? failure.getCause() : failure;
+      Throwable cause = closedMeanwhile
+          ? new RicochetException(RicochetException.Kind.CLOSED, null, null, "client closed")
+          : failure instanceof CompletionException&& failure.getCause() != null ? failure.getCause()
+                                                                                : failure;
       post(() -> future.completeExceptionally(cause));
     });
     return future;
