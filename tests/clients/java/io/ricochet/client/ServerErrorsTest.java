@@ -143,6 +143,40 @@ class ServerErrorsTest {
     }
   }
 
+  /**
+   * follow of an assignment elsewhere (here: this same server, named as another) connects pinned to
+   * the assignment's fingerprint, not this client's pin, and resumes this session's token there.
+   */
+  @Test
+  void followPinsTheAssignmentsFingerprintAndResumesTheSessionThere() throws Exception {
+    try (RicochetClient client = signedIn(server.get(), "follower")) {
+      io.ricochet.wire.ControlProto.Assignment.Builder wire =
+          io.ricochet.wire.ControlProto.Assignment.newBuilder()
+              .setConnection("127.0.0.1:" + server.get().controlPort())
+              .setGamePort(1)
+              .setCertificateSha256(server.get().fingerprint().replace(":", "").toLowerCase())
+              .setMode("ffa")
+              .setTicket(com.google.protobuf.ByteString.copyFrom(new byte[32]))
+              .setTicketExpiresInMs(30_000);
+      long nowMs = System.nanoTime() / 1_000_000;
+      StringBuilder wrongPin = new StringBuilder();
+      for (int i = 0; i < 64; ++i) wrongPin.append('a');
+      Assignment forged =
+          Assignment.of(wire.clone().setCertificateSha256(wrongPin.toString()).build(), nowMs)
+              .assignment();
+      RicochetException pinned = failure(client.follow(forged));
+      assertEquals(RicochetException.Kind.PIN_MISMATCH, pinned.kind(), pinned.getMessage());
+
+      Assignment elsewhere = Assignment.of(wire.build(), nowMs).assignment();
+      try (RicochetClient there = await(client.follow(elsewhere))) {
+        assertTrue(there != client, "a client of the server the assignment names");
+        assertEquals(ControlState.AUTHENTICATED, there.state(), "resumed there");
+        assertServerError(ErrorCode.UNKNOWN_TICKET, there.joinMatch(elsewhere));
+      }
+      assertEquals(ControlState.AUTHENTICATED, client.state(), "this one stays signed in");
+    }
+  }
+
   @Test
   void chatWithoutAGameConnectionIsNotInMatch() throws Exception {
     try (RicochetClient client = signedIn(server.get(), "talker")) {
