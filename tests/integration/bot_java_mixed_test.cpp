@@ -267,9 +267,10 @@ TEST(MixedBots, JavaAndCppBotsPlayToTheTimeLimitAndTheDatabaseHoldsTheKillsEachS
 /// PostgreSQL database, A hosting only ffa (a match that never starts with one player), B only a
 /// short tdm match. One Java bot signs in on A with `--find-match tdm`: A assigns it to B, the bot
 /// connects to B pinned to the assignment's fingerprint, resumes its session there, joins with
-/// the ticket and plays B's match to its end; the database holds that match for it.
+/// the ticket and plays B's match to its end; then asks B, which places it on itself
+/// (on_this_server), for a second match. The database holds both matches for it.
 TEST(MixedBots, AJavaBotSignedInOnOneServerFollowsItsAssignmentToAnotherAndPlaysThere) {
-  constexpr std::chrono::seconds kTimeLimit{3};
+  constexpr std::chrono::seconds kTimeLimit{2};
   constexpr std::chrono::seconds kPlayBudget{20};   // a JVM, a sign-in, placement, two TLS
   constexpr std::chrono::seconds kReportBudget{5};  // the bot's own limit ran out: its report
   static_assert(kStartBudget + kPlayBudget + kReportBudget + kExitBudget + kMargin <=
@@ -313,7 +314,7 @@ TEST(MixedBots, AJavaBotSignedInOnOneServerFollowsItsAssignmentToAnotherAndPlays
               "--find-match",
               "tdm",
               "--matches",
-              "1",
+              "2",
               "--log-level",
               "info",
               "--duration-s",
@@ -328,7 +329,7 @@ TEST(MixedBots, AJavaBotSignedInOnOneServerFollowsItsAssignmentToAnotherAndPlays
   const BotLine& line = bots.begin()->second;
   EXPECT_EQ(line.state, "done") << java.err();
   EXPECT_EQ(line.error, "") << java.err();
-  EXPECT_EQ(integer(line.metrics, "matches"), 1) << java.err();  // only B's match ends
+  EXPECT_EQ(integer(line.metrics, "matches"), 2) << java.err();  // only B's matches end
   EXPECT_GT(integer(line.metrics, "snapshots"), 0) << java.err();
   EXPECT_NE(java.err().find("joined match 1 on 127.0.0.1"), std::string::npos) << java.err();
 
@@ -338,7 +339,7 @@ TEST(MixedBots, AJavaBotSignedInOnOneServerFollowsItsAssignmentToAnotherAndPlays
   ASSERT_TRUE(account.ok() && account.value().has_value());
   const auto stats = store.value()->player_stats(account.value()->account.id);
   ASSERT_TRUE(stats.ok());
-  EXPECT_EQ(stats.value().matches, 1);
+  EXPECT_EQ(stats.value().matches, 2);
   if (HasFailure()) std::cout << "A's log:\n" << a.log() << "B's log:\n" << b.log();
 }
 

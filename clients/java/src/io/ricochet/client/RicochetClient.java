@@ -551,8 +551,8 @@ public final class RicochetClient implements AutoCloseable {
    * Joins the match of {@code assignment} with its ticket, on the server it names (this client
    * when {@link Assignment#onThisServer()}, else the client {@link #follow} gave): completes as
    * {@link #joinMatch(long)} does. Fails with the server's UNKNOWN_TICKET (already used, another
-   * server's or account's), EXPIRED_TICKET ({@link #findMatch} again), MATCH_FULL (the match
-   * filled up meanwhile: find again) or any join_match error.
+   * server's or account's), EXPIRED_TICKET ({@link #findMatch} again), MATCH_FULL or
+   * MATCH_NOT_FOUND (the match filled up or ended meanwhile: find again) or any join_match error.
    */
   public CompletableFuture<JoinTicket> joinMatch(Assignment assignment) {
     ClientMessage message = ClientMessage.newBuilder()

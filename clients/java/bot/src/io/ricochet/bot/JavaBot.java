@@ -19,6 +19,7 @@ import io.ricochet.wire.GameProto.MatchPhase;
 import io.ricochet.wire.GameProto.MatchState;
 import io.ricochet.wire.GameProto.PlayerScore;
 import java.io.PrintStream;
+import java.util.ArrayList;
 import java.util.List;
 import java.util.Random;
 import java.util.concurrent.CompletionException;
@@ -75,7 +76,9 @@ final class JavaBot {
   private long stepDeadlineNs;
   private ScheduledFuture<?> timer;
   private RicochetClient client; // the server it plays on
-  private RicochetClient signedInFirst; // --find-match: the server it signed in on, when another
+  // --find-match: the clients of servers it was sent away from, closed at the end (closing one
+  // earlier would end the bot: every client calls its one control listener).
+  private final List<RicochetClient> leftBehind = new ArrayList<>();
   private long accountId;
   private String username = "";
   private long matchId;
@@ -238,17 +241,20 @@ final class JavaBot {
   /**
    * --find-match: asks for a seat, follows the assignment (a client of the server it names,
    * signed in with this session's token, unless it is this one) and joins there with the ticket.
-   * No seat anywhere yet, a match that filled up or a ticket gone stale: asks again a second
-   * later.
+   * No seat anywhere yet, a match that filled up or ended meanwhile (MATCH_NOT_FOUND: the fleet
+   * directory lags a match's end by up to a heartbeat) or a ticket gone stale: asks again a
+   * second later.
    */
   private void findMatch() {
     client.findMatch(options.findMode, options.findMap)
         .thenCompose(assignment
             -> client.follow(assignment)
                    .thenCompose(there -> there.joinMatch(assignment).handle((ticket, failure) -> {
-                     if (there != client) {
-                       // From now on the bot plays there; the first client is closed at the end.
-                       if (signedInFirst == null) signedInFirst = client;
+                     if (there != client && state == State.DONE) {
+                       there.close(); // stopped meanwhile: end() closed the others
+                     } else if (there != client) {
+                       // From now on the bot plays there; the one it left is closed at the end.
+                       leftBehind.add(client);
                        client = there;
                      }
                      if (failure != null) throw new CompletionException(cause(failure));
@@ -259,8 +265,8 @@ final class JavaBot {
           if (failure != null) {
             ErrorCode code = errorCode(failure);
             if (code == ErrorCode.NO_SERVER_AVAILABLE || code == ErrorCode.FIND_MATCH_RATE_LIMITED
-                || code == ErrorCode.MATCH_FULL || code == ErrorCode.UNKNOWN_TICKET
-                || code == ErrorCode.EXPIRED_TICKET) {
+                || code == ErrorCode.MATCH_FULL || code == ErrorCode.MATCH_NOT_FOUND
+                || code == ErrorCode.UNKNOWN_TICKET || code == ErrorCode.EXPIRED_TICKET) {
               later(JOIN_RETRY_MS, this::tryJoin);
             } else {
               finish("find match " + options.findMode + ": " + cause(failure).getMessage());
@@ -518,7 +524,7 @@ final class JavaBot {
     if (timer != null) timer.cancel(false);
     closeGame();
     if (client != null) client.close();
-    if (signedInFirst != null) signedInFirst.close();
+    for (RicochetClient earlier : leftBehind) earlier.close();
     onDone.run();
   }
 
