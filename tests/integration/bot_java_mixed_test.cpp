@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "postgres_cluster.h"
 #include "replay_process.h"
 #include "ricochet/db/store.h"
 #include "server_process.h"
@@ -33,6 +34,7 @@ namespace ricochet::test::bot_java_mixed_test {
 namespace {
 
 using namespace std::chrono_literals;
+using ricochet::test::PostgresCluster;
 
 constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
 constexpr std::chrono::seconds kMargin{6};
@@ -259,6 +261,86 @@ TEST(MixedBots, JavaAndCppBotsPlayToTheTimeLimitAndTheDatabaseHoldsTheKillsEachS
   std::cout << "[ figures  ] kills " << kills << ", deaths " << deaths << " among the four"
             << std::endl;
   if (HasFailure()) std::cout << "server log:\n" << server.log();
+}
+
+/// Placement (PROTOCOL.md, Placement) followed by the Java client: two real servers on one
+/// PostgreSQL database, A hosting only ffa (a match that never starts with one player), B only a
+/// short tdm match. One Java bot signs in on A with `--find-match tdm`: A assigns it to B, the bot
+/// connects to B pinned to the assignment's fingerprint, resumes its session there, joins with
+/// the ticket and plays B's match to its end; then asks B, which places it on itself
+/// (on_this_server), for a second match. The database holds both matches for it.
+TEST(MixedBots, AJavaBotSignedInOnOneServerFollowsItsAssignmentToAnotherAndPlaysThere) {
+  constexpr std::chrono::seconds kTimeLimit{2};
+  constexpr std::chrono::seconds kPlayBudget{20};   // a JVM, a sign-in, placement, two TLS
+  constexpr std::chrono::seconds kReportBudget{5};  // the bot's own limit ran out: its report
+  static_assert(kStartBudget + kPlayBudget + kReportBudget + kExitBudget + kMargin <=
+                kCtestTimeout);
+  const std::string url = PostgresCluster::shared().create_database();
+  const auto matches = [](const std::string& mode, int min_players, int time_limit_s) {
+    return "count = 1\nmax_players = 8\nmode = \"" + mode +
+           "\"\nmaps = [\"" RICOCHET_SOURCE_DIR
+           "/server/maps/arena.toml\"]\nseed = 7\nwarmup_s = 0\nrecord = false\n"
+           "min_players = " +
+           std::to_string(min_players) + "\ntime_limit_s = " + std::to_string(time_limit_s) + "\n";
+  };
+  const std::string fleet = "[db]\nurl = \"" + url +
+                            "\"\npassword_hashing = \"minimum\"\n[placement]\n"
+                            "advertise_host = \"127.0.0.1\"\nheartbeat_s = 1\nserver_ttl_s = 5\n";
+  ServerProcess a(matches("ffa", 2, 600), kShutdownGraceS, fleet);
+  ServerProcess b(matches("tdm", 1, static_cast<int>(kTimeLimit.count())), kShutdownGraceS, fleet);
+  ASSERT_TRUE(a.wait_listening(kStartBudget)) << a.log();
+  ASSERT_TRUE(b.wait_listening(kStartBudget)) << b.log();
+  // Both in the directory before the bot asks (each logs its first heartbeat's row).
+  const auto listed_by = std::chrono::steady_clock::now() + kStartBudget;
+  while (a.log().find("is in the fleet directory") == std::string::npos ||
+         b.log().find("is in the fleet directory") == std::string::npos) {
+    ASSERT_LT(std::chrono::steady_clock::now(), listed_by) << a.log() << b.log();
+    std::this_thread::sleep_for(20ms);
+  }
+  const auto dir = a.dir();
+  Child java({RICOCHET_JAVA_EXECUTABLE,
+              "-jar",
+              RICOCHET_JAVA_BOT_JAR,
+              "--host",
+              "127.0.0.1",
+              "--control-port",
+              std::to_string(a.control_port()),
+              "--pin-sha256",
+              a.fingerprint(),
+              "--name",
+              "jplaced",
+              "--password",
+              "password-of-jplaced",
+              "--find-match",
+              "tdm",
+              "--matches",
+              "2",
+              "--log-level",
+              "info",
+              "--duration-s",
+              std::to_string(kPlayBudget.count())},
+             dir / "placed.out", dir / "placed.err");
+  const std::optional<int> exit =
+      java.wait_exit(std::chrono::steady_clock::now() + kPlayBudget + kReportBudget);
+  std::cout << "[ figures  ] java: " << java.out();
+  ASSERT_EQ(exit, std::optional<int>(0)) << java.err();
+  const std::map<std::string, BotLine> bots = per_bot(java.out());
+  ASSERT_EQ(bots.size(), 1u) << java.out();
+  const BotLine& line = bots.begin()->second;
+  EXPECT_EQ(line.state, "done") << java.err();
+  EXPECT_EQ(line.error, "") << java.err();
+  EXPECT_EQ(integer(line.metrics, "matches"), 2) << java.err();  // only B's matches end
+  EXPECT_GT(integer(line.metrics, "snapshots"), 0) << java.err();
+  EXPECT_NE(java.err().find("joined match 1 on 127.0.0.1"), std::string::npos) << java.err();
+
+  auto store = db::open_store({.url_or_path = url});
+  ASSERT_TRUE(store.ok());
+  const auto account = store.value()->find_account_by_key("jplaced");
+  ASSERT_TRUE(account.ok() && account.value().has_value());
+  const auto stats = store.value()->player_stats(account.value()->account.id);
+  ASSERT_TRUE(stats.ok());
+  EXPECT_EQ(stats.value().matches, 2);
+  if (HasFailure()) std::cout << "A's log:\n" << a.log() << "B's log:\n" << b.log();
 }
 
 }  // namespace

@@ -6,6 +6,14 @@
 ///     message with that body and request id, and serialises back to the same bytes.
 ///   refused header=HEX reason=frame_oversize|frame_empty length=N
 ///     A stream that begins with these 4 bytes is refused from the header alone.
+///   assignment bytes=HEX connection=HOST:PORT host=H control_port=N game_port=N
+///              certificate_sha256=HEX64 match_id=N mode=M [map=M] ticket=HEX
+///              ticket_expires_in_ms=N on_this_server=0|1
+///     A find_match reply frame (PROTOCOL.md, Placement) and the fields of its Assignment, the
+///     connection split into host and port (an IPv6 host without its brackets; map left out when
+///     empty). The same frame is also a `frame` record.
+///   placement_error bytes=HEX code=NAME value=N
+///     An Error frame with one of the placement codes (60-64), its name and number.
 
 #include <cstdint>
 #include <stdexcept>
@@ -17,6 +25,15 @@
 
 namespace ricochet::vectors {
 namespace {
+
+/// A ticket's 32 bytes (Assignment.ticket, JoinMatchRequest.ticket).
+std::string ticket_bytes() {
+  std::string ticket(32, '\0');
+  for (std::size_t i = 0; i < ticket.size(); ++i) ticket[i] = static_cast<char>(0xa0 + i);
+  return ticket;
+}
+constexpr const char* kFingerprint =
+    "4ca9e7a1b0c2d3e4f5061728394a5b6c7d8e9fa0b1c2d3e4f50617283940ab25";
 
 template <class Message>
 void add_frame(VectorFile& file, const char* direction, const char* body, const Message& message) {
@@ -74,6 +91,84 @@ void add_client_frames(VectorFile& file) {
   m.set_request_id(9);
   m.mutable_logout();
   add_frame(file, "client", "logout", m);
+  m.Clear();
+  m.set_request_id(10);
+  m.mutable_find_match()->set_mode("tdm");
+  m.mutable_find_match()->set_map("foundry");
+  add_frame(file, "client", "find_match", m);
+  m.Clear();
+  m.set_request_id(11);
+  m.mutable_join_match()->set_ticket(ticket_bytes());
+  add_frame(file, "client", "join_match", m);
+}
+
+/// A placed seat: where the ticket is presented and what it holds.
+struct Placed {
+  const char* host;  ///< as Assignment.connection writes it (IPv6 in brackets)
+  const char* bare_host;
+  std::uint32_t control_port;
+  std::uint32_t game_port;
+  std::uint32_t match_id;  ///< 0: a new match is made there
+  const char* mode;
+  const char* map;  ///< empty: that server's choice
+  bool on_this_server;
+};
+
+void add_assignment(VectorFile& file, std::uint32_t request_id, const Placed& placed) {
+  wire::ServerMessage m;
+  m.set_request_id(request_id);
+  wire::Assignment& a = *m.mutable_find_match()->mutable_assignment();
+  const std::string connection =
+      std::string(placed.host) + ":" + std::to_string(placed.control_port);
+  a.set_connection(connection);
+  a.set_game_port(placed.game_port);
+  a.set_certificate_sha256(kFingerprint);
+  a.set_match_id(placed.match_id);
+  a.set_mode(placed.mode);
+  a.set_map(placed.map);
+  a.set_ticket(ticket_bytes());
+  a.set_ticket_expires_in_ms(29'875);
+  a.set_on_this_server(placed.on_this_server);
+  add_frame(file, "server", "find_match", m);
+  std::vector<std::uint8_t> frame;
+  proto::append_frame(m, frame);
+  Record record("assignment");
+  record.bytes("bytes", frame)
+      .bytes("connection", connection)
+      .word("host", placed.bare_host)
+      .number("control_port", placed.control_port)
+      .number("game_port", placed.game_port)
+      .word("certificate_sha256", kFingerprint)
+      .number("match_id", placed.match_id)
+      .word("mode", placed.mode);
+  if (*placed.map != '\0') record.word("map", placed.map);
+  file.add(record.bytes("ticket", ticket_bytes())
+               .number("ticket_expires_in_ms", a.ticket_expires_in_ms())
+               .number("on_this_server", placed.on_this_server ? 1 : 0));
+}
+
+/// find_match replies (one elsewhere, one on this server, one on an IPv6 host) and every
+/// placement error.
+void add_placement_frames(VectorFile& file) {
+  add_assignment(file, 10, {"10.0.0.2", "10.0.0.2", 7787, 7788, 3, "tdm", "foundry", false});
+  add_assignment(file, 10, {"127.0.0.1", "127.0.0.1", 7777, 7778, 0, "ffa", "", true});
+  add_assignment(file, 10,
+                 {"[fd00::2]", "fd00::2", 7777, 7778, 4294967295u, "ffa", "arena", false});
+  for (const wire::ErrorCode code :
+       {wire::NO_SERVER_AVAILABLE, wire::UNKNOWN_MODE_OR_MAP, wire::FIND_MATCH_RATE_LIMITED,
+        wire::UNKNOWN_TICKET, wire::EXPIRED_TICKET}) {
+    wire::ServerMessage m;
+    m.set_request_id(code < wire::UNKNOWN_TICKET ? 10 : 11);
+    m.mutable_error()->set_code(code);
+    m.mutable_error()->set_message("placement refused: " + wire::ErrorCode_Name(code));
+    add_frame(file, "server", "error", m);
+    std::vector<std::uint8_t> frame;
+    proto::append_frame(m, frame);
+    file.add(Record("placement_error")
+                 .bytes("bytes", frame)
+                 .word("code", wire::ErrorCode_Name(code))
+                 .number("value", code));
+  }
 }
 
 void add_server_frames(VectorFile& file) {
@@ -163,6 +258,7 @@ std::string write_control_frames_vectors() {
                   "control_frames_vectors.cpp).");
   add_client_frames(file);
   add_server_frames(file);
+  add_placement_frames(file);
   const std::uint8_t oversize[] = {0x00, 0x01, 0x00, 0x01};
   file.add(Record("refused")
                .bytes("header", oversize)

@@ -261,6 +261,56 @@ void resume_back_in_match(VectorFile& file) {
   s.request(leave(), 10);  // refused: not in a match
 }
 
+/// PROTOCOL.md, Placement: find_match leaves the state as it was (an assignment seats nobody
+/// yet) and its errors too; on the assigned server, a resume, the ticket's errors, then the join
+/// with it puts the connection in the match, where find_match is still allowed.
+void placement(VectorFile& file) {
+  wire::ClientMessage find;
+  find.mutable_find_match()->set_mode("tdm");
+  const std::string ticket(32, '\xa5');
+  {
+    Scenario s(file, "placement_find_match");
+    s.request(find, 0);  // refused: not signed in
+    s.request(login(), 1);
+    s.reply(session_reply(1));
+    s.request(find, 2);
+    wire::ServerMessage found;
+    found.set_request_id(2);
+    wire::Assignment& assignment = *found.mutable_find_match()->mutable_assignment();
+    assignment.set_connection("10.0.0.2:7787");
+    assignment.set_game_port(7788);
+    assignment.set_certificate_sha256(std::string(64, 'c'));
+    assignment.set_match_id(3);
+    assignment.set_mode("tdm");
+    assignment.set_ticket(ticket);
+    assignment.set_ticket_expires_in_ms(30'000);
+    s.reply(found);
+    std::uint32_t id = 3;
+    for (const wire::ErrorCode code :
+         {wire::NO_SERVER_AVAILABLE, wire::UNKNOWN_MODE_OR_MAP, wire::FIND_MATCH_RATE_LIMITED}) {
+      s.request(find, 3 + id);
+      s.reply(error_reply(id++, code));
+    }
+    s.request(find, 60'006);
+    s.update(120'005);
+    s.update(120'006);  // unanswered for 60 s: it times out like any request
+  }
+  Scenario s(file, "placement_join_with_ticket");
+  s.request(resume(), 0);
+  wire::ServerMessage resumed = session_reply(1);
+  resumed.mutable_session()->clear_session_token();
+  s.reply(resumed);
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(ticket);
+  s.request(join, 1);
+  s.reply(error_reply(2, wire::UNKNOWN_TICKET));
+  s.request(join, 2);
+  s.reply(error_reply(3, wire::EXPIRED_TICKET));
+  s.request(join, 3);
+  s.reply(join_reply(4, 3));
+  s.request(find, 4);  // allowed in the match
+}
+
 void keep_alive_and_timeout(VectorFile& file) {
   Scenario s(file, "keep_alive_and_timeout");
   s.update(29'999);
@@ -335,6 +385,7 @@ std::string write_control_session_vectors() {
   sign_in_and_play(file);
   refused_requests(file);
   resume_back_in_match(file);
+  placement(file);
   keep_alive_and_timeout(file);
   split_frames(file);
   refused_servers(file);

@@ -1,13 +1,17 @@
 package io.ricochet.client;
 
+import com.google.protobuf.ByteString;
+import io.ricochet.client.core.control.Assignment;
 import io.ricochet.client.core.control.ControlSession;
 import io.ricochet.client.core.control.ControlState;
+import io.ricochet.client.core.control.RequestRefusal;
 import io.ricochet.client.core.control.ResumeBackoff;
 import io.ricochet.client.core.control.ResumeState;
 import io.ricochet.wire.ControlProto.ChatRequest;
 import io.ricochet.wire.ControlProto.ClientMessage;
 import io.ricochet.wire.ControlProto.CreateMatchRequest;
 import io.ricochet.wire.ControlProto.ErrorCode;
+import io.ricochet.wire.ControlProto.FindMatchRequest;
 import io.ricochet.wire.ControlProto.JoinMatchRequest;
 import io.ricochet.wire.ControlProto.LeaveMatchRequest;
 import io.ricochet.wire.ControlProto.ListMatchesRequest;
@@ -24,6 +28,7 @@ import java.util.ArrayList;
 import java.util.Collections;
 import java.util.List;
 import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.CompletionException;
 import java.util.concurrent.Executor;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
@@ -106,6 +111,25 @@ public final class RicochetClient implements AutoCloseable {
     private DoubleSupplier resumeJitter = Math::random;
 
     private Builder() {}
+
+    /** These settings for another server (its own connector: not the test transport). */
+    private Builder copyFor(String otherHost, int otherControlPort, String otherPin) {
+      Builder copy = new Builder();
+      copy.host = otherHost;
+      copy.controlPort = otherControlPort;
+      copy.pinSha256 = otherPin;
+      copy.tlsProvider = tlsProvider;
+      copy.listenerExecutor = listenerExecutor;
+      copy.listener = listener;
+      copy.connectTimeoutMs = connectTimeoutMs;
+      copy.requestTimeoutMs = requestTimeoutMs;
+      copy.keepAliveMs = keepAliveMs;
+      copy.resumeBaseMs = resumeBaseMs;
+      copy.resumeMaxMs = resumeMaxMs;
+      copy.resumeAttempts = resumeAttempts;
+      copy.resumeJitter = resumeJitter;
+      return copy;
+    }
 
     /** Draws the resume back-off's jitter from {@code jitter} (values in [0, 1]; tests). */
     Builder resumeJitterForTest(DoubleSupplier jitter) {
@@ -236,6 +260,7 @@ public final class RicochetClient implements AutoCloseable {
   }
 
   private final String host;
+  private final Builder settings; // a copy, for the clients of other servers (follow)
   private final ControlTransport transport;
   private final long requestTimeoutMs;
   private final long keepAliveMs;
@@ -280,6 +305,7 @@ public final class RicochetClient implements AutoCloseable {
 
   private RicochetClient(Builder builder) {
     host = builder.host;
+    settings = builder.copyFor(builder.host, builder.controlPort, builder.pinSha256);
     String pin = builder.pinSha256 == null ? null : CertificatePin.normalize(builder.pinSha256);
     transport = builder.transport != null
         ? builder.transport
@@ -381,14 +407,16 @@ public final class RicochetClient implements AutoCloseable {
         ClientMessage.newBuilder()
             .setJoinMatch(JoinMatchRequest.newBuilder().setMatchId((int) matchId))
             .build();
-    return send(message, (reply, nowMs) -> {
-      String[] why = new String[1];
-      JoinTicket ticket = JoinTicket.of(host, reply.getJoinMatch(), nowMs, why);
-      if (ticket == null) {
-        throw new RicochetException(RicochetException.Kind.INVALID_REPLY, null, null, why[0]);
-      }
-      return ticket;
-    });
+    return send(message, this::joinTicket);
+  }
+
+  private JoinTicket joinTicket(ServerMessage reply, long nowMs) throws RicochetException {
+    String[] why = new String[1];
+    JoinTicket ticket = JoinTicket.of(host, reply.getJoinMatch(), nowMs, why);
+    if (ticket == null) {
+      throw new RicochetException(RicochetException.Kind.INVALID_REPLY, null, null, why[0]);
+    }
+    return ticket;
   }
 
   /**
@@ -426,6 +454,122 @@ public final class RicochetClient implements AutoCloseable {
       games.add(game);
       return game.start();
     }
+  }
+
+  /**
+   * Asks the fleet for a seat in a match of {@code mode} ("ffa", "tdm") on {@code map} (empty: any
+   * map): completes with where to play (PROTOCOL.md, Placement), possibly on another server of the
+   * fleet; then {@link #follow} it and {@link #joinMatch(Assignment, GameListener)} there before
+   * {@link Assignment#expiresAtMs()}. A new findMatch drops the account's earlier unused ticket.
+   * Fails with the server's NO_SERVER_AVAILABLE (no seat anywhere, or placement is off on this
+   * server: retry later, or use {@link #listMatches}), UNKNOWN_MODE_OR_MAP, FIND_MATCH_RATE_LIMITED
+   * (retry later), INVALID_REQUEST or SERVER_BUSY, or with INVALID_REPLY when the assignment cannot
+   * be followed ({@link io.ricochet.client.core.control.AssignmentRefusal} in the message).
+   */
+  public CompletableFuture<Assignment> findMatch(String mode, String map) {
+    ClientMessage message =
+        ClientMessage.newBuilder()
+            .setFindMatch(FindMatchRequest.newBuilder().setMode(mode).setMap(map))
+            .build();
+    return send(message, (reply, nowMs) -> {
+      Assignment.Result result = Assignment.of(reply.getFindMatch().getAssignment(), nowMs);
+      if (result.assignment() == null) {
+        throw new RicochetException(RicochetException.Kind.INVALID_REPLY, null, null,
+            "find_match reply refused (" + result.refusal().counterName()
+                + "): " + result.detail());
+      }
+      return result.assignment();
+    });
+  }
+
+  /**
+   * The client to join {@code assignment}'s match with: this one when the assignment is on this
+   * server; otherwise a new client of the server it names, built with this one's settings
+   * (listener, listener executor, timeouts, TLS provider, resume back-off) and pinned to the
+   * assignment's certificate fingerprint, signed in by resuming this client's session (the same
+   * token: the fleet's servers share their sessions). The pin is trusted as the assignment is: it
+   * came over this client's own pinned (or validated) connection, from a server of the same
+   * fleet. Completes once the resume is answered; then {@link #joinMatch(Assignment,
+   * GameListener)} on the client it gives, before the ticket expires. A new client is the
+   * caller's to close, and calls the same {@link Listener} (its MatchResults, its disconnects);
+   * this one stays open and signed in (close it when done with it). Fails
+   * with REFUSED_LOCALLY when this client is not signed in ({@link
+   * io.ricochet.client.core.control.RequestRefusal#WRONG_STATE}) or the ticket has already
+   * expired (errorCode EXPIRED_TICKET: nothing was sent; {@link #findMatch} again), or with what
+   * ended the resume there, or CLOSED when this client was closed meanwhile (the new client is
+   * then closed).
+   */
+  public CompletableFuture<RicochetClient> follow(Assignment assignment) {
+    if (assignment == null) throw new NullPointerException("assignment");
+    CompletableFuture<RicochetClient> future = new CompletableFuture<>();
+    RicochetException refused = null;
+    SignedIn was = signedIn.get();
+    synchronized (this) {
+      if (closed) {
+        refused = new RicochetException(RicochetException.Kind.CLOSED, null, null, "client closed");
+      } else if (was == null || was.connection != connection) {
+        refused = new RicochetException(RicochetException.Kind.REFUSED_LOCALLY, null,
+            RequestRefusal.WRONG_STATE, "follow needs a signed-in client: login or resume first");
+      } else if (assignment.expiredAt(nowMs())) {
+        refused = new RicochetException(RicochetException.Kind.REFUSED_LOCALLY,
+            ErrorCode.EXPIRED_TICKET, null,
+            "the assignment's ticket expired " + (nowMs() - assignment.expiresAtMs())
+                + " ms ago: find a match again");
+      }
+    }
+    if (refused != null) {
+      RicochetException failure = refused;
+      post(() -> future.completeExceptionally(failure));
+      return future;
+    }
+    if (assignment.onThisServer()) {
+      post(() -> future.complete(this));
+      return future;
+    }
+    RicochetClient there = new RicochetClient(settings.copyFor(
+        assignment.host(), assignment.controlPort(), assignment.certificateSha256()));
+    there.resume(was.session.sessionToken()).whenComplete((session, failure) -> {
+      boolean closedMeanwhile;
+      synchronized (this) {
+        closedMeanwhile = closed;
+      }
+      if (failure == null && !closedMeanwhile) {
+        post(() -> future.complete(there));
+        return;
+      }
+      there.close();
+      Throwable cause = closedMeanwhile
+          ? new RicochetException(RicochetException.Kind.CLOSED, null, null, "client closed")
+          : failure instanceof CompletionException&& failure.getCause() != null ? failure.getCause()
+                                                                                : failure;
+      post(() -> future.completeExceptionally(cause));
+    });
+    return future;
+  }
+
+  /**
+   * Joins the match of {@code assignment} with its ticket, on the server it names (this client
+   * when {@link Assignment#onThisServer()}, else the client {@link #follow} gave): completes as
+   * {@link #joinMatch(long)} does. Fails with the server's UNKNOWN_TICKET (already used, another
+   * server's or account's), EXPIRED_TICKET ({@link #findMatch} again), MATCH_FULL or
+   * MATCH_NOT_FOUND (the match filled up or ended meanwhile: find again) or any join_match error.
+   */
+  public CompletableFuture<JoinTicket> joinMatch(Assignment assignment) {
+    ClientMessage message = ClientMessage.newBuilder()
+                                .setJoinMatch(JoinMatchRequest.newBuilder().setTicket(
+                                    ByteString.copyFrom(assignment.ticket())))
+                                .build();
+    return send(message, this::joinTicket);
+  }
+
+  /**
+   * Joins {@code assignment}'s match with its ticket and connects its game channel: completes as
+   * {@link #joinMatch(long, GameListener)} does. A reconnect of that game channel joins the match
+   * again by its id, as any joined match's does.
+   */
+  public CompletableFuture<GameConnection> joinMatch(Assignment assignment, GameListener listener) {
+    if (listener == null) throw new NullPointerException("listener");
+    return joinMatch(assignment).thenCompose(ticket -> connectGame(ticket, listener));
   }
 
   /** Says {@code text} (1..200 bytes of UTF-8, no control or format characters) to the match. */

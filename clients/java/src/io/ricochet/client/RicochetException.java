@@ -22,7 +22,10 @@ public final class RicochetException extends Exception {
     PIN_MISMATCH,
     /** The connection ended before the reply came (errorCode: the server's closing Error). */
     DISCONNECTED,
-    /** Refused before sending: the connection's state does not allow it (or too large). */
+    /**
+     * Refused before sending: the connection's state does not allow it (or too large), or {@link
+     * RicochetClient#follow} of an assignment whose ticket expired (errorCode EXPIRED_TICKET).
+     */
     REFUSED_LOCALLY,
     /** The server's reply broke the protocol (a key of the wrong length ...). */
     INVALID_REPLY,
@@ -71,7 +74,8 @@ public final class RicochetException extends Exception {
 
   /**
    * The server's code: for {@link Kind#SERVER_ERROR}, and for {@link Kind#DISCONNECTED} when the
-   * server said why it closed (SHUTTING_DOWN, LOGIN_TIMEOUT ...); ERROR_CODE_UNSPECIFIED otherwise.
+   * server said why it closed (SHUTTING_DOWN, LOGIN_TIMEOUT ...), EXPIRED_TICKET for a follow
+   * refused locally; ERROR_CODE_UNSPECIFIED otherwise.
    * An unknown code is UNRECOGNIZED: treat it like INTERNAL.
    */
   public ErrorCode errorCode() {

@@ -33,6 +33,24 @@ class BotOptionsTest {
   }
 
   @Test
+  void findMatchTakesAModeAndAnOptionalMap() throws Exception {
+    BotOptions any = BotOptions.parse(new String[] {"--fingerprint", PIN, "--find-match", "tdm"});
+    assertEquals("tdm", any.findMode);
+    assertEquals("", any.findMap);
+    BotOptions on =
+        BotOptions.parse(new String[] {"--fingerprint", PIN, "--find-match", "ffa:foundry.v2"});
+    assertEquals("ffa", on.findMode);
+    assertEquals("foundry.v2", on.findMap);
+    assertEquals("", BotOptions.parse(new String[] {"--fingerprint", PIN}).findMode);
+    assertRefused("--find-match must be MODE[:MAP]", "--fingerprint", PIN, "--find-match", ":x");
+    assertRefused("--find-match must be MODE[:MAP]", "--fingerprint", PIN, "--find-match", "TDM");
+    assertRefused(
+        "--find-match must be MODE[:MAP]", "--fingerprint", PIN, "--find-match", "tdm:a b");
+    assertRefused("give one of --match (--match-id) and --find-match", "--fingerprint", PIN,
+        "--find-match", "tdm", "--match", "3");
+  }
+
+  @Test
   void refusesWhatItCannotRunNamingTheOptionAndTheValue() {
     assertRefused("--bots must be 1..64, got 0", "--fingerprint", PIN, "--bots", "0");
     assertRefused("--skill must be 0..1, got 1.5", "--fingerprint", PIN, "--skill", "1.5");

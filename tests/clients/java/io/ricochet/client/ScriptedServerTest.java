@@ -9,6 +9,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import io.ricochet.client.core.FrameReader;
 import io.ricochet.client.core.Frames;
 import io.ricochet.client.core.control.ControlCloseReason;
+import io.ricochet.client.core.control.ControlState;
 import io.ricochet.wire.ControlProto.ClientMessage;
 import io.ricochet.wire.ControlProto.ErrorCode;
 import io.ricochet.wire.ControlProto.ListMatchesReply;
@@ -223,6 +224,37 @@ class ScriptedServerTest {
       CompletableFuture<Session> login = client.login("scripted", "password-1");
       signIn();
       assertEquals(5, await(login).accountId());
+    }
+  }
+
+  @Test
+  void anAssignmentThatCannotBeFollowedFailsFindMatchAndTheConnectionStays() throws Exception {
+    Recorder recorder = new Recorder();
+    try (RicochetClient client = client(recorder, 60_000, 0)) {
+      CompletableFuture<Session> login = client.login("scripted", "password-1");
+      accept();
+      signIn();
+      await(login);
+      CompletableFuture<io.ricochet.client.core.control.Assignment> found =
+          client.findMatch("tdm", "");
+      ClientMessage find = next();
+      assertEquals("tdm", find.getFindMatch().getMode());
+      send(
+          ServerMessage.newBuilder()
+              .setRequestId(find.getRequestId())
+              .setFindMatch(io.ricochet.wire.ControlProto.FindMatchReply.newBuilder().setAssignment(
+                  io.ricochet.wire.ControlProto.Assignment.newBuilder()
+                      .setConnection("10.0.0.2:7787")
+                      .setGamePort(7788)
+                      .setCertificateSha256(TOKEN)
+                      .setMode("tdm")
+                      .setTicket(com.google.protobuf.ByteString.copyFrom(new byte[31]))))
+              .build());
+      RicochetException refused = failure(found);
+      assertEquals(RicochetException.Kind.INVALID_REPLY, refused.kind());
+      assertTrue(refused.getMessage().startsWith("find_match reply refused (ticket)"),
+          refused.getMessage());
+      assertEquals(ControlState.AUTHENTICATED, client.state(), "the connection stays");
     }
   }
 

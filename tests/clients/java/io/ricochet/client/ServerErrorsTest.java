@@ -9,8 +9,10 @@ import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertNotNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import io.ricochet.client.core.control.Assignment;
 import io.ricochet.client.core.control.ControlCloseReason;
 import io.ricochet.client.core.control.ControlState;
+import io.ricochet.client.core.control.RequestRefusal;
 import io.ricochet.client.testing.RealServer;
 import io.ricochet.wire.ControlProto.ErrorCode;
 import java.util.ArrayList;
@@ -102,6 +104,76 @@ class ServerErrorsTest {
       assertServerError(ErrorCode.MATCH_FULL, second.joinMatch(solo.matchId()));
       assertServerError(ErrorCode.ALREADY_IN_MATCH, first.joinMatch(arenaId(second)));
       assertEquals(ControlState.IN_MATCH, first.state());
+    }
+  }
+
+  /**
+   * Placement on a server outside a fleet (SQLite: placement off): find_match has nowhere to
+   * place, a ticket is unknown there; follow refuses locally what cannot work, sending nothing.
+   */
+  @Test
+  void placementErrorsOutsideAFleet() throws Exception {
+    try (RicochetClient client = signedIn(server.get(), "placer");
+         RicochetClient unsigned = pinned(server.get()).build()) {
+      assertServerError(ErrorCode.NO_SERVER_AVAILABLE, client.findMatch("ffa", ""));
+      io.ricochet.wire.ControlProto.Assignment.Builder wire =
+          io.ricochet.wire.ControlProto.Assignment.newBuilder()
+              .setConnection("127.0.0.1:" + server.get().controlPort())
+              .setGamePort(1)
+              .setCertificateSha256(server.get().fingerprint().replace(":", ""))
+              .setMode("ffa")
+              .setTicket(com.google.protobuf.ByteString.copyFrom(new byte[32]))
+              .setTicketExpiresInMs(30_000)
+              .setOnThisServer(true);
+      long nowMs = System.nanoTime() / 1_000_000;
+      Assignment here = Assignment.of(wire.build(), nowMs).assignment();
+      assertServerError(ErrorCode.UNKNOWN_TICKET, client.joinMatch(here));
+      assertEquals(ControlState.AUTHENTICATED, client.state(), "a ticket's error keeps it open");
+      assertTrue(client == await(client.follow(here)), "on this server: the same client");
+
+      RicochetException notSignedIn = failure(unsigned.follow(here));
+      assertEquals(RicochetException.Kind.REFUSED_LOCALLY, notSignedIn.kind());
+      assertEquals(RequestRefusal.WRONG_STATE, notSignedIn.refusal());
+      Assignment expired =
+          Assignment.of(wire.setOnThisServer(false).setTicketExpiresInMs(1).build(), nowMs - 5)
+              .assignment();
+      RicochetException late = failure(client.follow(expired));
+      assertEquals(RicochetException.Kind.REFUSED_LOCALLY, late.kind(), late.getMessage());
+      assertEquals(ErrorCode.EXPIRED_TICKET, late.errorCode());
+    }
+  }
+
+  /**
+   * follow of an assignment elsewhere (here: this same server, named as another) connects pinned to
+   * the assignment's fingerprint, not this client's pin, and resumes this session's token there.
+   */
+  @Test
+  void followPinsTheAssignmentsFingerprintAndResumesTheSessionThere() throws Exception {
+    try (RicochetClient client = signedIn(server.get(), "follower")) {
+      io.ricochet.wire.ControlProto.Assignment.Builder wire =
+          io.ricochet.wire.ControlProto.Assignment.newBuilder()
+              .setConnection("127.0.0.1:" + server.get().controlPort())
+              .setGamePort(1)
+              .setCertificateSha256(server.get().fingerprint().replace(":", "").toLowerCase())
+              .setMode("ffa")
+              .setTicket(com.google.protobuf.ByteString.copyFrom(new byte[32]))
+              .setTicketExpiresInMs(30_000);
+      long nowMs = System.nanoTime() / 1_000_000;
+      StringBuilder wrongPin = new StringBuilder();
+      for (int i = 0; i < 64; ++i) wrongPin.append('a');
+      Assignment forged =
+          Assignment.of(wire.clone().setCertificateSha256(wrongPin.toString()).build(), nowMs)
+              .assignment();
+      RicochetException pinned = failure(client.follow(forged));
+      assertEquals(RicochetException.Kind.PIN_MISMATCH, pinned.kind(), pinned.getMessage());
+
+      Assignment elsewhere = Assignment.of(wire.build(), nowMs).assignment();
+      try (RicochetClient there = await(client.follow(elsewhere))) {
+        assertTrue(there != client, "a client of the server the assignment names");
+        assertEquals(ControlState.AUTHENTICATED, there.state(), "resumed there");
+        assertServerError(ErrorCode.UNKNOWN_TICKET, there.joinMatch(elsewhere));
+      }
+      assertEquals(ControlState.AUTHENTICATED, client.state(), "this one stays signed in");
     }
   }
 

@@ -26,6 +26,8 @@ final class BotOptions {
       + "  --name NAME               account name (default jbot; with --bots N: NAME-1..NAME-N)\n"
       + "  --password PASSWORD       account password, registered if new (default ricochet-bot)\n"
       + "  --match, --match-id ID    the match to join; 0: the first with room (default 0)\n"
+      + "  --find-match MODE[:MAP]   ask the fleet for a seat instead (PROTOCOL.md, Placement):\n"
+      + "                            follow the assignment to the server it names and join there\n"
       + "  --bots N                  bots in this process, 1..64 (default 1)\n"
       + "  --spacing-ms MS           ms between two bots' starts, 0..60000 (default 20)\n"
       + "  --skill S                 aim skill 0..1 (1: no aim error; default 0.5)\n"
@@ -44,6 +46,8 @@ final class BotOptions {
   String name = "jbot";
   String password = "ricochet-bot";
   long matchId;
+  String findMode = ""; // --find-match: empty, or the mode to find a seat of
+  String findMap = ""; // and its map (empty: any)
   int bots = 1;
   int spacingMs = 20;
   double skill = 0.5;
@@ -92,6 +96,17 @@ final class BotOptions {
         case "--match-id":
           options.matchId = integer(option, value, 0, 0xFFFFFFFFL);
           break;
+        case "--find-match": {
+          int colon = value.indexOf(':');
+          options.findMode = colon < 0 ? value : value.substring(0, colon);
+          options.findMap = colon < 0 ? "" : value.substring(colon + 1);
+          if (!options.findMode.matches("[a-z0-9_-]{1,32}")
+              || !options.findMap.matches("[A-Za-z0-9_.-]{0,64}")) {
+            throw new UsageException("--find-match must be MODE[:MAP] (MODE 1..32 of [a-z0-9_-], "
+                + "MAP up to 64 of [A-Za-z0-9_.-]), got " + value);
+          }
+          break;
+        }
         case "--bots":
           options.bots = (int) integer(option, value, 1, 64);
           break;
@@ -138,6 +153,9 @@ final class BotOptions {
       throw new UsageException("--password must be at least 8 characters");
     }
     if (options.host.isEmpty()) throw new UsageException("--host is empty");
+    if (!options.findMode.isEmpty() && options.matchId != 0) {
+      throw new UsageException("give one of --match (--match-id) and --find-match");
+    }
     return options;
   }
 

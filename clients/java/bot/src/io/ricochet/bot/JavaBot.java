@@ -19,6 +19,7 @@ import io.ricochet.wire.GameProto.MatchPhase;
 import io.ricochet.wire.GameProto.MatchState;
 import io.ricochet.wire.GameProto.PlayerScore;
 import java.io.PrintStream;
+import java.util.ArrayList;
 import java.util.List;
 import java.util.Random;
 import java.util.concurrent.CompletionException;
@@ -74,7 +75,10 @@ final class JavaBot {
   private long startedNs;
   private long stepDeadlineNs;
   private ScheduledFuture<?> timer;
-  private RicochetClient client;
+  private RicochetClient client; // the server it plays on
+  // --find-match: the clients of servers it was sent away from, closed at the end (closing one
+  // earlier would end the bot: every client calls its one control listener).
+  private final List<RicochetClient> leftBehind = new ArrayList<>();
   private long accountId;
   private String username = "";
   private long matchId;
@@ -199,6 +203,10 @@ final class JavaBot {
       finish("no match to join within " + STEP_DEADLINE_MS + " ms");
       return;
     }
+    if (!options.findMode.isEmpty()) {
+      findMatch();
+      return;
+    }
     client.listMatches().whenComplete((matches, failure) -> {
       if (state != State.JOINING) return;
       if (failure != null) {
@@ -225,14 +233,70 @@ final class JavaBot {
           }
           return;
         }
-        matchId = id;
-        game = joined;
-        connection = listener;
-        matchEnded = false;
-        phase = MatchPhase.MATCH_PHASE_UNSPECIFIED;
-        transition(State.PLAYING, "joined match " + id + " from port " + joined.localPort());
+        playing(id, joined, listener, "");
       });
     });
+  }
+
+  /**
+   * --find-match: asks for a seat, follows the assignment (a client of the server it names,
+   * signed in with this session's token, unless it is this one) and joins there with the ticket.
+   * No seat anywhere yet, a match that filled up or ended meanwhile (MATCH_NOT_FOUND: the fleet
+   * directory lags a match's end by up to a heartbeat) or a ticket gone stale: asks again a
+   * second later.
+   */
+  private void findMatch() {
+    client.findMatch(options.findMode, options.findMap)
+        .thenCompose(assignment
+            -> client.follow(assignment)
+                   .thenCompose(there -> there.joinMatch(assignment).handle((ticket, failure) -> {
+                     if (there != client && state == State.DONE) {
+                       there.close(); // stopped meanwhile: end() closed the others
+                     } else if (there != client) {
+                       // From now on the bot plays there; the one it left is closed at the end.
+                       leftBehind.add(client);
+                       client = there;
+                     }
+                     if (failure != null) throw new CompletionException(cause(failure));
+                     return ticket;
+                   })))
+        .whenComplete((ticket, failure) -> {
+          if (state != State.JOINING) return;
+          if (failure != null) {
+            ErrorCode code = errorCode(failure);
+            if (code == ErrorCode.NO_SERVER_AVAILABLE || code == ErrorCode.FIND_MATCH_RATE_LIMITED
+                || code == ErrorCode.MATCH_FULL || code == ErrorCode.MATCH_NOT_FOUND
+                || code == ErrorCode.UNKNOWN_TICKET || code == ErrorCode.EXPIRED_TICKET) {
+              later(JOIN_RETRY_MS, this::tryJoin);
+            } else {
+              finish("find match " + options.findMode + ": " + cause(failure).getMessage());
+            }
+            return;
+          }
+          Connection listener = new Connection();
+          client.connectGame(ticket, listener).whenComplete((joined, connectFailure) -> {
+            if (state != State.JOINING) {
+              if (joined != null) joined.close();
+              return;
+            }
+            if (connectFailure != null) {
+              finish("connect to match " + ticket.matchId() + " at " + ticket.host() + ": "
+                  + cause(connectFailure).getMessage());
+              return;
+            }
+            playing(ticket.matchId(), joined, listener, " on " + ticket.host());
+          });
+        });
+  }
+
+  /** Joined match {@code id} ({@code where}, for the log): plays it on {@code joined}. */
+  private void playing(long id, GameConnection joined, Connection listener, String where) {
+    matchId = id;
+    game = joined;
+    connection = listener;
+    matchEnded = false;
+    phase = MatchPhase.MATCH_PHASE_UNSPECIFIED;
+    transition(State.PLAYING, "joined match " + id + where + " from port " + joined.localPort());
   }
 
   /** --match, or the first listed match with room; 0 when none has room. */
@@ -460,6 +524,7 @@ final class JavaBot {
     if (timer != null) timer.cancel(false);
     closeGame();
     if (client != null) client.close();
+    for (RicochetClient earlier : leftBehind) earlier.close();
     onDone.run();
   }
 
