@@ -466,7 +466,10 @@ void Bot::on_find_match(const wire::ServerMessage& reply) {
     ticket_ = std::get<Assigned>(std::move(read));
     if (ticket_->on_this_server) return join_with_ticket();
     const auto pin =
-        assigned_trust_.try_emplace(ticket_->fingerprint, ServerTrust::pinned(ticket_->fingerprint))
+        assigned_trust_
+            .try_emplace(ticket_->fingerprint,
+                         ServerTrust::pinned(ticket_->fingerprint,
+                                             "the assignment from " + text_of(home_.control)))
             .first;
     const ServerTarget there{
         {ticket_->host, ticket_->control_port}, &pin->second, ticket_->game_port};
