@@ -617,7 +617,10 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
       guarded([this](proto::ClientEvent& event) { on_game_event(event); }), config_.link,
       config_.seed);
   game_ = game;
-  if (shared_port_ && config_.rebind_after_s == 0) {
+  // The shared socket reaches IPv4 loopback servers only (FleetConfig checks the first server;
+  // an assigned one elsewhere gets a socket of its own).
+  const bool shareable = game_endpoint_.address().is_v4() && game_endpoint_.address().is_loopback();
+  if (shared_port_ && config_.rebind_after_s == 0 && shareable) {
     if (std::string error = game->use_shared_port(shared_port_); !error.empty()) {
       game_.reset();
       feed_.reset();
