@@ -239,6 +239,8 @@ void Bot::reconnect(const std::string& reason) {
 void Bot::connect_control() {
   if (control_) control_->close();
   signed_in_ = false;
+  // A ticket that expired while its server could not be reached holds the bot there no more.
+  if (ticket_ && !ticket_->ticket_usable(steady_now_us())) ticket_.reset();
   // Nothing holds the bot where it was placed: it asks through the first server again.
   if (unplaced()) at_ = home_;
   proto::ControlClientConfig protocol;  // its defaults: sign-in's minute, a ping every 30 s
