@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--match", bot.match_id, "match id to join; 0: the first with room")
       ->capture_default_str();
+  app.add_option("--find-match", bot.find_match,
+                 "MODE[:MAP]: ask the server for a seat (find_match) and follow the assignment, "
+                 "to another server of its fleet if need be; after each match, ask it again");
   app.add_option("--skill", bot.skill, "aim skill 0..1 (1: no aim error)")->capture_default_str();
   app.add_option("--seed", bot.seed, "seed of the behaviour (bot k uses seed + k - 1)")
       ->capture_default_str();

@@ -43,6 +43,16 @@ TEST(ServerTrust, PinnedTrustsOnlyItsFingerprint) {
   EXPECT_NE(trust.check(""), "");
 }
 
+TEST(ServerTrust, APinFromAnAssignmentSaysWhereItCameFromWhenItRefuses) {
+  ServerTrust trust =
+      ServerTrust::pinned(fingerprint_of("AB"), "the assignment from 127.0.0.1:7777");
+  EXPECT_EQ(trust.check(fingerprint_of("AB")), "");
+  const std::string refusal = trust.check(fingerprint_of("CD"));
+  EXPECT_NE(refusal.find("(from the assignment from 127.0.0.1:7777)"), std::string::npos)
+      << refusal;
+  EXPECT_EQ(refusal.find("--fingerprint"), std::string::npos) << refusal;
+}
+
 TEST(ServerTrust, FirstUseWritesTheFileAndRefusesAnotherFingerprintLater) {
   ricochet::test::TempDir dir("ricochet-trust");
   const auto file = dir.path() / "trusted";

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <variant>
 
 #include "ricochet/bot/refusal_policy.h"
 #include "ricochet/proto/connect_token.h"
@@ -34,6 +35,12 @@ double backoff_s(int attempt) {
 
 bool is_error(const wire::ServerMessage& reply, wire::ErrorCode code) {
   return reply.has_error() && reply.error().code() == code;
+}
+
+std::string text_of(const asio::ip::tcp::endpoint& endpoint) {
+  const std::string host = endpoint.address().to_string();
+  return (endpoint.address().is_v6() ? "[" + host + "]" : host) + ":" +
+         std::to_string(endpoint.port());
 }
 
 std::string describe(const wire::ServerMessage& reply) {
@@ -107,7 +114,12 @@ Bot::Bot(asio::io_context& io, asio::ssl::context& tls, ServerTrust& trust, BotC
       deadline_(io),
       tick_timer_(io),
       alive_(std::make_shared<bool>(true)) {
-  control_endpoint_ = {asio::ip::make_address(config_.host), config_.control_port};
+  home_ = {{asio::ip::make_address(config_.host), config_.control_port}, &trust_, 0};
+  at_ = home_;
+  if (!config_.find_match.empty()) {
+    // validate() accepted it.
+    wanted_ = std::get<MatchWanted>(parse_match_wanted(config_.find_match));
+  }
   if (!config_.bind_address.empty()) local_address_ = asio::ip::make_address(config_.bind_address);
 }
 
@@ -189,7 +201,7 @@ void Bot::fail_attempt(const std::string& reason, Retry retry) {
       transition(BotState::SigningIn, "retrying the sign-in");
       sign_in();
     } else {
-      find_match();
+      seek_seat();
     }
   });
 }
@@ -216,7 +228,7 @@ void Bot::reconnect(const std::string& reason) {
   lost_at_us_ = steady_now_us();
   transition(BotState::Reconnecting, reason);
   if (control_ && control_->is_open()) {
-    find_match();
+    seek_seat();
   } else {
     fail_attempt("the control channel is down; " + reason, Retry::NewConnection);
   }
@@ -227,6 +239,10 @@ void Bot::reconnect(const std::string& reason) {
 void Bot::connect_control() {
   if (control_) control_->close();
   signed_in_ = false;
+  // A ticket that expired while its server could not be reached holds the bot there no more.
+  if (ticket_ && !ticket_->ticket_usable(steady_now_us())) ticket_.reset();
+  // Nothing holds the bot where it was placed: it asks through the first server again.
+  if (unplaced()) at_ = home_;
   proto::ControlClientConfig protocol;  // its defaults: sign-in's minute, a ping every 30 s
   protocol.on_transition = [name = config_.name](proto::ControlState from, proto::ControlState to,
                                                  std::string_view reason) {
@@ -234,13 +250,16 @@ void Bot::connect_control() {
                   reason);
   };
   control_ = std::make_shared<ControlClient>(
-      io_, tls_, trust_,
+      io_, tls_, *at_.trust,
       ControlClient::Callbacks{
           guarded([this](const std::string& error) { on_control_ready(error); }),
           guarded([this](const wire::MatchResults& results) { on_match_results(results); }),
           guarded([this](const std::string& reason) { on_control_closed(reason); })},
       std::move(protocol));
-  control_->connect(control_endpoint_, local_address_);
+  // A bind address of the other family (an assigned server's) is left to the system.
+  const bool same_family =
+      local_address_.is_unspecified() || local_address_.is_v4() == at_.control.address().is_v4();
+  control_->connect(at_.control, same_family ? local_address_ : asio::ip::address{});
   arm(kConnectTimeoutS, [this] {
     fail_attempt("timed out connecting to the control channel", Retry::NewConnection);
   });
@@ -338,17 +357,31 @@ void Bot::on_session(const wire::ServerMessage& reply) {
   busy_retries_ = 0;
   record_.account_id = reply.session().account_id();
   if (!reply.session().session_token().empty()) session_token_ = reply.session().session_token();
-  transition(BotState::Joining, "logged in as account " + std::to_string(record_.account_id));
-  find_match();
+  transition(BotState::Joining, "logged in as account " + std::to_string(record_.account_id) +
+                                    " on " + text_of(at_.control));
+  seek_seat();
 }
 
-void Bot::find_match() {
+void Bot::seek_seat() {
+  if (unplaced() && at_.control != home_.control) {
+    if (control_) {
+      control_->close();
+      control_.reset();
+    }
+    transition(BotState::Connecting, "back to " + text_of(home_.control) + " to find a match");
+    return connect_control();
+  }
   if (!control_ || !control_->is_open())
     return fail_attempt("the control channel is down", Retry::NewConnection);
   arm(kRequestTimeoutS,
       [this] { fail_attempt("timed out joining a match", Retry::NewConnection); });
   if (match_id_ != 0) return join(match_id_);
   if (config_.match_id != 0) return join(config_.match_id);
+  if (wanted_) return ticket_ ? join_with_ticket() : find_match();
+  join_listed();
+}
+
+void Bot::join_listed() {
   wire::ClientMessage list;
   list.mutable_list_matches();
   control_->request(std::move(list), guarded([this](const wire::ServerMessage& reply) {
@@ -362,7 +395,7 @@ void Bot::find_match() {
                       }
                       spdlog::info("bot {}: no match has room; listing again in {} s", config_.name,
                                    kNoRoomRetryS);
-                      arm(kNoRoomRetryS, [this] { find_match(); });
+                      arm(kNoRoomRetryS, [this] { seek_seat(); });
                     }));
 }
 
@@ -374,11 +407,19 @@ void Bot::join(std::uint32_t match_id) {
 }
 
 void Bot::on_join(const wire::ServerMessage& reply) {
-  if (reply.has_join_match()) return open_game(reply.join_match());
+  const bool with_ticket = ticket_.has_value();
+  if (reply.has_join_match()) {
+    if (with_ticket) {
+      record_.placements.push_back({text_of(at_.control), reply.join_match().match_id()});
+      ticket_.reset();
+    }
+    return open_game(reply.join_match());
+  }
+  if (with_ticket) return on_ticket_refused(reply);
   if (is_error(reply, wire::MATCH_NOT_FOUND) && match_id_ != 0) {
     // The match we held a seat in is over (a rotation); find another.
     match_id_ = 0;
-    return find_match();
+    return seek_seat();
   }
   if (config_.match_id != 0 &&
       (is_error(reply, wire::MATCH_NOT_FOUND) || is_error(reply, wire::MATCH_FULL))) {
@@ -389,7 +430,7 @@ void Bot::on_join(const wire::ServerMessage& reply) {
     // No seat now (the match, or this address, holds its most): seats free as players leave.
     spdlog::info("bot {}: join_match: {}; looking again in {} s", config_.name, describe(reply),
                  kNoRoomRetryS);
-    return arm(kNoRoomRetryS, [this] { find_match(); });
+    return arm(kNoRoomRetryS, [this] { seek_seat(); });
   }
   if (is_error(reply, wire::ALREADY_IN_MATCH)) {
     // Seated elsewhere. From this connection's match, leave (a resume with the token that took the
@@ -398,12 +439,123 @@ void Bot::on_join(const wire::ServerMessage& reply) {
     wire::ClientMessage leave;
     leave.mutable_leave_match();
     if (!control_->request(std::move(leave),
-                           guarded([this](const wire::ServerMessage&) { find_match(); }))) {
-      arm(kNoRoomRetryS, [this] { find_match(); });
+                           guarded([this](const wire::ServerMessage&) { seek_seat(); }))) {
+      arm(kNoRoomRetryS, [this] { seek_seat(); });
     }
     return;
   }
   fail_attempt("join_match: " + describe(reply), Retry::SameConnection);
+}
+
+// --- placement ---
+
+void Bot::find_match() {
+  if (finding_since_us_ < 0) finding_since_us_ = steady_now_us();
+  wire::ClientMessage request;
+  request.mutable_find_match()->set_mode(wanted_->mode);
+  request.mutable_find_match()->set_map(wanted_->map);
+  control_->request(std::move(request),
+                    guarded([this](const wire::ServerMessage& reply) { on_find_match(reply); }));
+}
+
+void Bot::on_find_match(const wire::ServerMessage& reply) {
+  if (reply.has_find_match()) {
+    auto read = read_assignment(reply.find_match().assignment(), steady_now_us());
+    if (const auto* problem = std::get_if<std::string>(&read)) {
+      ++metrics_.bad_control;
+      return fail_attempt("unusable assignment: " + *problem, Retry::SameConnection);
+    }
+    ticket_ = std::get<Assigned>(std::move(read));
+    if (ticket_->on_this_server) return join_with_ticket();
+    const auto pin =
+        assigned_trust_
+            .try_emplace(ticket_->fingerprint,
+                         ServerTrust::pinned(ticket_->fingerprint,
+                                             "the assignment from " + text_of(home_.control)))
+            .first;
+    const ServerTarget there{
+        {ticket_->host, ticket_->control_port}, &pin->second, ticket_->game_port};
+    if (control_) {
+      control_->close();
+      control_.reset();
+    }
+    at_ = there;
+    transition(BotState::Connecting, "assigned to " + text_of(at_.control) + " (match " +
+                                         std::to_string(ticket_->match_id) + ")");
+    return connect_control();
+  }
+  const wire::ErrorCode code = reply.has_error() ? reply.error().code() : wire::INTERNAL;
+  switch (placement_action(code)) {
+    case PlacementAction::RetryLater: {
+      const double wait =
+          retry_later_s(std::uniform_real_distribution<double>(0, 1)(retry_random_));
+      spdlog::info("bot {}: find_match: {}; asking again in {:.1f} s", config_.name,
+                   describe(reply), wait);
+      return arm(wait, [this] { seek_seat(); });
+    }
+    case PlacementAction::GiveUp:
+      return finish("cannot be placed",
+                    "find_match " + config_.find_match + " refused: " + describe(reply));
+    case PlacementAction::FindAgain:
+      return find_again("find_match: " + describe(reply));
+    case PlacementAction::FailedAttempt:
+      break;
+  }
+  fail_attempt("find_match: " + describe(reply), Retry::SameConnection);
+}
+
+void Bot::join_with_ticket() {
+  if (!ticket_->ticket_usable(steady_now_us())) {
+    ticket_.reset();
+    return find_again("the ticket expired before it was presented");
+  }
+  wire::ClientMessage request;
+  request.mutable_join_match()->set_ticket(ticket_->ticket);
+  control_->request(std::move(request),
+                    guarded([this](const wire::ServerMessage& reply) { on_join(reply); }));
+}
+
+void Bot::on_ticket_refused(const wire::ServerMessage& reply) {
+  ticket_.reset();  // claimed or refused: never presented twice
+  if (is_error(reply, wire::ALREADY_IN_MATCH)) {
+    // Seated elsewhere (a seat of an earlier connection): leave it, then ask again.
+    wire::ClientMessage leave;
+    leave.mutable_leave_match();
+    if (!control_->request(std::move(leave),
+                           guarded([this](const wire::ServerMessage&) { seek_seat(); }))) {
+      arm(kNoRoomRetryS, [this] { seek_seat(); });
+    }
+    return;
+  }
+  const wire::ErrorCode code = reply.has_error() ? reply.error().code() : wire::INTERNAL;
+  switch (placement_action(code)) {
+    case PlacementAction::FindAgain:
+      return find_again("join_match with the ticket: " + describe(reply));
+    case PlacementAction::RetryLater: {
+      const double wait =
+          retry_later_s(std::uniform_real_distribution<double>(0, 1)(retry_random_));
+      return arm(wait, [this] { seek_seat(); });
+    }
+    case PlacementAction::GiveUp:
+      return finish("cannot be placed", "join_match with the ticket of find_match " +
+                                            config_.find_match + " refused: " + describe(reply));
+    case PlacementAction::FailedAttempt:
+      break;
+  }
+  fail_attempt("join_match with the ticket: " + describe(reply), Retry::SameConnection);
+}
+
+void Bot::find_again(const std::string& reason) {
+  if (++find_again_ > kMaxFindAgainInARow) {
+    return finish("giving up", "placed " + std::to_string(kMaxFindAgainInARow) +
+                                   " times in a row without a seat; the last: " + reason);
+  }
+  const double wait =
+      find_again_s(find_again_, std::uniform_real_distribution<double>(0, 1)(retry_random_));
+  spdlog::info("bot {}: {}; finding a match again in {:.1f} s ({} in a row)", config_.name, reason,
+               wait, find_again_);
+  transition(BotState::Joining, reason);
+  arm(wait, [this] { seek_seat(); });
 }
 
 void Bot::after_match() {
@@ -413,8 +565,8 @@ void Bot::after_match() {
     return finish("finished " + std::to_string(metrics_.matches) + " matches");
   }
   transition(BotState::Joining, "the next match");
-  if (control_ && control_->is_open()) {
-    find_match();
+  if (unplaced() || (control_ && control_->is_open())) {
+    seek_seat();
   } else {
     fail_attempt("the control channel is down after the match", Retry::NewConnection);
   }
@@ -449,7 +601,11 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
   match_id_ = reply.match_id();
   tick_rate_hz_ = reply.tick_rate_hz();
   tick_period_us_ = proto::kMicrosPerSecond / tick_rate_hz_;
-  game_endpoint_ = {control_endpoint_.address(), static_cast<std::uint16_t>(reply.udp_port())};
+  // On an assigned server, its game port from the directory (what it advertises: the bound
+  // one may not be reachable from here); otherwise the join reply's.
+  game_endpoint_ = {at_.control.address(), at_.game_port != 0
+                                               ? at_.game_port
+                                               : static_cast<std::uint16_t>(reply.udp_port())};
 
   close_game(false);
   feed_.emplace(*spec, static_cast<double>(reply.tick_rate_hz()) / reply.snapshot_rate_hz(),
@@ -463,13 +619,17 @@ void Bot::open_game(const wire::JoinMatchReply& reply) {
       guarded([this](proto::ClientEvent& event) { on_game_event(event); }), config_.link,
       config_.seed);
   game_ = game;
-  if (shared_port_ && config_.rebind_after_s == 0) {
+  // The shared socket reaches IPv4 loopback servers only (FleetConfig checks the first server;
+  // an assigned one elsewhere gets a socket of its own).
+  const bool shareable = game_endpoint_.address().is_v4() && game_endpoint_.address().is_loopback();
+  if (shared_port_ && config_.rebind_after_s == 0 && shareable) {
     if (std::string error = game->use_shared_port(shared_port_); !error.empty()) {
       game_.reset();
       feed_.reset();
       return fail_attempt(error, Retry::SameConnection);
     }
-  } else if (!local_address_.is_unspecified()) {
+  } else if (!local_address_.is_unspecified() &&
+             local_address_.is_v4() == game_endpoint_.address().is_v4()) {
     if (std::string error = game->bind_local(local_address_); !error.empty()) {
       game_.reset();
       feed_.reset();
@@ -505,6 +665,7 @@ void Bot::on_game_event(proto::ClientEvent& event) {
   } else if (std::holds_alternative<proto::ClientConnected>(event)) {
     deadline_.cancel();
     failed_attempts_ = 0;
+    find_again_ = 0;
     connected_at_us_ = steady_now_us();
     next_rtt_sample_us_ = connected_at_us_ + kRttSampleUs;
     if (!record_.entity_ids.empty()) ++metrics_.reconnects;
@@ -527,6 +688,10 @@ void Bot::on_payload(std::span<const std::uint8_t> bytes, proto::TimeUs now) {
   if (rendered_) rendered_->on_snapshot(*feed_, seconds_between(started_at_us_, now));
   if (metrics_.first_snapshot_ms < 0) {
     metrics_.first_snapshot_ms = seconds_between(started_at_us_, now) * 1000;
+  }
+  if (finding_since_us_ >= 0) {
+    metrics_.placement_ms.push_back(seconds_between(finding_since_us_, now) * 1000);
+    finding_since_us_ = -1;
   }
   if (lost_at_us_ >= 0) {
     metrics_.last_reconnect_ms = seconds_between(lost_at_us_, now) * 1000;

@@ -2,6 +2,7 @@
 
 #include <boost/asio/ip/address.hpp>
 
+#include "ricochet/bot/assignment.h"
 #include "ricochet/bot/server_trust.h"
 
 namespace ricochet::bot {
@@ -39,6 +40,15 @@ std::string BotConfig::validate() const {
   }
   if (password.size() < 8 || password.size() > 1024) {
     return "password must be 8..1024 bytes, got " + std::to_string(password.size());
+  }
+  if (!find_match.empty()) {
+    const auto wanted = parse_match_wanted(find_match);
+    if (const auto* problem = std::get_if<std::string>(&wanted)) return *problem;
+    if (match_id != 0) {
+      return "find_match and match_id exclude each other (the assignment names the match), got "
+             "match_id " +
+             std::to_string(match_id);
+    }
   }
   if (tick_phases < 0 || tick_phases > 64) {
     return "tick_phases must be 0..64, got " + std::to_string(tick_phases);

@@ -42,6 +42,7 @@ void BotMetrics::merge(const BotMetrics& other) {
     first_snapshot_ms = std::max(first_snapshot_ms, other.first_snapshot_ms);
   }
   last_reconnect_ms = std::max(last_reconnect_ms, other.last_reconnect_ms);
+  placement_ms.insert(placement_ms.end(), other.placement_ms.begin(), other.placement_ms.end());
   bad_payloads += other.bad_payloads;
   bad_events += other.bad_events;
   snapshots_refused += other.snapshots_refused;
@@ -125,6 +126,12 @@ std::string BotMetrics::to_json() const {
                 static_cast<unsigned long long>(sim_dropped),
                 static_cast<unsigned long long>(sim_duplicated),
                 static_cast<unsigned long long>(sim_reordered));
+  out += text;
+  out.pop_back();
+  const stats::Summary placement = stats::summarize(placement_ms);
+  std::snprintf(text, sizeof text,
+                ",\"placements\":%zu,\"placement_ms_p50\":%.3f,\"placement_ms_max\":%.3f}",
+                placement.count, placement.p50, placement.max);
   return out + text;
 }
 

@@ -58,9 +58,10 @@ std::optional<std::string> normalize_fingerprint(std::string_view text) {
   return out;
 }
 
-ServerTrust ServerTrust::pinned(std::string fingerprint) {
+ServerTrust ServerTrust::pinned(std::string fingerprint, std::string source) {
   ServerTrust trust;
   trust.trusted_ = std::move(fingerprint);
+  trust.source_ = std::move(source);
   return trust;
 }
 
@@ -96,8 +97,7 @@ std::string ServerTrust::check(const std::string& fingerprint) {
     }
   }
   if (fingerprint != trusted_) {
-    std::string where =
-        file_.empty() ? std::string("--fingerprint") : "the trust file " + file_.string();
+    std::string where = file_.empty() ? source_ : "the trust file " + file_.string();
     return "the server's certificate SHA-256 " + fingerprint + " is not the trusted " + trusted_ +
            " (from " + where + "); if the server's certificate changed on purpose, update " + where;
   }

@@ -9,6 +9,12 @@
 ///   rotation) Reconnecting ─control channel lost─▶ Connecting (after a back-off) any ─stop(), a
 ///   fatal refusal, too many failed reconnects, matches done─▶ Done
 ///
+/// With find_match set (placement, PROTOCOL.md), Joining asks the first server (config host)
+/// for an Assignment and follows it: on that server, a join with the ticket; on another,
+/// Joining ─assignment─▶ Connecting (there, its certificate pinned from the assignment) ─▶
+/// SigningIn (resume with the session token) ─▶ Joining (the ticket) ─▶ Handshaking. Once the
+/// match is over (or the ticket refused) the bot goes back to the first server to ask again.
+///
 /// Each waiting state has a deadline (a state timer); missing it is a failed attempt.
 
 #include <boost/asio/io_context.hpp>
@@ -18,6 +24,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <random>
@@ -25,6 +32,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ricochet/bot/assignment.h"
 #include "ricochet/bot/bot_config.h"
 #include "ricochet/bot/bot_metrics.h"
 #include "ricochet/bot/brain.h"
@@ -69,7 +77,13 @@ struct BotRecord {
   std::vector<Arrival> arrivals;
   std::vector<wire::MatchResults> results;
   std::vector<wire::MatchEndReason> match_ended;  ///< MatchEnded events, in order
-  std::string error;  ///< why the bot is Done, when it is not a normal end
+  /// A seat taken with a ticket (find_match): the control channel it was taken on.
+  struct Placement {
+    std::string server;  ///< "host:port" of that server's control channel
+    std::uint32_t match_id = 0;
+  };
+  std::vector<Placement> placements;  ///< in order
+  std::string error;                  ///< why the bot is Done, when it is not a normal end
 };
 
 class Bot {
@@ -124,9 +138,23 @@ class Bot {
   void sign_in();
   void log_in();
   void on_session(const wire::ServerMessage& reply);
-  void find_match();
+  /// Takes a seat: back in the match the bot holds a seat in, config_.match_id, placement
+  /// (find_match), or the first listed match with room.
+  void seek_seat();
+  void join_listed();
   void join(std::uint32_t match_id);
   void on_join(const wire::ServerMessage& reply);
+
+  // Placement (config_.find_match).
+  /// Nothing holds the bot on the server it is connected to: no seat, no ticket for it.
+  bool unplaced() const { return wanted_ && match_id_ == 0 && !ticket_; }
+  void find_match();
+  void on_find_match(const wire::ServerMessage& reply);
+  void join_with_ticket();
+  /// The ticket's join was refused: what refusal_policy.h says for `reply`.
+  void on_ticket_refused(const wire::ServerMessage& reply);
+  /// find_match again after a back-off; the bot gives up after kMaxFindAgainInARow in a row.
+  void find_again(const std::string& reason);
   void after_match();
 
   // Game channel.
@@ -151,7 +179,20 @@ class Bot {
   boost::asio::ssl::context& tls_;
   ServerTrust& trust_;
   BotConfig config_;
-  boost::asio::ip::tcp::endpoint control_endpoint_;
+  /// Where a control connection goes and how its certificate is trusted.
+  struct ServerTarget {
+    boost::asio::ip::tcp::endpoint control;
+    ServerTrust* trust = nullptr;  ///< trust_, or one of assigned_trust_
+    std::uint16_t game_port = 0;   ///< the assignment's; 0: the join reply's udp_port
+  };
+  ServerTarget home_;  ///< config_.host: where the bot signs in first and asks for a seat
+  ServerTarget at_;    ///< the current (or next) control connection's
+  /// One pin per assigned server, by fingerprint (node-based: the targets point into it).
+  /// The assignment came over a control channel the bot already trusted (its certificate
+  /// checked by trust_ or an earlier pin), from the fleet's directory, which each server writes
+  /// itself; so pinning the fingerprint it names extends that trust by one hop, to a server the
+  /// bot could not otherwise have verified, and trusts nothing a man in the middle chose.
+  std::map<std::string, ServerTrust> assigned_trust_;
   boost::asio::ip::address local_address_;  ///< config_.bind_address; unspecified: any
   boost::asio::ip::udp::endpoint game_endpoint_;
   BotState state_ = BotState::Connecting;
@@ -164,7 +205,12 @@ class Bot {
   std::uint32_t match_id_ = 0;  ///< the match the bot is seated in (0: none)
   bool awaiting_results_ = false;
   int failed_attempts_ = 0;
-  int busy_retries_ = 0;           ///< SERVER_BUSY in a row at sign-in
+  int busy_retries_ = 0;               ///< SERVER_BUSY in a row at sign-in
+  std::optional<MatchWanted> wanted_;  ///< config_.find_match, parsed
+  std::optional<Assigned> ticket_;     ///< an assignment not yet presented
+  int find_again_ = 0;                 ///< tickets refused in a row (refusal_policy.h)
+  /// When this placement's first find_match was sent (steady us); -1: not placing.
+  proto::TimeUs finding_since_us_ = -1;
   std::minstd_rand retry_random_;  ///< spreads the busy retries of bots refused together
 
   std::shared_ptr<SharedGamePort> shared_port_;  ///< null: a socket per game connection

@@ -29,8 +29,12 @@ struct BotConfig {
   std::string name = "bot";               ///< account name, 3..24 of [A-Za-z0-9_.-]
   std::string password = "ricochet-bot";  ///< 8..1024 bytes; the account is registered if new
   std::uint32_t match_id = 0;             ///< 0: the first listed match with room
-  double skill = 0.5;                     ///< 0..1: 1 aims exactly, 0 with the largest aim error
-  std::uint64_t seed = 1;                 ///< the behaviour's random numbers
+  /// "MODE" or "MODE:MAP" (assignment.h): ask the server for a seat with find_match and follow
+  /// the Assignment, to another server of the fleet if it says so; after each match, ask again
+  /// through this server (host). Empty: list the matches (or join match_id) here.
+  std::string find_match;
+  double skill = 0.5;      ///< 0..1: 1 aims exactly, 0 with the largest aim error
+  std::uint64_t seed = 1;  ///< the behaviour's random numbers
   /// The game channel's simulated link, each direction (seeded from `seed`); inactive: none.
   LinkConfig link;
   /// s of game connection after which the bot moves to a new local port (an address change)

@@ -47,6 +47,10 @@ struct BotMetrics {
   std::vector<double> rtt_ms;     ///< the transport's smoothed round trip, one sample per second
   double first_snapshot_ms = -1;  ///< from start() to the first decoded snapshot; -1: none
   double last_reconnect_ms = -1;  ///< from losing the game channel to its next snapshot; -1: none
+  /// Placement (find_match): from a placement's first find_match to the first snapshot of the
+  /// match it led to, ms, one sample per placement (retries and moves to another server
+  /// included).
+  std::vector<double> placement_ms;
 
   // What the bot refused (untrusted input, counted and logged, never trusted).
   std::uint64_t bad_payloads = 0;       ///< unreliable bytes that are not a ServerPayload

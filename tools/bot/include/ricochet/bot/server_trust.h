@@ -22,8 +22,9 @@ std::optional<std::string> normalize_fingerprint(std::string_view text);
 
 class ServerTrust {
  public:
-  /// Trusts exactly `fingerprint` (which must be canonical: see normalize_fingerprint).
-  static ServerTrust pinned(std::string fingerprint);
+  /// Trusts exactly `fingerprint` (which must be canonical: see normalize_fingerprint);
+  /// `source` names where it came from in a refusal.
+  static ServerTrust pinned(std::string fingerprint, std::string source = "--fingerprint");
   /// Trusts what `file` holds; when it does not exist, the first fingerprint checked is
   /// written to it and trusted from then on.
   static ServerTrust on_first_use(std::filesystem::path file);
@@ -35,6 +36,7 @@ class ServerTrust {
   ServerTrust() = default;
   std::string trusted_;  ///< empty until known (first use)
   std::filesystem::path file_;
+  std::string source_;  ///< of a pinned fingerprint
 };
 
 }  // namespace ricochet::bot

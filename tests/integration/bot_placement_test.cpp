@@ -1,0 +1,261 @@
+// Placement with bots (issue 31, section 2): three real ricochet-server processes on one
+// PostgreSQL database, A hosting free-for-all only, B and C team deathmatch only. Bots that
+// know only A ask it for tdm (ricochet-bot --find-match tdm) and are sent to B and C, follow
+// their assignments there (the certificate pinned from the assignment, the session resumed, the
+// ticket presented), play their match to its time limit and see its results; a bot that knows
+// only C asks for ffa, plays on A, and for its second match asks C again and plays on A again.
+// Prints the figures of the run. Every wait is bounded.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <boost/asio/io_context.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <chrono>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "postgres_cluster.h"
+#include "ricochet/bot/bot.h"
+#include "ricochet/bot/fleet.h"
+#include "ricochet/db/store.h"
+#include "ricochet/stats/summary.h"
+#include "run_until.h"
+#include "server_process.h"
+
+namespace ricochet::test::bot_placement_test {
+namespace {
+
+using namespace std::chrono_literals;
+namespace asio = boost::asio;
+
+/// As in bot_match_test.cpp: the bounded waits of a test add up to kMargin under ctest's limit.
+constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
+constexpr std::chrono::seconds kMargin{6};
+/// From the forks to the three ports files and directory rows (the servers start at once).
+constexpr std::chrono::seconds kStartBudget{10};
+/// Every match's time limit: matches end by themselves, soon.
+constexpr std::chrono::seconds kTimeLimit{2};
+/// The bots sign in, are placed (with the retries of a seat taken under them), play a match of
+/// kTimeLimit and get its results; the ffa bot two.
+constexpr std::chrono::seconds kPlayBudget{2 * kTimeLimit + 15s};
+constexpr int kShutdownGraceS = 5;
+constexpr std::chrono::seconds kExitBudget{kShutdownGraceS + 3};
+
+constexpr int kTdmBots = 12;
+/// B's and C's tdm matches each: 16 seats for 12 bots, so that filling (fullest first) and
+/// spreading (3 to each match) give different matches.
+constexpr int kMatchesPerServer = 2;
+constexpr int kSeatsPerMatch = 4;
+
+/// `count` matches of `mode` on the arena, each ending at kTimeLimit, started by one player
+/// (a bot that came alone still plays to the end).
+std::string matches_toml(const std::string& mode, int count) {
+  return "count = " + std::to_string(count) + "\nmax_players = " + std::to_string(kSeatsPerMatch) +
+         "\nmode = \"" + mode +
+         "\"\nmaps = [\"" RICOCHET_SOURCE_DIR
+         "/server/maps/arena.toml\"]\nseed = 7\nwarmup_s = 0\nfrag_limit = 0\nrecord = false\n"
+         "min_players = 1\ntime_limit_s = " +
+         std::to_string(kTimeLimit.count()) + "\n";
+}
+
+/// On `url`, placement on with the shortest heartbeat, the minimum password cost.
+std::string fleet_toml(const std::string& url) {
+  return "[db]\nurl = \"" + url +
+         "\"\npassword_hashing = \"minimum\"\nregistrations_per_hour_per_address = 100\n"
+         "[placement]\nadvertise_host = \"127.0.0.1\"\nheartbeat_s = 1\nserver_ttl_s = 5\n";
+}
+
+/// Whether the server logged that its directory row was written, within `limit`.
+bool listed(const ServerProcess& server, std::chrono::milliseconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (server.log().find("is in the fleet directory") == std::string::npos) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(20ms);
+  }
+  return true;
+}
+
+std::string http_get(std::uint16_t port, const std::string& target) {
+  namespace http = boost::beast::http;
+  asio::io_context io;
+  asio::ip::tcp::socket socket(io);
+  socket.connect({asio::ip::address_v4::loopback(), port});
+  http::request<http::empty_body> request{http::verb::get, target, 11};
+  request.set(http::field::host, "127.0.0.1");
+  http::write(socket, request);
+  boost::beast::flat_buffer buffer;
+  http::response<http::string_body> response;
+  http::read(socket, buffer, response);
+  return response.body();
+}
+
+/// ricochet_placement_tickets_total by result, as "assigned=N ..." (results with 0 left out).
+std::string tickets_of(const ServerProcess& server) {
+  const std::string page = http_get(server.admin_port(), "/metrics");
+  const std::regex line(
+      R"re(ricochet_placement_tickets_total\{result="([a-z_]+)"\} ([0-9.e+]+))re");
+  std::string text;
+  for (auto it = std::sregex_iterator(page.begin(), page.end(), line); it != std::sregex_iterator();
+       ++it) {
+    if (std::stod((*it)[2].str()) == 0) continue;
+    text += (*it)[1].str() + "=" + (*it)[2].str() + " ";
+  }
+  return text;
+}
+
+std::string control_of(const ServerProcess& server) {
+  return "127.0.0.1:" + std::to_string(server.control_port());
+}
+
+TEST(BotPlacement, BotsThatKnowOneServerArePlacedOnTheOthersFullestMatchFirstAndPlayThere) {
+  static_assert(kStartBudget + kPlayBudget + kExitBudget + kMargin <= kCtestTimeout);
+  const std::string url = PostgresCluster::shared().create_database();
+  ServerProcess a(matches_toml("ffa", 1), kShutdownGraceS, fleet_toml(url));
+  ServerProcess b(matches_toml("tdm", kMatchesPerServer), kShutdownGraceS, fleet_toml(url));
+  ServerProcess c(matches_toml("tdm", kMatchesPerServer), kShutdownGraceS, fleet_toml(url));
+  const auto logs = [&] {
+    return "--- A:\n" + a.log() + "--- B:\n" + b.log() + "--- C:\n" + c.log();
+  };
+  for (ServerProcess* server : {&a, &b, &c}) {
+    ASSERT_TRUE(server->wait_listening(kStartBudget)) << logs();
+  }
+  for (ServerProcess* server : {&a, &b, &c}) ASSERT_TRUE(listed(*server, kStartBudget)) << logs();
+
+  asio::io_context io;
+  bot::FleetConfig tdm;
+  tdm.bots = kTdmBots;
+  tdm.bot.control_port = a.control_port();
+  tdm.bot.fingerprint = a.fingerprint();  // A's only: B's and C's come with the assignments
+  tdm.bot.name = "placed";
+  tdm.bot.find_match = "tdm";
+  tdm.bot.matches = 1;
+  tdm.bot.predict = false;
+  tdm.bind_addresses = {"127.0.0.2", "127.0.0.3", "127.0.0.4"};  // within per-address limits
+  ASSERT_EQ(tdm.validate(), "");
+  bot::Fleet fleet(io, tdm);
+
+  bot::BotConfig ffa_config;
+  ffa_config.control_port = c.control_port();
+  ffa_config.fingerprint = c.fingerprint();
+  ffa_config.name = "wanderer";
+  ffa_config.find_match = "ffa";
+  ffa_config.matches = 2;
+  ffa_config.predict = false;
+  ffa_config.bind_address = "127.0.0.5";
+  ASSERT_EQ(ffa_config.validate(), "");
+  auto ffa_trust = bot::ServerTrust::pinned(c.fingerprint());
+  auto tls = bot::make_control_tls_context();
+  bot::Bot wanderer(io, tls, ffa_trust, ffa_config);
+
+  const auto started = std::chrono::steady_clock::now();
+  ASSERT_EQ(fleet.start(), "");
+  wanderer.start();
+  const bool finished = run_until(
+      io, [&] { return fleet.done() && wanderer.state() == bot::BotState::Done; }, kPlayBudget);
+  const double played_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  std::vector<const bot::Bot*> everyone;
+  for (const auto& each : fleet.bots()) everyone.push_back(each.get());
+  everyone.push_back(&wanderer);
+  std::string errors;
+  for (const bot::Bot* each : everyone) {
+    if (!each->record().error.empty())
+      errors += each->config().name + ": " + each->record().error + "\n";
+  }
+  ASSERT_TRUE(finished) << errors << fleet.report_json() << logs();
+  ASSERT_EQ(errors, "") << logs();
+
+  // Each tdm bot was placed once, on B or C, and played that match to its time limit.
+  std::map<std::string, int> bots_on;                            ///< by server control channel
+  std::map<std::pair<std::string, std::uint32_t>, int> bots_in;  ///< by server and match
+  std::vector<double> placement_ms;
+  for (const auto& each : fleet.bots()) {
+    const bot::BotRecord& record = each->record();
+    const std::string& name = each->config().name;
+    ASSERT_EQ(record.placements.size(), 1u) << name;
+    const bot::BotRecord::Placement& placed = record.placements[0];
+    EXPECT_TRUE(placed.server == control_of(b) || placed.server == control_of(c))
+        << name << " placed on " << placed.server;
+    ++bots_on[placed.server];
+    ++bots_in[{placed.server, placed.match_id}];
+    ASSERT_EQ(record.results.size(), 1u) << name;
+    EXPECT_EQ(record.results[0].match_id(), placed.match_id) << name;
+    EXPECT_EQ(record.results[0].mode(), "tdm") << name;
+    EXPECT_FALSE(record.results[0].aborted()) << name;
+    ASSERT_EQ(record.match_ended.size(), 1u) << name;
+    EXPECT_EQ(record.match_ended[0], wire::MATCH_END_REASON_TIME_LIMIT) << name;
+    const bot::BotMetrics metrics = each->metrics();
+    ASSERT_EQ(metrics.placement_ms.size(), 1u) << name;
+    placement_ms.push_back(metrics.placement_ms[0]);
+  }
+  EXPECT_EQ(bots_on.size(), 2u) << "B and C both take bots";
+  // Fullest first: a match takes players until it is full before the next one does. With the
+  // directory's view of a seat a moment late (a claimed ticket counts again only from the
+  // server's next heartbeat) a bot may land in a match that looked as full as another, but at
+  // least two of the three matches the rule fills are full; spreading would fill none (3 each).
+  int full_matches = 0;
+  for (const auto& [where, bots] : bots_in) {
+    EXPECT_LE(bots, kSeatsPerMatch);
+    full_matches += bots == kSeatsPerMatch;
+  }
+  EXPECT_GE(full_matches, 2) << "bots per match: " << ::testing::PrintToString(bots_in);
+
+  // The ffa bot that knew only C plays on A, twice: after its first match it asked C again
+  // (C's tickets below are its two).
+  ASSERT_EQ(wanderer.record().placements.size(), 2u);
+  ASSERT_EQ(wanderer.record().results.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(wanderer.record().placements[i].server, control_of(a)) << i;
+    EXPECT_EQ(wanderer.record().results[i].mode(), "ffa") << i;
+    EXPECT_EQ(wanderer.record().results[i].match_id(), wanderer.record().placements[i].match_id);
+  }
+  ASSERT_EQ(wanderer.metrics().placement_ms.size(), 2u);
+  placement_ms.push_back(wanderer.metrics().placement_ms[0]);
+
+  // The figures of the run, for a note.
+  const stats::Summary placement = stats::summarize(placement_ms);
+  std::cout << "placement run: " << kTdmBots << " tdm bots through A: " << bots_on[control_of(b)]
+            << " on B, " << bots_on[control_of(c)]
+            << " on C; bots per match: " << ::testing::PrintToString(bots_in)
+            << "; 1 ffa bot through C on A, twice; find_match to first snapshot p50 "
+            << placement.p50 << " ms, max " << placement.max << " ms (" << placement.count
+            << " bots); tickets A: " << tickets_of(a) << "B: " << tickets_of(b)
+            << "C: " << tickets_of(c) << "; bots started to all done " << played_s << " s\n";
+  // Every find_match was answered by the server the bot knew: A's tickets are the tdm bots'
+  // (a seat taken under one asks again), C's the ffa bot's (two at least: a match A ended shows
+  // in the directory until A's next heartbeat, and its ticket then finds again); B answered none.
+  const std::regex assigned("^assigned=([0-9]+) $");
+  std::smatch count;
+  const std::string on_a = tickets_of(a);
+  const std::string on_c = tickets_of(c);
+  ASSERT_TRUE(std::regex_match(on_a, count, assigned)) << on_a;
+  EXPECT_GE(std::stoi(count[1].str()), kTdmBots);
+  ASSERT_TRUE(std::regex_match(on_c, count, assigned)) << on_c;
+  EXPECT_GE(std::stoi(count[1].str()), 2);
+  EXPECT_EQ(tickets_of(b), "");
+
+  for (ServerProcess* server : {&a, &b, &c}) server->terminate();
+  for (ServerProcess* server : {&a, &b, &c}) {
+    EXPECT_EQ(server->wait_exit(kExitBudget), std::optional<int>(0)) << logs();
+  }
+  // The database holds each bot's matches once each: the tdm matches and the ffa bot's two.
+  auto store = db::open_store({.url_or_path = url});
+  ASSERT_TRUE(store.ok()) << store.error().message;
+  for (const bot::Bot* each : everyone) {
+    const auto stats = store.value()->player_stats(each->record().account_id);
+    ASSERT_TRUE(stats.ok()) << each->config().name;
+    EXPECT_EQ(stats.value().matches, static_cast<std::int64_t>(each->record().results.size()))
+        << each->config().name;
+  }
+  EXPECT_EQ(store.value()->match_count().value(), static_cast<std::int64_t>(bots_in.size() + 2));
+  if (HasFailure()) std::cout << logs();
+}
+
+}  // namespace
+}  // namespace ricochet::test::bot_placement_test
