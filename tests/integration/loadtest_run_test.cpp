@@ -67,8 +67,11 @@ TEST(LoadTest, BotsFillTheMatchesAndTheReportHasEveryFigure) {
   EXPECT_GT(number_field(report, "rtt_ms_p99").value_or(0), 0);
   EXPECT_GT(number_field(report, "snapshots_per_s_per_bot").value_or(0), 0);  // not a speed
   EXPECT_GT(number_field(report, "kbps_in_per_client").value_or(0), 0);
-  EXPECT_GT(number_field(report, "server_cpu_percent").value_or(0), 0);  // from /proc
+  EXPECT_GT(number_field(report, "server_cpu_percent").value_or(0), 0);  // from /metrics
   EXPECT_GT(number_field(report, "server_rss_mb").value_or(0), 1);
+  EXPECT_NE(report.find("\"server_cpu_source\":\"metrics\""), std::string::npos) << report;
+  // --server-proc auto on loopback: /proc read besides, for the comparison.
+  EXPECT_GT(number_field(report, "server_cpu_percent_proc").value_or(0), 0) << report;
   EXPECT_GT(number_field(report, "connect_ms_max").value_or(0), 0);
   EXPECT_NE(report.find("\"errors\":{"), std::string::npos);
   for (const char* png :

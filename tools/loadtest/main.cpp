@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
   std::string churn_min_life = "60s";
   std::string churn_max_life = "600s";
   std::string warmup;
+  std::string server_proc = "auto";
 
   CLI::App app{
       "ricochet-loadtest: bots against a ricochet-server on this host, measured.\n"
@@ -154,6 +155,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--server-pid", config.server_pid,
                  "the server's pid for /proc (0: from ricochet_process_id in /metrics)")
+      ->capture_default_str();
+  app.add_option("--server-proc", server_proc,
+                 "the servers' CPU and RSS come from their /metrics; auto: read /proc as well (for "
+                 "the comparison) when a server is on loopback and its pid's entry reads; off: "
+                 "never")
       ->capture_default_str();
   app.add_option("--out", config.out, "directory for report.json, the series and the PNGs")
       ->capture_default_str();
@@ -213,6 +219,11 @@ int main(int argc, char** argv) {
                   sweep + "\"");
     }
     config.sweep = *counts;
+  }
+  if (const auto mode = parse_server_proc(server_proc)) {
+    config.server_proc = *mode;
+  } else {
+    return fail("--server-proc must be off or auto, got \"" + server_proc + "\"");
   }
   config.cheap = !predict;
   config.shared_game_port = !socket_per_bot;

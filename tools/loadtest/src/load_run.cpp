@@ -58,11 +58,15 @@ LoadRun::LoadRun(asio::io_context& io, LoadTestConfig config)
       targets_(config_.steps()),
       addresses_(source_addresses((targets_.back() + config_.bots_per_address - 1) /
                                   config_.bots_per_address)),
-      admin_(asio::ip::make_address(config_.server), config_.admin_port),
-      phase_timer_(io),
-      scraper_(io, admin_, config_.scrape_interval_s,
-               [this](const std::string& kind) { count(kind); }),
-      server_pid_(config_.server_pid) {}
+      phase_timer_(io) {
+  const auto count_kind = [this](const std::string& kind) { count(kind); };
+  trackers_.emplace_back(config_.server + ":" + std::to_string(config_.control_port),
+                         config_.server_proc, is_loopback_v4(config_.server), config_.server_pid,
+                         count_kind);
+  scrapers_.push_back(std::make_unique<MetricsScraper>(
+      io, asio::ip::tcp::endpoint(asio::ip::make_address(config_.server), config_.admin_port),
+      config_.scrape_interval_s, count_kind));
+}
 
 LoadRun::~LoadRun() = default;
 
@@ -72,8 +76,11 @@ double LoadRun::now_s() const {
 
 void LoadRun::start() {
   started_at_ = std::chrono::steady_clock::now();
-  scraper_.start(started_at_, nullptr,
-                 [this](MetricsScraper::Scrape scrape) { on_scrape(std::move(scrape)); });
+  for (std::size_t i = 0; i < scrapers_.size(); ++i) {
+    scrapers_[i]->start(started_at_, nullptr, [this, i](MetricsScraper::Scrape scrape) {
+      on_scrape(i, std::move(scrape));
+    });
+  }
   begin_step();
 }
 
@@ -132,6 +139,7 @@ void LoadRun::begin_step() {
 void LoadRun::begin_measuring() {
   phase_ = RunPhase::Measuring;
   steps_.back().first_window_sample = samples_.size();
+  steps_.back().window_t_s = now_s();
   phase_timer_.expires_after(micros(config_.duration_s));
   phase_timer_.async_wait([this](const boost::system::error_code& error) {
     if (!error) end_step();
@@ -164,59 +172,79 @@ void LoadRun::stop(std::string_view reason) {
 void LoadRun::finish() {
   phase_ = RunPhase::Finished;
   phase_timer_.cancel();
-  scraper_.stop();
+  for (auto& scraper : scrapers_) scraper->stop();
   for (Step& step : steps_) step.fleet->stop(stop_reason_);
   std::fprintf(stderr, "ricochet-loadtest: finished (%s)\n", stop_reason_.c_str());
   if (auto callback = std::move(on_finished_)) callback();
 }
 
-void LoadRun::on_scrape(MetricsScraper::Scrape scrape) {
+void LoadRun::on_scrape(std::size_t server, MetricsScraper::Scrape scrape) {
+  ServerTracker& tracker = trackers_[server];
+  std::optional<ProcSample> proc;
+  if (const int pid = tracker.proc_pid(); pid > 0) {
+    std::string error;
+    proc = read_proc(pid, error);
+  }
+  const ServerPoint& point = tracker.observe(now_s(), scrape.figures, proc);
+  if (scrape.figures) {
+    for (const auto& [id, match] : scrape.figures->by_match) {
+      if (match.connected > 0) {
+        match_rows_.push_back({point.t_s, static_cast<std::uint32_t>(server), id, match.tick});
+      }
+    }
+  }
+  // The first server's scrapes are the run's clock: a sample of the bots and of every server's
+  // latest scrape.
+  if (server == 0) take_sample(scrape.elapsed_ms);
+}
+
+void LoadRun::take_sample(double scrape_ms) {
   RunSample sample;
   Totals totals;
   sample.t_s = totals.t_s = now_s();
   sample.step_bots = steps_.empty() ? 0 : steps_.back().target;
   sample.measuring = phase_ == RunPhase::Measuring;
-  sample.scrape_ms = scrape.elapsed_ms;
+  sample.scrape_ms = scrape_ms;
   const Totals* previous = totals_.empty() ? nullptr : &totals_.back();
 
-  // The server's figures.
-  if (scrape.figures) {
-    const ServerFigures& figures = *scrape.figures;
-    sample.server_ok = true;
-    sample.matches = figures.matches;
-    sample.server_players = figures.players;
-    sample.tick = figures.worst_tick();
-    double p99_sum = 0;
-    int with_players = 0;
-    for (const auto& [id, match] : figures.by_match) {
-      if (match.connected == 0) continue;
-      p99_sum += match.tick.p99_ms;
+  // The servers' latest figures.
+  sample.server_ok = true;
+  double p99_mean_sum = 0;
+  int with_players = 0;
+  for (const ServerTracker& tracker : trackers_) {
+    const ServerPoint& point = tracker.latest();
+    sample.server_ok = sample.server_ok && point.ok;
+    if (!point.ok) continue;
+    sample.matches += point.matches;
+    sample.server_players += point.players;
+    sample.tick = sample.tick.worst_with(point.tick);
+    if (point.tick_p99_mean_ms > 0) {
+      p99_mean_sum += point.tick_p99_mean_ms;
       ++with_players;
-      match_rows_.push_back({sample.t_s, id, match.tick});
     }
-    sample.tick_p99_mean_ms = safe_ratio(p99_sum, with_players);
-    if (overruns_base_ < 0) {
-      overruns_base_ = figures.overruns;
-      dropped_base_ = figures.dropped_steps;
+    sample.server_cpu_percent = std::max(sample.server_cpu_percent, point.cpu_percent);
+    sample.server_rss_mb = std::max(sample.server_rss_mb, point.rss_mb);
+    // Overruns and dropped steps since the run started: from each server's first usable scrape.
+    for (const ServerPoint& first : tracker.points()) {
+      if (!first.ok) continue;
+      sample.overruns += std::max(0.0, point.overruns - first.overruns);
+      sample.dropped_steps += std::max(0.0, point.dropped_steps - first.dropped_steps);
+      break;
     }
-    sample.overruns = std::max(0.0, figures.overruns - overruns_base_);
-    sample.dropped_steps = std::max(0.0, figures.dropped_steps - dropped_base_);
-    totals.server_packets_in = figures.packets_in;
-    totals.server_packets_out = figures.packets_out;
-    totals.phase_seconds = figures.phase_seconds;
-    if (server_pid_ == 0) server_pid_ = figures.pid;
+    const std::vector<ServerPoint>& points = tracker.points();
+    if (points.size() >= 2) {
+      const ServerPoint& before = points[points.size() - 2];
+      const double wall = point.t_s - before.t_s;
+      if (before.ok && point.packets_in >= before.packets_in) {
+        sample.server_packets_in_per_s += safe_ratio(point.packets_in - before.packets_in, wall);
+        sample.server_packets_out_per_s += safe_ratio(point.packets_out - before.packets_out, wall);
+      }
+    }
   }
+  sample.tick_p99_mean_ms = safe_ratio(p99_mean_sum, with_players);
 
-  // /proc: the server's and our own.
+  // Our own CPU and RSS from /proc.
   std::string error;
-  if (server_pid_ > 0) {
-    if (const auto proc = read_proc(server_pid_, error)) {
-      totals.server_cpu_s = proc->cpu_s;
-      sample.server_rss_mb = proc->rss_bytes / 1e6;
-    } else {
-      count("server_proc_unreadable");
-    }
-  }
   if (const auto self = read_proc(static_cast<int>(getpid()), error)) {
     totals.generator_cpu_s = self->cpu_s;
     sample.generator_rss_mb = self->rss_bytes / 1e6;
@@ -272,17 +300,8 @@ void LoadRun::on_scrape(MetricsScraper::Scrape scrape) {
     const double received = totals.snapshots - previous->snapshots;
     const double lost = totals.snapshots_lost - previous->snapshots_lost;
     sample.snapshot_loss = safe_ratio(lost, received + lost);
-    if (totals.server_cpu_s >= 0 && previous->server_cpu_s >= 0) {
-      sample.server_cpu_percent = (totals.server_cpu_s - previous->server_cpu_s) / wall * 100;
-    }
     sample.generator_cpu_percent =
         (totals.generator_cpu_s - previous->generator_cpu_s) / wall * 100;
-    if (totals.server_packets_in >= 0 && previous->server_packets_in >= 0) {
-      sample.server_packets_in_per_s =
-          safe_ratio(totals.server_packets_in - previous->server_packets_in, wall);
-      sample.server_packets_out_per_s =
-          safe_ratio(totals.server_packets_out - previous->server_packets_out, wall);
-    }
   }
   samples_.push_back(sample);
   totals_.push_back(totals);
@@ -323,6 +342,46 @@ std::vector<double> LoadRun::connect_ms() const {
   return out;
 }
 
+void LoadRun::summarise_servers(double from_t_s, double to_t_s, StepSummary& out) const {
+  // The busiest server (by /metrics, else by /proc) gives the step's CPU and RSS: the capacity
+  // rule is about one server's core. Sums and worsts of the others beside it.
+  const ServerWindow* busiest = nullptr;
+  const auto cpu_of = [](const ServerWindow& w) {
+    return w.cpu_percent >= 0 ? w.cpu_percent : w.cpu_percent_proc;
+  };
+  out.overruns = 0;
+  out.dropped_steps = 0;
+  for (const ServerTracker& tracker : trackers_) {
+    ServerWindow window = tracker.window(from_t_s, to_t_s);
+    out.overruns += window.overruns;
+    out.dropped_steps += window.dropped_steps;
+    out.server_packets_in_per_s += window.packets_in_per_s;
+    out.server_packets_out_per_s += window.packets_out_per_s;
+    for (const auto& [phase, percent] : window.phase_percent) {
+      out.server_phase_percent[phase] += percent;
+    }
+    out.servers_cpu_percent_total += std::max(0.0, cpu_of(window));
+    out.servers_rss_mb_total +=
+        std::max(0.0, window.rss_mb >= 0 ? window.rss_mb : window.rss_mb_proc);
+    out.servers.push_back(std::move(window));
+  }
+  for (const ServerWindow& window : out.servers) {
+    if (!busiest || cpu_of(window) > cpu_of(*busiest)) busiest = &window;
+    out.server_rss_mb =
+        std::max(out.server_rss_mb, window.rss_mb >= 0 ? window.rss_mb : window.rss_mb_proc);
+  }
+  if (!busiest) return;
+  if (busiest->cpu_percent >= 0) {
+    out.server_cpu_percent = busiest->cpu_percent;
+    out.server_cpu_source = "metrics";
+  } else if (busiest->cpu_percent_proc >= 0) {
+    out.server_cpu_percent = busiest->cpu_percent_proc;
+    out.server_cpu_source = "proc";
+  }
+  out.server_cpu_percent_proc = busiest->cpu_percent_proc;
+  out.server_rss_mb_proc = busiest->rss_mb_proc;
+}
+
 StepSummary LoadRun::summarise(const Step& step) const {
   StepSummary out;
   out.bots = step.target;
@@ -353,7 +412,6 @@ StepSummary LoadRun::summarise(const Step& step) const {
   for (std::size_t i = first; i <= last; ++i) {
     const RunSample& s = samples_[i];
     out.server_tick = out.server_tick.worst_with(s.tick);
-    out.server_rss_mb = std::max(out.server_rss_mb, s.server_rss_mb);
     out.generator_rss_mb = std::max(out.generator_rss_mb, s.generator_rss_mb);
     p99_mean_sum += s.tick_p99_mean_ms;
     ++count;
@@ -365,8 +423,6 @@ StepSummary LoadRun::summarise(const Step& step) const {
   const Totals& to = totals_[last];
   const double wall = to.t_s - from.t_s;
   out.measured_s = wall;
-  out.overruns = end.overruns - samples_[base].overruns;
-  out.dropped_steps = end.dropped_steps - samples_[base].dropped_steps;
   const double received = to.snapshots - from.snapshots;
   const double lost = to.snapshots_lost - from.snapshots_lost;
   out.snapshot_loss = safe_ratio(lost, received + lost);
@@ -374,20 +430,8 @@ StepSummary LoadRun::summarise(const Step& step) const {
   out.snapshots_per_s_per_bot = safe_ratio(received, wall) / clients;
   out.kbps_in_per_client = safe_ratio((to.bytes_in - from.bytes_in) * 8 / 1000, wall) / clients;
   out.kbps_out_per_client = safe_ratio((to.bytes_out - from.bytes_out) * 8 / 1000, wall) / clients;
-  if (from.server_cpu_s >= 0 && to.server_cpu_s >= 0) {
-    out.server_cpu_percent = safe_ratio(to.server_cpu_s - from.server_cpu_s, wall) * 100;
-  }
   out.generator_cpu_percent = safe_ratio(to.generator_cpu_s - from.generator_cpu_s, wall) * 100;
-  for (const auto& [phase, seconds] : to.phase_seconds) {
-    const auto before = from.phase_seconds.find(phase);
-    const double start = before == from.phase_seconds.end() ? 0.0 : before->second;
-    out.server_phase_percent[phase] = safe_ratio(seconds - start, wall) * 100;
-  }
-  if (from.server_packets_in >= 0 && to.server_packets_in >= 0) {
-    out.server_packets_in_per_s = safe_ratio(to.server_packets_in - from.server_packets_in, wall);
-    out.server_packets_out_per_s =
-        safe_ratio(to.server_packets_out - from.server_packets_out, wall);
-  }
+  summarise_servers(step.window_t_s, to.t_s, out);
   return out;
 }
 

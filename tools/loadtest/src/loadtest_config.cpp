@@ -24,6 +24,22 @@ bool valid_prefix(const std::string& name) {
 
 }  // namespace
 
+const char* name(ServerProc mode) {
+  switch (mode) {
+    case ServerProc::Off:
+      return "off";
+    case ServerProc::Auto:
+      return "auto";
+  }
+  return "unknown";
+}
+
+std::optional<ServerProc> parse_server_proc(std::string_view text) {
+  if (text == "off") return ServerProc::Off;
+  if (text == "auto") return ServerProc::Auto;
+  return std::nullopt;
+}
+
 bool is_loopback_v4(const std::string& address) {
   boost::system::error_code error;
   const auto parsed = boost::asio::ip::make_address_v4(address, error);

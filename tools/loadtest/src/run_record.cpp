@@ -51,6 +51,15 @@ std::string StepSummary::to_json() const {
   field(out, "kbps_out_per_client", kbps_out_per_client);
   field(out, "server_cpu_percent", server_cpu_percent);
   field(out, "server_rss_mb", server_rss_mb);
+  out += "\"server_cpu_source\":" + tools::json_string(server_cpu_source) + ',';
+  if (server_cpu_percent_proc >= 0) {
+    // Both readings of the same server over the same window, and how far apart they are.
+    field(out, "server_cpu_percent_proc", server_cpu_percent_proc);
+    field(out, "server_rss_mb_proc", server_rss_mb_proc);
+    field(out, "server_cpu_proc_minus_metrics", server_cpu_percent_proc - server_cpu_percent);
+  }
+  field(out, "servers_cpu_percent_total", servers_cpu_percent_total);
+  field(out, "servers_rss_mb_total", servers_rss_mb_total);
   field(out, "generator_cpu_percent", generator_cpu_percent);
   field(out, "generator_rss_mb", generator_rss_mb);
   field(out, "server_packets_in_per_s", server_packets_in_per_s);
@@ -72,6 +81,12 @@ std::string StepSummary::to_json() const {
     out += tools::json_string(phase) + ':' + value;
   }
   out += '}';
+  out += ",\"servers\":[";
+  for (std::size_t i = 0; i < servers.size(); ++i) {
+    if (i > 0) out += ',';
+    out += servers[i].to_json();
+  }
+  out += ']';
   out += ",\"errors\":{";
   bool first = true;
   for (const auto& [kind, n] : errors) {

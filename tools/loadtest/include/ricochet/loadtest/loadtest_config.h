@@ -5,9 +5,20 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ricochet::loadtest {
+
+/// Whether the load test reads a server's /proc entry as well as its /metrics.
+enum class ServerProc : std::uint8_t {
+  Off,   ///< never: /metrics only (a server on another host, or in its own namespace)
+  Auto,  ///< when the server is on loopback and its pid's entry reads; given up at the first miss
+};
+/// "off", "auto".
+const char* name(ServerProc mode);
+/// "off" | "auto" → the mode; nullopt otherwise.
+std::optional<ServerProc> parse_server_proc(std::string_view text);
 
 struct LoadTestConfig {
   /// The server's address: loopback only (127.0.0.0/8), since the tool reads the server's
@@ -31,8 +42,11 @@ struct LoadTestConfig {
   double skill = 0.5;         ///< 0..1
   std::string name = "load";  ///< account prefix, 1..12 of [A-Za-z0-9_.-]
   std::string password = "ricochet-load";
-  double scrape_interval_s = 1;      ///< /metrics and /proc, 0.2..60
-  int server_pid = 0;                ///< 0: read ricochet_process_id from /metrics
+  double scrape_interval_s = 1;  ///< /metrics and /proc, 0.2..60
+  int server_pid = 0;            ///< 0: read ricochet_process_id from /metrics
+  /// The server's CPU and RSS come from its /metrics; /proc is read besides (for the comparison
+  /// in the report) only as this allows.
+  ServerProc server_proc = ServerProc::Auto;
   std::string out = "loadtest-out";  ///< directory written (created)
   bool plots = true;                 ///< run gnuplot for the PNGs
   bool progress = true;              ///< one line per scrape on stderr
