@@ -101,8 +101,18 @@ TEST(LoadTest, ANoServerIsCountedNotACrash) {
 TEST(LoadTest, BadOptionsAreRefusedWithTheReason) {
   TempDir out("ricochet-loadtest");
   const fs::path log = out.path() / "loadtest.log";
-  EXPECT_EQ(run_loadtest("--server 10.0.0.1 --out " + out.path().string(), log), 2);
-  EXPECT_NE(read_text(log).find("loopback"), std::string::npos) << read_text(log);
+  EXPECT_EQ(run_loadtest("--server 127.0.0.1:7777,localhost --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--server: server 2 (\"localhost\"): expected a numeric IPv4"),
+            std::string::npos)
+      << read_text(log);
+  EXPECT_EQ(run_loadtest("--server 127.0.0.1:7777,127.0.0.1:7787 --fingerprint A,B,C --out " +
+                             out.path().string(),
+                         log),
+            2);
+  EXPECT_NE(read_text(log).find("one per server (2), got 3"), std::string::npos) << read_text(log);
+  EXPECT_EQ(run_loadtest("--server-proc on --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--server-proc must be off or auto"), std::string::npos)
+      << read_text(log);
   EXPECT_EQ(run_loadtest("--sweep 100,50 --out " + out.path().string(), log), 2);
   EXPECT_NE(read_text(log).find("increasing"), std::string::npos) << read_text(log);
   EXPECT_EQ(run_loadtest("--duration 1h --out " + out.path().string(), log), 2);

@@ -1,6 +1,7 @@
-// ricochet-loadtest: many bots on one event loop against a ricochet-server on this host. Ramps
-// up at a set rate, shows progress on stderr, reads the server's /metrics and /proc while it
-// runs, and writes DIR/report.json, the series and gnuplot PNGs (one step, or --sweep steps).
+// ricochet-loadtest: many bots on one event loop against one or several ricochet-servers. Ramps
+// up at a set rate, shows progress on stderr, reads every server's /metrics (and /proc, on this
+// host, for the comparison) while it runs, and writes DIR/report.json, the series and gnuplot
+// PNGs (one step, or --sweep steps).
 // With --soak: bots on a bad link coming and going for the whole duration, and whether the
 // server's RSS and open descriptors stayed flat (soak_run.h).
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <variant>
 
 #include "ricochet/loadtest/load_run.h"
 #include "ricochet/loadtest/report.h"
@@ -111,22 +113,29 @@ int main(int argc, char** argv) {
   std::string churn_max_life = "600s";
   std::string warmup;
   std::string server_proc = "auto";
+  std::string servers = "127.0.0.1";
+  std::uint16_t control_port = 7777;
+  std::uint16_t admin_port = 9100;
+  std::string fingerprints;
+  std::string trust_file;
 
   CLI::App app{
-      "ricochet-loadtest: bots against a ricochet-server on this host, measured.\n"
+      "ricochet-loadtest: bots against ricochet-servers, measured.\n"
       "Exit status: 0 the report is written (with --soak: and the server stayed flat), 1 the "
       "report or its plots could not be written, 2 a bad option, 3 (--soak) the server's RSS or "
       "open fds grew faster than their bounds after the warm-up"};
-  app.add_option("--server", config.server, "the server's loopback IPv4 address")
+  app.add_option("--server", servers,
+                 "the servers, HOST[:CONTROL_PORT[:ADMIN_PORT]] separated by commas (numeric "
+                 "IPv4; a port left out is --port's or --admin-port's); bots go round robin")
       ->capture_default_str();
-  app.add_option("--port", config.control_port, "control channel (TLS) port")
-      ->capture_default_str();
-  app.add_option("--admin-port", config.admin_port, "admin HTTP port (/metrics)")
-      ->capture_default_str();
-  app.add_option("--fingerprint", config.fingerprint,
-                 "pin the server certificate's SHA-256 fingerprint (AA:BB:...)");
-  app.add_option("--trust-file", config.trust_file,
-                 "trust on first use into this file (default: DIR/server.fp)");
+  app.add_option("--port", control_port, "control channel (TLS) port")->capture_default_str();
+  app.add_option("--admin-port", admin_port, "admin HTTP port (/metrics)")->capture_default_str();
+  app.add_option("--fingerprint", fingerprints,
+                 "pin the servers' certificate SHA-256 fingerprints (AA:BB:...): one for every "
+                 "server, or one per server separated by commas, in --server's order");
+  app.add_option("--trust-file", trust_file,
+                 "trust on first use into this file (default: DIR/server.fp; with several "
+                 "servers FILE-2, FILE-3, ... for the others)");
   app.add_option("--bots", config.bots, "bots (one step)")->capture_default_str();
   app.add_option("--sweep", sweep, "steps of increasing bot counts, e.g. 100,200,400");
   app.add_option("--match-size", config.match_size,
@@ -229,8 +238,26 @@ int main(int argc, char** argv) {
   config.shared_game_port = !socket_per_bot;
   config.plots = !no_plots;
   config.progress = !quiet;
-  if (config.fingerprint.empty() && config.trust_file.empty()) {
-    config.trust_file = (std::filesystem::path(config.out) / "server.fp").string();
+  auto parsed = parse_servers(servers, control_port, admin_port);
+  if (const auto* problem = std::get_if<std::string>(&parsed)) return fail("--server: " + *problem);
+  config.servers = std::get<std::vector<ServerEndpoint>>(std::move(parsed));
+  std::vector<std::string> pins;
+  for (std::size_t start = 0; !fingerprints.empty() && start <= fingerprints.size();) {
+    const std::size_t comma = std::min(fingerprints.find(',', start), fingerprints.size());
+    pins.push_back(fingerprints.substr(start, comma - start));
+    start = comma + 1;
+  }
+  if (pins.size() > 1 && pins.size() != config.servers.size()) {
+    return fail("--fingerprint: one for every server or one per server (" +
+                std::to_string(config.servers.size()) + "), got " + std::to_string(pins.size()));
+  }
+  if (trust_file.empty()) trust_file = (std::filesystem::path(config.out) / "server.fp").string();
+  for (std::size_t i = 0; i < config.servers.size(); ++i) {
+    ServerEndpoint& server = config.servers[i];
+    if (!pins.empty()) server.fingerprint = pins[pins.size() == 1 ? 0 : i];
+    if (server.fingerprint.empty()) {
+      server.trust_file = i == 0 ? trust_file : trust_file + "-" + std::to_string(i + 1);
+    }
   }
   if (soak_mode && per_address->count() == 0) config.bots_per_address = 2;
   if (const std::string problem = config.validate(); !problem.empty()) return fail(problem);

@@ -8,6 +8,7 @@
 
 #include "ricochet/bot/bot_metrics.h"
 #include "ricochet/loadtest/capacity.h"
+#include "ricochet/loadtest/fleet_plan.h"
 #include "ricochet/loadtest/server_figures.h"
 #include "ricochet/stats/percentile.h"
 
@@ -60,12 +61,13 @@ LoadRun::LoadRun(asio::io_context& io, LoadTestConfig config)
                                   config_.bots_per_address)),
       phase_timer_(io) {
   const auto count_kind = [this](const std::string& kind) { count(kind); };
-  trackers_.emplace_back(config_.server + ":" + std::to_string(config_.control_port),
-                         config_.server_proc, is_loopback_v4(config_.server), config_.server_pid,
-                         count_kind);
-  scrapers_.push_back(std::make_unique<MetricsScraper>(
-      io, asio::ip::tcp::endpoint(asio::ip::make_address(config_.server), config_.admin_port),
-      config_.scrape_interval_s, count_kind));
+  for (const ServerEndpoint& server : config_.servers) {
+    trackers_.emplace_back(server.label(), config_.server_proc, is_loopback_v4(server.host),
+                           config_.servers.size() == 1 ? config_.server_pid : 0, count_kind);
+    scrapers_.push_back(std::make_unique<MetricsScraper>(
+        io, asio::ip::tcp::endpoint(asio::ip::make_address(server.host), server.admin_port),
+        config_.scrape_interval_s, count_kind));
+  }
 }
 
 LoadRun::~LoadRun() = default;
@@ -90,36 +92,54 @@ void LoadRun::begin_step() {
   Step step;
   step.target = target;
   step.started_t_s = now_s();
-  bot::FleetConfig fleet;
-  fleet.bot.host = config_.server;
-  fleet.bot.control_port = config_.control_port;
-  fleet.bot.fingerprint = config_.fingerprint;
-  fleet.bot.trust_file = config_.trust_file;
-  fleet.bot.name = config_.name + "s" + std::to_string(steps_.size() + 1);
-  fleet.bot.password = config_.password;
-  fleet.bot.skill = config_.skill;
-  fleet.bot.seed = static_cast<std::uint64_t>(bots_started_) + 1;
-  fleet.bot.predict = !config_.cheap;
-  fleet.bot.max_reconnect_attempts = 20;
-  fleet.bot.tick_phases = kTickPhases;
-  fleet.shared_game_port = config_.shared_game_port;
-  fleet.bots = added;
-  fleet.start_spacing = std::chrono::milliseconds(
-      static_cast<std::int64_t>(std::lround(1000.0 / config_.ramp_per_s)));
-  // Bot k of the run binds to address k % addresses (consecutive starts come from different
-  // addresses, so no address meets the server's per-address rates during the ramp).
-  for (int k = 0; k < added; ++k) {
-    const auto global = static_cast<std::size_t>(bots_started_ + k);
-    fleet.bind_addresses.push_back(addresses_[global % addresses_.size()]);
+  const std::vector<FleetPlan> plans = plan_fleets(bots_started_, added, config_.servers.size());
+  // The fleets start together, each at the ramp rate over the servers' count, so the step's
+  // bots start at the ramp rate in all.
+  const auto spacing = std::chrono::milliseconds(static_cast<std::int64_t>(
+      std::lround(1000.0 * static_cast<double>(plans.size()) / config_.ramp_per_s)));
+  for (const FleetPlan& plan : plans) {
+    const ServerEndpoint& server = config_.servers[plan.server];
+    const bool loopback = is_loopback_v4(server.host);
+    bot::FleetConfig fleet;
+    fleet.bot.host = server.host;
+    fleet.bot.control_port = server.control_port;
+    fleet.bot.fingerprint = server.fingerprint;
+    fleet.bot.trust_file = server.trust_file;
+    // <name>s<step>-<k>; with several servers <name>s<step>.<server>-<k>, so that no two bots
+    // share an account when the servers share a database.
+    fleet.bot.name = config_.name + "s" + std::to_string(steps_.size() + 1);
+    if (config_.servers.size() > 1) fleet.bot.name += "." + std::to_string(plan.server + 1);
+    fleet.bot.password = config_.password;
+    fleet.bot.skill = config_.skill;
+    fleet.bot.seed = static_cast<std::uint64_t>(plan.bots.front()) + 1;
+    fleet.bot.predict = !config_.cheap;
+    fleet.bot.max_reconnect_attempts = 20;
+    fleet.bot.tick_phases = kTickPhases;
+    // The shared game socket and the loopback source addresses need a server on loopback; a
+    // server elsewhere gets each bot on sockets of its own from the default address.
+    fleet.shared_game_port = config_.shared_game_port && loopback;
+    fleet.bots = static_cast<int>(plan.bots.size());
+    fleet.start_spacing = spacing;
+    // Bot k of the run binds to address k % addresses (consecutive starts come from different
+    // addresses, so no address meets the server's per-address rates during the ramp).
+    if (loopback) {
+      for (const int k : plan.bots) {
+        fleet.bind_addresses.push_back(addresses_[static_cast<std::size_t>(k) % addresses_.size()]);
+      }
+    }
+    auto made = std::make_unique<bot::Fleet>(io_, std::move(fleet));
+    for (const auto& each : made->bots()) {
+      each->on_failure([this](std::string_view reason) { count(error_kind(reason)); });
+    }
+    step.fleets.push_back(std::move(made));
   }
-  step.fleet = std::make_unique<bot::Fleet>(io_, std::move(fleet));
-  for (const auto& each : step.fleet->bots()) {
-    each->on_failure([this](std::string_view reason) { count(error_kind(reason)); });
-  }
-  if (std::string error = step.fleet->start(); !error.empty()) {
-    count("shared_game_port");
-    std::fprintf(stderr, "ricochet-loadtest: %s\n", error.c_str());
-    return stop(error);
+  for (const auto& fleet : step.fleets) {
+    if (std::string error = fleet->start(); !error.empty()) {
+      count("shared_game_port");
+      std::fprintf(stderr, "ricochet-loadtest: %s\n", error.c_str());
+      steps_.push_back(std::move(step));
+      return stop(error);
+    }
   }
   bots_started_ = target;
   steps_.push_back(std::move(step));
@@ -173,7 +193,9 @@ void LoadRun::finish() {
   phase_ = RunPhase::Finished;
   phase_timer_.cancel();
   for (auto& scraper : scrapers_) scraper->stop();
-  for (Step& step : steps_) step.fleet->stop(stop_reason_);
+  for (Step& step : steps_) {
+    for (const auto& fleet : step.fleets) fleet->stop(stop_reason_);
+  }
   std::fprintf(stderr, "ricochet-loadtest: finished (%s)\n", stop_reason_.c_str());
   if (auto callback = std::move(on_finished_)) callback();
 }
@@ -254,31 +276,33 @@ void LoadRun::take_sample(double scrape_ms) {
   std::vector<double> rtts;
   bot_counters_.clear();
   for (const Step& step : steps_) {
-    for (const auto& each : step.fleet->bots()) {
-      switch (each->state()) {
-        case bot::BotState::Playing:
-          ++sample.playing;
-          break;
-        case bot::BotState::Done:
-          ++sample.done;
-          break;
-        default:
-          ++sample.joining;
-          break;
+    for (const auto& fleet : step.fleets) {
+      for (const auto& each : fleet->bots()) {
+        switch (each->state()) {
+          case bot::BotState::Playing:
+            ++sample.playing;
+            break;
+          case bot::BotState::Done:
+            ++sample.done;
+            break;
+          default:
+            ++sample.joining;
+            break;
+        }
+        const bot::BotMetrics metrics = each->metrics();
+        totals.bytes_in += static_cast<double>(metrics.bytes_in);
+        totals.bytes_out += static_cast<double>(metrics.bytes_out);
+        totals.snapshots += static_cast<double>(metrics.snapshots);
+        totals.snapshots_lost += static_cast<double>(metrics.snapshots_lost);
+        if (each->state() == bot::BotState::Playing && !metrics.rtt_ms.empty()) {
+          rtts.push_back(metrics.rtt_ms.back());
+        }
+        bot_counters_["send_failures"] += metrics.send_failures;
+        bot_counters_["snapshots_refused"] += metrics.snapshots_refused;
+        bot_counters_["bad_payloads"] += metrics.bad_payloads;
+        bot_counters_["bad_events"] += metrics.bad_events;
+        bot_counters_["bad_control"] += metrics.bad_control;
       }
-      const bot::BotMetrics metrics = each->metrics();
-      totals.bytes_in += static_cast<double>(metrics.bytes_in);
-      totals.bytes_out += static_cast<double>(metrics.bytes_out);
-      totals.snapshots += static_cast<double>(metrics.snapshots);
-      totals.snapshots_lost += static_cast<double>(metrics.snapshots_lost);
-      if (each->state() == bot::BotState::Playing && !metrics.rtt_ms.empty()) {
-        rtts.push_back(metrics.rtt_ms.back());
-      }
-      bot_counters_["send_failures"] += metrics.send_failures;
-      bot_counters_["snapshots_refused"] += metrics.snapshots_refused;
-      bot_counters_["bad_payloads"] += metrics.bad_payloads;
-      bot_counters_["bad_events"] += metrics.bad_events;
-      bot_counters_["bad_control"] += metrics.bad_control;
     }
   }
   for (const auto& [kind, n] : errors_) sample.errors += n;
@@ -334,9 +358,11 @@ void LoadRun::print_progress(const RunSample& s) const {
 std::vector<double> LoadRun::connect_ms() const {
   std::vector<double> out;
   for (const Step& step : steps_) {
-    for (const auto& each : step.fleet->bots()) {
-      const double ms = each->metrics().first_snapshot_ms;
-      if (ms >= 0) out.push_back(ms);
+    for (const auto& fleet : step.fleets) {
+      for (const auto& each : fleet->bots()) {
+        const double ms = each->metrics().first_snapshot_ms;
+        if (ms >= 0) out.push_back(ms);
+      }
     }
   }
   return out;
@@ -390,9 +416,11 @@ StepSummary LoadRun::summarise(const Step& step) const {
     if (n > 0) out.errors[kind] += n;
   }
   std::vector<double> connect;
-  for (const auto& each : step.fleet->bots()) {
-    const double ms = each->metrics().first_snapshot_ms;
-    if (ms >= 0) connect.push_back(ms);
+  for (const auto& fleet : step.fleets) {
+    for (const auto& each : fleet->bots()) {
+      const double ms = each->metrics().first_snapshot_ms;
+      if (ms >= 0) connect.push_back(ms);
+    }
   }
   out.connect_ms_p50 = stats::percentile(connect, 50);
   out.connect_ms_p99 = stats::percentile(connect, 99);

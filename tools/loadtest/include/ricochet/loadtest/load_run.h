@@ -68,7 +68,7 @@ class LoadRun {
   };
   struct Step {
     int target = 0;
-    std::unique_ptr<bot::Fleet> fleet;
+    std::vector<std::unique_ptr<bot::Fleet>> fleets;  ///< one per server given bots
     double started_t_s = 0;
     double window_t_s = 0;                ///< when its measured window began
     std::size_t first_window_sample = 0;  ///< index into samples_
