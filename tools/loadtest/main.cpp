@@ -18,6 +18,7 @@
 #include <variant>
 
 #include "ricochet/loadtest/load_run.h"
+#include "ricochet/loadtest/merge.h"
 #include "ricochet/loadtest/report.h"
 #include "ricochet/loadtest/soak_report.h"
 #include "ricochet/loadtest/soak_run.h"
@@ -92,10 +93,55 @@ int soak(const ricochet::loadtest::LoadTestConfig& config,
   return status;
 }
 
+/// `ricochet-loadtest merge [--skip-bad] [--no-plots] OUT DIR...` (merge.h).
+int merge(int argc, char** argv) {
+  using namespace ricochet::loadtest;
+  std::string out;
+  std::vector<std::string> dirs;
+  bool skip_bad = false;
+  bool no_plots = false;
+  CLI::App app{
+      "ricochet-loadtest merge: the reports of generators run at the same time (one per "
+      "machine, each with its own --name, against the same --server list) as one report in OUT.\n"
+      "Exit status: 0 merged, 1 the report or its plots could not be written, 2 a bad option or "
+      "a bad report (named)"};
+  app.add_option("OUT", out, "directory for the merged report.json, data files and PNGs")
+      ->required();
+  app.add_option("DIR", dirs, "each generator's --out directory (its report.json)")->required();
+  app.add_flag("--skip-bad", skip_bad,
+               "leave out a missing, truncated or malformed report (named in report.json's "
+               "\"skipped\") instead of refusing the merge");
+  app.add_flag("--no-plots", no_plots, "skip gnuplot");
+  CLI11_PARSE(app, argc, argv);
+  auto merged = merge_directories(dirs, skip_bad);
+  if (const auto* problem = std::get_if<std::string>(&merged)) {
+    std::fprintf(stderr, "ricochet-loadtest merge: %s\n", problem->c_str());
+    return kExitBadOption;
+  }
+  ReportContext context;
+  context.command = "ricochet-loadtest merge";
+  for (int i = 1; i < argc; ++i) context.command += std::string(" ") + argv[i];
+  context.measured_at_utc = utc_now();
+  const MergedReport& report = std::get<MergedReport>(merged);
+  if (const std::string problem = write_merged_report(report, out, !no_plots, context);
+      !problem.empty()) {
+    std::fprintf(stderr, "ricochet-loadtest merge: %s\n", problem.c_str());
+    return kExitReportFailed;
+  }
+  const StepSummary& last = report.steps.back();
+  std::fprintf(stderr,
+               "ricochet-loadtest merge: %zu generators (%zu skipped), %zu steps; last: %d of %d "
+               "bots connected over %zu servers; wrote %s/report.json\n",
+               report.generators.size(), report.skipped.size(), report.steps.size(),
+               last.bots_connected, last.bots, last.servers.size(), out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace ricochet::loadtest;
+  if (argc >= 2 && std::string_view(argv[1]) == "merge") return merge(argc - 1, argv + 1);
   LoadTestConfig config;
   std::string duration = "60s";
   std::string settle = "5s";
@@ -120,7 +166,8 @@ int main(int argc, char** argv) {
   std::string trust_file;
 
   CLI::App app{
-      "ricochet-loadtest: bots against ricochet-servers, measured.\n"
+      "ricochet-loadtest: bots against ricochet-servers, measured. `ricochet-loadtest merge "
+      "--help`: the reports of several generators as one.\n"
       "Exit status: 0 the report is written (with --soak: and the server stayed flat), 1 the "
       "report or its plots could not be written, 2 a bad option, 3 (--soak) the server's RSS or "
       "open fds grew faster than their bounds after the warm-up"};

@@ -368,46 +368,6 @@ std::vector<double> LoadRun::connect_ms() const {
   return out;
 }
 
-void LoadRun::summarise_servers(double from_t_s, double to_t_s, StepSummary& out) const {
-  // The busiest server (by /metrics, else by /proc) gives the step's CPU and RSS: the capacity
-  // rule is about one server's core. Sums and worsts of the others beside it.
-  const ServerWindow* busiest = nullptr;
-  const auto cpu_of = [](const ServerWindow& w) {
-    return w.cpu_percent >= 0 ? w.cpu_percent : w.cpu_percent_proc;
-  };
-  out.overruns = 0;
-  out.dropped_steps = 0;
-  for (const ServerTracker& tracker : trackers_) {
-    ServerWindow window = tracker.window(from_t_s, to_t_s);
-    out.overruns += window.overruns;
-    out.dropped_steps += window.dropped_steps;
-    out.server_packets_in_per_s += window.packets_in_per_s;
-    out.server_packets_out_per_s += window.packets_out_per_s;
-    for (const auto& [phase, percent] : window.phase_percent) {
-      out.server_phase_percent[phase] += percent;
-    }
-    out.servers_cpu_percent_total += std::max(0.0, cpu_of(window));
-    out.servers_rss_mb_total +=
-        std::max(0.0, window.rss_mb >= 0 ? window.rss_mb : window.rss_mb_proc);
-    out.servers.push_back(std::move(window));
-  }
-  for (const ServerWindow& window : out.servers) {
-    if (!busiest || cpu_of(window) > cpu_of(*busiest)) busiest = &window;
-    out.server_rss_mb =
-        std::max(out.server_rss_mb, window.rss_mb >= 0 ? window.rss_mb : window.rss_mb_proc);
-  }
-  if (!busiest) return;
-  if (busiest->cpu_percent >= 0) {
-    out.server_cpu_percent = busiest->cpu_percent;
-    out.server_cpu_source = "metrics";
-  } else if (busiest->cpu_percent_proc >= 0) {
-    out.server_cpu_percent = busiest->cpu_percent_proc;
-    out.server_cpu_source = "proc";
-  }
-  out.server_cpu_percent_proc = busiest->cpu_percent_proc;
-  out.server_rss_mb_proc = busiest->rss_mb_proc;
-}
-
 StepSummary LoadRun::summarise(const Step& step) const {
   StepSummary out;
   out.bots = step.target;
@@ -422,6 +382,8 @@ StepSummary LoadRun::summarise(const Step& step) const {
       if (ms >= 0) connect.push_back(ms);
     }
   }
+  out.connect_ms_samples = connect;
+  out.rtt_ms_samples = step.rtt_ms;
   out.connect_ms_p50 = stats::percentile(connect, 50);
   out.connect_ms_p99 = stats::percentile(connect, 99);
   out.connect_ms_max = stats::percentile(connect, 100);
@@ -454,12 +416,19 @@ StepSummary LoadRun::summarise(const Step& step) const {
   const double received = to.snapshots - from.snapshots;
   const double lost = to.snapshots_lost - from.snapshots_lost;
   out.snapshot_loss = safe_ratio(lost, received + lost);
+  out.snapshots_received = received;
+  out.snapshots_lost = lost;
   const double clients = std::max(1, end.playing);
   out.snapshots_per_s_per_bot = safe_ratio(received, wall) / clients;
   out.kbps_in_per_client = safe_ratio((to.bytes_in - from.bytes_in) * 8 / 1000, wall) / clients;
   out.kbps_out_per_client = safe_ratio((to.bytes_out - from.bytes_out) * 8 / 1000, wall) / clients;
   out.generator_cpu_percent = safe_ratio(to.generator_cpu_s - from.generator_cpu_s, wall) * 100;
-  summarise_servers(step.window_t_s, to.t_s, out);
+  out.kbps_in_total = safe_ratio((to.bytes_in - from.bytes_in) * 8 / 1000, wall);
+  out.kbps_out_total = safe_ratio((to.bytes_out - from.bytes_out) * 8 / 1000, wall);
+  for (const ServerTracker& tracker : trackers_) {
+    out.servers.push_back(tracker.window(step.window_t_s, to.t_s));
+  }
+  out.total_servers();
   return out;
 }
 

@@ -42,7 +42,7 @@ std::string report_json(const LoadRun& run, const LoadTestConfig& config,
                     ",\"samples\":" + std::to_string(run.samples().size()) + ",\"steps\":[";
   for (std::size_t i = 0; i < steps.size(); ++i) {
     if (i > 0) out += ',';
-    out += steps[i].to_json();
+    out += steps[i].to_json(/*samples=*/true);
   }
   out += "],";
   // The last step's figures at the top level (the whole report of a run without --sweep).

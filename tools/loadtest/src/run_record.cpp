@@ -1,5 +1,6 @@
 #include "ricochet/loadtest/run_record.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -20,6 +21,50 @@ void field(std::string& out, const char* key, double value) {
 
 }  // namespace
 
+void StepSummary::total_servers() {
+  const auto cpu_of = [](const ServerWindow& w) {
+    return w.cpu_percent >= 0 ? w.cpu_percent : w.cpu_percent_proc;
+  };
+  const auto rss_of = [](const ServerWindow& w) {
+    return w.rss_mb >= 0 ? w.rss_mb : w.rss_mb_proc;
+  };
+  overruns = 0;
+  dropped_steps = 0;
+  server_packets_in_per_s = 0;
+  server_packets_out_per_s = 0;
+  server_phase_percent.clear();
+  servers_cpu_percent_total = 0;
+  servers_rss_mb_total = 0;
+  server_rss_mb = 0;
+  const ServerWindow* busiest = nullptr;
+  for (const ServerWindow& window : servers) {
+    overruns += window.overruns;
+    dropped_steps += window.dropped_steps;
+    server_packets_in_per_s += window.packets_in_per_s;
+    server_packets_out_per_s += window.packets_out_per_s;
+    for (const auto& [phase, percent] : window.phase_percent)
+      server_phase_percent[phase] += percent;
+    servers_cpu_percent_total += std::max(0.0, cpu_of(window));
+    servers_rss_mb_total += std::max(0.0, rss_of(window));
+    server_rss_mb = std::max(server_rss_mb, rss_of(window));
+    if (!busiest || cpu_of(window) > cpu_of(*busiest)) busiest = &window;
+  }
+  server_cpu_percent = 0;
+  server_cpu_source = "none";
+  server_cpu_percent_proc = -1;
+  server_rss_mb_proc = -1;
+  if (!busiest) return;
+  if (busiest->cpu_percent >= 0) {
+    server_cpu_percent = busiest->cpu_percent;
+    server_cpu_source = "metrics";
+  } else if (busiest->cpu_percent_proc >= 0) {
+    server_cpu_percent = busiest->cpu_percent_proc;
+    server_cpu_source = "proc";
+  }
+  server_cpu_percent_proc = busiest->cpu_percent_proc;
+  server_rss_mb_proc = busiest->rss_mb_proc;
+}
+
 bool StepSummary::meets_capacity() const {
   return capacity_shortfalls(*this).empty();
 }
@@ -28,7 +73,7 @@ bool StepSummary::generator_saturated() const {
   return generator_cpu_percent >= kGeneratorSaturatedCpuPercent;
 }
 
-std::string StepSummary::to_json() const {
+std::string StepSummary::to_json(bool samples) const {
   std::string out = "{";
   field(out, "bots", bots);
   field(out, "bots_connected", bots_connected);
@@ -49,6 +94,8 @@ std::string StepSummary::to_json() const {
   field(out, "rtt_ms_p99", rtt_ms_p99);
   field(out, "kbps_in_per_client", kbps_in_per_client);
   field(out, "kbps_out_per_client", kbps_out_per_client);
+  field(out, "kbps_in_total", kbps_in_total);
+  field(out, "kbps_out_total", kbps_out_total);
   field(out, "server_cpu_percent", server_cpu_percent);
   field(out, "server_rss_mb", server_rss_mb);
   out += "\"server_cpu_source\":" + tools::json_string(server_cpu_source) + ',';
@@ -67,6 +114,24 @@ std::string StepSummary::to_json() const {
   field(out, "connect_ms_p50", connect_ms_p50);
   field(out, "connect_ms_p99", connect_ms_p99);
   field(out, "connect_ms_max", connect_ms_max);
+  field(out, "snapshots_received", snapshots_received);
+  field(out, "snapshots_lost", snapshots_lost);
+  if (samples) {
+    for (const auto& [key, values] : {std::pair{"rtt_ms_samples", &rtt_ms_samples},
+                                      std::pair{"connect_ms_samples", &connect_ms_samples}}) {
+      out += '"';
+      out += key;
+      out += "\":[";
+      char text[32];
+      for (std::size_t i = 0; i < values->size(); ++i) {
+        const double value = (*values)[i];
+        std::snprintf(text, sizeof text, "%s%.5g", i ? "," : "",
+                      std::isfinite(value) ? value : 0.0);
+        out += text;
+      }
+      out += "],";
+    }
+  }
   out += "\"meets_capacity\":";
   out += meets_capacity() ? "true" : "false";
   out += ",\"generator_saturated\":";

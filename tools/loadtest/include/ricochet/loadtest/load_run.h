@@ -85,9 +85,6 @@ class LoadRun {
   void count(const std::string& kind, std::uint64_t n = 1) { errors_[kind] += n; }
   void print_progress(const RunSample& sample) const;
   StepSummary summarise(const Step& step) const;
-  /// Every server's window into `out`: its per-server figures, their sums, and the busiest
-  /// server's CPU and RSS as the step's.
-  void summarise_servers(double from_t_s, double to_t_s, StepSummary& out) const;
 
   boost::asio::io_context& io_;
   LoadTestConfig config_;

@@ -71,6 +71,8 @@ struct StepSummary {
   double rtt_ms_p99 = 0;
   double kbps_in_per_client = 0;
   double kbps_out_per_client = 0;
+  double kbps_in_total = 0;  ///< every bot's game bytes received over the window, kbit/s
+  double kbps_out_total = 0;
   /// The busiest server's over the window, from its /metrics (process_cpu_seconds_total); from
   /// its /proc when /metrics never had it (server_cpu_source).
   double server_cpu_percent = 0;
@@ -89,18 +91,30 @@ struct StepSummary {
   double connect_ms_p50 = 0;  ///< this step's bots: start to first snapshot
   double connect_ms_p99 = 0;
   double connect_ms_max = 0;
+  double snapshots_received = 0;  ///< by the bots during the window
+  double snapshots_lost = 0;
+  /// The samples behind the latency percentiles, kept so that reports of generators run at the
+  /// same time merge into exact percentiles of the union (merge.h), not a mean of percentiles:
+  /// each playing bot's latest RTT at each scrape of the window, and this step's bots' connect
+  /// times, ms.
+  std::vector<double> rtt_ms_samples;
+  std::vector<double> connect_ms_samples;
   ErrorCounts errors;  ///< since the run started, by kind
   /// Server tick time per phase over the window, all matches of every server, in % of one core
   /// ("total": the whole ticks; the rest of server_cpu_percent is the network, the transport and
   /// the control channel).
   std::map<std::string, double> server_phase_percent;
 
+  /// Fills the step's server figures from `servers`: overruns, dropped steps, packets and phase
+  /// time summed; server_cpu_percent and server_rss_mb the busiest server's (by /metrics, else by
+  /// /proc: server_cpu_source), with its /proc figures; the totals.
+  void total_servers();
   /// Whether the step meets every capacity criterion (capacity.h).
   bool meets_capacity() const;
   /// Whether the load generator's own core was the limit (capacity.h).
   bool generator_saturated() const;
-  /// One JSON object (no newline).
-  std::string to_json() const;
+  /// One JSON object (no newline); with `samples`, rtt_ms_samples and connect_ms_samples too.
+  std::string to_json(bool samples = false) const;
 };
 
 }  // namespace ricochet::loadtest
