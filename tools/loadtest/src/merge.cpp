@@ -18,6 +18,10 @@ using tools::json_string;
 
 namespace {
 
+/// A zero line over the servers' x range, so that a plot whose every value is missing (no server
+/// reported its CPU) is drawn empty rather than failing gnuplot.
+constexpr const char* kBaseline = ", 'servers.dat' index 0 u 1:(0) w l lc rgb 'gray' notitle\n";
+
 /// Step `index` of every generator as one step.
 StepSummary merge_step(const std::vector<GeneratorReport>& generators, std::size_t index) {
   StepSummary out;
@@ -265,10 +269,10 @@ std::string write_merged_report(const MergedReport& merged, const std::string& o
                     "CPU %");
   gp += "plot " + each_server +
         "'servers.dat' index i u 1:3 w lp lw 2 lc i+1 t word(servers, i+1), " + each_server +
-        "'' index i u 1:5 w lp dt 2 lc i+1 notitle\n";
+        "'' index i u 1:5 w lp dt 2 lc i+1 notitle" + kBaseline;
   gp += gnuplot_png("servers_rss.png", "RSS of each server per step, from /metrics", "MB");
-  gp +=
-      "plot " + each_server + "'servers.dat' index i u 1:4 w lp lw 2 lc i+1 t word(servers, i+1)\n";
+  gp += "plot " + each_server +
+        "'servers.dat' index i u 1:4 w lp lw 2 lc i+1 t word(servers, i+1)" + kBaseline;
   gp += gnuplot_png("servers_tick_p99.png", "tick p99 of each server's worst match per step", "ms");
   gp += "plot " + each_server +
         "'servers.dat' index i u 1:6 w lp lw 2 lc i+1 t word(servers, i+1), 4 w l lc rgb "

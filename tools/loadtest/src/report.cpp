@@ -217,7 +217,9 @@ std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
       "set y2label 'RSS (MB)'\nset y2tics\nplot 'samples.dat' u 1:15 w l lw 2 t 'server CPU "
       "%', '' u 1:17 w l t 'generator CPU %', '' u 1:16 w l axes x1y2 t 'server RSS MB', '' "
       "u 1:18 w l axes x1y2 t 'generator RSS MB'\nunset y2tics\nunset y2label\n";
-  // Each server: CPU from its /metrics (solid) and from /proc where read (dashed), and RSS.
+  // Each server: CPU from its /metrics (solid) and from /proc where read (dashed), and RSS; a
+  // zero line over the scrapes' times, so that a plot whose every value is missing is drawn.
+  const std::string baseline = ", 'servers.dat' index 0 u 1:(0) w l lc rgb 'gray' notitle\n";
   const std::size_t servers = run.servers().size();
   std::string titles;
   for (std::size_t i = 0; i < servers; ++i) {
@@ -228,11 +230,11 @@ std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
       "CPU %");
   gp += "plot for [i=0:" + std::to_string(servers - 1) +
         "] 'servers.dat' index i u 1:3 w l lw 2 lc i+1 t word(servers, i+1), for [i=0:" +
-        std::to_string(servers - 1) + "] '' index i u 1:5 w l dt 2 lc i+1 notitle\n";
+        std::to_string(servers - 1) + "] '' index i u 1:5 w l dt 2 lc i+1 notitle" + baseline;
   png("servers_rss.png", "RSS of each server: /metrics solid, /proc dashed", "MB");
   gp += "plot for [i=0:" + std::to_string(servers - 1) +
         "] 'servers.dat' index i u 1:4 w l lw 2 lc i+1 t word(servers, i+1), for [i=0:" +
-        std::to_string(servers - 1) + "] '' index i u 1:6 w l dt 2 lc i+1 notitle\n";
+        std::to_string(servers - 1) + "] '' index i u 1:6 w l dt 2 lc i+1 notitle" + baseline;
   png("bandwidth.png", "game bandwidth per client, as bots see it", "kbit/s");
   gp +=
       "plot 'samples.dat' u 1:19 w l t 'in (server to bot)', '' u 1:20 w l t 'out (bot to "
