@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "report_files.h"
+#include "ricochet/loadtest/capacity.h"
 #include "ricochet/stats/percentile.h"
 #include "ricochet/tools/json_text.h"
 
@@ -79,14 +80,6 @@ StepSummary merge_step(const std::vector<GeneratorReport>& generators, std::size
   out.server_tick_ms_p99_mean = scraped > 0 ? p99_mean_sum / scraped : 0;
   out.total_servers();
   return out;
-}
-
-int capacity_bots(const std::vector<StepSummary>& steps) {
-  int best = 0;
-  for (const StepSummary& step : steps) {
-    if (step.meets_capacity()) best = std::max(best, step.bots);
-  }
-  return best;
 }
 
 std::string report_json(const MergedReport& merged, const ReportContext& context) {
@@ -171,20 +164,6 @@ std::string generators_table(const MergedReport& merged) {
   return out;
 }
 
-/// The last step's pooled samples as a distribution: ms fraction.
-std::string distribution_table(std::vector<double> ms) {
-  std::sort(ms.begin(), ms.end());
-  std::string out = "# ms fraction_of_samples\n";
-  if (ms.empty()) return out + "0 0\n";
-  char line[64];
-  for (std::size_t i = 0; i < ms.size(); ++i) {
-    std::snprintf(line, sizeof line, "%.3f %.6f\n", ms[i],
-                  static_cast<double>(i + 1) / static_cast<double>(ms.size()));
-    out += line;
-  }
-  return out;
-}
-
 }  // namespace
 
 std::variant<MergedReport, std::string> merge_reports(std::vector<GeneratorReport> generators) {
@@ -249,8 +228,11 @@ std::string write_merged_report(const MergedReport& merged, const std::string& o
   if (!write_file(dir / "report.json", report_json(merged, context) + "\n", error) ||
       !write_file(dir / "servers.dat", servers_table(merged, labels), error) ||
       !write_file(dir / "generators.dat", generators_table(merged), error) ||
-      !write_file(dir / "rtt.dat", distribution_table(last.rtt_ms_samples), error) ||
-      !write_file(dir / "connect.dat", distribution_table(last.connect_ms_samples), error) ||
+      !write_file(dir / "rtt.dat",
+                  distribution_table(last.rtt_ms_samples, "# rtt_ms fraction_of_samples"), error) ||
+      !write_file(dir / "connect.dat",
+                  distribution_table(last.connect_ms_samples, "# connect_ms fraction_of_bots"),
+                  error) ||
       !write_file(dir / "errors.dat", errors_table(last.errors), error)) {
     return error;
   }

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "report_files.h"
+#include "ricochet/loadtest/capacity.h"
 #include "ricochet/tools/json_text.h"
 
 namespace ricochet::loadtest {
@@ -16,15 +17,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using tools::json_string;
-
-/// The sweep's capacity: the largest step meeting the criteria; 0 when none does.
-int capacity_bots(const std::vector<StepSummary>& steps) {
-  int best = 0;
-  for (const StepSummary& step : steps) {
-    if (step.meets_capacity()) best = std::max(best, step.bots);
-  }
-  return best;
-}
 
 std::string report_json(const LoadRun& run, const LoadTestConfig& config,
                         const ReportContext& context) {
@@ -146,19 +138,6 @@ std::string sweep_table(const std::vector<StepSummary>& steps) {
   return out;
 }
 
-std::string connect_table(std::vector<double> ms) {
-  std::sort(ms.begin(), ms.end());
-  std::string out = "# connect_ms fraction_of_bots\n";
-  if (ms.empty()) return out + "0 0\n";
-  char line[64];
-  for (std::size_t i = 0; i < ms.size(); ++i) {
-    std::snprintf(line, sizeof line, "%.2f %.5f\n", ms[i],
-                  static_cast<double>(i + 1) / static_cast<double>(ms.size()));
-    out += line;
-  }
-  return out;
-}
-
 ErrorCounts final_errors(const LoadRun& run) {
   if (!run.steps().empty()) return run.steps().back().errors;
   return run.errors();
@@ -179,7 +158,8 @@ std::string write_report(const LoadRun& run, const LoadTestConfig& config,
       !write_file(dir / "matches.dat", matches_table(run.match_rows(), blocks), error) ||
       !write_file(dir / "servers.dat", servers_table(run.servers()), error) ||
       !write_file(dir / "errors.dat", errors_table(final_errors(run)), error) ||
-      !write_file(dir / "connect.dat", connect_table(run.connect_ms()), error) ||
+      !write_file(dir / "connect.dat",
+                  distribution_table(run.connect_ms(), "# connect_ms fraction_of_bots"), error) ||
       !write_file(dir / "sweep.dat", sweep_table(run.steps()), error) ||
       !write_file(dir / "steps.jsonl", steps_lines(run, config, context), error)) {
     return error;

@@ -1,7 +1,12 @@
 #include "report_files.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
+
+#include "ricochet/tools/json_text.h"
 
 namespace ricochet::loadtest {
 
@@ -40,6 +45,32 @@ std::string errors_table(const ErrorCounts& errors) {
   }
   if (!any) out += "none 0\n";
   return out;
+}
+
+std::string distribution_table(std::vector<double> ms, const char* header) {
+  std::sort(ms.begin(), ms.end());
+  std::string out = std::string(header) + "\n";
+  if (ms.empty()) return out + "0 0\n";
+  char line[64];
+  for (std::size_t i = 0; i < ms.size(); ++i) {
+    std::snprintf(line, sizeof line, "%.3f %.6f\n", ms[i],
+                  static_cast<double>(i + 1) / static_cast<double>(ms.size()));
+    out += line;
+  }
+  return out;
+}
+
+std::string percent_object_json(const std::map<std::string, double>& percent) {
+  std::string out = "{";
+  for (const auto& [name, value] : percent) {
+    if (out.size() > 1) out += ',';
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3f", std::isfinite(value) ? value : 0.0);
+    out += tools::json_string(name);
+    out += ':';
+    out += text;
+  }
+  return out + "}";
 }
 
 const char* const kGnuplotPreamble =

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "report_files.h"
 #include "ricochet/loadtest/capacity.h"
 #include "ricochet/tools/json_text.h"
 
@@ -136,16 +137,7 @@ std::string StepSummary::to_json(bool samples) const {
   out += meets_capacity() ? "true" : "false";
   out += ",\"generator_saturated\":";
   out += generator_saturated() ? "true" : "false";
-  out += ",\"server_phase_percent\":{";
-  bool first_phase = true;
-  for (const auto& [phase, percent] : server_phase_percent) {
-    if (!first_phase) out += ',';
-    first_phase = false;
-    char value[32];
-    std::snprintf(value, sizeof value, "%.3f", std::isfinite(percent) ? percent : 0.0);
-    out += tools::json_string(phase) + ':' + value;
-  }
-  out += '}';
+  out += ",\"server_phase_percent\":" + percent_object_json(server_phase_percent);
   out += ",\"servers\":[";
   for (std::size_t i = 0; i < servers.size(); ++i) {
     if (i > 0) out += ',';

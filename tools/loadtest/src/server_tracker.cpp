@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "report_files.h"
 #include "ricochet/tools/json_text.h"
 
 namespace ricochet::loadtest {
@@ -186,16 +187,8 @@ std::string ServerWindow::to_json() const {
   number(out, "rss_mb_proc", rss_mb_proc);
   number(out, "packets_in_per_s", packets_in_per_s);
   number(out, "packets_out_per_s", packets_out_per_s);
-  out += ",\"phase_percent\":{";
-  bool first = true;
-  for (const auto& [phase, percent] : phase_percent) {
-    if (!first) out += ',';
-    first = false;
-    char value[32];
-    std::snprintf(value, sizeof value, "%.3f", std::isfinite(percent) ? percent : 0.0);
-    out += tools::json_string(phase) + ':' + value;
-  }
-  return out + "}}";
+  out += ",\"phase_percent\":" + percent_object_json(phase_percent);
+  return out + "}";
 }
 
 }  // namespace ricochet::loadtest
