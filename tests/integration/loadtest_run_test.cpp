@@ -8,7 +8,10 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <map>
+#include <regex>
 #include <string>
+#include <thread>
 
 #include "loadtest_process.h"
 #include "server_process.h"
@@ -67,14 +70,97 @@ TEST(LoadTest, BotsFillTheMatchesAndTheReportHasEveryFigure) {
   EXPECT_GT(number_field(report, "rtt_ms_p99").value_or(0), 0);
   EXPECT_GT(number_field(report, "snapshots_per_s_per_bot").value_or(0), 0);  // not a speed
   EXPECT_GT(number_field(report, "kbps_in_per_client").value_or(0), 0);
-  EXPECT_GT(number_field(report, "server_cpu_percent").value_or(0), 0);  // from /proc
+  EXPECT_GT(number_field(report, "server_cpu_percent").value_or(0), 0);  // from /metrics
   EXPECT_GT(number_field(report, "server_rss_mb").value_or(0), 1);
+  EXPECT_NE(report.find("\"server_cpu_source\":\"metrics\""), std::string::npos) << report;
+  // --server-proc auto on loopback: /proc read besides, for the comparison.
+  EXPECT_GT(number_field(report, "server_cpu_percent_proc").value_or(0), 0) << report;
   EXPECT_GT(number_field(report, "connect_ms_max").value_or(0), 0);
   EXPECT_NE(report.find("\"errors\":{"), std::string::npos);
   for (const char* png :
        {"tick_ms.png", "tick_p99_per_match.png", "overruns.png", "cpu_rss.png", "bandwidth.png",
         "rtt_loss.png", "errors.png", "connect_ms.png", "bots.png"}) {
     EXPECT_TRUE(fs::exists(out.path() / png) && fs::file_size(out.path() / png) > 1000) << png;
+  }
+}
+
+/// Each server's object in report.json's last "servers" array (the top level's): label → the
+/// object's text up to its phase_percent.
+std::map<std::string, std::string> last_servers(const std::string& json) {
+  const std::regex pattern(R"re(\{"server":"([^"]+)"[^{}]*)re");
+  std::map<std::string, std::string> out;
+  for (std::sregex_iterator it(json.begin(), json.end(), pattern), end; it != end; ++it) {
+    out[(*it)[1].str()] = (*it)[0].str();
+  }
+  return out;
+}
+
+TEST(LoadTest, TwoGeneratorsAgainstTwoServersMergeIntoOneReport) {
+  // Two servers, each on its own SQLite file, measured from /metrics only (--server-proc off:
+  // as from a machine that cannot see their /proc), by two generator processes at once.
+  const std::string matches = "count = 1\nmax_players = 16\nmaps = [\"" RICOCHET_SOURCE_DIR
+                              "/server/maps/foundry.toml\"]\nseed = 7\nwarmup_s = 0\n"
+                              "frag_limit = 0\ntime_limit_s = 0\nrecord = false\n";
+  ServerProcess a(matches, 10, "[db]\npassword_hashing = \"minimum\"\n");
+  ServerProcess b(matches, 10, "[db]\npassword_hashing = \"minimum\"\n");
+  ASSERT_TRUE(a.wait_listening()) << a.log();
+  ASSERT_TRUE(b.wait_listening()) << b.log();
+  const auto endpoint = [](const ServerProcess& server) {
+    return "127.0.0.1:" + std::to_string(server.control_port()) + ":" +
+           std::to_string(server.admin_port());
+  };
+  const std::string common = " --server " + endpoint(a) + "," + endpoint(b) + " --fingerprint " +
+                             a.fingerprint() + "," + b.fingerprint() +
+                             " --server-proc off --bots 10 --bots-per-address 2 --match-size 16"
+                             " --ramp 40 --settle 1s --duration 3s --scrape-interval 0.5"
+                             " --no-plots --quiet";
+  TempDir out("ricochet-loadtest");
+  int codes[2] = {-1, -1};
+  {
+    std::thread second([&] {
+      codes[1] = run_loadtest("--name gb --out " + (out.path() / "b").string() + common,
+                              out.path() / "b.log");
+    });
+    codes[0] = run_loadtest("--name ga --out " + (out.path() / "a").string() + common,
+                            out.path() / "a.log");
+    second.join();
+  }
+  ASSERT_EQ(codes[0], 0) << read_text(out.path() / "a.log");
+  ASSERT_EQ(codes[1], 0) << read_text(out.path() / "b.log");
+  for (const char* generator : {"a", "b"}) {
+    const std::string report = read_text(out.path() / generator / "report.json");
+    EXPECT_EQ(number_field(report, "bots_connected"), 10) << report;
+    EXPECT_EQ(report.find("server_cpu_percent_proc"), std::string::npos) << report;
+    EXPECT_EQ(report.find("server_proc_unreadable"), std::string::npos) << report;
+  }
+
+  const fs::path merged = out.path() / "merged";
+  ASSERT_EQ(run_loadtest("merge " + merged.string() + " " + (out.path() / "a").string() + " " +
+                             (out.path() / "b").string(),
+                         out.path() / "merge.log"),
+            0)
+      << read_text(out.path() / "merge.log");
+  const std::string report = read_text(merged / "report.json");
+  EXPECT_EQ(number_field(report, "bots"), 20) << report;
+  EXPECT_EQ(number_field(report, "bots_connected"), 20) << report;
+  // The top level's own fields, before its per-server ones (which have "matches" too).
+  const std::string top = report.substr(report.rfind("\"bots\":"));
+  EXPECT_EQ(number_field(top.substr(0, top.find("\"servers\":")), "matches"), 2)
+      << report;  // one per server, counted once
+  EXPECT_NE(report.find("\"server_cpu_source\":\"metrics\""), std::string::npos) << report;
+  EXPECT_GT(number_field(report, "servers_cpu_percent_total").value_or(0), 0) << report;
+  const auto servers = last_servers(report);
+  ASSERT_EQ(servers.size(), 2u) << report;
+  for (const ServerProcess* server : {&a, &b}) {
+    const auto it = servers.find("127.0.0.1:" + std::to_string(server->control_port()));
+    ASSERT_NE(it, servers.end()) << report;
+    EXPECT_GT(number_field(it->second, "cpu_percent").value_or(0), 0) << it->second;  // /metrics
+    EXPECT_EQ(number_field(it->second, "cpu_percent_proc"), -1) << it->second;        // not read
+    EXPECT_GT(number_field(it->second, "rss_mb").value_or(0), 1) << it->second;
+    EXPECT_EQ(number_field(it->second, "players"), 10) << it->second;
+  }
+  for (const char* png : {"servers_cpu.png", "generators.png", "rtt.png", "connect_ms.png"}) {
+    EXPECT_TRUE(fs::exists(merged / png) && fs::file_size(merged / png) > 1000) << png;
   }
 }
 
@@ -98,8 +184,18 @@ TEST(LoadTest, ANoServerIsCountedNotACrash) {
 TEST(LoadTest, BadOptionsAreRefusedWithTheReason) {
   TempDir out("ricochet-loadtest");
   const fs::path log = out.path() / "loadtest.log";
-  EXPECT_EQ(run_loadtest("--server 10.0.0.1 --out " + out.path().string(), log), 2);
-  EXPECT_NE(read_text(log).find("loopback"), std::string::npos) << read_text(log);
+  EXPECT_EQ(run_loadtest("--server 127.0.0.1:7777,localhost --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--server: server 2 (\"localhost\"): expected a numeric IPv4"),
+            std::string::npos)
+      << read_text(log);
+  EXPECT_EQ(run_loadtest("--server 127.0.0.1:7777,127.0.0.1:7787 --fingerprint A,B,C --out " +
+                             out.path().string(),
+                         log),
+            2);
+  EXPECT_NE(read_text(log).find("one per server (2), got 3"), std::string::npos) << read_text(log);
+  EXPECT_EQ(run_loadtest("--server-proc on --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--server-proc must be off or auto"), std::string::npos)
+      << read_text(log);
   EXPECT_EQ(run_loadtest("--sweep 100,50 --out " + out.path().string(), log), 2);
   EXPECT_NE(read_text(log).find("increasing"), std::string::npos) << read_text(log);
   EXPECT_EQ(run_loadtest("--duration 1h --out " + out.path().string(), log), 2);

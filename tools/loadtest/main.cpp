@@ -1,6 +1,7 @@
-// ricochet-loadtest: many bots on one event loop against a ricochet-server on this host. Ramps
-// up at a set rate, shows progress on stderr, reads the server's /metrics and /proc while it
-// runs, and writes DIR/report.json, the series and gnuplot PNGs (one step, or --sweep steps).
+// ricochet-loadtest: many bots on one event loop against one or several ricochet-servers. Ramps
+// up at a set rate, shows progress on stderr, reads every server's /metrics (and /proc, on this
+// host, for the comparison) while it runs, and writes DIR/report.json, the series and gnuplot
+// PNGs (one step, or --sweep steps).
 // With --soak: bots on a bad link coming and going for the whole duration, and whether the
 // server's RSS and open descriptors stayed flat (soak_run.h).
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -14,8 +15,10 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <variant>
 
 #include "ricochet/loadtest/load_run.h"
+#include "ricochet/loadtest/merge.h"
 #include "ricochet/loadtest/report.h"
 #include "ricochet/loadtest/soak_report.h"
 #include "ricochet/loadtest/soak_run.h"
@@ -90,10 +93,55 @@ int soak(const ricochet::loadtest::LoadTestConfig& config,
   return status;
 }
 
+/// `ricochet-loadtest merge [--skip-bad] [--no-plots] OUT DIR...` (merge.h).
+int merge(int argc, char** argv) {
+  using namespace ricochet::loadtest;
+  std::string out;
+  std::vector<std::string> dirs;
+  bool skip_bad = false;
+  bool no_plots = false;
+  CLI::App app{
+      "ricochet-loadtest merge: the reports of generators run at the same time (one per "
+      "machine, each with its own --name, against the same --server list) as one report in OUT.\n"
+      "Exit status: 0 merged, 1 the report or its plots could not be written, 2 a bad option or "
+      "a bad report (named)"};
+  app.add_option("OUT", out, "directory for the merged report.json, data files and PNGs")
+      ->required();
+  app.add_option("DIR", dirs, "each generator's --out directory (its report.json)")->required();
+  app.add_flag("--skip-bad", skip_bad,
+               "leave out a missing, truncated or malformed report (named in report.json's "
+               "\"skipped\") instead of refusing the merge");
+  app.add_flag("--no-plots", no_plots, "skip gnuplot");
+  CLI11_PARSE(app, argc, argv);
+  auto merged = merge_directories(dirs, skip_bad);
+  if (const auto* problem = std::get_if<std::string>(&merged)) {
+    std::fprintf(stderr, "ricochet-loadtest merge: %s\n", problem->c_str());
+    return kExitBadOption;
+  }
+  ReportContext context;
+  context.command = "ricochet-loadtest merge";
+  for (int i = 1; i < argc; ++i) context.command += std::string(" ") + argv[i];
+  context.measured_at_utc = utc_now();
+  const MergedReport& report = std::get<MergedReport>(merged);
+  if (const std::string problem = write_merged_report(report, out, !no_plots, context);
+      !problem.empty()) {
+    std::fprintf(stderr, "ricochet-loadtest merge: %s\n", problem.c_str());
+    return kExitReportFailed;
+  }
+  const StepSummary& last = report.steps.back();
+  std::fprintf(stderr,
+               "ricochet-loadtest merge: %zu generators (%zu skipped), %zu steps; last: %d of %d "
+               "bots connected over %zu servers; wrote %s/report.json\n",
+               report.generators.size(), report.skipped.size(), report.steps.size(),
+               last.bots_connected, last.bots, last.servers.size(), out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace ricochet::loadtest;
+  if (argc >= 2 && std::string_view(argv[1]) == "merge") return merge(argc - 1, argv + 1);
   LoadTestConfig config;
   std::string duration = "60s";
   std::string settle = "5s";
@@ -110,22 +158,31 @@ int main(int argc, char** argv) {
   std::string churn_min_life = "60s";
   std::string churn_max_life = "600s";
   std::string warmup;
+  std::string server_proc = "auto";
+  std::string servers = "127.0.0.1";
+  std::uint16_t control_port = 7777;
+  std::uint16_t admin_port = 9100;
+  std::string fingerprints;
+  std::string trust_file;
 
   CLI::App app{
-      "ricochet-loadtest: bots against a ricochet-server on this host, measured.\n"
+      "ricochet-loadtest: bots against ricochet-servers, measured. `ricochet-loadtest merge "
+      "--help`: the reports of several generators as one.\n"
       "Exit status: 0 the report is written (with --soak: and the server stayed flat), 1 the "
       "report or its plots could not be written, 2 a bad option, 3 (--soak) the server's RSS or "
       "open fds grew faster than their bounds after the warm-up"};
-  app.add_option("--server", config.server, "the server's loopback IPv4 address")
+  app.add_option("--server", servers,
+                 "the servers, HOST[:CONTROL_PORT[:ADMIN_PORT]] separated by commas (numeric "
+                 "IPv4; a port left out is --port's or --admin-port's); bots go round robin")
       ->capture_default_str();
-  app.add_option("--port", config.control_port, "control channel (TLS) port")
-      ->capture_default_str();
-  app.add_option("--admin-port", config.admin_port, "admin HTTP port (/metrics)")
-      ->capture_default_str();
-  app.add_option("--fingerprint", config.fingerprint,
-                 "pin the server certificate's SHA-256 fingerprint (AA:BB:...)");
-  app.add_option("--trust-file", config.trust_file,
-                 "trust on first use into this file (default: DIR/server.fp)");
+  app.add_option("--port", control_port, "control channel (TLS) port")->capture_default_str();
+  app.add_option("--admin-port", admin_port, "admin HTTP port (/metrics)")->capture_default_str();
+  app.add_option("--fingerprint", fingerprints,
+                 "pin the servers' certificate SHA-256 fingerprints (AA:BB:...): one for every "
+                 "server, or one per server separated by commas, in --server's order");
+  app.add_option("--trust-file", trust_file,
+                 "trust on first use into this file (default: DIR/server.fp; with several "
+                 "servers FILE-2, FILE-3, ... for the others)");
   app.add_option("--bots", config.bots, "bots (one step)")->capture_default_str();
   app.add_option("--sweep", sweep, "steps of increasing bot counts, e.g. 100,200,400");
   app.add_option("--match-size", config.match_size,
@@ -154,6 +211,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--server-pid", config.server_pid,
                  "the server's pid for /proc (0: from ricochet_process_id in /metrics)")
+      ->capture_default_str();
+  app.add_option("--server-proc", server_proc,
+                 "the servers' CPU and RSS come from their /metrics; auto: read /proc as well (for "
+                 "the comparison) when a server is on loopback and its pid's entry reads; off: "
+                 "never")
       ->capture_default_str();
   app.add_option("--out", config.out, "directory for report.json, the series and the PNGs")
       ->capture_default_str();
@@ -214,12 +276,35 @@ int main(int argc, char** argv) {
     }
     config.sweep = *counts;
   }
+  if (const auto mode = parse_server_proc(server_proc)) {
+    config.server_proc = *mode;
+  } else {
+    return fail("--server-proc must be off or auto, got \"" + server_proc + "\"");
+  }
   config.cheap = !predict;
   config.shared_game_port = !socket_per_bot;
   config.plots = !no_plots;
   config.progress = !quiet;
-  if (config.fingerprint.empty() && config.trust_file.empty()) {
-    config.trust_file = (std::filesystem::path(config.out) / "server.fp").string();
+  auto parsed = parse_servers(servers, control_port, admin_port);
+  if (const auto* problem = std::get_if<std::string>(&parsed)) return fail("--server: " + *problem);
+  config.servers = std::get<std::vector<ServerEndpoint>>(std::move(parsed));
+  std::vector<std::string> pins;
+  for (std::size_t start = 0; !fingerprints.empty() && start <= fingerprints.size();) {
+    const std::size_t comma = std::min(fingerprints.find(',', start), fingerprints.size());
+    pins.push_back(fingerprints.substr(start, comma - start));
+    start = comma + 1;
+  }
+  if (pins.size() > 1 && pins.size() != config.servers.size()) {
+    return fail("--fingerprint: one for every server or one per server (" +
+                std::to_string(config.servers.size()) + "), got " + std::to_string(pins.size()));
+  }
+  if (trust_file.empty()) trust_file = (std::filesystem::path(config.out) / "server.fp").string();
+  for (std::size_t i = 0; i < config.servers.size(); ++i) {
+    ServerEndpoint& server = config.servers[i];
+    if (!pins.empty()) server.fingerprint = pins[pins.size() == 1 ? 0 : i];
+    if (server.fingerprint.empty()) {
+      server.trust_file = i == 0 ? trust_file : trust_file + "-" + std::to_string(i + 1);
+    }
   }
   if (soak_mode && per_address->count() == 0) config.bots_per_address = 2;
   if (const std::string problem = config.validate(); !problem.empty()) return fail(problem);

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <variant>
+
 #include "ricochet/loadtest/error_kinds.h"
+#include "ricochet/loadtest/fleet_plan.h"
 
 namespace ricochet::loadtest::loadtest_config_test {
 namespace {
@@ -13,8 +16,11 @@ TEST(LoadTestConfig, DefaultsAreValid) {
 
 TEST(LoadTestConfig, RefusesWhatIsOutOfRangeNamingIt) {
   LoadTestConfig config;
-  config.server = "192.168.1.4";
-  EXPECT_NE(config.validate().find("loopback"), std::string::npos);
+  config.servers[0].host = "example.com";
+  EXPECT_NE(config.validate().find("numeric IPv4"), std::string::npos);
+  config = {};
+  config.servers.clear();
+  EXPECT_EQ(config.validate(), "servers must be 1..64, got 0");
   config = {};
   config.sweep = {100, 20000};
   EXPECT_EQ(config.validate(), "bots must be 1..10000, got 20000");
@@ -27,6 +33,51 @@ TEST(LoadTestConfig, RefusesWhatIsOutOfRangeNamingIt) {
   config = {};
   config.name = "has space";
   EXPECT_NE(config.validate().find("name must be"), std::string::npos);
+}
+
+TEST(LoadTestConfig, ServerListsTakeDefaultPortsAndNameWhatIsWrong) {
+  const auto parsed = parse_servers("127.0.0.1,10.1.2.3:7000,127.0.0.2:7001:9001", 7777, 9100);
+  ASSERT_TRUE(std::holds_alternative<std::vector<ServerEndpoint>>(parsed));
+  const auto& servers = std::get<std::vector<ServerEndpoint>>(parsed);
+  ASSERT_EQ(servers.size(), 3u);
+  EXPECT_EQ(servers[0].label(), "127.0.0.1:7777");
+  EXPECT_EQ(servers[0].admin_port, 9100);
+  EXPECT_EQ(servers[1].host, "10.1.2.3");
+  EXPECT_EQ(servers[1].control_port, 7000);
+  EXPECT_EQ(servers[1].admin_port, 9100);
+  EXPECT_EQ(servers[2].control_port, 7001);
+  EXPECT_EQ(servers[2].admin_port, 9001);
+  const auto error = [](const std::string& text) {
+    const auto result = parse_servers(text, 7777, 9100);
+    return std::holds_alternative<std::string>(result) ? std::get<std::string>(result) : "";
+  };
+  EXPECT_EQ(error("127.0.0.1,"), "server 2 (\"\"): expected a numeric IPv4 address");
+  EXPECT_EQ(error("host:1"), "server 1 (\"host:1\"): expected a numeric IPv4 address");
+  EXPECT_EQ(error("127.0.0.1:0"),
+            "server 1 (\"127.0.0.1:0\"): expected a control port 1..65535 after the address");
+  EXPECT_EQ(error("127.0.0.1:1:70000"),
+            "server 1 (\"127.0.0.1:1:70000\"): expected an admin "
+            "port 1..65535 after the control port");
+  EXPECT_EQ(error("127.0.0.1:1:2:3"),
+            "server 1 (\"127.0.0.1:1:2:3\"): expected an admin port "
+            "1..65535 after the control port");
+  EXPECT_EQ(error("127.0.0.1,127.0.0.1:7777"), "server 2 (\"127.0.0.1:7777\"): listed twice");
+  std::string many = "127.0.0.1:1";
+  for (int i = 2; i <= 65; ++i) many += ",127.0.0.1:" + std::to_string(i);
+  EXPECT_EQ(error(many), "at most 64 servers, got more");
+}
+
+TEST(LoadTestConfig, BotsGoRoundRobinOverTheServers) {
+  const auto plans = plan_fleets(5, 7, 3);  // bots 5..11 of the run
+  ASSERT_EQ(plans.size(), 3u);
+  EXPECT_EQ(plans[0].server, 0u);
+  EXPECT_EQ(plans[0].bots, (std::vector<int>{6, 9}));
+  EXPECT_EQ(plans[1].bots, (std::vector<int>{7, 10}));
+  EXPECT_EQ(plans[2].bots, (std::vector<int>{5, 8, 11}));
+  const auto one = plan_fleets(0, 1, 4);  // a server given no bot has no fleet
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0].server, 0u);
+  EXPECT_EQ(plan_fleets(0, 3, 1)[0].bots, (std::vector<int>{0, 1, 2}));
 }
 
 TEST(LoadTestConfig, DurationsAndBotCounts) {

@@ -1,5 +1,7 @@
 #include "ricochet/loadtest/capacity.h"
 
+#include <algorithm>
+
 namespace ricochet::loadtest {
 
 const char* name(CapacityShortfall shortfall) {
@@ -36,6 +38,14 @@ std::vector<CapacityShortfall> capacity_shortfalls(const StepSummary& step,
     missed.push_back(CapacityShortfall::ServerCpu);
   }
   return missed;
+}
+
+int capacity_bots(const std::vector<StepSummary>& steps) {
+  int best = 0;
+  for (const StepSummary& step : steps) {
+    if (step.meets_capacity()) best = std::max(best, step.bots);
+  }
+  return best;
 }
 
 }  // namespace ricochet::loadtest

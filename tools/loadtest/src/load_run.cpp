@@ -8,6 +8,7 @@
 
 #include "ricochet/bot/bot_metrics.h"
 #include "ricochet/loadtest/capacity.h"
+#include "ricochet/loadtest/fleet_plan.h"
 #include "ricochet/loadtest/server_figures.h"
 #include "ricochet/stats/percentile.h"
 
@@ -58,11 +59,16 @@ LoadRun::LoadRun(asio::io_context& io, LoadTestConfig config)
       targets_(config_.steps()),
       addresses_(source_addresses((targets_.back() + config_.bots_per_address - 1) /
                                   config_.bots_per_address)),
-      admin_(asio::ip::make_address(config_.server), config_.admin_port),
-      phase_timer_(io),
-      scraper_(io, admin_, config_.scrape_interval_s,
-               [this](const std::string& kind) { count(kind); }),
-      server_pid_(config_.server_pid) {}
+      phase_timer_(io) {
+  const auto count_kind = [this](const std::string& kind) { count(kind); };
+  for (const ServerEndpoint& server : config_.servers) {
+    trackers_.emplace_back(server.label(), config_.server_proc, is_loopback_v4(server.host),
+                           config_.servers.size() == 1 ? config_.server_pid : 0, count_kind);
+    scrapers_.push_back(std::make_unique<MetricsScraper>(
+        io, asio::ip::tcp::endpoint(asio::ip::make_address(server.host), server.admin_port),
+        config_.scrape_interval_s, count_kind));
+  }
+}
 
 LoadRun::~LoadRun() = default;
 
@@ -72,8 +78,11 @@ double LoadRun::now_s() const {
 
 void LoadRun::start() {
   started_at_ = std::chrono::steady_clock::now();
-  scraper_.start(started_at_, nullptr,
-                 [this](MetricsScraper::Scrape scrape) { on_scrape(std::move(scrape)); });
+  for (std::size_t i = 0; i < scrapers_.size(); ++i) {
+    scrapers_[i]->start(started_at_, nullptr, [this, i](MetricsScraper::Scrape scrape) {
+      on_scrape(i, std::move(scrape));
+    });
+  }
   begin_step();
 }
 
@@ -83,36 +92,54 @@ void LoadRun::begin_step() {
   Step step;
   step.target = target;
   step.started_t_s = now_s();
-  bot::FleetConfig fleet;
-  fleet.bot.host = config_.server;
-  fleet.bot.control_port = config_.control_port;
-  fleet.bot.fingerprint = config_.fingerprint;
-  fleet.bot.trust_file = config_.trust_file;
-  fleet.bot.name = config_.name + "s" + std::to_string(steps_.size() + 1);
-  fleet.bot.password = config_.password;
-  fleet.bot.skill = config_.skill;
-  fleet.bot.seed = static_cast<std::uint64_t>(bots_started_) + 1;
-  fleet.bot.predict = !config_.cheap;
-  fleet.bot.max_reconnect_attempts = 20;
-  fleet.bot.tick_phases = kTickPhases;
-  fleet.shared_game_port = config_.shared_game_port;
-  fleet.bots = added;
-  fleet.start_spacing = std::chrono::milliseconds(
-      static_cast<std::int64_t>(std::lround(1000.0 / config_.ramp_per_s)));
-  // Bot k of the run binds to address k % addresses (consecutive starts come from different
-  // addresses, so no address meets the server's per-address rates during the ramp).
-  for (int k = 0; k < added; ++k) {
-    const auto global = static_cast<std::size_t>(bots_started_ + k);
-    fleet.bind_addresses.push_back(addresses_[global % addresses_.size()]);
+  const std::vector<FleetPlan> plans = plan_fleets(bots_started_, added, config_.servers.size());
+  // The fleets start together, each at the ramp rate over the servers' count, so the step's
+  // bots start at the ramp rate in all.
+  const auto spacing = std::chrono::milliseconds(static_cast<std::int64_t>(
+      std::lround(1000.0 * static_cast<double>(plans.size()) / config_.ramp_per_s)));
+  for (const FleetPlan& plan : plans) {
+    const ServerEndpoint& server = config_.servers[plan.server];
+    const bool loopback = is_loopback_v4(server.host);
+    bot::FleetConfig fleet;
+    fleet.bot.host = server.host;
+    fleet.bot.control_port = server.control_port;
+    fleet.bot.fingerprint = server.fingerprint;
+    fleet.bot.trust_file = server.trust_file;
+    // <name>s<step>-<k>; with several servers <name>s<step>.<server>-<k>, so that no two bots
+    // share an account when the servers share a database.
+    fleet.bot.name = config_.name + "s" + std::to_string(steps_.size() + 1);
+    if (config_.servers.size() > 1) fleet.bot.name += "." + std::to_string(plan.server + 1);
+    fleet.bot.password = config_.password;
+    fleet.bot.skill = config_.skill;
+    fleet.bot.seed = static_cast<std::uint64_t>(plan.bots.front()) + 1;
+    fleet.bot.predict = !config_.cheap;
+    fleet.bot.max_reconnect_attempts = 20;
+    fleet.bot.tick_phases = kTickPhases;
+    // The shared game socket and the loopback source addresses need a server on loopback; a
+    // server elsewhere gets each bot on sockets of its own from the default address.
+    fleet.shared_game_port = config_.shared_game_port && loopback;
+    fleet.bots = static_cast<int>(plan.bots.size());
+    fleet.start_spacing = spacing;
+    // Bot k of the run binds to address k % addresses (consecutive starts come from different
+    // addresses, so no address meets the server's per-address rates during the ramp).
+    if (loopback) {
+      for (const int k : plan.bots) {
+        fleet.bind_addresses.push_back(addresses_[static_cast<std::size_t>(k) % addresses_.size()]);
+      }
+    }
+    auto made = std::make_unique<bot::Fleet>(io_, std::move(fleet));
+    for (const auto& each : made->bots()) {
+      each->on_failure([this](std::string_view reason) { count(error_kind(reason)); });
+    }
+    step.fleets.push_back(std::move(made));
   }
-  step.fleet = std::make_unique<bot::Fleet>(io_, std::move(fleet));
-  for (const auto& each : step.fleet->bots()) {
-    each->on_failure([this](std::string_view reason) { count(error_kind(reason)); });
-  }
-  if (std::string error = step.fleet->start(); !error.empty()) {
-    count("shared_game_port");
-    std::fprintf(stderr, "ricochet-loadtest: %s\n", error.c_str());
-    return stop(error);
+  for (const auto& fleet : step.fleets) {
+    if (std::string error = fleet->start(); !error.empty()) {
+      count("shared_game_port");
+      std::fprintf(stderr, "ricochet-loadtest: %s\n", error.c_str());
+      steps_.push_back(std::move(step));
+      return stop(error);
+    }
   }
   bots_started_ = target;
   steps_.push_back(std::move(step));
@@ -132,6 +159,7 @@ void LoadRun::begin_step() {
 void LoadRun::begin_measuring() {
   phase_ = RunPhase::Measuring;
   steps_.back().first_window_sample = samples_.size();
+  steps_.back().window_t_s = now_s();
   phase_timer_.expires_after(micros(config_.duration_s));
   phase_timer_.async_wait([this](const boost::system::error_code& error) {
     if (!error) end_step();
@@ -164,59 +192,81 @@ void LoadRun::stop(std::string_view reason) {
 void LoadRun::finish() {
   phase_ = RunPhase::Finished;
   phase_timer_.cancel();
-  scraper_.stop();
-  for (Step& step : steps_) step.fleet->stop(stop_reason_);
+  for (auto& scraper : scrapers_) scraper->stop();
+  for (Step& step : steps_) {
+    for (const auto& fleet : step.fleets) fleet->stop(stop_reason_);
+  }
   std::fprintf(stderr, "ricochet-loadtest: finished (%s)\n", stop_reason_.c_str());
   if (auto callback = std::move(on_finished_)) callback();
 }
 
-void LoadRun::on_scrape(MetricsScraper::Scrape scrape) {
+void LoadRun::on_scrape(std::size_t server, MetricsScraper::Scrape scrape) {
+  ServerTracker& tracker = trackers_[server];
+  std::optional<ProcSample> proc;
+  if (const int pid = tracker.proc_pid(); pid > 0) {
+    std::string error;
+    proc = read_proc(pid, error);
+  }
+  const ServerPoint& point = tracker.observe(now_s(), scrape.figures, proc);
+  if (scrape.figures) {
+    for (const auto& [id, match] : scrape.figures->by_match) {
+      if (match.connected > 0) {
+        match_rows_.push_back({point.t_s, static_cast<std::uint32_t>(server), id, match.tick});
+      }
+    }
+  }
+  // The first server's scrapes are the run's clock: a sample of the bots and of every server's
+  // latest scrape.
+  if (server == 0) take_sample(scrape.elapsed_ms);
+}
+
+void LoadRun::take_sample(double scrape_ms) {
   RunSample sample;
   Totals totals;
   sample.t_s = totals.t_s = now_s();
   sample.step_bots = steps_.empty() ? 0 : steps_.back().target;
   sample.measuring = phase_ == RunPhase::Measuring;
-  sample.scrape_ms = scrape.elapsed_ms;
+  sample.scrape_ms = scrape_ms;
   const Totals* previous = totals_.empty() ? nullptr : &totals_.back();
 
-  // The server's figures.
-  if (scrape.figures) {
-    const ServerFigures& figures = *scrape.figures;
-    sample.server_ok = true;
-    sample.matches = figures.matches;
-    sample.server_players = figures.players;
-    sample.tick = figures.worst_tick();
-    double p99_sum = 0;
-    int with_players = 0;
-    for (const auto& [id, match] : figures.by_match) {
-      if (match.connected == 0) continue;
-      p99_sum += match.tick.p99_ms;
+  // The servers' latest figures.
+  sample.server_ok = true;
+  double p99_mean_sum = 0;
+  int with_players = 0;
+  for (const ServerTracker& tracker : trackers_) {
+    const ServerPoint& point = tracker.latest();
+    sample.server_ok = sample.server_ok && point.ok;
+    if (!point.ok) continue;
+    sample.matches += point.matches;
+    sample.server_players += point.players;
+    sample.tick = sample.tick.worst_with(point.tick);
+    if (point.tick_p99_mean_ms > 0) {
+      p99_mean_sum += point.tick_p99_mean_ms;
       ++with_players;
-      match_rows_.push_back({sample.t_s, id, match.tick});
     }
-    sample.tick_p99_mean_ms = safe_ratio(p99_sum, with_players);
-    if (overruns_base_ < 0) {
-      overruns_base_ = figures.overruns;
-      dropped_base_ = figures.dropped_steps;
+    sample.server_cpu_percent = std::max(sample.server_cpu_percent, point.cpu_percent);
+    sample.server_rss_mb = std::max(sample.server_rss_mb, point.rss_mb);
+    // Overruns and dropped steps since the run started: from each server's first usable scrape.
+    for (const ServerPoint& first : tracker.points()) {
+      if (!first.ok) continue;
+      sample.overruns += std::max(0.0, point.overruns - first.overruns);
+      sample.dropped_steps += std::max(0.0, point.dropped_steps - first.dropped_steps);
+      break;
     }
-    sample.overruns = std::max(0.0, figures.overruns - overruns_base_);
-    sample.dropped_steps = std::max(0.0, figures.dropped_steps - dropped_base_);
-    totals.server_packets_in = figures.packets_in;
-    totals.server_packets_out = figures.packets_out;
-    totals.phase_seconds = figures.phase_seconds;
-    if (server_pid_ == 0) server_pid_ = figures.pid;
+    const std::vector<ServerPoint>& points = tracker.points();
+    if (points.size() >= 2) {
+      const ServerPoint& before = points[points.size() - 2];
+      const double wall = point.t_s - before.t_s;
+      if (before.ok && point.packets_in >= before.packets_in) {
+        sample.server_packets_in_per_s += safe_ratio(point.packets_in - before.packets_in, wall);
+        sample.server_packets_out_per_s += safe_ratio(point.packets_out - before.packets_out, wall);
+      }
+    }
   }
+  sample.tick_p99_mean_ms = safe_ratio(p99_mean_sum, with_players);
 
-  // /proc: the server's and our own.
+  // Our own CPU and RSS from /proc.
   std::string error;
-  if (server_pid_ > 0) {
-    if (const auto proc = read_proc(server_pid_, error)) {
-      totals.server_cpu_s = proc->cpu_s;
-      sample.server_rss_mb = proc->rss_bytes / 1e6;
-    } else {
-      count("server_proc_unreadable");
-    }
-  }
   if (const auto self = read_proc(static_cast<int>(getpid()), error)) {
     totals.generator_cpu_s = self->cpu_s;
     sample.generator_rss_mb = self->rss_bytes / 1e6;
@@ -226,31 +276,33 @@ void LoadRun::on_scrape(MetricsScraper::Scrape scrape) {
   std::vector<double> rtts;
   bot_counters_.clear();
   for (const Step& step : steps_) {
-    for (const auto& each : step.fleet->bots()) {
-      switch (each->state()) {
-        case bot::BotState::Playing:
-          ++sample.playing;
-          break;
-        case bot::BotState::Done:
-          ++sample.done;
-          break;
-        default:
-          ++sample.joining;
-          break;
+    for (const auto& fleet : step.fleets) {
+      for (const auto& each : fleet->bots()) {
+        switch (each->state()) {
+          case bot::BotState::Playing:
+            ++sample.playing;
+            break;
+          case bot::BotState::Done:
+            ++sample.done;
+            break;
+          default:
+            ++sample.joining;
+            break;
+        }
+        const bot::BotMetrics metrics = each->metrics();
+        totals.bytes_in += static_cast<double>(metrics.bytes_in);
+        totals.bytes_out += static_cast<double>(metrics.bytes_out);
+        totals.snapshots += static_cast<double>(metrics.snapshots);
+        totals.snapshots_lost += static_cast<double>(metrics.snapshots_lost);
+        if (each->state() == bot::BotState::Playing && !metrics.rtt_ms.empty()) {
+          rtts.push_back(metrics.rtt_ms.back());
+        }
+        bot_counters_["send_failures"] += metrics.send_failures;
+        bot_counters_["snapshots_refused"] += metrics.snapshots_refused;
+        bot_counters_["bad_payloads"] += metrics.bad_payloads;
+        bot_counters_["bad_events"] += metrics.bad_events;
+        bot_counters_["bad_control"] += metrics.bad_control;
       }
-      const bot::BotMetrics metrics = each->metrics();
-      totals.bytes_in += static_cast<double>(metrics.bytes_in);
-      totals.bytes_out += static_cast<double>(metrics.bytes_out);
-      totals.snapshots += static_cast<double>(metrics.snapshots);
-      totals.snapshots_lost += static_cast<double>(metrics.snapshots_lost);
-      if (each->state() == bot::BotState::Playing && !metrics.rtt_ms.empty()) {
-        rtts.push_back(metrics.rtt_ms.back());
-      }
-      bot_counters_["send_failures"] += metrics.send_failures;
-      bot_counters_["snapshots_refused"] += metrics.snapshots_refused;
-      bot_counters_["bad_payloads"] += metrics.bad_payloads;
-      bot_counters_["bad_events"] += metrics.bad_events;
-      bot_counters_["bad_control"] += metrics.bad_control;
     }
   }
   for (const auto& [kind, n] : errors_) sample.errors += n;
@@ -272,17 +324,8 @@ void LoadRun::on_scrape(MetricsScraper::Scrape scrape) {
     const double received = totals.snapshots - previous->snapshots;
     const double lost = totals.snapshots_lost - previous->snapshots_lost;
     sample.snapshot_loss = safe_ratio(lost, received + lost);
-    if (totals.server_cpu_s >= 0 && previous->server_cpu_s >= 0) {
-      sample.server_cpu_percent = (totals.server_cpu_s - previous->server_cpu_s) / wall * 100;
-    }
     sample.generator_cpu_percent =
         (totals.generator_cpu_s - previous->generator_cpu_s) / wall * 100;
-    if (totals.server_packets_in >= 0 && previous->server_packets_in >= 0) {
-      sample.server_packets_in_per_s =
-          safe_ratio(totals.server_packets_in - previous->server_packets_in, wall);
-      sample.server_packets_out_per_s =
-          safe_ratio(totals.server_packets_out - previous->server_packets_out, wall);
-    }
   }
   samples_.push_back(sample);
   totals_.push_back(totals);
@@ -315,9 +358,11 @@ void LoadRun::print_progress(const RunSample& s) const {
 std::vector<double> LoadRun::connect_ms() const {
   std::vector<double> out;
   for (const Step& step : steps_) {
-    for (const auto& each : step.fleet->bots()) {
-      const double ms = each->metrics().first_snapshot_ms;
-      if (ms >= 0) out.push_back(ms);
+    for (const auto& fleet : step.fleets) {
+      for (const auto& each : fleet->bots()) {
+        const double ms = each->metrics().first_snapshot_ms;
+        if (ms >= 0) out.push_back(ms);
+      }
     }
   }
   return out;
@@ -331,10 +376,14 @@ StepSummary LoadRun::summarise(const Step& step) const {
     if (n > 0) out.errors[kind] += n;
   }
   std::vector<double> connect;
-  for (const auto& each : step.fleet->bots()) {
-    const double ms = each->metrics().first_snapshot_ms;
-    if (ms >= 0) connect.push_back(ms);
+  for (const auto& fleet : step.fleets) {
+    for (const auto& each : fleet->bots()) {
+      const double ms = each->metrics().first_snapshot_ms;
+      if (ms >= 0) connect.push_back(ms);
+    }
   }
+  out.connect_ms_samples = connect;
+  out.rtt_ms_samples = step.rtt_ms;
   out.connect_ms_p50 = stats::percentile(connect, 50);
   out.connect_ms_p99 = stats::percentile(connect, 99);
   out.connect_ms_max = stats::percentile(connect, 100);
@@ -353,7 +402,6 @@ StepSummary LoadRun::summarise(const Step& step) const {
   for (std::size_t i = first; i <= last; ++i) {
     const RunSample& s = samples_[i];
     out.server_tick = out.server_tick.worst_with(s.tick);
-    out.server_rss_mb = std::max(out.server_rss_mb, s.server_rss_mb);
     out.generator_rss_mb = std::max(out.generator_rss_mb, s.generator_rss_mb);
     p99_mean_sum += s.tick_p99_mean_ms;
     ++count;
@@ -365,29 +413,22 @@ StepSummary LoadRun::summarise(const Step& step) const {
   const Totals& to = totals_[last];
   const double wall = to.t_s - from.t_s;
   out.measured_s = wall;
-  out.overruns = end.overruns - samples_[base].overruns;
-  out.dropped_steps = end.dropped_steps - samples_[base].dropped_steps;
   const double received = to.snapshots - from.snapshots;
   const double lost = to.snapshots_lost - from.snapshots_lost;
   out.snapshot_loss = safe_ratio(lost, received + lost);
+  out.snapshots_received = received;
+  out.snapshots_lost = lost;
   const double clients = std::max(1, end.playing);
   out.snapshots_per_s_per_bot = safe_ratio(received, wall) / clients;
   out.kbps_in_per_client = safe_ratio((to.bytes_in - from.bytes_in) * 8 / 1000, wall) / clients;
   out.kbps_out_per_client = safe_ratio((to.bytes_out - from.bytes_out) * 8 / 1000, wall) / clients;
-  if (from.server_cpu_s >= 0 && to.server_cpu_s >= 0) {
-    out.server_cpu_percent = safe_ratio(to.server_cpu_s - from.server_cpu_s, wall) * 100;
-  }
   out.generator_cpu_percent = safe_ratio(to.generator_cpu_s - from.generator_cpu_s, wall) * 100;
-  for (const auto& [phase, seconds] : to.phase_seconds) {
-    const auto before = from.phase_seconds.find(phase);
-    const double start = before == from.phase_seconds.end() ? 0.0 : before->second;
-    out.server_phase_percent[phase] = safe_ratio(seconds - start, wall) * 100;
+  out.kbps_in_total = safe_ratio((to.bytes_in - from.bytes_in) * 8 / 1000, wall);
+  out.kbps_out_total = safe_ratio((to.bytes_out - from.bytes_out) * 8 / 1000, wall);
+  for (const ServerTracker& tracker : trackers_) {
+    out.servers.push_back(tracker.window(step.window_t_s, to.t_s));
   }
-  if (from.server_packets_in >= 0 && to.server_packets_in >= 0) {
-    out.server_packets_in_per_s = safe_ratio(to.server_packets_in - from.server_packets_in, wall);
-    out.server_packets_out_per_s =
-        safe_ratio(to.server_packets_out - from.server_packets_out, wall);
-  }
+  out.total_servers();
   return out;
 }
 

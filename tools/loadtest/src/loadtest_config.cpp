@@ -1,5 +1,6 @@
 #include "ricochet/loadtest/loadtest_config.h"
 
+#include <algorithm>
 #include <boost/asio/ip/address.hpp>
 #include <charconv>
 #include <cmath>
@@ -16,13 +17,87 @@ std::string number(double value) {
   return text;
 }
 
-/// The prefix makes names <prefix>s<step>-<k>: the longest, of step 99 and bot 99999, must be an
-/// account name.
+/// The prefix makes names <prefix>s<step>-<k>, or <prefix>s<step>.<server>-<k> with several
+/// servers: the longest, of step 99, server 64 and bot 99999, must be an account name.
 bool valid_prefix(const std::string& name) {
-  return !name.empty() && name.size() <= 12 && bot::valid_account_name(name + "s99-99999");
+  return !name.empty() && name.size() <= 12 && bot::valid_account_name(name + "s99.64-99999");
+}
+
+bool is_ipv4(const std::string& address) {
+  boost::system::error_code error;
+  boost::asio::ip::make_address_v4(address, error);
+  return !error;
+}
+
+/// A port 1..65535 from `text`; nullopt when it is not one.
+std::optional<std::uint16_t> parse_port(std::string_view text) {
+  unsigned value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc{} || end != text.data() + text.size() || value == 0 || value > 65535) {
+    return std::nullopt;
+  }
+  return static_cast<std::uint16_t>(value);
 }
 
 }  // namespace
+
+const char* name(ServerProc mode) {
+  switch (mode) {
+    case ServerProc::Off:
+      return "off";
+    case ServerProc::Auto:
+      return "auto";
+  }
+  return "unknown";
+}
+
+std::optional<ServerProc> parse_server_proc(std::string_view text) {
+  if (text == "off") return ServerProc::Off;
+  if (text == "auto") return ServerProc::Auto;
+  return std::nullopt;
+}
+
+std::string ServerEndpoint::label() const {
+  return host + ":" + std::to_string(control_port);
+}
+
+std::variant<std::vector<ServerEndpoint>, std::string> parse_servers(
+    const std::string& text, std::uint16_t default_control_port, std::uint16_t default_admin_port) {
+  std::vector<ServerEndpoint> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string entry = text.substr(start, comma - start);
+    start = comma + 1;
+    const std::string where = "server " + std::to_string(out.size() + 1) + " (\"" + entry + "\"): ";
+    ServerEndpoint server;
+    server.control_port = default_control_port;
+    server.admin_port = default_admin_port;
+    const std::size_t first = entry.find(':');
+    server.host = entry.substr(0, first);
+    if (!is_ipv4(server.host)) return where + "expected a numeric IPv4 address";
+    if (first != std::string::npos) {
+      const std::size_t second = entry.find(':', first + 1);
+      const auto control = parse_port(std::string_view(entry).substr(
+          first + 1, second == std::string::npos ? std::string::npos : second - first - 1));
+      if (!control) return where + "expected a control port 1..65535 after the address";
+      server.control_port = *control;
+      if (second != std::string::npos) {
+        const auto admin = parse_port(std::string_view(entry).substr(second + 1));
+        if (!admin) return where + "expected an admin port 1..65535 after the control port";
+        server.admin_port = *admin;
+      }
+    }
+    for (const ServerEndpoint& other : out) {
+      if (other.label() == server.label()) return where + "listed twice";
+    }
+    out.push_back(std::move(server));
+    if (out.size() > kMaxServers) {
+      return "at most " + std::to_string(kMaxServers) + " servers, got more";
+    }
+  }
+  return out;
+}
 
 bool is_loopback_v4(const std::string& address) {
   boost::system::error_code error;
@@ -80,13 +155,17 @@ std::vector<int> LoadTestConfig::steps() const {
 }
 
 std::string LoadTestConfig::validate() const {
-  if (!is_loopback_v4(server)) {
-    return "server must be a loopback IPv4 address (127.0.0.0/8: the tool reads the server's "
-           "/proc entry on this host), got \"" +
-           server + "\"";
+  if (servers.empty() || servers.size() > kMaxServers) {
+    return "servers must be 1.." + std::to_string(kMaxServers) + ", got " +
+           std::to_string(servers.size());
   }
-  if (control_port == 0) return "control_port must be 1..65535, got 0";
-  if (admin_port == 0) return "admin_port must be 1..65535, got 0";
+  for (const ServerEndpoint& server : servers) {
+    if (!is_ipv4(server.host)) {
+      return "server must be a numeric IPv4 address, got \"" + server.host + "\"";
+    }
+    if (server.control_port == 0) return "control_port must be 1..65535, got 0";
+    if (server.admin_port == 0) return "admin_port must be 1..65535, got 0";
+  }
   for (const int count : steps()) {
     if (count < 1 || count > 10000) return "bots must be 1..10000, got " + std::to_string(count);
   }

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "report_files.h"
+#include "ricochet/loadtest/capacity.h"
 #include "ricochet/tools/json_text.h"
 
 namespace ricochet::loadtest {
@@ -16,15 +17,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using tools::json_string;
-
-/// The sweep's capacity: the largest step meeting the criteria; 0 when none does.
-int capacity_bots(const std::vector<StepSummary>& steps) {
-  int best = 0;
-  for (const StepSummary& step : steps) {
-    if (step.meets_capacity()) best = std::max(best, step.bots);
-  }
-  return best;
-}
 
 std::string report_json(const LoadRun& run, const LoadTestConfig& config,
                         const ReportContext& context) {
@@ -42,7 +34,7 @@ std::string report_json(const LoadRun& run, const LoadTestConfig& config,
                     ",\"samples\":" + std::to_string(run.samples().size()) + ",\"steps\":[";
   for (std::size_t i = 0; i < steps.size(); ++i) {
     if (i > 0) out += ',';
-    out += steps[i].to_json();
+    out += steps[i].to_json(/*samples=*/true);
   }
   out += "],";
   // The last step's figures at the top level (the whole report of a run without --sweep).
@@ -93,21 +85,41 @@ std::string samples_table(const std::vector<RunSample>& samples) {
   return out;
 }
 
-/// One gnuplot data block per match (separated by two blank lines: `index i`).
+/// One gnuplot data block per match of each server (separated by two blank lines: `index i`).
 std::string matches_table(const std::vector<MatchTickRow>& rows, std::size_t& blocks) {
-  std::map<std::uint32_t, std::vector<const MatchTickRow*>> by_match;
-  for (const MatchTickRow& row : rows) by_match[row.match].push_back(&row);
-  std::string out = "# per match: t_s match tick_p50 tick_p95 tick_p99 tick_max (ms)\n";
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<const MatchTickRow*>> by_match;
+  for (const MatchTickRow& row : rows) by_match[{row.server, row.match}].push_back(&row);
+  std::string out = "# per match: t_s match tick_p50 tick_p95 tick_p99 tick_max (ms) server\n";
   char line[160];
   for (const auto& [id, list] : by_match) {
     for (const MatchTickRow* row : list) {
-      std::snprintf(line, sizeof line, "%.2f %u %.4f %.4f %.4f %.4f\n", row->t_s, id,
-                    row->tick.p50_ms, row->tick.p95_ms, row->tick.p99_ms, row->tick.max_ms);
+      std::snprintf(line, sizeof line, "%.2f %u %.4f %.4f %.4f %.4f %u\n", row->t_s, id.second,
+                    row->tick.p50_ms, row->tick.p95_ms, row->tick.p99_ms, row->tick.max_ms,
+                    id.first);
       out += line;
     }
     out += "\n\n";
   }
   blocks = by_match.size();
+  return out;
+}
+
+/// One gnuplot data block per server (`index i`, in the order of --server): its scrapes.
+std::string servers_table(const std::vector<ServerTracker>& servers) {
+  std::string out =
+      "# per server: t_s ok cpu_pct rss_mb cpu_pct_proc rss_mb_proc tick_p99 tick_max matches "
+      "players (-1: not known)\n";
+  char line[256];
+  for (const ServerTracker& server : servers) {
+    out += "# " + server.label() + "\n";
+    for (const ServerPoint& p : server.points()) {
+      std::snprintf(line, sizeof line, "%.2f %d %.2f %.2f %.2f %.2f %.4f %.4f %d %d\n", p.t_s,
+                    p.ok ? 1 : 0, p.cpu_percent, p.rss_mb, p.cpu_percent_proc, p.rss_mb_proc,
+                    p.tick.p99_ms, p.tick.max_ms, p.matches, p.players);
+      out += line;
+    }
+    out += "\n\n";
+  }
   return out;
 }
 
@@ -121,19 +133,6 @@ std::string sweep_table(const std::vector<StepSummary>& steps) {
                   s.bots_connected, s.server_tick.p99_ms, s.server_tick.max_ms,
                   s.server_cpu_percent, s.generator_cpu_percent, s.kbps_in_per_client,
                   s.kbps_out_per_client, s.snapshot_loss * 100, s.rtt_ms_p99, s.overruns);
-    out += line;
-  }
-  return out;
-}
-
-std::string connect_table(std::vector<double> ms) {
-  std::sort(ms.begin(), ms.end());
-  std::string out = "# connect_ms fraction_of_bots\n";
-  if (ms.empty()) return out + "0 0\n";
-  char line[64];
-  for (std::size_t i = 0; i < ms.size(); ++i) {
-    std::snprintf(line, sizeof line, "%.2f %.5f\n", ms[i],
-                  static_cast<double>(i + 1) / static_cast<double>(ms.size()));
     out += line;
   }
   return out;
@@ -157,8 +156,10 @@ std::string write_report(const LoadRun& run, const LoadTestConfig& config,
   if (!write_file(dir / "report.json", report_json(run, config, context) + "\n", error) ||
       !write_file(dir / "samples.dat", samples_table(run.samples()), error) ||
       !write_file(dir / "matches.dat", matches_table(run.match_rows(), blocks), error) ||
+      !write_file(dir / "servers.dat", servers_table(run.servers()), error) ||
       !write_file(dir / "errors.dat", errors_table(final_errors(run)), error) ||
-      !write_file(dir / "connect.dat", connect_table(run.connect_ms()), error) ||
+      !write_file(dir / "connect.dat",
+                  distribution_table(run.connect_ms(), "# connect_ms fraction_of_bots"), error) ||
       !write_file(dir / "sweep.dat", sweep_table(run.steps()), error) ||
       !write_file(dir / "steps.jsonl", steps_lines(run, config, context), error)) {
     return error;
@@ -168,8 +169,8 @@ std::string write_report(const LoadRun& run, const LoadTestConfig& config,
 
 std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
   const fs::path dir(config.out);
-  std::set<std::uint32_t> ids;
-  for (const MatchTickRow& row : run.match_rows()) ids.insert(row.match);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> ids;
+  for (const MatchTickRow& row : run.match_rows()) ids.insert({row.server, row.match});
   std::string gp = std::string(kGnuplotPreamble);
   const auto png = [&gp](const char* file, const char* title, const char* ylabel) {
     gp += gnuplot_png(file, title, ylabel);
@@ -188,11 +189,32 @@ std::string draw_plots(const LoadRun& run, const LoadTestConfig& config) {
   }
   png("overruns.png", "server tick overruns and dropped steps (since start)", "ticks");
   gp += "plot 'samples.dat' u 1:13 w l lw 2 t 'overruns', '' u 1:14 w l t 'dropped steps'\n";
-  png("cpu_rss.png", "CPU (100 % = one core) and RSS, from /proc", "CPU %");
+  png("cpu_rss.png",
+      "CPU (100 % = one core) and RSS: the busiest server from its /metrics, the generator from "
+      "/proc",
+      "CPU %");
   gp +=
       "set y2label 'RSS (MB)'\nset y2tics\nplot 'samples.dat' u 1:15 w l lw 2 t 'server CPU "
       "%', '' u 1:17 w l t 'generator CPU %', '' u 1:16 w l axes x1y2 t 'server RSS MB', '' "
       "u 1:18 w l axes x1y2 t 'generator RSS MB'\nunset y2tics\nunset y2label\n";
+  // Each server: CPU from its /metrics (solid) and from /proc where read (dashed), and RSS; a
+  // zero line over the scrapes' times, so that a plot whose every value is missing is drawn.
+  const std::string baseline = ", 'servers.dat' index 0 u 1:(0) w l lc rgb 'gray' notitle\n";
+  const std::size_t servers = run.servers().size();
+  std::string titles;
+  for (std::size_t i = 0; i < servers; ++i) {
+    titles += (i ? " " : "") + run.servers()[i].label();
+  }
+  gp += "servers = '" + titles + "'\nset datafile missing '-1.00'\n";
+  png("servers_cpu.png", "CPU of each server (100 % = one core): /metrics solid, /proc dashed",
+      "CPU %");
+  gp += "plot for [i=0:" + std::to_string(servers - 1) +
+        "] 'servers.dat' index i u 1:3 w l lw 2 lc i+1 t word(servers, i+1), for [i=0:" +
+        std::to_string(servers - 1) + "] '' index i u 1:5 w l dt 2 lc i+1 notitle" + baseline;
+  png("servers_rss.png", "RSS of each server: /metrics solid, /proc dashed", "MB");
+  gp += "plot for [i=0:" + std::to_string(servers - 1) +
+        "] 'servers.dat' index i u 1:4 w l lw 2 lc i+1 t word(servers, i+1), for [i=0:" +
+        std::to_string(servers - 1) + "] '' index i u 1:6 w l dt 2 lc i+1 notitle" + baseline;
   png("bandwidth.png", "game bandwidth per client, as bots see it", "kbit/s");
   gp +=
       "plot 'samples.dat' u 1:19 w l t 'in (server to bot)', '' u 1:20 w l t 'out (bot to "

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <optional>
 #include <string_view>
 
@@ -26,6 +27,16 @@ double* quantile_field(TickQuantiles& tick, std::string_view quantile) {
   if (quantile == "0.99") return &tick.p99_ms;
   if (quantile == "1") return &tick.max_ms;
   return nullptr;
+}
+
+/// A process amount (seconds, bytes, descriptors) from untrusted text: a finite value >= 0, or
+/// `field` left as it was and the bad value counted.
+void set_amount(double& field, double value, int& bad_values) {
+  if (std::isfinite(value) && value >= 0) {
+    field = value;
+  } else {
+    ++bad_values;
+  }
 }
 
 int as_int(double value) {
@@ -55,9 +66,11 @@ ServerFigures read_server_figures(const std::vector<MetricSample>& samples) {
     if (name == "ricochet_process_id") {
       out.pid = as_int(sample.value);
     } else if (name == "process_open_fds") {
-      out.open_fds = sample.value;
+      set_amount(out.open_fds, sample.value, out.bad_values);
     } else if (name == "process_resident_memory_bytes") {
-      out.resident_bytes = sample.value;
+      set_amount(out.resident_bytes, sample.value, out.bad_values);
+    } else if (name == "process_cpu_seconds_total") {
+      set_amount(out.cpu_seconds, sample.value, out.bad_values);
     } else if (name == "ricochet_db_file_bytes") {
       out.db_bytes = sample.value;
     } else if (name == "ricochet_matches") {

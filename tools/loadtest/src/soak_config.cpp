@@ -51,6 +51,11 @@ std::string SoakConfig::validate(const LoadTestConfig& run) const {
   if (std::string problem = link.validate(); !problem.empty()) return problem;
   if (std::string problem = churn.validate(); !problem.empty()) return problem;
   if (!run.sweep.empty()) return "a soak runs one step of bots, not a sweep";
+  if (run.servers.size() != 1)
+    return "a soak watches one server, got " + std::to_string(run.servers.size());
+  if (!is_loopback_v4(run.servers.front().host)) {
+    return "a soak reads the server's RSS from its /proc: the server must be on loopback";
+  }
   const double registrations = churn.registrations_in_an_hour(run.bots_per_address, run.duration_s);
   if (registrations > kServerRegistrationsPerHourPerAddress) {
     return "the bots of one source address would register about " + number(registrations) +

@@ -26,11 +26,11 @@ std::chrono::microseconds micros(double seconds) {
   return std::chrono::microseconds(static_cast<std::int64_t>(seconds * 1e6));
 }
 
-bot::ServerTrust make_trust(const LoadTestConfig& config) {
-  if (!config.fingerprint.empty()) {
-    return bot::ServerTrust::pinned(bot::normalize_fingerprint(config.fingerprint).value_or(""));
+bot::ServerTrust make_trust(const ServerEndpoint& server) {
+  if (!server.fingerprint.empty()) {
+    return bot::ServerTrust::pinned(bot::normalize_fingerprint(server.fingerprint).value_or(""));
   }
-  return bot::ServerTrust::on_first_use(config.trust_file);
+  return bot::ServerTrust::on_first_use(server.trust_file);
 }
 
 /// The bots' own counters of what they refused, added into `out`.
@@ -51,9 +51,10 @@ SoakRun::SoakRun(asio::io_context& io, LoadTestConfig run, SoakConfig soak)
       plan_(soak_.churn, config_.name, config_.bots, 1),
       addresses_(source_addresses((config_.bots + config_.bots_per_address - 1) /
                                   config_.bots_per_address)),
-      admin_(asio::ip::make_address(config_.server), config_.admin_port),
+      admin_(asio::ip::make_address(config_.servers.front().host),
+             config_.servers.front().admin_port),
       tls_(bot::make_control_tls_context()),
-      trust_(make_trust(config_)),
+      trust_(make_trust(config_.servers.front())),
       slots_(static_cast<std::size_t>(config_.bots)),
       end_timer_(io),
       starter_(io),
@@ -113,12 +114,12 @@ void SoakRun::begin_incarnation(std::size_t index) {
   Slot& slot = slots_[index];
   const Incarnation next = plan_.next(static_cast<int>(index) + 1);
   bot::BotConfig config;
-  config.host = config_.server;
-  config.control_port = config_.control_port;
+  config.host = config_.servers.front().host;
+  config.control_port = config_.servers.front().control_port;
   config.bind_address = addresses_[index % addresses_.size()];
   config.tick_phases = kTickPhases;
-  config.fingerprint = config_.fingerprint;
-  config.trust_file = config_.trust_file;
+  config.fingerprint = config_.servers.front().fingerprint;
+  config.trust_file = config_.servers.front().trust_file;
   config.name = next.account;
   config.password = config_.password;
   config.skill = config_.skill;

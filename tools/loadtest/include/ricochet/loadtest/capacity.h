@@ -46,4 +46,7 @@ const char* name(CapacityShortfall shortfall);
 std::vector<CapacityShortfall> capacity_shortfalls(
     const StepSummary& step, const CapacityCriteria& criteria = kCapacityCriteria);
 
+/// A sweep's capacity: the largest step that meets the criteria; 0 when none does.
+int capacity_bots(const std::vector<StepSummary>& steps);
+
 }  // namespace ricochet::loadtest

@@ -1,7 +1,8 @@
 #pragma once
 /// One load test on one io_context: steps of bots (fleets from ricochet_bot, no thread per
-/// bot) started at the ramp rate, then measured; a scrape of the server's /metrics and of /proc
-/// at every interval, a progress line per scrape. Refusals are counted by kind, never fatal.
+/// bot) started at the ramp rate, then measured; a scrape of the server's /metrics at every
+/// interval (its CPU and RSS from there; from its /proc besides when ServerProc allows, for the
+/// comparison), a progress line per scrape. Refusals are counted by kind, never fatal.
 ///
 ///   Ramping ─all started, settled─▶ Measuring ─duration─▶ Ramping (next step) … ─▶ Finished
 ///   any ─stop()─▶ Finished (the current window is summarised as far as it got)
@@ -23,6 +24,7 @@
 #include "ricochet/loadtest/metrics_scraper.h"
 #include "ricochet/loadtest/proc_stats.h"
 #include "ricochet/loadtest/run_record.h"
+#include "ricochet/loadtest/server_tracker.h"
 
 namespace ricochet::loadtest {
 
@@ -51,6 +53,8 @@ class LoadRun {
   /// Every bot's start-to-first-snapshot time so far, ms.
   std::vector<double> connect_ms() const;
   const ErrorCounts& errors() const { return errors_; }
+  /// Every server's scrapes, in the order of the configuration.
+  const std::vector<ServerTracker>& servers() const { return trackers_; }
 
  private:
   /// Cumulative figures at one sample, for the deltas between two.
@@ -60,16 +64,13 @@ class LoadRun {
     double bytes_out = 0;
     double snapshots = 0;
     double snapshots_lost = 0;
-    double server_cpu_s = -1;  ///< -1: not read
     double generator_cpu_s = 0;
-    double server_packets_in = -1;  ///< -1: not scraped
-    double server_packets_out = -1;
-    std::map<std::string, double> phase_seconds;  ///< empty: not scraped
   };
   struct Step {
     int target = 0;
-    std::unique_ptr<bot::Fleet> fleet;
+    std::vector<std::unique_ptr<bot::Fleet>> fleets;  ///< one per server given bots
     double started_t_s = 0;
+    double window_t_s = 0;                ///< when its measured window began
     std::size_t first_window_sample = 0;  ///< index into samples_
     std::vector<double> rtt_ms;           ///< pooled over the window
   };
@@ -79,7 +80,8 @@ class LoadRun {
   void begin_measuring();
   void end_step();
   void finish();
-  void on_scrape(MetricsScraper::Scrape scrape);
+  void on_scrape(std::size_t server, MetricsScraper::Scrape scrape);
+  void take_sample(double scrape_ms);
   void count(const std::string& kind, std::uint64_t n = 1) { errors_[kind] += n; }
   void print_progress(const RunSample& sample) const;
   StepSummary summarise(const Step& step) const;
@@ -88,14 +90,13 @@ class LoadRun {
   LoadTestConfig config_;
   std::vector<int> targets_;
   std::vector<std::string> addresses_;
-  boost::asio::ip::tcp::endpoint admin_;
   RunPhase phase_ = RunPhase::Ramping;
   std::string stop_reason_;
   std::function<void()> on_finished_;
   std::chrono::steady_clock::time_point started_at_;
   boost::asio::steady_timer phase_timer_;
-  MetricsScraper scraper_;
-  int server_pid_ = 0;
+  std::vector<ServerTracker> trackers_;
+  std::vector<std::unique_ptr<MetricsScraper>> scrapers_;  ///< one per server, as trackers_
 
   std::vector<Step> steps_;
   int bots_started_ = 0;
@@ -103,10 +104,8 @@ class LoadRun {
   std::vector<Totals> totals_;  ///< one per sample
   std::vector<MatchTickRow> match_rows_;
   std::vector<StepSummary> summaries_;
-  ErrorCounts errors_;         ///< failures reported by bots, plus the scrapes' own
-  ErrorCounts bot_counters_;   ///< what the bots' metrics counted (latest totals)
-  double overruns_base_ = -1;  ///< at the first scrape
-  double dropped_base_ = -1;
+  ErrorCounts errors_;        ///< failures reported by bots, plus the scrapes' own
+  ErrorCounts bot_counters_;  ///< what the bots' metrics counted (latest totals)
 };
 
 }  // namespace ricochet::loadtest

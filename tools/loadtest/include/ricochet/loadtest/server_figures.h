@@ -44,7 +44,10 @@ struct ServerFigures {
   double control_refused = 0;  ///< control connections, frames and messages refused
   double open_fds = -1;        ///< process_open_fds; -1: not reported
   double resident_bytes = -1;  ///< process_resident_memory_bytes; -1: not reported
-  double db_bytes = -1;        ///< ricochet_db_file_bytes (the file and its WAL); -1: not reported
+  double cpu_seconds = -1;     ///< process_cpu_seconds_total, user + system; -1: not reported
+  /// Process metrics whose value was not a finite number >= 0 (left at -1, not used).
+  int bad_values = 0;
+  double db_bytes = -1;  ///< ricochet_db_file_bytes (the file and its WAL); -1: not reported
   std::map<std::uint32_t, MatchFigures> by_match;
   /// Tick time spent in each phase (ricochet_tick_phase_seconds_sum), all matches, s since
   /// they opened; "total" is the whole tick.
