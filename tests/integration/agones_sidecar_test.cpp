@@ -5,7 +5,8 @@
 //   POST /ready {}           once, after the sockets are bound and the database is open
 //   POST /health {}          every 2 s while every match ticks on time
 //   PUT /metadata/label {"key":"map"|"mode"|"players"|"capacity","value":"..."}
-//   POST /allocate {}        when the first player is seated
+//   POST /allocate {}        at the join of the first player a ticket placed here, or when
+//                            the first player who joined directly is seated
 //   POST /shutdown {}        when drained after SIGTERM, or after agones.shutdown_after_matches
 //
 // Every wait is bounded and polls the fake's record; none waits for a deadline to pass.
@@ -24,6 +25,7 @@
 #include <thread>
 
 #include "agones_sidecar_fake.h"
+#include "control_test_client.h"
 #include "ricochet/bot/fleet.h"
 #include "run_until.h"
 #include "server_process.h"
@@ -154,6 +156,52 @@ TEST(AgonesSidecar, ReadyAfterBindHealthLabelsAllocateOnAPlayerAndShutdownAfterT
   EXPECT_EQ(sidecar.count("POST", "/shutdown"), 1);
   EXPECT_EQ(sidecar.state(), "Shutdown");
   for (const auto& call : calls) EXPECT_EQ(call.status, 200u) << call.method << " " << call.path;
+}
+
+TEST(AgonesSidecar, APlacedPlayerAllocatesAtItsJoinADirectOneOnlyOnceSeated) {
+  using server::test::ControlTestClient;
+  FakeAgonesSidecar sidecar;
+  // Placement on the server's own SQLite: a fleet of one, enough for a ticket.
+  auto server = start_server(std::to_string(sidecar.port()), matches_toml(2),
+                             "[placement]\nenabled = \"on\"\nadvertise_host = \"127.0.0.1\"\n");
+  ASSERT_TRUE(server->wait_listening(kStartBudget)) << server->log();
+  ASSERT_TRUE(eventually([&] { return sidecar.count("POST", "/health") >= 1; }, 10s))
+      << server->log();
+
+  // A direct join with no game connection: the next ping goes (an allocation would go first)
+  // and nothing is allocated.
+  ControlTestClient direct(server->control_port());
+  ASSERT_TRUE(direct.connect());
+  direct.sign_in("direct");
+  const wire::ServerMessage listed = direct.request(ControlTestClient::list_matches());
+  ASSERT_EQ(listed.list_matches().matches_size(), 1) << listed.DebugString();
+  const std::uint32_t match_id = listed.list_matches().matches(0).match_id();
+  ASSERT_TRUE(direct.request(ControlTestClient::join(match_id)).has_join_match());
+  const int pings = sidecar.count("POST", "/health");
+  ASSERT_TRUE(eventually([&] { return sidecar.count("POST", "/health") > pings + 1; }, 10s));
+  EXPECT_EQ(sidecar.count("POST", "/allocate"), 0);
+  EXPECT_EQ(sidecar.state(), "Ready");
+
+  // A placed join allocates at once, though its player never connects over the game channel.
+  ControlTestClient placed(server->control_port());
+  ASSERT_TRUE(placed.connect());
+  placed.sign_in("placed");
+  wire::ClientMessage find;
+  find.mutable_find_match()->set_mode("ffa");
+  wire::ServerMessage found;
+  ASSERT_TRUE(eventually(  // until the first heartbeat wrote the directory row
+      [&] { return (found = placed.request(find)).has_find_match(); }, 10s))
+      << found.DebugString();
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(found.find_match().assignment().ticket());
+  const wire::ServerMessage joined = placed.request(join);
+  ASSERT_TRUE(joined.has_join_match()) << joined.DebugString();
+  ASSERT_TRUE(eventually([&] { return sidecar.count("POST", "/allocate") == 1; }, 5s))
+      << server->log();
+  EXPECT_EQ(sidecar.state(), "Allocated");
+  EXPECT_EQ(sidecar.labels()["agones.dev/sdk-players"], "0");  // nobody seated yet
+  server->terminate();
+  EXPECT_EQ(server->wait_exit(kExitBudget), std::optional<int>(0)) << server->log();
 }
 
 TEST(AgonesSidecar, ASidecarThatComesUpLateGetsReadyOnceItListens) {

@@ -82,6 +82,9 @@ void AgonesHttp::post_event(std::function<void(AgonesSdk&, proto::TimeUs now)> e
 void AgonesHttp::ready() {
   post_event([](AgonesSdk& sdk, proto::TimeUs now) { sdk.ready(now); });
 }
+void AgonesHttp::players_placed() {
+  post_event([](AgonesSdk& sdk, proto::TimeUs) { sdk.players_placed(); });
+}
 void AgonesHttp::match_finished() {
   post_event([](AgonesSdk& sdk, proto::TimeUs) { sdk.match_finished(); });
 }

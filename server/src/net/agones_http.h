@@ -57,6 +57,8 @@ class AgonesHttp {
 
   // Thread-safe; each posts to the client's thread (AgonesSdk's events).
   void ready();
+  /// A ticket seated a player here (POST /allocate on the first).
+  void players_placed();
   void match_finished();
   void stopping();
   /// POST /shutdown, and waits until it is answered or `limit` passes; whether it was.

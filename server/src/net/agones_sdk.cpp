@@ -107,7 +107,7 @@ void AgonesSdk::observe(std::vector<AgonesMatchView> matches) {
   labels_["mode"].wanted = label_value(distinct_joined(std::move(modes)));
   labels_["players"].wanted = std::to_string(players);
   labels_["capacity"].wanted = std::to_string(capacity);
-  // Until placement (FindMatch) says so itself, the first seated player is the first placed.
+  // A direct join allocates once seated (the header says why not at its join).
   if (players > 0) players_placed();
 }
 

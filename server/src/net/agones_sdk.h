@@ -23,7 +23,16 @@
 ///     (they are being ended on purpose);
 ///   - PUT /metadata/label for map, mode, players and capacity when their value changes, each
 ///     key at most once per label_interval_us (the latest value goes);
-///   - POST /allocate once, after players_placed() (the first players seated);
+///   - POST /allocate once: at the first player the fleet placed here (players_placed(): a
+///     join_match with a ticket, before its game connection), or at the first player seated
+///     (observe(): a direct join, once its game connection is up). Allocated protects the
+///     GameServer from a scale-down, which deletes Ready ones: a direct join on a lone server, or
+///     on a Ready server of a fleet (a client that listed its matches), has players on it as
+///     much as a placed one. It waits for the seat, not the join, because the allocation is
+///     never undone here: a join that never connects (an account needs only a TLS connection
+///     for it) must not take a GameServer out of the Ready buffer for good. A placed join is
+///     trusted at once: the ticket was rate-limited by find_match and claimed in the database;
+///     (OPERATIONS.md, Agones);
 ///   - POST /shutdown once, after drained() (the graceful stop is done) or when
 ///     shutdown_after_matches matches have finished (Agones then deletes the pod, whose SIGTERM
 ///     drains the server); nothing is sent after it is answered.
@@ -111,9 +120,9 @@ class AgonesSdk {
   /// Sockets bound and the database open: POST /ready, then the pings begin.
   void ready(proto::TimeUs now);
   /// The matches now; labels follow their changes, pings their ticks, and the first seated
-  /// player is players_placed().
+  /// player (a direct join's) allocates as players_placed() does.
   void observe(std::vector<AgonesMatchView> matches);
-  /// The first players were placed here: POST /allocate (once; not while stopping), so that a
+  /// A ticket seated its player here: POST /allocate (once; not while stopping), so that a
   /// scale-down never picks this GameServer while players are on it.
   void players_placed();
   /// A match ended by itself (frag or time limit).

@@ -271,7 +271,9 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   if (config_.placement.on(config_.db)) {
     placement_ = std::make_unique<FleetPlacement>(
         FleetPlacement{draw_server_id(), FindMatchLimiter(config_.placement.find_match_per_minute),
-                       placement_counters_});
+                       placement_counters_, config_.matches.max_players, [this] {
+                         if (agones_) agones_->players_placed();  // made before any session
+                       }});
     control.placement = placement_.get();
   }
   control_ = std::make_unique<ControlServer>(io_, std::move(control), *db_, *matches_);
