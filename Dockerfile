@@ -55,10 +55,12 @@ RUN set -eu; runtime_packages="libstdc++6 libgcc-s1 libsqlite3-0 libpq5 libsodiu
       rm -rf /var/lib/apt/lists/*; \
     fi
 
-# A non-root user owns the data directory (SQLite database, generated TLS pair).
+# A non-root user owns the data directory (SQLite database, generated TLS pair) and the mount
+# point of a results outbox shared by several servers (deploy/: a volume made there takes its
+# owner from it).
 RUN useradd --uid 10001 --user-group --create-home --home-dir /home/ricochet \
       --shell /usr/sbin/nologin ricochet \
- && install -d -o ricochet -g ricochet -m 0700 /var/lib/ricochet
+ && install -d -o ricochet -g ricochet -m 0700 /var/lib/ricochet /var/lib/ricochet-outbox
 
 COPY --from=build /out/bin/ /usr/local/bin/
 COPY --from=build /out/share/ricochet/ /usr/local/share/ricochet/

@@ -38,6 +38,24 @@ SHUTDOWN_BACKSTOP_S = 2
 # Where the image installs what the server reads (Dockerfile).
 IMAGE_MAPS_DIR = "/usr/local/share/ricochet/maps/"
 
+# Where the server names the Fleet's two ports it advertises under Agones.
+AGONES_PORT_NAMES_HEADER = "server/src/net/agones_game_server.h"
+
+
+def agones_port_names(source):
+    """The names the server reads GET /gameserver's status.ports by: {"control": .., "game": ..}."""
+    header = (source / AGONES_PORT_NAMES_HEADER).read_text(encoding="utf-8")
+    found = re.findall(r'kAgones(Control|Game)PortName\s*=\s*"([^"]+)"', header)
+    return {kind.lower(): name for kind, name in found}
+
+
+def outbox_path(config):
+    """db.outbox_dir as the server resolves it (a relative one is under server.data_dir)."""
+    outbox = config["db"]["outbox_dir"]
+    if outbox.startswith("/"):
+        return outbox
+    return config["server"]["data_dir"].rstrip("/") + "/" + outbox
+
 
 class Problems:
     def __init__(self):
@@ -275,10 +293,16 @@ def check_fleet(base, source, server, problems):
     if config is None:
         return None
 
-    # Ports: the GameServer's ports are the server's, with the right protocols.
+    # Ports: the GameServer's ports are the server's, with the right protocols, named as the
+    # server reads them from GET /gameserver (it advertises their host ports).
     ports = {port["name"]: port for port in gameserver["spec"].get("ports", [])}
     defaults = server.effective_config([], problems, "defaults") or config
-    for name, section, protocol in (("control", "control", "TCP"), ("game", "game", "UDP")):
+    names = agones_port_names(source)
+    problems.check(set(names) == {"control", "game"},
+                   f"{AGONES_PORT_NAMES_HEADER}: no kAgonesControlPortName and "
+                   f"kAgonesGamePortName, found {names}")
+    for name, section, protocol in ((names.get("control"), "control", "TCP"),
+                                    (names.get("game"), "game", "UDP")):
         port = ports.get(name)
         if not problems.check(port is not None, f"{where}: no GameServer port named {name}"):
             continue
@@ -297,6 +321,18 @@ def check_fleet(base, source, server, problems):
                        f"{config[section]['bind']}")
     problems.check(len(ports) == 2, f"{where}: GameServer ports {sorted(ports)}: only control "
                    "and game reach players")
+
+    # Placement: on, and advertising what Agones says (the host ports of Dynamic port policy
+    # differ per GameServer, so no fixed value can be right).
+    placement = config["placement"]
+    problems.check(placement["enabled"] != "off",
+                   f"{where}: placement.enabled is off: the fleet's servers answer no find_match")
+    problems.check(placement["advertise_host"] == "" and
+                   placement["advertise_control_port"] == 0 and
+                   placement["advertise_game_port"] == 0,
+                   f"{where}: [placement] advertise_host, advertise_control_port and "
+                   "advertise_game_port must be unset under Agones (the GameServer's "
+                   f"status.address and port host ports are advertised then), got {placement}")
 
     # Health: the server pings every HEALTH_PING_S.
     health = gameserver["spec"].get("health", {})
@@ -347,6 +383,21 @@ def check_fleet(base, source, server, problems):
     problems.check(mounted(config["server"]["data_dir"], "emptyDir") is not None,
                    f"{where}: server.data_dir {config['server']['data_dir']} is on no emptyDir "
                    "volume (the root filesystem is read-only)")
+    # The results outbox outlives the pod: on the Fleet's shared claim, not an emptyDir.
+    outbox = mounted(outbox_path(config), "persistentVolumeClaim")
+    if problems.check(outbox is not None,
+                      f"{where}: db.outbox_dir {outbox_path(config)} is on no "
+                      "persistentVolumeClaim: on the pod's emptyDir the results waiting for the "
+                      "database are lost with the pod"):
+        claim = outbox[2]["persistentVolumeClaim"]["claimName"]
+        claims = {doc["metadata"]["name"]: doc for doc in base.of_kind("PersistentVolumeClaim")}
+        problems.check(claim in claims and
+                       "ReadWriteMany" in claims[claim]["spec"].get("accessModes", []),
+                       f"{where}: the outbox's claim {claim} must be a ReadWriteMany "
+                       "PersistentVolumeClaim of the base: every GameServer of the Fleet, on "
+                       "any node, mounts it")
+        problems.check(not outbox[1].get("readOnly", False),
+                       f"{where}: the outbox volume is mounted read-only")
     token = mounted(config["admin"]["token_file"], "secret")
     if problems.check(token is not None, f"{where}: admin.token_file "
                       f"{config['admin']['token_file']!r} is no file of a mounted Secret; the "
@@ -448,6 +499,7 @@ def check_compose(source, server, problems):
     problems.check(re.search(r"postgres:15(\b|$)", postgres.get("image", "")) is not None,
                    f"{where}: postgres must be PostgreSQL 15, is {postgres.get('image')}")
     servers = {}
+    outboxes = set()  # the volumes the servers' outboxes are on
     for name, service in services.items():
         command = service.get("command", [])
         if command[:1] != ["ricochet-server"]:
@@ -493,12 +545,20 @@ def check_compose(source, server, problems):
         problems.check(any(data_dir == m or data_dir.startswith(m.rstrip("/") + "/") for m in
                            [v.split(":")[1] for v in service.get("volumes", [])]),
                        f"{where}: {name}: server.data_dir {data_dir} is on no volume")
+        outbox = [v.split(":")[0] for v in service.get("volumes", [])
+                  if v.split(":")[1] == outbox_path(config)]
+        if problems.check(len(outbox) == 1, f"{where}: {name}: db.outbox_dir "
+                          f"{outbox_path(config)} is not a volume of its own"):
+            outboxes.add(outbox[0])
         db_url = flag_value(args, "--db-url") or ""
         problems.check(re.match(r"postgresql://[^@/]*@postgres:5432/", db_url) is not None,
                        f"{where}: {name}: --db-url {db_url!r} is not the postgres service")
         problems.check("postgres" in service.get("depends_on", {}),
                        f"{where}: {name}: does not wait for postgres")
     problems.check(len(servers) == 2, f"{where}: two servers expected, found {sorted(servers)}")
+    problems.check(len(outboxes) == 1 and next(iter(outboxes)) in compose.get("volumes", {}),
+                   f"{where}: the servers' outboxes must be one named volume, as the Fleet's "
+                   f"share one claim; found {sorted(outboxes)}")
     ports = [(c["control"]["port"], c["game"]["port"]) for c in servers.values()]
     problems.check(len(set(ports)) == len(ports), f"{where}: servers share ports {ports}")
 
@@ -570,6 +630,11 @@ def check_rendered(directory, kubectl, problems, overlay):
                 if "secret" in volume:
                     problems.check(volume["secret"]["secretName"] in names.get("Secret", ()),
                                    f"{where}: volume {volume['name']} names no rendered Secret")
+                if "persistentVolumeClaim" in volume:
+                    problems.check(volume["persistentVolumeClaim"]["claimName"] in
+                                   names.get("PersistentVolumeClaim", ()),
+                                   f"{where}: volume {volume['name']} names no rendered "
+                                   "PersistentVolumeClaim")
             for container in pod["containers"]:
                 for env in container.get("env", []):
                     ref = env.get("valueFrom", {}).get("secretKeyRef")
@@ -587,7 +652,8 @@ def check_rendered(directory, kubectl, problems, overlay):
                 name = endpoint["authorization"]["credentials"]["name"]
                 problems.check(name in names.get("Secret", ()),
                                f"{where}: PodMonitor credentials name no rendered Secret")
-    problems.check({"Fleet", "FleetAutoscaler", "ConfigMap", "Secret", "PodMonitor"} <=
+    problems.check({"Fleet", "FleetAutoscaler", "ConfigMap", "Secret", "PodMonitor",
+                    "PersistentVolumeClaim"} <=
                    set(names), f"{where}: rendered kinds {sorted(names)}")
 
 

@@ -11,7 +11,10 @@
 ///   POST /shutdown        {}                           -> 200 {}   state Shutdown
 ///   PUT  /metadata/label  {"key":"K","value":"V"}      -> 200 {}   label agones.dev/sdk-K = V
 ///   GET  /gameserver                                   -> 200 {"object_meta":{"labels":{..}},
-///                                                                 "status":{"state":".."}}
+///                                                                 "status":{"state":"..",
+///                                                                 "address":"..","ports":[
+///                                                                 {"name":"..","port":N}]}}
+///   (address and ports as set_address() gave them; or any text, as answer_game_server() gave)
 ///
 /// A body that is not the schema's (sdkEmpty, sdkKeyValue), a label value Kubernetes would
 /// refuse, or a POST/PUT without Content-Type application/json gets 400; an unknown path 404.
@@ -30,6 +33,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <regex>
 #include <string>
 #include <thread>
@@ -76,6 +80,17 @@ class FakeAgonesSidecar {
   void fail(bool failing) {
     const std::lock_guard lock(mutex_);
     failing_ = failing;
+  }
+  /// GET /gameserver's status.address and status.ports (name to port) from now on.
+  void set_address(std::string address, std::map<std::string, int> ports) {
+    const std::lock_guard lock(mutex_);
+    address_ = std::move(address);
+    ports_ = std::move(ports);
+  }
+  /// GET /gameserver is answered 200 with `body` from now on (a broken sidecar).
+  void answer_game_server(std::string body) {
+    const std::lock_guard lock(mutex_);
+    game_server_body_ = std::move(body);
   }
   /// Runs on the fake's thread for every call, after it was answered.
   void on_call(std::function<void(const Call&)> observer) {
@@ -163,7 +178,7 @@ class FakeAgonesSidecar {
     const bool json = request[http::field::content_type] == "application/json";
     answer = "{}";
     if (request.method() == http::verb::get && target == "/gameserver") {
-      answer = game_server_json();
+      answer = game_server_body_ ? *game_server_body_ : game_server_json();
       return 200;
     }
     static const std::map<std::string, std::string> kStateAfter = {{"/ready", "Ready"},
@@ -216,8 +231,14 @@ class FakeAgonesSidecar {
       if (!labels.empty()) labels += ',';
       labels += "\"" + key + "\":\"" + value + "\"";
     }
+    std::string ports;
+    for (const auto& [name, port] : ports_) {
+      if (!ports.empty()) ports += ',';
+      ports += R"({"name":")" + name + R"(","port":)" + std::to_string(port) + "}";
+    }
     return R"({"object_meta":{"name":"ricochet-fake","labels":{)" + labels +
-           R"(}},"status":{"state":")" + state_ + "\"}}";
+           R"(}},"status":{"state":")" + state_ + R"(","address":")" + address_ + R"(","ports":[)" +
+           ports + "]}}";
   }
 
   boost::asio::io_context io_;
@@ -230,6 +251,9 @@ class FakeAgonesSidecar {
   std::vector<Call> calls_;
   std::map<std::string, std::string> labels_;
   std::string state_ = "Scheduled";
+  std::string address_;
+  std::map<std::string, int> ports_;
+  std::optional<std::string> game_server_body_;
 };
 
 }  // namespace ricochet::test

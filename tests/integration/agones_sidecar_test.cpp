@@ -5,8 +5,11 @@
 //   POST /ready {}           once, after the sockets are bound and the database is open
 //   POST /health {}          every 2 s while every match ticks on time
 //   PUT /metadata/label {"key":"map"|"mode"|"players"|"capacity","value":"..."}
-//   POST /allocate {}        when the first player is seated
+//   POST /allocate {}        at the join of the first player a ticket placed here, or when
+//                            the first player who joined directly is seated
 //   POST /shutdown {}        when drained after SIGTERM, or after agones.shutdown_after_matches
+//   GET /gameserver          once Ready, with placement on and an advertise key unset: the
+//                            directory row advertises its status.address and status.ports
 //
 // Every wait is bounded and polls the fake's record; none waits for a deadline to pass.
 #include <gtest/gtest.h>
@@ -24,6 +27,7 @@
 #include <thread>
 
 #include "agones_sidecar_fake.h"
+#include "control_test_client.h"
 #include "ricochet/bot/fleet.h"
 #include "run_until.h"
 #include "server_process.h"
@@ -154,6 +158,103 @@ TEST(AgonesSidecar, ReadyAfterBindHealthLabelsAllocateOnAPlayerAndShutdownAfterT
   EXPECT_EQ(sidecar.count("POST", "/shutdown"), 1);
   EXPECT_EQ(sidecar.state(), "Shutdown");
   for (const auto& call : calls) EXPECT_EQ(call.status, 200u) << call.method << " " << call.path;
+}
+
+TEST(AgonesSidecar, APlacedPlayerAllocatesAtItsJoinADirectOneOnlyOnceSeated) {
+  using server::test::ControlTestClient;
+  FakeAgonesSidecar sidecar;
+  // Placement on the server's own SQLite: a fleet of one, enough for a ticket.
+  auto server = start_server(std::to_string(sidecar.port()), matches_toml(2),
+                             "[placement]\nenabled = \"on\"\nadvertise_host = \"127.0.0.1\"\n");
+  ASSERT_TRUE(server->wait_listening(kStartBudget)) << server->log();
+  ASSERT_TRUE(eventually([&] { return sidecar.count("POST", "/health") >= 1; }, 10s))
+      << server->log();
+
+  // A direct join with no game connection: the next ping goes (an allocation would go first)
+  // and nothing is allocated.
+  ControlTestClient direct(server->control_port());
+  ASSERT_TRUE(direct.connect());
+  direct.sign_in("direct");
+  const wire::ServerMessage listed = direct.request(ControlTestClient::list_matches());
+  ASSERT_EQ(listed.list_matches().matches_size(), 1) << listed.DebugString();
+  const std::uint32_t match_id = listed.list_matches().matches(0).match_id();
+  ASSERT_TRUE(direct.request(ControlTestClient::join(match_id)).has_join_match());
+  const int pings = sidecar.count("POST", "/health");
+  ASSERT_TRUE(eventually([&] { return sidecar.count("POST", "/health") > pings + 1; }, 10s));
+  EXPECT_EQ(sidecar.count("POST", "/allocate"), 0);
+  EXPECT_EQ(sidecar.state(), "Ready");
+
+  // A placed join allocates at once, though its player never connects over the game channel.
+  ControlTestClient placed(server->control_port());
+  ASSERT_TRUE(placed.connect());
+  placed.sign_in("placed");
+  wire::ClientMessage find;
+  find.mutable_find_match()->set_mode("ffa");
+  wire::ServerMessage found;
+  ASSERT_TRUE(eventually(  // until the first heartbeat wrote the directory row
+      [&] { return (found = placed.request(find)).has_find_match(); }, 10s))
+      << found.DebugString();
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(found.find_match().assignment().ticket());
+  const wire::ServerMessage joined = placed.request(join);
+  ASSERT_TRUE(joined.has_join_match()) << joined.DebugString();
+  ASSERT_TRUE(eventually([&] { return sidecar.count("POST", "/allocate") == 1; }, 5s))
+      << server->log();
+  EXPECT_EQ(sidecar.state(), "Allocated");
+  EXPECT_EQ(sidecar.labels()["agones.dev/sdk-players"], "0");  // nobody seated yet
+  server->terminate();
+  EXPECT_EQ(server->wait_exit(kExitBudget), std::optional<int>(0)) << server->log();
+}
+
+/// find_match on `server` as a new account `name`, once its directory row is written.
+wire::ServerMessage find_match_on(const ServerProcess& server, const std::string& name) {
+  server::test::ControlTestClient client(server.control_port());
+  EXPECT_TRUE(client.connect());
+  client.sign_in(name);
+  wire::ClientMessage find;
+  find.mutable_find_match()->set_mode("ffa");
+  wire::ServerMessage found;
+  EXPECT_TRUE(eventually([&] { return (found = client.request(find)).has_find_match(); }, 10s))
+      << found.DebugString();
+  return found;
+}
+
+TEST(AgonesSidecar, TheDirectoryAdvertisesTheAddressAndPortsTheSidecarNames) {
+  FakeAgonesSidecar sidecar;
+  // Dynamic ports: the host ports players reach are not the container ports the server binds.
+  sidecar.set_address("127.0.0.9", {{"control", 30777}, {"game", 30778}, {"admin", 30779}});
+  auto server = start_server(std::to_string(sidecar.port()), matches_toml(2),
+                             "[placement]\nenabled = \"on\"\n");
+  ASSERT_TRUE(server->wait_listening(kStartBudget)) << server->log();
+  const wire::ServerMessage found = find_match_on(*server, "advertised");
+  ASSERT_TRUE(found.has_find_match()) << server->log();
+  EXPECT_EQ(found.find_match().assignment().connection(), "127.0.0.9:30777");
+  EXPECT_EQ(found.find_match().assignment().game_port(), 30778u);
+  EXPECT_EQ(sidecar.count("GET", "/gameserver"), 1);
+  server->terminate();
+  EXPECT_EQ(server->wait_exit(kExitBudget), std::optional<int>(0)) << server->log();
+}
+
+TEST(AgonesSidecar, AGameServerAnswerThatIsNotOneKeepsTheConfiguredAddressLoggedAndCounted) {
+  FakeAgonesSidecar sidecar;
+  sidecar.answer_game_server(
+      R"({"status":{"address":"127.0.0.9","ports":[{"name":"control","port":"30777"}]}})");
+  auto server = start_server(std::to_string(sidecar.port()), matches_toml(2),
+                             "[placement]\nenabled = \"on\"\nadvertise_host = \"127.0.0.1\"\n");
+  ASSERT_TRUE(server->wait_listening(kStartBudget)) << server->log();
+  const wire::ServerMessage found = find_match_on(*server, "configured");
+  ASSERT_TRUE(found.has_find_match()) << server->log();
+  EXPECT_EQ(found.find_match().assignment().connection(),
+            "127.0.0.1:" + std::to_string(server->control_port()));
+  EXPECT_EQ(found.find_match().assignment().game_port(), server->game_port());
+  EXPECT_NE(server->log().find("placement: GET /gameserver's status.ports 'control' must have a "
+                               "port 1..65535; advertising the configured address"),
+            std::string::npos)
+      << server->log();
+  EXPECT_NE(scrape(server->admin_port()).find("ricochet_agones_gameserver_invalid_total 1"),
+            std::string::npos);
+  server->terminate();
+  EXPECT_EQ(server->wait_exit(kExitBudget), std::optional<int>(0)) << server->log();
 }
 
 TEST(AgonesSidecar, ASidecarThatComesUpLateGetsReadyOnceItListens) {

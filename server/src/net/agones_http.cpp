@@ -28,7 +28,7 @@ namespace beast = boost::beast;
 namespace http = beast::http;
 using tcp = asio::ip::tcp;
 
-/// The sidecar answers `{}` (GET /gameserver, which we never send, is the longest answer).
+/// The sidecar answers `{}`, or the GameServer to GET /gameserver (a few KiB).
 constexpr std::uint64_t kMaxAnswerBytes = 64 * 1024;
 
 AgonesOutcome outcome_of(const boost::system::error_code& error) {
@@ -63,6 +63,7 @@ AgonesHttp::AgonesHttp(AgonesHttpOptions options, MetricsRegistry& metrics)
   health_withheld_ = &metrics.counter(
       "ricochet_agones_health_withheld_total",
       "Agones health pings not sent because a match was stuck or overran its catch-up cap");
+  if (options_.game_server) sdk_.fetch_game_server();
   asio::co_spawn(io_, run(), asio::detached);
   thread_ = std::thread([this] { io_.run(); });
 }
@@ -81,6 +82,9 @@ void AgonesHttp::post_event(std::function<void(AgonesSdk&, proto::TimeUs now)> e
 
 void AgonesHttp::ready() {
   post_event([](AgonesSdk& sdk, proto::TimeUs now) { sdk.ready(now); });
+}
+void AgonesHttp::players_placed() {
+  post_event([](AgonesSdk& sdk, proto::TimeUs) { sdk.players_placed(); });
 }
 void AgonesHttp::match_finished() {
   post_event([](AgonesSdk& sdk, proto::TimeUs) { sdk.match_finished(); });
@@ -115,9 +119,12 @@ asio::awaitable<void> AgonesHttp::run() {
     std::optional<AgonesRequest> request = sdk_.next_call(now);
     publish_counters();
     if (request) {
-      const AgonesOutcome outcome = co_await perform(*request);
+      const auto [outcome, body] = co_await perform(*request);
       calls_[static_cast<std::size_t>(request->call)][static_cast<std::size_t>(outcome)]->inc();
-      sdk_.call_done(outcome, steady_now_us());
+      sdk_.call_done(outcome, steady_now_us(), body);
+      if (auto answer = sdk_.take_game_server(); answer && options_.game_server) {
+        options_.game_server(std::move(answer->body));
+      }
       publish_counters();
       continue;
     }
@@ -132,38 +139,42 @@ asio::awaitable<void> AgonesHttp::run() {
   }
 }
 
-asio::awaitable<AgonesOutcome> AgonesHttp::perform(const AgonesRequest& request) {
+asio::awaitable<std::pair<AgonesOutcome, std::string>> AgonesHttp::perform(
+    const AgonesRequest& request) {
   constexpr auto token = asio::as_tuple(asio::use_awaitable);
   beast::tcp_stream stream(co_await asio::this_coro::executor);
   stream.expires_after(options_.call_timeout);
   const auto [connect_error] = co_await stream.async_connect(
       tcp::endpoint(asio::ip::address_v4::loopback(), options_.port), token);
-  if (connect_error) co_return outcome_of(connect_error);
+  if (connect_error) co_return std::pair{outcome_of(connect_error), std::string()};
 
-  http::request<http::string_body> message{
-      request.method == "PUT" ? http::verb::put : http::verb::post, request.path, 11};
+  const http::verb verb = request.method == "PUT"   ? http::verb::put
+                          : request.method == "GET" ? http::verb::get
+                                                    : http::verb::post;
+  http::request<http::string_body> message{verb, request.path, 11};
   message.set(http::field::host, "localhost:" + std::to_string(options_.port));
-  message.set(http::field::content_type, "application/json");
+  if (verb != http::verb::get) message.set(http::field::content_type, "application/json");
   message.set(http::field::connection, "close");
   message.body() = request.body;
   message.prepare_payload();
   const auto [write_error, written] = co_await http::async_write(stream, message, token);
-  if (write_error) co_return outcome_of(write_error);
+  if (write_error) co_return std::pair{outcome_of(write_error), std::string()};
 
   beast::flat_buffer buffer;
   http::response_parser<http::string_body> parser;
   parser.body_limit(kMaxAnswerBytes);
   const auto [read_error, read] = co_await http::async_read(stream, buffer, parser, token);
-  if (read_error) co_return outcome_of(read_error);
+  if (read_error) co_return std::pair{outcome_of(read_error), std::string()};
   boost::system::error_code ignored;
   stream.socket().shutdown(tcp::socket::shutdown_both, ignored);
 
   const unsigned status = parser.get().result_int();
-  if (status >= 200 && status < 300) co_return AgonesOutcome::Ok;
-  if (status >= 500) co_return AgonesOutcome::ServerError;
+  if (status >= 200 && status < 300)
+    co_return std::pair{AgonesOutcome::Ok, parser.release().body()};
+  if (status >= 500) co_return std::pair{AgonesOutcome::ServerError, std::string()};
   spdlog::debug("agones: {} {} answered {}: {}", request.method, request.path, status,
                 parser.get().body());
-  co_return AgonesOutcome::ClientError;
+  co_return std::pair{AgonesOutcome::ClientError, std::string()};
 }
 
 }  // namespace ricochet::server

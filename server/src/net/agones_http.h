@@ -22,8 +22,11 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <string_view>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "agones_sdk.h"
@@ -44,6 +47,9 @@ struct AgonesHttpOptions {
   std::chrono::milliseconds call_timeout{2000};
   /// How often the matches are read when nothing else is due.
   std::chrono::milliseconds poll_interval{250};
+  /// When set, GET /gameserver once Ready, and this gets its answer's body on the client's
+  /// thread (nothing: the sidecar refused the call).
+  std::function<void(std::optional<std::string> body)> game_server;
 };
 
 class AgonesHttp {
@@ -57,6 +63,8 @@ class AgonesHttp {
 
   // Thread-safe; each posts to the client's thread (AgonesSdk's events).
   void ready();
+  /// A ticket seated a player here (POST /allocate on the first).
+  void players_placed();
   void match_finished();
   void stopping();
   /// POST /shutdown, and waits until it is answered or `limit` passes; whether it was.
@@ -64,8 +72,9 @@ class AgonesHttp {
 
  private:
   boost::asio::awaitable<void> run();
-  /// One call; its outcome.
-  boost::asio::awaitable<AgonesOutcome> perform(const AgonesRequest& request);
+  /// One call; its outcome and the answer's body.
+  boost::asio::awaitable<std::pair<AgonesOutcome, std::string>> perform(
+      const AgonesRequest& request);
   /// Runs `event` on the client's thread and looks for a call at once.
   void post_event(std::function<void(AgonesSdk&, proto::TimeUs now)> event);
   void publish_counters();

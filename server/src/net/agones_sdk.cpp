@@ -20,6 +20,8 @@ const char* name(AgonesCall call) {
       return "allocate";
     case AgonesCall::Shutdown:
       return "shutdown";
+    case AgonesCall::GameServer:
+      return "gameserver";
   }
   return "unknown";
 }
@@ -107,13 +109,25 @@ void AgonesSdk::observe(std::vector<AgonesMatchView> matches) {
   labels_["mode"].wanted = label_value(distinct_joined(std::move(modes)));
   labels_["players"].wanted = std::to_string(players);
   labels_["capacity"].wanted = std::to_string(capacity);
-  // Until placement (FindMatch) says so itself, the first seated player is the first placed.
+  // A direct join allocates once seated (the header says why not at its join).
   if (players > 0) players_placed();
 }
 
 void AgonesSdk::players_placed() {
   if (stopping_) return;
   allocate_requested_ = true;
+}
+
+void AgonesSdk::fetch_game_server() {
+  game_server_requested_ = true;
+}
+
+bool AgonesSdk::game_server_due() const {
+  return game_server_requested_ && !game_server_done_ && ready_done_ && !stopping_;
+}
+
+std::optional<AgonesGameServerAnswer> AgonesSdk::take_game_server() {
+  return std::exchange(game_server_answer_, std::nullopt);
 }
 
 void AgonesSdk::match_finished() {
@@ -196,6 +210,8 @@ std::optional<AgonesRequest> AgonesSdk::next_call(proto::TimeUs now) {
     return std::nullopt;
   } else if (!ready_done_) {
     call = post(AgonesCall::Ready);
+  } else if (game_server_due()) {
+    call = AgonesRequest{AgonesCall::GameServer, "GET", "/gameserver", ""};
   } else if (allocate_requested_ && !allocate_done_ && !stopping_) {
     call = post(AgonesCall::Allocate);
   } else if (now >= health_due_at_ && ticking_on_time(now)) {
@@ -211,7 +227,7 @@ std::optional<AgonesRequest> AgonesSdk::next_call(proto::TimeUs now) {
   return call;
 }
 
-void AgonesSdk::settled(proto::TimeUs now, bool accepted) {
+void AgonesSdk::settled(proto::TimeUs now, bool accepted, std::string_view body) {
   // A call the sidecar refused itself (4xx) is settled too: sending it again would be refused
   // again.
   switch (in_flight_->call) {
@@ -236,10 +252,15 @@ void AgonesSdk::settled(proto::TimeUs now, bool accepted) {
       shutdown_done_ = true;
       if (accepted) spdlog::info("agones: the GameServer is shutting down");
       break;
+    case AgonesCall::GameServer:
+      game_server_done_ = true;
+      game_server_answer_ = AgonesGameServerAnswer{
+          accepted ? std::optional<std::string>(std::string(body)) : std::nullopt};
+      break;
   }
 }
 
-void AgonesSdk::call_done(AgonesOutcome outcome, proto::TimeUs now) {
+void AgonesSdk::call_done(AgonesOutcome outcome, proto::TimeUs now, std::string_view body) {
   if (!in_flight_) return;
   const AgonesCall call = in_flight_->call;
   ++counters_.calls[static_cast<std::size_t>(call)][static_cast<std::size_t>(outcome)];
@@ -251,12 +272,12 @@ void AgonesSdk::call_done(AgonesOutcome outcome, proto::TimeUs now) {
       }
       failures_in_episode_ = 0;
       backoff_us_ = config_.retry_first_us;
-      settled(now, /*accepted=*/true);
+      settled(now, /*accepted=*/true, body);
       break;
     case AgonesOutcome::ClientError:
       spdlog::error("agones: the SDK sidecar refused {} {} {} ({}); not sent again",
                     in_flight_->method, in_flight_->path, in_flight_->body, name(outcome));
-      settled(now, /*accepted=*/false);
+      settled(now, /*accepted=*/false, {});
       break;
     case AgonesOutcome::IoError:
     case AgonesOutcome::Timeout:
@@ -282,7 +303,9 @@ std::optional<proto::TimeUs> AgonesSdk::next_due(proto::TimeUs now) const {
   if (now < retry_at_) return retry_at_;
   if (shutdown_requested_) return now;
   if (!ready_requested_) return std::nullopt;
-  if (!ready_done_ || (allocate_requested_ && !allocate_done_ && !stopping_)) return now;
+  if (!ready_done_ || game_server_due() || (allocate_requested_ && !allocate_done_ && !stopping_)) {
+    return now;
+  }
   proto::TimeUs due = health_due_at_;
   if (!stopping_) {
     for (const auto& [key, label] : labels_) {

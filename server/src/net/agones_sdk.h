@@ -12,9 +12,13 @@
 ///   POST /allocate        {}                             the GameServer is Allocated
 ///   POST /shutdown        {}                             the GameServer is shut down (pod deleted)
 ///   PUT  /metadata/label  {"key":"map","value":"arena"}  label agones.dev/sdk-map=arena
+///   GET  /gameserver      (no body)                      the GameServer (agones_game_server.h)
 ///
 /// The rules:
 ///   - POST /ready once, after ready() (sockets bound, the database open);
+///   - GET /gameserver once after /ready was answered, when fetch_game_server() asked for it
+///     (where players reach this server, for the fleet directory); its answer, or the refusal
+///     of it, is taken with take_game_server();
 ///   - POST /health every health_interval_us from then on, while every match ticks on time: each
 ///     ticked within stuck_after_us and none overran its catch-up cap since the previous ping. A
 ///     stuck or overrunning match withholds pings (counted, logged once per episode), so after
@@ -23,7 +27,16 @@
 ///     (they are being ended on purpose);
 ///   - PUT /metadata/label for map, mode, players and capacity when their value changes, each
 ///     key at most once per label_interval_us (the latest value goes);
-///   - POST /allocate once, after players_placed() (the first players seated);
+///   - POST /allocate once: at the first player the fleet placed here (players_placed(): a
+///     join_match with a ticket, before its game connection), or at the first player seated
+///     (observe(): a direct join, once its game connection is up). Allocated protects the
+///     GameServer from a scale-down, which deletes Ready ones: a direct join on a lone server, or
+///     on a Ready server of a fleet (a client that listed its matches), has players on it as
+///     much as a placed one. It waits for the seat, not the join, because the allocation is
+///     never undone here: a join that never connects (an account needs only a TLS connection
+///     for it) must not take a GameServer out of the Ready buffer for good. A placed join is
+///     trusted at once: the ticket was rate-limited by find_match and claimed in the database;
+///     (OPERATIONS.md, Agones);
 ///   - POST /shutdown once, after drained() (the graceful stop is done) or when
 ///     shutdown_after_matches matches have finished (Agones then deletes the pod, whose SIGTERM
 ///     drains the server); nothing is sent after it is answered.
@@ -47,9 +60,10 @@
 
 namespace ricochet::server {
 
-enum class AgonesCall : std::uint8_t { Ready, Health, Label, Allocate, Shutdown };
-inline constexpr std::size_t kAgonesCallCount = 5;
-/// "ready", "health", "label", "allocate", "shutdown"
+enum class AgonesCall : std::uint8_t { Ready, Health, Label, Allocate, Shutdown, GameServer };
+inline constexpr std::size_t kAgonesCallCount =
+    static_cast<std::size_t>(AgonesCall::GameServer) + 1;
+/// "ready", "health", "label", "allocate", "shutdown", "gameserver"
 const char* name(AgonesCall call);
 
 enum class AgonesOutcome : std::uint8_t {
@@ -59,16 +73,22 @@ enum class AgonesOutcome : std::uint8_t {
   ServerError,  ///< 5xx
   ClientError,  ///< 4xx, or another status: the request is wrong; dropped
 };
-inline constexpr std::size_t kAgonesOutcomeCount = 5;
+inline constexpr std::size_t kAgonesOutcomeCount =
+    static_cast<std::size_t>(AgonesOutcome::ClientError) + 1;
 /// "ok", "io_error", "timeout", "http_5xx", "http_4xx"
 const char* name(AgonesOutcome outcome);
 
 /// One HTTP call to the sidecar.
 struct AgonesRequest {
   AgonesCall call = AgonesCall::Ready;
-  std::string method;  ///< "POST" or "PUT"
+  std::string method;  ///< "POST", "PUT" or "GET"
   std::string path;    ///< "/ready", "/metadata/label", ...
-  std::string body;    ///< JSON: "{}" or {"key":"...","value":"..."}
+  std::string body;    ///< JSON: "{}" or {"key":"...","value":"..."}; empty for a GET
+};
+
+/// How GET /gameserver settled.
+struct AgonesGameServerAnswer {
+  std::optional<std::string> body;  ///< the 2xx answer's body; nothing: refused (4xx)
 };
 
 /// One match as the SDK sees it, read from its host's published stats.
@@ -111,11 +131,13 @@ class AgonesSdk {
   /// Sockets bound and the database open: POST /ready, then the pings begin.
   void ready(proto::TimeUs now);
   /// The matches now; labels follow their changes, pings their ticks, and the first seated
-  /// player is players_placed().
+  /// player (a direct join's) allocates as players_placed() does.
   void observe(std::vector<AgonesMatchView> matches);
-  /// The first players were placed here: POST /allocate (once; not while stopping), so that a
+  /// A ticket seated its player here: POST /allocate (once; not while stopping), so that a
   /// scale-down never picks this GameServer while players are on it.
   void players_placed();
+  /// GET /gameserver once the GameServer is Ready (once; not while stopping).
+  void fetch_game_server();
   /// A match ended by itself (frag or time limit).
   void match_finished();
   /// The graceful stop began: no more labels or allocation; pings go on.
@@ -126,8 +148,10 @@ class AgonesSdk {
   /// The call to make now, if any (none while one is in flight, during a back-off, or after the
   /// shutdown was answered). Answer it with call_done().
   std::optional<AgonesRequest> next_call(proto::TimeUs now);
-  /// How the call from next_call() went.
-  void call_done(AgonesOutcome outcome, proto::TimeUs now);
+  /// How the call from next_call() went; `body`: the answer's (kept for GET /gameserver).
+  void call_done(AgonesOutcome outcome, proto::TimeUs now, std::string_view body = {});
+  /// GET /gameserver's answer once it settled (once), else nothing.
+  std::optional<AgonesGameServerAnswer> take_game_server();
   /// When next_call() may have something without a new event (a ping or a label due, a
   /// back-off ending); nullopt: only an event can bring a call.
   std::optional<proto::TimeUs> next_due(proto::TimeUs now) const;
@@ -154,8 +178,11 @@ class AgonesSdk {
   bool ticking_on_time(proto::TimeUs now);
   std::optional<AgonesRequest> due_label(proto::TimeUs now);
   AgonesRequest post(AgonesCall call) const;
-  /// The call in flight is done with: answered 2xx (`accepted`) or refused with a 4xx.
-  void settled(proto::TimeUs now, bool accepted);
+  /// The call in flight is done with: answered 2xx (`accepted`, with `body`) or refused with a
+  /// 4xx.
+  void settled(proto::TimeUs now, bool accepted, std::string_view body);
+  /// GET /gameserver is due (asked for, Ready answered, not yet settled).
+  bool game_server_due() const;
 
   AgonesSdkConfig config_;
   bool ready_requested_ = false;
@@ -165,6 +192,9 @@ class AgonesSdk {
   bool shutdown_requested_ = false;
   bool shutdown_done_ = false;
   bool stopping_ = false;
+  bool game_server_requested_ = false;
+  bool game_server_done_ = false;
+  std::optional<AgonesGameServerAnswer> game_server_answer_;  ///< until taken
   proto::TimeUs health_due_at_ = 0;
   std::vector<AgonesMatchView> matches_;
   std::map<std::uint32_t, std::uint64_t> overruns_at_last_ping_;  ///< by match id

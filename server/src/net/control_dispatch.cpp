@@ -439,7 +439,13 @@ asio::awaitable<wire::ServerMessage> ControlSession::join_match(
   }
   const DirectoryResult<std::uint32_t> match = placed_match(claimed.value());
   if (const auto* error = std::get_if<DirectoryError>(&match)) co_return error_reply(*error);
-  co_return join_seat(std::get<std::uint32_t>(match), true);
+  wire::ServerMessage reply = join_seat(std::get<std::uint32_t>(match), true);
+  // The fleet put this player here: Agones hears of it now, before the game connection comes
+  // (a direct join allocates once its player is seated: AgonesSdk::observe).
+  if (reply.has_join_match() && context_.placement->players_placed) {
+    context_.placement->players_placed();
+  }
+  co_return reply;
 }
 
 DirectoryResult<std::uint32_t> ControlSession::placed_match(const db::ClaimedTicket& ticket) {
@@ -452,8 +458,12 @@ DirectoryResult<std::uint32_t> ControlSession::placed_match(const db::ClaimedTic
     if (!fullest || summary.players > fullest->players) fullest = &summary;
   }
   if (fullest) return fullest->id;
+  // Sized as the server's own matches, and counted as a match this account created: the
+  // created-match limits (open at once, per minute) bound what tickets open as they bound
+  // create_match.
   CreateMatchRequest create;
   create.name = ticket.mode + "-placed";
+  create.max_players = context_.placement->new_match_max_players;
   create.map = ticket.map;
   create.creator = account_;
   DirectoryResult<MatchSummary> made = context_.matches.create(create);

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -84,6 +85,12 @@ struct FleetPlacement {
   std::string server_id;
   FindMatchLimiter limiter;
   PlacementCounters& counters;
+  /// Seats of the match a ticket for a new match opens here ([matches] max_players, as the
+  /// matches opened at start have), 1..64.
+  int new_match_max_players = 16;
+  /// Called on the control strand each time a ticket seated its player here (Agones: POST
+  /// /allocate on the first); empty: nothing to tell. Must not block.
+  std::function<void()> players_placed;
 };
 
 }  // namespace ricochet::server

@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,6 +27,12 @@ constexpr const char* kRejected = "rejected";
 
 bool ends_with(std::string_view name, std::string_view suffix) {
   return name.size() >= suffix.size() && name.substr(name.size() - suffix.size()) == suffix;
+}
+
+/// Whether `path` is gone (another process removed or moved it), not merely unreadable.
+bool vanished(const fs::path& path) {
+  std::error_code error;
+  return fs::symlink_status(path, error).type() == fs::file_type::not_found;
 }
 
 /// The file's bytes, or why it cannot be read; at most kMaxOutboxFileBytes + 1 are read.
@@ -60,31 +68,55 @@ bool ResultsOutbox::keep(const OutboxRecord& record) {
     fs::remove(temp, ignored);
     return false;
   };
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
-  if (fd < 0) return failed("cannot create " + temp.string() + ": " + errno_text());
+  // Locked until it is renamed (the lock goes with the close): another process's list() leaves
+  // a locked .tmp alone. Should that list() have unlinked the file between the open and the
+  // lock, the file is made again.
+  int fd = -1;
+  for (int attempt = 0; attempt < 2 && fd < 0; ++attempt) {
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0) return failed("cannot create " + temp.string() + ": " + errno_text());
+    struct stat linked {};
+    if (::flock(fd, LOCK_EX) != 0 || ::fstat(fd, &linked) != 0 || linked.st_nlink == 0) {
+      ::close(fd);
+      fd = -1;
+    }
+  }
+  if (fd < 0) return failed("cannot lock " + temp.string() + ": " + errno_text());
   std::string error = write_all(fd, encode_outbox_record(record));
   if (error.empty() && ::fsync(fd) != 0) error = "fsync failed: " + errno_text();
-  ::close(fd);
-  if (!error.empty()) return failed(error);
-  std::error_code ignored;
-  const bool again = fs::exists(target, ignored);  // kept before: the same bytes
+  if (!error.empty()) {
+    ::close(fd);
+    return failed(error);
+  }
   std::error_code renamed;
   fs::rename(temp, target, renamed);
+  ::close(fd);
   if (renamed) return failed("cannot rename it to " + target.string() + ": " + renamed.message());
   if (std::string synced = sync_directory(directory_); !synced.empty()) return failed(synced);
-  if (!again) files_.fetch_add(1);
+  const std::lock_guard lock(mutex_);
+  held_.insert(uuid);
   return true;
+}
+
+std::uint64_t ResultsOutbox::files() const {
+  const std::lock_guard lock(mutex_);
+  return held_.size();
 }
 
 void ResultsOutbox::remove(std::string_view uuid) {
   const fs::path file = directory_ / (std::string(uuid) + std::string(kSuffix));
   std::error_code error;
-  if (!fs::remove(file, error)) {
-    if (error)
-      spdlog::error("results outbox: cannot remove {}: {}", file.string(), error.message());
+  const bool removed = fs::remove(file, error);
+  if (error) {
+    spdlog::error("results outbox: cannot remove {}: {}", file.string(), error.message());
     return;
   }
-  files_.fetch_sub(1);
+  {
+    const std::lock_guard lock(mutex_);
+    const auto held = held_.find(uuid);
+    if (held != held_.end()) held_.erase(held);  // removed here, or by another process
+  }
+  if (!removed) return;
   // Not synced, the removal may be undone by a power loss: the next start delivers the record
   // again, which writes nothing (results_outbox.h).
   if (std::string synced = sync_directory(directory_); !synced.empty())
@@ -92,10 +124,11 @@ void ResultsOutbox::remove(std::string_view uuid) {
 }
 
 void ResultsOutbox::reject(const fs::path& file, const std::string& reason) {
-  rejected_.fetch_add(1);
   const fs::path target = directory_ / kRejected / file.filename();
   std::error_code error;
   fs::rename(file, target, error);
+  if (error && vanished(file)) return;  // another process delivered or moved it meanwhile
+  rejected_.fetch_add(1);
   if (error) {
     spdlog::error("results outbox: {} is not a match record ({}) and cannot be moved to {}: {}",
                   file.string(), reason, target.string(), error.message());
@@ -103,6 +136,21 @@ void ResultsOutbox::reject(const fs::path& file, const std::string& reason) {
   }
   spdlog::error("results outbox: {} is not a match record ({}); moved to {}", file.string(), reason,
                 target.string());
+}
+
+void ResultsOutbox::remove_leftover(const fs::path& temp) {
+  const int fd = ::open(temp.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;  // gone: renamed or removed by its writer or another list()
+  struct stat held {};
+  struct stat named {};
+  // Unlinked only while locked here, and only the file locked (not one made since).
+  if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::fstat(fd, &held) == 0 &&
+      ::stat(temp.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
+      held.st_dev == named.st_dev && ::unlink(temp.c_str()) == 0) {
+    spdlog::info("results outbox: {} was cut short by a crash before it was kept; removed",
+                 temp.filename().string());
+  }
+  ::close(fd);
 }
 
 std::vector<OutboxRecord> ResultsOutbox::list() {
@@ -120,9 +168,7 @@ std::vector<OutboxRecord> ResultsOutbox::list() {
   for (const fs::path& path : names) {
     const std::string name = path.filename().string();
     if (ends_with(name, kTempSuffix)) {
-      std::error_code ignored;
-      fs::remove(path, ignored);
-      spdlog::info("results outbox: {} was cut short by a crash before it was kept; removed", name);
+      remove_leftover(path);
       continue;
     }
     const std::string uuid = name.substr(0, name.size() - std::min(name.size(), kSuffix.size()));
@@ -130,6 +176,7 @@ std::vector<OutboxRecord> ResultsOutbox::list() {
       reject(path, "its name is not <uuid>.rec");
       continue;
     }
+    if (vanished(path)) continue;  // delivered by another process since the directory was read
     std::error_code size_error;
     if (!fs::is_regular_file(path, size_error)) {
       reject(path, "not a regular file");
@@ -144,7 +191,7 @@ std::vector<OutboxRecord> ResultsOutbox::list() {
     }
     std::vector<std::uint8_t> bytes;
     if (std::string unreadable = read_file(path, bytes); !unreadable.empty()) {
-      reject(path, unreadable);
+      if (!vanished(path)) reject(path, unreadable);
       continue;
     }
     DecodedOutbox decoded = decode_outbox_record(bytes);
@@ -158,7 +205,12 @@ std::vector<OutboxRecord> ResultsOutbox::list() {
     }
     kept.push_back(std::move(decoded.record));
   }
-  files_.store(kept.size());
+  const std::lock_guard lock(mutex_);
+  // Those another process delivered meanwhile are no longer held here.
+  std::erase_if(held_, [this](const std::string& uuid) {
+    return vanished(directory_ / (uuid + std::string(kSuffix)));
+  });
+  for (const OutboxRecord& record : kept) held_.insert(record.record.uuid);
   return kept;
 }
 

@@ -22,10 +22,18 @@
 ///                      counted, for an operator to look at. Never deleted, never a crash.
 /// Thread-safe (the server keeps and removes on its DB thread, whose fsyncs stall no tick, and
 /// lists at the start).
+///
+/// Shared: several processes (the servers of one Kubernetes volume) may use one directory. Each
+/// delivers every record it lists, its own or another's (step 2 makes a record delivered by two
+/// harmless); a record another process removed or rejected while this one listed is passed
+/// over, not rejected; a `.tmp` is removed only when no live process holds its lock (keep()
+/// holds an flock on it until the rename, and the kernel drops the lock of a killed process).
 
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <mutex>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -50,18 +58,22 @@ class ResultsOutbox {
   /// `rejected/` (logged, counted) and left `.tmp` files removed. Sets files() to the count.
   std::vector<OutboxRecord> list();
 
-  /// Records kept now.
-  std::uint64_t files() const { return files_.load(); }
+  /// Records this process kept or listed and has not removed since (nor found removed, at a
+  /// remove() or the next list()).
+  std::uint64_t files() const;
   /// Files moved to rejected/ since the start.
   std::uint64_t rejected() const { return rejected_.load(); }
   const std::filesystem::path& directory() const { return directory_; }
 
  private:
-  /// Moves `file` to rejected/ and logs why.
+  /// Moves `file` to rejected/ and logs why (unless another process took it first).
   void reject(const std::filesystem::path& file, const std::string& reason);
+  /// Removes the crash leftover `temp` unless a live keep() holds its lock.
+  static void remove_leftover(const std::filesystem::path& temp);
 
   std::filesystem::path directory_;
-  std::atomic<std::uint64_t> files_{0};
+  mutable std::mutex mutex_;
+  std::set<std::string, std::less<>> held_;  ///< the uuids files() counts; under mutex_
   std::atomic<std::uint64_t> rejected_{0};
 };
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/system/system_error.hpp>
 #include <cctype>
@@ -18,8 +19,10 @@
 #include <optional>
 #include <stdexcept>
 #include <utility>
+#include <variant>
 
 #include "admin_http.h"
+#include "agones_game_server.h"
 #include "agones_http.h"
 #include "chat_limiter.h"
 #include "control_server.h"
@@ -271,7 +274,9 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   if (config_.placement.on(config_.db)) {
     placement_ = std::make_unique<FleetPlacement>(
         FleetPlacement{draw_server_id(), FindMatchLimiter(config_.placement.find_match_per_minute),
-                       placement_counters_});
+                       placement_counters_, config_.matches.max_players, [this] {
+                         if (agones_) agones_->players_placed();  // made before any session
+                       }});
     control.placement = placement_.get();
   }
   control_ = std::make_unique<ControlServer>(io_, std::move(control), *db_, *matches_);
@@ -367,9 +372,25 @@ void Server::start_agones(const char* sdk_port) {
     }
     return views;
   };
+  if (advertises_from_agones()) {
+    agones_game_server_invalid_ = &metrics_.counter(
+        "ricochet_agones_gameserver_invalid_total",
+        "GET /gameserver answers refused or not a GameServer's address and ports (the configured "
+        "ones advertised instead)");
+    options.game_server = [this](std::optional<std::string> body) {
+      boost::asio::post(io_, [this, body = std::move(body)] { advertise_from_agones(body); });
+    };
+  }
   agones_ = std::make_unique<AgonesHttp>(std::move(options), metrics_);
   spdlog::info("agones: the SDK sidecar's REST gateway is 127.0.0.1:{} (AGONES_SDK_HTTP_PORT)",
                sdk_port);
+}
+
+bool Server::advertises_from_agones() const {
+  const PlacementConfig& placement = config_.placement;
+  return std::getenv("AGONES_SDK_HTTP_PORT") != nullptr && placement.on(config_.db) &&
+         (placement.advertise_host.empty() || placement.advertise_control_port == 0 ||
+          placement.advertise_game_port == 0);
 }
 
 void Server::start_placement() {
@@ -383,7 +404,7 @@ void Server::start_placement() {
   for (char c : fingerprint()) {
     if (c != ':') fingerprint_hex += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
-  db::GameServerRow row;
+  db::GameServerRow& row = directory_row_;
   row.server_id = placement_->server_id;
   row.host = host;
   row.control_port =
@@ -397,8 +418,8 @@ void Server::start_placement() {
                        .count();
   heartbeat_ = std::make_unique<DirectoryHeartbeat>(
       io_, *db_, *matches_, placement_counters_, placement.heartbeat_s * proto::kMicrosPerSecond,
-      placement.server_ttl_s * proto::kMicrosPerSecond, [this, row] {
-        DirectoryEntry entry{row, {}};
+      placement.server_ttl_s * proto::kMicrosPerSecond, [this] {
+        DirectoryEntry entry{directory_row_, {}};
         int players = 0;
         for (const MatchSummary& match : matches_->list()) {
           entry.matches.push_back(db::HostedMatch{.match_id = match.id,
@@ -412,9 +433,48 @@ void Server::start_placement() {
         entry.server.players = std::min(players, entry.server.capacity);
         return entry;
       });
+  if (agones_ && advertises_from_agones()) {
+    // Under Agones the bound ports are the container's, not the host ports players reach.
+    spdlog::info(
+        "placement: server {} joins the fleet directory once the Agones sidecar says where "
+        "players reach it (GET /gameserver)",
+        row.server_id);
+    return;
+  }
+  start_heartbeats();
+}
+
+void Server::advertise_from_agones(const std::optional<std::string>& body) {
+  if (!heartbeat_ || stopping_) return;
+  const PlacementConfig& placement = config_.placement;
+  std::string refusal = "the sidecar refused GET /gameserver";
+  if (body) {
+    auto parsed = parse_game_server(*body);
+    if (auto* address = std::get_if<AgonesAddress>(&parsed)) {
+      if (placement.advertise_host.empty()) directory_row_.host = address->host;
+      if (placement.advertise_control_port == 0)
+        directory_row_.control_port = address->control_port;
+      if (placement.advertise_game_port == 0) directory_row_.game_port = address->game_port;
+      refusal.clear();
+    } else {
+      refusal = std::move(std::get<std::string>(parsed));
+    }
+  }
+  if (!refusal.empty()) {
+    agones_game_server_invalid_->inc();
+    spdlog::error(
+        "placement: {}; advertising the configured address instead (set [placement] "
+        "advertise_host, advertise_control_port and advertise_game_port if it is not reachable)",
+        refusal);
+  }
+  start_heartbeats();
+}
+
+void Server::start_heartbeats() {
   heartbeat_->start();
   spdlog::info("placement: server {} advertises {}:{} (game port {}), heartbeat every {} s",
-               row.server_id, row.host, row.control_port, row.game_port, placement.heartbeat_s);
+               directory_row_.server_id, directory_row_.host, directory_row_.control_port,
+               directory_row_.game_port, config_.placement.heartbeat_s);
 }
 
 void Server::sweep_empty_matches() {

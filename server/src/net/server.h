@@ -38,6 +38,7 @@
 
 #include "episode_log.h"
 #include "fleet_placement.h"
+#include "ricochet/db/fleet_records.h"
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
 #include "ricochet/server/metrics.h"
@@ -138,8 +139,17 @@ class Server {
   void start_agones(const char* sdk_port);
   /// Every few seconds: the created matches empty for too long are closed.
   void sweep_empty_matches();
-  /// [placement] on: the directory heartbeat, once the ports are bound.
+  /// [placement] on: the directory heartbeat, once the ports are bound (under Agones with an
+  /// advertise key unset, once the sidecar said where players reach this server).
   void start_placement();
+  /// Whether the directory row takes its address from Agones' GET /gameserver: under Agones,
+  /// with placement on and an [placement] advertise key not set.
+  bool advertises_from_agones() const;
+  /// On an io_ thread: GET /gameserver's answer (`body`; nothing: refused) over the advertise
+  /// keys not set, or, when it is not a GameServer's, the configured ones (logged, counted);
+  /// then the heartbeats begin.
+  void advertise_from_agones(const std::optional<std::string>& body);
+  void start_heartbeats();
 
   static constexpr std::chrono::seconds kRecordRetryFirst{1};
   static constexpr std::chrono::seconds kRecordRetryLast{30};
@@ -162,6 +172,9 @@ class Server {
   /// Under Agones (AGONES_SDK_HTTP_PORT set); after matches_, whose stats it reads.
   std::unique_ptr<AgonesHttp> agones_;
   std::unique_ptr<DirectoryHeartbeat> heartbeat_;
+  /// What the heartbeats write of this server; set before they begin, read on their strand.
+  db::GameServerRow directory_row_;
+  Counter* agones_game_server_invalid_ = nullptr;  ///< GET /gameserver answers not used
   boost::asio::steady_timer empty_match_sweep_{io_};
   std::vector<std::thread> threads_;
   std::thread stopper_;

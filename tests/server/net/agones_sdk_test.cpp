@@ -3,7 +3,7 @@
 // that is late or fails does to it.
 //
 //   POST /ready {}, POST /health {}, POST /allocate {}, POST /shutdown {},
-//   PUT /metadata/label {"key":"<key>","value":"<value>"}
+//   PUT /metadata/label {"key":"<key>","value":"<value>"}, GET /gameserver
 #include "agones_sdk.h"
 
 #include <gtest/gtest.h>
@@ -44,7 +44,7 @@ class Driven {
       sdk.observe({match_view(stuck_since ? *stuck_since : now, players, overruns)});
       while (auto call = sdk.next_call(now)) {
         calls.push_back(call->method + " " + call->path + " " + call->body);
-        sdk.call_done(answer, now);
+        sdk.call_done(answer, now, call->path == "/gameserver" ? game_server_body : "{}");
       }
     }
     return calls;
@@ -60,6 +60,7 @@ class Driven {
   proto::TimeUs now = 1000 * kSecond;
   AgonesOutcome answer = AgonesOutcome::Ok;
   std::uint64_t overruns = 0;
+  std::string game_server_body = R"({"status":{"state":"Ready"}})";
 };
 
 TEST(AgonesSdk, NothingIsSentBeforeTheServerIsReady) {
@@ -147,6 +148,45 @@ TEST(AgonesSdk, TheFirstSeatedPlayerAllocatesOnce) {
   const auto calls = driven.run_until(driven.now + 5 * kSecond, 2);
   EXPECT_EQ(Driven::count(calls, "POST /allocate {}"), 1);
   EXPECT_EQ(Driven::count(driven.run_until(driven.now + 5 * kSecond, 0), "POST /allocate"), 0);
+}
+
+TEST(AgonesSdk, GetsTheGameServerOnceReadyOnceAndHandsItsAnswerOver) {
+  Driven driven;
+  driven.sdk.fetch_game_server();
+  driven.answer = AgonesOutcome::ServerError;  // the sidecar fails at first: both retried
+  driven.sdk.ready(driven.now);
+  EXPECT_EQ(Driven::count(driven.run_until(driven.now + kSecond), "GET"), 0);
+  EXPECT_FALSE(driven.sdk.take_game_server());
+  driven.answer = AgonesOutcome::Ok;
+  const auto calls = driven.run_until(driven.now + 5 * kSecond);
+  ASSERT_GE(calls.size(), 2u);
+  EXPECT_EQ(calls[0], "POST /ready {}");
+  EXPECT_EQ(calls[1], "GET /gameserver ");
+  EXPECT_EQ(Driven::count(calls, "GET"), 1);
+  const auto answer = driven.sdk.take_game_server();
+  ASSERT_TRUE(answer);
+  EXPECT_EQ(answer->body, std::optional<std::string>(driven.game_server_body));
+  EXPECT_FALSE(driven.sdk.take_game_server());  // once
+}
+
+TEST(AgonesSdk, ARefusedGameServerCallIsHandedOverWithoutABody) {
+  Driven driven;
+  driven.sdk.fetch_game_server();
+  driven.sdk.ready(driven.now);
+  driven.answer = AgonesOutcome::ClientError;  // a 4xx settles a call as refused
+  const auto calls = driven.run_until(driven.now + 10 * kMs);
+  ASSERT_GE(calls.size(), 2u);
+  EXPECT_EQ(calls[1], "GET /gameserver ");
+  const auto answer = driven.sdk.take_game_server();
+  ASSERT_TRUE(answer);
+  EXPECT_FALSE(answer->body);
+  EXPECT_EQ(Driven::count(driven.run_until(driven.now + 5 * kSecond), "GET"), 0);
+}
+
+TEST(AgonesSdk, NoGameServerCallUnlessAskedFor) {
+  Driven driven;
+  driven.sdk.ready(driven.now);
+  EXPECT_EQ(Driven::count(driven.run_until(driven.now + 5 * kSecond), "GET"), 0);
 }
 
 TEST(AgonesSdk, ShutdownAfterDrainingAndNothingAfterIt) {

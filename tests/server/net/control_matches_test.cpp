@@ -294,7 +294,7 @@ wire::ClientMessage find(const std::string& mode) {
 TEST(ControlPlacement, FindMatchIsLimitedPerAccountAcrossItsConnectionsOnTheServersClock) {
   std::atomic<proto::TimeUs> now{1'000 * proto::kMicrosPerSecond};
   PlacementCounters counters;
-  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters};
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters, 16, {}};
   ControlRig rig(
       {}, [&now] { return now.load(); }, {}, nullptr, &placement);
   ControlTestClient first(rig.port());
@@ -325,7 +325,7 @@ TEST(ControlPlacement, FindMatchIsLimitedPerAccountAcrossItsConnectionsOnTheServ
 
 TEST(ControlPlacement, ATicketForANewMatchJoinsAnOpenMatchOfItsModeHereOnce) {
   PlacementCounters counters;
-  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters};
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters, 16, {}};
   ControlRig rig({}, {}, {}, nullptr, &placement);
   // The directory: this server, its one ffa match full, so the assignment is a new match here.
   const db::GameServerRow row{.server_id = "rs-test",
@@ -369,6 +369,56 @@ TEST(ControlPlacement, ATicketForANewMatchJoinsAnOpenMatchOfItsModeHereOnce) {
   EXPECT_EQ(joined.join_match().match_id(), 1u);  // the fake directory's open ffa match
   EXPECT_EQ(client.state(), proto::ControlState::InMatch);
   EXPECT_EQ(client.request(join).error().code(), wire::UNKNOWN_TICKET);
+}
+
+TEST(ControlPlacement, ATicketForANewMatchOpensOneOfTheServersSizeAsTheAccountsAndTellsAgones) {
+  PlacementCounters counters;
+  std::atomic<int> placed{0};
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters, 6, [&placed] { ++placed; }};
+  ControlRig rig({}, {}, {}, nullptr, &placement);
+  rig.directory().set_players(1, 16);  // the fake's one ffa match is full
+  const db::GameServerRow row{.server_id = "rs-test",
+                              .host = "127.0.0.1",
+                              .control_port = rig.port(),
+                              .game_port = 7778,
+                              .certificate_sha256 = std::string(64, 'a'),
+                              .version = "test",
+                              .capacity = 100,
+                              .players = 16};
+  const std::vector<db::HostedMatch> hosted{
+      {.match_id = 1, .mode = "ffa", .map = "arena", .players = 16, .capacity = 16, .open = true}};
+  std::promise<db::DbStatus> written;
+  rig.db().submit(
+      [&](db::DbServices& services) {
+        return services.placement.heartbeat(row, hosted,
+                                            std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                std::chrono::system_clock::now().time_since_epoch())
+                                                .count());
+      },
+      [](std::function<void()> completion) { completion(); },
+      [&](db::DbStatus status) { written.set_value(std::move(status)); });
+  ASSERT_TRUE(written.get_future().get().ok());
+
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  const std::uint64_t account = client.sign_in("placedfirst").account_id();
+  const wire::ServerMessage found = client.request(find("ffa"));
+  ASSERT_TRUE(found.has_find_match()) << found.DebugString();
+  EXPECT_EQ(found.find_match().assignment().match_id(), 0u);
+  // A join without a ticket tells Agones nothing: its player allocates once seated.
+  ASSERT_TRUE(client.request(ControlTestClient::join(1)).has_join_match());
+  EXPECT_EQ(placed.load(), 0);
+  ASSERT_TRUE(client.request(ControlTestClient::leave()).has_leave_match());
+  wire::ClientMessage join_placed;
+  join_placed.mutable_join_match()->set_ticket(found.find_match().assignment().ticket());
+  const wire::ServerMessage joined = client.request(join_placed);
+  ASSERT_TRUE(joined.has_join_match()) << joined.DebugString();
+  EXPECT_EQ(joined.join_match().match_id(), 2u);
+  const auto created = rig.directory().created;
+  ASSERT_EQ(created.size(), 1u);
+  EXPECT_EQ(created[0].max_players, 6);    // [matches] max_players, not CreateMatchRequest's 16
+  EXPECT_EQ(created[0].creator, account);  // under the account's created-match limits
+  EXPECT_EQ(placed.load(), 1);
 }
 
 TEST(ControlPlacement, WithPlacementOffFindMatchAndTicketsAreRefused) {

@@ -72,7 +72,15 @@ class FakeDirectory : public MatchDirectory {
                          0,
                          request.max_players};
     matches_.push_back(summary);
+    created.push_back(request);
     return summary;
+  }
+  /// Sets match `id`'s seated players as list() shows them.
+  void set_players(std::uint32_t id, int players) {
+    std::lock_guard lock(mutex_);
+    for (MatchSummary& match : matches_) {
+      if (match.id == id) match.players = players;
+    }
   }
   DirectoryResult<JoinGrant> join(std::uint64_t account, const std::string& username,
                                   std::uint32_t match_id, const JoinOrigin& origin) override {
@@ -132,6 +140,7 @@ class FakeDirectory : public MatchDirectory {
 
   std::vector<std::string> chats;
   std::vector<std::string> joined_names;
+  std::vector<CreateMatchRequest> created;  ///< every create() that opened a match
 
  private:
   struct Seat {

@@ -3,6 +3,7 @@
 #include "enum_count.h"
 
 #include "admin_http.h"
+#include "agones_sdk.h"
 #include "control_counters.h"
 #include "match_registry.h"
 #include "ricochet/server/combat.h"
@@ -28,6 +29,8 @@ TEST(EnumCountTest, Network) {
   expect_counted<AdminRejectReason>(kAdminRejectReasonCount,
                                     [](AdminRejectReason r) { return name(r); });
   expect_counted<SeatRefusal>(kSeatRefusalCount, [](SeatRefusal r) { return name(r); });
+  expect_counted<AgonesCall>(kAgonesCallCount, [](AgonesCall c) { return name(c); });
+  expect_counted<AgonesOutcome>(kAgonesOutcomeCount, [](AgonesOutcome o) { return name(o); });
 }
 
 }  // namespace

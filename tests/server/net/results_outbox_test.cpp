@@ -2,16 +2,24 @@
 // outbox (every field, bit for bit), a removed one is gone, a keep cut short by a crash is never
 // delivered, and a file that is not a record (corrupt, truncated, oversized, misnamed, another
 // match inside) is moved to rejected/ with its reason, counted, and never stops the others.
+// Two outboxes on one directory (the servers of one shared volume): each delivers what it
+// finds, a record the other removes while it lists is passed over (not rejected), and a .tmp
+// the other is writing (its flock held) is left alone.
 #include "results_outbox.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "temp_dir.h"
@@ -156,6 +164,73 @@ TEST(ResultsOutbox, FilesThatAreNotRecordsAreMovedAsideWithTheirReasonAndTheRest
   EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{std::string(kUuidA) + ".rec"});
   EXPECT_EQ(names_in(dir.path() / "rejected").size(), 6u);
   EXPECT_TRUE(outbox.list().size() == 1u && outbox.rejected() == 6u);  // once moved, left alone
+}
+
+/// A uuid per `i`: 32 hex digits.
+std::string uuid_of(int i) {
+  std::string uuid(32, '0');
+  const std::string digits = std::to_string(i);
+  uuid.replace(uuid.size() - digits.size(), digits.size(), digits);
+  return uuid;
+}
+
+TEST(ResultsOutbox, TwoOnOneDirectoryEachDeliverWhatTheyFindAndRemoveOnce) {
+  ricochet::test::TempDir dir;
+  ResultsOutbox a(dir.path());
+  ResultsOutbox b(dir.path());
+  ASSERT_TRUE(a.keep(record(kUuidA)));
+  ASSERT_TRUE(b.keep(record(kUuidB, "tdm")));
+  ASSERT_EQ(a.list().size(), 2u);  // b's record too: whoever starts delivers it
+  ASSERT_EQ(b.list().size(), 2u);
+  EXPECT_EQ(a.files(), 2u);
+  a.remove(kUuidA);
+  a.remove(kUuidB);  // delivered by a: record_match keeps it once whoever delivers it again
+  b.remove(kUuidB);  // gone already: nothing to log, and no longer counted
+  b.remove(kUuidA);
+  EXPECT_EQ(a.files(), 0u);
+  EXPECT_EQ(b.files(), 0u);
+  EXPECT_TRUE(names_in(dir.path()).empty());
+  EXPECT_EQ(a.rejected() + b.rejected(), 0u);
+}
+
+TEST(ResultsOutbox, ARecordAnotherProcessRemovesWhileThisOneListsIsPassedOverNotRejected) {
+  ricochet::test::TempDir dir;
+  ResultsOutbox delivering(dir.path());
+  ResultsOutbox starting(dir.path());
+  constexpr int kRecords = 64;
+  for (int i = 0; i < kRecords; ++i) ASSERT_TRUE(delivering.keep(record(uuid_of(i))));
+  std::atomic<bool> done{false};
+  std::thread remover([&] {
+    for (int i = 0; i < kRecords; ++i) delivering.remove(uuid_of(i));
+    done = true;
+  });
+  int lists = 0;
+  while (!done || lists == 0) {
+    for (const OutboxRecord& found : starting.list()) EXPECT_EQ(found.record.players.size(), 3u);
+    ++lists;
+  }
+  remover.join();
+  EXPECT_EQ(starting.rejected(), 0u) << "after " << lists << " lists";
+  EXPECT_TRUE(names_in(dir.path() / "rejected").empty());
+  EXPECT_TRUE(starting.list().empty());
+  EXPECT_EQ(starting.files(), 0u);  // what it listed is gone: not counted as kept any more
+}
+
+TEST(ResultsOutbox, ATmpAnotherProcessIsWritingIsLeftAloneAndRemovedOnceItsWriterIsGone) {
+  ricochet::test::TempDir dir;
+  ResultsOutbox outbox(dir.path());
+  const std::string tmp = std::string(kUuidA) + ".rec.tmp";
+  write(dir.path() / tmp, {1, 2, 3});
+  // A live keep() in another process holds the lock until its rename.
+  const int writer = ::open((dir.path() / tmp).c_str(), O_RDWR | O_CLOEXEC);
+  ASSERT_GE(writer, 0);
+  ASSERT_EQ(::flock(writer, LOCK_EX), 0);
+  EXPECT_TRUE(outbox.list().empty());
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{tmp});
+  ::close(writer);  // the writer killed: the kernel drops its lock
+  EXPECT_TRUE(outbox.list().empty());
+  EXPECT_TRUE(names_in(dir.path()).empty());
+  EXPECT_EQ(outbox.rejected(), 0u);
 }
 
 TEST(ResultsOutboxFormat, EachWayOfBeingBrokenIsRefusedWithWhatIsWrong) {

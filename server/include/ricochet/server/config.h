@@ -159,10 +159,10 @@ const char* name(PlacementMode mode);
 struct PlacementConfig {
   PlacementMode enabled = PlacementMode::Auto;  ///< auto: on when db.url is PostgreSQL
   /// What clients of other servers connect to: a DNS name or an IP address; empty: this
-  /// machine's host name.
+  /// machine's host name, or under Agones the GameServer's status.address (GET /gameserver).
   std::string advertise_host;
-  int advertise_control_port = 0;     ///< 0: the bound control port
-  int advertise_game_port = 0;        ///< 0: the bound game port
+  int advertise_control_port = 0;     ///< 0: the bound control port (Agones: the port "control")
+  int advertise_game_port = 0;        ///< 0: the bound game port (Agones: the port "game")
   int heartbeat_s = 2;                ///< between two writes of the directory row
   int server_ttl_s = 10;              ///< a row this old is not placed on (and is purged)
   int ticket_lifetime_s = 30;         ///< a ticket holds its seat this long
