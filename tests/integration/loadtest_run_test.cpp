@@ -198,6 +198,12 @@ TEST(LoadTest, BadOptionsAreRefusedWithTheReason) {
       << read_text(log);
   EXPECT_EQ(run_loadtest("--sweep 100,50 --out " + out.path().string(), log), 2);
   EXPECT_NE(read_text(log).find("increasing"), std::string::npos) << read_text(log);
+  EXPECT_EQ(run_loadtest("--find-match TDM --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("find_match must be MODE or MODE:MAP"), std::string::npos)
+      << read_text(log);
+  EXPECT_EQ(run_loadtest("--soak --find-match tdm --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--soak keeps its bots on one server"), std::string::npos)
+      << read_text(log);
   EXPECT_EQ(run_loadtest("--duration 1h --out " + out.path().string(), log), 2);
   EXPECT_NE(read_text(log).find("--duration"), std::string::npos) << read_text(log);
 }

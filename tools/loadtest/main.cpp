@@ -183,6 +183,9 @@ int main(int argc, char** argv) {
   app.add_option("--trust-file", trust_file,
                  "trust on first use into this file (default: DIR/server.fp; with several "
                  "servers FILE-2, FILE-3, ... for the others)");
+  app.add_option("--find-match", config.find_match,
+                 "MODE or MODE:MAP: every bot asks the first --server for a seat (find_match) "
+                 "and plays where the assignment sends it; the other servers are scraped");
   app.add_option("--bots", config.bots, "bots (one step)")->capture_default_str();
   app.add_option("--sweep", sweep, "steps of increasing bot counts, e.g. 100,200,400");
   app.add_option("--match-size", config.match_size,
@@ -305,6 +308,11 @@ int main(int argc, char** argv) {
     if (server.fingerprint.empty()) {
       server.trust_file = i == 0 ? trust_file : trust_file + "-" + std::to_string(i + 1);
     }
+  }
+  if (soak_mode && !config.find_match.empty()) {
+    return fail(
+        "--soak keeps its bots on one server's listed matches; --find-match is for load "
+        "tests of placement (drop --soak or --find-match)");
   }
   if (soak_mode && per_address->count() == 0) config.bots_per_address = 2;
   if (const std::string problem = config.validate(); !problem.empty()) return fail(problem);

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "ricochet/bot/assignment.h"
 #include "ricochet/bot/bot_config.h"
 
 namespace ricochet::loadtest {
@@ -165,6 +166,10 @@ std::string LoadTestConfig::validate() const {
     }
     if (server.control_port == 0) return "control_port must be 1..65535, got 0";
     if (server.admin_port == 0) return "admin_port must be 1..65535, got 0";
+  }
+  if (!find_match.empty()) {
+    const auto wanted = bot::parse_match_wanted(find_match);
+    if (const auto* problem = std::get_if<std::string>(&wanted)) return *problem;
   }
   for (const int count : steps()) {
     if (count < 1 || count > 10000) return "bots must be 1..10000, got " + std::to_string(count);

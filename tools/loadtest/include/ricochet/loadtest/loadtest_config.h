@@ -38,9 +38,13 @@ struct ServerEndpoint {
 inline constexpr std::size_t kMaxServers = 64;
 
 struct LoadTestConfig {
-  /// 1..kMaxServers servers; the bots go round robin over them (bot k to server k % size), and
-  /// every one is scraped.
+  /// 1..kMaxServers servers; the bots go round robin over them (bot k to server k % size), or
+  /// all to the first with find_match, and every one is scraped.
   std::vector<ServerEndpoint> servers{ServerEndpoint{}};
+  /// "MODE" or "MODE:MAP" (bot::parse_match_wanted): every bot goes to the first server, asks it
+  /// for a seat (find_match) and plays where the assignment sends it; empty: round robin, each
+  /// bot joining a listed match on its server.
+  std::string find_match;
   int bots = 16;             ///< 1..10000 (the largest step with --sweep), over all servers
   std::vector<int> sweep;    ///< increasing bot counts; empty: one run of `bots`
   int match_size = 16;       ///< 1..64 players per match the server is expected to host
