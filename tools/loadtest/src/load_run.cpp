@@ -66,7 +66,7 @@ LoadRun::LoadRun(asio::io_context& io, LoadTestConfig config)
                            config_.servers.size() == 1 ? config_.server_pid : 0, count_kind);
     scrapers_.push_back(std::make_unique<MetricsScraper>(
         io, asio::ip::tcp::endpoint(asio::ip::make_address(server.host), server.admin_port),
-        config_.scrape_interval_s, count_kind));
+        server.admin_token, config_.scrape_interval_s, count_kind));
   }
 }
 

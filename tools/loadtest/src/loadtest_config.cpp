@@ -100,6 +100,16 @@ std::variant<std::vector<ServerEndpoint>, std::string> parse_servers(
   return out;
 }
 
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  for (std::size_t start = 0; !text.empty() && start <= text.size();) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    out.push_back(text.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
+
 bool is_loopback_v4(const std::string& address) {
   boost::system::error_code error;
   const auto parsed = boost::asio::ip::make_address_v4(address, error);
