@@ -38,7 +38,8 @@ TEST(AdminToken, EmptyOrHeaderBreakingBytesAreRefusedNamingThem) {
 }
 
 TEST(AdminToken, AFileIsReadWithinItsBound) {
-  const fs::path dir = fs::temp_directory_path() / ("ricochet-admin-token-" + std::to_string(getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("ricochet-admin-token-" + std::to_string(getpid()));
   fs::create_directories(dir);
   std::string token;
   std::ofstream(dir / "ok") << "t0ken\n";
