@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <regex>
 #include <string>
@@ -258,6 +259,23 @@ TEST(LoadTest, BotsPlacedThroughFindMatchAreReportedPerServerWithEachServersTick
                     std::regex(R"re("placement_tickets":\{[^}]*"assigned":([0-9]+))re"));
   ASSERT_FALSE(assigned.empty()) << a_object;
   EXPECT_GE(std::stoi(assigned[1].str()), 16) << a_object;
+
+  std::cout
+      << "loadtest placement run: 16 bots through A: " << placed[b.control_port()] << " on B, "
+      << placed[c.control_port()] << " on C; placement_ms p50 "
+      << number_field(report, "placement_ms_p50").value_or(0) << " p99 "
+      << number_field(report, "placement_ms_p99").value_or(0) << " max "
+      << number_field(report, "placement_ms_max").value_or(0) << "; A's tickets assigned "
+      << assigned[1].str() << " (both generators); servers' CPU from /metrics A "
+      << number_field(servers.at(endpoint(a).substr(0, endpoint(a).rfind(':'))), "cpu_percent")
+             .value_or(-1)
+      << " % B "
+      << number_field(servers.at(endpoint(b).substr(0, endpoint(b).rfind(':'))), "cpu_percent")
+             .value_or(-1)
+      << " % C "
+      << number_field(servers.at(endpoint(c).substr(0, endpoint(c).rfind(':'))), "cpu_percent")
+             .value_or(-1)
+      << " %\n";
 
   // Without the token: counted, named in the progress line, never fatal.
   const std::string refused = read_text(out.path() / "nt" / "report.json");
