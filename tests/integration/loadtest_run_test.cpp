@@ -1,6 +1,7 @@
 // ricochet-loadtest end to end: the real ricochet-server binary on 127.0.0.1 (free ports, a
-// temporary data directory), the real ricochet-loadtest binary against it. The tests assert what
-// the tool writes (report.json's fields, the PNGs) and that refusals are counted, never speeds.
+// temporary data directory; three of them on one real PostgreSQL for placement), the real
+// ricochet-loadtest binary against it. The tests assert what the tool writes (report.json's
+// fields, the PNGs) and that refusals are counted, never speeds.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -8,12 +9,15 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iostream>
 #include <map>
 #include <regex>
 #include <string>
 #include <thread>
 
 #include "loadtest_process.h"
+#include "postgres_cluster.h"
 #include "server_process.h"
 #include "temp_dir.h"
 
@@ -164,6 +168,121 @@ TEST(LoadTest, TwoGeneratorsAgainstTwoServersMergeIntoOneReport) {
   }
 }
 
+TEST(LoadTest, BotsPlacedThroughFindMatchAreReportedPerServerWithEachServersTickets) {
+  // Three servers on one PostgreSQL, placement on: A hosts ffa only, B and C tdm only. Every bot
+  // goes to A and asks for tdm; A's tickets send them to B and C. Each server measured from its
+  // /metrics only (--server-proc off), behind a bearer token. Both generators' first source
+  // address is 127.0.1.1, so the seats per address are raised above their 10 bots there.
+  const std::string url = PostgresCluster::shared().create_database();
+  const auto matches = [](const std::string& mode) {
+    return "count = 2\nmax_players = 8\nmode = \"" + mode +
+           "\"\nmaps = [\"" RICOCHET_SOURCE_DIR
+           "/server/maps/arena.toml\"]\nseed = 7\nwarmup_s = 0\nfrag_limit = 0\n"
+           "time_limit_s = 0\nrecord = false\nmin_players = 1\nseats_per_address = 32\n";
+  };
+  TempDir secrets("ricochet-loadtest-token");
+  const fs::path token = secrets.path() / "admin-token";
+  std::ofstream(token) << "s3cret-loadtest-token\n";
+  const std::string fleet = "[db]\nurl = \"" + url +
+                            "\"\npassword_hashing = \"minimum\"\n"
+                            "registrations_per_hour_per_address = 100\n"
+                            "[placement]\nadvertise_host = \"127.0.0.1\"\nheartbeat_s = 1\n"
+                            "server_ttl_s = 5\n";
+  const std::string admin = "token_file = \"" + token.string() + "\"\n";
+  ServerProcess a(matches("ffa"), 5, fleet, {}, admin);
+  ServerProcess b(matches("tdm"), 5, fleet, {}, admin);
+  ServerProcess c(matches("tdm"), 5, fleet, {}, admin);
+  for (ServerProcess* server : {&a, &b, &c}) ASSERT_TRUE(server->wait_listening()) << server->log();
+  // B and C in the fleet directory before the bots ask A (each writes its row once it listens).
+  for (ServerProcess* server : {&b, &c}) {
+    for (int i = 0; i < 200 && server->log().find("is in the fleet directory") == std::string::npos;
+         ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    }
+    ASSERT_NE(server->log().find("is in the fleet directory"), std::string::npos) << server->log();
+  }
+  const auto endpoint = [](const ServerProcess& server) {
+    return "127.0.0.1:" + std::to_string(server.control_port()) + ":" +
+           std::to_string(server.admin_port());
+  };
+  const std::string common = " --server " + endpoint(a) + "," + endpoint(b) + "," + endpoint(c) +
+                             " --fingerprint " + a.fingerprint() +
+                             " --find-match tdm --server-proc off --match-size 8 --ramp 40"
+                             " --settle 3s --duration 1s --scrape-interval 0.5 --no-plots";
+  TempDir out("ricochet-loadtest");
+  int codes[2] = {-1, -1};
+  {
+    // The same run without the token, at the same time: every scrape refused, the run finishes.
+    std::thread untokened([&] {
+      codes[1] = run_loadtest("--name nt --bots 2 --out " + (out.path() / "nt").string() + common,
+                              out.path() / "nt.log");
+    });
+    codes[0] = run_loadtest("--name pl --bots 16 --admin-token-file " + token.string() + " --out " +
+                                (out.path() / "pl").string() + common,
+                            out.path() / "pl.log");
+    untokened.join();
+  }
+  ASSERT_EQ(codes[0], 0) << read_text(out.path() / "pl.log");
+  ASSERT_EQ(codes[1], 0) << read_text(out.path() / "nt.log");
+
+  const std::string report = read_text(out.path() / "pl" / "report.json");
+  EXPECT_EQ(number_field(report, "bots_connected"), 16) << read_text(out.path() / "pl.log");
+  EXPECT_EQ(report.find("metrics_unauthorized"), std::string::npos) << report;
+  // The top level's bots_placed: on B and C only, 16 in all.
+  const std::string top = report.substr(report.rfind("\"bots_placed\":"));
+  const std::regex placed_on(R"re("127\.0\.0\.1:([0-9]+)":([0-9]+))re");
+  std::map<std::uint16_t, int> placed;
+  const std::string placed_object = top.substr(0, top.find('}'));
+  for (std::sregex_iterator it(placed_object.begin(), placed_object.end(), placed_on), end;
+       it != end; ++it) {
+    placed[static_cast<std::uint16_t>(std::stoi((*it)[1].str()))] = std::stoi((*it)[2].str());
+  }
+  EXPECT_EQ(placed.count(a.control_port()), 0u) << placed_object;
+  EXPECT_GT(placed[b.control_port()], 0) << placed_object;
+  EXPECT_GT(placed[c.control_port()], 0) << placed_object;
+  EXPECT_EQ(placed[b.control_port()] + placed[c.control_port()], 16) << placed_object;
+  EXPECT_GT(number_field(report, "placement_ms_p50").value_or(0), 0) << report;
+  EXPECT_GE(number_field(report, "placement_ms_max").value_or(0),
+            number_field(report, "placement_ms_p99").value_or(1))
+      << report;
+  // Every server scraped with the token: its CPU from /metrics; A answered the find_matches.
+  const auto servers = last_servers(report);
+  for (const ServerProcess* server : {&a, &b, &c}) {
+    const auto it = servers.find("127.0.0.1:" + std::to_string(server->control_port()));
+    ASSERT_NE(it, servers.end()) << report;
+    EXPECT_GT(number_field(it->second, "cpu_percent").value_or(0), 0) << it->second;
+  }
+  const std::string a_label = "\"server\":\"127.0.0.1:" + std::to_string(a.control_port()) + "\"";
+  const std::string a_object = report.substr(report.rfind(a_label));
+  std::smatch assigned;
+  std::regex_search(a_object, assigned,
+                    std::regex(R"re("placement_tickets":\{[^}]*"assigned":([0-9]+))re"));
+  ASSERT_FALSE(assigned.empty()) << a_object;
+  EXPECT_GE(std::stoi(assigned[1].str()), 16) << a_object;
+
+  std::cout
+      << "loadtest placement run: 16 bots through A: " << placed[b.control_port()] << " on B, "
+      << placed[c.control_port()] << " on C; placement_ms p50 "
+      << number_field(report, "placement_ms_p50").value_or(0) << " p99 "
+      << number_field(report, "placement_ms_p99").value_or(0) << " max "
+      << number_field(report, "placement_ms_max").value_or(0) << "; A's tickets assigned "
+      << assigned[1].str() << " (both generators); servers' CPU from /metrics A "
+      << number_field(servers.at(endpoint(a).substr(0, endpoint(a).rfind(':'))), "cpu_percent")
+             .value_or(-1)
+      << " % B "
+      << number_field(servers.at(endpoint(b).substr(0, endpoint(b).rfind(':'))), "cpu_percent")
+             .value_or(-1)
+      << " % C "
+      << number_field(servers.at(endpoint(c).substr(0, endpoint(c).rfind(':'))), "cpu_percent")
+             .value_or(-1)
+      << " %\n";
+
+  // Without the token: counted, named in the progress line, never fatal.
+  const std::string refused = read_text(out.path() / "nt" / "report.json");
+  EXPECT_GT(number_field(refused, "metrics_unauthorized").value_or(0), 0) << refused;
+  EXPECT_NE(read_text(out.path() / "nt.log").find("metrics_unauthorized"), std::string::npos);
+}
+
 TEST(LoadTest, ANoServerIsCountedNotACrash) {
   // Nothing listens on these ports (the kernel's choice, released again).
   const std::string control = std::to_string(free_tcp_port());
@@ -198,6 +317,30 @@ TEST(LoadTest, BadOptionsAreRefusedWithTheReason) {
       << read_text(log);
   EXPECT_EQ(run_loadtest("--sweep 100,50 --out " + out.path().string(), log), 2);
   EXPECT_NE(read_text(log).find("increasing"), std::string::npos) << read_text(log);
+  EXPECT_EQ(run_loadtest("--find-match TDM --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("find_match must be MODE or MODE:MAP"), std::string::npos)
+      << read_text(log);
+  EXPECT_EQ(run_loadtest("--soak --find-match tdm --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--soak keeps its bots on one server"), std::string::npos)
+      << read_text(log);
+  const fs::path empty_token = out.path() / "empty-token";
+  std::ofstream(empty_token) << "\n";
+  EXPECT_EQ(
+      run_loadtest("--admin-token-file " + empty_token.string() + " --out " + out.path().string(),
+                   log),
+      2);
+  EXPECT_NE(read_text(log).find("--admin-token-file: the admin token file " + empty_token.string() +
+                                " is empty"),
+            std::string::npos)
+      << read_text(log);
+  EXPECT_EQ(run_loadtest("--server 127.0.0.1:7777,127.0.0.1:7787 --admin-token-file A,B,C --out " +
+                             out.path().string(),
+                         log),
+            2);
+  EXPECT_NE(read_text(log).find("--admin-token-file: one for every server or one per server (2), "
+                                "got 3"),
+            std::string::npos)
+      << read_text(log);
   EXPECT_EQ(run_loadtest("--duration 1h --out " + out.path().string(), log), 2);
   EXPECT_NE(read_text(log).find("--duration"), std::string::npos) << read_text(log);
 }

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <variant>
 
+#include "ricochet/loadtest/admin_token.h"
 #include "ricochet/loadtest/load_run.h"
 #include "ricochet/loadtest/merge.h"
 #include "ricochet/loadtest/report.h"
@@ -164,6 +165,7 @@ int main(int argc, char** argv) {
   std::uint16_t admin_port = 9100;
   std::string fingerprints;
   std::string trust_file;
+  std::string token_files;
 
   CLI::App app{
       "ricochet-loadtest: bots against ricochet-servers, measured. `ricochet-loadtest merge "
@@ -183,6 +185,13 @@ int main(int argc, char** argv) {
   app.add_option("--trust-file", trust_file,
                  "trust on first use into this file (default: DIR/server.fp; with several "
                  "servers FILE-2, FILE-3, ... for the others)");
+  app.add_option("--find-match", config.find_match,
+                 "MODE or MODE:MAP: every bot asks the first --server for a seat (find_match) "
+                 "and plays where the assignment sends it; the other servers are scraped");
+  app.add_option("--admin-token-file", token_files,
+                 "the servers' admin bearer token (their --admin-token-file), sent on every "
+                 "/metrics scrape: one file for every server, or one per server separated by "
+                 "commas, in --server's order");
   app.add_option("--bots", config.bots, "bots (one step)")->capture_default_str();
   app.add_option("--sweep", sweep, "steps of increasing bot counts, e.g. 100,200,400");
   app.add_option("--match-size", config.match_size,
@@ -288,23 +297,35 @@ int main(int argc, char** argv) {
   auto parsed = parse_servers(servers, control_port, admin_port);
   if (const auto* problem = std::get_if<std::string>(&parsed)) return fail("--server: " + *problem);
   config.servers = std::get<std::vector<ServerEndpoint>>(std::move(parsed));
-  std::vector<std::string> pins;
-  for (std::size_t start = 0; !fingerprints.empty() && start <= fingerprints.size();) {
-    const std::size_t comma = std::min(fingerprints.find(',', start), fingerprints.size());
-    pins.push_back(fingerprints.substr(start, comma - start));
-    start = comma + 1;
-  }
+  const std::vector<std::string> pins = split_list(fingerprints);
   if (pins.size() > 1 && pins.size() != config.servers.size()) {
     return fail("--fingerprint: one for every server or one per server (" +
                 std::to_string(config.servers.size()) + "), got " + std::to_string(pins.size()));
+  }
+  const std::vector<std::string> token_paths = split_list(token_files);
+  if (token_paths.size() > 1 && token_paths.size() != config.servers.size()) {
+    return fail("--admin-token-file: one for every server or one per server (" +
+                std::to_string(config.servers.size()) + "), got " +
+                std::to_string(token_paths.size()));
   }
   if (trust_file.empty()) trust_file = (std::filesystem::path(config.out) / "server.fp").string();
   for (std::size_t i = 0; i < config.servers.size(); ++i) {
     ServerEndpoint& server = config.servers[i];
     if (!pins.empty()) server.fingerprint = pins[pins.size() == 1 ? 0 : i];
+    if (!token_paths.empty()) {
+      const std::string& path = token_paths[token_paths.size() == 1 ? 0 : i];
+      if (std::string problem = read_admin_token(path, server.admin_token); !problem.empty()) {
+        return fail("--admin-token-file: " + problem);
+      }
+    }
     if (server.fingerprint.empty()) {
       server.trust_file = i == 0 ? trust_file : trust_file + "-" + std::to_string(i + 1);
     }
+  }
+  if (soak_mode && !config.find_match.empty()) {
+    return fail(
+        "--soak keeps its bots on one server's listed matches; --find-match is for load "
+        "tests of placement (drop --soak or --find-match)");
   }
   if (soak_mode && per_address->count() == 0) config.bots_per_address = 2;
   if (const std::string problem = config.validate(); !problem.empty()) return fail(problem);

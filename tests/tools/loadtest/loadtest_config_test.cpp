@@ -35,6 +35,19 @@ TEST(LoadTestConfig, RefusesWhatIsOutOfRangeNamingIt) {
   EXPECT_NE(config.validate().find("name must be"), std::string::npos);
 }
 
+TEST(LoadTestConfig, FindMatchIsModeOrModeAndMapAsTheBotTakesIt) {
+  LoadTestConfig config;
+  config.find_match = "tdm";
+  EXPECT_EQ(config.validate(), "");
+  config.find_match = "ffa:arena";
+  EXPECT_EQ(config.validate(), "");
+  config.find_match = "TDM";
+  EXPECT_NE(config.validate().find("find_match must be MODE or MODE:MAP"), std::string::npos)
+      << config.validate();
+  config.find_match = "tdm:";
+  EXPECT_NE(config.validate().find("find_match's MAP"), std::string::npos) << config.validate();
+}
+
 TEST(LoadTestConfig, ServerListsTakeDefaultPortsAndNameWhatIsWrong) {
   const auto parsed = parse_servers("127.0.0.1,10.1.2.3:7000,127.0.0.2:7001:9001", 7777, 9100);
   ASSERT_TRUE(std::holds_alternative<std::vector<ServerEndpoint>>(parsed));
@@ -118,6 +131,12 @@ TEST(ErrorKinds, NameTheServersCodeOrWhatFailed) {
   EXPECT_EQ(error_kind("TLS handshake failed (a server at its connection cap closes before TLS)"),
             "tls_failed");
   EXPECT_EQ(error_kind("something else"), "other");
+  // Placement's refusals, as the bot reports them (Bot::on_failure).
+  EXPECT_EQ(error_kind("find_match tdm refused: UNKNOWN_MODE_OR_MAP: no server hosts tdm"),
+            "unknown_mode_or_map");
+  EXPECT_EQ(error_kind("find_match: SERVER_BUSY: the database is away"), "server_busy");
+  EXPECT_EQ(error_kind("join_match with the ticket: NOT_SIGNED_IN: x"), "not_signed_in");
+  EXPECT_EQ(error_kind("unusable assignment: game_port must be 1..65535, got 0"), "bad_assignment");
 }
 
 }  // namespace

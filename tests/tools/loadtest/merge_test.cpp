@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <string>
 #include <variant>
 
 namespace ricochet::loadtest::merge_test {
@@ -103,6 +105,28 @@ TEST(Merge, SumsBotsBandwidthAndErrorsAndTakesEachServerOnce) {
   EXPECT_DOUBLE_EQ(m.overruns, 2);
   EXPECT_DOUBLE_EQ(m.server_phase_percent.at("total"), 30);
   EXPECT_EQ(m.connect_ms_samples.size(), 4u);
+}
+
+TEST(Merge, PlacedBotsAreSummedPerServerAndPlacementTimesPooled) {
+  ServerWindow b_server = server("b:1", 30, 12);
+  b_server.placement_tickets = {{"assigned", 14}, {"no_server_available", 1}};
+  StepSummary one = step(8, {1}, {server("a:1", 10, 0), b_server});
+  one.bots_placed = {{"b:1", 5}, {"c:1", 3}};
+  one.placement_ms_samples = {10, 20, 30};
+  StepSummary two = step(4, {1}, {server("a:1", 11, 0), server("b:1", 31, 12)});
+  two.bots_placed = {{"c:1", 4}};
+  two.placement_ms_samples = {500};
+  auto merged = merge_reports({read_ok(report_text({one}), "a"), read_ok(report_text({two}), "b")});
+  ASSERT_TRUE(std::holds_alternative<MergedReport>(merged)) << std::get<std::string>(merged);
+  const StepSummary& m = std::get<MergedReport>(merged).steps.at(0);
+  EXPECT_EQ(m.bots_placed, (std::map<std::string, int>{{"b:1", 5}, {"c:1", 7}}));
+  EXPECT_EQ(m.placement_ms_samples.size(), 4u);
+  EXPECT_EQ(m.placement_ms_p50, 20.0);
+  EXPECT_EQ(m.placement_ms_max, 500.0);
+  // Each server's tickets once, from the first generator that scraped it.
+  ASSERT_EQ(m.servers.size(), 2u);
+  EXPECT_EQ(m.servers[1].placement_tickets,
+            (std::map<std::string, double>{{"assigned", 14}, {"no_server_available", 1}}));
 }
 
 TEST(Merge, LatencyPercentilesAreOfTheUnionNotAMeanOfPercentiles) {

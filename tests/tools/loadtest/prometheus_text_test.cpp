@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "ricochet/loadtest/server_figures.h"
 
@@ -101,6 +103,17 @@ TEST(ServerFigures, ReadsTheProcessFiguresASoakFollows) {
   EXPECT_EQ(figures.open_fds, 57);
   EXPECT_EQ(figures.resident_bytes, 9.4e7);
   EXPECT_EQ(figures.db_bytes, 131072);
+}
+
+TEST(ServerFigures, ReadsThePlacementTicketsByResult) {
+  const ServerFigures figures = read_server_figures(
+      parse_ok("ricochet_placement_tickets_total{result=\"assigned\"} 14\n"
+               "ricochet_placement_tickets_total{result=\"no_server_available\"} 2\n"
+               "ricochet_placement_tickets_total{result=\"failed\"} -3\n"
+               "ricochet_placement_tickets_total 5\n"));
+  EXPECT_EQ(figures.placement_tickets,
+            (std::map<std::string, double>{{"assigned", 14}, {"no_server_available", 2}}));
+  EXPECT_EQ(figures.bad_values, 1);  // the negative count, left out
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <variant>
 
 #include "ricochet/loadtest/prometheus_text.h"
@@ -46,6 +47,33 @@ TEST(ServerTracker, CpuAndRssComeFromTheServersOwnMetrics) {
   EXPECT_DOUBLE_EQ(window.rss_mb, 60.0);
   EXPECT_EQ(window.cpu_percent_proc, -1);
   EXPECT_TRUE(counted.kinds.empty());
+}
+
+ServerFigures with_tickets(double assigned, double refused) {
+  return figures_of("ricochet_placement_tickets_total{result=\"assigned\"} " +
+                    std::to_string(assigned) +
+                    "\nricochet_placement_tickets_total{result=\"no_server_available\"} " +
+                    std::to_string(refused) + "\n");
+}
+
+TEST(ServerTracker, PlacementTicketsAreCountedOverTheStepFromItsBaseline) {
+  Counted counted;
+  ServerTracker tracker("a:1", ServerProc::Off, true, 0, counted.count());
+  tracker.observe(0.0, with_tickets(100, 7), std::nullopt);  // before the step: the baseline
+  tracker.observe(1.0, std::nullopt, std::nullopt);          // a failed scrape is skipped
+  tracker.observe(2.0, with_tickets(112, 7), std::nullopt);
+  tracker.observe(3.0, with_tickets(116, 9), std::nullopt);
+  tracker.observe(4.0, with_tickets(130, 9), std::nullopt);  // after the step
+  EXPECT_EQ(tracker.placement_tickets(0.5, 3.5),
+            (std::map<std::string, double>{{"assigned", 16}, {"no_server_available", 2}}));
+  // A step that began before the first scrape counts from the first.
+  EXPECT_EQ(tracker.placement_tickets(-1.0, 2.0),
+            (std::map<std::string, double>{{"assigned", 12}, {"no_server_available", 0}}));
+  // A restart (a counter that went back) leaves that result out.
+  tracker.observe(5.0, with_tickets(3, 10), std::nullopt);
+  EXPECT_EQ(tracker.placement_tickets(3.5, 5.0),
+            (std::map<std::string, double>{{"no_server_available", 1}}));
+  EXPECT_TRUE(tracker.placement_tickets(-2.0, -1.0).empty());  // no scrape yet
 }
 
 TEST(ServerTracker, MissingBadAndResetCountersAreCountedAndLeftOut) {

@@ -66,7 +66,7 @@ LoadRun::LoadRun(asio::io_context& io, LoadTestConfig config)
                            config_.servers.size() == 1 ? config_.server_pid : 0, count_kind);
     scrapers_.push_back(std::make_unique<MetricsScraper>(
         io, asio::ip::tcp::endpoint(asio::ip::make_address(server.host), server.admin_port),
-        config_.scrape_interval_s, count_kind));
+        server.admin_token, config_.scrape_interval_s, count_kind));
   }
 }
 
@@ -78,12 +78,15 @@ double LoadRun::now_s() const {
 
 void LoadRun::start() {
   started_at_ = std::chrono::steady_clock::now();
+  // The first scrape of every server is due now, and the first step begins once each has
+  // answered (or failed): the baseline of the counters a step counts from its start
+  // (placement tickets), taken before any bot could move them.
+  const auto first_due = started_at_ - micros(config_.scrape_interval_s);
   for (std::size_t i = 0; i < scrapers_.size(); ++i) {
-    scrapers_[i]->start(started_at_, nullptr, [this, i](MetricsScraper::Scrape scrape) {
+    scrapers_[i]->start(first_due, nullptr, [this, i](MetricsScraper::Scrape scrape) {
       on_scrape(i, std::move(scrape));
     });
   }
-  begin_step();
 }
 
 void LoadRun::begin_step() {
@@ -92,7 +95,9 @@ void LoadRun::begin_step() {
   Step step;
   step.target = target;
   step.started_t_s = now_s();
-  const std::vector<FleetPlan> plans = plan_fleets(bots_started_, added, config_.servers.size());
+  // Placed bots all ask the first server, which sends each where it has a seat.
+  const std::vector<FleetPlan> plans =
+      plan_fleets(bots_started_, added, config_.find_match.empty() ? config_.servers.size() : 1);
   // The fleets start together, each at the ramp rate over the servers' count, so the step's
   // bots start at the ramp rate in all.
   const auto spacing = std::chrono::milliseconds(static_cast<std::int64_t>(
@@ -112,6 +117,7 @@ void LoadRun::begin_step() {
     fleet.bot.password = config_.password;
     fleet.bot.skill = config_.skill;
     fleet.bot.seed = static_cast<std::uint64_t>(plan.bots.front()) + 1;
+    fleet.bot.find_match = config_.find_match;
     fleet.bot.predict = !config_.cheap;
     fleet.bot.max_reconnect_attempts = 20;
     fleet.bot.tick_phases = kTickPhases;
@@ -218,6 +224,10 @@ void LoadRun::on_scrape(std::size_t server, MetricsScraper::Scrape scrape) {
   // The first server's scrapes are the run's clock: a sample of the bots and of every server's
   // latest scrape.
   if (server == 0) take_sample(scrape.elapsed_ms);
+  const bool baseline_taken =
+      std::all_of(trackers_.begin(), trackers_.end(),
+                  [](const ServerTracker& t) { return !t.points().empty(); });
+  if (steps_.empty() && phase_ != RunPhase::Finished && baseline_taken) begin_step();
 }
 
 void LoadRun::take_sample(double scrape_ms) {
@@ -387,6 +397,18 @@ StepSummary LoadRun::summarise(const Step& step) const {
   out.connect_ms_p50 = stats::percentile(connect, 50);
   out.connect_ms_p99 = stats::percentile(connect, 99);
   out.connect_ms_max = stats::percentile(connect, 100);
+  // Placement: where each of the step's bots was placed last, and how long its placements took.
+  for (const auto& fleet : step.fleets) {
+    for (const auto& each : fleet->bots()) {
+      const auto& placements = each->record().placements;
+      if (!placements.empty()) ++out.bots_placed[placements.back().server];
+      const std::vector<double> ms = each->metrics().placement_ms;
+      out.placement_ms_samples.insert(out.placement_ms_samples.end(), ms.begin(), ms.end());
+    }
+  }
+  out.placement_ms_p50 = stats::percentile(out.placement_ms_samples, 50);
+  out.placement_ms_p99 = stats::percentile(out.placement_ms_samples, 99);
+  out.placement_ms_max = stats::percentile(out.placement_ms_samples, 100);
   out.rtt_ms_p50 = stats::percentile(step.rtt_ms, 50);
   out.rtt_ms_p99 = stats::percentile(step.rtt_ms, 99);
   const std::size_t first = step.first_window_sample;
@@ -427,6 +449,7 @@ StepSummary LoadRun::summarise(const Step& step) const {
   out.kbps_out_total = safe_ratio((to.bytes_out - from.bytes_out) * 8 / 1000, wall);
   for (const ServerTracker& tracker : trackers_) {
     out.servers.push_back(tracker.window(step.window_t_s, to.t_s));
+    out.servers.back().placement_tickets = tracker.placement_tickets(step.started_t_s, to.t_s);
   }
   out.total_servers();
   return out;

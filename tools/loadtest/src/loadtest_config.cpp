@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "ricochet/bot/assignment.h"
 #include "ricochet/bot/bot_config.h"
 
 namespace ricochet::loadtest {
@@ -99,6 +100,16 @@ std::variant<std::vector<ServerEndpoint>, std::string> parse_servers(
   return out;
 }
 
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  for (std::size_t start = 0; !text.empty() && start <= text.size();) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    out.push_back(text.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
+
 bool is_loopback_v4(const std::string& address) {
   boost::system::error_code error;
   const auto parsed = boost::asio::ip::make_address_v4(address, error);
@@ -165,6 +176,10 @@ std::string LoadTestConfig::validate() const {
     }
     if (server.control_port == 0) return "control_port must be 1..65535, got 0";
     if (server.admin_port == 0) return "admin_port must be 1..65535, got 0";
+  }
+  if (!find_match.empty()) {
+    const auto wanted = bot::parse_match_wanted(find_match);
+    if (const auto* problem = std::get_if<std::string>(&wanted)) return *problem;
   }
   for (const int count : steps()) {
     if (count < 1 || count > 10000) return "bots must be 1..10000, got " + std::to_string(count);

@@ -46,6 +46,10 @@ StepSummary merge_step(const std::vector<GeneratorReport>& generators, std::size
                               step.rtt_ms_samples.end());
     out.connect_ms_samples.insert(out.connect_ms_samples.end(), step.connect_ms_samples.begin(),
                                   step.connect_ms_samples.end());
+    out.placement_ms_samples.insert(out.placement_ms_samples.end(),
+                                    step.placement_ms_samples.begin(),
+                                    step.placement_ms_samples.end());
+    for (const auto& [server, bots] : step.bots_placed) out.bots_placed[server] += bots;
     for (const auto& [kind, n] : step.errors) out.errors[kind] += n;
     // Each server once: from the first generator that scraped it in this step.
     for (const ServerWindow& server : step.servers) {
@@ -68,6 +72,9 @@ StepSummary merge_step(const std::vector<GeneratorReport>& generators, std::size
   out.connect_ms_p50 = stats::percentile(out.connect_ms_samples, 50);
   out.connect_ms_p99 = stats::percentile(out.connect_ms_samples, 99);
   out.connect_ms_max = stats::percentile(out.connect_ms_samples, 100);
+  out.placement_ms_p50 = stats::percentile(out.placement_ms_samples, 50);
+  out.placement_ms_p99 = stats::percentile(out.placement_ms_samples, 99);
+  out.placement_ms_max = stats::percentile(out.placement_ms_samples, 100);
   double p99_mean_sum = 0;
   int scraped = 0;
   for (const ServerWindow& server : out.servers) {

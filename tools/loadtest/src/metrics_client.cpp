@@ -3,6 +3,7 @@
 #include <boost/asio/read.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
+#include <charconv>
 #include <chrono>
 #include <memory>
 
@@ -22,7 +23,11 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
         done_(std::move(done)),
         started_(std::chrono::steady_clock::now()) {}
 
-  void start(const asio::ip::tcp::endpoint& admin, double timeout_s) {
+  void start(const asio::ip::tcp::endpoint& admin, const std::string& bearer_token,
+             double timeout_s) {
+    request_ = "GET /metrics HTTP/1.0\r\nHost: 127.0.0.1\r\n";
+    if (!bearer_token.empty()) request_ += "Authorization: Bearer " + bearer_token + "\r\n";
+    request_ += "Connection: close\r\n\r\n";
     timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(timeout_s * 1e6)));
     timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
       if (!error) self->finish("timed out");
@@ -35,7 +40,7 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
 
  private:
   void send() {
-    asio::async_write(socket_, asio::buffer(kRequest),
+    asio::async_write(socket_, asio::buffer(request_),
                       [self = shared_from_this()](const boost::system::error_code& e, std::size_t) {
                         if (e) return self->finish("cannot send the request: " + e.message());
                         self->read();
@@ -62,15 +67,19 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
       return finish("the response is not HTTP");
     }
     const std::string status = text_.substr(9, 3);
-    if (status != "200") return finish("HTTP " + status + " from /metrics");
+    int code = 0;
+    std::from_chars(status.data(), status.data() + status.size(), code);
+    if (status != "200") return finish("HTTP " + status + " from /metrics", code);
     MetricsResponse response;
+    response.status = code;
     response.body = text_.substr(header_end + 4);
     deliver(std::move(response));
   }
 
-  void finish(std::string error) {
+  void finish(std::string error, int status = 0) {
     MetricsResponse response;
     response.error = std::move(error);
+    response.status = status;
     deliver(std::move(response));
   }
 
@@ -87,8 +96,7 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
     done(std::move(response));
   }
 
-  static constexpr std::string_view kRequest =
-      "GET /metrics HTTP/1.0\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  std::string request_;
   asio::ip::tcp::socket socket_;
   asio::steady_timer timer_;
   std::function<void(MetricsResponse)> done_;
@@ -99,9 +107,10 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
 
 }  // namespace
 
-void fetch_metrics(asio::io_context& io, const asio::ip::tcp::endpoint& admin, double timeout_s,
+void fetch_metrics(asio::io_context& io, const asio::ip::tcp::endpoint& admin,
+                   const std::string& bearer_token, double timeout_s,
                    std::function<void(MetricsResponse)> done) {
-  std::make_shared<MetricsFetch>(io, std::move(done))->start(admin, timeout_s);
+  std::make_shared<MetricsFetch>(io, std::move(done))->start(admin, bearer_token, timeout_s);
 }
 
 }  // namespace ricochet::loadtest

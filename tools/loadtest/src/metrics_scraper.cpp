@@ -17,9 +17,10 @@ constexpr double kScrapeTimeoutS = 5;
 }  // namespace
 
 MetricsScraper::MetricsScraper(boost::asio::io_context& io, boost::asio::ip::tcp::endpoint admin,
-                               double interval_s, Count count)
+                               std::string bearer_token, double interval_s, Count count)
     : io_(io),
       admin_(std::move(admin)),
+      bearer_token_(std::move(bearer_token)),
       interval_s_(interval_s),
       count_(std::move(count)),
       timer_(io),
@@ -51,23 +52,33 @@ void MetricsScraper::schedule() {
     if (stopped_) return;                                  // on_due may have ended the run
     if (in_flight_) return count_("metrics_scrape_late");  // the previous one is still out
     in_flight_ = true;
-    fetch_metrics(io_, admin_, kScrapeTimeoutS,
+    fetch_metrics(io_, admin_, bearer_token_, kScrapeTimeoutS,
                   [this, alive = std::weak_ptr<bool>(alive_)](MetricsResponse response) {
                     if (alive.expired()) return;
                     in_flight_ = false;
-                    on_response(response.elapsed_ms, response.body, response.error);
+                    on_response(response);
                   });
   });
 }
 
-void MetricsScraper::on_response(double elapsed_ms, const std::string& body,
-                                 const std::string& error) {
+void MetricsScraper::on_response(const MetricsResponse& response) {
   Scrape scrape;
-  scrape.elapsed_ms = elapsed_ms;
-  if (!error.empty()) {
+  scrape.elapsed_ms = response.elapsed_ms;
+  if (response.status == 401) {
+    count_("metrics_unauthorized");
+    if (!unauthorized_logged_) {
+      unauthorized_logged_ = true;
+      std::fprintf(stderr,
+                   "ricochet-loadtest: %s:%u refused /metrics (HTTP 401): %s; give the server's "
+                   "admin token with --admin-token-file (counted metrics_unauthorized; the run "
+                   "goes on without this server's figures)\n",
+                   admin_.address().to_string().c_str(), static_cast<unsigned>(admin_.port()),
+                   bearer_token_.empty() ? "no token was sent" : "the token sent is not its token");
+    }
+  } else if (!response.error.empty()) {
     count_("metrics_unavailable");
   } else {
-    auto parsed = parse_prometheus_text(body);
+    auto parsed = parse_prometheus_text(response.body);
     if (const auto* problem = std::get_if<std::string>(&parsed)) {
       count_("metrics_malformed");
       std::fprintf(stderr, "ricochet-loadtest: /metrics refused: %s\n", problem->c_str());

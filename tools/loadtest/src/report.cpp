@@ -30,6 +30,7 @@ std::string report_json(const LoadRun& run, const LoadTestConfig& config,
                     ",\"shared_game_port\":" + (config.shared_game_port ? "true" : "false") +
                     ",\"ramp_per_s\":" + std::to_string(config.ramp_per_s) +
                     ",\"bots_per_address\":" + std::to_string(config.bots_per_address) +
+                    ",\"find_match\":" + json_string(config.find_match) +
                     ",\"capacity_bots\":" + std::to_string(capacity_bots(steps)) +
                     ",\"samples\":" + std::to_string(run.samples().size()) + ",\"steps\":[";
   for (std::size_t i = 0; i < steps.size(); ++i) {

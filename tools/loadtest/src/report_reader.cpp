@@ -116,6 +116,8 @@ class Fields {
 
   const std::string& path() const { return path_; }
   bool ok() const { return error_.empty(); }
+  /// Whether `key` is present (a field a report from before it was added lacks).
+  bool has(std::string_view key) const { return object_.if_contains(key) != nullptr; }
 
  private:
   static std::string text(double value) {
@@ -154,6 +156,7 @@ ServerWindow read_server(const json::object& object, const std::string& path, st
   out.packets_in_per_s = f.number("packets_in_per_s");
   out.packets_out_per_s = f.number("packets_out_per_s");
   f.numbers("phase_percent", out.phase_percent);
+  if (f.has("placement_tickets")) f.numbers("placement_tickets", out.placement_tickets);
   return out;
 }
 
@@ -183,6 +186,9 @@ StepSummary read_step(const json::object& object, const std::string& path, std::
   out.snapshots_lost = f.number("snapshots_lost");
   out.rtt_ms_samples = f.samples("rtt_ms_samples");
   out.connect_ms_samples = f.samples("connect_ms_samples");
+  // Placement (--find-match): absent from reports of before it.
+  if (f.has("placement_ms_samples")) out.placement_ms_samples = f.samples("placement_ms_samples");
+  if (f.has("bots_placed")) f.numbers("bots_placed", out.bots_placed);
   f.numbers("errors", out.errors);
   if (const json::array* servers = f.array("servers")) {
     for (std::size_t i = 0; i < servers->size() && f.ok(); ++i) {

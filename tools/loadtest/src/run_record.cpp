@@ -115,11 +115,21 @@ std::string StepSummary::to_json(bool samples) const {
   field(out, "connect_ms_p50", connect_ms_p50);
   field(out, "connect_ms_p99", connect_ms_p99);
   field(out, "connect_ms_max", connect_ms_max);
+  field(out, "placement_ms_p50", placement_ms_p50);
+  field(out, "placement_ms_p99", placement_ms_p99);
+  field(out, "placement_ms_max", placement_ms_max);
+  out += "\"bots_placed\":{";
+  for (auto it = bots_placed.begin(); it != bots_placed.end(); ++it) {
+    if (it != bots_placed.begin()) out += ',';
+    out += tools::json_string(it->first) + ':' + std::to_string(it->second);
+  }
+  out += "},";
   field(out, "snapshots_received", snapshots_received);
   field(out, "snapshots_lost", snapshots_lost);
   if (samples) {
     for (const auto& [key, values] : {std::pair{"rtt_ms_samples", &rtt_ms_samples},
-                                      std::pair{"connect_ms_samples", &connect_ms_samples}}) {
+                                      std::pair{"connect_ms_samples", &connect_ms_samples},
+                                      std::pair{"placement_ms_samples", &placement_ms_samples}}) {
       out += '"';
       out += key;
       out += "\":[";

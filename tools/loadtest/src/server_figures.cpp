@@ -94,6 +94,11 @@ ServerFigures read_server_figures(const std::vector<MetricSample>& samples) {
       if (const auto id = match_id(sample)) out.by_match[*id].overruns = sample.value;
     } else if (name == "ricochet_match_players" && sample.label("state") == "connected") {
       if (const auto id = match_id(sample)) out.by_match[*id].connected = as_int(sample.value);
+    } else if (name == "ricochet_placement_tickets_total") {
+      const std::string_view result = sample.label("result");
+      double count = -1;
+      set_amount(count, sample.value, out.bad_values);
+      if (!result.empty() && count >= 0) out.placement_tickets[std::string(result)] = count;
     } else if (name == "ricochet_tick_phase_seconds_sum") {
       const std::string_view phase = sample.label("phase");
       if (!phase.empty()) out.phase_seconds[std::string(phase)] += sample.value;

@@ -81,6 +81,7 @@ const ServerPoint& ServerTracker::observe(double t_s, const std::optional<Server
     point.packets_in = figures->packets_in;
     point.packets_out = figures->packets_out;
     point.phase_seconds = figures->phase_seconds;
+    point.placement_tickets = figures->placement_tickets;
     point.cpu_s = figures->cpu_seconds;
     if (figures->resident_bytes >= 0) point.rss_mb = figures->resident_bytes / 1e6;
     for (int i = 0; i < figures->bad_values; ++i) count_("metrics_bad_value");
@@ -169,6 +170,25 @@ ServerWindow ServerTracker::window(double from_t_s, double to_t_s) const {
   return out;
 }
 
+std::map<std::string, double> ServerTracker::placement_tickets(double from_t_s,
+                                                               double to_t_s) const {
+  const ServerPoint* from = nullptr;
+  const ServerPoint* to = nullptr;
+  for (const ServerPoint& point : points_) {
+    if (!point.ok || point.t_s > to_t_s) continue;
+    if (!from || point.t_s <= from_t_s) from = &point;
+    to = &point;
+  }
+  std::map<std::string, double> out;
+  if (!from || !to) return out;
+  for (const auto& [result, count] : to->placement_tickets) {
+    const auto before = from->placement_tickets.find(result);
+    const double start = before == from->placement_tickets.end() ? 0.0 : before->second;
+    if (count >= start) out[result] = count - start;
+  }
+  return out;
+}
+
 std::string ServerWindow::to_json() const {
   std::string out = "{\"server\":" + tools::json_string(label);
   out += std::string(",\"scraped\":") + (scraped ? "true" : "false");
@@ -188,7 +208,12 @@ std::string ServerWindow::to_json() const {
   number(out, "packets_in_per_s", packets_in_per_s);
   number(out, "packets_out_per_s", packets_out_per_s);
   out += ",\"phase_percent\":" + percent_object_json(phase_percent);
-  return out + "}";
+  out += ",\"placement_tickets\":{";
+  for (auto it = placement_tickets.begin(); it != placement_tickets.end(); ++it) {
+    if (it != placement_tickets.begin()) out += ',';
+    out += tools::json_string(it->first) + ':' + std::to_string(std::llround(it->second));
+  }
+  return out + "}}";
 }
 
 }  // namespace ricochet::loadtest

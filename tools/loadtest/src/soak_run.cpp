@@ -58,7 +58,7 @@ SoakRun::SoakRun(asio::io_context& io, LoadTestConfig run, SoakConfig soak)
       slots_(static_cast<std::size_t>(config_.bots)),
       end_timer_(io),
       starter_(io),
-      scraper_(io, admin_, config_.scrape_interval_s,
+      scraper_(io, admin_, config_.servers.front().admin_token, config_.scrape_interval_s,
                [this](const std::string& kind) { count(kind); }),
       server_pid_(config_.server_pid) {}
 

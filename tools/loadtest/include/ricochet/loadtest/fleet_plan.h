@@ -1,8 +1,8 @@
 #pragma once
 /// Which server each bot of a step goes to: round robin over the servers listed, bot k (0-based,
 /// over the whole run) to server k % servers, so every server gets its share of each step and
-/// of the ramp. A load test whose bots are placed by the servers (FindMatch) would plan every bot
-/// to the first server, which then places it; the scrapes stay on every server.
+/// of the ramp. A load test whose bots are placed by the servers (--find-match) plans every bot
+/// to the first server (servers = 1), which then places it; the scrapes stay on every server.
 
 #include <cstddef>
 #include <vector>

@@ -30,6 +30,9 @@ struct ServerEndpoint {
   std::uint16_t admin_port = 9100;    ///< admin HTTP (/metrics), on the same address
   std::string fingerprint;            ///< pinned certificate fingerprint; empty: trust_file
   std::string trust_file;             ///< trust on first use (main: DIR/server.fp, -2.fp, ...)
+  /// Sent as `Authorization: Bearer <admin_token>` on every /metrics scrape (the server's
+  /// admin.token_file); empty: no header.
+  std::string admin_token;
 
   /// "host:control_port", the server's name in reports.
   std::string label() const;
@@ -38,9 +41,13 @@ struct ServerEndpoint {
 inline constexpr std::size_t kMaxServers = 64;
 
 struct LoadTestConfig {
-  /// 1..kMaxServers servers; the bots go round robin over them (bot k to server k % size), and
-  /// every one is scraped.
+  /// 1..kMaxServers servers; the bots go round robin over them (bot k to server k % size), or
+  /// all to the first with find_match, and every one is scraped.
   std::vector<ServerEndpoint> servers{ServerEndpoint{}};
+  /// "MODE" or "MODE:MAP" (bot::parse_match_wanted): every bot goes to the first server, asks it
+  /// for a seat (find_match) and plays where the assignment sends it; empty: round robin, each
+  /// bot joining a listed match on its server.
+  std::string find_match;
   int bots = 16;             ///< 1..10000 (the largest step with --sweep), over all servers
   std::vector<int> sweep;    ///< increasing bot counts; empty: one run of `bots`
   int match_size = 16;       ///< 1..64 players per match the server is expected to host
@@ -78,6 +85,9 @@ std::optional<std::vector<int>> parse_bot_counts(const std::string& text);
 /// the default given), or why not ("server 2 (\"x:1\"): ...").
 std::variant<std::vector<ServerEndpoint>, std::string> parse_servers(
     const std::string& text, std::uint16_t default_control_port, std::uint16_t default_admin_port);
+/// "a,b,,c" → {"a", "b", "", "c"}; "" → {} (the per-server lists of --fingerprint and
+/// --admin-token-file).
+std::vector<std::string> split_list(const std::string& text);
 /// True for a numeric IPv4 address in 127.0.0.0/8.
 bool is_loopback_v4(const std::string& address);
 /// `count` loopback source addresses 127.0.1.1, 127.0.1.2, ... (254 per third octet).

@@ -3,7 +3,8 @@
 /// (one per machine, each with its own --name) against the same servers, merged into one.
 ///
 /// Step i of every generator makes merged step i. Bots, their connections, snapshot counts,
-/// bandwidth and errors are summed; latency percentiles (RTT, connect time) are the nearest rank
+/// bandwidth, errors and bots placed per server are summed; latency percentiles (RTT, connect
+/// time, placement time) are the nearest rank
 /// of the union of every generator's samples (report.json keeps them per step), never a mean of
 /// percentiles; each server's figures are taken once, from the first generator (in the order
 /// given) that scraped it in that step, and the step's server figures are totalled from those

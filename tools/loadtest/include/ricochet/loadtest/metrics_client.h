@@ -12,12 +12,15 @@ namespace ricochet::loadtest {
 struct MetricsResponse {
   std::string body;   ///< the exposition text, when error is empty
   std::string error;  ///< why there is no body ("connection refused", "HTTP 503", "timed out")
+  int status = 0;     ///< the HTTP status; 0: no HTTP response
   double elapsed_ms = 0;
 };
 
 /// Calls `done` once, on `io`, with the body of GET /metrics or the reason there is none.
-/// `timeout_s` > 0; the body is refused beyond kMaxMetricsBytes.
+/// `timeout_s` > 0; the body is refused beyond kMaxMetricsBytes. A `bearer_token` (printable
+/// ASCII: admin_token.h) goes in an `Authorization: Bearer` header; empty: none.
 void fetch_metrics(boost::asio::io_context& io, const boost::asio::ip::tcp::endpoint& admin,
-                   double timeout_s, std::function<void(MetricsResponse)> done);
+                   const std::string& bearer_token, double timeout_s,
+                   std::function<void(MetricsResponse)> done);
 
 }  // namespace ricochet::loadtest

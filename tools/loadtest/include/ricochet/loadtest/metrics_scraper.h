@@ -3,7 +3,8 @@
 /// schedule (the n-th at start + n × interval, so a slow scrape never shifts the later ones), at
 /// most one request out at a time (a scrape due while the previous one is out is skipped and
 /// counted `metrics_scrape_late`), each answer parsed into ServerFigures (no answer is counted
-/// `metrics_unavailable`, a malformed one `metrics_malformed` and logged).
+/// `metrics_unavailable`, a 401 for want of the admin token `metrics_unauthorized` and logged
+/// once, a malformed one `metrics_malformed` and logged).
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -15,6 +16,7 @@
 #include <optional>
 #include <string>
 
+#include "ricochet/loadtest/metrics_client.h"
 #include "ricochet/loadtest/server_figures.h"
 
 namespace ricochet::loadtest {
@@ -29,8 +31,9 @@ class MetricsScraper {
   /// Counts a failure by kind into the run's error table.
   using Count = std::function<void(const std::string& kind)>;
 
+  /// `bearer_token`: sent on every request (the server's admin token); empty: none.
   MetricsScraper(boost::asio::io_context& io, boost::asio::ip::tcp::endpoint admin,
-                 double interval_s, Count count);
+                 std::string bearer_token, double interval_s, Count count);
   MetricsScraper(const MetricsScraper&) = delete;
   MetricsScraper& operator=(const MetricsScraper&) = delete;
 
@@ -44,10 +47,11 @@ class MetricsScraper {
 
  private:
   void schedule();
-  void on_response(double elapsed_ms, const std::string& body, const std::string& error);
+  void on_response(const MetricsResponse& response);
 
   boost::asio::io_context& io_;
   boost::asio::ip::tcp::endpoint admin_;
+  std::string bearer_token_;
   double interval_s_;
   Count count_;
   std::function<void()> on_due_;
@@ -57,6 +61,7 @@ class MetricsScraper {
   std::uint64_t due_ = 0;  ///< scrapes scheduled so far
   bool in_flight_ = false;
   bool stopped_ = false;
+  bool unauthorized_logged_ = false;
   std::shared_ptr<bool> alive_;  ///< a request's callback holds a weak_ptr
 };
 

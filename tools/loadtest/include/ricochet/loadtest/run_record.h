@@ -99,6 +99,16 @@ struct StepSummary {
   /// times, ms.
   std::vector<double> rtt_ms_samples;
   std::vector<double> connect_ms_samples;
+  /// Placement (find_match): the step's bots by the server of their latest placement
+  /// ("host:control_port" from the assignment; bots never placed are left out).
+  std::map<std::string, int> bots_placed;
+  /// The step's bots' placements, find_match to the first snapshot, ms (every placement of every
+  /// bot, retries and moves included: BotMetrics::placement_ms), and their nearest-rank
+  /// percentiles as connect_ms's.
+  std::vector<double> placement_ms_samples;
+  double placement_ms_p50 = 0;
+  double placement_ms_p99 = 0;
+  double placement_ms_max = 0;
   ErrorCounts errors;  ///< since the run started, by kind
   /// Server tick time per phase over the window, all matches of every server, in % of one core
   /// ("total": the whole ticks; the rest of server_cpu_percent is the network, the transport and
@@ -113,7 +123,8 @@ struct StepSummary {
   bool meets_capacity() const;
   /// Whether the load generator's own core was the limit (capacity.h).
   bool generator_saturated() const;
-  /// One JSON object (no newline); with `samples`, rtt_ms_samples and connect_ms_samples too.
+  /// One JSON object (no newline); with `samples`, rtt_ms_samples, connect_ms_samples and
+  /// placement_ms_samples too.
   std::string to_json(bool samples = false) const;
 };
 

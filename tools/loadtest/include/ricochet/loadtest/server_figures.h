@@ -49,6 +49,9 @@ struct ServerFigures {
   int bad_values = 0;
   double db_bytes = -1;  ///< ricochet_db_file_bytes (the file and its WAL); -1: not reported
   std::map<std::uint32_t, MatchFigures> by_match;
+  /// ricochet_placement_tickets_total by result ("assigned", "no_server_available", ...): the
+  /// find_match requests this server answered since it started.
+  std::map<std::string, double> placement_tickets;
   /// Tick time spent in each phase (ricochet_tick_phase_seconds_sum), all matches, s since
   /// they opened; "total" is the whole tick.
   std::map<std::string, double> phase_seconds;

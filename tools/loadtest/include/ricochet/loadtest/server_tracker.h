@@ -33,7 +33,9 @@ struct ServerPoint {
   double packets_in = -1;  ///< game channel, since the server started; -1: not scraped
   double packets_out = -1;
   std::map<std::string, double> phase_seconds;  ///< empty: not scraped
-  double cpu_s = -1;                            ///< process_cpu_seconds_total; -1: missing or bad
+  /// ricochet_placement_tickets_total by result, since the server started; empty: none listed.
+  std::map<std::string, double> placement_tickets;
+  double cpu_s = -1;             ///< process_cpu_seconds_total; -1: missing or bad
   double rss_mb = -1;            ///< process_resident_memory_bytes / 1e6; -1: missing or bad
   double cpu_s_proc = -1;        ///< from /proc; -1: not read
   double rss_mb_proc = -1;       ///< from /proc; -1: not read
@@ -61,6 +63,9 @@ struct ServerWindow {
   double packets_out_per_s = 0;
   /// Tick time per phase over the window, % of one core ("total": whole ticks).
   std::map<std::string, double> phase_percent;
+  /// find_match requests the server answered over the step (from its start, not only the
+  /// window: bots are placed while they ramp), by result (ServerTracker::placement_tickets).
+  std::map<std::string, double> placement_tickets;
 
   /// One JSON object (no newline).
   std::string to_json() const;
@@ -87,6 +92,11 @@ class ServerTracker {
   const ServerPoint& latest() const;
   /// The window [from_t_s, to_t_s]: its deltas start at the last point before from_t_s.
   ServerWindow window(double from_t_s, double to_t_s) const;
+  /// ricochet_placement_tickets_total by result between the last usable point at or before
+  /// `from_t_s` (the first usable one when none is) and the last usable one at or before
+  /// `to_t_s`; a result whose counter went back (a restarted server) is left out, one listed
+  /// only at the end counts from 0.
+  std::map<std::string, double> placement_tickets(double from_t_s, double to_t_s) const;
 
  private:
   std::string label_;
