@@ -1,9 +1,9 @@
 #include "ricochet/bot/assignment.h"
 
 #include <algorithm>
-#include <charconv>
 
 #include "ricochet/bot/server_trust.h"
+#include "ricochet/tools/port_text.h"
 
 namespace ricochet::bot {
 namespace {
@@ -20,16 +20,6 @@ bool is_mode_char(char c) {
 bool is_map_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
          c == '.' || c == '-';
-}
-
-/// 1..65535 from all of `text`.
-std::optional<std::uint16_t> parse_port(std::string_view text) {
-  unsigned value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc{} || end != text.data() + text.size() || value == 0 || value > 65535) {
-    return std::nullopt;
-  }
-  return static_cast<std::uint16_t>(value);
 }
 
 }  // namespace
@@ -88,7 +78,7 @@ std::variant<Assigned, std::string> read_assignment(const wire::Assignment& assi
     return "connection's host must be a numeric IP address (the bot resolves no names), got \"" +
            connection + "\"";
   }
-  const auto control_port = parse_port(std::string_view(connection).substr(colon + 1));
+  const auto control_port = tools::parse_port(std::string_view(connection).substr(colon + 1));
   if (!control_port) return "connection's port must be 1..65535, got \"" + connection + "\"";
   out.control_port = *control_port;
   if (assignment.game_port() == 0 || assignment.game_port() > 65535) {

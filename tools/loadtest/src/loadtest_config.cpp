@@ -7,6 +7,7 @@
 
 #include "ricochet/bot/assignment.h"
 #include "ricochet/bot/bot_config.h"
+#include "ricochet/tools/port_text.h"
 
 namespace ricochet::loadtest {
 
@@ -28,16 +29,6 @@ bool is_ipv4(const std::string& address) {
   boost::system::error_code error;
   boost::asio::ip::make_address_v4(address, error);
   return !error;
-}
-
-/// A port 1..65535 from `text`; nullopt when it is not one.
-std::optional<std::uint16_t> parse_port(std::string_view text) {
-  unsigned value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc{} || end != text.data() + text.size() || value == 0 || value > 65535) {
-    return std::nullopt;
-  }
-  return static_cast<std::uint16_t>(value);
 }
 
 }  // namespace
@@ -79,12 +70,12 @@ std::variant<std::vector<ServerEndpoint>, std::string> parse_servers(
     if (!is_ipv4(server.host)) return where + "expected a numeric IPv4 address";
     if (first != std::string::npos) {
       const std::size_t second = entry.find(':', first + 1);
-      const auto control = parse_port(std::string_view(entry).substr(
+      const auto control = tools::parse_port(std::string_view(entry).substr(
           first + 1, second == std::string::npos ? std::string::npos : second - first - 1));
       if (!control) return where + "expected a control port 1..65535 after the address";
       server.control_port = *control;
       if (second != std::string::npos) {
-        const auto admin = parse_port(std::string_view(entry).substr(second + 1));
+        const auto admin = tools::parse_port(std::string_view(entry).substr(second + 1));
         if (!admin) return where + "expected an admin port 1..65535 after the control port";
         server.admin_port = *admin;
       }
