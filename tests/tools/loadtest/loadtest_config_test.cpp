@@ -137,6 +137,9 @@ TEST(ErrorKinds, NameTheServersCodeOrWhatFailed) {
   EXPECT_EQ(error_kind("find_match: SERVER_BUSY: the database is away"), "server_busy");
   EXPECT_EQ(error_kind("join_match with the ticket: NOT_SIGNED_IN: x"), "not_signed_in");
   EXPECT_EQ(error_kind("unusable assignment: game_port must be 1..65535, got 0"), "bad_assignment");
+  // ... and those the bot answers by itself (Bot::report_refusal).
+  EXPECT_EQ(error_kind("join_match with the ticket: MATCH_FULL: match 3 is full"), "match_full");
+  EXPECT_EQ(error_kind("the ticket expired before it was presented"), "ticket_expired");
 }
 
 }  // namespace

@@ -430,19 +430,11 @@ void Bot::on_join(const wire::ServerMessage& reply) {
     // No seat now (the match, or this address, holds its most): seats free as players leave.
     spdlog::info("bot {}: join_match: {}; looking again in {} s", config_.name, describe(reply),
                  kNoRoomRetryS);
+    report_refusal("join_match: " + describe(reply));
     return arm(kNoRoomRetryS, [this] { seek_seat(); });
   }
   if (is_error(reply, wire::ALREADY_IN_MATCH)) {
-    // Seated elsewhere. From this connection's match, leave (a resume with the token that took the
-    // seat is back in its match, PROTOCOL.md); a seat another login took cannot be left from here
-    // (Authenticated): it lapses with its token, so try again later.
-    wire::ClientMessage leave;
-    leave.mutable_leave_match();
-    if (!control_->request(std::move(leave),
-                           guarded([this](const wire::ServerMessage&) { seek_seat(); }))) {
-      arm(kNoRoomRetryS, [this] { seek_seat(); });
-    }
-    return;
+    return leave_then_seek();
   }
   fail_attempt("join_match: " + describe(reply), Retry::SameConnection);
 }
@@ -491,6 +483,7 @@ void Bot::on_find_match(const wire::ServerMessage& reply) {
           retry_later_s(std::uniform_real_distribution<double>(0, 1)(retry_random_));
       spdlog::info("bot {}: find_match: {}; asking again in {:.1f} s", config_.name,
                    describe(reply), wait);
+      report_refusal("find_match: " + describe(reply));
       return arm(wait, [this] { seek_seat(); });
     }
     case PlacementAction::GiveUp:
@@ -515,17 +508,26 @@ void Bot::join_with_ticket() {
                     guarded([this](const wire::ServerMessage& reply) { on_join(reply); }));
 }
 
+void Bot::report_refusal(const std::string& reason) {
+  if (on_failure_) on_failure_(reason);
+}
+
+void Bot::leave_then_seek() {
+  // ALREADY_IN_MATCH: from this connection's match, leave (a resume with the token that took the
+  // seat is back in its match, PROTOCOL.md); a seat another login took cannot be left from here
+  // (Authenticated): it lapses with its token, so try again later.
+  wire::ClientMessage leave;
+  leave.mutable_leave_match();
+  if (!control_->request(std::move(leave),
+                         guarded([this](const wire::ServerMessage&) { seek_seat(); }))) {
+    arm(kNoRoomRetryS, [this] { seek_seat(); });
+  }
+}
+
 void Bot::on_ticket_refused(const wire::ServerMessage& reply) {
   ticket_.reset();  // claimed or refused: never presented twice
   if (is_error(reply, wire::ALREADY_IN_MATCH)) {
-    // Seated elsewhere (a seat of an earlier connection): leave it, then ask again.
-    wire::ClientMessage leave;
-    leave.mutable_leave_match();
-    if (!control_->request(std::move(leave),
-                           guarded([this](const wire::ServerMessage&) { seek_seat(); }))) {
-      arm(kNoRoomRetryS, [this] { seek_seat(); });
-    }
-    return;
+    return leave_then_seek();  // seated elsewhere (a seat of an earlier connection)
   }
   const wire::ErrorCode code = reply.has_error() ? reply.error().code() : wire::INTERNAL;
   switch (placement_action(code)) {
@@ -534,6 +536,7 @@ void Bot::on_ticket_refused(const wire::ServerMessage& reply) {
     case PlacementAction::RetryLater: {
       const double wait =
           retry_later_s(std::uniform_real_distribution<double>(0, 1)(retry_random_));
+      report_refusal("join_match with the ticket: " + describe(reply));
       return arm(wait, [this] { seek_seat(); });
     }
     case PlacementAction::GiveUp:
@@ -546,6 +549,7 @@ void Bot::on_ticket_refused(const wire::ServerMessage& reply) {
 }
 
 void Bot::find_again(const std::string& reason) {
+  report_refusal(reason);
   if (++find_again_ > kMaxFindAgainInARow) {
     return finish("giving up", "placed " + std::to_string(kMaxFindAgainInARow) +
                                    " times in a row without a seat; the last: " + reason);

@@ -35,7 +35,7 @@ std::string error_code_in(std::string_view reason) {
 
 std::string error_kind(std::string_view reason) {
   if (reason.rfind("gave up", 0) == 0) return "gave_up";
-  static constexpr std::array<std::pair<std::string_view, std::string_view>, 10> kPrefixes = {{
+  static constexpr std::array<std::pair<std::string_view, std::string_view>, 11> kPrefixes = {{
       {"timed out connecting", "timeout_connect"},
       {"timed out signing in", "timeout_sign_in"},
       {"timed out joining", "timeout_join"},
@@ -46,6 +46,7 @@ std::string error_kind(std::string_view reason) {
       {"cannot bind a UDP socket", "udp_socket"},
       {"unusable join reply", "bad_join_reply"},
       {"unusable assignment", "bad_assignment"},  // placement: a find_match reply refused
+      {"the ticket expired", "ticket_expired"},   // placement: before the bot could present it
   }};
   for (const auto& [prefix, kind] : kPrefixes) {
     if (reason.rfind(prefix, 0) == 0) return std::string(kind);

@@ -109,8 +109,9 @@ class Bot {
   const BotRecord& record() const { return record_; }
   /// Called once when the bot reaches Done.
   void on_done(std::function<void()> callback) { on_done_ = std::move(callback); }
-  /// Called with the reason of every failed attempt and of an end in error (load tests count
-  /// them by kind).
+  /// Called with the reason of every failed attempt, of every refusal the bot answers by itself
+  /// (no room in a match, a placement refused: it waits or finds again), and of an end in error
+  /// (load tests count them by kind).
   void on_failure(std::function<void(std::string_view reason)> callback) {
     on_failure_ = std::move(callback);
   }
@@ -144,6 +145,10 @@ class Bot {
   void join_listed();
   void join(std::uint32_t match_id);
   void on_join(const wire::ServerMessage& reply);
+  /// ALREADY_IN_MATCH: leave the seat this connection holds, then seek one again.
+  void leave_then_seek();
+  /// A refusal the bot answers by itself (waiting, finding again): told to on_failure_.
+  void report_refusal(const std::string& reason);
 
   // Placement (config_.find_match).
   /// Nothing holds the bot on the server it is connected to: no seat, no ticket for it.
