@@ -423,12 +423,14 @@ asio::awaitable<wire::ServerMessage> ControlSession::join_match(
                                                     " bytes, got " +
                                                     std::to_string(request.ticket().size()));
   }
+  // In flight until this join is seated or refused (claims_in_flight.h).
+  const ClaimsInFlight::Claim in_flight = context_.placement->claims.begin();
   const db::DbResult<db::ClaimedTicket> claimed =
       co_await await_db<db::DbResult<db::ClaimedTicket>>([&](db::Post post, auto done) {
         context_.db.submit(
             [token = *token, server = context_.placement->server_id,
              account = static_cast<db::AccountId>(account_),
-             now = unix_now_ms()](db::DbServices& services) {
+             now = in_flight.claimed_ms()](db::DbServices& services) {
               return services.placement.claim(token, server, account, now);
             },
             std::move(post), std::move(done));

@@ -272,11 +272,12 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   ControlServerConfig control = control_config(config_);
   control.episodes = &episodes_;
   if (config_.placement.on(config_.db)) {
-    placement_ = std::make_unique<FleetPlacement>(
-        FleetPlacement{draw_server_id(), FindMatchLimiter(config_.placement.find_match_per_minute),
-                       placement_counters_, config_.matches.max_players, [this] {
-                         if (agones_) agones_->players_placed();  // made before any session
-                       }});
+    placement_.reset(new FleetPlacement{draw_server_id(),
+                                        FindMatchLimiter(config_.placement.find_match_per_minute),
+                                        placement_counters_, config_.matches.max_players, [this] {
+                                          if (agones_)
+                                            agones_->players_placed();  // made before any session
+                                        }});
     control.placement = placement_.get();
   }
   control_ = std::make_unique<ControlServer>(io_, std::move(control), *db_, *matches_);
@@ -420,6 +421,8 @@ void Server::start_placement() {
       io_, *db_, *matches_, placement_counters_, placement.heartbeat_s * proto::kMicrosPerSecond,
       placement.server_ttl_s * proto::kMicrosPerSecond, [this] {
         DirectoryEntry entry{directory_row_, {}};
+        // Before the players: claims_in_flight.h says why.
+        entry.server.counted_ms = placement_->claims.counted_as_of();
         int players = 0;
         for (const MatchSummary& match : matches_->list()) {
           entry.matches.push_back(db::HostedMatch{.match_id = match.id,
