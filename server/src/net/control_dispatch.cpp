@@ -460,14 +460,14 @@ DirectoryResult<std::uint32_t> ControlSession::placed_match(const db::ClaimedTic
     if (!fullest || summary.players > fullest->players) fullest = &summary;
   }
   if (fullest) return fullest->id;
-  // Sized as the server's own matches, and counted as a match this account created: the
-  // created-match limits (open at once, per minute) bound what tickets open as they bound
-  // create_match.
+  // Sized as the server's own matches, and opened by placement, not by this account: the
+  // server-wide created-match limits bound it, the account's find_match rate bounds the account
+  // (kPlacementCreator says why).
   CreateMatchRequest create;
   create.name = ticket.mode + "-placed";
   create.max_players = context_.placement->new_match_max_players;
   create.map = ticket.map;
-  create.creator = account_;
+  create.creator = kPlacementCreator;
   DirectoryResult<MatchSummary> made = context_.matches.create(create);
   if (const auto* error = std::get_if<DirectoryError>(&made)) return *error;
   return std::get<MatchSummary>(made).id;
