@@ -451,8 +451,16 @@ asio::awaitable<wire::ServerMessage> ControlSession::join_match(
 }
 
 DirectoryResult<std::uint32_t> ControlSession::placed_match(const db::ClaimedTicket& ticket) {
-  if (ticket.match_id != 0) return static_cast<std::uint32_t>(ticket.match_id);
   const std::vector<MatchSummary> hosted = context_.matches.list();
+  // A ticket for a match this server no longer hosts (it ended, or rotated, after the
+  // directory's last heartbeat listed it) is taken as one for a new match of its mode and map:
+  // it was for this server, and it is spent; the player need not find a match again.
+  if (ticket.match_id != 0 &&
+      std::any_of(hosted.begin(), hosted.end(), [&](const MatchSummary& summary) {
+        return summary.id == static_cast<std::uint32_t>(ticket.match_id);
+      })) {
+    return static_cast<std::uint32_t>(ticket.match_id);
+  }
   const MatchSummary* fullest = nullptr;
   for (const MatchSummary& summary : hosted) {
     if (summary.mode != ticket.mode || (!ticket.map.empty() && summary.map != ticket.map)) continue;

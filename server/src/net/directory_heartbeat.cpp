@@ -38,6 +38,13 @@ void DirectoryHeartbeat::start() {
   asio::post(strand_, [this] { beat(); });
 }
 
+void DirectoryHeartbeat::matches_changed() {
+  asio::post(strand_, [this] {
+    schedule_.changed(steady_now_us());
+    arm();  // moves the timer's wait, or nothing while a beat is in flight or once stopped
+  });
+}
+
 void DirectoryHeartbeat::arm() {
   const auto next = schedule_.next_at();
   if (!next) return;

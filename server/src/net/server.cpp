@@ -264,6 +264,8 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   matches_ = std::make_unique<MatchRegistry>(
       io_, std::move(registry), std::move(maps), *game_, [this](EndedMatch match) {
         if (agones_) agones_->match_finished();
+        // The directory stops listing the ended match (and lists the next) sooner.
+        if (heartbeat_) heartbeat_->matches_changed();
         finish_match(std::move(match), [this](std::optional<wire::MatchResults> results,
                                               const std::vector<std::uint64_t>& recipients) {
           if (results) send_results(*results, recipients);

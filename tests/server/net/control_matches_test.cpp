@@ -371,6 +371,50 @@ TEST(ControlPlacement, ATicketForANewMatchJoinsAnOpenMatchOfItsModeHereOnce) {
   EXPECT_EQ(client.request(join).error().code(), wire::UNKNOWN_TICKET);
 }
 
+// The directory lists a match until the server's next heartbeat: a ticket for one that ended
+// meanwhile seats its player in an open match of its mode and map here (before: MATCH_NOT_FOUND,
+// and the client had to find a match again with its ticket spent).
+TEST(ControlPlacement, ATicketForAMatchThatEndedJoinsAnotherOfItsModeAndMapHere) {
+  PlacementCounters counters;
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters, 16, {}};
+  ControlRig rig({}, {}, {}, nullptr, &placement);
+  // The directory still lists match 5, open; this server (the fake) hosts only match 1.
+  const db::GameServerRow row{.server_id = "rs-test",
+                              .host = "127.0.0.1",
+                              .control_port = rig.port(),
+                              .game_port = 7778,
+                              .certificate_sha256 = std::string(64, 'a'),
+                              .version = "test",
+                              .capacity = 100,
+                              .players = 3};
+  const std::vector<db::HostedMatch> hosted{
+      {.match_id = 5, .mode = "ffa", .map = "arena", .players = 3, .capacity = 4, .open = true}};
+  std::promise<db::DbStatus> written;
+  rig.db().submit(
+      [&](db::DbServices& services) {
+        return services.placement.heartbeat(row, hosted,
+                                            std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                std::chrono::system_clock::now().time_since_epoch())
+                                                .count());
+      },
+      [](std::function<void()> completion) { completion(); },
+      [&](db::DbStatus status) { written.set_value(std::move(status)); });
+  ASSERT_TRUE(written.get_future().get().ok());
+
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("latecomer");
+  const wire::ServerMessage found = client.request(find("ffa"));
+  ASSERT_TRUE(found.has_find_match()) << found.DebugString();
+  ASSERT_EQ(found.find_match().assignment().match_id(), 5u);
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(found.find_match().assignment().ticket());
+  const wire::ServerMessage joined = client.request(join);
+  ASSERT_TRUE(joined.has_join_match()) << joined.DebugString();
+  EXPECT_EQ(joined.join_match().match_id(), 1u);  // the fake's open ffa match on the arena
+  EXPECT_TRUE(rig.directory().created.empty());
+}
+
 TEST(ControlPlacement, ATicketForANewMatchOpensOneOfTheServersSizeAsPlacementsAndTellsAgones) {
   PlacementCounters counters;
   std::atomic<int> placed{0};
