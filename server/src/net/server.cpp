@@ -234,6 +234,11 @@ SeatLimits seat_limits(const MatchesConfig& matches) {
 
 /// How often the created matches are looked at for being empty too long.
 constexpr auto kEmptyMatchSweep = std::chrono::seconds(5);
+/// How often a running server looks for records other processes left in its outbox, and how
+/// old such a file must be: a live writer removes its own within moments of the database's
+/// commit, or retries it itself while the database is away (a second delivery writes nothing).
+constexpr auto kOutboxRescan = std::chrono::seconds(60);
+constexpr std::int64_t kLeftRecordAgeMs = 60'000;
 
 }  // namespace
 
@@ -347,6 +352,7 @@ void Server::start() {
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
   deliver_outbox();
+  rescan_outbox();
   ready_ = true;
   if (agones_) agones_->ready();
   spdlog::info(
@@ -673,6 +679,29 @@ void Server::deliver_outbox() {
   if (left.empty()) return;
   spdlog::warn("results outbox: {} match records left by an earlier process; writing them",
                left.size());
+  deliver(std::move(left));
+}
+
+void Server::rescan_outbox() {
+  outbox_rescan_.expires_after(kOutboxRescan);
+  outbox_rescan_.async_wait([this](const boost::system::error_code& error) {
+    if (error || !ready_) return;  // cancelled, or stopping
+    const db::UnixMillis now = std::chrono::duration_cast<std::chrono::milliseconds>(
+                                   std::chrono::system_clock::now().time_since_epoch())
+                                   .count();
+    std::vector<OutboxRecord> left = outbox_->list_left(now, kLeftRecordAgeMs);
+    if (!left.empty()) {
+      spdlog::warn(
+          "results outbox: {} match records left by another process (older than {} s); "
+          "writing them",
+          left.size(), kLeftRecordAgeMs / 1000);
+      deliver(std::move(left));
+    }
+    rescan_outbox();
+  });
+}
+
+void Server::deliver(std::vector<OutboxRecord> left) {
   for (OutboxRecord& kept : left) {
     EndedMatch match;
     match.id = kept.match_id;
