@@ -8,9 +8,13 @@
 /// and only then the players. A claim older than what counted_as_of() returned was therefore not
 /// in flight when it was taken (a later one would have read a later time), so its join had
 /// already seated its player (or failed) before the players were taken: they count it. A claim
-/// still in flight makes counted_as_of() no later than its own time, so its ticket holds on. A
-/// wall clock stepped back only makes claims look older: their seats are let go one heartbeat
-/// early, as before this existed.
+/// still in flight makes counted_as_of() no later than its own time, so its ticket holds on.
+/// Claims made after the figures were taken, while the row is on its way to the database, are
+/// later than counted_ms and hold too; the row and its matches are written in one transaction,
+/// and assignments read them under the fleet-wide lock, so an assignment sees the figures and
+/// the counted_ms that go with them. Both times are this server's clock (the claim is made
+/// here), so the skew between servers plays no part. A wall clock stepped back only makes
+/// claims look older: their seats are let go one heartbeat early, as before this existed.
 
 #include <cstdint>
 #include <functional>
