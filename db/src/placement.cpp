@@ -65,8 +65,13 @@ DbStatus Placement::heartbeat(const GameServerRow& server, const std::vector<Hos
   if (DbStatus s = check_options(); !s) return refusals_(s);
   if (std::string problem = check_heartbeat(server, matches); !problem.empty())
     return refusals_(DbStatus(invalid(std::move(problem))));
+  if (server.counted_ms < 0 || server.counted_ms > now)
+    return refusals_(
+        DbStatus(invalid("counted_ms must be 0.." + std::to_string(now) +
+                         " ms (the heartbeat's time), got " + std::to_string(server.counted_ms))));
   GameServerRow row = server;
   row.heartbeat_ms = now;
+  if (row.counted_ms == 0) row.counted_ms = now;
   return refusals_(store_.transaction([&]() -> DbStatus {
     if (DbStatus s = store_.upsert_game_server(row); !s) return s;
     return store_.replace_game_server_matches(row.server_id, matches);

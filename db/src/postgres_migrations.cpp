@@ -154,12 +154,19 @@ CREATE INDEX tickets_by_server ON tickets(server_id, match_id);
 CREATE INDEX tickets_by_expiry ON tickets(expires_ms);
 )sql";
 
+// Version 6. When a server's heartbeat figures were complete (migrations.cpp).
+constexpr const char* kSchemaV6 = R"sql(
+ALTER TABLE game_servers ADD COLUMN counted_ms BIGINT NOT NULL DEFAULT 0;
+)sql";
+
 constexpr std::array kMigrations = {
     Migration{1, "accounts, sessions, matches, player stats and leaderboard indexes", kSchemaV1},
     Migration{2, "failed logins for rate limits shared by every server process", kSchemaV2},
     Migration{3, "team deathmatch (teams, team scores) and aborted matches", kSchemaV3},
     Migration{4, "a unique uuid per match, so that a result is written once", kSchemaV4},
     Migration{5, "placement: the fleet directory of game servers and tickets", kSchemaV5},
+    Migration{6, "placement: claimed tickets hold their seat until a heartbeat counts them",
+              kSchemaV6},
 };
 
 /// The one-row version table; made inside the first migration's locked transaction.

@@ -119,18 +119,19 @@ constexpr std::array<const char*, kFixedStatements> kSql = {
     " WHERE a.id = $1",
     // fleet directory and tickets
     "INSERT INTO game_servers (server_id, host, control_port, game_port, certificate_sha256,"
-    " version, capacity, players, heartbeat_ms, started_ms)"
-    " VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10)"
+    " version, capacity, players, heartbeat_ms, started_ms, counted_ms)"
+    " VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11)"
     " ON CONFLICT (server_id) DO UPDATE SET host = excluded.host,"
     " control_port = excluded.control_port, game_port = excluded.game_port,"
     " certificate_sha256 = excluded.certificate_sha256, version = excluded.version,"
     " capacity = excluded.capacity, players = excluded.players,"
-    " heartbeat_ms = excluded.heartbeat_ms, started_ms = excluded.started_ms",
+    " heartbeat_ms = excluded.heartbeat_ms, started_ms = excluded.started_ms,"
+    " counted_ms = excluded.counted_ms",
     "DELETE FROM game_server_matches WHERE server_id = $1",
     "INSERT INTO game_server_matches (server_id, match_id, mode, map, players, capacity, open)"
     " VALUES ($1, $2, $3, $4, $5, $6, $7)",
     "SELECT server_id, host, control_port, game_port, certificate_sha256, version, capacity,"
-    " players, heartbeat_ms, started_ms FROM game_servers WHERE heartbeat_ms > $1"
+    " players, heartbeat_ms, started_ms, counted_ms FROM game_servers WHERE heartbeat_ms > $1"
     " ORDER BY server_id",
     "SELECT m.server_id, m.match_id, m.mode, m.map, m.players, m.capacity, m.open"
     " FROM game_server_matches AS m JOIN game_servers AS s ON s.server_id = m.server_id"
@@ -144,9 +145,10 @@ constexpr std::array<const char*, kFixedStatements> kSql = {
     " expires_ms) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)",
     "SELECT account_id, server_id, match_id, mode, map, created_ms, expires_ms, claimed_ms"
     " FROM tickets WHERE token_hash = $1",
-    "SELECT server_id, match_id, COUNT(*) FROM tickets"
-    " WHERE claimed_ms IS NULL AND expires_ms > $1"
-    " GROUP BY server_id, match_id ORDER BY server_id, match_id",
+    "SELECT t.server_id, t.match_id, COUNT(*), COUNT(t.claimed_ms) FROM tickets AS t"
+    " JOIN game_servers AS s ON s.server_id = t.server_id"
+    " WHERE (t.claimed_ms IS NULL AND t.expires_ms > $1) OR t.claimed_ms >= s.counted_ms"
+    " GROUP BY t.server_id, t.match_id ORDER BY t.server_id, t.match_id",
     "DELETE FROM tickets WHERE account_id = $1 AND claimed_ms IS NULL",
     "UPDATE tickets SET claimed_ms = $4 WHERE token_hash = $1 AND claimed_ms IS NULL"
     " AND server_id = $2 AND account_id = $3 AND expires_ms > $4"
@@ -705,7 +707,7 @@ DbStatus PostgresStore::upsert_game_server(const GameServerRow& server) {
   p.text(server.server_id).text(server.host).integer(server.control_port);
   p.integer(server.game_port).text(server.certificate_sha256).text(server.version);
   p.integer(server.capacity).integer(server.players).integer(server.heartbeat_ms);
-  p.integer(server.started_ms);
+  p.integer(server.started_ms).integer(server.counted_ms);
   return execute(Sql::UpsertGameServer, p, "writing a game server's directory row");
 }
 
@@ -747,6 +749,7 @@ DbResult<std::vector<GameServerRow>> PostgresStore::game_servers(UnixMillis hear
     row.players = static_cast<std::int32_t>(q.integer(i, 7));
     row.heartbeat_ms = q.integer(i, 8);
     row.started_ms = q.integer(i, 9);
+    row.counted_ms = q.integer(i, 10);
     rows.push_back(std::move(row));
   }
   if (!q.column_error().empty()) return bad_row(q, "reading the game servers");
@@ -847,7 +850,7 @@ DbResult<std::vector<HeldSeats>> PostgresStore::held_seats(UnixMillis now) {
   postgres::Result& q = r.value();
   std::vector<HeldSeats> rows;
   for (int i = 0; i < q.rows(); ++i)
-    rows.push_back({q.text(i, 0), q.integer(i, 1), q.integer(i, 2)});
+    rows.push_back({q.text(i, 0), q.integer(i, 1), q.integer(i, 2), q.integer(i, 3)});
   if (!q.column_error().empty()) return bad_row(q, "counting held seats");
   return rows;
 }

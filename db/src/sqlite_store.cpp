@@ -206,20 +206,21 @@ DbStatus SqliteStore::prepare_statements() {
   const std::pair<sqlite::Statement*, const char*> fleet_statements[] = {
       {&upsert_game_server_,
        "INSERT INTO game_servers (server_id, host, control_port, game_port, certificate_sha256,"
-       " version, capacity, players, heartbeat_ms, started_ms)"
-       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)"
+       " version, capacity, players, heartbeat_ms, started_ms, counted_ms)"
+       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)"
        " ON CONFLICT (server_id) DO UPDATE SET host = excluded.host,"
        " control_port = excluded.control_port, game_port = excluded.game_port,"
        " certificate_sha256 = excluded.certificate_sha256, version = excluded.version,"
        " capacity = excluded.capacity, players = excluded.players,"
-       " heartbeat_ms = excluded.heartbeat_ms, started_ms = excluded.started_ms"},
+       " heartbeat_ms = excluded.heartbeat_ms, started_ms = excluded.started_ms,"
+       " counted_ms = excluded.counted_ms"},
       {&delete_server_matches_, "DELETE FROM game_server_matches WHERE server_id = ?1"},
       {&insert_server_match_,
        "INSERT INTO game_server_matches (server_id, match_id, mode, map, players, capacity, open)"
        " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)"},
       {&game_servers_,
        "SELECT server_id, host, control_port, game_port, certificate_sha256, version, capacity,"
-       " players, heartbeat_ms, started_ms FROM game_servers WHERE heartbeat_ms > ?1"
+       " players, heartbeat_ms, started_ms, counted_ms FROM game_servers WHERE heartbeat_ms > ?1"
        " ORDER BY server_id"},
       {&directory_matches_,
        "SELECT m.server_id, m.match_id, m.mode, m.map, m.players, m.capacity, m.open"
@@ -238,9 +239,10 @@ DbStatus SqliteStore::prepare_statements() {
        "SELECT account_id, server_id, match_id, mode, map, created_ms, expires_ms, claimed_ms"
        " FROM tickets WHERE token_hash = ?1"},
       {&held_seats_,
-       "SELECT server_id, match_id, COUNT(*) FROM tickets"
-       " WHERE claimed_ms IS NULL AND expires_ms > ?1"
-       " GROUP BY server_id, match_id ORDER BY server_id, match_id"},
+       "SELECT t.server_id, t.match_id, COUNT(*), COUNT(t.claimed_ms) FROM tickets AS t"
+       " JOIN game_servers AS s ON s.server_id = t.server_id"
+       " WHERE (t.claimed_ms IS NULL AND t.expires_ms > ?1) OR t.claimed_ms >= s.counted_ms"
+       " GROUP BY t.server_id, t.match_id ORDER BY t.server_id, t.match_id"},
       {&delete_unclaimed_tickets_of_,
        "DELETE FROM tickets WHERE account_id = ?1 AND claimed_ms IS NULL"},
       {&claim_ticket_,
@@ -612,7 +614,7 @@ DbStatus SqliteStore::upsert_game_server(const GameServerRow& server) {
   q.bind_text(server.server_id).bind_text(server.host).bind_int(server.control_port);
   q.bind_int(server.game_port).bind_text(server.certificate_sha256).bind_text(server.version);
   q.bind_int(server.capacity).bind_int(server.players).bind_int(server.heartbeat_ms);
-  q.bind_int(server.started_ms);
+  q.bind_int(server.started_ms).bind_int(server.counted_ms);
   return run(q, "writing a game server's directory row");
 }
 
@@ -649,6 +651,7 @@ DbResult<std::vector<GameServerRow>> SqliteStore::game_servers(UnixMillis heartb
     row.players = static_cast<std::int32_t>(q.integer(7));
     row.heartbeat_ms = q.integer(8);
     row.started_ms = q.integer(9);
+    row.counted_ms = q.integer(10);
     if (!q.column_error().empty()) return bad_row(q, "reading the game servers");
     rows.push_back(std::move(row));
   }
@@ -753,6 +756,7 @@ DbResult<std::vector<HeldSeats>> SqliteStore::held_seats(UnixMillis now) {
     row.server_id = q.text(0);
     row.match_id = q.integer(1);
     row.seats = q.integer(2);
+    row.claimed = q.integer(3);
     if (!q.column_error().empty()) return bad_row(q, "counting held seats");
     rows.push_back(std::move(row));
   }

@@ -144,7 +144,7 @@ TEST_P(PlacementTest, LeaveDeletesTheRowItsMatchesAndItsUnclaimedTickets) {
   const Assignment claimed = must(placement_.assign(ids[0], "ffa", "", kT0), "assign");
   ASSERT_EQ(claimed.server_id, "s1");  // ties go by server id
   ASSERT_TRUE(placement_.claim(claimed.token, "s1", ids[0], kT0 + 1).ok());
-  ASSERT_EQ(place(ids[1], kT0 + 2), "s1/1");  // a claimed ticket holds no seat: a tie, by id
+  ASSERT_EQ(place(ids[1], kT0 + 2), "s1/1");  // the claimed ticket holds its seat: the fuller
 
   EXPECT_TRUE(must(placement_.leave("s1"), "leave"));
   EXPECT_FALSE(must(placement_.leave("s1"), "leave again"));
@@ -233,17 +233,64 @@ TEST_P(PlacementTest, OpenTicketsHoldSeatsUntilClaimedOrExpired) {
   EXPECT_EQ(held[1].seats, 1);
   EXPECT_TRUE(must(placement_.held_seats("s2", kT0 + 2), "held_seats of another").empty());
 
-  // Claimed: the seat is the server's to count among its players, no longer held.
+  // Claimed: still held until a heartbeat counts its player (the next test), and expired:
+  // held no more, and the match has room again.
   must(placement_.claim(first.token, "s1", ids[0], kT0 + 3), "claim");
-  held = must(placement_.held_seats("s1", kT0 + 3), "held_seats");
-  ASSERT_EQ(held.size(), 2u);
-  EXPECT_EQ(held[0].seats, 1);
-  // Expired: held no more, and the match has room again.
   beat(server_row("s1", 8), {hosted(1, 0, 2), hosted(2, 0, 4)}, kT0 + kLifetimeMs);
   held = must(placement_.held_seats("s1", kT0 + 1 + kLifetimeMs), "held_seats");
   ASSERT_EQ(held.size(), 1u);
   EXPECT_EQ(held[0].match_id, 2);
   EXPECT_EQ(place(ids[3], kT0 + 2 + kLifetimeMs), "s1/1");
+}
+
+// A burst of tickets: the first is claimed before the server's next heartbeat counts its
+// player, and must not give its seat to another ticket meanwhile (on the old rules the claim
+// freed it, and the third ticket here went to the full match).
+TEST_P(PlacementTest, AClaimedTicketHoldsItsSeatUntilAHeartbeatCountsIt) {
+  const auto ids = accounts(3);
+  beat(server_row("s1", 8), {hosted(1, 0, 2)}, kT0);
+  const Assignment a0 = must(placement_.assign(ids[0], "ffa", "", kT0), "assign");
+  ASSERT_EQ(a0.match_id, 1);
+  must(placement_.claim(a0.token, "s1", ids[0], kT0 + 10), "claim");
+  const Assignment a1 = must(placement_.assign(ids[1], "ffa", "", kT0 + 11), "assign");
+  ASSERT_EQ(a1.match_id, 1);                   // the claimed ticket's seat is one of two
+  EXPECT_EQ(place(ids[2], kT0 + 12), "s1/0");  // match 1 is held full: a new match
+  auto held = must(placement_.held_seats("s1", kT0 + 12), "held_seats");
+  ASSERT_EQ(held.size(), 2u);
+  EXPECT_EQ(held[1].match_id, 1);
+  EXPECT_EQ(held[1].seats, 2);
+  EXPECT_EQ(held[1].claimed, 1);
+  EXPECT_EQ(held[0].claimed, 0);
+
+  // A heartbeat whose figures were taken before the claim does not count the player yet.
+  GameServerRow before = server_row("s1", 8);
+  before.counted_ms = kT0 + 9;
+  beat(before, {hosted(1, 0, 2)}, kT0 + 20);
+  held = must(placement_.held_seats("s1", kT0 + 20), "held_seats");
+  ASSERT_EQ(held.size(), 2u);
+  EXPECT_EQ(held[1].seats, 2);
+
+  // One taken as the second claim is made counts the first player only; the second ticket,
+  // claimed at the figures' very millisecond, may not be seated in them and still holds.
+  must(placement_.claim(a1.token, "s1", ids[1], kT0 + 25), "claim");
+  GameServerRow counting = server_row("s1", 8, 1);
+  counting.counted_ms = kT0 + 25;
+  beat(counting, {hosted(1, 1, 2)}, kT0 + 30);
+  held = must(placement_.held_seats("s1", kT0 + 30), "held_seats");
+  ASSERT_EQ(held.size(), 2u);
+  EXPECT_EQ(held[1].seats, 1);
+  EXPECT_EQ(held[1].claimed, 1);
+
+  // Figures from the future are refused: they would release seats not yet counted.
+  GameServerRow ahead = server_row("s1", 8, 2);
+  ahead.counted_ms = kT0 + 41;
+  const DbStatus refused = placement_.heartbeat(ahead, {hosted(1, 2, 2)}, kT0 + 40);
+  EXPECT_TRUE(fails_with(refused, DbErrorCode::InvalidPlacement));
+  // Counted as of the heartbeat (counted_ms 0): nothing claimed is held any more.
+  beat(server_row("s1", 8, 2), {hosted(1, 2, 2)}, kT0 + 40);
+  held = must(placement_.held_seats("s1", kT0 + 40), "held_seats");
+  ASSERT_EQ(held.size(), 1u);
+  EXPECT_EQ(held[0].match_id, 0);
 }
 
 TEST_P(PlacementTest, AnAccountHoldsOneOpenTicket) {

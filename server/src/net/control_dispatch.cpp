@@ -423,12 +423,14 @@ asio::awaitable<wire::ServerMessage> ControlSession::join_match(
                                                     " bytes, got " +
                                                     std::to_string(request.ticket().size()));
   }
+  // In flight until this join is seated or refused (claims_in_flight.h).
+  const ClaimsInFlight::Claim in_flight = context_.placement->claims.begin();
   const db::DbResult<db::ClaimedTicket> claimed =
       co_await await_db<db::DbResult<db::ClaimedTicket>>([&](db::Post post, auto done) {
         context_.db.submit(
             [token = *token, server = context_.placement->server_id,
              account = static_cast<db::AccountId>(account_),
-             now = unix_now_ms()](db::DbServices& services) {
+             now = in_flight.claimed_ms()](db::DbServices& services) {
               return services.placement.claim(token, server, account, now);
             },
             std::move(post), std::move(done));
@@ -449,8 +451,16 @@ asio::awaitable<wire::ServerMessage> ControlSession::join_match(
 }
 
 DirectoryResult<std::uint32_t> ControlSession::placed_match(const db::ClaimedTicket& ticket) {
-  if (ticket.match_id != 0) return static_cast<std::uint32_t>(ticket.match_id);
   const std::vector<MatchSummary> hosted = context_.matches.list();
+  // A ticket for a match this server no longer hosts (it ended, or rotated, after the
+  // directory's last heartbeat listed it) is taken as one for a new match of its mode and map:
+  // it was for this server, and it is spent; the player need not find a match again.
+  if (ticket.match_id != 0 &&
+      std::any_of(hosted.begin(), hosted.end(), [&](const MatchSummary& summary) {
+        return summary.id == static_cast<std::uint32_t>(ticket.match_id);
+      })) {
+    return static_cast<std::uint32_t>(ticket.match_id);
+  }
   const MatchSummary* fullest = nullptr;
   for (const MatchSummary& summary : hosted) {
     if (summary.mode != ticket.mode || (!ticket.map.empty() && summary.map != ticket.map)) continue;
@@ -458,14 +468,14 @@ DirectoryResult<std::uint32_t> ControlSession::placed_match(const db::ClaimedTic
     if (!fullest || summary.players > fullest->players) fullest = &summary;
   }
   if (fullest) return fullest->id;
-  // Sized as the server's own matches, and counted as a match this account created: the
-  // created-match limits (open at once, per minute) bound what tickets open as they bound
-  // create_match.
+  // Sized as the server's own matches, and opened by placement, not by this account: the
+  // server-wide created-match limits bound it, the account's find_match rate bounds the account
+  // (kPlacementCreator says why).
   CreateMatchRequest create;
   create.name = ticket.mode + "-placed";
   create.max_players = context_.placement->new_match_max_players;
   create.map = ticket.map;
-  create.creator = account_;
+  create.creator = kPlacementCreator;
   DirectoryResult<MatchSummary> made = context_.matches.create(create);
   if (const auto* error = std::get_if<DirectoryError>(&made)) return *error;
   return std::get<MatchSummary>(made).id;

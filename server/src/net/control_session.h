@@ -103,8 +103,8 @@ class ControlSession : public std::enable_shared_from_this<ControlSession> {
   boost::asio::awaitable<wire::ServerMessage> join_match(const wire::JoinMatchRequest& r);
   /// Seats the account in `match_id`; `placed`: by a ticket, whose seat the held ones include.
   wire::ServerMessage join_seat(std::uint32_t match_id, bool placed);
-  /// A claimed ticket's match: the one it names, else this server's fullest open match of its
-  /// mode (and map) with a seat free, else a new one.
+  /// A claimed ticket's match: the one it names while this server hosts it, else this server's
+  /// fullest open match of its mode (and map) with a seat free, else a new one.
   DirectoryResult<std::uint32_t> placed_match(const db::ClaimedTicket& ticket);
   boost::asio::awaitable<wire::ServerMessage> find_match(const wire::FindMatchRequest& r);
   wire::ServerMessage leave_match();

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <boost/asio/post.hpp>
 #include <boost/unordered/unordered_flat_map.hpp>
 #include <future>
@@ -37,6 +38,13 @@ void DirectoryHeartbeat::start() {
   asio::post(strand_, [this] { beat(); });
 }
 
+void DirectoryHeartbeat::matches_changed() {
+  asio::post(strand_, [this] {
+    schedule_.changed(steady_now_us());
+    arm();  // moves the timer's wait, or nothing while a beat is in flight or once stopped
+  });
+}
+
 void DirectoryHeartbeat::arm() {
   const auto next = schedule_.next_at();
   if (!next) return;
@@ -50,9 +58,11 @@ void DirectoryHeartbeat::beat() {
   if (!schedule_.start(steady_now_us())) return arm();
   DirectoryEntry entry = describe_();
   server_id_ = entry.server.server_id;
+  // Not before the figures were counted, should the wall clock have stepped back since.
+  const db::UnixMillis now = std::max(unix_now_ms(), entry.server.counted_ms);
   using Held = db::DbResult<std::vector<db::HeldSeats>>;
   db_.submit(
-      [entry = std::move(entry), now = unix_now_ms()](db::DbServices& services) -> Held {
+      [entry = std::move(entry), now](db::DbServices& services) -> Held {
         if (db::DbStatus written = services.placement.heartbeat(entry.server, entry.matches, now);
             !written.ok()) {
           return written.error();
@@ -85,9 +95,12 @@ void DirectoryHeartbeat::beat() {
         }
         if (written) {
           boost::unordered_flat_map<std::uint32_t, int> by_match;
+          // Against direct joins, the open tickets only: the players of claimed ones are
+          // seated here already, or being seated with their ticket.
           for (const db::HeldSeats& seats : held.value()) {
-            if (seats.match_id > 0) {
-              by_match[static_cast<std::uint32_t>(seats.match_id)] = static_cast<int>(seats.seats);
+            if (seats.match_id > 0 && seats.seats > seats.claimed) {
+              by_match[static_cast<std::uint32_t>(seats.match_id)] =
+                  static_cast<int>(seats.seats - seats.claimed);
             }
           }
           matches_.set_held_seats(std::move(by_match));

@@ -43,6 +43,8 @@ class DirectoryHeartbeat {
                      Describe describe);
 
   void start();
+  /// A match ended or opened here: beat sooner (HeartbeatSchedule::changed). Any thread.
+  void matches_changed();
   /// Stops the beats and deletes the row, waiting for the database at most `wait` (the DB
   /// worker must still run). True when the row was deleted (or there was none).
   bool leave(std::chrono::milliseconds wait);

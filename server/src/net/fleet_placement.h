@@ -6,6 +6,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -15,6 +16,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "claims_in_flight.h"
 #include "ricochet/proto/clock.h"
 #include "ricochet/proto/token_bucket.h"
 
@@ -91,6 +93,13 @@ struct FleetPlacement {
   /// Called on the control strand each time a ticket seated its player here (Agones: POST
   /// /allocate on the first); empty: nothing to tell. Must not block.
   std::function<void()> players_placed;
+  /// The ticket joins claimed and not yet seated (on the wall clock), for the heartbeat's
+  /// counted_ms.
+  ClaimsInFlight claims{[] {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+  }};
 };
 
 }  // namespace ricochet::server

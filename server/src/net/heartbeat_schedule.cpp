@@ -1,5 +1,7 @@
 #include "heartbeat_schedule.h"
 
+#include <algorithm>
+
 namespace ricochet::server {
 
 HeartbeatSchedule::HeartbeatSchedule(proto::TimeUs period_us, proto::TimeUs ttl_us,
@@ -9,8 +11,14 @@ HeartbeatSchedule::HeartbeatSchedule(proto::TimeUs period_us, proto::TimeUs ttl_
 bool HeartbeatSchedule::start(proto::TimeUs now) {
   if (stopped_ || in_flight_since_ || now < next_at_) return false;
   in_flight_since_ = now;
+  last_began_ = now;
   next_at_ = now + period_us_;
   return true;
+}
+
+void HeartbeatSchedule::changed(proto::TimeUs now) {
+  const proto::TimeUs earliest = last_began_ ? *last_began_ + period_us_ / 4 : now;
+  next_at_ = std::min(next_at_, std::max(now, earliest));
 }
 
 DirectoryListing HeartbeatSchedule::finished(bool written, proto::TimeUs now) {

@@ -7,8 +7,9 @@
 ///
 /// One write at a time: a slow database delays the next beat instead of queueing beats. The
 /// next beat is one period after the last began, written or not (a failed write is retried at
-/// the same pace). The directory lists the server while its last written beat is younger than
-/// the TTL; finished() reports when that starts and when it ends, for a log line each.
+/// the same pace), or sooner when the matches changed (changed()). The directory lists the server
+/// while its last written beat is younger than the TTL; finished() reports when that starts and
+/// when it ends, for a log line each.
 
 #include <cstdint>
 #include <optional>
@@ -37,6 +38,10 @@ class HeartbeatSchedule {
   DirectoryListing finished(bool written, proto::TimeUs now);
   /// When start() next says yes; nothing while a beat is in flight or once stopped.
   std::optional<proto::TimeUs> next_at() const;
+  /// A match ended or opened: the next beat is due now, but not before a quarter period after
+  /// the last began (a burst of changes costs at most four beats a period). The directory then
+  /// stops listing an ended match within that, not a whole period later.
+  void changed(proto::TimeUs now);
   /// Leaving the directory: no beat from now on.
   void stop() { stopped_ = true; }
   bool stopped() const { return stopped_; }
@@ -48,6 +53,7 @@ class HeartbeatSchedule {
   proto::TimeUs ttl_us_;
   proto::TimeUs next_at_;
   std::optional<proto::TimeUs> in_flight_since_;
+  std::optional<proto::TimeUs> last_began_;
   std::optional<proto::TimeUs> last_written_;  ///< when the last written beat began
   bool reported_listed_ = false;
   bool stopped_ = false;

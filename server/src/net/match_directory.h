@@ -29,11 +29,18 @@ struct MatchSummary {
   int max_players = 0;
 };
 
+/// The creator of a match a placement ticket opened (a ticket for a new match): no account's.
+/// The fleet chose to open it, not the player, so it is bound by the server-wide limits only
+/// (matches, created matches open, creations a minute) and closes when empty like a created
+/// match; the account is bound by its find_match rate. Account ids never reach it.
+inline constexpr std::uint64_t kPlacementCreator = UINT64_MAX;
+
 struct CreateMatchRequest {
   std::string name;      ///< 1..32 printable characters
   int max_players = 16;  ///< 1..64
   std::string map;       ///< a loaded map's name; empty: the rotation's first
-  /// The account asking: its created matches are counted and its creations rate-limited.
+  /// The account asking: its created matches are counted and its creations rate-limited; or
+  /// kPlacementCreator.
   std::uint64_t creator = 0;
 };
 

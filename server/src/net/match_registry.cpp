@@ -219,7 +219,7 @@ DirectoryResult<MatchSummary> MatchRegistry::create(const CreateMatchRequest& re
                            " matches a minute; try again shortly",
                        now);
     }
-    if (!refused) {
+    if (!refused && request.creator != kPlacementCreator) {
       auto bucket = account_creates_.try_emplace(
           request.creator, config_.limits.creates_per_account_per_minute / 60.0,
           kAccountCreateBurst, now);
@@ -488,7 +488,7 @@ std::optional<DirectoryError> MatchRegistry::refuse_open(std::uint64_t creator, 
     by_creator += hosted.creator == creator ? 1 : 0;
   }
   const SeatLimits& limits = config_.limits;
-  if (by_creator >= limits.created_matches_per_account) {
+  if (creator != kPlacementCreator && by_creator >= limits.created_matches_per_account) {
     return refuse(
         SeatRefusal::AccountMatches, account_key(creator), DirectoryErrorCode::TooManyMatches,
         "an account may have " + std::to_string(limits.created_matches_per_account) +
@@ -584,9 +584,11 @@ std::vector<std::shared_ptr<MatchHost>> MatchRegistry::take_empty_matches(proto:
       hosted.last_seated_at = now;
       ++it;
     } else if (now - hosted.last_seated_at >= config_.limits.empty_match_close_after_us) {
-      spdlog::info("match {} '{}' closed: created by account {}, empty for {} s", it->first,
-                   hosted.host->name(), hosted.creator,
-                   (now - hosted.last_seated_at) / proto::kMicrosPerSecond);
+      spdlog::info(
+          "match {} '{}' closed: created by {}, empty for {} s", it->first, hosted.host->name(),
+          hosted.creator == kPlacementCreator ? std::string("placement")
+                                              : "account " + std::to_string(hosted.creator),
+          (now - hosted.last_seated_at) / proto::kMicrosPerSecond);
       empty.push_back(hosted.host);
       it = hosts_.erase(it);
     } else {

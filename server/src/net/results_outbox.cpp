@@ -154,6 +154,26 @@ void ResultsOutbox::remove_leftover(const fs::path& temp) {
 }
 
 std::vector<OutboxRecord> ResultsOutbox::list() {
+  return scan([](std::string_view, const fs::path&) { return true; });
+}
+
+std::vector<OutboxRecord> ResultsOutbox::list_left(std::int64_t now_unix_ms,
+                                                   std::int64_t min_age_ms) {
+  return scan([&](std::string_view uuid, const fs::path& path) {
+    {
+      const std::lock_guard lock(mutex_);
+      if (held_.contains(uuid)) return false;  // this process delivers it
+    }
+    struct stat file {};
+    if (::stat(path.c_str(), &file) != 0) return false;  // gone meanwhile
+    const std::int64_t written_ms =
+        static_cast<std::int64_t>(file.st_mtim.tv_sec) * 1000 + file.st_mtim.tv_nsec / 1'000'000;
+    return now_unix_ms - written_ms >= min_age_ms;
+  });
+}
+
+std::vector<OutboxRecord> ResultsOutbox::scan(
+    const std::function<bool(std::string_view, const fs::path&)>& wanted) {
   std::vector<fs::path> names;
   std::error_code error;
   for (fs::directory_iterator it(directory_, error), end; !error && it != end;
@@ -177,6 +197,7 @@ std::vector<OutboxRecord> ResultsOutbox::list() {
       continue;
     }
     if (vanished(path)) continue;  // delivered by another process since the directory was read
+    if (!wanted(uuid, path)) continue;
     std::error_code size_error;
     if (!fs::is_regular_file(path, size_error)) {
       reject(path, "not a regular file");

@@ -28,10 +28,14 @@
 /// harmless); a record another process removed or rejected while this one listed is passed
 /// over, not rejected; a `.tmp` is removed only when no live process holds its lock (keep()
 /// holds an flock on it until the rename, and the kernel drops the lock of a killed process).
+/// A live server also looks again now and then (list_left) for records another process left
+/// there (one killed, or one whose database was away for long), so that they do not wait for
+/// the next server to start.
 
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <set>
 #include <string>
@@ -57,6 +61,11 @@ class ResultsOutbox {
   /// Every kept record in the directory, oldest name first; files that are not one are moved to
   /// `rejected/` (logged, counted) and left `.tmp` files removed. Sets files() to the count.
   std::vector<OutboxRecord> list();
+  /// As list(), but only the records this process does not hold whose file was last written
+  /// `min_age_ms` or longer before `now_unix_ms` (Unix ms, passed in): a live writer delivers
+  /// and removes its records within moments, so older ones were left (delivering one twice
+  /// writes nothing, step 2). Adds them to those held.
+  std::vector<OutboxRecord> list_left(std::int64_t now_unix_ms, std::int64_t min_age_ms);
 
   /// Records this process kept or listed and has not removed since (nor found removed, at a
   /// remove() or the next list()).
@@ -68,6 +77,9 @@ class ResultsOutbox {
  private:
   /// Moves `file` to rejected/ and logs why (unless another process took it first).
   void reject(const std::filesystem::path& file, const std::string& reason);
+  /// list() and list_left(): the records in the directory that `wanted` (uuid, file) takes.
+  std::vector<OutboxRecord> scan(
+      const std::function<bool(std::string_view, const std::filesystem::path&)>& wanted);
   /// Removes the crash leftover `temp` unless a live keep() holds its lock.
   static void remove_leftover(const std::filesystem::path& temp);
 

@@ -234,6 +234,11 @@ SeatLimits seat_limits(const MatchesConfig& matches) {
 
 /// How often the created matches are looked at for being empty too long.
 constexpr auto kEmptyMatchSweep = std::chrono::seconds(5);
+/// How often a running server looks for records other processes left in its outbox, and how
+/// old such a file must be: a live writer removes its own within moments of the database's
+/// commit, or retries it itself while the database is away (a second delivery writes nothing).
+constexpr auto kOutboxRescan = std::chrono::seconds(60);
+constexpr std::int64_t kLeftRecordAgeMs = 60'000;
 
 }  // namespace
 
@@ -264,6 +269,8 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   matches_ = std::make_unique<MatchRegistry>(
       io_, std::move(registry), std::move(maps), *game_, [this](EndedMatch match) {
         if (agones_) agones_->match_finished();
+        // The directory stops listing the ended match (and lists the next) sooner.
+        if (heartbeat_) heartbeat_->matches_changed();
         finish_match(std::move(match), [this](std::optional<wire::MatchResults> results,
                                               const std::vector<std::uint64_t>& recipients) {
           if (results) send_results(*results, recipients);
@@ -272,11 +279,12 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   ControlServerConfig control = control_config(config_);
   control.episodes = &episodes_;
   if (config_.placement.on(config_.db)) {
-    placement_ = std::make_unique<FleetPlacement>(
-        FleetPlacement{draw_server_id(), FindMatchLimiter(config_.placement.find_match_per_minute),
-                       placement_counters_, config_.matches.max_players, [this] {
-                         if (agones_) agones_->players_placed();  // made before any session
-                       }});
+    placement_.reset(new FleetPlacement{draw_server_id(),
+                                        FindMatchLimiter(config_.placement.find_match_per_minute),
+                                        placement_counters_, config_.matches.max_players, [this] {
+                                          if (agones_)
+                                            agones_->players_placed();  // made before any session
+                                        }});
     control.placement = placement_.get();
   }
   control_ = std::make_unique<ControlServer>(io_, std::move(control), *db_, *matches_);
@@ -344,6 +352,7 @@ void Server::start() {
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
   deliver_outbox();
+  rescan_outbox();
   ready_ = true;
   if (agones_) agones_->ready();
   spdlog::info(
@@ -420,6 +429,8 @@ void Server::start_placement() {
       io_, *db_, *matches_, placement_counters_, placement.heartbeat_s * proto::kMicrosPerSecond,
       placement.server_ttl_s * proto::kMicrosPerSecond, [this] {
         DirectoryEntry entry{directory_row_, {}};
+        // Before the players: claims_in_flight.h says why.
+        entry.server.counted_ms = placement_->claims.counted_as_of();
         int players = 0;
         for (const MatchSummary& match : matches_->list()) {
           entry.matches.push_back(db::HostedMatch{.match_id = match.id,
@@ -668,6 +679,29 @@ void Server::deliver_outbox() {
   if (left.empty()) return;
   spdlog::warn("results outbox: {} match records left by an earlier process; writing them",
                left.size());
+  deliver(std::move(left));
+}
+
+void Server::rescan_outbox() {
+  outbox_rescan_.expires_after(kOutboxRescan);
+  outbox_rescan_.async_wait([this](const boost::system::error_code& error) {
+    if (error || !ready_) return;  // cancelled, or stopping
+    const db::UnixMillis now = std::chrono::duration_cast<std::chrono::milliseconds>(
+                                   std::chrono::system_clock::now().time_since_epoch())
+                                   .count();
+    std::vector<OutboxRecord> left = outbox_->list_left(now, kLeftRecordAgeMs);
+    if (!left.empty()) {
+      spdlog::warn(
+          "results outbox: {} match records left by another process (older than {} s); "
+          "writing them",
+          left.size(), kLeftRecordAgeMs / 1000);
+      deliver(std::move(left));
+    }
+    rescan_outbox();
+  });
+}
+
+void Server::deliver(std::vector<OutboxRecord> left) {
   for (OutboxRecord& kept : left) {
     EndedMatch match;
     match.id = kept.match_id;

@@ -59,6 +59,7 @@ struct AccountAction;
 struct AdminReply;
 class ChatLimiter;
 struct EndedMatch;
+struct OutboxRecord;
 class ControlServer;
 class DirectoryHeartbeat;
 class GameChannel;
@@ -119,6 +120,11 @@ class Server {
                     bool from_outbox = false);
   /// At the start: every record an earlier process left in the outbox, to the database.
   void deliver_outbox();
+  /// Every kOutboxRescan while running: the records another process left in a shared outbox
+  /// (ResultsOutbox::list_left), to the database.
+  void rescan_outbox();
+  /// `left` (from the outbox, not this process's matches) to the database.
+  void deliver(std::vector<OutboxRecord> left);
   /// The results of a match whose record is not written yet: its players' kills, deaths, score
   /// and the rest they played, no rating or rank, record_pending set.
   static wire::MatchResults pending_results(const EndedMatch& match);
@@ -176,6 +182,7 @@ class Server {
   db::GameServerRow directory_row_;
   Counter* agones_game_server_invalid_ = nullptr;  ///< GET /gameserver answers not used
   boost::asio::steady_timer empty_match_sweep_{io_};
+  boost::asio::steady_timer outbox_rescan_{io_};
   std::vector<std::thread> threads_;
   std::thread stopper_;
   std::once_flag stop_once_;

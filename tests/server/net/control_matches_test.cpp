@@ -291,6 +291,31 @@ wire::ClientMessage find(const std::string& mode) {
   return m;
 }
 
+/// Writes the rig's server row (rs-test, 100 seats, `players` seated) with `hosted` into the
+/// directory, through its DB worker, at the wall clock's time.
+db::DbStatus list_in_directory(ControlRig& rig, std::int32_t players,
+                               const std::vector<db::HostedMatch>& hosted) {
+  const db::GameServerRow row{.server_id = "rs-test",
+                              .host = "127.0.0.1",
+                              .control_port = rig.port(),
+                              .game_port = 7778,
+                              .certificate_sha256 = std::string(64, 'a'),
+                              .version = "test",
+                              .capacity = 100,
+                              .players = players};
+  std::promise<db::DbStatus> written;
+  rig.db().submit(
+      [&](db::DbServices& services) {
+        return services.placement.heartbeat(row, hosted,
+                                            std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                std::chrono::system_clock::now().time_since_epoch())
+                                                .count());
+      },
+      [](std::function<void()> completion) { completion(); },
+      [&](db::DbStatus status) { written.set_value(std::move(status)); });
+  return written.get_future().get();
+}
+
 TEST(ControlPlacement, FindMatchIsLimitedPerAccountAcrossItsConnectionsOnTheServersClock) {
   std::atomic<proto::TimeUs> now{1'000 * proto::kMicrosPerSecond};
   PlacementCounters counters;
@@ -328,27 +353,14 @@ TEST(ControlPlacement, ATicketForANewMatchJoinsAnOpenMatchOfItsModeHereOnce) {
   FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters, 16, {}};
   ControlRig rig({}, {}, {}, nullptr, &placement);
   // The directory: this server, its one ffa match full, so the assignment is a new match here.
-  const db::GameServerRow row{.server_id = "rs-test",
-                              .host = "127.0.0.1",
-                              .control_port = rig.port(),
-                              .game_port = 7778,
-                              .certificate_sha256 = std::string(64, 'a'),
-                              .version = "test",
-                              .capacity = 100,
-                              .players = 4};
-  const std::vector<db::HostedMatch> hosted{
-      {.match_id = 9, .mode = "ffa", .map = "arena", .players = 4, .capacity = 4, .open = true}};
-  std::promise<db::DbStatus> written;
-  rig.db().submit(
-      [&](db::DbServices& services) {
-        return services.placement.heartbeat(row, hosted,
-                                            std::chrono::duration_cast<std::chrono::milliseconds>(
-                                                std::chrono::system_clock::now().time_since_epoch())
-                                                .count());
-      },
-      [](std::function<void()> completion) { completion(); },
-      [&](db::DbStatus status) { written.set_value(std::move(status)); });
-  ASSERT_TRUE(written.get_future().get().ok());
+  ASSERT_TRUE(list_in_directory(rig, 4,
+                                {{.match_id = 9,
+                                  .mode = "ffa",
+                                  .map = "arena",
+                                  .players = 4,
+                                  .capacity = 4,
+                                  .open = true}})
+                  .ok());
 
   ControlTestClient client(rig.port());
   ASSERT_TRUE(client.connect());
@@ -371,37 +383,55 @@ TEST(ControlPlacement, ATicketForANewMatchJoinsAnOpenMatchOfItsModeHereOnce) {
   EXPECT_EQ(client.request(join).error().code(), wire::UNKNOWN_TICKET);
 }
 
-TEST(ControlPlacement, ATicketForANewMatchOpensOneOfTheServersSizeAsTheAccountsAndTellsAgones) {
+// The directory lists a match until the server's next heartbeat: a ticket for one that ended
+// meanwhile seats its player in an open match of its mode and map here (before: MATCH_NOT_FOUND,
+// and the client had to find a match again with its ticket spent).
+TEST(ControlPlacement, ATicketForAMatchThatEndedJoinsAnotherOfItsModeAndMapHere) {
+  PlacementCounters counters;
+  FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters, 16, {}};
+  ControlRig rig({}, {}, {}, nullptr, &placement);
+  // The directory still lists match 5, open; this server (the fake) hosts only match 1.
+  ASSERT_TRUE(list_in_directory(rig, 3,
+                                {{.match_id = 5,
+                                  .mode = "ffa",
+                                  .map = "arena",
+                                  .players = 3,
+                                  .capacity = 4,
+                                  .open = true}})
+                  .ok());
+
+  ControlTestClient client(rig.port());
+  ASSERT_TRUE(client.connect());
+  client.sign_in("latecomer");
+  const wire::ServerMessage found = client.request(find("ffa"));
+  ASSERT_TRUE(found.has_find_match()) << found.DebugString();
+  ASSERT_EQ(found.find_match().assignment().match_id(), 5u);
+  wire::ClientMessage join;
+  join.mutable_join_match()->set_ticket(found.find_match().assignment().ticket());
+  const wire::ServerMessage joined = client.request(join);
+  ASSERT_TRUE(joined.has_join_match()) << joined.DebugString();
+  EXPECT_EQ(joined.join_match().match_id(), 1u);  // the fake's open ffa match on the arena
+  EXPECT_TRUE(rig.directory().created.empty());
+}
+
+TEST(ControlPlacement, ATicketForANewMatchOpensOneOfTheServersSizeAsPlacementsAndTellsAgones) {
   PlacementCounters counters;
   std::atomic<int> placed{0};
   FleetPlacement placement{"rs-test", FindMatchLimiter(30), counters, 6, [&placed] { ++placed; }};
   ControlRig rig({}, {}, {}, nullptr, &placement);
   rig.directory().set_players(1, 16);  // the fake's one ffa match is full
-  const db::GameServerRow row{.server_id = "rs-test",
-                              .host = "127.0.0.1",
-                              .control_port = rig.port(),
-                              .game_port = 7778,
-                              .certificate_sha256 = std::string(64, 'a'),
-                              .version = "test",
-                              .capacity = 100,
-                              .players = 16};
-  const std::vector<db::HostedMatch> hosted{
-      {.match_id = 1, .mode = "ffa", .map = "arena", .players = 16, .capacity = 16, .open = true}};
-  std::promise<db::DbStatus> written;
-  rig.db().submit(
-      [&](db::DbServices& services) {
-        return services.placement.heartbeat(row, hosted,
-                                            std::chrono::duration_cast<std::chrono::milliseconds>(
-                                                std::chrono::system_clock::now().time_since_epoch())
-                                                .count());
-      },
-      [](std::function<void()> completion) { completion(); },
-      [&](db::DbStatus status) { written.set_value(std::move(status)); });
-  ASSERT_TRUE(written.get_future().get().ok());
+  ASSERT_TRUE(list_in_directory(rig, 16,
+                                {{.match_id = 1,
+                                  .mode = "ffa",
+                                  .map = "arena",
+                                  .players = 16,
+                                  .capacity = 16,
+                                  .open = true}})
+                  .ok());
 
   ControlTestClient client(rig.port());
   ASSERT_TRUE(client.connect());
-  const std::uint64_t account = client.sign_in("placedfirst").account_id();
+  client.sign_in("placedfirst");
   const wire::ServerMessage found = client.request(find("ffa"));
   ASSERT_TRUE(found.has_find_match()) << found.DebugString();
   EXPECT_EQ(found.find_match().assignment().match_id(), 0u);
@@ -416,8 +446,8 @@ TEST(ControlPlacement, ATicketForANewMatchOpensOneOfTheServersSizeAsTheAccountsA
   EXPECT_EQ(joined.join_match().match_id(), 2u);
   const auto created = rig.directory().created;
   ASSERT_EQ(created.size(), 1u);
-  EXPECT_EQ(created[0].max_players, 6);    // [matches] max_players, not CreateMatchRequest's 16
-  EXPECT_EQ(created[0].creator, account);  // under the account's created-match limits
+  EXPECT_EQ(created[0].max_players, 6);  // [matches] max_players, not CreateMatchRequest's 16
+  EXPECT_EQ(created[0].creator, kPlacementCreator);  // not the account's: no per-account limit
   EXPECT_EQ(placed.load(), 1);
 }
 

@@ -1,5 +1,6 @@
 // What the control sessions use to place players (fleet_placement.h): the find_match limit per
-// account on fake time, and the ticket's two forms.
+// account on fake time, the ticket's two forms, and the claims in flight a heartbeat's
+// counted_ms waits for (claims_in_flight.h).
 
 #include "fleet_placement.h"
 
@@ -46,6 +47,27 @@ TEST(Placement, ServerIdsAreDrawnAndFitTheDirectory) {
   EXPECT_EQ(id.size(), 19u);
   EXPECT_EQ(id.rfind("rs-", 0), 0u);
   EXPECT_NE(id, draw_server_id());
+}
+
+TEST(ClaimsInFlight, FiguresAreCountedAsOfTheOldestClaimStillInFlight) {
+  db::UnixMillis now = 1'000;
+  ClaimsInFlight claims([&now] { return now; });
+  EXPECT_EQ(claims.counted_as_of(), 1'000);  // none in flight: now
+  {
+    const ClaimsInFlight::Claim first = claims.begin();
+    EXPECT_EQ(first.claimed_ms(), 1'000);
+    now = 1'010;
+    {
+      const ClaimsInFlight::Claim second = claims.begin();
+      EXPECT_EQ(second.claimed_ms(), 1'010);
+      now = 1'020;
+      EXPECT_EQ(claims.counted_as_of(), 1'000);
+      EXPECT_EQ(claims.in_flight(), 2u);
+    }
+    EXPECT_EQ(claims.counted_as_of(), 1'000);  // the first is still being seated
+  }
+  EXPECT_EQ(claims.in_flight(), 0u);
+  EXPECT_EQ(claims.counted_as_of(), 1'020);
 }
 
 TEST(Placement, ResultAndOutcomeEnumsAreCounted) {

@@ -36,6 +36,27 @@ TEST(HeartbeatSchedule, ASlowWriteDelaysTheNextBeatInsteadOfQueueingBeats) {
   EXPECT_EQ(beats.next_at(), 9 * kSecond);
 }
 
+TEST(HeartbeatSchedule, AChangeOfMatchesBeatsSoonerButAtMostFourTimesAPeriod) {
+  HeartbeatSchedule beats(4 * kSecond, 10 * kSecond, 0);
+  ASSERT_TRUE(beats.start(0));
+  beats.finished(true, 100'000);
+  EXPECT_EQ(beats.next_at(), 4 * kSecond);
+  beats.changed(3 * kSecond);  // a match ended: due now
+  EXPECT_EQ(beats.next_at(), 3 * kSecond);
+  ASSERT_TRUE(beats.start(3 * kSecond));
+  // Another at once, while that one is in flight: due a quarter period after it began.
+  beats.changed(3 * kSecond + 1);
+  EXPECT_EQ(beats.next_at(), std::nullopt);
+  beats.finished(true, 3 * kSecond + 2);
+  EXPECT_EQ(beats.next_at(), 4 * kSecond);
+  ASSERT_TRUE(beats.start(4 * kSecond));
+  beats.finished(true, 4 * kSecond);
+  EXPECT_EQ(beats.next_at(), 8 * kSecond);  // no change since: the period again
+  beats.stop();
+  beats.changed(5 * kSecond);
+  EXPECT_EQ(beats.next_at(), std::nullopt);
+}
+
 TEST(HeartbeatSchedule, FailedWritesAreRetriedAtThePaceAndReportTheRowLostPastTheTtl) {
   HeartbeatSchedule beats(2 * kSecond, 10 * kSecond, 0);
   ASSERT_TRUE(beats.start(0));

@@ -478,6 +478,37 @@ TEST_F(LimitedRegistryTest, MatchCreationIsLimitedPerAccountAndServerWide) {
   EXPECT_EQ(registry_->hosts().size(), 3u);
 }
 
+// A ticket for a new match opens one owned by no account: an account whose placed match filled
+// up and that is placed in another new match is not refused TOO_MANY_MATCHES after its ticket
+// was used (it did not choose to create either). The server-wide limits still hold.
+TEST_F(LimitedRegistryTest, PlacedMatchesAreNoAccountsButCountServerWideAndCloseWhenEmpty) {
+  const auto create = [&](std::uint64_t creator) {
+    return registry_->create({.name = "m", .max_players = 4, .map = "", .creator = creator});
+  };
+  ASSERT_TRUE(std::holds_alternative<MatchSummary>(create(7)));  // the account's own, its one
+  const auto placed = create(kPlacementCreator);
+  ASSERT_TRUE(std::holds_alternative<MatchSummary>(placed));
+  const std::uint32_t id = std::get<MatchSummary>(placed).id;
+  // Two created matches are open, server-wide: a third placed one waits.
+  const auto third = create(kPlacementCreator);
+  ASSERT_TRUE(std::holds_alternative<DirectoryError>(third));
+  EXPECT_EQ(std::get<DirectoryError>(third).code, DirectoryErrorCode::TooManyMatches);
+  EXPECT_EQ(registry_->refused(SeatRefusal::CreatedMatches), 1u);
+  EXPECT_EQ(registry_->refused(SeatRefusal::AccountMatches), 0u);
+  // Empty for empty_match_close_after_us, it closes like a created match.
+  now_ += 60 * proto::kMicrosPerSecond;
+  registry_->close_empty_matches();
+  EXPECT_FALSE(listed(id));
+  // And placement opens more than an account's per-minute creations (2 here).
+  for (int i = 0; i < 2; ++i) {
+    now_ += 61 * proto::kMicrosPerSecond;
+    registry_->close_empty_matches();
+    EXPECT_TRUE(std::holds_alternative<MatchSummary>(create(kPlacementCreator))) << i;
+    EXPECT_TRUE(std::holds_alternative<MatchSummary>(create(kPlacementCreator))) << i;
+  }
+  EXPECT_EQ(registry_->refused(SeatRefusal::AccountCreateRate), 0u);
+}
+
 SeatLimits two_per_account() {
   SeatLimits limits = tight_limits();
   limits.created_matches_per_account = 2;

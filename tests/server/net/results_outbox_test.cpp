@@ -4,12 +4,14 @@
 // match inside) is moved to rejected/ with its reason, counted, and never stops the others.
 // Two outboxes on one directory (the servers of one shared volume): each delivers what it
 // finds, a record the other removes while it lists is passed over (not rejected), and a .tmp
-// the other is writing (its flock held) is left alone.
+// the other is writing (its flock held) is left alone; a live one picks up, on fake time, the
+// records another left once they are old enough, and never its own.
 #include "results_outbox.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -214,6 +216,39 @@ TEST(ResultsOutbox, ARecordAnotherProcessRemovesWhileThisOneListsIsPassedOverNot
   EXPECT_TRUE(names_in(dir.path() / "rejected").empty());
   EXPECT_TRUE(starting.list().empty());
   EXPECT_EQ(starting.files(), 0u);  // what it listed is gone: not counted as kept any more
+}
+
+/// Sets `file`'s last write to `unix_s` (Unix seconds): the outbox's age rule on fake time.
+void written_at(const fs::path& file, std::int64_t unix_s) {
+  const timespec times[2] = {{unix_s, 0}, {unix_s, 0}};
+  ASSERT_EQ(::utimensat(AT_FDCWD, file.c_str(), times, 0), 0) << file;
+}
+
+TEST(ResultsOutbox, ALiveOneTakesTheRecordsAnotherLeftOnceOldEnoughButNotItsOwn) {
+  constexpr std::int64_t kWrittenS = 1'700'000'000;
+  constexpr std::int64_t kAgeMs = 60'000;
+  ricochet::test::TempDir dir;
+  ResultsOutbox live(dir.path());
+  EXPECT_TRUE(live.list().empty());  // its start: nothing left yet
+  {
+    ResultsOutbox dead(dir.path());  // another server, killed after keeping its record
+    ASSERT_TRUE(dead.keep(record(kUuidA)));
+  }
+  ASSERT_TRUE(live.keep(record(kUuidB, "tdm")));  // its own, being delivered
+  written_at(dir.path() / (std::string(kUuidA) + ".rec"), kWrittenS);
+  written_at(dir.path() / (std::string(kUuidB) + ".rec"), kWrittenS);
+  // Too young: its writer may still be delivering it.
+  EXPECT_TRUE(live.list_left(kWrittenS * 1000 + kAgeMs - 1, kAgeMs).empty());
+  const auto left = live.list_left(kWrittenS * 1000 + kAgeMs, kAgeMs);
+  ASSERT_EQ(left.size(), 1u);
+  EXPECT_EQ(left[0].record.uuid, kUuidA);
+  EXPECT_EQ(live.files(), 2u);
+  // Held now: the next rescan does not deliver it a second time.
+  EXPECT_TRUE(live.list_left(kWrittenS * 1000 + 10 * kAgeMs, kAgeMs).empty());
+  live.remove(kUuidA);
+  live.remove(kUuidB);
+  EXPECT_TRUE(names_in(dir.path()).empty());
+  EXPECT_EQ(live.rejected(), 0u);
 }
 
 TEST(ResultsOutbox, ATmpAnotherProcessIsWritingIsLeftAloneAndRemovedOnceItsWriterIsGone) {

@@ -23,6 +23,11 @@ struct GameServerRow {
   std::int32_t players = 0;        ///< seated now, 0..capacity
   UnixMillis heartbeat_ms = 0;     ///< when the server last wrote the row
   UnixMillis started_ms = 0;       ///< when the server started
+  /// The server's clock when its players and matches were complete: every ticket claimed
+  /// before it is seated in them (or its join failed), one claimed at or after it may not be
+  /// yet and keeps holding its seat (placement.h, held seats). 0..heartbeat_ms; 0 in a
+  /// heartbeat means as of the heartbeat.
+  UnixMillis counted_ms = 0;
 };
 
 /// One match a game server hosts, as its last heartbeat described it.
@@ -55,11 +60,14 @@ struct TicketRow {
   std::optional<UnixMillis> claimed_ms;  ///< when the server took it; nullopt while unclaimed
 };
 
-/// Seats held by open (unclaimed, unexpired) tickets on one match of one server.
+/// Seats held on one match of one server by open (unclaimed, unexpired) tickets and by tickets
+/// claimed there that the server's last heartbeat had not counted yet (claimed_ms >= its
+/// counted_ms).
 struct HeldSeats {
   std::string server_id;
   MatchId match_id = 0;  ///< 0: tickets for a new match on that server
   std::int64_t seats = 0;
+  std::int64_t claimed = 0;  ///< of `seats`, those of claimed tickets not yet counted
 };
 
 /// What a claimed ticket was for.

@@ -5,8 +5,9 @@
 ///
 ///   heartbeat     validates the server's row and its matches (InvalidPlacement: ids, host,
 ///                 ports 1..65535, certificate SHA-256 as 64 lowercase hex, version, capacity,
-///                 players, mode and map names, match ids unique), then in one transaction
-///                 writes the row with heartbeat_ms = now and replaces its matches wholesale
+///                 players, mode and map names, match ids unique, counted_ms 0..now), then
+///                 in one transaction writes the row with heartbeat_ms = now (and counted_ms
+///                 = now when 0) and replaces its matches wholesale
 ///   leave         a server stopping: its row, its matches and its unclaimed tickets go
 ///   live_servers  the rows with heartbeat_ms > now - server_ttl_ms, by server_id
 ///   purge_stale   deletes the servers that are not live, with their matches and all their
@@ -15,8 +16,14 @@
 ///                 cannot both hand out the last seat:
 ///                   1. the account's unclaimed tickets are dropped (one open ticket each)
 ///                   2. seats: a match's free seats are its capacity less its players less its
-///                      open tickets (unclaimed, unexpired); a server's the same over all its
-///                      matches and its tickets for new matches
+///                      held seats; a server's the same over all its matches and its tickets
+///                      for new matches. A ticket holds a seat while open (unclaimed,
+///                      unexpired) and, once claimed, until its server's heartbeat counts the
+///                      player: claimed_ms >= the row's counted_ms. (A claimed player is
+///                      seated only after the claim; a heartbeat's figures taken before that
+///                      would not count it, and a ticket that stopped holding at the claim
+///                      left its seat free to a second assignment: a burst of tickets piled
+///                      onto one match and got MATCH_FULL.)
 ///                   3. the open match of that mode (and map, if given) on a live server with a
 ///                      free seat on both, fullest first (players fill matches rather than
 ///                      spread), then on the least loaded server ((players + tickets) /
@@ -31,8 +38,8 @@
 ///                 (claimed only if unclaimed, for this server and account, and unexpired);
 ///                 otherwise UnknownTicket (unknown, malformed, already claimed, another
 ///                 server's or another account's) or ExpiredTicket, with the reason
-///   held_seats    the open tickets on one server, per match: seats it holds for them against
-///                 players joining directly
+///   held_seats    the held seats on one server, per match (HeldSeats::claimed of them by
+///                 claimed tickets, which the server itself already counts or is seating)
 ///
 /// Time is a parameter (Unix ms) of every call that needs it; the rows and times in the directory
 /// are what each server wrote, so the TTL must be well above the clock skew between servers.
