@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "ctest_budget.h"
 #include "postgres_cluster.h"
 #include "replay_process.h"
 #include "ricochet/db/store.h"
@@ -36,8 +37,6 @@ namespace {
 using namespace std::chrono_literals;
 using ricochet::test::PostgresCluster;
 
-constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
-constexpr std::chrono::seconds kMargin{6};
 constexpr std::chrono::seconds kStartBudget{10};
 /// Beyond the time limit: two JVMs and a C++ process start, four accounts register and sign in
 /// (Argon2), join, and the results come back.
@@ -139,7 +138,7 @@ long long replay_score(const std::string& json, std::uint64_t account, const std
 
 TEST(MixedBots, JavaAndCppBotsPlayToTheTimeLimitAndTheDatabaseHoldsTheKillsEachSaw) {
   constexpr std::chrono::seconds kTimeLimit{10};
-  static_assert(kStartBudget + kTimeLimit + kSignInBudget + kExitBudget + kMargin <= kCtestTimeout);
+  static_assert(fits_ctest(kStartBudget + kTimeLimit + kSignInBudget + kExitBudget));
   // Four players start the match (two of each); its time limit runs from then.
   const std::string matches =
       "count = 1\nmax_players = 16\nmaps = [\"" RICOCHET_SOURCE_DIR
@@ -273,8 +272,7 @@ TEST(MixedBots, AJavaBotSignedInOnOneServerFollowsItsAssignmentToAnotherAndPlays
   constexpr std::chrono::seconds kTimeLimit{2};
   constexpr std::chrono::seconds kPlayBudget{20};   // a JVM, a sign-in, placement, two TLS
   constexpr std::chrono::seconds kReportBudget{5};  // the bot's own limit ran out: its report
-  static_assert(kStartBudget + kPlayBudget + kReportBudget + kExitBudget + kMargin <=
-                kCtestTimeout);
+  static_assert(fits_ctest(kStartBudget + kPlayBudget + kReportBudget + kExitBudget));
   const std::string url = PostgresCluster::shared().create_database();
   const auto matches = [](const std::string& mode, int min_players, int time_limit_s) {
     return "count = 1\nmax_players = 8\nmode = \"" + mode +

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "ctest_budget.h"
 #include "postgres_cluster.h"
 #include "replay_process.h"
 #include "ricochet/bot/bot.h"
@@ -35,12 +36,8 @@ namespace {
 using namespace std::chrono_literals;
 namespace asio = boost::asio;
 
-// Every wait is bounded in real time, and a test's bounds added up stay kMargin under the limit
-// ctest gives it (RICOCHET_CTEST_TIMEOUT_S, set in CMakeLists.txt beside the TIMEOUT), checked
-// at compile time: a slow run fails on its own assertion, with the server's log, instead of
-// being killed. The matches are short; the budgets are slack for a loaded machine.
-constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
-constexpr std::chrono::seconds kMargin{6};
+// Each test's waits fit ctest's limit (ctest_budget.h). The matches are short; the budgets are
+// slack for a loaded machine.
 /// From the fork to the ports file: maps, TLS identity, database.
 constexpr std::chrono::seconds kStartBudget{10};
 /// Beyond a match's time limit: the bots register (Argon2), sign in, join and connect, and the
@@ -53,10 +50,6 @@ constexpr std::chrono::seconds kExitBudget{kShutdownGraceS + 3};
 /// A whole match of `time_limit`, from the bots' start to their results.
 constexpr std::chrono::seconds play_budget(std::chrono::seconds time_limit) {
   return time_limit + kSignInBudget;
-}
-/// Whether a test whose bounded waits add up to `waits` ends before ctest's limit.
-constexpr bool fits_ctest(std::chrono::seconds waits) {
-  return waits + kMargin <= kCtestTimeout;
 }
 
 /// The [matches] table: one free-for-all match on the arena, no warm-up, no frag limit, seeded,

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "ctest_budget.h"
 #include "postgres_cluster.h"
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
@@ -34,9 +35,6 @@ namespace {
 using namespace std::chrono_literals;
 namespace asio = boost::asio;
 
-/// As in bot_match_test.cpp: the bounded waits of a test add up to kMargin under ctest's limit.
-constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
-constexpr std::chrono::seconds kMargin{6};
 /// From the forks to the three ports files and directory rows (the servers start at once).
 constexpr std::chrono::seconds kStartBudget{10};
 /// Every match's time limit: matches end by themselves, soon.
@@ -114,7 +112,7 @@ std::string control_of(const ServerProcess& server) {
 }
 
 TEST(BotPlacement, BotsThatKnowOneServerArePlacedOnTheOthersFullestMatchFirstAndPlayThere) {
-  static_assert(kStartBudget + kPlayBudget + kExitBudget + kMargin <= kCtestTimeout);
+  static_assert(fits_ctest(kStartBudget + kPlayBudget + kExitBudget));
   const std::string url = PostgresCluster::shared().create_database();
   ServerProcess a(matches_toml("ffa", 1), kShutdownGraceS, fleet_toml(url));
   ServerProcess b(matches_toml("tdm", kMatchesPerServer), kShutdownGraceS, fleet_toml(url));
@@ -256,6 +254,61 @@ TEST(BotPlacement, BotsThatKnowOneServerArePlacedOnTheOthersFullestMatchFirstAnd
   }
   EXPECT_EQ(store.value()->match_count().value(), static_cast<std::int64_t>(bots_in.size() + 2));
   if (HasFailure()) std::cout << logs();
+}
+
+TEST(BotPlacement, ABotTheFleetHasNoSeatForWaitsAndSaysWhy) {
+  // One server with game clients for two: the third bot's find_match is refused
+  // NO_SERVER_AVAILABLE; it waits and asks again (never gives up on it) and reports each refusal
+  // (Bot::on_failure), which is how the load test counts the refusals bots answer by themselves.
+  constexpr std::chrono::seconds kRefusedBudget{10};
+  static_assert(fits_ctest(kStartBudget + kRefusedBudget + kExitBudget));
+  const std::string url = PostgresCluster::shared().create_database();
+  ServerProcess server("count = 1\nmax_players = 4\nmode = \"tdm\"\nmaps = [\"" RICOCHET_SOURCE_DIR
+                       "/server/maps/arena.toml\"]\nwarmup_s = 0\nfrag_limit = 0\n"
+                       "record = false\nmin_players = 1\ntime_limit_s = 0\n",
+                       kShutdownGraceS, fleet_toml(url), {}, "", "max_clients = 2\n");
+  ASSERT_TRUE(server.wait_listening(kStartBudget)) << server.log();
+  ASSERT_TRUE(listed(server, kStartBudget)) << server.log();
+
+  asio::io_context io;
+  bot::FleetConfig config;
+  config.bots = 3;
+  config.bot.control_port = server.control_port();
+  config.bot.fingerprint = server.fingerprint();
+  config.bot.name = "waiting";
+  config.bot.find_match = "tdm";
+  config.bot.predict = false;
+  config.bind_addresses = {"127.0.0.2", "127.0.0.3", "127.0.0.4"};
+  ASSERT_EQ(config.validate(), "");
+  bot::Fleet fleet(io, config);
+  std::vector<std::string> refusals;
+  for (const auto& each : fleet.bots()) {
+    each->on_failure([&](std::string_view reason) { refusals.emplace_back(reason); });
+  }
+  const auto playing = [&] {
+    int count = 0;
+    for (const auto& each : fleet.bots()) count += each->state() == bot::BotState::Playing;
+    return count;
+  };
+  const auto refused = [&] {
+    return std::count_if(refusals.begin(), refusals.end(), [](const std::string& reason) {
+      return reason.find("NO_SERVER_AVAILABLE") != std::string::npos;
+    });
+  };
+  ASSERT_EQ(fleet.start(), "");
+  // Two play; the third is refused, waits about 2 s and is refused again.
+  const bool seen = run_until(
+      io, [&] { return playing() == 2 && refused() >= 2; }, kRefusedBudget);
+  ASSERT_TRUE(seen) << "playing " << playing() << ", refusals "
+                    << ::testing::PrintToString(refusals) << "\n"
+                    << server.log();
+  for (const std::string& reason : refusals) {
+    EXPECT_NE(reason.find("find_match: NO_SERVER_AVAILABLE"), std::string::npos) << reason;
+  }
+  EXPECT_FALSE(fleet.done()) << "a full fleet is not a reason to give up";
+  for (const auto& each : fleet.bots()) EXPECT_EQ(each->record().error, "");
+  server.terminate();
+  EXPECT_EQ(server.wait_exit(kExitBudget), std::optional<int>(0)) << server.log();
 }
 
 }  // namespace

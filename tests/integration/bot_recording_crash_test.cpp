@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "ctest_budget.h"
 #include "replay_process.h"
 #include "ricochet/bot/fleet.h"
 #include "server_process.h"
@@ -27,13 +28,11 @@ namespace {
 using namespace std::chrono_literals;
 namespace asio = boost::asio;
 
-constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
 /// From the fork to the ports file, then the bots' sign-in (Argon2) and joining, then a tick
 /// chunk (16 KiB: about 3 s of 8 players) reaching the file, then the replay and the margin.
 constexpr std::chrono::seconds kStartBudget{10};
 constexpr std::chrono::seconds kChunkBudget{30};
-constexpr std::chrono::seconds kMargin{10};
-static_assert(kStartBudget + kChunkBudget + kMargin <= kCtestTimeout);
+static_assert(fits_ctest(kStartBudget + kChunkBudget, std::chrono::seconds{10}));
 
 /// The one `.rcr.part` in `directory` with at least `min_bytes`, or nothing.
 std::optional<std::filesystem::path> part_file(const std::filesystem::path& directory,

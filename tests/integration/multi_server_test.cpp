@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "control_test_client.h"
+#include "ctest_budget.h"
 #include "postgres_cluster.h"
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/control_client.h"
@@ -33,9 +34,6 @@ using namespace std::chrono_literals;
 using server::test::ControlTestClient;
 namespace asio = boost::asio;
 
-/// As in bot_match_test.cpp: the bounded waits of a test add up to kMargin under ctest's limit.
-constexpr std::chrono::seconds kCtestTimeout{RICOCHET_CTEST_TIMEOUT_S};
-constexpr std::chrono::seconds kMargin{6};
 /// From the forks to the three ports files (the servers start at once).
 constexpr std::chrono::seconds kStartBudget{10};
 /// The bots register (at the minimum password cost), sign in, join and connect, and the
@@ -169,7 +167,7 @@ wire::ErrorCode error_of(const wire::ServerMessage& reply) {
 }
 
 TEST(MultiServer, AccountsSessionsAndLimitsOfOneServerHoldOnTheOthers) {
-  static_assert(kStartBudget + kExitBudget + kMargin <= kCtestTimeout);
+  static_assert(fits_ctest(kStartBudget + kExitBudget));
   ThreeServers servers(PostgresCluster::shared().create_database(), 60s, kRegistrationsPerAddress);
   ASSERT_TRUE(servers.wait_listening()) << servers.logs();
   ServerProcess& a = servers[0];
@@ -275,8 +273,7 @@ TEST(MultiServer, MatchesOnTwoServersAtOnceMoveTheSameRatingsAndAThirdSeesBoth) 
   // in one transaction that reads the ratings it moves, so one of A's and B's records starts
   // from the other's ratings (none is lost), and C's starts from both.
   constexpr std::chrono::seconds kTimeLimit{2};
-  static_assert(kStartBudget + 2 * (kTimeLimit + kSignInBudget) + kExitBudget + kMargin <=
-                kCtestTimeout);
+  static_assert(fits_ctest(kStartBudget + 2 * (kTimeLimit + kSignInBudget) + kExitBudget));
   const std::string url = PostgresCluster::shared().create_database();
   const std::array<std::string, 2> names = {"xavier", "yvonne"};
   // The accounts, and a match the first won, written before the servers start: with unequal

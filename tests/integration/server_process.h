@@ -33,14 +33,16 @@ class ServerProcess {
  public:
   /// `matches_toml`: the body of the [matches] table (maps, seed, limits ...); `more_toml`:
   /// further tables, written after it; `data_dir`: the server's data directory (empty: `data`
-  /// in the process's temporary directory); `admin_toml`: more keys of the [admin] table.
+  /// in the process's temporary directory); `admin_toml`, `game_toml`: more keys of the [admin]
+  /// and [game] tables.
   explicit ServerProcess(const std::string& matches_toml, int shutdown_grace_s = 10,
                          const std::string& more_toml = "", std::filesystem::path data_dir = {},
-                         const std::string& admin_toml = "")
+                         const std::string& admin_toml = "", const std::string& game_toml = "")
       : dir_("ricochet-e2e"),
         matches_toml_(matches_toml),
         more_toml_(more_toml),
         admin_toml_(admin_toml),
+        game_toml_(game_toml),
         shutdown_grace_s_(shutdown_grace_s),
         data_dir_(data_dir.empty() ? dir_.path() / "data" : std::move(data_dir)) {
     start();
@@ -137,8 +139,8 @@ class ServerProcess {
     config << "[server]\ndata_dir = \"" << data_dir_.string() << "\"\nports_file = \""
            << ports_path().string() << "\"\nthreads = 2\nshutdown_grace_s = " << shutdown_grace_s_
            << "\n[control]\nbind = \"127.0.0.1\"\nport = " << control_port_
-           << "\n[game]\nbind = \"127.0.0.1\"\nport = " << game_port_
-           << "\n[admin]\nbind = \"127.0.0.1\"\nport = " << admin_port_ << "\n"
+           << "\n[game]\nbind = \"127.0.0.1\"\nport = " << game_port_ << "\n"
+           << game_toml_ << "\n[admin]\nbind = \"127.0.0.1\"\nport = " << admin_port_ << "\n"
            << admin_toml_ << "\n[matches]\n"
            << matches_toml_ << "\n"
            << more_toml_ << "\n";
@@ -174,6 +176,7 @@ class ServerProcess {
   std::string matches_toml_;
   std::string more_toml_;
   std::string admin_toml_;
+  std::string game_toml_;
   int shutdown_grace_s_;
   std::filesystem::path data_dir_;
   pid_t pid_ = -1;
