@@ -137,6 +137,11 @@ TEST(BotPlacement, BotsThatKnowOneServerArePlacedOnTheOthersFullestMatchFirstAnd
   tdm.bind_addresses = {"127.0.0.2", "127.0.0.3", "127.0.0.4"};  // within per-address limits
   ASSERT_EQ(tdm.validate(), "");
   bot::Fleet fleet(io, tdm);
+  // The refusals the tdm bots answered by finding again (Bot::on_failure).
+  std::vector<std::string> refusals;
+  for (const auto& each : fleet.bots()) {
+    each->on_failure([&](std::string_view reason) { refusals.emplace_back(reason); });
+  }
 
   bot::BotConfig ffa_config;
   ffa_config.control_port = c.control_port();
@@ -193,16 +198,27 @@ TEST(BotPlacement, BotsThatKnowOneServerArePlacedOnTheOthersFullestMatchFirstAnd
     placement_ms.push_back(metrics.placement_ms[0]);
   }
   EXPECT_EQ(bots_on.size(), 2u) << "B and C both take bots";
-  // Fullest first: a match takes players until it is full before the next one does, and a
-  // claimed ticket holds its seat until its server's heartbeat counts the player, so the 12 fill
-  // exactly three matches; spreading would fill none (3 each). (When the claim let the seat go,
-  // the burst piled onto one match: 36 tickets for 12 bots, 2 to 3 full matches.)
+  // A ticket is refused only by the hosting server's own bound on players still connecting to
+  // one match (half its seats: 2 of 4, the hardening's reservation bound), when a slow machine
+  // leaves three placed bots connecting at once; never because placement gave a seat that was
+  // taken (MATCH_FULL "seats taken"): a claimed ticket holds its seat until its server's
+  // heartbeat counts the player. (When the claim let the seat go, the burst piled onto one
+  // match: 36 tickets for 12 bots, 2 to 3 full matches.)
+  int still_connecting = 0;
+  for (const std::string& reason : refusals) {
+    const bool bound = reason.find("still connecting") != std::string::npos;
+    EXPECT_TRUE(bound) << "a refusal placement should have prevented: " << reason;
+    still_connecting += bound;
+  }
+  // Fullest first: a match takes players until it is full before the next one does, so the 12
+  // fill three matches (spreading would fill none: 3 each); a bot refused by the bound finds
+  // again after the others went on, and can leave one match a seat short.
   int full_matches = 0;
   for (const auto& [where, bots] : bots_in) {
     EXPECT_LE(bots, kSeatsPerMatch);
     full_matches += bots == kSeatsPerMatch;
   }
-  EXPECT_EQ(full_matches, kTdmBots / kSeatsPerMatch)
+  EXPECT_GE(full_matches, kTdmBots / kSeatsPerMatch - still_connecting)
       << "bots per match: " << ::testing::PrintToString(bots_in);
 
   // The ffa bot that knew only C plays on A, twice: after its first match it asked C again
@@ -225,16 +241,18 @@ TEST(BotPlacement, BotsThatKnowOneServerArePlacedOnTheOthersFullestMatchFirstAnd
             << "; 1 ffa bot through C on A, twice; find_match to first snapshot p50 "
             << placement.p50 << " ms, max " << placement.max << " ms (" << placement.count
             << " bots); tickets A: " << tickets_of(a) << "B: " << tickets_of(b)
-            << "C: " << tickets_of(c) << "; bots started to all done " << played_s << " s\n";
+            << "C: " << tickets_of(c) << "; refused by the connecting bound " << still_connecting
+            << "; bots started to all done " << played_s << " s\n";
   // Every find_match was answered by the server the bot knew: A's tickets are the tdm bots', one
-  // each (no seat is taken under a ticket), C's the ffa bot's, one a match (a ticket for a match
-  // A ended seats it in A's next one, where it used to find again); B answered none.
+  // each and one more per refusal by the connecting bound (no seat is taken under a ticket), C's
+  // the ffa bot's, one a match (a ticket for a match A ended seats it in A's next one, where it
+  // used to find again); B answered none.
   const std::regex assigned("^assigned=([0-9]+) $");
   std::smatch count;
   const std::string on_a = tickets_of(a);
   const std::string on_c = tickets_of(c);
   ASSERT_TRUE(std::regex_match(on_a, count, assigned)) << on_a;
-  EXPECT_EQ(std::stoi(count[1].str()), kTdmBots);
+  EXPECT_EQ(std::stoi(count[1].str()), kTdmBots + still_connecting);
   ASSERT_TRUE(std::regex_match(on_c, count, assigned)) << on_c;
   EXPECT_EQ(std::stoi(count[1].str()), 2);
   EXPECT_EQ(tickets_of(b), "");
