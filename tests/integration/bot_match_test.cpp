@@ -614,7 +614,8 @@ TEST(BotMatch, AServerDeliversOnceTheResultAKilledServerLeftInTheSharedOutboxNev
       fits_ctest(kStartBudget + kInMatchBudget + kMatchBudget + kHeldBudget + kDeliverBudget));
   PostgresCluster& cluster = PostgresCluster::shared();
   const std::string url = cluster.create_database();
-  const std::string role = "outbox_x_" + std::to_string(getpid());
+  static int roles = 0;  // one cluster per process, its roles shared by every run of the test
+  const std::string role = "outbox_x_" + std::to_string(getpid()) + "_" + std::to_string(++roles);
   cluster.execute("CREATE ROLE " + role + " LOGIN SUPERUSER");
   std::string url_of_x = url;
   url_of_x.replace(url_of_x.find("ricochet@"), std::string("ricochet").size(), role);
