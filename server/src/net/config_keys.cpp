@@ -191,6 +191,15 @@ const std::array kKeys = {
         .kind = Kind::Text,
         .text = &text_of<&S::db, &DbConfig::outbox_dir>},
     Key{.section = "db",
+        .name = "outbox_rescan_s",
+        .flag = "--outbox-rescan-s",
+        .help = "seconds between two looks of a running server for the results other servers "
+                "left in a shared outbox_dir (killed, or their database away for long); it "
+                "takes only those whose file is over 60 s old",
+        .integer = &integer_of<&S::db, &DbConfig::outbox_rescan_s>,
+        .min = 1,
+        .max = 3600},
+    Key{.section = "db",
         .name = "password_hashing",
         .flag = "--password-hashing",
         .help = "Argon2id cost of each password hash: interactive (64 MiB, ~100 ms; keep it for "

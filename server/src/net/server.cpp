@@ -234,10 +234,11 @@ SeatLimits seat_limits(const MatchesConfig& matches) {
 
 /// How often the created matches are looked at for being empty too long.
 constexpr auto kEmptyMatchSweep = std::chrono::seconds(5);
-/// How often a running server looks for records other processes left in its outbox, and how
-/// old such a file must be: a live writer removes its own within moments of the database's
-/// commit, or retries it itself while the database is away (a second delivery writes nothing).
-constexpr auto kOutboxRescan = std::chrono::seconds(60);
+/// How old a file of the outbox must be for a running server to take it as left by another
+/// process (every db.outbox_rescan_s): a live writer removes its own within moments of the
+/// database's commit, or retries it itself while the database is away, rewriting the file at
+/// each attempt (at most Server::kRecordRetryLast apart: half this); a second delivery writes
+/// nothing.
 constexpr std::int64_t kLeftRecordAgeMs = 60'000;
 
 }  // namespace
@@ -683,7 +684,7 @@ void Server::deliver_outbox() {
 }
 
 void Server::rescan_outbox() {
-  outbox_rescan_.expires_after(kOutboxRescan);
+  outbox_rescan_.expires_after(std::chrono::seconds(config_.db.outbox_rescan_s));
   outbox_rescan_.async_wait([this](const boost::system::error_code& error) {
     if (error || !ready_) return;  // cancelled, or stopping
     const db::UnixMillis now = std::chrono::duration_cast<std::chrono::milliseconds>(

@@ -120,7 +120,7 @@ class Server {
                     bool from_outbox = false);
   /// At the start: every record an earlier process left in the outbox, to the database.
   void deliver_outbox();
-  /// Every kOutboxRescan while running: the records another process left in a shared outbox
+  /// Every db.outbox_rescan_s while running: the records another process left in a shared outbox
   /// (ResultsOutbox::list_left), to the database.
   void rescan_outbox();
   /// `left` (from the outbox, not this process's matches) to the database.

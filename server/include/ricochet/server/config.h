@@ -49,6 +49,9 @@ struct DbConfig {
   /// Ended matches' results until the database has them (results_outbox.h); under data_dir
   /// unless absolute.
   std::string outbox_dir = "outbox";
+  /// Seconds between two looks of a running server for the records other processes left in a
+  /// shared outbox (ResultsOutbox::list_left), 1..3600.
+  int outbox_rescan_s = 60;
   PasswordHashing password_hashing = PasswordHashing::Interactive;
   // --- abuse limits of accounts (issue 29) ---
   int registrations_per_hour_per_address = 10;  ///< an IPv4 address or IPv6 /64, in the database
