@@ -21,6 +21,7 @@
 #include <utility>
 #include <variant>
 
+#include "admin_advertisement.h"
 #include "admin_http.h"
 #include "agones_game_server.h"
 #include "agones_http.h"
@@ -420,6 +421,12 @@ void Server::start_placement() {
       placement.advertise_control_port != 0 ? placement.advertise_control_port : control_port();
   row.game_port = placement.advertise_game_port != 0 ? placement.advertise_game_port : game_port();
   row.certificate_sha256 = fingerprint_hex;
+  row.admin_port = advertised_admin_port(
+      AdminAdvertisement{.bind = config_.admin.bind,
+                         .bound_port = admin_port(),
+                         .host = host,
+                         .configured_port = placement.advertise_admin_port,
+                         .agones = std::getenv("AGONES_SDK_HTTP_PORT") != nullptr});
   row.version = RICOCHET_VERSION;
   row.capacity = config_.game.max_clients;
   row.started_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -483,9 +490,12 @@ void Server::advertise_from_agones(const std::optional<std::string>& body) {
 
 void Server::start_heartbeats() {
   heartbeat_->start();
-  spdlog::info("placement: server {} advertises {}:{} (game port {}), heartbeat every {} s",
-               directory_row_.server_id, directory_row_.host, directory_row_.control_port,
-               directory_row_.game_port, config_.placement.heartbeat_s);
+  spdlog::info(
+      "placement: server {} advertises {}:{} (game port {}, admin port {}), heartbeat every {} s",
+      directory_row_.server_id, directory_row_.host, directory_row_.control_port,
+      directory_row_.game_port,
+      directory_row_.admin_port != 0 ? std::to_string(directory_row_.admin_port) : "none",
+      config_.placement.heartbeat_s);
 }
 
 void Server::sweep_empty_matches() {

@@ -28,6 +28,9 @@ struct GameServerRow {
   /// yet and keeps holding its seat (placement.h, held seats). 0..heartbeat_ms; 0 in a
   /// heartbeat means as of the heartbeat.
   UnixMillis counted_ms = 0;
+  /// The admin HTTP port (/metrics, /fleet; TCP) reachable at `host`, 1..65535; 0: not
+  /// advertised (the admin port is loopback-only unless bound wider: OPERATIONS.md).
+  std::int32_t admin_port = 0;
 };
 
 /// One match a game server hosts, as its last heartbeat described it.
