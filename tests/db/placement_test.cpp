@@ -107,6 +107,18 @@ TEST_P(PlacementTest, AHeartbeatKeepsAServerLiveForTheTtlAndReplacesItsMatches) 
   EXPECT_EQ(listed[0].heartbeat_ms, kT0);  // the heartbeat's time, not the row's field
   EXPECT_EQ(listed[0].started_ms, kT0 - 60'000);
   EXPECT_EQ(listed[0].admin_port, 9100);
+  // The directory: the same rows with their matches; none once the row is past the TTL.
+  const FleetDirectory directory = must(placement_.directory(kT0 + 1), "directory");
+  ASSERT_EQ(directory.servers.size(), 1u);
+  EXPECT_EQ(directory.servers[0].admin_port, 9100);
+  ASSERT_EQ(directory.matches.size(), 2u);
+  EXPECT_EQ(directory.matches[1].server_id, "s1");
+  EXPECT_EQ(directory.matches[1].match.match_id, 2);
+  EXPECT_EQ(directory.matches[1].match.players, 2);
+  const FleetDirectory gone = must(placement_.directory(kT0 + kTtlMs), "directory");
+  EXPECT_TRUE(gone.servers.empty());
+  EXPECT_TRUE(gone.matches.empty());
+
   // The next heartbeat moves the TTL on and replaces the matches wholesale (and the row: this
   // one advertises no admin port).
   GameServerRow unadvertised = server_row("s1", 32, 7);

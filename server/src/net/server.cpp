@@ -29,6 +29,7 @@
 #include "control_server.h"
 #include "directory_heartbeat.h"
 #include "episode_log.h"
+#include "fleet_view.h"
 #include "game_channel.h"
 #include "match_defaults.h"
 #include "match_registry.h"
@@ -299,12 +300,19 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
     admin.bearer_token = read_admin_token(config_.admin.token_file);
   }
   admin.episodes = &episodes_;
-  admin_ = std::make_unique<AdminHttp>(
-      io_, std::move(admin), metrics_,
-      AdminHttpCallbacks{[this] { return healthy(); }, [this] { return ready(); },
-                         [this](AccountAction action, std::function<void(AdminReply)> answer) {
-                           act_on_account(std::move(action), std::move(answer));
-                         }});
+  AdminHttpCallbacks callbacks{
+      [this] { return healthy(); },
+      [this] { return ready(); },
+      [this](AccountAction action, std::function<void(AdminReply)> answer) {
+        act_on_account(std::move(action), std::move(answer));
+      },
+      {}};  // /fleet: only with a directory row to show
+  if (placement_) {
+    callbacks.fleet = [this](std::function<void(AdminReply)> answer) {
+      answer_fleet(std::move(answer));
+    };
+  }
+  admin_ = std::make_unique<AdminHttp>(io_, std::move(admin), metrics_, std::move(callbacks));
   register_metrics();
   if (const char* sdk_port = std::getenv("AGONES_SDK_HTTP_PORT")) start_agones(sdk_port);
 }
@@ -798,6 +806,28 @@ void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt, 
         timer->async_wait([this, timer, match, attempt, from_outbox](const std::error_code&) {
           write_record(match, attempt + 1, nullptr, from_outbox);
         });
+      });
+}
+
+void Server::answer_fleet(std::function<void(AdminReply)> answer) {
+  const auto unix_now_ms = [] {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+  };
+  db_->submit(
+      [now = unix_now_ms()](db::DbServices& services) { return services.placement.directory(now); },
+      [](std::function<void()> completion) { completion(); },  // runs on the DB thread
+      [this, unix_now_ms, answer = std::move(answer)](db::DbResult<db::FleetDirectory> result) {
+        if (!result) {
+          spdlog::debug("admin: /fleet: the directory could not be read: {}",
+                        result.error().message);
+          answer({503, std::string("the database could not answer now (") +
+                           db::to_string(result.error().code) + "); try again\n"});
+          return;
+        }
+        answer({200, fleet_json(result.value(), placement_->server_id, unix_now_ms()),
+                "application/json"});
       });
 }
 

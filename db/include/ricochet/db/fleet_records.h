@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ricochet/db/records.h"
 
@@ -47,6 +48,14 @@ struct HostedMatch {
 struct DirectoryMatch {
   std::string server_id;
   HostedMatch match;
+};
+
+/// The live part of the directory: the servers and the matches they host, each by server id
+/// (then match id). Read in two statements: a match whose server's row is not in `servers`
+/// (it beat in between) is to be passed over.
+struct FleetDirectory {
+  std::vector<GameServerRow> servers;
+  std::vector<DirectoryMatch> matches;
 };
 
 /// A ticket: the right to one seat on one server, shown to its client once as a random token,
