@@ -334,6 +334,19 @@ TEST(LoadTest, BadOptionsAreRefusedWithTheReason) {
                          log),
             2);
   EXPECT_NE(read_text(log).find("one per server (2), got 3"), std::string::npos) << read_text(log);
+  EXPECT_EQ(
+      run_loadtest("--fleet 127.0.0.1:9100 --server 127.0.0.1 --out " + out.path().string(), log),
+      2);
+  EXPECT_NE(read_text(log).find("drop --server and --fingerprint, or --fleet"), std::string::npos)
+      << read_text(log);
+  EXPECT_EQ(run_loadtest("--fleet localhost:9100 --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--fleet: expected HOST:ADMIN_PORT with a numeric IPv4 HOST"),
+            std::string::npos)
+      << read_text(log);
+  const std::string nobody = "127.0.0.1:" + std::to_string(free_tcp_port());
+  EXPECT_EQ(run_loadtest("--fleet " + nobody + " --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--fleet " + nobody + ": cannot connect"), std::string::npos)
+      << read_text(log);
   EXPECT_EQ(run_loadtest("--server-proc on --out " + out.path().string(), log), 2);
   EXPECT_NE(read_text(log).find("--server-proc must be off or auto"), std::string::npos)
       << read_text(log);

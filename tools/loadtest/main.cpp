@@ -207,19 +207,18 @@ int main(int argc, char** argv) {
                      "the servers, HOST[:CONTROL_PORT[:ADMIN_PORT]] separated by commas (numeric "
                      "IPv4; a port left out is --port's or --admin-port's); bots go round robin")
           ->capture_default_str();
-  auto* fleet_option = app.add_option(
+  app.add_option(
       "--fleet", fleet,
       "HOST:ADMIN_PORT of one server: the servers are every row of its fleet directory (GET "
       "/fleet, read once at start, with --admin-token-file), that server first, each as if "
       "listed by --server with the certificate its row names; a row without an admin port is "
-      "played on, its CPU unknown (metrics_not_advertised)");
-  fleet_option->excludes(server_option);
+      "played on, its CPU unknown (metrics_not_advertised); not with --server or "
+      "--fingerprint");
   app.add_option("--port", control_port, "control channel (TLS) port")->capture_default_str();
   app.add_option("--admin-port", admin_port, "admin HTTP port (/metrics)")->capture_default_str();
   app.add_option("--fingerprint", fingerprints,
                  "pin the servers' certificate SHA-256 fingerprints (AA:BB:...): one for every "
-                 "server, or one per server separated by commas, in --server's order")
-      ->excludes(fleet_option);
+                 "server, or one per server separated by commas, in --server's order");
   app.add_option("--trust-file", trust_file,
                  "trust on first use into this file (default: DIR/server.fp; with several "
                  "servers FILE-2, FILE-3, ... for the others)");
@@ -334,6 +333,11 @@ int main(int argc, char** argv) {
   config.plots = !no_plots;
   config.progress = !quiet;
   const std::vector<std::string> token_paths = split_list(token_files);
+  if (!fleet.empty() && (server_option->count() > 0 || !fingerprints.empty())) {
+    return fail(
+        "--fleet finds the servers and their certificates in the fleet directory: drop --server "
+        "and --fingerprint, or --fleet");
+  }
   if (!fleet.empty()) {
     auto source = parse_fleet_source(fleet);
     if (const auto* problem = std::get_if<std::string>(&source))
