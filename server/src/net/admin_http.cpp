@@ -189,8 +189,11 @@ Response unauthorized(State& state, const AdminConnection& connection, unsigned 
   return response;
 }
 
-/// What a request gets: a response now, or an account action to do first.
-using Routed = std::variant<Response, AccountAction>;
+/// GET /fleet, authorized: the fleet callback answers it.
+struct FleetRequest {};
+
+/// What a request gets: a response now, or an account action or the fleet to ask first.
+using Routed = std::variant<Response, AccountAction, FleetRequest>;
 
 Routed route_account(State& state, const AdminConnection& connection,
                      const http::request<http::string_body>& request, AccountAction action) {
@@ -228,11 +231,14 @@ Routed route(State& state, const AdminConnection& connection,
   if (auto action = state.callbacks.account ? account_path(path) : std::nullopt) {
     return route_account(state, connection, request, std::move(*action));
   }
-  const bool known = path == "/metrics" || path == "/healthz" || path == "/readyz";
+  const bool fleet = path == "/fleet" && state.callbacks.fleet;
+  const bool known = path == "/metrics" || path == "/healthz" || path == "/readyz" || fleet;
   if (!known) {
     state.reject(AdminRejectReason::NotFound);
     return text_response(http::status::not_found, version,
-                         "not found; try /metrics, /healthz or /readyz\n");
+                         state.callbacks.fleet
+                             ? "not found; try /metrics, /healthz, /readyz or /fleet\n"
+                             : "not found; try /metrics, /healthz or /readyz\n");
   }
   if (request.method() != http::verb::get) {
     state.reject(AdminRejectReason::MethodNotAllowed);
@@ -251,6 +257,10 @@ Routed route(State& state, const AdminConnection& connection,
       return text_response(http::status::internal_server_error, version,
                            std::string{"metrics failed: "} + error.what() + "\n");
     }
+  }
+  if (fleet) {
+    if (!authorized(state, request)) return unauthorized(state, connection, version, "/fleet");
+    return FleetRequest{};
   }
   if (path == "/healthz") {
     if (state.callbacks.healthy && state.callbacks.healthy()) {
@@ -286,8 +296,9 @@ std::optional<Response> refusal(State& state, const beast::error_code& error) {
   return std::nullopt;  // closed or reset by the peer
 }
 
-/// Runs the account callback and resumes on the strand with its reply.
-asio::awaitable<AdminReply> run_action(std::shared_ptr<State> state, AccountAction action) {
+/// Runs `ask` (a callback given where to answer) and resumes on the strand with its reply.
+asio::awaitable<AdminReply> await_reply(std::shared_ptr<State> state,
+                                        std::function<void(std::function<void(AdminReply)>)> ask) {
   struct Pending {
     explicit Pending(const asio::any_io_executor& executor) : wake(executor) {}
     std::optional<AdminReply> reply;
@@ -295,7 +306,7 @@ asio::awaitable<AdminReply> run_action(std::shared_ptr<State> state, AccountActi
   };
   auto pending = std::make_shared<Pending>(state->strand);
   pending->wake.expires_at(asio::steady_timer::time_point::max());
-  state->callbacks.account(std::move(action), [state, pending](AdminReply reply) {
+  ask([state, pending](AdminReply reply) {
     asio::post(state->strand, [pending, reply = std::move(reply)]() mutable {
       pending->reply = std::move(reply);
       pending->wake.cancel();
@@ -371,12 +382,20 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
     } else {
       const auto& request = parser.get();
       Routed routed = route(*state, *connection, request);
+      std::function<void(std::function<void(AdminReply)>)> ask;
       if (auto* action = std::get_if<AccountAction>(&routed)) {
-        // The action and its response within request_timeout, as any response.
+        ask = [state, action = std::move(*action)](std::function<void(AdminReply)> answer) {
+          state->callbacks.account(action, std::move(answer));
+        };
+      } else if (std::holds_alternative<FleetRequest>(routed)) {
+        ask = state->callbacks.fleet;
+      }
+      if (ask) {
+        // The answer and its response within request_timeout, as any response.
         connection->deadline = deadline_from_now(*state);
-        const AdminReply reply = co_await run_action(state, std::move(*action));
-        routed =
-            text_response(static_cast<http::status>(reply.status), request.version(), reply.body);
+        AdminReply reply = co_await await_reply(state, std::move(ask));
+        routed = text_response(static_cast<http::status>(reply.status), request.version(),
+                               std::move(reply.body), reply.content_type);
       }
       response = std::move(std::get<Response>(routed));
       keep_alive = request.keep_alive();

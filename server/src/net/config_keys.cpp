@@ -741,6 +741,15 @@ const std::array kKeys = {
         .min = 0,
         .max = kMaxPort},
     Key{.section = "placement",
+        .name = "advertise_admin_port",
+        .flag = "--advertise-admin-port",
+        .help = "admin port (TCP: /metrics, /fleet) the directory lists for tools and dashboards; "
+                "0: the bound one when admin.bind is beyond loopback or advertise_host is "
+                "loopback, else none (under Agones: none)",
+        .integer = &integer_of<&S::placement, &PlacementConfig::advertise_admin_port>,
+        .min = 0,
+        .max = kMaxPort},
+    Key{.section = "placement",
         .name = "heartbeat_s",
         .flag = "--placement-heartbeat-s",
         .help = "seconds between two writes of this server's directory row",

@@ -140,6 +140,8 @@ class Server {
   /// sessions), then, for a ban, the account's control sessions closed with ACCOUNT_BANNED and
   /// its game connection with reason banned, its seat given back. `answer` once, any thread.
   void act_on_account(AccountAction action, std::function<void(AdminReply)> answer);
+  /// GET /fleet: the live directory through the DB worker (fleet_view.h), or 503.
+  void answer_fleet(std::function<void(AdminReply)> answer);
   /// The Agones SDK client on the sidecar's `sdk_port` (AGONES_SDK_HTTP_PORT); throws
   /// std::runtime_error when it is not a port.
   void start_agones(const char* sdk_port);

@@ -164,8 +164,11 @@ struct PlacementConfig {
   /// What clients of other servers connect to: a DNS name or an IP address; empty: this
   /// machine's host name, or under Agones the GameServer's status.address (GET /gameserver).
   std::string advertise_host;
-  int advertise_control_port = 0;     ///< 0: the bound control port (Agones: the port "control")
-  int advertise_game_port = 0;        ///< 0: the bound game port (Agones: the port "game")
+  int advertise_control_port = 0;  ///< 0: the bound control port (Agones: the port "control")
+  int advertise_game_port = 0;     ///< 0: the bound game port (Agones: the port "game")
+  /// The admin port (TCP) readers of the directory reach at advertise_host; 0: the bound one
+  /// when it is reachable there, else none (admin_advertisement.h).
+  int advertise_admin_port = 0;
   int heartbeat_s = 2;                ///< between two writes of the directory row
   int server_ttl_s = 10;              ///< a row this old is not placed on (and is purged)
   int ticket_lifetime_s = 30;         ///< a ticket holds its seat this long
