@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/write.hpp>
@@ -16,6 +15,7 @@
 #include <string>
 #include <thread>
 
+#include "admin_get.h"
 #include "control_test_client.h"
 #include "postgres_cluster.h"
 #include "server_process.h"
@@ -57,24 +57,6 @@ bool listed(const ServerProcess& server, std::chrono::milliseconds limit = 5s) {
   return true;
 }
 
-/// GET `path` from the admin port on 127.0.0.1: the whole response, status line first.
-std::string http_get(std::uint16_t port, const std::string& path) {
-  boost::asio::io_context io;
-  boost::asio::ip::tcp::socket socket(io);
-  socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
-  const std::string request =
-      "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-  boost::asio::write(socket, boost::asio::buffer(request));
-  std::string response;
-  boost::system::error_code error;
-  std::array<char, 4096> chunk{};
-  while (!error) {
-    const std::size_t size = socket.read_some(boost::asio::buffer(chunk), error);
-    response.append(chunk.data(), size);
-  }
-  return response;
-}
-
 wire::ClientMessage find_match(const std::string& mode) {
   wire::ClientMessage m;
   m.mutable_find_match()->set_mode(mode);
@@ -99,9 +81,9 @@ TEST(FleetPlacement, FindMatchOnOneServerSeatsThePlayerOnTheOtherWithItsTicketOn
 
   // Either server lists both on /fleet, itself as self, with the admin port each advertises
   // (bound to loopback, advertised as 127.0.0.1: reachable there) and its one match.
-  const std::string listing = http_get(b.admin_port(), "/fleet");
-  ASSERT_EQ(listing.substr(0, listing.find("\r\n")), "HTTP/1.1 200 OK") << listing;
-  const boost::json::value fleet = boost::json::parse(listing.substr(listing.find("\r\n\r\n") + 4));
+  const std::string listing = ricochet::test::admin_response(b.admin_port(), "/fleet");
+  ASSERT_EQ(ricochet::test::status_line(listing), "HTTP/1.1 200 OK") << listing;
+  const boost::json::value fleet = boost::json::parse(ricochet::test::body_of(listing));
   const boost::json::array& rows = fleet.at("servers").as_array();
   ASSERT_EQ(rows.size(), 2u) << listing;
   int selves = 0;
