@@ -188,6 +188,25 @@ struct BenchMatch {
   Fighters fighters;
 };
 
+/// Every player's input for step `t` at `now`, acknowledging snapshots ack_delay_ms late (player
+/// i, i % (ack_spread_ticks + 1) ticks later still) and claiming the view tick an interpolating
+/// client shows, about two snapshots behind what it received.
+void send_inputs(BenchMatch& bench, int players, int t, proto::TimeUs now, const Options& options) {
+  server::Match& match = bench.match;
+  const std::uint32_t ack_delay_ticks =
+      static_cast<std::uint32_t>(options.ack_delay_ms * options.rate_hz / 1000);
+  for (int i = 0; i < players; ++i) {
+    const std::uint32_t delay =
+        ack_delay_ticks + static_cast<std::uint32_t>(i % (options.ack_spread_ticks + 1));
+    const std::uint32_t ack = match.tick_number() > delay ? match.tick_number() - delay : 0;
+    const std::uint32_t view = ack > 2 ? ack - 2 : 0;
+    const std::string bytes =
+        bench.fighters.payload(match, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
+    match.receive(1000 + i,
+                  std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+  }
+}
+
 server::Match create_match(const server::Map& map, int players, const Options& options) {
   server::MatchConfig config;
   config.max_players = players;
@@ -225,8 +244,6 @@ bench::JsonObject run(const server::Map& map, int players, const Options& option
     benches.push_back({create_match(map, players, options), {}});
   server::Match& match = benches.front().match;
   const proto::TimeUs tick_us = proto::kMicrosPerSecond / options.rate_hz;
-  const std::uint32_t ack_delay_ticks =
-      static_cast<std::uint32_t>(options.ack_delay_ms * options.rate_hz / 1000);
   const int ticks = static_cast<int>(options.seconds * options.rate_hz);
   const int warmup = options.rate_hz;  // one second: spawn, first full snapshots
   std::vector<double> tick_ms;
@@ -245,17 +262,7 @@ bench::JsonObject run(const server::Map& map, int players, const Options& option
     for (BenchMatch& bench : benches) {
       server::Match& each = bench.match;
       const bool first = &each == &match;
-      for (int i = 0; i < players; ++i) {
-        const std::uint32_t delay =
-            ack_delay_ticks + static_cast<std::uint32_t>(i % (options.ack_spread_ticks + 1));
-        const std::uint32_t ack = each.tick_number() > delay ? each.tick_number() - delay : 0;
-        // An interpolating client shows about two snapshots behind what it received.
-        const std::uint32_t view = ack > 2 ? ack - 2 : 0;
-        const std::string bytes =
-            bench.fighters.payload(each, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
-        each.receive(1000 + i,
-                     std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
-      }
+      send_inputs(bench, players, t, now, options);
       const std::int64_t started = tick_clock_ns();
       each.tick(now);
       const double elapsed_ms = static_cast<double>(tick_clock_ns() - started) / 1e6;
@@ -364,8 +371,6 @@ bench::JsonObject watch_cost(const server::Map& map, int players, const Options&
   std::optional<server::LiveFeed::Viewer> viewer = feed->watch();
   std::shared_ptr<const server::LiveFrame> shown;
   const proto::TimeUs tick_us = proto::kMicrosPerSecond / options.rate_hz;
-  const std::uint32_t ack_delay_ticks =
-      static_cast<std::uint32_t>(options.ack_delay_ms * options.rate_hz / 1000);
   const int ticks = static_cast<int>(options.seconds * options.rate_hz);
   const int warmup = options.rate_hz;
   const auto tick_clock_ns = options.clock == "thread-cpu" ? thread_cpu_ns : steady_ns;
@@ -378,16 +383,7 @@ bench::JsonObject watch_cost(const server::Map& map, int players, const Options&
       const bool watched_turn = (turn == 0) == (t % 2 == 0);
       BenchMatch& bench = watched_turn ? watched : plain;
       server::Match& match = bench.match;
-      for (int i = 0; i < players; ++i) {
-        const std::uint32_t delay =
-            ack_delay_ticks + static_cast<std::uint32_t>(i % (options.ack_spread_ticks + 1));
-        const std::uint32_t ack = match.tick_number() > delay ? match.tick_number() - delay : 0;
-        const std::uint32_t view = ack > 2 ? ack - 2 : 0;
-        const std::string bytes =
-            bench.fighters.payload(match, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
-        match.receive(1000 + i,
-                      std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
-      }
+      send_inputs(bench, players, t, now, options);
       const std::int64_t started = tick_clock_ns();
       match.tick(now);
       const double elapsed_ms = static_cast<double>(tick_clock_ns() - started) / 1e6;
