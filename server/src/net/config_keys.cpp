@@ -136,6 +136,9 @@ constexpr std::array kPlacementModes = {PlacementMode::Auto, PlacementMode::On, 
 constexpr std::array kPasswordHashings = {PasswordHashing::Interactive, PasswordHashing::Minimum};
 
 using S = ServerConfig;
+// The [dashboard] defaults are the match's live feed defaults, and its ranges LiveFeedConfig's.
+static_assert(DashboardConfig{}.live_feed_hz == LiveFeedConfig{}.rate_hz);
+static_assert(DashboardConfig{}.live_feed_max_viewers == LiveFeedConfig{}.max_viewers);
 constexpr int kMaxPort = 65535;
 
 const std::array kKeys = {
@@ -693,6 +696,22 @@ const std::array kKeys = {
         .min = 1,
         .max = 1024},
     // Agones (issue 31): the SDK sidecar is used when AGONES_SDK_HTTP_PORT is set.
+    // The dashboard's live spectator feed (issue 32).
+    Key{.section = "dashboard",
+        .name = "live_feed_hz",
+        .flag = "--dashboard-live-feed-hz",
+        .help = "frames per second (of server time) a watched match publishes to its live view; "
+                "none while nobody watches",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::live_feed_hz>,
+        .min = 1,
+        .max = 60},
+    Key{.section = "dashboard",
+        .name = "live_feed_max_viewers",
+        .flag = "--dashboard-live-feed-max-viewers",
+        .help = "viewers watching one match's live view at once (one more is refused)",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::live_feed_max_viewers>,
+        .min = 1,
+        .max = 64},
     Key{.section = "agones",
         .name = "shutdown_after_matches",
         .flag = "--agones-shutdown-after-matches",
@@ -803,8 +822,9 @@ const std::array kKeys = {
             }},
 };
 
-constexpr std::array<std::string_view, 10> kSections = {
-    "server", "db", "tls", "control", "game", "matches", "admin", "agones", "placement", "log"};
+constexpr std::array<std::string_view, 11> kSections = {"server", "db",        "tls",   "control",
+                                                        "game",   "matches",   "admin", "dashboard",
+                                                        "agones", "placement", "log"};
 
 }  // namespace
 

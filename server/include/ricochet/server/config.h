@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ricochet/proto/snapshot_codec.h"
+#include "ricochet/server/live_frame.h"
 
 namespace ricochet::server {
 
@@ -149,6 +150,15 @@ struct AdminConfig {
   int max_connections_per_address = 4;
 };
 
+/// [dashboard]: the pages the admin port serves (issue 32); the live spectator feed of a match.
+struct DashboardConfig {
+  int live_feed_hz = 20;          ///< frames per second of a watched match, 1..60
+  int live_feed_max_viewers = 8;  ///< viewers of one match at once, 1..64
+
+  /// The match's side of the same numbers (live_frame.h).
+  LiveFeedConfig live_feed() const { return LiveFeedConfig{live_feed_hz, live_feed_max_viewers}; }
+};
+
 /// [agones]: the Agones SDK, used when AGONES_SDK_HTTP_PORT is set (server/README.md).
 struct AgonesConfig {
   int shutdown_after_matches = 0;  ///< matches ended by themselves before POST /shutdown; 0: never
@@ -192,6 +202,7 @@ struct ServerConfig {
   GameConfig game;
   MatchesConfig matches;
   AdminConfig admin;
+  DashboardConfig dashboard;
   AgonesConfig agones;
   PlacementConfig placement;
   LogConfig log;
