@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "replay_jobs.h"
+
 namespace ricochet::server {
 
 const char* name(LogLevel level) {
@@ -770,6 +772,30 @@ const std::array kKeys = {
         .number = &number_of<&S::placement, &PlacementConfig::find_match_per_minute>,
         .min_number = 0.1,
         .max_number = 10'000},
+    // The dashboard (issue 32): replays of recordings on their own threads.
+    Key{.section = "dashboard",
+        .name = "replay_workers",
+        .flag = "--replay-workers",
+        .help = "threads replaying recordings for the dashboard (never a match's thread)",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::replay_workers>,
+        .min = 1,
+        .max = kMaxReplayWorkers},
+    Key{.section = "dashboard",
+        .name = "max_replays",
+        .flag = "--max-replays",
+        .help = "replays queued or running at once (at least replay_workers); one more is "
+                "answered busy",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::max_replays>,
+        .min = 1,
+        .max = kMaxReplaysAtOnce},
+    Key{.section = "dashboard",
+        .name = "replay_memory_mb",
+        .flag = "--replay-memory-mb",
+        .help = "MiB of replay frames, running and cached together (least recently used "
+                "dropped first)",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::replay_memory_mb>,
+        .min = kMinReplayMemoryMb,
+        .max = kMaxReplayMemoryMb},
     Key{.section = "log",
         .name = "level",
         .flag = "--log-level",
@@ -794,8 +820,9 @@ const std::array kKeys = {
             }},
 };
 
-constexpr std::array<std::string_view, 10> kSections = {
-    "server", "db", "tls", "control", "game", "matches", "admin", "agones", "placement", "log"};
+constexpr std::array<std::string_view, 11> kSections = {
+    "server", "db",     "tls",       "control",   "game", "matches",
+    "admin",  "agones", "placement", "dashboard", "log"};
 
 }  // namespace
 

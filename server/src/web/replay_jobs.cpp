@@ -18,9 +18,9 @@ std::vector<std::string> ReplayJobsConfig::validate() const {
     problems.push_back(std::string("dashboard.") + key + " must be " + std::to_string(min) + ".." +
                        std::to_string(max) + ", got " + std::to_string(value));
   };
-  range("replay_workers", workers, 1, 8);
-  range("max_replays", max_replays, std::clamp(workers, 1, 8), 64);
-  range("replay_memory_mb", memory_mb, 16, 65536);
+  range("replay_workers", workers, 1, kMaxReplayWorkers);
+  range("max_replays", max_replays, std::clamp(workers, 1, kMaxReplayWorkers), kMaxReplaysAtOnce);
+  range("replay_memory_mb", memory_mb, kMinReplayMemoryMb, kMaxReplayMemoryMb);
   return problems;
 }
 
@@ -54,8 +54,7 @@ std::string replay_job_json(const ReplayJobStatus& status) {
 
 ReplayJobs::ReplayJobs(const ReplayJobsConfig& config, Source source, Clock clock_s)
     : config_(config),
-      job_bytes_(std::size_t(config.memory_mb) * (1u << 20) /
-                 (2 * std::size_t(config.max_replays))),
+      job_bytes_(std::size_t(config.memory_mb) * (1u << 20) / (2 * std::size_t(config.workers))),
       cache_bytes_(std::size_t(config.memory_mb) * (1u << 20) / 2),
       source_(std::move(source)),
       clock_(std::move(clock_s)) {

@@ -271,11 +271,11 @@ TEST(ServerConfig, UnknownKeysAndTablesAreNamed) {
   EXPECT_EQ(problems_of("[physics]\ngravity = 9\n"),
             std::vector<std::string>{
                 "test.toml:1:1: unknown key 'physics' (known tables: server, db, tls, control, "
-                "game, matches, admin, agones, placement, log)"});
+                "game, matches, admin, agones, placement, dashboard, log)"});
   EXPECT_EQ(problems_of("verbose = true\n"),
             std::vector<std::string>{
                 "test.toml:1:11: unknown key 'verbose' (known tables: server, db, tls, control, "
-                "game, matches, admin, agones, placement, log)"});
+                "game, matches, admin, agones, placement, dashboard, log)"});
   EXPECT_EQ(problems_of("game = 5\n"),
             std::vector<std::string>{"test.toml:1:8: 'game' must be a table ([game]), got an "
                                      "integer"});

@@ -175,6 +175,14 @@ struct PlacementConfig {
   bool on(const DbConfig& db) const;
 };
 
+/// [dashboard]: what the admin port's pages run besides serving (issue 32): replays of
+/// recordings, on worker threads of their own (server/src/web/replay_jobs.h).
+struct DashboardConfig {
+  int replay_workers = 1;      ///< threads replaying recordings
+  int max_replays = 4;         ///< replays queued or running at once; one more is refused busy
+  int replay_memory_mb = 256;  ///< replay frames, running and cached together, MiB
+};
+
 /// [log]
 struct LogConfig {
   LogLevel level = LogLevel::Info;
@@ -191,6 +199,7 @@ struct ServerConfig {
   AdminConfig admin;
   AgonesConfig agones;
   PlacementConfig placement;
+  DashboardConfig dashboard;
   LogConfig log;
 
   /// Every problem, one message each, naming the key, the allowed range and what came
