@@ -87,8 +87,8 @@ std::variant<ReplayFrames, std::string> replay_frames(const Recording& recording
   match.observe_events([&](const wire::GameEvent& event) {
     if (!event.has_kill()) return;
     const wire::Kill& kill = event.kill();
-    frames.kills.push_back({frames.last_tick + 1, kill.killer_entity_id(), kill.victim_entity_id(),
-                            static_cast<std::uint8_t>(kill.weapon())});
+    frames.kills.push_back({frames.last_tick + 1, kill.tick(), kill.killer_entity_id(),
+                            kill.victim_entity_id(), static_cast<std::uint8_t>(kill.weapon())});
   });
   std::map<std::uint32_t, Tally> tallies;  // by entity: the last scores kept
   bool over_budget = false;
@@ -213,7 +213,8 @@ std::string frames_json(const ReplayFrames& frames, std::uint32_t first, std::ui
       kill_comma = true;
       out += "{\"killer\":" + std::to_string(kill->killer) +
              ",\"victim\":" + std::to_string(kill->victim) +
-             ",\"weapon\":" + std::to_string(kill->weapon) + "}";
+             ",\"weapon\":" + std::to_string(kill->weapon) +
+             ",\"tick\":" + std::to_string(kill->event_tick) + "}";
     }
     out += "],\"scores\":[";
     for (bool score_comma = false; score != frames.scores.end() && score->tick == tick; ++score) {

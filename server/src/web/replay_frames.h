@@ -31,7 +31,10 @@ struct FrameEntity {
 };
 
 struct FrameKill {
-  std::uint32_t tick = 0;    ///< the step it happened in
+  std::uint32_t tick = 0;  ///< the step it happened in: the first frame showing it
+  /// The tick the match's Kill event says (wire::Kill.tick, what clients saw): the step before
+  /// for a shot fired in the step, which hits before the step's physics counts the tick.
+  std::uint32_t event_tick = 0;
   std::uint32_t killer = 0;  ///< entity; 0: the world
   std::uint32_t victim = 0;
   std::uint8_t weapon = 0;  ///< a wire::Weapon; 0: the world
@@ -92,7 +95,8 @@ inline constexpr std::uint32_t kMaxFramesPerRequest = 600;
 ///    "scores":[{"entity":E,"kills":K,"deaths":D,"score":S}...]   (after step T0 - 1)
 ///    "frames":[{"tick":T,"players":[{"id","x","y","z","yaw","health","alive","away"}...],
 ///               "projectiles":[{"id","kind":"rocket"|"grenade","x","y","z"}...],
-///               "kills":[{"killer","victim","weapon"}...],   (in this step)
+///               "kills":[{"killer","victim","weapon","tick"}...],   (in this step; "tick"
+///                                                                the Kill event's own)
 ///               "scores":[...]}...]}                          (those that changed in it)
 std::string frames_json(const ReplayFrames& frames, std::uint32_t first, std::uint32_t end,
                         std::string& error);

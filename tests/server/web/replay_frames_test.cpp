@@ -91,6 +91,15 @@ TEST(ReplayFramesTest, EveryTickHoldsTheReplayedStatesAndTheKillsOfTheReplayedMa
   // The kill feed: every kill the replayed match counted, each in the frame of its tick.
   EXPECT_GT(reference.kills, 0u) << "the script makes the players kill each other";
   EXPECT_EQ(frames.kills.size(), reference.kills);
+  for (const FrameKill& k : frames.kills) {
+    EXPECT_TRUE(k.event_tick == k.tick || k.event_tick + 1 == k.tick) << k.tick;
+    bool dead = false;  // the frame of the kill's step shows the victim dead
+    for (std::uint32_t i = frames.tick_start[k.tick - 1]; i < frames.tick_start[k.tick]; ++i) {
+      const FrameEntity& e = frames.entities[i];
+      if (e.id == k.victim) dead = (e.flags & proto::kEntityDead) != 0 && e.health <= 0;
+    }
+    EXPECT_TRUE(dead) << "kill of " << k.victim << " at tick " << k.tick;
+  }
   ASSERT_EQ(frames.players.size(), 4u);
   int deaths = 0;
   for (const FrameScore& score : frames.scores) deaths = std::max(deaths, score.deaths);
