@@ -8,12 +8,18 @@
 #include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
+// Boost.JSON compiled here, header-only (Debian ships no libboost_json for 1.81's headers): the
+// replay viewer's documents are read as a browser reads them.
+#include <algorithm>
+#include <array>
+#include <boost/json/src.hpp>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +28,7 @@
 
 #include "ctest_budget.h"
 #include "postgres_cluster.h"
+#include "replay_frames.h"
 #include "replay_process.h"
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
@@ -101,6 +108,61 @@ long long replay_score(const std::string& json, std::uint64_t account, const std
   const auto field = json.find("\"" + key + "\":", at);
   if (field == std::string::npos) return -1;
   return std::stoll(json.substr(field + key.size() + 3));
+}
+
+/// The dashboard's replay of `file` (server/src/web/replay_frames.h), read as the viewer reads
+/// it: every tick's player positions from frames_json() documents of at most
+/// kMaxFramesPerRequest ticks, as the CSV lines `ricochet-replay --export` writes
+/// ("tick,entity,x,y,z" with the numbers as the document has them), and every kill.
+struct ViewedReplay {
+  std::string csv;  ///< the header line, then one line per player and tick
+  std::vector<std::array<std::int64_t, 4>> kills;  ///< the event's tick, killer, victim, weapon
+  std::string error;
+};
+ViewedReplay view_replay(const std::filesystem::path& file) {
+  ViewedReplay viewed;
+  std::ifstream in(file, std::ios::binary);
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
+  auto read = server::read_recording(bytes);
+  if (auto* bad = std::get_if<server::RecordingError>(&read)) {
+    viewed.error = bad->message;
+    return viewed;
+  }
+  server::ReplayProgress progress;
+  auto run = server::replay_frames(std::get<server::Recording>(read), progress, 256u << 20);
+  if (auto* bad = std::get_if<std::string>(&run)) {
+    viewed.error = *bad;
+    return viewed;
+  }
+  const server::ReplayFrames& frames = std::get<server::ReplayFrames>(run);
+  viewed.csv = "tick,entity,x,y,z\n";
+  for (std::uint32_t first = 1; first <= frames.last_tick; first += server::kMaxFramesPerRequest) {
+    const std::uint32_t end = std::min(first + server::kMaxFramesPerRequest, frames.last_tick + 1);
+    const std::string text = server::frames_json(frames, first, end, viewed.error);
+    if (!viewed.error.empty()) return viewed;
+    const boost::json::value document = boost::json::parse(text);
+    for (const boost::json::value& frame : document.at("frames").as_array()) {
+      const std::int64_t tick = frame.at("tick").as_int64();
+      for (const boost::json::value& player : frame.at("players").as_array()) {
+        // The number's text as the document holds it: find it back in the source.
+        viewed.csv += std::to_string(tick) + "," + std::to_string(player.at("id").as_int64());
+        for (const char* axis : {"x", "y", "z"}) {
+          const double value = player.at(axis).to_number<double>();
+          char printed[32];
+          std::snprintf(printed, sizeof printed, "%.9g", value);
+          viewed.csv += ",";
+          viewed.csv += printed;
+        }
+        viewed.csv += "\n";
+      }
+      for (const boost::json::value& kill : frame.at("kills").as_array()) {
+        EXPECT_LE(kill.at("tick").as_int64(), tick) << "a kill shows from the step it was in";
+        viewed.kills.push_back({kill.at("tick").as_int64(), kill.at("killer").as_int64(),
+                                kill.at("victim").as_int64(), kill.at("weapon").as_int64()});
+      }
+    }
+  }
+  return viewed;
 }
 
 std::unique_ptr<db::Store> open_database(const std::filesystem::path& path) {
@@ -263,6 +325,25 @@ TEST(BotMatch, EightBotsPlayToTheTimeLimitAndTheResultsMatchTheKillsTheySaw) {
     ASSERT_NE(mine, nullptr);
     EXPECT_EQ(replay_score(json, each->record().account_id, "kills"), mine->kills()) << json;
     EXPECT_EQ(replay_score(json, each->record().account_id, "deaths"), mine->deaths()) << json;
+  }
+
+  // The dashboard's replay viewer shows, at every tick, the positions ricochet-replay --export
+  // writes (the same numbers), and the kill feed every bot saw, each kill at its tick.
+  const std::filesystem::path csv = server.dir() / "export.csv";
+  ASSERT_EQ(replay_export(recordings[0], csv), 0);
+  std::ifstream exported(csv);
+  const std::string exported_text{std::istreambuf_iterator<char>(exported), {}};
+  const ViewedReplay viewed = view_replay(recordings[0]);
+  ASSERT_EQ(viewed.error, "");
+  EXPECT_GT(exported_text.size(), 100'000u) << "8 players for 10 s";
+  EXPECT_TRUE(viewed.csv == exported_text) << "the viewer's positions differ from the export";
+  ASSERT_EQ(viewed.kills.size(), reference.kills.size());
+  for (std::size_t i = 0; i < viewed.kills.size(); ++i) {
+    const wire::Kill& seen = reference.kills[i];
+    EXPECT_EQ(viewed.kills[i],
+              (std::array<std::int64_t, 4>{seen.tick(), seen.killer_entity_id(),
+                                           seen.victim_entity_id(), seen.weapon()}))
+        << "kill " << i;
   }
   if (HasFailure()) std::cout << "server log:\n" << server.log();
 }

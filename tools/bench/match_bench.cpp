@@ -15,6 +15,9 @@
 ///   matches_per_core             how many such matches one core could tick at this rate
 ///   replay_speed_x               the match's recording played back (ricochet-replay's path):
 ///                                simulated seconds per wall second; replay_hashes_match
+///   viewer_replay_speed_x        the same for the dashboard's replay (server/src/web/
+///                                replay_frames.h: every tick's frame kept), and
+///                                viewer_frames_mb, what those frames hold in memory (MiB)
 ///   payload_fnv1a                FNV-1a of every payload sent (account, reliable, bytes), warm-up
 ///                                included: equal before and after a change that keeps the output
 /// then one line of lag-compensated hitscan throughput (LagCompensation::cast against the map
@@ -50,6 +53,7 @@
 
 #include "frame_json.h"
 #include "harness.h"
+#include "replay_frames.h"
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/proto/entity_flags.h"
 #include "ricochet/server/lag_compensation.h"
@@ -302,6 +306,8 @@ bench::JsonObject run(const server::Map& map, int players, const Options& option
   }
   double replay_speed = 0;
   bool replay_matches = false;
+  double viewer_speed = 0;
+  double viewer_mb = 0;
   auto read = server::read_recording(recording_bytes);
   if (auto* recording = std::get_if<server::Recording>(&read)) {
     auto opened = server::open_recorded_match(*recording);
@@ -312,6 +318,16 @@ bench::JsonObject run(const server::Map& map, int players, const Options& option
       const server::ReplayReport report = server::replay(*recording, simulation, replay_options);
       replay_speed = report.wall_s > 0 ? report.simulated_s / report.wall_s : 0;
       replay_matches = !report.first_mismatch && report.hashes_checked > 0;
+      server::ReplayProgress progress;
+      const std::int64_t viewer_start_ns = steady_ns();
+      auto viewed = server::replay_frames(*recording, progress, std::size_t{1} << 32);
+      const double viewer_s = static_cast<double>(steady_ns() - viewer_start_ns) / 1e9;
+      if (auto* frames = std::get_if<server::ReplayFrames>(&viewed)) {
+        viewer_speed = viewer_s > 0 ? frames->report.simulated_s / viewer_s : 0;
+        viewer_mb = static_cast<double>(frames->bytes()) / (1 << 20);
+      } else {
+        std::fprintf(stderr, "match-bench: viewer: %s\n", std::get<std::string>(viewed).c_str());
+      }
     } else {
       std::fprintf(stderr, "match-bench: %s\n", std::get<std::string>(opened).c_str());
     }
@@ -355,6 +371,8 @@ bench::JsonObject run(const server::Map& map, int players, const Options& option
               static_cast<double>(recording_bytes.size()) / player_minutes, 0)
       .number("replay_speed_x", replay_speed, 1)
       .flag("replay_hashes_match", replay_matches)
+      .number("viewer_replay_speed_x", viewer_speed, 1)
+      .number("viewer_frames_mb", viewer_mb, 2)
       .number("matches_per_core", period_ms / tick.mean, 1)
       .integer("overruns", counters.overruns)
       .text("payload_fnv1a", payload_fnv1a);

@@ -16,6 +16,7 @@ void Mailbox::queue(std::uint64_t account, const wire::GameEvent& event, proto::
 
 void Mailbox::broadcast(const Roster& roster, const wire::GameEvent& event,
                         proto::Delivery delivery) {
+  if (observer) observer(event);
   for (const Player& player : roster.players) {
     if (player.connected) queue(player.account, event, delivery);
   }

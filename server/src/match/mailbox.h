@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "ricochet/server/match.h"
@@ -17,6 +18,8 @@ struct Mailbox {
   std::vector<Outgoing> pending;  ///< reliable GameEvents, moved to the outbox by send
   std::vector<Outgoing> outbox;   ///< what poll_outbox hands out, oldest first
   std::size_t outbox_read = 0;    ///< of outbox: taken so far
+  /// Told every broadcast event once, connected players or not (Match::observe_events).
+  std::function<void(const wire::GameEvent&)> observer;
 
   /// Serialises `event` for `account`.
   void queue(std::uint64_t account, const wire::GameEvent& event,

@@ -478,6 +478,10 @@ std::vector<std::uint8_t> Match::take_recording() {
   return bytes;
 }
 
+void Match::observe_events(std::function<void(const wire::GameEvent&)> observer) {
+  parts_->mailbox.observer = std::move(observer);
+}
+
 std::uint64_t Match::state_hash() const {
   return parts_->state_hash();
 }

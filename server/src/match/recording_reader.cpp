@@ -440,4 +440,75 @@ std::variant<Recording, RecordingError> read_recording(std::span<const std::uint
   }
 }
 
+std::variant<std::size_t, RecordingError> recording_header_bytes(
+    std::span<const std::uint8_t> first) {
+  const std::size_t prefix = rf::kMagic.size() + 1;
+  if (first.size() < prefix + 5) {
+    // read_all names what is wrong with so few bytes: a short magic, or a cut in the header.
+    auto read = read_recording(first);
+    if (auto* bad = std::get_if<RecordingError>(&read)) return std::move(*bad);
+    return RecordingError{"no header chunk", first.size()};
+  }
+  if (!std::equal(rf::kMagic.begin(), rf::kMagic.end(), first.begin()) ||
+      first[rf::kMagic.size()] != rf::kVersion) {
+    return std::get<RecordingError>(read_recording(first.first(prefix)));
+  }
+  if (first[prefix] != rf::kChunkHeader) {
+    return RecordingError{
+        "chunk 0 at byte " + std::to_string(prefix) + ": the first chunk must be the header",
+        prefix};
+  }
+  const std::uint64_t total =
+      prefix + rf::kFrameBytes + std::uint64_t{read_le32(first, prefix + 1)};
+  if (total > kMaxRecordingHeaderBytes) {
+    return RecordingError{"chunk 0 (header) at byte " + std::to_string(prefix) + ": " +
+                              std::to_string(total) + " bytes, over the listing's limit of " +
+                              std::to_string(kMaxRecordingHeaderBytes),
+                          prefix};
+  }
+  return static_cast<std::size_t>(total);
+}
+
+std::variant<RecordingHeader, RecordingError> read_recording_header(
+    std::span<const std::uint8_t> head) {
+  auto size = recording_header_bytes(head.first(std::min<std::size_t>(head.size(), 14)));
+  if (auto* bad = std::get_if<RecordingError>(&size)) return std::move(*bad);
+  auto read = read_recording(head.first(std::min(head.size(), std::get<std::size_t>(size))));
+  if (auto* bad = std::get_if<RecordingError>(&read)) return std::move(*bad);
+  return std::move(std::get<Recording>(read).header);
+}
+
+std::optional<RecordingFooter> read_recording_footer(std::span<const std::uint8_t> tail) {
+  // The footer chunk ends the file: try each place its frame could start, nearest the end last.
+  for (std::size_t start =
+           tail.size() > kMaxRecordingFooterBytes ? tail.size() - kMaxRecordingFooterBytes : 0;
+       start + rf::kFrameBytes <= tail.size(); ++start) {
+    if (tail[start] != rf::kChunkFooter) continue;
+    const std::uint32_t length = read_le32(tail, start + 1);
+    if (start + rf::kFrameBytes + std::size_t{length} != tail.size()) continue;
+    if (read_le32(tail, start + 5) != rf::crc32(tail.subspan(start, 5))) continue;
+    const auto payload = tail.subspan(start + rf::kFrameHeadBytes, length);
+    if (read_le32(tail, start + rf::kFrameHeadBytes + length) != rf::crc32(payload)) continue;
+    try {
+      Cursor in(payload, 0, "footer");
+      RecordingFooter footer;
+      footer.ticks = in.varint("tick count");
+      footer.events = in.varint("event count");
+      footer.inputs = in.varint("input count");
+      footer.hashes = in.varint("hash count");
+      footer.last_tick = static_cast<std::uint32_t>(
+          in.bounded("last tick", std::numeric_limits<std::uint32_t>::max()));
+      footer.tick_chunks = in.varint("tick chunk count");
+      const std::uint8_t truncated = in.u8("truncated flag");
+      in.u32("file checksum");
+      if (truncated > 1 || !in.at_end()) continue;
+      footer.truncated = truncated == 1;
+      return footer;
+    } catch (const Failure&) {
+      continue;
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace ricochet::server

@@ -11,11 +11,7 @@ ReplayReport replay(const Recording& recording, ReplaySimulation& simulation,
   report.truncated = recording.truncated;
   const double started_s = options.wall_clock_s ? options.wall_clock_s() : 0;
   std::size_t next_hash = 0;
-  const auto step = [&](std::span<const RecordedInput> inputs) {
-    simulation.step(inputs);
-    ++report.steps;
-    ++report.last_tick;
-    if (options.after_step) options.after_step(report.last_tick);
+  const auto check = [&] {
     while (next_hash < recording.hashes.size() &&
            recording.hashes[next_hash].tick < report.last_tick) {
       ++next_hash;  // read_recording() never gives these; a hand-made Recording might
@@ -32,6 +28,15 @@ ReplayReport replay(const Recording& recording, ReplaySimulation& simulation,
     if (!report.first_mismatch)
       report.first_mismatch = ReplayMismatch{report.last_tick, recorded, replayed};
     return !options.stop_at_mismatch;
+  };
+  const auto step = [&](std::span<const RecordedInput> inputs) {
+    simulation.step(inputs);
+    ++report.steps;
+    ++report.last_tick;
+    if (options.after_step) options.after_step(report.last_tick);
+    if (!check()) return false;
+    report.stopped = options.stop_requested && options.stop_requested();
+    return !report.stopped;
   };
   bool going = true;
   for (const RecordedTick& tick : recording.ticks) {

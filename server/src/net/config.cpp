@@ -164,6 +164,11 @@ std::vector<std::string> ServerConfig::validate() const {
                        std::to_string(2 * placement.heartbeat_s) + "), got " +
                        std::to_string(placement.server_ttl_s));
   }
+  if (dashboard.max_replays < dashboard.replay_workers) {
+    problems.push_back("dashboard.max_replays must be at least dashboard.replay_workers (" +
+                       std::to_string(dashboard.replay_workers) + "), got " +
+                       std::to_string(dashboard.max_replays));
+  }
   if (game.snapshot_rate_hz > game.tick_rate_hz) {
     problems.push_back("game.snapshot_rate_hz must be 0..game.tick_rate_hz (" +
                        std::to_string(game.tick_rate_hz) + "; 0: the tick rate), got " +

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "replay_jobs.h"
+
 namespace ricochet::server {
 
 const char* name(LogLevel level) {
@@ -695,7 +697,6 @@ const std::array kKeys = {
         .integer = &integer_of<&S::admin, &AdminConfig::max_connections_per_address>,
         .min = 1,
         .max = 1024},
-    // Agones (issue 31): the SDK sidecar is used when AGONES_SDK_HTTP_PORT is set.
     // The dashboard's live spectator feed (issue 32).
     Key{.section = "dashboard",
         .name = "live_feed_hz",
@@ -712,6 +713,31 @@ const std::array kKeys = {
         .integer = &integer_of<&S::dashboard, &DashboardConfig::live_feed_max_viewers>,
         .min = 1,
         .max = 64},
+    // The dashboard's replays of recordings, on threads of their own.
+    Key{.section = "dashboard",
+        .name = "replay_workers",
+        .flag = "--dashboard-replay-workers",
+        .help = "threads replaying recordings for the dashboard (never a match's thread)",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::replay_workers>,
+        .min = 1,
+        .max = kMaxReplayWorkers},
+    Key{.section = "dashboard",
+        .name = "max_replays",
+        .flag = "--dashboard-max-replays",
+        .help = "replays queued or running at once (at least replay_workers); one more is "
+                "answered busy",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::max_replays>,
+        .min = 1,
+        .max = kMaxReplaysAtOnce},
+    Key{.section = "dashboard",
+        .name = "replay_memory_mb",
+        .flag = "--dashboard-replay-memory-mb",
+        .help = "MiB of replay frames, running and cached together (least recently used "
+                "dropped first)",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::replay_memory_mb>,
+        .min = kMinReplayMemoryMb,
+        .max = kMaxReplayMemoryMb},
+    // Agones (issue 31): the SDK sidecar is used when AGONES_SDK_HTTP_PORT is set.
     Key{.section = "agones",
         .name = "shutdown_after_matches",
         .flag = "--agones-shutdown-after-matches",

@@ -383,6 +383,45 @@ TEST(RecordingTest, EveryCutOfASmallRecordingReadsToItsLastWholeChunkOrIsRefused
   EXPECT_TRUE(whole.cut.empty());
 }
 
+TEST(RecordingTest, AListingReadsTheHeaderAndTheFooterAloneAndNoFooterInACutFile) {
+  const Recording recording = random_recording(21, 450);
+  const auto bytes = write(recording);
+  const auto starts = chunk_starts(bytes);
+  // The header from the first bytes: as many as the first 13 say, and no more needed.
+  const auto needed = recording_header_bytes(std::span(bytes).first(14));
+  ASSERT_TRUE(std::holds_alternative<std::size_t>(needed));
+  ASSERT_EQ(std::get<std::size_t>(needed), starts[1]);
+  const auto header = read_recording_header(std::span(bytes).first(starts[1]));
+  ASSERT_TRUE(std::holds_alternative<RecordingHeader>(header));
+  EXPECT_EQ(std::get<RecordingHeader>(header).seed, recording.header.seed);
+  EXPECT_EQ(std::get<RecordingHeader>(header).map_files.size(), recording.header.map_files.size());
+  const auto short_header = read_recording_header(std::span(bytes).first(starts[1] - 1));
+  ASSERT_TRUE(std::holds_alternative<RecordingError>(short_header));
+  EXPECT_NE(std::get<RecordingError>(short_header).message.find("(expected 1 more bytes)"),
+            std::string::npos);
+  // The footer from the last bytes: the totals read_recording() checks.
+  const auto footer = read_recording_footer(
+      std::span(bytes).last(std::min(bytes.size(), kMaxRecordingFooterBytes)));
+  ASSERT_TRUE(footer.has_value());
+  EXPECT_EQ(footer->ticks, recording.ticks.size());
+  EXPECT_EQ(footer->last_tick, recording.ticks.back().tick);
+  EXPECT_EQ(footer->hashes, recording.hashes.size());
+  EXPECT_EQ(footer->tick_chunks, starts.size() - 3);
+  EXPECT_FALSE(footer->truncated);
+  // No cut file ends with one, whatever its last bytes (a cut inside the footer included).
+  for (std::size_t cut = starts[1]; cut < bytes.size(); ++cut) {
+    const std::span<const std::uint8_t> part(bytes.data(), cut);
+    EXPECT_FALSE(read_recording_footer(part.last(std::min(cut, kMaxRecordingFooterBytes))))
+        << "cut at " << cut;
+  }
+  // Nor a footer whose bytes were changed.
+  for (std::size_t at = starts[starts.size() - 2]; at < bytes.size(); ++at) {
+    std::vector<std::uint8_t> flipped = bytes;
+    flipped[at] ^= 0x01;
+    EXPECT_FALSE(read_recording_footer(std::span(flipped).last(kMaxRecordingFooterBytes))) << at;
+  }
+}
+
 TEST(RecordingTest, ACorruptChunkBeforeACutIsStillAnError) {
   // A cut file is read up to the cut, but bad bytes in the middle are still refused.
   const auto bytes = write(random_recording(17, 600));

@@ -150,10 +150,14 @@ struct AdminConfig {
   int max_connections_per_address = 4;
 };
 
-/// [dashboard]: the pages the admin port serves (issue 32); the live spectator feed of a match.
+/// [dashboard]: the pages the admin port serves (issue 32): the live spectator feed of a match,
+/// and replays of recordings on worker threads of their own (server/src/web/replay_jobs.h).
 struct DashboardConfig {
   int live_feed_hz = 20;          ///< frames per second of a watched match, 1..60
   int live_feed_max_viewers = 8;  ///< viewers of one match at once, 1..64
+  int replay_workers = 1;         ///< threads replaying recordings
+  int max_replays = 4;            ///< replays queued or running at once; one more is refused busy
+  int replay_memory_mb = 256;     ///< replay frames, running and cached together, MiB
 
   /// The match's side of the same numbers (live_frame.h).
   LiveFeedConfig live_feed() const { return LiveFeedConfig{live_feed_hz, live_feed_max_viewers}; }

@@ -193,6 +193,10 @@ class Match {
   /// The hash recordings check: the world's state_hash() and every game rule's state (health,
   /// armour, ammunition, scores, timers, pickups, projectiles, the generator).
   std::uint64_t state_hash() const;
+  /// Tells `observer` every event the match broadcasts to its players (kills, joins, the match
+  /// state...), once each as it is made, whether or not anyone is connected: a replay's kill
+  /// feed. Called on the match's thread; empty: none.
+  void observe_events(std::function<void(const wire::GameEvent&)> observer);
 
   // --- reading ---
   std::uint32_t id() const;

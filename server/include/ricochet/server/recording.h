@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <variant>
@@ -175,5 +176,31 @@ struct RecordingError {
 /// where; a cut inside the magic or the header chunk, a CRC mismatch, a bad length, count or
 /// enum is an error.
 std::variant<Recording, RecordingError> read_recording(std::span<const std::uint8_t> bytes);
+
+/// For a listing, without reading the ticks: the bytes from the file's start to the end of its
+/// header chunk (9 + 13 + the chunk's length), at most kMaxRecordingHeaderBytes.
+inline constexpr std::size_t kMaxRecordingHeaderBytes = 8u << 20;
+/// How many of the file's first bytes read_recording_header() needs, from the first 13 (the
+/// magic, the version and the header chunk's type and length); an error when those are not a
+/// recording's or the header chunk is over kMaxRecordingHeaderBytes.
+std::variant<std::size_t, RecordingError> recording_header_bytes(
+    std::span<const std::uint8_t> first);
+/// Decodes and validates the header chunk at the start of `head` (bytes after it are ignored).
+std::variant<RecordingHeader, RecordingError> read_recording_header(
+    std::span<const std::uint8_t> head);
+
+/// The footer's totals (server/RECORDING.md): what a listing reads from a file's last bytes.
+struct RecordingFooter {
+  std::uint64_t ticks = 0, events = 0, inputs = 0, hashes = 0, tick_chunks = 0;
+  std::uint32_t last_tick = 0;
+  bool truncated = false;
+};
+/// A footer chunk is at most this many bytes, framing included.
+inline constexpr std::size_t kMaxRecordingFooterBytes = 77;
+/// The footer chunk `tail` (a file's last bytes, at least kMaxRecordingFooterBytes of them or the
+/// whole file) ends with, its frame and payload CRCs checked and its fields decoded; nothing when
+/// it ends with none (a file cut short: no footer). Neither the totals against the chunks nor
+/// the file's CRC are checked: read_recording() does that.
+std::optional<RecordingFooter> read_recording_footer(std::span<const std::uint8_t> tail);
 
 }  // namespace ricochet::server

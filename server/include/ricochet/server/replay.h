@@ -35,6 +35,8 @@ struct ReplayOptions {
   std::function<void(std::uint32_t tick)> after_step;
   /// Stop at the first hash that differs (else replay to the end and count them all).
   bool stop_at_mismatch = true;
+  /// Asked after every step; true stops the replay there (report.stopped). Unset: never.
+  std::function<bool()> stop_requested;
 };
 
 struct ReplayMismatch {
@@ -53,6 +55,7 @@ struct ReplayReport {
   double wall_s = 0;                             ///< by options.wall_clock_s
   bool complete = false;                         ///< the recording had its footer
   bool truncated = false;  ///< the recording stopped early (writer at max_bytes)
+  bool stopped = false;    ///< options.stop_requested stopped it before the end
 };
 
 /// Replays `recording` on `simulation`, which must start as the recorded match started (same
