@@ -3,14 +3,17 @@
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { launch, screenshot, watch } from './browser.mjs';
-import { startServer } from './server_process.mjs';
+import { startBots, startServer } from './server_process.mjs';
 
 let server;
 let browser;
+let bots;
 before(async () => {
   [server, browser] = await Promise.all([startServer({ matches: 3 }), launch()]);
+  bots = startBots(server, { count: 2, match: 2, seconds: 30 });
 });
 after(async () => {
+  await bots?.stop();
   await browser?.close();
   await server?.stop();
 });
@@ -32,6 +35,13 @@ test('the overview lists the matches and their sparklines grow', async () => {
   assert.equal(await rows.first().locator('td').nth(1).textContent(), 'arena');
   assert.equal(await rows.first().locator('td').nth(3).textContent(), 'waiting');
   assert.equal(await page.locator('#server dd').first().textContent(), '3');
+  // The bots' match shows them, and the server its players and their traffic.
+  await page.waitForFunction(() => {
+    const cells = document.querySelectorAll('#matches tr:nth-child(2) td');
+    return cells[4]?.textContent === '2 / 16' && cells[3]?.textContent !== 'waiting';
+  }, null, { timeout: 15000 });
+  assert.equal(await page.locator('#server dd').nth(1).textContent(), '2');
+  assert.notEqual(await page.locator('#server dd').nth(2).textContent(), '0 B/s');
   const first = await points(page, 'ffa-2');
   await page.waitForFunction(
     (before) => Number(document.querySelector('#matches tr:nth-child(2) svg').dataset.points) > before,

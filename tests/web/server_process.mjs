@@ -32,12 +32,14 @@ export async function startServer({ matches = 2, token = '' } = {}) {
   const deadline = Date.now() + 20000;
   for (;;) {
     try {
-      const { admin_port: port } = JSON.parse(readFileSync(ports, 'utf8'));
+      const bound = JSON.parse(readFileSync(ports, 'utf8'));
       return {
-        url: `http://127.0.0.1:${port}`,
+        url: `http://127.0.0.1:${bound.admin_port}`,
+        controlPort: bound.control_port,
+        fingerprint: bound.fingerprint,
         log: () => readFileSync(join(dir, 'server.log'), 'utf8'),
         async stop() {
-          child.kill('SIGKILL');
+          if (child.exitCode === null) child.kill('SIGKILL');
           await exited;
           rmSync(dir, { recursive: true, force: true });
         },
@@ -50,4 +52,21 @@ export async function startServer({ matches = 2, token = '' } = {}) {
       await sleep(20);
     }
   }
+}
+
+/// `count` ricochet-bot players (one process) in match `match` of `server`, for `seconds`.
+export function startBots(server, { count, match, seconds }) {
+  const bot = process.env.RICOCHET_BOT_BINARY;
+  if (!bot) throw new Error('RICOCHET_BOT_BINARY must be set');
+  const child = spawn(bot, ['--port', String(server.controlPort), '--fingerprint', server.fingerprint,
+                            '--bots', String(count), '--match', String(match), '--name', 'webbot',
+                            '--duration-s', String(seconds)],
+                      { stdio: ['ignore', 'ignore', 'inherit'] });
+  const exited = new Promise((resolve) => child.once('exit', resolve));
+  return {
+    async stop() {
+      if (child.exitCode === null) child.kill('SIGKILL');
+      await exited;
+    },
+  };
 }
