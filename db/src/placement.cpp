@@ -90,6 +90,17 @@ DbResult<std::vector<GameServerRow>> Placement::live_servers(UnixMillis now) {
   return refusals_(store_.game_servers(now - options_.server_ttl_ms));
 }
 
+DbResult<FleetDirectory> Placement::directory(UnixMillis now) {
+  using R = DbResult<FleetDirectory>;
+  if (DbStatus s = check_options(); !s) return refusals_(R(s.error()));
+  const UnixMillis live_after = now - options_.server_ttl_ms;
+  auto servers = store_.game_servers(live_after);
+  if (!servers) return refusals_(R(servers.error()));
+  auto matches = store_.directory_matches(live_after);
+  if (!matches) return refusals_(R(matches.error()));
+  return FleetDirectory{std::move(servers).value(), std::move(matches).value()};
+}
+
 DbResult<Purged> Placement::purge_stale(UnixMillis now) {
   if (DbStatus s = check_options(); !s) return refusals_(DbResult<Purged>(s.error()));
   return refusals_(atomically(store_, [&]() -> DbResult<Purged> {

@@ -89,6 +89,7 @@ std::string check_heartbeat(const GameServerRow& server, const std::vector<Hoste
         "a DNS name or an IP address");
   if (problem.empty()) problem = check_range("control_port", server.control_port, 1, 65535);
   if (problem.empty()) problem = check_range("game_port", server.game_port, 1, 65535);
+  if (problem.empty()) problem = check_range("admin_port", server.admin_port, 0, 65535);
   if (problem.empty() && server.certificate_sha256.size() != kSha256HexDigits)
     problem = "certificate_sha256 must be " + std::to_string(kSha256HexDigits) +
               " hex digits, got " + std::to_string(server.certificate_sha256.size());

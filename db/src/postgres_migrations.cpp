@@ -159,6 +159,12 @@ constexpr const char* kSchemaV6 = R"sql(
 ALTER TABLE game_servers ADD COLUMN counted_ms BIGINT NOT NULL DEFAULT 0;
 )sql";
 
+// Version 7. Where each server's admin port is; 0: not advertised (migrations.cpp).
+constexpr const char* kSchemaV7 = R"sql(
+ALTER TABLE game_servers ADD COLUMN admin_port BIGINT NOT NULL DEFAULT 0
+  CHECK (admin_port BETWEEN 0 AND 65535);
+)sql";
+
 constexpr std::array kMigrations = {
     Migration{1, "accounts, sessions, matches, player stats and leaderboard indexes", kSchemaV1},
     Migration{2, "failed logins for rate limits shared by every server process", kSchemaV2},
@@ -167,6 +173,7 @@ constexpr std::array kMigrations = {
     Migration{5, "placement: the fleet directory of game servers and tickets", kSchemaV5},
     Migration{6, "placement: claimed tickets hold their seat until a heartbeat counts them",
               kSchemaV6},
+    Migration{7, "placement: the directory row says where the server's admin port is", kSchemaV7},
 };
 
 /// The one-row version table; made inside the first migration's locked transaction.

@@ -119,19 +119,20 @@ constexpr std::array<const char*, kFixedStatements> kSql = {
     " WHERE a.id = $1",
     // fleet directory and tickets
     "INSERT INTO game_servers (server_id, host, control_port, game_port, certificate_sha256,"
-    " version, capacity, players, heartbeat_ms, started_ms, counted_ms)"
-    " VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11)"
+    " version, capacity, players, heartbeat_ms, started_ms, counted_ms, admin_port)"
+    " VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12)"
     " ON CONFLICT (server_id) DO UPDATE SET host = excluded.host,"
     " control_port = excluded.control_port, game_port = excluded.game_port,"
     " certificate_sha256 = excluded.certificate_sha256, version = excluded.version,"
     " capacity = excluded.capacity, players = excluded.players,"
     " heartbeat_ms = excluded.heartbeat_ms, started_ms = excluded.started_ms,"
-    " counted_ms = excluded.counted_ms",
+    " counted_ms = excluded.counted_ms, admin_port = excluded.admin_port",
     "DELETE FROM game_server_matches WHERE server_id = $1",
     "INSERT INTO game_server_matches (server_id, match_id, mode, map, players, capacity, open)"
     " VALUES ($1, $2, $3, $4, $5, $6, $7)",
     "SELECT server_id, host, control_port, game_port, certificate_sha256, version, capacity,"
-    " players, heartbeat_ms, started_ms, counted_ms FROM game_servers WHERE heartbeat_ms > $1"
+    " players, heartbeat_ms, started_ms, counted_ms, admin_port FROM game_servers WHERE "
+    "heartbeat_ms > $1"
     " ORDER BY server_id",
     "SELECT m.server_id, m.match_id, m.mode, m.map, m.players, m.capacity, m.open"
     " FROM game_server_matches AS m JOIN game_servers AS s ON s.server_id = m.server_id"
@@ -707,7 +708,7 @@ DbStatus PostgresStore::upsert_game_server(const GameServerRow& server) {
   p.text(server.server_id).text(server.host).integer(server.control_port);
   p.integer(server.game_port).text(server.certificate_sha256).text(server.version);
   p.integer(server.capacity).integer(server.players).integer(server.heartbeat_ms);
-  p.integer(server.started_ms).integer(server.counted_ms);
+  p.integer(server.started_ms).integer(server.counted_ms).integer(server.admin_port);
   return execute(Sql::UpsertGameServer, p, "writing a game server's directory row");
 }
 
@@ -750,6 +751,7 @@ DbResult<std::vector<GameServerRow>> PostgresStore::game_servers(UnixMillis hear
     row.heartbeat_ms = q.integer(i, 8);
     row.started_ms = q.integer(i, 9);
     row.counted_ms = q.integer(i, 10);
+    row.admin_port = static_cast<std::int32_t>(q.integer(i, 11));
     rows.push_back(std::move(row));
   }
   if (!q.column_error().empty()) return bad_row(q, "reading the game servers");

@@ -206,21 +206,22 @@ DbStatus SqliteStore::prepare_statements() {
   const std::pair<sqlite::Statement*, const char*> fleet_statements[] = {
       {&upsert_game_server_,
        "INSERT INTO game_servers (server_id, host, control_port, game_port, certificate_sha256,"
-       " version, capacity, players, heartbeat_ms, started_ms, counted_ms)"
-       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)"
+       " version, capacity, players, heartbeat_ms, started_ms, counted_ms, admin_port)"
+       " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)"
        " ON CONFLICT (server_id) DO UPDATE SET host = excluded.host,"
        " control_port = excluded.control_port, game_port = excluded.game_port,"
        " certificate_sha256 = excluded.certificate_sha256, version = excluded.version,"
        " capacity = excluded.capacity, players = excluded.players,"
        " heartbeat_ms = excluded.heartbeat_ms, started_ms = excluded.started_ms,"
-       " counted_ms = excluded.counted_ms"},
+       " counted_ms = excluded.counted_ms, admin_port = excluded.admin_port"},
       {&delete_server_matches_, "DELETE FROM game_server_matches WHERE server_id = ?1"},
       {&insert_server_match_,
        "INSERT INTO game_server_matches (server_id, match_id, mode, map, players, capacity, open)"
        " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)"},
       {&game_servers_,
        "SELECT server_id, host, control_port, game_port, certificate_sha256, version, capacity,"
-       " players, heartbeat_ms, started_ms, counted_ms FROM game_servers WHERE heartbeat_ms > ?1"
+       " players, heartbeat_ms, started_ms, counted_ms, admin_port FROM game_servers WHERE "
+       "heartbeat_ms > ?1"
        " ORDER BY server_id"},
       {&directory_matches_,
        "SELECT m.server_id, m.match_id, m.mode, m.map, m.players, m.capacity, m.open"
@@ -614,7 +615,7 @@ DbStatus SqliteStore::upsert_game_server(const GameServerRow& server) {
   q.bind_text(server.server_id).bind_text(server.host).bind_int(server.control_port);
   q.bind_int(server.game_port).bind_text(server.certificate_sha256).bind_text(server.version);
   q.bind_int(server.capacity).bind_int(server.players).bind_int(server.heartbeat_ms);
-  q.bind_int(server.started_ms).bind_int(server.counted_ms);
+  q.bind_int(server.started_ms).bind_int(server.counted_ms).bind_int(server.admin_port);
   return run(q, "writing a game server's directory row");
 }
 
@@ -652,6 +653,7 @@ DbResult<std::vector<GameServerRow>> SqliteStore::game_servers(UnixMillis heartb
     row.heartbeat_ms = q.integer(8);
     row.started_ms = q.integer(9);
     row.counted_ms = q.integer(10);
+    row.admin_port = static_cast<std::int32_t>(q.integer(11));
     if (!q.column_error().empty()) return bad_row(q, "reading the game servers");
     rows.push_back(std::move(row));
   }

@@ -32,6 +32,7 @@ GameServerRow server_row(const std::string& id, std::int32_t capacity, std::int3
   row.capacity = capacity;
   row.players = players;
   row.started_ms = kT0 - 60'000;
+  row.admin_port = 9100;
   return row;
 }
 
@@ -105,9 +106,25 @@ TEST_P(PlacementTest, AHeartbeatKeepsAServerLiveForTheTtlAndReplacesItsMatches) 
   EXPECT_EQ(listed[0].players, 5);
   EXPECT_EQ(listed[0].heartbeat_ms, kT0);  // the heartbeat's time, not the row's field
   EXPECT_EQ(listed[0].started_ms, kT0 - 60'000);
+  EXPECT_EQ(listed[0].admin_port, 9100);
+  // The directory: the same rows with their matches; none once the row is past the TTL.
+  const FleetDirectory directory = must(placement_.directory(kT0 + 1), "directory");
+  ASSERT_EQ(directory.servers.size(), 1u);
+  EXPECT_EQ(directory.servers[0].admin_port, 9100);
+  ASSERT_EQ(directory.matches.size(), 2u);
+  EXPECT_EQ(directory.matches[1].server_id, "s1");
+  EXPECT_EQ(directory.matches[1].match.match_id, 2);
+  EXPECT_EQ(directory.matches[1].match.players, 2);
+  const FleetDirectory gone = must(placement_.directory(kT0 + kTtlMs), "directory");
+  EXPECT_TRUE(gone.servers.empty());
+  EXPECT_TRUE(gone.matches.empty());
 
-  // The next heartbeat moves the TTL on and replaces the matches wholesale.
-  beat(server_row("s1", 32, 7), {hosted(3, 7, 16, "arena", "tdm")}, kT0 + 10'000);
+  // The next heartbeat moves the TTL on and replaces the matches wholesale (and the row: this
+  // one advertises no admin port).
+  GameServerRow unadvertised = server_row("s1", 32, 7);
+  unadvertised.admin_port = 0;
+  beat(unadvertised, {hosted(3, 7, 16, "arena", "tdm")}, kT0 + 10'000);
+  EXPECT_EQ(must(placement_.live_servers(kT0 + 10'001), "live_servers").at(0).admin_port, 0);
   EXPECT_EQ(live_ids(kT0 + kTtlMs), std::vector<std::string>{"s1"});
   EXPECT_EQ(rows("game_servers"), 1);
   EXPECT_EQ(rows("game_server_matches"), 1);
@@ -370,6 +387,8 @@ TEST_P(PlacementTest, InvalidRowsAndRequestsAreRefusedWithTheField) {
     with("host", [](GameServerRow& r) { r.host = std::string(254, 'h'); });
     with("control_port", [](GameServerRow& r) { r.control_port = 0; });
     with("game_port", [](GameServerRow& r) { r.game_port = 65536; });
+    with("admin_port", [](GameServerRow& r) { r.admin_port = -1; });
+    with("admin_port", [](GameServerRow& r) { r.admin_port = 65536; });
     with("certificate_sha256", [](GameServerRow& r) { r.certificate_sha256 = "abc"; });
     with("certificate_sha256",
          [](GameServerRow& r) { r.certificate_sha256 = std::string(64, 'G'); });

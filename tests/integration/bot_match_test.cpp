@@ -5,6 +5,7 @@
 // (results, the database, exit codes), never speeds.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
 #include <chrono>
@@ -25,6 +26,7 @@
 #include "ricochet/bot/bot.h"
 #include "ricochet/bot/fleet.h"
 #include "ricochet/bot/predictor.h"
+#include "ricochet/db/rating.h"
 #include "ricochet/db/store.h"
 #include "ricochet/stats/percentile.h"
 #include "run_until.h"
@@ -593,6 +595,108 @@ TEST(BotMatch, ResultsOfMatchesEndedWhilePostgresIsDownSurviveAKill9AndAreWritte
                               " match records left by an earlier process"),
             std::string::npos)
       << server.log();
+}
+
+TEST(BotMatch, AServerDeliversOnceTheResultAKilledServerLeftInTheSharedOutboxNeverOneStillHeld) {
+  // Two servers on one PostgreSQL database and one outbox directory (the fleet's shared volume,
+  // deploy/README.md), Y looking for left records every second. X signs in to PostgreSQL as a
+  // role of its own, which is denied once X's two bots are in its match: their result cannot be
+  // written and waits in the shared outbox while X retries it. While X lives Y takes nothing;
+  // once X is killed (SIGKILL) Y delivers the record, once, with the ratings a direct write
+  // would have given.
+  constexpr std::chrono::seconds kTimeLimit{2};
+  constexpr std::chrono::seconds kInMatchBudget{15};  ///< register (Argon2), sign in, join
+  constexpr std::chrono::seconds kMatchBudget = kTimeLimit + std::chrono::seconds(8);
+  /// X's first three attempts fail (1 s and 2 s apart): three of Y's rescans, and slack.
+  constexpr std::chrono::seconds kHeldBudget{8};
+  constexpr std::chrono::seconds kDeliverBudget{5};  ///< a rescan (1 s) and the write
+  static_assert(
+      fits_ctest(kStartBudget + kInMatchBudget + kMatchBudget + kHeldBudget + kDeliverBudget));
+  PostgresCluster& cluster = PostgresCluster::shared();
+  const std::string url = cluster.create_database();
+  static int roles = 0;  // one cluster per process, its roles shared by every run of the test
+  const std::string role = "outbox_x_" + std::to_string(getpid()) + "_" + std::to_string(++roles);
+  cluster.execute("CREATE ROLE " + role + " LOGIN SUPERUSER");
+  std::string url_of_x = url;
+  url_of_x.replace(url_of_x.find("ricochet@"), std::string("ricochet").size(), role);
+  const ricochet::test::TempDir shared("ricochet-outbox");
+  const std::string outbox = "outbox_dir = \"" + shared.path().string() + "\"\n";
+  // Forked together: the second waits only for what the first did not (the migrations are
+  // locked, so either may run them).
+  ServerProcess y(matches_toml(2, kTimeLimit), kShutdownGraceS,
+                  "[db]\nurl = \"" + url + "\"\n" + outbox + "outbox_rescan_s = 1\n");
+  ServerProcess x(matches_toml(2, kTimeLimit), kShutdownGraceS,
+                  "[db]\nurl = \"" + url_of_x + "\"\n" + outbox);
+  ASSERT_TRUE(y.wait_listening(kStartBudget)) << y.log();
+  ASSERT_TRUE(x.wait_listening(kStartBudget)) << x.log();
+
+  asio::io_context io;
+  bot::FleetConfig config;
+  config.bot = bot_config(x, "left");
+  config.bots = 2;
+  bot::Fleet fleet(io, config);
+  ASSERT_EQ(fleet.start(), "");
+  ASSERT_TRUE(run_until(
+      io, [&] { return count_of(x.log(), " entered as entity ") >= 2; }, kInMatchBudget))
+      << fleet.report_json() << x.log();
+  // New connections of X's role are refused, and those it has are cut.
+  cluster.execute("ALTER ROLE " + role + " NOLOGIN");
+  cluster.execute("SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE usename = '" +
+                  role + "'");
+  ASSERT_TRUE(run_until(
+      io, [&] { return fleet.done(); }, kMatchBudget))
+      << fleet.report_json() << x.log();
+  std::vector<std::pair<std::uint64_t, wire::PlayerMatchResult>> pending;
+  for (const auto& each : fleet.bots()) {
+    const bot::BotRecord& record = each->record();
+    ASSERT_EQ(record.results.size(), 1u) << each->config().name << x.log();
+    ASSERT_TRUE(record.results[0].record_pending()) << each->config().name << x.log();
+    const wire::PlayerMatchResult* mine = result_of(record.results[0], record.account_id);
+    ASSERT_NE(mine, nullptr) << each->config().name;
+    pending.emplace_back(record.account_id, *mine);
+  }
+  ASSERT_EQ(pending.size(), 2u);
+
+  // X retries (rewriting its file at each attempt); Y looks every second and takes nothing.
+  ASSERT_TRUE(run_until(
+      io, [&] { return x.log().find("; kept, attempt 4 in ") != std::string::npos; }, kHeldBudget))
+      << x.log();
+  const std::vector<std::string> kept = outbox_uuids(shared.path());
+  ASSERT_EQ(kept.size(), 1u) << x.log();
+  EXPECT_EQ(y.log().find("left by another process"), std::string::npos) << y.log();
+  auto store = db::open_store({.url_or_path = url});
+  ASSERT_TRUE(store.ok()) << store.error().message;
+  EXPECT_EQ(store.value()->match_count().value(), 0) << y.log();
+
+  x.kill_now();
+  // The 60 s a file must be left for (server.cpp, kLeftRecordAgeMs), passed at once.
+  const std::filesystem::path file = shared.path() / (kept[0] + ".rec");
+  std::filesystem::last_write_time(file, std::filesystem::last_write_time(file) - 61s);
+  ASSERT_TRUE(run_until(
+      io, [&] { return outbox_uuids(shared.path()).empty(); }, kDeliverBudget))
+      << y.log();
+
+  EXPECT_NE(y.log().find("results outbox: 1 match records left by another process"),
+            std::string::npos)
+      << y.log();
+  EXPECT_EQ(store.value()->match_count().value(), 1);
+  const auto found = store.value()->find_match(kept[0]);
+  ASSERT_TRUE(found.ok()) << found.error().message;
+  ASSERT_TRUE(found.value().has_value()) << kept[0] << " is not in PostgreSQL";
+  EXPECT_EQ(found.value()->accounts.size(), 2u);
+  // As written directly: both played their first match, rated by score from 1500 (rating.h).
+  const std::vector<double> ratings =
+      db::updated_ratings({{.score = static_cast<double>(pending[0].second.score())},
+                           {.score = static_cast<double>(pending[1].second.score())}});
+  for (std::size_t i = 0; i < pending.size(); ++i) {
+    const auto& [account, mine] = pending[i];
+    const auto stats = store.value()->player_stats(static_cast<db::AccountId>(account));
+    ASSERT_TRUE(stats.ok()) << account;
+    EXPECT_EQ(stats.value().matches, 1) << account;
+    EXPECT_EQ(stats.value().kills, mine.kills()) << account;
+    EXPECT_EQ(stats.value().deaths, mine.deaths()) << account;
+    EXPECT_DOUBLE_EQ(stats.value().rating, ratings[i]) << account;
+  }
 }
 
 // One bot on a bad mobile link (the bot's own network simulator: 150 ms +- 50 ms each way,

@@ -9,8 +9,6 @@
 
 #include <algorithm>
 #include <boost/asio/io_context.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
 #include <chrono>
 #include <iostream>
 #include <map>
@@ -20,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "admin_get.h"
 #include "ctest_budget.h"
 #include "postgres_cluster.h"
 #include "ricochet/bot/bot.h"
@@ -78,24 +77,9 @@ bool listed(const ServerProcess& server, std::chrono::milliseconds limit) {
   }
   return true;
 }
-
-std::string http_get(std::uint16_t port, const std::string& target) {
-  namespace http = boost::beast::http;
-  asio::io_context io;
-  asio::ip::tcp::socket socket(io);
-  socket.connect({asio::ip::address_v4::loopback(), port});
-  http::request<http::empty_body> request{http::verb::get, target, 11};
-  request.set(http::field::host, "127.0.0.1");
-  http::write(socket, request);
-  boost::beast::flat_buffer buffer;
-  http::response<http::string_body> response;
-  http::read(socket, buffer, response);
-  return response.body();
-}
-
 /// ricochet_placement_tickets_total by result, as "assigned=N ..." (results with 0 left out).
 std::string tickets_of(const ServerProcess& server) {
-  const std::string page = http_get(server.admin_port(), "/metrics");
+  const std::string page = ricochet::test::admin_get(server.admin_port(), "/metrics");
   const std::regex line(
       R"re(ricochet_placement_tickets_total\{result="([a-z_]+)"\} ([0-9.e+]+))re");
   std::string text;

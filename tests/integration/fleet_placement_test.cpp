@@ -1,16 +1,21 @@
 // Placement across a fleet (PROTOCOL.md, Placement): two real ricochet-server processes on one
-// PostgreSQL database, a client signed in on one sent to the other by find_match, joining
-// there with its ticket.
+// PostgreSQL database, each listing both (and where their admin ports are) on GET /fleet, a
+// client signed in on one sent to the other by find_match, joining there with its ticket.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/write.hpp>
+#include <boost/json.hpp>
 #include <cctype>
 #include <chrono>
 #include <optional>
 #include <string>
 #include <thread>
 
+#include "admin_get.h"
 #include "control_test_client.h"
 #include "postgres_cluster.h"
 #include "server_process.h"
@@ -73,6 +78,30 @@ TEST(FleetPlacement, FindMatchOnOneServerSeatsThePlayerOnTheOtherWithItsTicketOn
   ASSERT_TRUE(b.wait_listening()) << b.log();
   ASSERT_TRUE(listed(a)) << a.log();
   ASSERT_TRUE(listed(b)) << b.log();
+
+  // Either server lists both on /fleet, itself as self, with the admin port each advertises
+  // (bound to loopback, advertised as 127.0.0.1: reachable there) and its one match.
+  const std::string listing = ricochet::test::admin_response(b.admin_port(), "/fleet");
+  ASSERT_EQ(ricochet::test::status_line(listing), "HTTP/1.1 200 OK") << listing;
+  const boost::json::value fleet = boost::json::parse(ricochet::test::body_of(listing));
+  const boost::json::array& rows = fleet.at("servers").as_array();
+  ASSERT_EQ(rows.size(), 2u) << listing;
+  int selves = 0;
+  for (const boost::json::value& row : rows) {
+    const bool is_b = row.at("control_port").as_int64() == b.control_port();
+    const ServerProcess& server = is_b ? b : a;
+    EXPECT_EQ(row.at("self").as_bool(), is_b) << listing;
+    selves += row.at("self").as_bool() ? 1 : 0;
+    EXPECT_EQ(row.at("host").as_string(), "127.0.0.1");
+    EXPECT_EQ(row.at("game_port").as_int64(), server.game_port()) << listing;
+    EXPECT_EQ(row.at("admin_port").as_int64(), server.admin_port()) << listing;
+    EXPECT_EQ(row.at("certificate_sha256").as_string(), directory_form(server.fingerprint()));
+    EXPECT_LT(row.at("heartbeat_age_ms").as_int64(), 5'000) << listing;  // the TTL
+    const boost::json::array& hosted = row.at("matches").as_array();
+    ASSERT_EQ(hosted.size(), 1u) << listing;
+    EXPECT_EQ(hosted[0].at("mode").as_string(), is_b ? "tdm" : "ffa") << listing;
+  }
+  EXPECT_EQ(selves, 1) << listing;
 
   ControlTestClient on_a(a.control_port());
   ASSERT_TRUE(on_a.connect());

@@ -169,10 +169,11 @@ TEST(LoadTest, TwoGeneratorsAgainstTwoServersMergeIntoOneReport) {
 }
 
 TEST(LoadTest, BotsPlacedThroughFindMatchAreReportedPerServerWithEachServersTickets) {
-  // Three servers on one PostgreSQL, placement on: A hosts ffa only, B and C tdm only. Every bot
-  // goes to A and asks for tdm; A's tickets send them to B and C. Each server measured from its
-  // /metrics only (--server-proc off), behind a bearer token. Both generators' first source
-  // address is 127.0.1.1, so the seats per address are raised above their 10 bots there.
+  // Three servers on one PostgreSQL, placement on: A hosts ffa only, B and C tdm only. The run
+  // finds them in A's fleet directory (--fleet: A's GET /fleet, A first); every bot goes to A
+  // and asks for tdm; A's tickets send them to B and C. Each server measured from its /metrics
+  // only (--server-proc off), behind a bearer token. Both generators' first source address is
+  // 127.0.1.1, so the seats per address are raised above their 10 bots there.
   const std::string url = PostgresCluster::shared().create_database();
   const auto matches = [](const std::string& mode) {
     return "count = 2\nmax_players = 8\nmode = \"" + mode +
@@ -193,37 +194,58 @@ TEST(LoadTest, BotsPlacedThroughFindMatchAreReportedPerServerWithEachServersTick
   ServerProcess b(matches("tdm"), 5, fleet, {}, admin);
   ServerProcess c(matches("tdm"), 5, fleet, {}, admin);
   for (ServerProcess* server : {&a, &b, &c}) ASSERT_TRUE(server->wait_listening()) << server->log();
-  // B and C in the fleet directory before the bots ask A (each writes its row once it listens).
-  for (ServerProcess* server : {&b, &c}) {
+  // All three in the fleet directory before the run reads it from A (each writes its row once it
+  // listens).
+  for (ServerProcess* server : {&a, &b, &c}) {
     for (int i = 0; i < 200 && server->log().find("is in the fleet directory") == std::string::npos;
          ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(25));
     }
     ASSERT_NE(server->log().find("is in the fleet directory"), std::string::npos) << server->log();
   }
+  const auto endpoint_label = [](const ServerProcess& server) {
+    return "127.0.0.1:" + std::to_string(server.control_port());
+  };
   const auto endpoint = [](const ServerProcess& server) {
     return "127.0.0.1:" + std::to_string(server.control_port()) + ":" +
            std::to_string(server.admin_port());
   };
-  const std::string common = " --server " + endpoint(a) + "," + endpoint(b) + "," + endpoint(c) +
-                             " --fingerprint " + a.fingerprint() +
-                             " --find-match tdm --server-proc off --match-size 8 --ramp 40"
-                             " --settle 3s --duration 1s --scrape-interval 0.5 --no-plots";
+  const std::string common =
+      " --find-match tdm --server-proc off --match-size 8 --ramp 40"
+      " --settle 3s --duration 1s --scrape-interval 0.5 --no-plots";
   TempDir out("ricochet-loadtest");
   int codes[2] = {-1, -1};
   {
-    // The same run without the token, at the same time: every scrape refused, the run finishes.
+    // The same run without the token (its servers listed: /fleet wants the token too), at the
+    // same time: every scrape refused, the run finishes.
     std::thread untokened([&] {
-      codes[1] = run_loadtest("--name nt --bots 2 --out " + (out.path() / "nt").string() + common,
+      codes[1] = run_loadtest("--name nt --bots 2 --out " + (out.path() / "nt").string() +
+                                  " --server " + endpoint(a) + "," + endpoint(b) + "," +
+                                  endpoint(c) + " --fingerprint " + a.fingerprint() + common,
                               out.path() / "nt.log");
     });
-    codes[0] = run_loadtest("--name pl --bots 16 --admin-token-file " + token.string() + " --out " +
+    codes[0] = run_loadtest("--name pl --bots 16 --admin-token-file " + token.string() +
+                                " --fleet 127.0.0.1:" + std::to_string(a.admin_port()) + " --out " +
                                 (out.path() / "pl").string() + common,
                             out.path() / "pl.log");
     untokened.join();
   }
   ASSERT_EQ(codes[0], 0) << read_text(out.path() / "pl.log");
   ASSERT_EQ(codes[1], 0) << read_text(out.path() / "nt.log");
+  // All three found in A's directory, A first, each with the admin port it advertises.
+  const std::string found = "--fleet 127.0.0.1:" + std::to_string(a.admin_port()) +
+                            ": 3 servers: " + endpoint_label(a) + " (admin " +
+                            std::to_string(a.admin_port()) + ")";
+  EXPECT_NE(read_text(out.path() / "pl.log").find(found), std::string::npos)
+      << found << "\n"
+      << read_text(out.path() / "pl.log");
+  for (const ServerProcess* server : {&b, &c}) {
+    EXPECT_NE(read_text(out.path() / "pl.log")
+                  .find(" " + endpoint_label(*server) + " (admin " +
+                        std::to_string(server->admin_port()) + ")"),
+              std::string::npos)
+        << read_text(out.path() / "pl.log");
+  }
 
   const std::string report = read_text(out.path() / "pl" / "report.json");
   EXPECT_EQ(number_field(report, "bots_connected"), 16) << read_text(out.path() / "pl.log");
@@ -312,6 +334,19 @@ TEST(LoadTest, BadOptionsAreRefusedWithTheReason) {
                          log),
             2);
   EXPECT_NE(read_text(log).find("one per server (2), got 3"), std::string::npos) << read_text(log);
+  EXPECT_EQ(
+      run_loadtest("--fleet 127.0.0.1:9100 --server 127.0.0.1 --out " + out.path().string(), log),
+      2);
+  EXPECT_NE(read_text(log).find("drop --server and --fingerprint, or --fleet"), std::string::npos)
+      << read_text(log);
+  EXPECT_EQ(run_loadtest("--fleet localhost:9100 --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--fleet: expected HOST:ADMIN_PORT with a numeric IPv4 HOST"),
+            std::string::npos)
+      << read_text(log);
+  const std::string nobody = "127.0.0.1:" + std::to_string(free_tcp_port());
+  EXPECT_EQ(run_loadtest("--fleet " + nobody + " --out " + out.path().string(), log), 2);
+  EXPECT_NE(read_text(log).find("--fleet " + nobody + ": cannot connect"), std::string::npos)
+      << read_text(log);
   EXPECT_EQ(run_loadtest("--server-proc on --out " + out.path().string(), log), 2);
   EXPECT_NE(read_text(log).find("--server-proc must be off or auto"), std::string::npos)
       << read_text(log);

@@ -19,6 +19,7 @@
 #include <string>
 #include <thread>
 
+#include "admin_get.h"
 #include "control_test_client.h"
 #include "game_test_client.h"
 #include "ricochet/db/matches.h"
@@ -319,25 +320,6 @@ TEST_F(ServerEndToEnd, LeavingTheMatchClosesTheGameConnectionWithTheReasonLeft) 
   EXPECT_EQ(alice->game->transport().disconnect_reason(), proto::DisconnectReason::Left);
 }
 
-/// GET `path` from the admin port; the response body.
-std::string http_get(std::uint16_t port, const std::string& path) {
-  boost::asio::io_context io;
-  boost::asio::ip::tcp::socket socket(io);
-  socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
-  const std::string request =
-      "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-  boost::asio::write(socket, boost::asio::buffer(request));
-  std::string response;
-  boost::system::error_code error;
-  std::array<char, 4096> chunk{};
-  while (!error) {
-    const std::size_t size = socket.read_some(boost::asio::buffer(chunk), error);
-    response.append(chunk.data(), size);
-  }
-  const auto body = response.find("\r\n\r\n");
-  return body == std::string::npos ? response : response.substr(body + 4);
-}
-
 /// The value of one series in a Prometheus text page (-1 when absent).
 double metric(const std::string& page, const std::string& series) {
   const auto at = page.find("\n" + series + " ");
@@ -371,7 +353,7 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
   // Alice kept getting her snapshots at the full rate (60 Hz; 600 ms is about 36).
   EXPECT_GT(alice->payloads - before, 25u);
 
-  const std::string page = http_get(server_->admin_port(), "/metrics");
+  const std::string page = ricochet::test::admin_get(server_->admin_port(), "/metrics");
   EXPECT_GT(metric(page, R"(ricochet_game_dropped_total{reason="oversized"})"), 0) << page;
   EXPECT_GT(metric(page, R"(ricochet_game_dropped_total{reason="token_reused"})"), 0);
   // None of the flood is shaped like a request, so the server remembers nothing of mallory's
@@ -402,7 +384,7 @@ TEST_F(ServerEndToEnd, HostileTrafficIsDroppedCountedAndDisturbsNoOne) {
               std::string::npos)
         << phase;
   }
-  EXPECT_EQ(http_get(server_->admin_port(), "/healthz").substr(0, 2), "ok");
+  EXPECT_EQ(ricochet::test::admin_get(server_->admin_port(), "/healthz").substr(0, 2), "ok");
 }
 
 /// Three players in match 1, and Mallory: one account signed in on eight TLS sessions, all in
@@ -534,7 +516,7 @@ TEST_F(ChatFlood, FromOneAccountOnManySessionsIsRefusedAndDisconnectsNoOne) {
   EXPECT_LE(outcome.accepted, 10);
   EXPECT_EQ(outcome.accepted + outcome.rate_limited, kLinesPerSession);
   for (const long lines : outcome.lines_seen) EXPECT_EQ(lines, outcome.accepted);
-  const std::string page = http_get(server_->admin_port(), "/metrics");
+  const std::string page = ricochet::test::admin_get(server_->admin_port(), "/metrics");
   EXPECT_GE(metric(page, R"(ricochet_chat_refused_total{limit="account"})"), kLinesPerSession - 10)
       << page;
   EXPECT_EQ(metric(page, R"(ricochet_game_disconnects_total{reason="reliable_overflow"})"), 0);
@@ -555,7 +537,7 @@ TEST_F(ChatFlood, ThatPassesTheRateLimitsIsDroppedForPlayersBehindNeverDisconnec
   EXPECT_EQ(outcome.victims_connected, 3);
   EXPECT_EQ(outcome.accepted, kLines);
   EXPECT_EQ(outcome.not_in_match, kLines - kLinesPerSession);
-  const std::string page = http_get(server_->admin_port(), "/metrics");
+  const std::string page = ricochet::test::admin_get(server_->admin_port(), "/metrics");
   const double dropped = metric(page, "ricochet_game_reliable_dropped_total");
   EXPECT_GT(dropped, 0) << page;
   // Every line accepted went to each of the four players: received or dropped, none lost.
@@ -703,7 +685,7 @@ TEST_F(AccountBan, ClosesItsConnectionsAtOnceWhileTheOthersPlayOnAndAnUnbanLetsI
   EXPECT_EQ(again.control.request(ControlTestClient::resume(mallory_token_)).error().code(),
             wire::UNKNOWN_SESSION);
 
-  const std::string page = http_get(server_->admin_port(), "/metrics");
+  const std::string page = ricochet::test::admin_get(server_->admin_port(), "/metrics");
   EXPECT_EQ(metric(page, R"(ricochet_account_bans_total{action="ban"})"), 1) << page;
   EXPECT_EQ(metric(page, R"(ricochet_ban_closed_total{what="control_sessions"})"), 2);
   EXPECT_EQ(metric(page, R"(ricochet_ban_closed_total{what="players"})"), 1);
@@ -716,7 +698,7 @@ TEST_F(AccountBan, ClosesItsConnectionsAtOnceWhileTheOthersPlayOnAndAnUnbanLetsI
   again.join_and_connect(1, server_->game_port());
   again.play_for(200ms);
   EXPECT_NE(again.newest.your_entity_id(), 0u);
-  EXPECT_EQ(metric(http_get(server_->admin_port(), "/metrics"),
+  EXPECT_EQ(metric(ricochet::test::admin_get(server_->admin_port(), "/metrics"),
                    R"(ricochet_account_bans_total{action="unban"})"),
             1);
 }
@@ -852,7 +834,7 @@ TEST(ServerMatchEnd, AMatchEndsAtItsTimeLimitIsRecordedAndTheNextMapOfTheRotatio
   EXPECT_FALSE(replayed.first_mismatch)
       << "first mismatch at tick " << replayed.first_mismatch->tick;
   EXPECT_EQ(std::get<server::Match>(opened).scoreboard().at(0).shots, player.shots());
-  const std::string page = http_get(server->admin_port(), "/metrics");
+  const std::string page = ricochet::test::admin_get(server->admin_port(), "/metrics");
   EXPECT_EQ(metric(page, R"(ricochet_recordings_total{result="written"})"), 1) << page;
   EXPECT_EQ(metric(page, "ricochet_matches"), 1);  // the one that followed
 

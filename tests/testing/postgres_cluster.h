@@ -54,6 +54,12 @@ class PostgresCluster {
     return "postgresql://ricochet@127.0.0.1:" + std::to_string(port_) + "/" + name;
   }
   int port() const { return port_; }
+  /// Runs `sql` as the cluster's superuser on the `postgres` database (roles, pg_stat_activity);
+  /// throws with PostgreSQL's message when it fails.
+  void execute(const std::string& sql) {
+    std::lock_guard lock(mutex_);
+    admin(sql);
+  }
 
   /// Stops the server (fast shutdown: connections are cut) and starts it again on the same port,
   /// for tests of a database that goes away.
@@ -164,7 +170,7 @@ class PostgresCluster {
       PQreset(admin_.get());
       r = PQexec(admin_.get(), sql.c_str());
     }
-    const bool ok = PQresultStatus(r) == PGRES_COMMAND_OK;
+    const bool ok = PQresultStatus(r) == PGRES_COMMAND_OK || PQresultStatus(r) == PGRES_TUPLES_OK;
     const std::string error = PQresultErrorMessage(r);
     PQclear(r);
     if (!ok) throw std::runtime_error("test cluster: " + sql + ": " + error);

@@ -82,6 +82,19 @@ if [[ -x "$build/tools/bench/match-bench" ]]; then
   [[ -n "$calibration" ]] || calibration="null"
   echo "capacity.sh: machine speed: a 16-player match ticks in $calibration ms on average" >&2
 fi
+# The match tick does not time what dominates the server's core at capacity: the kernel's UDP
+# and epoll, the AEAD, memcpy (CAPACITY.md, 2026-12-06). A game datagram out of core 0 and its
+# answer back from core 1 (loopback-bench: sealed, sendmmsg/recvmmsg, the server thread's CPU
+# µs per datagram, median of its rounds) goes into every line beside it.
+calibration_loopback="null"
+if [[ -x "$build/tools/bench/loopback-bench" ]]; then
+  calibration_loopback=$(taskset -c 0,1 "$build/tools/bench/loopback-bench" --cores 0,1 \
+                           --seconds 3 2>/dev/null |
+                         grep -o '"cpu_us_per_datagram_p50":[0-9.]*' | head -1 | cut -d: -f2 ||
+                         true)
+  [[ -n "$calibration_loopback" ]] || calibration_loopback="null"
+  echo "capacity.sh: machine speed: a datagram through loopback costs core 0 $calibration_loopback µs (median)" >&2
+fi
 largest="${sweep##*,}"
 matches=$(( (largest + 15) / 16 ))
 [[ -n "$out" ]] || out="$(mktemp -d /tmp/ricochet-capacity-XXXXXX)"
@@ -153,7 +166,7 @@ if [[ $append -eq 1 ]]; then
   mkdir -p tools/bench/results
   script="tools/bench/capacity.sh ${invocation[*]}"
   script="${script//\"/}"
-  sed "s|^{|{\"script\":\"$script\",\"git\":\"$(git rev-parse --short HEAD)\",\"loadavg_at_start\":\"$loadavg\",\"calibration_match_tick_ms_avg\":$calibration,\"nproc\":$(nproc),|" \
+  sed "s|^{|{\"script\":\"$script\",\"git\":\"$(git rev-parse --short HEAD)\",\"loadavg_at_start\":\"$loadavg\",\"calibration_match_tick_ms_avg\":$calibration,\"calibration_loopback_cpu_us_p50\":$calibration_loopback,\"nproc\":$(nproc),|" \
     "$out/steps.jsonl" >> tools/bench/results/capacity.jsonl
 fi
 grep -o '"capacity_bots":[0-9]*' "$out/report.json" >&2

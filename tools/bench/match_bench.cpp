@@ -23,7 +23,7 @@
 ///   match-bench [--players 16,32,64] [--seconds 10] [--rate 60] [--ack-delay-ms 100]
 ///               [--map server/maps/foundry.toml] [--matches 1] [--record FILE] [--out FILE]
 ///               [--clock steady|thread-cpu] [--lag-shots 200000] [--ticks-out FILE] [--ticks-out
-///               FILE] [--cache-off LAYER,...] [--ack-spread-ticks 0]
+///               FILE] [--cache-off LAYER,...] [--ack-spread-ticks 0] [--watch-hz 20]
 /// --clock thread-cpu times the ticks by this thread's CPU time instead of the wall: the figure
 /// to quote from a machine shared with other work (JSON "clock" says which).
 /// --matches N ticks N matches in turn, as one server core does, and times every tick: a tick
@@ -33,6 +33,12 @@
 /// --record writes the last player count's recording to FILE (for ricochet-replay).
 /// --ticks-out appends one JSON line per measured tick to FILE: players, tick, ms, the phases,
 /// entities; where a tail comes from (a burst of new projectiles, a phase's spike).
+/// --watch-hz N measures instead what the live spectator feed (live_frame.h) costs the tick: two
+/// matches with the same script ticked in turn (which goes first swaps every tick), one with a
+/// viewer whose feed publishes at N Hz, each tick timed on the same clock; one "match_watch" line
+/// per player count: both matches' tick_ms, watch_cost_ratio (watched mean / unwatched mean, and
+/// of the p50s), the frames and what encoding them as JSON cost (timed apart: it runs on a
+/// viewer's thread, not the tick's), and whether both matches ended in the same state.
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -42,10 +48,12 @@
 #include <string>
 #include <vector>
 
+#include "frame_json.h"
 #include "harness.h"
 #include "ricochet/physics/scene_profile.h"
 #include "ricochet/proto/entity_flags.h"
 #include "ricochet/server/lag_compensation.h"
+#include "ricochet/server/live_frame.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match.h"
 #include "ricochet/server/match_replay.h"
@@ -83,6 +91,8 @@ struct Options {
   int matches = 1;
   /// Snapshot encode cache layers switched off (SnapshotCacheLayers), to measure what each saves.
   std::vector<std::string> cache_off;
+  /// > 0: measure the live feed's cost at this rate instead (watch_cost).
+  int watch_hz = 0;
 };
 
 /// The cache layers left on when `off` names some (or "all") of them.
@@ -178,6 +188,25 @@ struct BenchMatch {
   Fighters fighters;
 };
 
+/// Every player's input for step `t` at `now`, acknowledging snapshots ack_delay_ms late (player
+/// i, i % (ack_spread_ticks + 1) ticks later still) and claiming the view tick an interpolating
+/// client shows, about two snapshots behind what it received.
+void send_inputs(BenchMatch& bench, int players, int t, proto::TimeUs now, const Options& options) {
+  server::Match& match = bench.match;
+  const std::uint32_t ack_delay_ticks =
+      static_cast<std::uint32_t>(options.ack_delay_ms * options.rate_hz / 1000);
+  for (int i = 0; i < players; ++i) {
+    const std::uint32_t delay =
+        ack_delay_ticks + static_cast<std::uint32_t>(i % (options.ack_spread_ticks + 1));
+    const std::uint32_t ack = match.tick_number() > delay ? match.tick_number() - delay : 0;
+    const std::uint32_t view = ack > 2 ? ack - 2 : 0;
+    const std::string bytes =
+        bench.fighters.payload(match, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
+    match.receive(1000 + i,
+                  std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+  }
+}
+
 server::Match create_match(const server::Map& map, int players, const Options& options) {
   server::MatchConfig config;
   config.max_players = players;
@@ -215,8 +244,6 @@ bench::JsonObject run(const server::Map& map, int players, const Options& option
     benches.push_back({create_match(map, players, options), {}});
   server::Match& match = benches.front().match;
   const proto::TimeUs tick_us = proto::kMicrosPerSecond / options.rate_hz;
-  const std::uint32_t ack_delay_ticks =
-      static_cast<std::uint32_t>(options.ack_delay_ms * options.rate_hz / 1000);
   const int ticks = static_cast<int>(options.seconds * options.rate_hz);
   const int warmup = options.rate_hz;  // one second: spawn, first full snapshots
   std::vector<double> tick_ms;
@@ -235,17 +262,7 @@ bench::JsonObject run(const server::Map& map, int players, const Options& option
     for (BenchMatch& bench : benches) {
       server::Match& each = bench.match;
       const bool first = &each == &match;
-      for (int i = 0; i < players; ++i) {
-        const std::uint32_t delay =
-            ack_delay_ticks + static_cast<std::uint32_t>(i % (options.ack_spread_ticks + 1));
-        const std::uint32_t ack = each.tick_number() > delay ? each.tick_number() - delay : 0;
-        // An interpolating client shows about two snapshots behind what it received.
-        const std::uint32_t view = ack > 2 ? ack - 2 : 0;
-        const std::string bytes =
-            bench.fighters.payload(each, i, static_cast<std::uint32_t>(t), ack, view, now / 1e6);
-        each.receive(1000 + i,
-                     std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
-      }
+      send_inputs(bench, players, t, now, options);
       const std::int64_t started = tick_clock_ns();
       each.tick(now);
       const double elapsed_ms = static_cast<double>(tick_clock_ns() - started) / 1e6;
@@ -343,6 +360,75 @@ bench::JsonObject run(const server::Map& map, int players, const Options& option
       .text("payload_fnv1a", payload_fnv1a);
 }
 
+/// The live feed's cost to the tick: the same fight twice, ticked in turn, one watched.
+bench::JsonObject watch_cost(const server::Map& map, int players, const Options& options) {
+  BenchMatch plain{create_match(map, players, options), {}};
+  BenchMatch watched{create_match(map, players, options), {}};
+  server::LiveFeedConfig feed_config;
+  feed_config.rate_hz = options.watch_hz;
+  auto feed = std::make_shared<server::LiveFeed>(feed_config);
+  watched.match.set_live_feed(feed);
+  std::optional<server::LiveFeed::Viewer> viewer = feed->watch();
+  std::shared_ptr<const server::LiveFrame> shown;
+  const proto::TimeUs tick_us = proto::kMicrosPerSecond / options.rate_hz;
+  const int ticks = static_cast<int>(options.seconds * options.rate_hz);
+  const int warmup = options.rate_hz;
+  const auto tick_clock_ns = options.clock == "thread-cpu" ? thread_cpu_ns : steady_ns;
+  std::vector<double> plain_ms, watched_ms, encode_ms;
+  std::uint64_t frame_bytes = 0;
+  server::Outgoing outgoing;
+  for (int t = 1; t <= warmup + ticks; ++t) {
+    const proto::TimeUs now = t * tick_us;
+    for (int turn = 0; turn < 2; ++turn) {
+      const bool watched_turn = (turn == 0) == (t % 2 == 0);
+      BenchMatch& bench = watched_turn ? watched : plain;
+      server::Match& match = bench.match;
+      send_inputs(bench, players, t, now, options);
+      const std::int64_t started = tick_clock_ns();
+      match.tick(now);
+      const double elapsed_ms = static_cast<double>(tick_clock_ns() - started) / 1e6;
+      while (match.poll_outbox(outgoing)) {
+      }
+      if (t > warmup) (watched_turn ? watched_ms : plain_ms).push_back(elapsed_ms);
+    }
+    // The viewer's side: each new frame encoded once, as a page's stream would.
+    std::shared_ptr<const server::LiveFrame> frame = viewer->latest();
+    if (t > warmup && frame && frame != shown) {
+      const std::int64_t started = tick_clock_ns();
+      const std::string json = server::web::frame_json(*frame);
+      encode_ms.push_back(static_cast<double>(tick_clock_ns() - started) / 1e6);
+      frame_bytes += json.size();
+      shown = std::move(frame);
+    }
+  }
+  const stats::Summary unwatched = stats::summarize(plain_ms);
+  const stats::Summary with_viewer = stats::summarize(watched_ms);
+  const stats::Summary encode = stats::summarize(encode_ms);
+  return bench::result_line("match_watch")
+      .text("map", map.name)
+      .integer("players", players)
+      .integer("rate_hz", options.rate_hz)
+      .integer("watch_hz", options.watch_hz)
+      .general("seconds", options.seconds)
+      .text("clock", options.clock)
+      .number("tick_ms_avg_unwatched", unwatched.mean, 4)
+      .number("tick_ms_avg_watched", with_viewer.mean, 4)
+      .number("tick_ms_p50_unwatched", unwatched.p50, 4)
+      .number("tick_ms_p50_watched", with_viewer.p50, 4)
+      .number("tick_ms_p99_unwatched", unwatched.p99, 4)
+      .number("tick_ms_p99_watched", with_viewer.p99, 4)
+      .number("watch_cost_ratio", with_viewer.mean / unwatched.mean, 4)
+      .number("watch_cost_ratio_p50", with_viewer.p50 / unwatched.p50, 4)
+      .integer("frames", encode.count)
+      .number("encode_ms_avg", encode.mean, 4)
+      .number("encode_ms_p99", encode.p99, 4)
+      .number(
+          "frame_bytes_avg",
+          encode.count ? static_cast<double>(frame_bytes) / static_cast<double>(encode.count) : 0.0,
+          0)
+      .flag("same_state", plain.match.state_hash() == watched.match.state_hash());
+}
+
 /// Lag-compensated rays per second on one core: 64 players moving on the map, one second of
 /// history, casts at random view times within the last 250 ms towards random players.
 bench::JsonObject lag_shots(const server::Map& map, const Options& options) {
@@ -426,6 +512,10 @@ int main(int argc, char** argv) {
                  "player i acknowledges i % (N + 1) ticks later still (clients at different "
                  "distances; 0: all alike)")
       ->check(CLI::Range(0, 60));
+  app.add_option("--watch-hz", options.watch_hz,
+                 "measure the live spectator feed's cost to the tick at this rate instead: one "
+                 "match_watch line per player count (0: off)")
+      ->check(CLI::Range(0, 60));
   app.add_option("--map", options.map, "map file");
   app.add_option("--matches", options.matches,
                  "matches ticked in turn (each tick timed; figures over all of them)")
@@ -463,6 +553,10 @@ int main(int argc, char** argv) {
   if (!results.ok()) {
     std::fprintf(stderr, "match-bench: cannot write %s\n", options.out.c_str());
     return 1;
+  }
+  if (options.watch_hz > 0) {
+    for (int players : options.players) results.write(watch_cost(map, players, options));
+    return 0;
   }
   for (int players : options.players) results.write(run(map, players, options));
   results.write(lag_shots(map, options));

@@ -18,8 +18,10 @@
 #include <variant>
 
 #include "ricochet/loadtest/admin_token.h"
+#include "ricochet/loadtest/fleet_directory.h"
 #include "ricochet/loadtest/load_run.h"
 #include "ricochet/loadtest/merge.h"
+#include "ricochet/loadtest/metrics_client.h"
 #include "ricochet/loadtest/report.h"
 #include "ricochet/loadtest/soak_report.h"
 #include "ricochet/loadtest/soak_run.h"
@@ -39,6 +41,32 @@ std::string utc_now() {
 constexpr int kExitReportFailed = 1;
 constexpr int kExitBadOption = 2;
 constexpr int kExitNotFlat = 3;
+
+/// The servers `source`'s GET /fleet lists (fleet_directory.h), or why not. Waits at most 10 s.
+std::variant<std::vector<ricochet::loadtest::ServerEndpoint>, std::string> discover_fleet(
+    const ricochet::loadtest::ServerEndpoint& source) {
+  using namespace ricochet::loadtest;
+  boost::asio::io_context io;
+  MetricsResponse answer;
+  fetch_admin(
+      io,
+      boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address(source.host), source.admin_port),
+      "/fleet", kMaxFleetBytes, source.admin_token, 10,
+      [&answer](MetricsResponse response) { answer = std::move(response); });
+  io.run();
+  if (!answer.error.empty()) {
+    return answer.error + (answer.status == 401 ? " (give its admin token with --admin-token-file)"
+                           : answer.status == 404
+                               ? " (a server keeps the directory with [placement] on)"
+                               : "");
+  }
+  FleetReader reader;
+  auto read = reader.read(answer.body);
+  if (const auto* refused = std::get_if<FleetError>(&read)) {
+    return std::string("refused its answer (") + name(refused->reason) + "): " + refused->message;
+  }
+  return std::get<std::vector<ServerEndpoint>>(std::move(read));
+}
 
 /// Runs `run` on `io` until it finishes (SIGINT/SIGTERM end it early), then lets the bots'
 /// disconnect packets out.
@@ -166,6 +194,7 @@ int main(int argc, char** argv) {
   std::string fingerprints;
   std::string trust_file;
   std::string token_files;
+  std::string fleet;
 
   CLI::App app{
       "ricochet-loadtest: bots against ricochet-servers, measured. `ricochet-loadtest merge "
@@ -173,10 +202,18 @@ int main(int argc, char** argv) {
       "Exit status: 0 the report is written (with --soak: and the server stayed flat), 1 the "
       "report or its plots could not be written, 2 a bad option, 3 (--soak) the server's RSS or "
       "open fds grew faster than their bounds after the warm-up"};
-  app.add_option("--server", servers,
-                 "the servers, HOST[:CONTROL_PORT[:ADMIN_PORT]] separated by commas (numeric "
-                 "IPv4; a port left out is --port's or --admin-port's); bots go round robin")
-      ->capture_default_str();
+  auto* server_option =
+      app.add_option("--server", servers,
+                     "the servers, HOST[:CONTROL_PORT[:ADMIN_PORT]] separated by commas (numeric "
+                     "IPv4; a port left out is --port's or --admin-port's); bots go round robin")
+          ->capture_default_str();
+  app.add_option(
+      "--fleet", fleet,
+      "HOST:ADMIN_PORT of one server: the servers are every row of its fleet directory (GET "
+      "/fleet, read once at start, with --admin-token-file), that server first, each as if "
+      "listed by --server with the certificate its row names; a row without an admin port is "
+      "played on, its CPU unknown (metrics_not_advertised); not with --server or "
+      "--fingerprint");
   app.add_option("--port", control_port, "control channel (TLS) port")->capture_default_str();
   app.add_option("--admin-port", admin_port, "admin HTTP port (/metrics)")->capture_default_str();
   app.add_option("--fingerprint", fingerprints,
@@ -186,8 +223,9 @@ int main(int argc, char** argv) {
                  "trust on first use into this file (default: DIR/server.fp; with several "
                  "servers FILE-2, FILE-3, ... for the others)");
   app.add_option("--find-match", config.find_match,
-                 "MODE or MODE:MAP: every bot asks the first --server for a seat (find_match) "
-                 "and plays where the assignment sends it; the other servers are scraped");
+                 "MODE or MODE:MAP: every bot asks the first --server (or the --fleet server) "
+                 "for a seat (find_match) and plays where the assignment sends it; the other "
+                 "servers are scraped");
   app.add_option("--admin-token-file", token_files,
                  "the servers' admin bearer token (their --admin-token-file), sent on every "
                  "/metrics scrape: one file for every server, or one per server separated by "
@@ -294,15 +332,48 @@ int main(int argc, char** argv) {
   config.shared_game_port = !socket_per_bot;
   config.plots = !no_plots;
   config.progress = !quiet;
-  auto parsed = parse_servers(servers, control_port, admin_port);
-  if (const auto* problem = std::get_if<std::string>(&parsed)) return fail("--server: " + *problem);
-  config.servers = std::get<std::vector<ServerEndpoint>>(std::move(parsed));
+  const std::vector<std::string> token_paths = split_list(token_files);
+  if (!fleet.empty() && (server_option->count() > 0 || !fingerprints.empty())) {
+    return fail(
+        "--fleet finds the servers and their certificates in the fleet directory: drop --server "
+        "and --fingerprint, or --fleet");
+  }
+  if (!fleet.empty()) {
+    auto source = parse_fleet_source(fleet);
+    if (const auto* problem = std::get_if<std::string>(&source))
+      return fail("--fleet: " + *problem);
+    ServerEndpoint& asked = std::get<ServerEndpoint>(source);
+    if (token_paths.size() > 1) return fail("--admin-token-file: one file with --fleet");
+    if (!token_paths.empty()) {
+      if (std::string problem = read_admin_token(token_paths[0], asked.admin_token);
+          !problem.empty()) {
+        return fail("--admin-token-file: " + problem);
+      }
+    }
+    auto found = discover_fleet(asked);
+    if (const auto* problem = std::get_if<std::string>(&found)) {
+      return fail("--fleet " + fleet + ": " + *problem);
+    }
+    config.servers = std::get<std::vector<ServerEndpoint>>(std::move(found));
+    std::string listed;
+    for (const ServerEndpoint& server : config.servers) {
+      listed += " " + server.label() +
+                (server.admin_port != 0 ? " (admin " + std::to_string(server.admin_port) + ")"
+                                        : " (no admin port)");
+    }
+    std::fprintf(stderr, "ricochet-loadtest: --fleet %s: %zu servers:%s\n", fleet.c_str(),
+                 config.servers.size(), listed.c_str());
+  } else {
+    auto parsed = parse_servers(servers, control_port, admin_port);
+    if (const auto* problem = std::get_if<std::string>(&parsed))
+      return fail("--server: " + *problem);
+    config.servers = std::get<std::vector<ServerEndpoint>>(std::move(parsed));
+  }
   const std::vector<std::string> pins = split_list(fingerprints);
   if (pins.size() > 1 && pins.size() != config.servers.size()) {
     return fail("--fingerprint: one for every server or one per server (" +
                 std::to_string(config.servers.size()) + "), got " + std::to_string(pins.size()));
   }
-  const std::vector<std::string> token_paths = split_list(token_files);
   if (token_paths.size() > 1 && token_paths.size() != config.servers.size()) {
     return fail("--admin-token-file: one for every server or one per server (" +
                 std::to_string(config.servers.size()) + "), got " +

@@ -103,6 +103,11 @@ void Match::set_log(MatchLog log) {
   parts_->log = std::move(log);
 }
 
+void Match::set_live_feed(std::shared_ptr<LiveFeed> feed) {
+  parts_->live = LiveTap{};
+  parts_->live.feed = std::move(feed);
+}
+
 namespace {
 
 std::int64_t profile_now(const ProfileClock& clock) {
@@ -377,6 +382,9 @@ int Match::tick(proto::TimeUs now) {
     });
   }
   timed(m.profile.send_ms, [&] { send(m.snapshots, m.mailbox, m.counters); });
+  if (run > 0) {
+    publish_live_frame(now, m.config, m.tick, m.roster, m.combat, m.rules, m.live);
+  }
   m.profile.steps = run;
   m.profile.total_ms = elapsed_ms(m.profile_clock, tick_start);
   m.counters.steps += static_cast<std::uint64_t>(run);

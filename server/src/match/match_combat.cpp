@@ -54,6 +54,10 @@ void kill(Game& game, Player& victim, Player* attacker, WeaponKind weapon, bool 
   died.set_weapon(from_world ? wire::WEAPON_UNSPECIFIED : to_wire(weapon));
   died.set_tick(game.tick);
   game.broadcast(event);
+  if (game.live_kills) {
+    game.live_kills->note(LiveKill{game.tick, attacker ? attacker->entity_id : 0u, victim.entity_id,
+                                   from_world ? std::nullopt : std::optional<WeaponKind>(weapon)});
+  }
   // The frag limit: a player's score (ffa) or a team's (tdm).
   const int limit = game.config.rules.frag_limit;
   if (!game.rules.counts() || limit <= 0 || !attacker || attacker == &victim) return;

@@ -9,6 +9,7 @@
 #include "mailbox.h"
 #include "match_checks.h"
 #include "match_combat.h"
+#include "match_live.h"
 #include "match_rules.h"
 #include "ricochet/physics/world.h"
 #include "ricochet/server/map.h"
@@ -23,7 +24,8 @@ namespace ricochet::server {
 /// projectiles, impulses), the players' game part and scores, the roster's entity ids (each
 /// projectile takes one), the rules' state (phase, team scores, generator, pickups) and the
 /// projectiles; they tell the clients through the mailbox and count in `counters` (violations
-/// through `violations`). They never change the history, the snapshots or the recording.
+/// through `violations`). They never change the history, the snapshots or the recording; they
+/// note deaths in `live_kills` for the live feed, which is not game state.
 struct Game {
   const MatchConfig& config;
   const Map& map;
@@ -35,6 +37,8 @@ struct Game {
   Mailbox& mailbox;
   MatchCounters& counters;
   ViolationReport violations;
+  /// Where deaths are noted for the live feed: null while nobody watches.
+  LiveKills* live_kills;
 
   /// `seconds` in whole ticks of this match, rounded.
   std::uint32_t ticks_of(float seconds) const;

@@ -11,6 +11,7 @@
 ///   match_history.h   the entity states by tick
 ///   match_snapshots.h the snapshots and the send phase
 ///   match_recorder.h  the recording and the match hash
+///   match_live.h      the live feed's frames (not game state)
 
 #include <cstdint>
 
@@ -19,6 +20,7 @@
 #include "match_combat.h"
 #include "match_game.h"
 #include "match_history.h"
+#include "match_live.h"
 #include "match_recorder.h"
 #include "match_rules.h"
 #include "match_snapshots.h"
@@ -53,6 +55,7 @@ struct MatchParts {
   Snapshots snapshots;
   Mailbox mailbox;
   Recorder recorder;
+  LiveTap live;
   /// The payload receive() parses into, kept: parsing clears it but keeps its inputs'
   /// messages, so a payload allocates nothing.
   wire::ClientPayload incoming;
@@ -60,7 +63,8 @@ struct MatchParts {
   MatchCounters counters;
 
   Game game() {
-    return Game{config, map, tick, world, roster, rules, combat, mailbox, counters, violations()};
+    return Game{config, map,     tick,     world,        roster,         rules,
+                combat, mailbox, counters, violations(), live.kill_log()};
   }
   ViolationReport violations() { return ViolationReport{config.id, log, counters}; }
   std::uint64_t state_hash() const { return match_hash(world, tick, rules, roster, combat); }

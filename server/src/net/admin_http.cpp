@@ -260,14 +260,18 @@ Response unauthorized(State& state, const AdminConnection& connection, unsigned 
   return response;
 }
 
+/// GET /fleet, authorized: the fleet callback answers it.
+struct FleetRequest {};
+
 /// A request for a route of the table: its handler is called, the answer awaited.
 struct RouteCall {
   const AdminRoute* route = nullptr;
   AdminRequest request;
 };
 
-/// What a request gets: a response now, an account action or a route's handler to run first.
-using Routed = std::variant<Response, AccountAction, RouteCall>;
+/// What a request gets: a response now, or an account action, the fleet or a route's handler
+/// to ask first.
+using Routed = std::variant<Response, AccountAction, FleetRequest, RouteCall>;
 
 Response redirect(unsigned version, std::string_view location) {
   Response response =
@@ -496,11 +500,14 @@ Routed route(State& state, const AdminConnection& connection,
     return route_account(state, connection, request, std::move(*action));
   }
   if (auto routed = route_dashboard(state, connection, request, path)) return std::move(*routed);
-  const bool known = path == "/metrics" || path == "/healthz" || path == "/readyz";
+  const bool fleet = path == "/fleet" && state.callbacks.fleet;
+  const bool known = path == "/metrics" || path == "/healthz" || path == "/readyz" || fleet;
   if (!known) {
     state.reject(AdminRejectReason::NotFound);
     return text_response(http::status::not_found, version,
-                         "not found; try /metrics, /healthz or /readyz\n");
+                         state.callbacks.fleet
+                             ? "not found; try /metrics, /healthz, /readyz or /fleet\n"
+                             : "not found; try /metrics, /healthz or /readyz\n");
   }
   if (request.method() != http::verb::get) {
     state.reject(AdminRejectReason::MethodNotAllowed);
@@ -521,6 +528,12 @@ Routed route(State& state, const AdminConnection& connection,
       return text_response(http::status::internal_server_error, version,
                            std::string{"metrics failed: "} + error.what() + "\n");
     }
+  }
+  if (fleet) {
+    if (!authorized(state, request, true)) {
+      return unauthorized(state, connection, version, "/fleet");
+    }
+    return FleetRequest{};
   }
   if (path == "/healthz") {
     if (state.callbacks.healthy && state.callbacks.healthy()) {
@@ -562,19 +575,17 @@ proto::TimeUs deadline_from_now(const State& state) {
              .count();
 }
 
-/// Calls `start` with an answer callback (callable once, from any thread) and resumes on the
-/// strand with what it was given: an account action's or a route's reply.
-template <class Reply>
-asio::awaitable<Reply> await_reply(std::shared_ptr<State> state,
-                                   std::function<void(std::function<void(Reply)>)> start) {
+/// Runs `ask` (a callback given where to answer) and resumes on the strand with its reply.
+asio::awaitable<AdminReply> await_reply(std::shared_ptr<State> state,
+                                        std::function<void(std::function<void(AdminReply)>)> ask) {
   struct Pending {
     explicit Pending(const asio::any_io_executor& executor) : wake(executor) {}
-    std::optional<Reply> reply;
+    std::optional<AdminReply> reply;
     asio::steady_timer wake;
   };
   auto pending = std::make_shared<Pending>(state->strand);
   pending->wake.expires_at(asio::steady_timer::time_point::max());
-  start([state, pending](Reply reply) {
+  ask([state, pending](AdminReply reply) {
     asio::post(state->strand, [pending, reply = std::move(reply)]() mutable {
       pending->reply = std::move(reply);
       pending->wake.cancel();
@@ -701,15 +712,20 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
     } else {
       const auto& request = parser.get();
       Routed routed = route(*state, *connection, request);
+      std::function<void(std::function<void(AdminReply)>)> ask;
       if (auto* action = std::get_if<AccountAction>(&routed)) {
-        // The action and its response within request_timeout, as any response.
+        ask = [state, action = std::move(*action)](std::function<void(AdminReply)> answer) {
+          state->callbacks.account(action, std::move(answer));
+        };
+      } else if (std::holds_alternative<FleetRequest>(routed)) {
+        ask = state->callbacks.fleet;
+      }
+      if (ask) {
+        // The answer and its response within request_timeout, as any response.
         connection->deadline = deadline_from_now(*state);
-        const AdminReply reply = co_await await_reply<AdminReply>(
-            state, [&state, &action](std::function<void(AdminReply)> answer) {
-              state->callbacks.account(std::move(*action), std::move(answer));
-            });
-        routed =
-            text_response(static_cast<http::status>(reply.status), request.version(), reply.body);
+        AdminReply reply = co_await await_reply(state, std::move(ask));
+        routed = text_response(static_cast<http::status>(reply.status), request.version(),
+                               std::move(reply.body), reply.content_type);
       }
       if (auto* call = std::get_if<RouteCall>(&routed)) {
         if (call->route->stream) {
@@ -717,10 +733,10 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
           break;
         }
         connection->deadline = deadline_from_now(*state);
-        const AdminResponse reply = co_await await_reply<AdminResponse>(
+        AdminReply reply = co_await await_reply(
             state, [&call](AdminAnswer answer) { call->route->handler(call->request, answer); });
         routed = text_response(static_cast<http::status>(reply.status), request.version(),
-                               reply.body, reply.content_type);
+                               std::move(reply.body), reply.content_type);
       }
       response = std::move(std::get<Response>(routed));
       keep_alive = request.keep_alive();

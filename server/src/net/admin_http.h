@@ -5,6 +5,9 @@
 /// POST /accounts/<name>/ban and POST /accounts/<name>/unban (an operator's action, answered
 /// once the account callback has done it: 200, 404 for an unknown name, 503 when the database
 /// cannot take it now).
+/// GET /fleet (application/json, fleet_view.h): every live row of the fleet directory with its
+/// matches, this server's marked "self", read through the DB worker: 503 when the database
+/// cannot answer now; 404 when the server keeps no directory row ([placement] off).
 /// Other paths: 404; other methods on these paths: 405. HTTP/1.1 keep-alive.
 ///
 /// Requests are untrusted: a request must arrive whole within request_timeout of the server
@@ -19,9 +22,9 @@
 /// connections open without using them cannot keep a /healthz probe out; only when every one is
 /// busy writing a response is the newcomer closed. With a bearer token, /metrics answers 401
 /// without "Authorization: Bearer <token>" (compared in constant time; each address's refusals
-/// logged once per episode); /healthz and /readyz stay open to probes. The account actions
-/// need the token too, and without one they are allowed only when the port is bound to a
-/// loopback address (403 otherwise: whoever reaches an exposed port could ban anyone).
+/// logged once per episode), and so does /fleet; /healthz and /readyz stay open to probes. The
+/// account actions need the token too, and without one they are allowed only when the port is bound
+/// to a loopback address (403 otherwise: whoever reaches an exposed port could ban anyone).
 ///
 /// Everything runs on a strand of the given io_context; the callbacks are called there and must
 /// be thread-safe towards the code that owns what they read. Deadlines are on options.clock; a
@@ -106,7 +109,7 @@ enum class AdminRejectReason {
   MethodNotAllowed,    ///< not GET: 405
   TooManyConnections,  ///< above max_connections: the longest waiting (or the new one) closed
   TooManyFromAddress,  ///< above max_connections_per_address: likewise, among that address's
-  Unauthorized,        ///< /metrics or an account action without the bearer token: 401
+  Unauthorized,        ///< /metrics, /fleet or an account action without the token: 401
   Forbidden,           ///< an account action, no token configured, bound beyond loopback: 403
   SlowReader,          ///< an event stream's reader max_stream_queue messages behind: closed
 };
@@ -123,10 +126,11 @@ struct AccountAction {
   std::string operator_address;  ///< who asked (proto::HostKey text), for the log
 };
 
-/// The answer to an AccountAction: an HTTP status and a line for the operator.
+/// The answer to an AccountAction or a /fleet request: an HTTP status and its body.
 struct AdminReply {
   unsigned status = 200;
-  std::string body;
+  std::string body;  ///< a line for the operator, or /fleet's JSON
+  std::string content_type = "text/plain; charset=utf-8";
 };
 
 struct AdminHttpCallbacks {
@@ -134,6 +138,8 @@ struct AdminHttpCallbacks {
   std::function<bool()> ready;    ///< true once sockets are bound and the DB is open
   /// Does an account action and calls `answer` once, from any thread; empty: /accounts is 404.
   std::function<void(AccountAction action, std::function<void(AdminReply)> answer)> account;
+  /// Answers GET /fleet by calling `answer` once, from any thread; empty: /fleet is 404.
+  std::function<void(std::function<void(AdminReply)> answer)> fleet;
 };
 
 /// A request as a route's handler sees it.
@@ -141,13 +147,6 @@ struct AdminRequest {
   std::string method;  ///< "GET", "POST" ...
   std::string path;    ///< the target less its query
   std::string query;   ///< after '?', undecoded; empty when none
-  std::string body;
-};
-
-/// A route's answer.
-struct AdminResponse {
-  unsigned status = 200;
-  std::string content_type = "application/json";
   std::string body;
 };
 
@@ -180,8 +179,8 @@ class AdminEventStream {
   std::function<void()> wake_;
 };
 
-/// Answers a request once, from any thread.
-using AdminAnswer = std::function<void(AdminResponse)>;
+/// Answers a request once, from any thread (a route's JSON: content_type "application/json").
+using AdminAnswer = std::function<void(AdminReply)>;
 
 /// One entry of the route table: an exact path, or every path under a prefix ending in '/'.
 struct AdminRoute {

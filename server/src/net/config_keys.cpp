@@ -136,6 +136,9 @@ constexpr std::array kPlacementModes = {PlacementMode::Auto, PlacementMode::On, 
 constexpr std::array kPasswordHashings = {PasswordHashing::Interactive, PasswordHashing::Minimum};
 
 using S = ServerConfig;
+// The [dashboard] defaults are the match's live feed defaults, and its ranges LiveFeedConfig's.
+static_assert(DashboardConfig{}.live_feed_hz == LiveFeedConfig{}.rate_hz);
+static_assert(DashboardConfig{}.live_feed_max_viewers == LiveFeedConfig{}.max_viewers);
 constexpr int kMaxPort = 65535;
 
 const std::array kKeys = {
@@ -190,6 +193,15 @@ const std::array kKeys = {
                 "path is under server.data_dir",
         .kind = Kind::Text,
         .text = &text_of<&S::db, &DbConfig::outbox_dir>},
+    Key{.section = "db",
+        .name = "outbox_rescan_s",
+        .flag = "--outbox-rescan-s",
+        .help = "seconds between two looks of a running server for the results other servers "
+                "left in a shared outbox_dir (killed, or their database away for long); it "
+                "takes only those whose file is over 60 s old",
+        .integer = &integer_of<&S::db, &DbConfig::outbox_rescan_s>,
+        .min = 1,
+        .max = 3600},
     Key{.section = "db",
         .name = "password_hashing",
         .flag = "--password-hashing",
@@ -684,6 +696,22 @@ const std::array kKeys = {
         .min = 1,
         .max = 1024},
     // Agones (issue 31): the SDK sidecar is used when AGONES_SDK_HTTP_PORT is set.
+    // The dashboard's live spectator feed (issue 32).
+    Key{.section = "dashboard",
+        .name = "live_feed_hz",
+        .flag = "--dashboard-live-feed-hz",
+        .help = "frames per second (of server time) a watched match publishes to its live view; "
+                "none while nobody watches",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::live_feed_hz>,
+        .min = 1,
+        .max = 60},
+    Key{.section = "dashboard",
+        .name = "live_feed_max_viewers",
+        .flag = "--dashboard-live-feed-max-viewers",
+        .help = "viewers watching one match's live view at once (one more is refused)",
+        .integer = &integer_of<&S::dashboard, &DashboardConfig::live_feed_max_viewers>,
+        .min = 1,
+        .max = 64},
     Key{.section = "agones",
         .name = "shutdown_after_matches",
         .flag = "--agones-shutdown-after-matches",
@@ -729,6 +757,15 @@ const std::array kKeys = {
         .help = "game port (UDP) players are sent to; 0: the bound one, or under Agones the "
                 "GameServer's port named game",
         .integer = &integer_of<&S::placement, &PlacementConfig::advertise_game_port>,
+        .min = 0,
+        .max = kMaxPort},
+    Key{.section = "placement",
+        .name = "advertise_admin_port",
+        .flag = "--advertise-admin-port",
+        .help = "admin port (TCP: /metrics, /fleet) the directory lists for tools and dashboards; "
+                "0: the bound one when admin.bind is beyond loopback or advertise_host is "
+                "loopback, else none (under Agones: none)",
+        .integer = &integer_of<&S::placement, &PlacementConfig::advertise_admin_port>,
         .min = 0,
         .max = kMaxPort},
     Key{.section = "placement",
@@ -785,8 +822,9 @@ const std::array kKeys = {
             }},
 };
 
-constexpr std::array<std::string_view, 10> kSections = {
-    "server", "db", "tls", "control", "game", "matches", "admin", "agones", "placement", "log"};
+constexpr std::array<std::string_view, 11> kSections = {"server", "db",        "tls",   "control",
+                                                        "game",   "matches",   "admin", "dashboard",
+                                                        "agones", "placement", "log"};
 
 }  // namespace
 

@@ -21,6 +21,7 @@
 #include <utility>
 #include <variant>
 
+#include "admin_advertisement.h"
 #include "admin_http.h"
 #include "agones_game_server.h"
 #include "agones_http.h"
@@ -28,6 +29,7 @@
 #include "control_server.h"
 #include "directory_heartbeat.h"
 #include "episode_log.h"
+#include "fleet_view.h"
 #include "game_channel.h"
 #include "match_defaults.h"
 #include "match_registry.h"
@@ -234,10 +236,11 @@ SeatLimits seat_limits(const MatchesConfig& matches) {
 
 /// How often the created matches are looked at for being empty too long.
 constexpr auto kEmptyMatchSweep = std::chrono::seconds(5);
-/// How often a running server looks for records other processes left in its outbox, and how
-/// old such a file must be: a live writer removes its own within moments of the database's
-/// commit, or retries it itself while the database is away (a second delivery writes nothing).
-constexpr auto kOutboxRescan = std::chrono::seconds(60);
+/// How old a file of the outbox must be for a running server to take it as left by another
+/// process (every db.outbox_rescan_s): a live writer removes its own within moments of the
+/// database's commit, or retries it itself while the database is away, rewriting the file at
+/// each attempt (at most Server::kRecordRetryLast apart: half this); a second delivery writes
+/// nothing.
 constexpr std::int64_t kLeftRecordAgeMs = 60'000;
 
 }  // namespace
@@ -299,12 +302,19 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   }
   admin.episodes = &episodes_;
   admin.files = dashboard_files();
-  admin_ = std::make_unique<AdminHttp>(
-      io_, std::move(admin), metrics_,
-      AdminHttpCallbacks{[this] { return healthy(); }, [this] { return ready(); },
-                         [this](AccountAction action, std::function<void(AdminReply)> answer) {
-                           act_on_account(std::move(action), std::move(answer));
-                         }});
+  AdminHttpCallbacks callbacks{
+      [this] { return healthy(); },
+      [this] { return ready(); },
+      [this](AccountAction action, std::function<void(AdminReply)> answer) {
+        act_on_account(std::move(action), std::move(answer));
+      },
+      {}};  // /fleet: only with a directory row to show
+  if (placement_) {
+    callbacks.fleet = [this](std::function<void(AdminReply)> answer) {
+      answer_fleet(std::move(answer));
+    };
+  }
+  admin_ = std::make_unique<AdminHttp>(io_, std::move(admin), metrics_, std::move(callbacks));
   register_metrics();
   register_dashboard();
   if (const char* sdk_port = std::getenv("AGONES_SDK_HTTP_PORT")) start_agones(sdk_port);
@@ -423,6 +433,12 @@ void Server::start_placement() {
       placement.advertise_control_port != 0 ? placement.advertise_control_port : control_port();
   row.game_port = placement.advertise_game_port != 0 ? placement.advertise_game_port : game_port();
   row.certificate_sha256 = fingerprint_hex;
+  row.admin_port = advertised_admin_port(
+      AdminAdvertisement{.bind = config_.admin.bind,
+                         .bound_port = admin_port(),
+                         .host = host,
+                         .configured_port = placement.advertise_admin_port,
+                         .agones = std::getenv("AGONES_SDK_HTTP_PORT") != nullptr});
   row.version = RICOCHET_VERSION;
   row.capacity = config_.game.max_clients;
   row.started_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -486,9 +502,12 @@ void Server::advertise_from_agones(const std::optional<std::string>& body) {
 
 void Server::start_heartbeats() {
   heartbeat_->start();
-  spdlog::info("placement: server {} advertises {}:{} (game port {}), heartbeat every {} s",
-               directory_row_.server_id, directory_row_.host, directory_row_.control_port,
-               directory_row_.game_port, config_.placement.heartbeat_s);
+  spdlog::info(
+      "placement: server {} advertises {}:{} (game port {}, admin port {}), heartbeat every {} s",
+      directory_row_.server_id, directory_row_.host, directory_row_.control_port,
+      directory_row_.game_port,
+      directory_row_.admin_port != 0 ? std::to_string(directory_row_.admin_port) : "none",
+      config_.placement.heartbeat_s);
 }
 
 void Server::sweep_empty_matches() {
@@ -686,7 +705,7 @@ void Server::deliver_outbox() {
 }
 
 void Server::rescan_outbox() {
-  outbox_rescan_.expires_after(kOutboxRescan);
+  outbox_rescan_.expires_after(std::chrono::seconds(config_.db.outbox_rescan_s));
   outbox_rescan_.async_wait([this](const boost::system::error_code& error) {
     if (error || !ready_) return;  // cancelled, or stopping
     const db::UnixMillis now = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -791,6 +810,28 @@ void Server::write_record(std::shared_ptr<const EndedMatch> match, int attempt, 
         timer->async_wait([this, timer, match, attempt, from_outbox](const std::error_code&) {
           write_record(match, attempt + 1, nullptr, from_outbox);
         });
+      });
+}
+
+void Server::answer_fleet(std::function<void(AdminReply)> answer) {
+  const auto unix_now_ms = [] {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+  };
+  db_->submit(
+      [now = unix_now_ms()](db::DbServices& services) { return services.placement.directory(now); },
+      [](std::function<void()> completion) { completion(); },  // runs on the DB thread
+      [this, unix_now_ms, answer = std::move(answer)](db::DbResult<db::FleetDirectory> result) {
+        if (!result) {
+          spdlog::debug("admin: /fleet: the directory could not be read: {}",
+                        result.error().message);
+          answer({503, std::string("the database could not answer now (") +
+                           db::to_string(result.error().code) + "); try again\n"});
+          return;
+        }
+        answer({200, fleet_json(result.value(), placement_->server_id, unix_now_ms()),
+                "application/json"});
       });
 }
 

@@ -122,7 +122,7 @@ class Server {
                     bool from_outbox = false);
   /// At the start: every record an earlier process left in the outbox, to the database.
   void deliver_outbox();
-  /// Every kOutboxRescan while running: the records another process left in a shared outbox
+  /// Every db.outbox_rescan_s while running: the records another process left in a shared outbox
   /// (ResultsOutbox::list_left), to the database.
   void rescan_outbox();
   /// `left` (from the outbox, not this process's matches) to the database.
@@ -142,6 +142,8 @@ class Server {
   /// sessions), then, for a ban, the account's control sessions closed with ACCOUNT_BANNED and
   /// its game connection with reason banned, its seat given back. `answer` once, any thread.
   void act_on_account(AccountAction action, std::function<void(AdminReply)> answer);
+  /// GET /fleet: the live directory through the DB worker (fleet_view.h), or 503.
+  void answer_fleet(std::function<void(AdminReply)> answer);
   /// The Agones SDK client on the sidecar's `sdk_port` (AGONES_SDK_HTTP_PORT); throws
   /// std::runtime_error when it is not a port.
   void start_agones(const char* sdk_port);

@@ -100,9 +100,9 @@ void Server::register_dashboard() {
       json = overview_json_;
     }
     if (json.empty()) {
-      answer({503, "text/plain; charset=utf-8", "no overview yet\n"});
+      answer({503, "no overview yet\n"});
     } else {
-      answer({200, "application/json", std::move(json)});
+      answer({200, std::move(json), "application/json"});
     }
   };
   admin_->add_route(std::move(latest));

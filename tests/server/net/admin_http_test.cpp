@@ -130,7 +130,8 @@ class AdminHttpTest : public ::testing::Test {
                              }
                              answer({200, std::string(action.ban ? "banned " : "unbanned ") +
                                               action.username + "\n"});
-                           }});
+                           },
+                           fleet_});
     for (const AdminRoute& route : routes_) server_->add_route(route);
     ASSERT_FALSE(server_->start());
     port_ = server_->local_endpoint().port();
@@ -163,6 +164,8 @@ class AdminHttpTest : public ::testing::Test {
   std::mutex actions_mutex_;
   std::vector<AccountAction> actions_;  ///< what the account callback was asked, in order
   std::vector<AdminRoute> routes_;      ///< added before start()
+  /// The /fleet callback given to start(); empty: none (/fleet is 404).
+  std::function<void(std::function<void(AdminReply)>)> fleet_;
   std::optional<AdminHttp> server_;
   std::thread thread_;
   std::uint16_t port_ = 0;
@@ -428,6 +431,41 @@ TEST_F(AdminHttpTest, AccountActionsAreForbiddenBeyondLoopbackWithoutAToken) {
   EXPECT_TRUE(actions_.empty());
 }
 
+TEST_F(AdminHttpTest, FleetIs404WithoutItsCallback) {
+  start();  // a server that keeps no directory row
+  EXPECT_EQ(status_line(exchange(get("/fleet"))), "HTTP/1.1 404 Not Found");
+}
+
+TEST_F(AdminHttpTest, FleetIsAnsweredByItsCallbackBehindTheToken) {
+  // The callback answers later, from another thread, as the DB worker does.
+  std::vector<std::thread> answering;
+  std::atomic<int> asked{0};
+  fleet_ = [&](std::function<void(AdminReply)> answer) {
+    const int n = ++asked;
+    answering.emplace_back([n, answer = std::move(answer)] {
+      if (n == 2) return answer({503, "the database could not answer now\n"});
+      answer({200, R"({"servers":[]})", "application/json"});
+    });
+  };
+  AdminHttpOptions options;
+  options.bearer_token = "s3cret-token";
+  start(options);
+  const auto with_token = [](const std::string& method) {
+    return method + " /fleet HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer s3cret-token\r\n" +
+           "Content-Length: 0\r\nConnection: close\r\n\r\n";
+  };
+  EXPECT_EQ(status_line(exchange(get("/fleet"))), "HTTP/1.1 401 Unauthorized");
+  const std::string listed = exchange(with_token("GET"));
+  EXPECT_EQ(status_line(listed), "HTTP/1.1 200 OK");
+  EXPECT_NE(listed.find("Content-Type: application/json"), std::string::npos) << listed;
+  EXPECT_EQ(body_of(listed), R"({"servers":[]})");
+  EXPECT_EQ(status_line(exchange(with_token("GET"))), "HTTP/1.1 503 Service Unavailable");
+  EXPECT_EQ(status_line(exchange(with_token("POST"))), "HTTP/1.1 405 Method Not Allowed");
+  EXPECT_EQ(asked.load(), 2);
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Unauthorized), 1u);
+  for (std::thread& thread : answering) thread.join();
+}
+
 TEST_F(AdminHttpTest, StopClosesOpenConnectionsAndTheListener) {
   start();
   Client client{port_};
@@ -487,7 +525,7 @@ AdminRoute json_route(std::string path, bool prefix, std::string body) {
   // Answered at once (an answer from another thread takes the account actions' path, tested
   // above).
   route.handler = [body = std::move(body)](const AdminRequest& request, AdminAnswer answer) {
-    answer({200, "application/json", body + " " + request.path + "?" + request.query});
+    answer({200, body + " " + request.path + "?" + request.query, "application/json"});
   };
   return route;
 }

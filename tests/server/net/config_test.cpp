@@ -209,6 +209,10 @@ TEST(ServerConfig, EveryRangeMessageNamesTheKeyTheRangeAndTheValue) {
       {{"--empty-match-close-after-s", "0.5"},
        "matches.empty_close_after_s must be 1..86400, got 0.5"},
       {{"--admin-max-connections", "0"}, "admin.max_connections must be 1..1024, got 0"},
+      {{"--dashboard-live-feed-hz", "0"}, "dashboard.live_feed_hz must be 1..60, got 0"},
+      {{"--dashboard-live-feed-hz", "61"}, "dashboard.live_feed_hz must be 1..60, got 61"},
+      {{"--dashboard-live-feed-max-viewers", "65"},
+       "dashboard.live_feed_max_viewers must be 1..64, got 65"},
       {{"--admin-max-connections-per-address", "17"},
        "admin.max_connections_per_address must be 1..admin.max_connections (16), got 17"},
       {{"--control-bind", "localhost"},
@@ -271,11 +275,11 @@ TEST(ServerConfig, UnknownKeysAndTablesAreNamed) {
   EXPECT_EQ(problems_of("[physics]\ngravity = 9\n"),
             std::vector<std::string>{
                 "test.toml:1:1: unknown key 'physics' (known tables: server, db, tls, control, "
-                "game, matches, admin, agones, placement, log)"});
+                "game, matches, admin, dashboard, agones, placement, log)"});
   EXPECT_EQ(problems_of("verbose = true\n"),
             std::vector<std::string>{
                 "test.toml:1:11: unknown key 'verbose' (known tables: server, db, tls, control, "
-                "game, matches, admin, agones, placement, log)"});
+                "game, matches, admin, dashboard, agones, placement, log)"});
   EXPECT_EQ(problems_of("game = 5\n"),
             std::vector<std::string>{"test.toml:1:8: 'game' must be a table ([game]), got an "
                                      "integer"});

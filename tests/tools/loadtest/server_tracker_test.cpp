@@ -6,6 +6,7 @@
 #include <map>
 #include <variant>
 
+#include "ricochet/loadtest/error_kinds.h"
 #include "ricochet/loadtest/prometheus_text.h"
 
 namespace ricochet::loadtest::server_tracker_test {

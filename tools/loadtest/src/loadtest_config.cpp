@@ -166,7 +166,6 @@ std::string LoadTestConfig::validate() const {
       return "server must be a numeric IPv4 address, got \"" + server.host + "\"";
     }
     if (server.control_port == 0) return "control_port must be 1..65535, got 0";
-    if (server.admin_port == 0) return "admin_port must be 1..65535, got 0";
   }
   if (!find_match.empty()) {
     const auto wanted = bot::parse_match_wanted(find_match);

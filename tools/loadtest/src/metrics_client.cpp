@@ -17,15 +17,18 @@ namespace {
 
 class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
  public:
-  MetricsFetch(asio::io_context& io, std::function<void(MetricsResponse)> done)
-      : socket_(io),
+  MetricsFetch(asio::io_context& io, std::string path, std::size_t max_bytes,
+               std::function<void(MetricsResponse)> done)
+      : path_(std::move(path)),
+        max_bytes_(max_bytes),
+        socket_(io),
         timer_(io),
         done_(std::move(done)),
         started_(std::chrono::steady_clock::now()) {}
 
   void start(const asio::ip::tcp::endpoint& admin, const std::string& bearer_token,
              double timeout_s) {
-    request_ = "GET /metrics HTTP/1.0\r\nHost: 127.0.0.1\r\n";
+    request_ = "GET " + path_ + " HTTP/1.0\r\nHost: 127.0.0.1\r\n";
     if (!bearer_token.empty()) request_ += "Authorization: Bearer " + bearer_token + "\r\n";
     request_ += "Connection: close\r\n\r\n";
     timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(timeout_s * 1e6)));
@@ -52,8 +55,9 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
         asio::buffer(chunk_),
         [self = shared_from_this()](const boost::system::error_code& e, std::size_t size) {
           self->text_.append(self->chunk_.data(), size);
-          if (self->text_.size() > kMaxMetricsBytes + 4096) {
-            return self->finish("the response is larger than the 32 MiB accepted");
+          if (self->text_.size() > self->max_bytes_ + 4096) {
+            return self->finish("the response is larger than the " +
+                                std::to_string(self->max_bytes_ >> 20) + " MiB accepted");
           }
           if (e == asio::error::eof) return self->parse();
           if (e) return self->finish("cannot read the response: " + e.message());
@@ -69,7 +73,7 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
     const std::string status = text_.substr(9, 3);
     int code = 0;
     std::from_chars(status.data(), status.data() + status.size(), code);
-    if (status != "200") return finish("HTTP " + status + " from /metrics", code);
+    if (status != "200") return finish("HTTP " + status + " from " + path_, code);
     MetricsResponse response;
     response.status = code;
     response.body = text_.substr(header_end + 4);
@@ -96,6 +100,8 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
     done(std::move(response));
   }
 
+  std::string path_;
+  std::size_t max_bytes_;
   std::string request_;
   asio::ip::tcp::socket socket_;
   asio::steady_timer timer_;
@@ -110,7 +116,14 @@ class MetricsFetch : public std::enable_shared_from_this<MetricsFetch> {
 void fetch_metrics(asio::io_context& io, const asio::ip::tcp::endpoint& admin,
                    const std::string& bearer_token, double timeout_s,
                    std::function<void(MetricsResponse)> done) {
-  std::make_shared<MetricsFetch>(io, std::move(done))->start(admin, bearer_token, timeout_s);
+  fetch_admin(io, admin, "/metrics", kMaxMetricsBytes, bearer_token, timeout_s, std::move(done));
+}
+
+void fetch_admin(asio::io_context& io, const asio::ip::tcp::endpoint& admin, std::string path,
+                 std::size_t max_bytes, const std::string& bearer_token, double timeout_s,
+                 std::function<void(MetricsResponse)> done) {
+  std::make_shared<MetricsFetch>(io, std::move(path), max_bytes, std::move(done))
+      ->start(admin, bearer_token, timeout_s);
 }
 
 }  // namespace ricochet::loadtest

@@ -51,6 +51,11 @@ void MetricsScraper::schedule() {
     if (on_due_) on_due_();
     if (stopped_) return;                                  // on_due may have ended the run
     if (in_flight_) return count_("metrics_scrape_late");  // the previous one is still out
+    if (admin_.port() == 0) {
+      // Its directory row advertises no admin port: played on, its figures unknown.
+      count_("metrics_not_advertised");
+      return on_scrape_(Scrape{});
+    }
     in_flight_ = true;
     fetch_metrics(io_, admin_, bearer_token_, kScrapeTimeoutS,
                   [this, alive = std::weak_ptr<bool>(alive_)](MetricsResponse response) {

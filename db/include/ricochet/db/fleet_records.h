@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ricochet/db/records.h"
 
@@ -28,6 +29,9 @@ struct GameServerRow {
   /// yet and keeps holding its seat (placement.h, held seats). 0..heartbeat_ms; 0 in a
   /// heartbeat means as of the heartbeat.
   UnixMillis counted_ms = 0;
+  /// The admin HTTP port (/metrics, /fleet; TCP) reachable at `host`, 1..65535; 0: not
+  /// advertised (the admin port is loopback-only unless bound wider: OPERATIONS.md).
+  std::int32_t admin_port = 0;
 };
 
 /// One match a game server hosts, as its last heartbeat described it.
@@ -44,6 +48,14 @@ struct HostedMatch {
 struct DirectoryMatch {
   std::string server_id;
   HostedMatch match;
+};
+
+/// The live part of the directory: the servers and the matches they host, each by server id
+/// (then match id). Read in two statements: a match whose server's row is not in `servers`
+/// (it beat in between) is to be passed over.
+struct FleetDirectory {
+  std::vector<GameServerRow> servers;
+  std::vector<DirectoryMatch> matches;
 };
 
 /// A ticket: the right to one seat on one server, shown to its client once as a random token,

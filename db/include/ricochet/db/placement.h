@@ -10,6 +10,7 @@
 ///                 = now when 0) and replaces its matches wholesale
 ///   leave         a server stopping: its row, its matches and its unclaimed tickets go
 ///   live_servers  the rows with heartbeat_ms > now - server_ttl_ms, by server_id
+///   directory     those rows and their hosted matches (what GET /fleet shows)
 ///   purge_stale   deletes the servers that are not live, with their matches and all their
 ///                 tickets, and every expired ticket
 ///   assign        under the fleet-wide write lock (Store::transaction), so that two servers
@@ -97,6 +98,7 @@ class Placement {
   /// Whether the server had a row.
   DbResult<bool> leave(std::string_view server_id);
   DbResult<std::vector<GameServerRow>> live_servers(UnixMillis now);
+  DbResult<FleetDirectory> directory(UnixMillis now);
   DbResult<Purged> purge_stale(UnixMillis now);
   /// `map` empty: any map.
   DbResult<Assignment> assign(AccountId account, std::string_view mode, std::string_view map,

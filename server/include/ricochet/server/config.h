@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ricochet/proto/snapshot_codec.h"
+#include "ricochet/server/live_frame.h"
 
 namespace ricochet::server {
 
@@ -49,6 +50,9 @@ struct DbConfig {
   /// Ended matches' results until the database has them (results_outbox.h); under data_dir
   /// unless absolute.
   std::string outbox_dir = "outbox";
+  /// Seconds between two looks of a running server for the records other processes left in a
+  /// shared outbox (ResultsOutbox::list_left), 1..3600.
+  int outbox_rescan_s = 60;
   PasswordHashing password_hashing = PasswordHashing::Interactive;
   // --- abuse limits of accounts (issue 29) ---
   int registrations_per_hour_per_address = 10;  ///< an IPv4 address or IPv6 /64, in the database
@@ -146,6 +150,15 @@ struct AdminConfig {
   int max_connections_per_address = 4;
 };
 
+/// [dashboard]: the pages the admin port serves (issue 32); the live spectator feed of a match.
+struct DashboardConfig {
+  int live_feed_hz = 20;          ///< frames per second of a watched match, 1..60
+  int live_feed_max_viewers = 8;  ///< viewers of one match at once, 1..64
+
+  /// The match's side of the same numbers (live_frame.h).
+  LiveFeedConfig live_feed() const { return LiveFeedConfig{live_feed_hz, live_feed_max_viewers}; }
+};
+
 /// [agones]: the Agones SDK, used when AGONES_SDK_HTTP_PORT is set (server/README.md).
 struct AgonesConfig {
   int shutdown_after_matches = 0;  ///< matches ended by themselves before POST /shutdown; 0: never
@@ -161,8 +174,11 @@ struct PlacementConfig {
   /// What clients of other servers connect to: a DNS name or an IP address; empty: this
   /// machine's host name, or under Agones the GameServer's status.address (GET /gameserver).
   std::string advertise_host;
-  int advertise_control_port = 0;     ///< 0: the bound control port (Agones: the port "control")
-  int advertise_game_port = 0;        ///< 0: the bound game port (Agones: the port "game")
+  int advertise_control_port = 0;  ///< 0: the bound control port (Agones: the port "control")
+  int advertise_game_port = 0;     ///< 0: the bound game port (Agones: the port "game")
+  /// The admin port (TCP) readers of the directory reach at advertise_host; 0: the bound one
+  /// when it is reachable there, else none (admin_advertisement.h).
+  int advertise_admin_port = 0;
   int heartbeat_s = 2;                ///< between two writes of the directory row
   int server_ttl_s = 10;              ///< a row this old is not placed on (and is purged)
   int ticket_lifetime_s = 30;         ///< a ticket holds its seat this long
@@ -186,6 +202,7 @@ struct ServerConfig {
   GameConfig game;
   MatchesConfig matches;
   AdminConfig admin;
+  DashboardConfig dashboard;
   AgonesConfig agones;
   PlacementConfig placement;
   LogConfig log;

@@ -34,6 +34,7 @@
 #include "ricochet/proto/snapshot_codec.h"
 #include "ricochet/server/combat.h"
 #include "ricochet/server/input_buffer.h"
+#include "ricochet/server/live_frame.h"
 #include "ricochet/server/map.h"
 #include "ricochet/server/match_config.h"
 #include "ricochet/server/recording.h"
@@ -136,6 +137,9 @@ class Match {
   ~Match();
 
   void set_log(MatchLog log);
+  /// Publishes live frames to `feed` (live_frame.h) after each tick while it has viewers, at its
+  /// rate of the server time tick() is given; nullptr stops. Changes no game state.
+  void set_live_feed(std::shared_ptr<LiveFeed> feed);
 
   // --- players ---
   /// The account's game connection is up (the transport checked its token). `name` is the

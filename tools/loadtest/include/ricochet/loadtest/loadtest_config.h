@@ -27,9 +27,11 @@ struct ServerEndpoint {
   /// share one game socket; elsewhere each bot has its own sockets from the default address.
   std::string host = "127.0.0.1";
   std::uint16_t control_port = 7777;  ///< TLS control channel
-  std::uint16_t admin_port = 9100;    ///< admin HTTP (/metrics), on the same address
-  std::string fingerprint;            ///< pinned certificate fingerprint; empty: trust_file
-  std::string trust_file;             ///< trust on first use (main: DIR/server.fp, -2.fp, ...)
+  /// Admin HTTP (/metrics), on the same address; 0: none known (a --fleet row that advertises
+  /// none): never scraped, its CPU and RSS unknown.
+  std::uint16_t admin_port = 9100;
+  std::string fingerprint;  ///< pinned certificate fingerprint; empty: trust_file
+  std::string trust_file;   ///< trust on first use (main: DIR/server.fp, -2.fp, ...)
   /// Sent as `Authorization: Bearer <admin_token>` on every /metrics scrape (the server's
   /// admin.token_file); empty: no header.
   std::string admin_token;

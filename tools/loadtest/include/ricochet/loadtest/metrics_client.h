@@ -1,6 +1,7 @@
 #pragma once
-/// GET /metrics from the server's admin HTTP port on the load test's io_context: connect, one
-/// HTTP/1.0 request, read to the end, within a deadline. Never blocks the loop.
+/// GET /metrics (or another path: /fleet) from the server's admin HTTP port on the load test's
+/// io_context: connect, one HTTP/1.0 request, read to the end, within a deadline. Never blocks
+/// the loop.
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -10,7 +11,7 @@
 namespace ricochet::loadtest {
 
 struct MetricsResponse {
-  std::string body;   ///< the exposition text, when error is empty
+  std::string body;   ///< the exposition text (or /fleet's JSON), when error is empty
   std::string error;  ///< why there is no body ("connection refused", "HTTP 503", "timed out")
   int status = 0;     ///< the HTTP status; 0: no HTTP response
   double elapsed_ms = 0;
@@ -22,5 +23,9 @@ struct MetricsResponse {
 void fetch_metrics(boost::asio::io_context& io, const boost::asio::ip::tcp::endpoint& admin,
                    const std::string& bearer_token, double timeout_s,
                    std::function<void(MetricsResponse)> done);
+/// The same for GET `path` ("/fleet"), the body refused beyond `max_bytes`.
+void fetch_admin(boost::asio::io_context& io, const boost::asio::ip::tcp::endpoint& admin,
+                 std::string path, std::size_t max_bytes, const std::string& bearer_token,
+                 double timeout_s, std::function<void(MetricsResponse)> done);
 
 }  // namespace ricochet::loadtest

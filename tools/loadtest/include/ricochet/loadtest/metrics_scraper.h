@@ -4,7 +4,9 @@
 /// most one request out at a time (a scrape due while the previous one is out is skipped and
 /// counted `metrics_scrape_late`), each answer parsed into ServerFigures (no answer is counted
 /// `metrics_unavailable`, a 401 for want of the admin token `metrics_unauthorized` and logged
-/// once, a malformed one `metrics_malformed` and logged).
+/// once, a malformed one `metrics_malformed` and logged). A server with no admin port (port 0: its
+/// fleet directory row advertises none) is never asked: each due scrape completes with no
+/// figures, counted `metrics_not_advertised`.
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
