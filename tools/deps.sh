@@ -28,6 +28,7 @@ packages=(
   junit5                   # its tests
   jq                       # tools/bench/java_decode.sh (its ratio lines and smoke test)
   prometheus python3-yaml  # tests/deploy: promtool checks /metrics and deploy/prometheus; YAML of deploy/
+  chromium                 # tests/web: the dashboard in a real browser (headless, driven by playwright-core)
 )
 # The optional peer benchmark (Bullet, ODE) needs two more; ask for them with RICOCHET_PEERS=1.
 if [[ "${RICOCHET_PEERS:-0}" == 1 ]]; then

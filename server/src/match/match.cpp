@@ -518,6 +518,9 @@ std::uint32_t Match::tick_number() const {
 MatchPhase Match::phase() const {
   return parts_->rules.phase;
 }
+std::uint32_t Match::phase_ends_tick() const {
+  return parts_->rules.phase_ends_tick;
+}
 int Match::player_count() const {
   return static_cast<int>(parts_->roster.players.size());
 }

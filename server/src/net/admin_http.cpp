@@ -1,5 +1,6 @@
 #include "admin_http.h"
 
+#include <openssl/rand.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -12,12 +13,15 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/use_awaitable.hpp>
+#include <boost/asio/write.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/http.hpp>
 #include <chrono>
 #include <exception>
+#include <limits>
 #include <optional>
 #include <string_view>
+#include <tuple>
 #include <unordered_set>
 #include <variant>
 
@@ -50,6 +54,8 @@ const char* name(AdminRejectReason reason) {
       return "unauthorized";
     case AdminRejectReason::Forbidden:
       return "forbidden";
+    case AdminRejectReason::SlowReader:
+      return "slow_reader";
   }
   return "unknown";
 }
@@ -68,6 +74,13 @@ struct AdminConnection {
   /// When it began waiting for a request, as State::waits counts: smaller waited longer.
   std::uint64_t waiting_since = 0;
   bool evicted = false;  ///< closed to make room for a newer connection; no longer counted
+  std::shared_ptr<AdminEventStream> stream;  ///< once it streams events
+};
+
+/// A browser's sign-in, known by its random id (64 hex digits) until it expires.
+struct AdminSession {
+  std::string id;
+  proto::TimeUs expires = 0;  ///< on options.clock
 };
 
 struct AdminHttp::State {
@@ -89,6 +102,8 @@ struct AdminHttp::State {
   MetricsRegistry& metrics;
   const AdminHttpCallbacks callbacks;
   std::unordered_set<AdminConnection*> connections;  ///< open ones; on the strand only
+  std::vector<AdminRoute> routes;                    ///< add_route(), before start()
+  std::vector<AdminSession> sessions;                ///< on the strand only
   bool stopped = false;                              ///< on the strand only
   std::uint64_t waits = 0;           ///< waits for a request begun so far; on the strand only
   std::atomic<std::size_t> open{0};  ///< connections.size(), for any thread
@@ -98,8 +113,18 @@ struct AdminHttp::State {
 
 namespace {
 
+using Request = http::request<http::string_body>;
 using Response = http::response<http::string_body>;
 using State = AdminHttp::State;
+
+/// The deadline of a connection waiting for events to send: none (each write has its own).
+constexpr proto::TimeUs kNoDeadline = std::numeric_limits<proto::TimeUs>::max();
+/// The cookie a browser's session travels in.
+constexpr std::string_view kSessionCookie = "ricochet_session";
+/// Every response's: only this server's own scripts, styles, images and connections; never in
+/// a frame; forms post here only.
+constexpr std::string_view kContentSecurityPolicy =
+    "default-src 'self'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'";
 
 Response text_response(http::status status, unsigned version, std::string body,
                        std::string_view content_type = "text/plain; charset=utf-8") {
@@ -122,15 +147,56 @@ bool same_secret(std::string_view given, std::string_view expected) {
   return difference == 0;
 }
 
-bool authorized(const State& state, const http::request<http::string_body>& request) {
+std::string_view field_of(const Request& request, http::field name) {
+  const auto header = request.find(name);
+  if (header == request.end()) return {};
+  return {header->value().data(), header->value().size()};
+}
+
+/// The value of the cookie `name` in the request's Cookie header; empty when it has none.
+std::string_view cookie_of(const Request& request, std::string_view name) {
+  std::string_view rest = field_of(request, http::field::cookie);
+  while (!rest.empty()) {
+    const auto end = rest.find(';');
+    std::string_view pair = rest.substr(0, end);
+    while (!pair.empty() && pair.front() == ' ') pair.remove_prefix(1);
+    const auto equals = pair.find('=');
+    if (equals != std::string_view::npos && pair.substr(0, equals) == name) {
+      return pair.substr(equals + 1);
+    }
+    if (end == std::string_view::npos) break;
+    rest.remove_prefix(end + 1);
+  }
+  return {};
+}
+
+/// Whether `id` is a session not expired; every session is compared, in constant time each.
+bool known_session(const State& state, std::string_view id) {
+  if (id.empty()) return false;
+  const proto::TimeUs now = state.options.clock();
+  bool known = false;
+  for (const AdminSession& session : state.sessions) {
+    known = (same_secret(id, session.id) && session.expires > now) || known;
+  }
+  return known;
+}
+
+/// With a token configured: "Authorization: Bearer <token>", or (`cookie_ok`) a session cookie.
+bool authorized(const State& state, const Request& request, bool cookie_ok = false) {
   const std::string& token = state.options.bearer_token;
   if (token.empty()) return true;
-  const auto header = request.find(http::field::authorization);
-  if (header == request.end()) return false;
-  const std::string_view value{header->value().data(), header->value().size()};
+  if (cookie_ok && known_session(state, cookie_of(request, kSessionCookie))) return true;
+  const std::string_view value = field_of(request, http::field::authorization);
   constexpr std::string_view kScheme = "Bearer ";
   if (value.size() < kScheme.size() || value.substr(0, kScheme.size()) != kScheme) return false;
   return same_secret(value.substr(kScheme.size()), token);
+}
+
+/// The headers every response carries.
+void secure(Response& response) {
+  response.set("Content-Security-Policy", kContentSecurityPolicy);
+  response.set("X-Content-Type-Options", "nosniff");
+  response.set("Referrer-Policy", "no-referrer");
 }
 
 /// The peer's proto::HostKey (IPv4-mapped IPv6 counts as its IPv4 address).
@@ -174,15 +240,20 @@ bool loopback_only(const State& state) {
   return !error && bound.is_loopback();
 }
 
-/// The 401 of a request without the bearer token, logged once per episode per address.
-Response unauthorized(State& state, const AdminConnection& connection, unsigned version,
-                      std::string_view what) {
+/// Counts a request without the token, and logs it once per episode per address.
+void refuse_unauthorized(State& state, const AdminConnection& connection, std::string_view what) {
   state.reject(AdminRejectReason::Unauthorized);
   const std::string detail = std::string(what) + " without the admin bearer token";
   if (state.options.episodes) {
     state.options.episodes->refuse(name(AdminRejectReason::Unauthorized),
                                    connection.host.to_string(), detail, state.options.clock());
   }
+}
+
+/// The 401 of a request without the bearer token, logged once per episode per address.
+Response unauthorized(State& state, const AdminConnection& connection, unsigned version,
+                      std::string_view what) {
+  refuse_unauthorized(state, connection, what);
   Response response = text_response(http::status::unauthorized, version,
                                     std::string(what) + " needs Authorization: Bearer <token>\n");
   response.set(http::field::www_authenticate, "Bearer");
@@ -192,8 +263,205 @@ Response unauthorized(State& state, const AdminConnection& connection, unsigned 
 /// GET /fleet, authorized: the fleet callback answers it.
 struct FleetRequest {};
 
-/// What a request gets: a response now, or an account action or the fleet to ask first.
-using Routed = std::variant<Response, AccountAction, FleetRequest>;
+/// A request for a route of the table: its handler is called, the answer awaited.
+struct RouteCall {
+  const AdminRoute* route = nullptr;
+  AdminRequest request;
+};
+
+/// What a request gets: a response now, or an account action, the fleet or a route's handler
+/// to ask first.
+using Routed = std::variant<Response, AccountAction, FleetRequest, RouteCall>;
+
+Response redirect(unsigned version, std::string_view location) {
+  Response response =
+      text_response(http::status::see_other, version, "see " + std::string(location) + "\n");
+  response.set(http::field::location, location);
+  return response;
+}
+
+Response method_not_allowed(State& state, unsigned version, std::string_view allowed) {
+  state.reject(AdminRejectReason::MethodNotAllowed);
+  Response response = text_response(http::status::method_not_allowed, version,
+                                    "only " + std::string(allowed) + " is allowed here\n");
+  response.set(http::field::allow, allowed);
+  return response;
+}
+
+/// The form field `name` of an application/x-www-form-urlencoded body, decoded; nullopt when
+/// it is missing or badly encoded.
+std::optional<std::string> form_field(std::string_view body, std::string_view name) {
+  while (!body.empty()) {
+    const auto end = body.find('&');
+    const std::string_view pair = body.substr(0, end);
+    const auto equals = pair.find('=');
+    if (equals != std::string_view::npos && pair.substr(0, equals) == name) {
+      std::string value;
+      const std::string_view encoded = pair.substr(equals + 1);
+      for (std::size_t i = 0; i < encoded.size(); ++i) {
+        if (encoded[i] == '+') {
+          value += ' ';
+        } else if (encoded[i] != '%') {
+          value += encoded[i];
+        } else {
+          unsigned byte = 0;
+          if (i + 2 >= encoded.size()) return std::nullopt;
+          for (const char digit : encoded.substr(i + 1, 2)) {
+            const auto at = std::string_view{"0123456789abcdef"}.find(
+                static_cast<char>(digit >= 'A' && digit <= 'F' ? digit - 'A' + 'a' : digit));
+            if (at == std::string_view::npos) return std::nullopt;
+            byte = byte * 16 + static_cast<unsigned>(at);
+          }
+          value += static_cast<char>(byte);
+          i += 2;
+        }
+      }
+      return value;
+    }
+    if (end == std::string_view::npos) break;
+    body.remove_prefix(end + 1);
+  }
+  return std::nullopt;
+}
+
+/// A new session's id (64 hex digits), held in state.sessions: expired ones are forgotten,
+/// and the one to expire soonest when max_sessions are held. Empty when no random bytes came.
+std::string open_session(State& state) {
+  std::array<unsigned char, 32> bytes{};
+  if (RAND_bytes(bytes.data(), static_cast<int>(bytes.size())) != 1) return {};
+  std::string id;
+  for (const unsigned char byte : bytes) {
+    id += "0123456789abcdef"[byte >> 4];
+    id += "0123456789abcdef"[byte & 15];
+  }
+  const proto::TimeUs now = state.options.clock();
+  std::erase_if(state.sessions,
+                [now](const AdminSession& session) { return session.expires <= now; });
+  if (!state.sessions.empty() &&
+      static_cast<int>(state.sessions.size()) >= state.options.max_sessions) {
+    state.sessions.erase(std::min_element(
+        state.sessions.begin(), state.sessions.end(),
+        [](const AdminSession& a, const AdminSession& b) { return a.expires < b.expires; }));
+  }
+  const auto lifetime =
+      std::chrono::duration_cast<std::chrono::microseconds>(state.options.session_lifetime);
+  state.sessions.push_back({id, now + lifetime.count()});
+  return id;
+}
+
+/// POST /signin: the token in the form field "token" opens a session for this browser.
+Response sign_in(State& state, const AdminConnection& connection, const Request& request) {
+  const unsigned version = request.version();
+  if (state.options.bearer_token.empty()) return redirect(version, "/");
+  const std::optional<std::string> token = form_field(request.body(), "token");
+  if (!token || !same_secret(*token, state.options.bearer_token)) {
+    refuse_unauthorized(state, connection, "a sign-in");
+    Response response = text_response(
+        http::status::unauthorized, version,
+        "<!doctype html><html lang=\"en\"><meta charset=\"utf-8\"><title>Ricochet: not signed "
+        "in</title><p>That is not the admin token. <a href=\"/signin\">Try again</a></p>\n",
+        "text/html; charset=utf-8");
+    return response;
+  }
+  const std::string id = open_session(state);
+  if (id.empty()) {
+    return text_response(http::status::service_unavailable, version, "no random bytes\n");
+  }
+  Response response = redirect(version, "/");
+  const auto max_age =
+      std::chrono::duration_cast<std::chrono::seconds>(state.options.session_lifetime);
+  response.set(http::field::set_cookie, std::string(kSessionCookie) + "=" + id +
+                                            "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" +
+                                            std::to_string(max_age.count()));
+  return response;
+}
+
+/// POST /signout: forgets this browser's session.
+Response sign_out(State& state, const Request& request) {
+  const std::string_view id = cookie_of(request, kSessionCookie);
+  std::erase_if(state.sessions,
+                [id](const AdminSession& session) { return same_secret(id, session.id); });
+  Response response = redirect(request.version(), "/signin");
+  response.set(http::field::set_cookie,
+               std::string(kSessionCookie) + "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+  return response;
+}
+
+const EmbeddedFile* file_at(const State& state, std::string_view path) {
+  if (path == "/") path = "/index.html";
+  if (path == "/signin") path = "/signin.html";
+  for (const EmbeddedFile& file : state.options.files) {
+    if (file.path == path) return &file;
+  }
+  return nullptr;
+}
+
+/// GET of an embedded file: 304 when the browser holds this version.
+Response serve_file(State& state, const AdminConnection& connection, const Request& request,
+                    const EmbeddedFile& file) {
+  const unsigned version = request.version();
+  if (request.method() != http::verb::get) return method_not_allowed(state, version, "GET");
+  const auto& open = state.options.public_files;
+  if (std::find(open.begin(), open.end(), file.path) == open.end() &&
+      !authorized(state, request, true)) {
+    // A page is sent to the sign-in form; what a page loads is refused.
+    if (file.content_type.starts_with("text/html")) {
+      refuse_unauthorized(state, connection, file.path);
+      return redirect(version, "/signin");
+    }
+    return unauthorized(state, connection, version, file.path);
+  }
+  const bool fresh = field_of(request, http::field::if_none_match) == file.etag;
+  Response response =
+      text_response(fresh ? http::status::not_modified : http::status::ok, version,
+                    fresh ? std::string{} : std::string(file.bytes), file.content_type);
+  response.set(http::field::etag, file.etag);
+  response.set(http::field::cache_control, "no-cache");
+  return response;
+}
+
+/// The route of the table for `path`: an exact one, else the longest prefix.
+const AdminRoute* route_at(const State& state, std::string_view path) {
+  const AdminRoute* found = nullptr;
+  for (const AdminRoute& route : state.routes) {
+    if (!route.prefix && route.path == path) return &route;
+    if (route.prefix && path.starts_with(route.path) &&
+        (!found || route.path.size() > found->path.size())) {
+      found = &route;
+    }
+  }
+  return found;
+}
+
+/// The dashboard's paths: sign-in and -out, the files, the route table; nullopt: none of them.
+std::optional<Routed> route_dashboard(State& state, const AdminConnection& connection,
+                                      const Request& request, std::string_view path) {
+  const unsigned version = request.version();
+  if (path == "/signin" && request.method() == http::verb::post) {
+    return sign_in(state, connection, request);
+  }
+  if (path == "/signin" && state.options.bearer_token.empty()) return redirect(version, "/");
+  if (path == "/signout") {
+    if (request.method() != http::verb::post) return method_not_allowed(state, version, "POST");
+    return sign_out(state, request);
+  }
+  if (const EmbeddedFile* file = file_at(state, path)) {
+    return serve_file(state, connection, request, *file);
+  }
+  const AdminRoute* route = route_at(state, path);
+  if (!route) return std::nullopt;
+  if (request.method_string() != route->method) {
+    return method_not_allowed(state, version, route->method);
+  }
+  if (!authorized(state, request, true)) return unauthorized(state, connection, version, path);
+  const std::string_view target{request.target().data(), request.target().size()};
+  const auto query = target.find('?');
+  return RouteCall{
+      route,
+      {std::string(request.method_string()), std::string(path),
+       query == std::string_view::npos ? std::string{} : std::string(target.substr(query + 1)),
+       request.body()}};
+}
 
 Routed route_account(State& state, const AdminConnection& connection,
                      const http::request<http::string_body>& request, AccountAction action) {
@@ -231,6 +499,7 @@ Routed route(State& state, const AdminConnection& connection,
   if (auto action = state.callbacks.account ? account_path(path) : std::nullopt) {
     return route_account(state, connection, request, std::move(*action));
   }
+  if (auto routed = route_dashboard(state, connection, request, path)) return std::move(*routed);
   const bool fleet = path == "/fleet" && state.callbacks.fleet;
   const bool known = path == "/metrics" || path == "/healthz" || path == "/readyz" || fleet;
   if (!known) {
@@ -248,7 +517,9 @@ Routed route(State& state, const AdminConnection& connection,
     return response;
   }
   if (path == "/metrics") {
-    if (!authorized(state, request)) return unauthorized(state, connection, version, "/metrics");
+    if (!authorized(state, request, true)) {
+      return unauthorized(state, connection, version, "/metrics");
+    }
     try {
       return text_response(http::status::ok, version, state.metrics.render(),
                            kPrometheusContentType);
@@ -259,7 +530,9 @@ Routed route(State& state, const AdminConnection& connection,
     }
   }
   if (fleet) {
-    if (!authorized(state, request)) return unauthorized(state, connection, version, "/fleet");
+    if (!authorized(state, request, true)) {
+      return unauthorized(state, connection, version, "/fleet");
+    }
     return FleetRequest{};
   }
   if (path == "/healthz") {
@@ -296,6 +569,12 @@ std::optional<Response> refusal(State& state, const beast::error_code& error) {
   return std::nullopt;  // closed or reset by the peer
 }
 
+proto::TimeUs deadline_from_now(const State& state) {
+  return state.options.clock() +
+         std::chrono::duration_cast<std::chrono::microseconds>(state.options.request_timeout)
+             .count();
+}
+
 /// Runs `ask` (a callback given where to answer) and resumes on the strand with its reply.
 asio::awaitable<AdminReply> await_reply(std::shared_ptr<State> state,
                                         std::function<void(std::function<void(AdminReply)>)> ask) {
@@ -318,10 +597,56 @@ asio::awaitable<AdminReply> await_reply(std::shared_ptr<State> state,
   co_return std::move(*pending->reply);
 }
 
-proto::TimeUs deadline_from_now(const State& state) {
-  return state.options.clock() +
-         std::chrono::duration_cast<std::chrono::microseconds>(state.options.request_timeout)
-             .count();
+/// Sends `route`'s events on the connection until the stream or the connection closes: the
+/// header, then each event as it is pushed, each write within request_timeout.
+asio::awaitable<void> stream_events(std::shared_ptr<State> state,
+                                    std::shared_ptr<AdminConnection> connection, RouteCall call) {
+  constexpr auto token = asio::as_tuple(asio::use_awaitable);
+  auto stream = std::make_shared<AdminEventStream>(state->options.max_stream_queue);
+  auto wake = std::make_shared<asio::steady_timer>(state->strand);
+  stream->on_wake([weak = std::weak_ptr<State>(state), wake] {
+    if (const auto alive = weak.lock()) asio::post(alive->strand, [wake] { wake->cancel(); });
+  });
+  connection->stream = stream;
+  std::string bytes =
+      "HTTP/1.1 200 OK\r\nServer: ricochet-server\r\n"
+      "Content-Type: text/event-stream\r\nCache-Control: no-store\r\n"
+      "Content-Security-Policy: " +
+      std::string(kContentSecurityPolicy) +
+      "\r\nX-Content-Type-Options: nosniff\r\nReferrer-Policy: no-referrer\r\n"
+      "Connection: close\r\n\r\n";
+  connection->deadline = deadline_from_now(*state);
+  boost::system::error_code error;
+  std::size_t written = 0;
+  std::tie(error, written) =
+      co_await asio::async_write(connection->socket, asio::buffer(bytes), token);
+  state->responses.fetch_add(1, std::memory_order_release);
+  if (!error && !state->stopped) call.route->stream(call.request, stream);
+  while (!error && !state->stopped) {
+    std::deque<std::string> events = stream->take();
+    if (events.empty()) {
+      if (stream->closed()) break;
+      connection->deadline = kNoDeadline;
+      wake->expires_at(asio::steady_timer::time_point::max());
+      co_await wake->async_wait(token);
+      continue;
+    }
+    bytes.clear();
+    for (std::string& event : events) {
+      std::replace(event.begin(), event.end(), '\n', ' ');
+      std::replace(event.begin(), event.end(), '\r', ' ');
+      bytes += "data: " + event + "\n\n";
+    }
+    connection->deadline = deadline_from_now(*state);
+    std::tie(error, written) =
+        co_await asio::async_write(connection->socket, asio::buffer(bytes), token);
+  }
+  stream->close();
+  if (stream->overflowed()) {
+    state->reject(AdminRejectReason::SlowReader);
+    spdlog::warn("admin http: {} fell {} events behind on {}: closed", connection->host.to_string(),
+                 state->options.max_stream_queue, call.request.path);
+  }
 }
 
 /// Closes the connection's socket once options.clock reaches its deadline (the pending read or
@@ -330,6 +655,11 @@ asio::awaitable<void> watch(std::shared_ptr<State> state,
                             std::shared_ptr<AdminConnection> connection) {
   constexpr auto token = asio::as_tuple(asio::use_awaitable);
   while (!connection->served) {
+    if (connection->deadline == kNoDeadline) {
+      connection->watchdog.expires_at(asio::steady_timer::time_point::max());
+      co_await connection->watchdog.async_wait(token);
+      continue;
+    }
     const proto::TimeUs left = connection->deadline - state->options.clock();
     if (left <= 0) {
       connection->timed_out = true;
@@ -397,10 +727,22 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
         routed = text_response(static_cast<http::status>(reply.status), request.version(),
                                std::move(reply.body), reply.content_type);
       }
+      if (auto* call = std::get_if<RouteCall>(&routed)) {
+        if (call->route->stream) {
+          co_await stream_events(state, connection, std::move(*call));
+          break;
+        }
+        connection->deadline = deadline_from_now(*state);
+        AdminReply reply = co_await await_reply(
+            state, [&call](AdminAnswer answer) { call->route->handler(call->request, answer); });
+        routed = text_response(static_cast<http::status>(reply.status), request.version(),
+                               std::move(reply.body), reply.content_type);
+      }
       response = std::move(std::get<Response>(routed));
       keep_alive = request.keep_alive();
       response.keep_alive(keep_alive);
     }
+    secure(response);
     connection->deadline = deadline_from_now(*state);
     const auto [write_error, written] = co_await http::async_write(socket, response, token);
     if (write_error) break;
@@ -505,6 +847,10 @@ AdminHttp::~AdminHttp() {
   stop();
 }
 
+void AdminHttp::add_route(AdminRoute route) {
+  state_->routes.push_back(std::move(route));
+}
+
 boost::system::error_code AdminHttp::start() {
   boost::system::error_code error;
   const asio::ip::address address = asio::ip::make_address(state_->options.bind, error);
@@ -532,7 +878,10 @@ void AdminHttp::stop() {
     state->stopped = true;
     boost::system::error_code ignored;
     state->acceptor.close(ignored);
-    for (AdminConnection* connection : state->connections) connection->socket.close(ignored);
+    for (AdminConnection* connection : state->connections) {
+      connection->socket.close(ignored);
+      if (connection->stream) connection->stream->close();
+    }
   });
 }
 
@@ -552,6 +901,55 @@ std::uint64_t AdminHttp::responses() const {
 
 std::uint64_t AdminHttp::rejected(AdminRejectReason reason) const {
   return state_->rejected[static_cast<int>(reason)].load(std::memory_order_relaxed);
+}
+
+bool AdminEventStream::push(std::string data) {
+  std::function<void()> wake;
+  {
+    const std::lock_guard lock(mutex_);
+    if (closed_) return false;
+    if (queue_.size() >= max_queue_) {
+      closed_ = true;
+      overflowed_ = true;
+      queue_.clear();
+    } else {
+      queue_.push_back(std::move(data));
+    }
+    wake = wake_;
+  }
+  if (wake) wake();
+  return !overflowed();
+}
+
+bool AdminEventStream::closed() const {
+  const std::lock_guard lock(mutex_);
+  return closed_;
+}
+
+std::deque<std::string> AdminEventStream::take() {
+  const std::lock_guard lock(mutex_);
+  return std::exchange(queue_, {});
+}
+
+void AdminEventStream::close() {
+  std::function<void()> wake;
+  {
+    const std::lock_guard lock(mutex_);
+    if (closed_) return;
+    closed_ = true;
+    wake = wake_;
+  }
+  if (wake) wake();
+}
+
+bool AdminEventStream::overflowed() const {
+  const std::lock_guard lock(mutex_);
+  return overflowed_;
+}
+
+void AdminEventStream::on_wake(std::function<void()> wake) {
+  const std::lock_guard lock(mutex_);
+  wake_ = std::move(wake);
 }
 
 }  // namespace ricochet::server

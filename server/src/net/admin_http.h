@@ -29,6 +29,31 @@
 /// Everything runs on a strand of the given io_context; the callbacks are called there and must
 /// be thread-safe towards the code that owns what they read. Deadlines are on options.clock; a
 /// timer per connection wakes at its deadline, or check_deadlines() makes them look now.
+///
+/// The dashboard (issue 32): the files of options.files (embedded at build time:
+/// dashboard_files.h) by GET, "/" being /index.html, with their Content-Type, a strong ETag
+/// (If-None-Match: 304) and Cache-Control: no-cache; and the routes added by add_route() before
+/// start(), each an exact path or a prefix, answered with JSON or held open as a stream. Every
+/// response carries Content-Security-Policy (default-src 'self', frame-ancestors 'none'),
+/// X-Content-Type-Options: nosniff and Referrer-Policy: no-referrer.
+///
+/// With a token, the files (but options.public_files: the sign-in page and its style), the
+/// routes and /metrics need it: "Authorization: Bearer <token>" from scripts, or from a browser,
+/// which cannot add a header to a navigation, a session cookie. POST /signin with the form field
+/// token=<token> (compared in constant time) makes a session: 32 random bytes, known to the
+/// server only by their value in its table (at most max_sessions, the oldest replaced; each
+/// lasts session_lifetime on options.clock), sent back in an HttpOnly, SameSite=Strict cookie;
+/// POST /signout ends it. A page asked for without either is sent to /signin (303), anything
+/// else is 401; both are counted and logged once per episode per address, as /metrics' are.
+/// The account actions take the bearer token only (no cookie: a form elsewhere cannot ban).
+///
+/// Live data goes as server-sent events (text/event-stream) over the connection that asked for
+/// it, not a WebSocket: the browser's EventSource reconnects by itself, passes the session
+/// cookie like any request, needs no upgrade handshake, frames or masking here, and the data
+/// flows one way only (server to page). Each stream is an AdminEventStream: a producer on any
+/// thread pushes messages into a queue of at most max_stream_queue; a browser that falls that
+/// far behind is dropped (slow_reader), so a producer never waits for one. Each write must end
+/// within request_timeout, as a response's.
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -36,10 +61,16 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <span>
 #include <string>
+#include <string_view>
+#include <vector>
 
+#include "dashboard_files.h"
 #include "episode_log.h"
 #include "ricochet/proto/clock.h"
 #include "ricochet/server/metrics.h"
@@ -58,6 +89,13 @@ struct AdminHttpOptions {
   std::string bearer_token;
   /// Logs refused tokens once per episode; nullptr: they are only counted.
   EpisodeLog* episodes = nullptr;
+  /// The files served by GET at their path; "/" is /index.html.
+  std::span<const EmbeddedFile> files;
+  /// Those of files served without the token: what the sign-in page needs.
+  std::vector<std::string> public_files = {"/signin.html", "/style.css", "/favicon.svg"};
+  int max_sessions = 32;                           ///< browser sessions held at once
+  std::chrono::minutes session_lifetime{12 * 60};  ///< from the sign-in
+  std::size_t max_stream_queue = 16;               ///< messages a stream holds for a slow reader
   /// What the deadlines are measured on, in µs; tests pass fake time and call check_deadlines().
   std::function<proto::TimeUs()> clock = steady_now_us;
 };
@@ -73,11 +111,12 @@ enum class AdminRejectReason {
   TooManyFromAddress,  ///< above max_connections_per_address: likewise, among that address's
   Unauthorized,        ///< /metrics, /fleet or an account action without the token: 401
   Forbidden,           ///< an account action, no token configured, bound beyond loopback: 403
+  SlowReader,          ///< an event stream's reader max_stream_queue messages behind: closed
 };
 inline constexpr std::size_t kAdminRejectReasonCount =
-    static_cast<std::size_t>(AdminRejectReason::Forbidden) + 1;
+    static_cast<std::size_t>(AdminRejectReason::SlowReader) + 1;
 /// "malformed", "oversized", "timeout", "not_found", "method_not_allowed", "too_many_connections",
-/// "too_many_from_address", "unauthorized", "forbidden".
+/// "too_many_from_address", "unauthorized", "forbidden", "slow_reader".
 const char* name(AdminRejectReason reason);
 
 /// What an operator asks of an account.
@@ -103,6 +142,58 @@ struct AdminHttpCallbacks {
   std::function<void(std::function<void(AdminReply)> answer)> fleet;
 };
 
+/// A request as a route's handler sees it.
+struct AdminRequest {
+  std::string method;  ///< "GET", "POST" ...
+  std::string path;    ///< the target less its query
+  std::string query;   ///< after '?', undecoded; empty when none
+  std::string body;
+};
+
+/// One open event stream (server-sent events), fed from any thread.
+class AdminEventStream {
+ public:
+  explicit AdminEventStream(std::size_t max_queue) : max_queue_(max_queue) {}
+  /// Queues one event whose data is `data` (one line: line breaks are sent as spaces). False
+  /// when the stream is closed (the browser left, was too slow, or the server stops): the
+  /// producer forgets it.
+  bool push(std::string data);
+  bool closed() const;
+
+  // For AdminHttp's connection (any thread).
+  /// The queued events, oldest first; empty when none.
+  std::deque<std::string> take();
+  /// Marks it closed (the browser left or the server stops).
+  void close();
+  /// Whether it was closed for holding max_queue events unsent.
+  bool overflowed() const;
+  /// Called once a message is pushed or the stream closes (AdminHttp wakes the writer).
+  void on_wake(std::function<void()> wake);
+
+ private:
+  const std::size_t max_queue_;
+  mutable std::mutex mutex_;
+  std::deque<std::string> queue_;
+  bool closed_ = false;
+  bool overflowed_ = false;
+  std::function<void()> wake_;
+};
+
+/// Answers a request once, from any thread (a route's JSON: content_type "application/json").
+using AdminAnswer = std::function<void(AdminReply)>;
+
+/// One entry of the route table: an exact path, or every path under a prefix ending in '/'.
+struct AdminRoute {
+  std::string path;  ///< "/api/overview", or "/api/replays/" with prefix
+  bool prefix = false;
+  std::string method = "GET";  ///< the one method it takes (405 for others)
+  /// A JSON (or any) answer; called on AdminHttp's strand, once the token rule passed.
+  std::function<void(const AdminRequest& request, AdminAnswer answer)> handler;
+  /// Or, when set instead, an event stream: given the open stream on the strand once its
+  /// header went out; the producer keeps it and pushes to it.
+  std::function<void(const AdminRequest& request, std::shared_ptr<AdminEventStream> stream)> stream;
+};
+
 class AdminHttp {
  public:
   /// Registers its own counters as a collect callback in `metrics` (ricochet_admin_*), which
@@ -113,6 +204,10 @@ class AdminHttp {
   ~AdminHttp();
   AdminHttp(const AdminHttp&) = delete;
   AdminHttp& operator=(const AdminHttp&) = delete;
+
+  /// Adds a route; call before start(). Routes are matched after the built-in paths, exact
+  /// paths before prefixes, the longest prefix first.
+  void add_route(AdminRoute route);
 
   /// Binds, listens and starts accepting on the io_context. Returns the bind or listen error
   /// (e.g. address in use); then nothing is accepted. Call once.

@@ -205,11 +205,7 @@ void MatchHost::report_phases(MetricsSink& sink) const {
                    {{"match", std::to_string(id_)}, {"phase", kPhaseNames[phase]}},
                    phase_histograms_[phase]->snapshot());
   }
-  stats::Summary ticks;
-  {
-    const std::lock_guard lock(stats_mutex_);
-    ticks = tick_window_.summary();
-  }
+  const stats::Summary ticks = tick_summary();
   // The quantiles are the window's; the sum and count every tick's, from the "total" phase.
   static_assert(std::string_view{kPhaseNames.back()} == "total");
   const HistogramSnapshot total = phase_histograms_.back()->snapshot();
@@ -294,6 +290,45 @@ void MatchHost::publish_stats(proto::TimeUs now) {
   stats_.seated = match_.player_count();
   stats_.connected = match_.connected_count();
   stats_.last_tick_at = now;
+  stats_.phase = match_.phase();
+  stats_.tick = match_.tick_number();
+  stats_.phase_ends_tick = match_.phase_ends_tick();
+  if (stats_.tick >= next_leader_tick_) {
+    find_leader();
+    next_leader_tick_ = stats_.tick + static_cast<std::uint32_t>(tick_rate_hz_);
+  }
+}
+
+void MatchHost::find_leader() {
+  stats_.leader.clear();
+  stats_.leader_score = 0;
+  if (mode_ == GameMode::TeamDeathmatch) {
+    const auto teams = match_.team_scores();
+    const auto red = teams[static_cast<std::size_t>(Team::Red)];
+    const auto blue = teams[static_cast<std::size_t>(Team::Blue)];
+    if (red != blue) {
+      stats_.leader = red > blue ? "red" : "blue";
+      stats_.leader_score = std::max(red, blue);
+    }
+    return;
+  }
+  for (const PlayerScore& score : match_.scoreboard()) {
+    if (score.score > stats_.leader_score) {
+      stats_.leader = score.name;
+      stats_.leader_score = score.score;
+    }
+  }
+}
+
+stats::Summary MatchHost::tick_summary() const {
+  // Copied under the lock and sorted outside it: the tick waits for a copy of 600 doubles at
+  // most, never for the sort.
+  TickWindow window{1};
+  {
+    const std::lock_guard lock(stats_mutex_);
+    window = tick_window_;
+  }
+  return window.summary();
 }
 
 }  // namespace ricochet::server

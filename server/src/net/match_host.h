@@ -41,6 +41,13 @@ struct MatchHostStats {
   int seated = 0;  ///< connected plus within the reconnect grace
   int connected = 0;
   proto::TimeUs last_tick_at = 0;  ///< steady µs of the last tick() call (or of the opening)
+  MatchPhase phase = MatchPhase::Waiting;
+  std::uint32_t tick = 0;             ///< the match's tick number
+  std::uint32_t phase_ends_tick = 0;  ///< 0: the phase has no end
+  /// Who leads (a player's name in ffa, "red" or "blue" in tdm; empty: no score above 0, or the
+  /// teams tied) and with what score; looked up once a second of ticks, not every tick.
+  std::string leader;
+  int leader_score = 0;
 };
 
 /// A match that ended: its record for the DB, who played (for their MatchResults) and its
@@ -109,6 +116,8 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   int snapshot_rate_hz() const { return snapshot_rate_hz_; }
   const proto::QuantizationSpec& quantization() const { return quantization_; }
   MatchHostStats stats() const;
+  /// The tick times of the last kTickWindowTicks ticks, s (the quantiles /metrics reports).
+  stats::Summary tick_summary() const;
   /// Reports the per-phase tick histograms (ricochet_tick_phase_seconds{match, phase}; they
   /// go with the host) and the quantiles of the last ticks (ricochet_tick_seconds{match,
   /// quantile}).
@@ -132,6 +141,8 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   /// Seats whose player the match no longer has (grace ran out) are released.
   void sweep_departed();
   void publish_stats(proto::TimeUs now);
+  /// Sets stats_.leader and leader_score from the scoreboard; the caller holds stats_mutex_.
+  void find_leader();
 
   Match match_;
   GameChannel& channel_;
@@ -153,6 +164,7 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   bool ended_ = false;
   std::unordered_map<std::uint64_t, Played> played_;  ///< everyone who connected, by account
   proto::TimeUs next_sweep_at_ = 0;
+  std::uint32_t next_leader_tick_ = 0;  ///< the tick from which the leader is looked for again
   std::vector<std::unique_ptr<Histogram>> phase_histograms_;  ///< by kPhaseNames
   mutable std::mutex stats_mutex_;
   MatchHostStats stats_;

@@ -301,6 +301,7 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
     admin.bearer_token = read_admin_token(config_.admin.token_file);
   }
   admin.episodes = &episodes_;
+  admin.files = dashboard_files();
   AdminHttpCallbacks callbacks{
       [this] { return healthy(); },
       [this] { return ready(); },
@@ -315,6 +316,7 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   }
   admin_ = std::make_unique<AdminHttp>(io_, std::move(admin), metrics_, std::move(callbacks));
   register_metrics();
+  register_dashboard();
   if (const char* sdk_port = std::getenv("AGONES_SDK_HTTP_PORT")) start_agones(sdk_port);
 }
 
@@ -358,6 +360,7 @@ void Server::start() {
   }
   write_ports_file();
   sweep_empty_matches();
+  sample_overview();
   if (placement_) start_placement();
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });

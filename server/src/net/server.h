@@ -38,6 +38,7 @@
 
 #include "episode_log.h"
 #include "fleet_placement.h"
+#include "overview.h"
 #include "ricochet/db/fleet_records.h"
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
@@ -54,6 +55,7 @@ class MatchResults;
 namespace ricochet::server {
 
 class AdminHttp;
+class AdminEventStream;
 class AgonesHttp;
 struct AccountAction;
 struct AdminReply;
@@ -147,6 +149,13 @@ class Server {
   void start_agones(const char* sdk_port);
   /// Every few seconds: the created matches empty for too long are closed.
   void sweep_empty_matches();
+  /// The dashboard's routes on the admin port: GET /api/overview and /api/overview/events.
+  void register_dashboard();
+  /// Every kOverviewPeriod while running: the overview sampled (never on a match's strand)
+  /// and sent to every stream of it.
+  void sample_overview();
+  /// What the overview shows now, read from the copies each part publishes (as /metrics).
+  OverviewSample overview_sample() const;
   /// [placement] on: the directory heartbeat, once the ports are bound (under Agones with an
   /// advertise key unset, once the sidecar said where players reach this server).
   void start_placement();
@@ -185,6 +194,12 @@ class Server {
   Counter* agones_game_server_invalid_ = nullptr;  ///< GET /gameserver answers not used
   boost::asio::steady_timer empty_match_sweep_{io_};
   boost::asio::steady_timer outbox_rescan_{io_};
+  boost::asio::steady_timer overview_timer_{io_};
+  Overview overview_;  ///< on overview_timer_'s handler only
+  std::mutex overview_mutex_;
+  std::string overview_json_;  ///< the last overview; guarded by overview_mutex_
+  /// Open streams of the overview; guarded by overview_mutex_.
+  std::vector<std::shared_ptr<AdminEventStream>> overview_streams_;
   std::vector<std::thread> threads_;
   std::thread stopper_;
   std::once_flag stop_once_;

@@ -205,6 +205,8 @@ class Match {
   const MatchConfig& config() const;
   std::uint32_t tick_number() const;
   MatchPhase phase() const;
+  /// The tick the phase ends at (the warm-up's end, the time limit); 0: it has no end.
+  std::uint32_t phase_ends_tick() const;
   int player_count() const;  ///< seated
   int connected_count() const;
   int max_players() const;
