@@ -10,14 +10,13 @@
 #include <variant>
 
 #include "agones_game_server.h"
+#include "fuzz_check.h"
 
 namespace {
 
 using namespace ricochet::server;
 
-void check(bool condition) {
-  if (!condition) std::abort();
-}
+using ricochet::fuzz::check;
 
 }  // namespace
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "../proto/control_requests.h"
+#include "fuzz_check.h"
 #include "ricochet/proto/control_client.h"
 
 namespace {
@@ -29,9 +30,7 @@ using namespace ricochet::proto;
 using ricochet::proto::test::request_of;
 using ricochet::wire::ClientMessage;
 
-void check(bool condition) {
-  if (!condition) std::abort();
-}
+using ricochet::fuzz::check;
 
 struct Run {
   ControlClient client{0};

@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "fuzz_check.h"
 #include "ricochet/proto/control_states.h"
 #include "ricochet/proto/frame.h"
 
@@ -18,9 +19,7 @@ namespace {
 
 using namespace ricochet::proto;
 
-void check(bool condition) {
-  if (!condition) std::abort();
-}
+using ricochet::fuzz::check;
 
 void check_message(const std::vector<std::uint8_t>& payload) {
   ricochet::wire::ClientMessage message;

@@ -10,15 +10,14 @@
 #include <string_view>
 #include <variant>
 
+#include "fuzz_check.h"
 #include "ricochet/loadtest/merge.h"
 
 namespace {
 
 using namespace ricochet::loadtest;
 
-void check(bool condition) {
-  if (!condition) std::abort();
-}
+using ricochet::fuzz::check;
 
 }  // namespace
 

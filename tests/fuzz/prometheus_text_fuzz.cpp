@@ -11,15 +11,14 @@
 #include <variant>
 #include <vector>
 
+#include "fuzz_check.h"
 #include "ricochet/loadtest/prometheus_text.h"
 
 namespace {
 
 using namespace ricochet::loadtest;
 
-void check(bool condition) {
-  if (!condition) std::abort();
-}
+using ricochet::fuzz::check;
 
 }  // namespace
 

@@ -1,6 +1,6 @@
 #pragma once
-/// GET from a server's admin HTTP port on 127.0.0.1, the way an operator's script would: one
-/// request per connection (Connection: close), read until the server closes.
+/// Requests to a server's admin HTTP port on 127.0.0.1, the way an operator's script makes them:
+/// one request per connection (Connection: close), read until the server closes.
 
 #include <array>
 #include <boost/asio/connect.hpp>
@@ -11,13 +11,17 @@
 
 namespace ricochet::test {
 
-/// The whole response to GET `path`, status line first.
-inline std::string admin_response(std::uint16_t port, const std::string& path) {
+/// The whole response to `method` `path` (no body), status line first; with "Authorization:
+/// Bearer `token`" unless it is empty.
+inline std::string admin_response(std::uint16_t port, const std::string& path,
+                                  const std::string& method = "GET",
+                                  const std::string& token = "") {
   boost::asio::io_context io;
   boost::asio::ip::tcp::socket socket(io);
   socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
-  const std::string request =
-      "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  std::string request = method + " " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\n";
+  if (!token.empty()) request += "Authorization: Bearer " + token + "\r\n";
+  request += "Content-Length: 0\r\nConnection: close\r\n\r\n";
   boost::asio::write(socket, boost::asio::buffer(request));
   std::string response;
   boost::system::error_code error;

@@ -558,24 +558,10 @@ struct HttpResponse {
 /// `method` `path` on the admin port, with "Authorization: Bearer `token`" unless it is empty.
 HttpResponse http_request(std::uint16_t port, const std::string& method, const std::string& path,
                           const std::string& token = "") {
-  boost::asio::io_context io;
-  boost::asio::ip::tcp::socket socket(io);
-  socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
-  std::string request = method + " " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\n";
-  if (!token.empty()) request += "Authorization: Bearer " + token + "\r\n";
-  request += "Content-Length: 0\r\nConnection: close\r\n\r\n";
-  boost::asio::write(socket, boost::asio::buffer(request));
-  std::string response;
-  boost::system::error_code error;
-  std::array<char, 4096> chunk{};
-  while (!error) {
-    const std::size_t size = socket.read_some(boost::asio::buffer(chunk), error);
-    response.append(chunk.data(), size);
-  }
+  const std::string response = ricochet::test::admin_response(port, path, method, token);
   HttpResponse out;
   if (response.rfind("HTTP/1.1 ", 0) == 0) out.status = std::stoi(response.substr(9, 3));
-  const auto body = response.find("\r\n\r\n");
-  out.body = body == std::string::npos ? response : response.substr(body + 4);
+  out.body = ricochet::test::body_of(response);
   return out;
 }
 
