@@ -10,9 +10,10 @@ import { setTimeout as sleep } from 'node:timers/promises';
 const binary = process.env.RICOCHET_SERVER_BINARY;
 const source = process.env.RICOCHET_SOURCE_DIR;
 
-/// Starts a server with `matches` matches; `token`: the admin token (none when empty).
+/// Starts a server with `matches` matches; `token`: the admin token (none when empty); `record`:
+/// matches recorded under <dir>/data; `matchKeys`: more [matches] lines ("time_limit_s = 5\n").
 /// Resolves once it listens, within 20 s.
-export async function startServer({ matches = 2, token = '' } = {}) {
+export async function startServer({ matches = 2, token = '', record = false, matchKeys = '' } = {}) {
   if (!binary || !source) throw new Error('RICOCHET_SERVER_BINARY and RICOCHET_SOURCE_DIR must be set');
   const dir = mkdtempSync(join(tmpdir(), 'ricochet-web-'));
   const ports = join(dir, 'ports.json');
@@ -24,7 +25,7 @@ export async function startServer({ matches = 2, token = '' } = {}) {
   writeFileSync(join(dir, 'server.toml'),
     `[server]\ndata_dir = "${join(dir, 'data')}"\nports_file = "${ports}"\nthreads = 2\n` +
     '[control]\nbind = "127.0.0.1"\nport = 0\n[game]\nbind = "127.0.0.1"\nport = 0\n' + admin +
-    `[matches]\ncount = ${matches}\nmaps = ["${source}/server/maps/arena.toml"]\nrecord = false\n`);
+    `[matches]\ncount = ${matches}\nmaps = ["${source}/server/maps/arena.toml"]\nrecord = ${record}\n` + matchKeys);
   const log = openSync(join(dir, 'server.log'), 'a');
   const child = spawn(binary, ['--config', join(dir, 'server.toml'), '--password-thread-nice', '0'],
                       { stdio: ['ignore', log, log] });
@@ -35,6 +36,7 @@ export async function startServer({ matches = 2, token = '' } = {}) {
       const bound = JSON.parse(readFileSync(ports, 'utf8'));
       return {
         url: `http://127.0.0.1:${bound.admin_port}`,
+        dir,
         controlPort: bound.control_port,
         fingerprint: bound.fingerprint,
         log: () => readFileSync(join(dir, 'server.log'), 'utf8'),

@@ -420,15 +420,19 @@ Response serve_file(State& state, const AdminConnection& connection, const Reque
   return response;
 }
 
-/// The route of the table for `path`: an exact one, else the longest prefix.
-const AdminRoute* route_at(const State& state, std::string_view path) {
+/// The route of the table for `path`: an exact one, else the longest prefix; of two routes of
+/// one path, the one taking `method` (else either: 405).
+const AdminRoute* route_at(const State& state, std::string_view path, std::string_view method) {
   const AdminRoute* found = nullptr;
+  const auto better = [&found, method](const AdminRoute& route) {
+    if (!found) return true;
+    if (route.prefix != found->prefix) return !route.prefix;
+    if (route.path.size() != found->path.size()) return route.path.size() > found->path.size();
+    return route.method == method && found->method != method;
+  };
   for (const AdminRoute& route : state.routes) {
-    if (!route.prefix && route.path == path) return &route;
-    if (route.prefix && path.starts_with(route.path) &&
-        (!found || route.path.size() > found->path.size())) {
-      found = &route;
-    }
+    const bool matches = route.prefix ? path.starts_with(route.path) : route.path == path;
+    if (matches && better(route)) found = &route;
   }
   return found;
 }
@@ -448,7 +452,7 @@ std::optional<Routed> route_dashboard(State& state, const AdminConnection& conne
   if (const EmbeddedFile* file = file_at(state, path)) {
     return serve_file(state, connection, request, *file);
   }
-  const AdminRoute* route = route_at(state, path);
+  const AdminRoute* route = route_at(state, path, request.method_string());
   if (!route) return std::nullopt;
   if (request.method_string() != route->method) {
     return method_not_allowed(state, version, route->method);

@@ -206,7 +206,7 @@ class AdminHttp {
   AdminHttp& operator=(const AdminHttp&) = delete;
 
   /// Adds a route; call before start(). Routes are matched after the built-in paths, exact
-  /// paths before prefixes, the longest prefix first.
+  /// paths before prefixes, the longest prefix first; one path may have a route per method.
   void add_route(AdminRoute route);
 
   /// Binds, listens and starts accepting on the io_context. Returns the bind or listen error

@@ -269,6 +269,7 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   // Every map of the rotation is loaded now, so a broken one stops the start, not a match end.
   std::vector<Map> maps;
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));
+  start_replays(maps);
   matches_ = std::make_unique<MatchRegistry>(
       io_, std::move(registry), std::move(maps), *game_, [this](EndedMatch match) {
         if (agones_) agones_->match_finished();
@@ -317,6 +318,7 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   admin_ = std::make_unique<AdminHttp>(io_, std::move(admin), metrics_, std::move(callbacks));
   register_metrics();
   register_dashboard();
+  register_replays();
   if (const char* sdk_port = std::getenv("AGONES_SDK_HTTP_PORT")) start_agones(sdk_port);
 }
 
@@ -622,6 +624,7 @@ void Server::shut_down() {
   io_.stop();
   for (auto& thread : threads_) thread.join();
   threads_.clear();
+  replays_.reset();     // no route can reach the pool now: its workers stop and are joined
   recordings_->stop();  // every match has handed its recording over by now
   db_->stop();
   if (!in_time) spdlog::warn("stopping: the grace period ran out");

@@ -29,19 +29,24 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include "episode_log.h"
 #include "fleet_placement.h"
 #include "overview.h"
+#include "recording_catalog.h"
+#include "replay_jobs.h"
 #include "ricochet/db/fleet_records.h"
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
+#include "ricochet/server/map.h"
 #include "ricochet/server/metrics.h"
 
 namespace ricochet::db {
@@ -59,6 +64,7 @@ class AdminEventStream;
 class AgonesHttp;
 struct AccountAction;
 struct AdminReply;
+struct AdminRequest;
 class ChatLimiter;
 struct EndedMatch;
 struct OutboxRecord;
@@ -151,6 +157,18 @@ class Server {
   void sweep_empty_matches();
   /// The dashboard's routes on the admin port: GET /api/overview and /api/overview/events.
   void register_dashboard();
+  /// The Recordings page's catalog and replay pool ([dashboard] replay_*), and the top-down
+  /// views of `maps` (a recording's map is one of the rotation's).
+  void start_replays(const std::vector<Map>& maps);
+  /// GET /api/recordings and the routes under /api/recordings/ (server_replays.cpp).
+  void register_replays();
+  /// The recording a path's rest names ("<id>" or "<id>/<action>"): nothing when it is there,
+  /// else the refusal (400 bad id, 404 none such).
+  std::optional<AdminReply> recording_of(std::string_view rest, std::string& id,
+                                         std::string& action);
+  AdminReply recording_get(const AdminRequest& request);
+  AdminReply recording_post(const AdminRequest& request);
+  void report_replays(MetricsSink& sink) const;
   /// Every kOverviewPeriod while running: the overview sampled (never on a match's strand)
   /// and sent to every stream of it.
   void sample_overview();
@@ -182,6 +200,11 @@ class Server {
   std::unique_ptr<db::DbWorker> db_;
   std::unique_ptr<RecordingFiles> recordings_;
   std::unique_ptr<ResultsOutbox> outbox_;
+  std::unique_ptr<RecordingCatalog> recording_catalog_;
+  /// The replay workers; stopped (reset) once the io threads are joined.
+  std::unique_ptr<ReplayJobs> replays_;
+  std::map<std::string, std::string> map_views_;  ///< map name: map_view_json, made at start
+  std::atomic<std::uint64_t> replay_requests_refused_{0};  ///< bad paths, ranges; unknown ids
   std::unique_ptr<GameChannel> game_;
   std::unique_ptr<MatchRegistry> matches_;
   std::unique_ptr<ControlServer> control_;

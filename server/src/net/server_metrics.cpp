@@ -271,6 +271,7 @@ void Server::register_metrics() {
                  {{"result", "failed"}}, static_cast<double>(recordings_->failed()));
     sink.counter("ricochet_recording_bytes_total", "Bytes of the match recordings written", {},
                  static_cast<double>(recordings_->written_bytes()));
+    report_replays(sink);
     sink.gauge("ricochet_match_records_pending",
                "Ended matches whose record could not be written yet (disk full, database "
                "locked): kept and written again",

@@ -574,6 +574,21 @@ TEST_F(AdminHttpTest, RoutesTakeExactPathsThenTheLongestPrefixAndTheirMethod) {
   EXPECT_EQ(header_of(response, "Allow"), "GET");
 }
 
+TEST_F(AdminHttpTest, OnePathTakesARoutePerMethod) {
+  AdminRoute act = json_route("/api/recordings/", true, "act");
+  act.method = "POST";
+  routes_ = {json_route("/api/recordings/", true, "read"), act,
+             json_route("/api/recordings/x/", true, "x")};
+  start();
+  EXPECT_EQ(body_of(exchange(get("/api/recordings/7"))), "read /api/recordings/7?");
+  EXPECT_EQ(body_of(exchange(post_form("/api/recordings/7/replay", ""))),
+            "act /api/recordings/7/replay?");
+  // The longer prefix still wins; its one method is GET.
+  const std::string response = exchange(post_form("/api/recordings/x/1", ""));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 405 Method Not Allowed");
+  EXPECT_EQ(header_of(response, "Allow"), "GET");
+}
+
 TEST_F(AdminHttpTest, WithATokenABrowserSignsInForASessionThatExpires) {
   AdminHttpOptions options;
   options.files = kFiles;

@@ -1,0 +1,378 @@
+// The Recordings page: the recordings directory (GET /api/recordings), and one recording
+// replayed by the server (POST /api/recordings/<id>/replay, its progress from GET
+// /api/recordings/<id>) then played on a canvas from above: frames fetched by tick range in
+// chunks ahead of the playhead (GET .../frames?from=&to=), the map from GET .../map. The shown
+// tick and the positions drawn are on window.ricochetReplay for the tests.
+const $ = (id) => document.getElementById(id);
+
+/// Ticks per frames request (the server allows 600).
+const kChunkTicks = 300;
+/// Chunks kept loaded ahead of the playhead.
+const kChunksAhead = 2;
+/// How long a kill stays in the feed, s.
+const kKillFeedS = 8;
+const kSpeeds = [0.25, 0.5, 1, 2, 4, 8];
+const kTeamColours = ['#8250df', '#cf222e', '#0550ae'];
+const kWeapons = ['world', 'rifle', 'rocket', 'grenade'];
+
+/// What the tests read: the tick shown, the entities drawn at it, the verdict shown.
+const exposed = { tick: 0, positions: [], verdict: '', ready: false, playing: false, speed: 1 };
+window.ricochetReplay = exposed;
+
+async function getJson(url, options) {
+  const response = await fetch(url, options);
+  if (!response.ok) throw new Error(`${url}: ${response.status} ${(await response.text()).trim()}`);
+  return response.json();
+}
+
+function cell(text) {
+  const td = document.createElement('td');
+  td.textContent = text;
+  return td;
+}
+
+function size(bytes) {
+  if (bytes >= 1 << 20) return `${(bytes / (1 << 20)).toFixed(1)} MiB`;
+  if (bytes >= 1 << 10) return `${(bytes / (1 << 10)).toFixed(1)} KiB`;
+  return `${bytes} B`;
+}
+
+function clock(seconds) {
+  if (seconds === null || seconds === undefined) return '—';
+  const s = Math.round(seconds);
+  return `${Math.floor(s / 60)}:${String(s % 60).padStart(2, '0')}`;
+}
+
+function renderList(list) {
+  const rows = list.recordings.map((r) => {
+    const tr = document.createElement('tr');
+    tr.dataset.recording = r.id;
+    const name = document.createElement('td');
+    if (r.unreadable) {
+      name.textContent = r.id;
+    } else {
+      const open = document.createElement('button');
+      open.type = 'button';
+      open.textContent = `Match ${r.match_id}`;
+      open.setAttribute('aria-label', `Replay ${r.id}`);
+      open.addEventListener('click', () => openRecording(r));
+      name.append(open);
+    }
+    const file = r.unreadable ? `unreadable: ${r.unreadable}`
+      : r.complete ? (r.truncated ? 'complete (truncated)' : 'complete')
+        : r.interrupted ? 'interrupted' : 'cut short';
+    tr.append(name, cell(r.map ?? '—'), cell(r.mode ?? '—'), cell(clock(r.seconds)),
+              cell(size(r.size_bytes)), cell(new Date(r.unix_ms).toLocaleString()), cell(file));
+    return tr;
+  });
+  if (rows.length === 0) {
+    const tr = document.createElement('tr');
+    const td = cell('No recordings yet (set [matches] record = true).');
+    td.colSpan = 7;
+    td.className = 'empty';
+    tr.append(td);
+    rows.push(tr);
+  }
+  $('recordings').replaceChildren(...rows);
+}
+
+// ---- the player -------------------------------------------------------------------------
+
+/// The open recording's replay: its summary, map, and the chunks of frames loaded.
+let replay = null;
+
+function chunkOf(tick) { return Math.floor((tick - 1) / kChunkTicks); }
+
+/// Loads chunk `index` (ticks [1 + index * kChunkTicks, ...)) unless it is loaded or loading.
+function loadChunk(index) {
+  if (!replay || index < 0 || replay.chunks.has(index)) return;
+  const first = 1 + index * kChunkTicks;
+  if (first > replay.summary.last_tick) return;
+  const end = Math.min(first + kChunkTicks, replay.summary.last_tick + 1);
+  const current = replay;
+  const entry = { loaded: false, scores: [], frames: [] };
+  current.chunks.set(index, entry);
+  getJson(`/api/recordings/${encodeURIComponent(current.id)}/frames?from=${first}&to=${end}`)
+    .then((data) => {
+      entry.scores = data.scores;
+      entry.frames = data.frames;
+      entry.loaded = true;
+      if (replay === current) draw();
+    })
+    .catch((error) => {
+      current.chunks.delete(index);
+      $('status').textContent = `Frames not loaded: ${error.message}`;
+    });
+}
+
+function frameAt(tick) {
+  const chunk = replay.chunks.get(chunkOf(tick));
+  if (!chunk || !chunk.loaded) return null;
+  return chunk.frames[tick - 1 - chunkOf(tick) * kChunkTicks] ?? null;
+}
+
+/// Every player's score after step `tick`: the chunk's scores at its start and its changes
+/// (a player without any yet: 0).
+function scoresAt(tick) {
+  const chunk = replay.chunks.get(chunkOf(tick));
+  const scores = new Map(replay.summary.players.map(
+    (p) => [p.entity, { entity: p.entity, kills: 0, deaths: 0, score: 0 }]));
+  if (!chunk || !chunk.loaded) return scores;
+  for (const s of chunk.scores) scores.set(s.entity, s);
+  for (const frame of chunk.frames) {
+    if (frame.tick > tick) break;
+    for (const s of frame.scores) scores.set(s.entity, s);
+  }
+  return scores;
+}
+
+/// The kills of the last kKillFeedS up to `tick`, newest first, from the chunks loaded.
+function killsUpTo(tick) {
+  const since = tick - kKillFeedS * replay.summary.tick_rate_hz;
+  const kills = [];
+  for (let index = chunkOf(Math.max(1, since)); index <= chunkOf(tick); ++index) {
+    const chunk = replay.chunks.get(index);
+    if (!chunk || !chunk.loaded) continue;
+    for (const frame of chunk.frames) {
+      if (frame.tick > since && frame.tick <= tick) kills.push(...frame.kills);
+    }
+  }
+  return kills.reverse();
+}
+
+function nameOf(entity) {
+  if (entity === 0) return 'the world';
+  return replay.names.get(entity) ?? `#${entity}`;
+}
+
+/// The map's ground (x, z) onto the canvas, the whole map in view.
+function projection(canvas) {
+  const bounds = replay.map?.bounds ?? { min: [-50, 0, -50], max: [50, 10, 50] };
+  const [x0, , z0] = bounds.min;
+  const [x1, , z1] = bounds.max;
+  const scale = Math.min(canvas.width / (x1 - x0 || 1), canvas.height / (z1 - z0 || 1)) * 0.95;
+  const ox = (canvas.width - (x1 - x0) * scale) / 2;
+  const oz = (canvas.height - (z1 - z0) * scale) / 2;
+  return { scale, at: (x, z) => [ox + (x - x0) * scale, oz + (z - z0) * scale] };
+}
+
+/// A colour of style.css' palette ("--line").
+function colour(name) {
+  return getComputedStyle(document.documentElement).getPropertyValue(name).trim();
+}
+
+function drawMap(g, view) {
+  const map = replay.map;
+  if (!map) return;
+  g.fillStyle = colour('--line');
+  g.strokeStyle = colour('--muted');
+  for (const mesh of map.meshes) {
+    for (const [i, j, k] of mesh.triangles) {
+      g.beginPath();
+      for (const v of [i, j, k]) g.lineTo(...view.at(...mesh.vertices[v]));
+      g.closePath();
+      g.fill();
+    }
+  }
+  for (const box of map.boxes) {
+    g.beginPath();
+    for (const corner of box.corners) g.lineTo(...view.at(...corner));
+    g.closePath();
+    g.fill();
+    g.stroke();
+  }
+}
+
+function draw() {
+  if (!replay) return;
+  const tick = replay.tick;
+  const canvas = $('view');
+  const g = canvas.getContext('2d');
+  g.clearRect(0, 0, canvas.width, canvas.height);
+  const view = projection(canvas);
+  drawMap(g, view);
+  const frame = frameAt(tick);
+  $('tick').textContent = String(tick);
+  $('timeline').value = String(tick);
+  exposed.tick = tick;
+  if (!frame) {
+    exposed.positions = [];
+    exposed.ready = false;
+    $('replay-state').textContent = `Loading tick ${tick}…`;
+    return;
+  }
+  $('replay-state').textContent = `Tick ${tick} of ${replay.summary.last_tick}, ` +
+    `${(tick / replay.summary.tick_rate_hz).toFixed(2)} s`;
+  const positions = [];
+  g.font = '12px system-ui, sans-serif';
+  const text = colour('--fg');
+  for (const p of frame.projectiles) {
+    positions.push({ id: p.id, kind: p.kind, x: p.x, y: p.y, z: p.z });
+    const [cx, cy] = view.at(p.x, p.z);
+    g.fillStyle = p.kind === 'rocket' ? '#bf8700' : '#1a7f37';
+    g.fillRect(cx - 2, cy - 2, 4, 4);
+  }
+  for (const p of frame.players) {
+    positions.push({ id: p.id, kind: 'player', x: p.x, y: p.y, z: p.z });
+    const [cx, cy] = view.at(p.x, p.z);
+    const radius = Math.max(4, 0.5 * view.scale);
+    g.globalAlpha = p.alive ? (p.away ? 0.4 : 1) : 0.25;
+    g.fillStyle = kTeamColours[replay.teams.get(p.id) ?? 0];
+    g.beginPath();
+    g.arc(cx, cy, radius, 0, 2 * Math.PI);
+    g.fill();
+    // Yaw 0 faces -z (up on the canvas), counter-clockwise seen from above.
+    g.strokeStyle = g.fillStyle;
+    g.beginPath();
+    g.moveTo(cx, cy);
+    g.lineTo(cx - Math.sin(p.yaw) * radius * 2.2, cy - Math.cos(p.yaw) * radius * 2.2);
+    g.stroke();
+    g.fillStyle = text;
+    g.fillText(`${nameOf(p.id)} ${p.health}`, cx + radius + 2, cy - radius);
+    g.globalAlpha = 1;
+  }
+  exposed.positions = positions;
+  exposed.ready = true;
+  renderScores(tick);
+  renderKills(tick);
+}
+
+function renderScores(tick) {
+  const rows = [...scoresAt(tick).values()].sort((a, b) => b.score - a.score).map((s) => {
+    const tr = document.createElement('tr');
+    tr.dataset.entity = String(s.entity);
+    tr.append(cell(nameOf(s.entity)), cell(String(s.score)), cell(`${s.kills} / ${s.deaths}`));
+    return tr;
+  });
+  $('scores').replaceChildren(...rows);
+}
+
+function renderKills(tick) {
+  $('kills').replaceChildren(...killsUpTo(tick).map((k) => {
+    const li = document.createElement('li');
+    li.textContent = `${nameOf(k.killer)} → ${nameOf(k.victim)} (${kWeapons[k.weapon] ?? k.weapon})`;
+    return li;
+  }));
+}
+
+/// Shows `tick` (clamped to the replay) and keeps the chunks about it loaded.
+function seek(tick) {
+  replay.tick = Math.min(Math.max(1, Math.round(tick)), replay.summary.last_tick);
+  replay.playhead = replay.tick;
+  const here = chunkOf(replay.tick);
+  loadChunk(chunkOf(Math.max(1, replay.tick - kKillFeedS * replay.summary.tick_rate_hz)));
+  for (let index = here; index <= here + kChunksAhead; ++index) loadChunk(index);
+  draw();
+}
+
+function setPlaying(playing) {
+  replay.playing = playing && replay.tick < replay.summary.last_tick;
+  exposed.playing = replay.playing;
+  $('play').textContent = replay.playing ? 'Pause' : 'Play';
+  replay.last = null;
+  if (replay.playing) requestAnimationFrame(advance);
+}
+
+function advance(now) {
+  if (!replay || !replay.playing) return;
+  if (replay.last !== null && frameAt(replay.tick)) {
+    const ticks = ((now - replay.last) / 1000) * replay.summary.tick_rate_hz * replay.speed;
+    const playhead = replay.playhead + ticks;
+    seek(Math.floor(playhead));
+    replay.playhead = playhead;
+    if (replay.tick >= replay.summary.last_tick) {
+      setPlaying(false);
+      return;
+    }
+  }
+  replay.last = now;
+  requestAnimationFrame(advance);
+}
+
+function showVerdict(summary) {
+  const verdict = $('verdict');
+  if (summary.hashes_matched) {
+    verdict.textContent = `Every recorded hash matched (${summary.hashes_checked} checked).`;
+    verdict.className = 'verdict-good';
+  } else {
+    verdict.textContent = `The recorded hash first differs at tick ${summary.first_mismatch_tick}: ` +
+      'the replay stops there.';
+    verdict.className = 'verdict-bad';
+  }
+  if (!summary.complete) verdict.textContent += ` The recording is cut short (${summary.cut}).`;
+  exposed.verdict = verdict.textContent;
+}
+
+async function openRecording(entry) {
+  replay = null;
+  exposed.ready = false;
+  const id = encodeURIComponent(entry.id);
+  $('player').hidden = false;
+  $('viewer').hidden = true;
+  $('player-title').textContent = `Replay of match ${entry.match_id} (${entry.map}, ${entry.mode})`;
+  $('replay-progress').hidden = false;
+  try {
+    let status = await getJson(`/api/recordings/${id}/replay`, { method: 'POST' });
+    while (status.state === 'queued' || status.state === 'running') {
+      $('replay-state').textContent = status.state === 'queued' ? 'Waiting for a replay worker…'
+        : `Replaying: tick ${status.ticks_done} of ${status.ticks_total}`;
+      $('replay-progress').value = status.ticks_total ? status.ticks_done / status.ticks_total : 0;
+      await new Promise((resolve) => setTimeout(resolve, 200));
+      status = (await getJson(`/api/recordings/${id}`)).job;
+    }
+    if (status.state !== 'done') throw new Error(`the replay ${status.state}: ${status.error}`);
+    const [read, map] = await Promise.all([getJson(`/api/recordings/${id}`),
+                                            getJson(`/api/recordings/${id}/map`)]);
+    const summary = read.summary;
+    replay = {
+      id: entry.id, summary, map, chunks: new Map(), tick: 1, playhead: 1, playing: false,
+      speed: Number($('speed').value), last: null,
+      names: new Map(summary.players.map((p) => [p.entity, p.name])),
+      teams: new Map(summary.players.map((p) => [p.entity, p.team])),
+    };
+    exposed.speed = replay.speed;
+    $('replay-progress').hidden = true;
+    $('viewer').hidden = false;
+    $('timeline').max = String(summary.last_tick);
+    showVerdict(summary);
+    seek(1);
+    $('play').focus();
+  } catch (error) {
+    $('replay-state').textContent = `Cannot replay: ${error.message}`;
+  }
+}
+
+function bindControls() {
+  $('play').addEventListener('click', () => replay && setPlaying(!replay.playing));
+  $('step').addEventListener('click', () => { if (replay) { setPlaying(false); seek(replay.tick + 1); } });
+  $('step-back').addEventListener('click', () => { if (replay) { setPlaying(false); seek(replay.tick - 1); } });
+  $('speed').addEventListener('change', () => {
+    const speed = Number($('speed').value);
+    if (!kSpeeds.includes(speed) || !replay) return;
+    replay.speed = speed;
+    exposed.speed = speed;
+  });
+  $('timeline').addEventListener('input', () => replay && seek(Number($('timeline').value)));
+  document.addEventListener('keydown', (event) => {
+    if (!replay || event.target instanceof HTMLSelectElement || event.ctrlKey || event.metaKey) return;
+    if (event.key === ' ' && !(event.target instanceof HTMLButtonElement)) {
+      event.preventDefault();
+      setPlaying(!replay.playing);
+    } else if (event.key === '.') {
+      setPlaying(false);
+      seek(replay.tick + 1);
+    } else if (event.key === ',') {
+      setPlaying(false);
+      seek(replay.tick - 1);
+    }
+  });
+}
+
+bindControls();
+getJson('/api/recordings')
+  .then((list) => {
+    renderList(list);
+    $('status').textContent = `${list.recordings.length} recordings` +
+      (list.unreadable ? `, ${list.unreadable} unreadable` : '');
+  })
+  .catch((error) => { $('status').textContent = `Cannot list the recordings: ${error.message}`; });

@@ -1,0 +1,131 @@
+// The Recordings page: a short bot match recorded by a server the test starts is listed, opens,
+// is replayed by the server and played on the page; at a tick the positions the page drew are
+// the ones `ricochet-replay --export` prints for it, the timeline and the speeds work, the hash
+// verdict is shown, with no console error or failed request, at 1280x720 and at a phone's width.
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { readFileSync, readdirSync } from 'node:fs';
+import { join } from 'node:path';
+import { setTimeout as sleep } from 'node:timers/promises';
+import { launch, screenshot, watch } from './browser.mjs';
+import { startBots, startServer } from './server_process.mjs';
+
+/// The recorded match: two bots, no warm-up, over after this many seconds.
+const kMatchS = 5;
+
+let server;
+let browser;
+let bots;
+before(async () => {
+  [server, browser] = await Promise.all([
+    startServer({ matches: 1, record: true,
+                  matchKeys: `seed = 42\nwarmup_s = 0\nfrag_limit = 0\nmin_players = 2\ntime_limit_s = ${kMatchS}\n` }),
+    launch()]);
+  bots = startBots(server, { count: 2, match: 1, seconds: 30 });
+});
+after(async () => {
+  await bots?.stop();
+  await browser?.close();
+  await server?.stop();
+});
+
+/// The recording's file under the server's data directory.
+function recordingFile(dir, id) {
+  for (const entry of readdirSync(dir, { recursive: true })) {
+    if (entry.endsWith(`${id}.rcr`)) return join(dir, entry);
+  }
+  throw new Error(`no file of ${id} under ${dir}`);
+}
+
+/// `ricochet-replay --export`'s rows of tick `tick` (players only): entity -> [x, y, z] as printed.
+function exported(file, tick) {
+  const csv = join(server.dir, 'export.csv');
+  execFileSync(process.env.RICOCHET_REPLAY_BINARY, [file, '--export', csv]);
+  const rows = new Map();
+  for (const line of readFileSync(csv, 'utf8').trim().split('\n').slice(1)) {
+    const [t, entity, x, y, z] = line.split(',');
+    if (Number(t) === tick) rows.set(Number(entity), [x, y, z]);
+  }
+  return rows;
+}
+
+/// Ticks the page shows per second of wall time at its current speed, over `ms`.
+async function playbackRate(page, ms) {
+  const start = await page.evaluate(() => [window.ricochetReplay.tick, performance.now()]);
+  await sleep(ms);
+  const end = await page.evaluate(() => [window.ricochetReplay.tick, performance.now()]);
+  return (end[0] - start[0]) / ((end[1] - start[1]) / 1000);
+}
+
+test('a recorded bot match replays on the page as ricochet-replay exports it', async () => {
+  // The match ends after kMatchS s of play and its recording is listed, complete.
+  let recording;
+  for (const deadline = Date.now() + 15000; !recording;) {
+    const list = await (await fetch(`${server.url}/api/recordings`)).json();
+    recording = list.recordings.find((r) => r.complete);
+    if (!recording && Date.now() > deadline) throw new Error(`no recording:\n${server.log()}`);
+    if (!recording) await sleep(100);
+  }
+  await bots.stop();
+
+  const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
+  const problems = watch(page);
+  await page.goto(`${server.url}/recordings.html`);
+  const row = page.locator(`#recordings tr[data-recording="${recording.id}"]`);
+  await row.waitFor({ timeout: 5000 });
+  assert.deepEqual((await row.locator('td').allTextContents()).slice(1, 3), ['arena', 'ffa']);
+  assert.equal(await row.locator('td').nth(6).textContent(), 'complete');
+  // Keyboard: the row's button opens it.
+  await row.getByRole('button').focus();
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => window.ricochetReplay.ready, null, { timeout: 10000 });
+  const verdict = await page.evaluate(() => window.ricochetReplay.verdict);
+  assert.match(verdict, /^Every recorded hash matched \(\d+ checked\)\.$/);
+  assert.equal(await page.locator('#verdict').textContent(), verdict);
+
+  // Scrub to T (the timeline by keyboard: End, then back), then compare with the export.
+  const last = Number(await page.locator('#timeline').getAttribute('max'));
+  assert.ok(last >= kMatchS * 60, `the replay has ${last} ticks`);
+  const T = last - 7;
+  await page.locator('#timeline').focus();
+  await page.keyboard.press('End');
+  for (let i = 0; i < 7; ++i) await page.keyboard.press('ArrowLeft');
+  await page.waitForFunction((t) => window.ricochetReplay.tick === t && window.ricochetReplay.ready,
+                             T, { timeout: 5000 });
+  const drawn = (await page.evaluate(() => window.ricochetReplay.positions))
+    .filter((e) => e.kind === 'player');
+  const rows = exported(recordingFile(server.dir, recording.id), T);
+  assert.equal(drawn.length, 2, JSON.stringify(drawn));
+  assert.deepEqual(new Map(drawn.map((e) => [e.id, [e.x, e.y, e.z]])),
+                   new Map([...rows].map(([id, xyz]) => [id, xyz.map(Number)])));
+  assert.equal(await page.locator('#tick').textContent(), String(T));
+  // The scoreboard lists both bots at T.
+  assert.equal(await page.locator('#scores tr').count(), 2);
+
+  // Speeds: 8x plays about 32 times as fast as 0.25x (from tick 1).
+  await page.locator('#step-back').click();
+  assert.equal(await page.evaluate(() => window.ricochetReplay.tick), T - 1);
+  await page.locator('#step').click();
+  assert.equal(await page.evaluate(() => window.ricochetReplay.tick), T);
+  await page.locator('#timeline').focus();
+  await page.keyboard.press('Home');
+  await page.locator('#speed').selectOption('8');
+  await page.locator('#play').click();
+  const fast = await playbackRate(page, 250);
+  await page.locator('#play').click();
+  await page.locator('#speed').selectOption('0.25');
+  await page.locator('#play').click();
+  const slow = await playbackRate(page, 250);
+  await page.locator('#play').click();
+  assert.ok(fast > 3 * 60, `8x played ${fast} ticks/s`);
+  assert.ok(slow < 60, `0.25x played ${slow} ticks/s`);
+  await screenshot(page, 'recordings-1280x720');
+
+  await page.setViewportSize({ width: 390, height: 844 });
+  assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= window.innerWidth),
+            'the page scrolls sideways at 390 px');
+  await screenshot(page, 'recordings-390x844');
+  assert.deepEqual(problems, []);
+  await page.close();
+});
