@@ -22,6 +22,7 @@
 /// UDP socket; close the control channel (SHUTTING_DOWN to every client) and the admin port;
 /// stop the threads; finish writing the recordings.
 
+#include <array>
 #include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
@@ -29,11 +30,14 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <variant>
 #include <vector>
 
 #include "episode_log.h"
@@ -65,9 +69,22 @@ struct OutboxRecord;
 class ControlServer;
 class DirectoryHeartbeat;
 class GameChannel;
+class MatchHost;
 class MatchRegistry;
 class RecordingFiles;
 class ResultsOutbox;
+
+/// Why a live view request (/api/matches/<id>/map or /live) was refused.
+enum class LiveRefusal {
+  BadId,           ///< not a match id (web/match_id.h): 404
+  UnknownMatch,    ///< no such match here (ended, or never): 404
+  UnknownPath,     ///< neither /map nor /live after the id: 404
+  TooManyViewers,  ///< the match's live_feed_max_viewers already watch: 503
+};
+inline constexpr std::size_t kLiveRefusalCount =
+    static_cast<std::size_t>(LiveRefusal::TooManyViewers) + 1;
+/// "bad_id", "unknown_match", "unknown_path", "too_many_viewers".
+const char* name(LiveRefusal refusal);
 
 class Server {
  public:
@@ -156,6 +173,17 @@ class Server {
   void sample_overview();
   /// What the overview shows now, read from the copies each part publishes (as /metrics).
   OverviewSample overview_sample() const;
+  /// The live view's routes (server_live.cpp): GET /api/matches/<id>/map and the event stream
+  /// GET /api/matches/<id>/live.
+  void register_live();
+  /// Counts and logs (once per episode) a refused live view request.
+  void refuse_live(LiveRefusal refusal, std::string_view detail);
+  /// Every live feed interval while running: each viewer's newest frame, encoded on an io_
+  /// thread, pushed to its stream; viewers whose stream closed leave their seat.
+  void poll_live();
+  /// A /api/matches/ path's match (404 with the reason counted when there is none), or the
+  /// refusal to answer with.
+  std::variant<std::shared_ptr<MatchHost>, AdminReply> live_match(std::string_view id_text);
   /// [placement] on: the directory heartbeat, once the ports are bound (under Agones with an
   /// advertise key unset, once the sidecar said where players reach this server).
   void start_placement();
@@ -200,6 +228,16 @@ class Server {
   std::string overview_json_;  ///< the last overview; guarded by overview_mutex_
   /// Open streams of the overview; guarded by overview_mutex_.
   std::vector<std::shared_ptr<AdminEventStream>> overview_streams_;
+  /// Each map's top-down view (web/map_view.h) by map name, made once at the start.
+  std::map<std::string, std::string, std::less<>> map_views_;
+  boost::asio::steady_timer live_timer_{io_};
+  struct LiveViewer;
+  std::mutex live_mutex_;
+  /// Open live streams with their seats; guarded by live_mutex_.
+  std::vector<std::shared_ptr<LiveViewer>>
+      live_viewers_;  ///< shared: LiveViewer is server_live.cpp's
+  /// /api/matches/ requests refused, by LiveRefusal.
+  std::array<std::atomic<std::uint64_t>, kLiveRefusalCount> live_refusals_{};
   std::vector<std::thread> threads_;
   std::thread stopper_;
   std::once_flag stop_once_;
