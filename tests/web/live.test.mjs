@@ -70,8 +70,8 @@ test('the bots\' dots move, a kill shows, a followed player stays centred', asyn
   const problems = watch(page);
   await page.goto(`${server.url}/`);
   await page.locator('#matches a', { hasText: 'ffa-2' }).click();
-  assert.match(page.url(), /\/live\.html\?match=2$/);
-  await page.waitForFunction(() => window.ricochetLive.ready &&
+  await page.waitForURL(/\/live\.html\?match=2$/, { timeout: 5000 });
+  await page.waitForFunction(() => window.ricochetLive?.ready &&
                              window.ricochetLive.players.filter((p) => p.alive).length === 4,
                              null, { timeout: 10000 });
   // The dots move.
@@ -80,7 +80,8 @@ test('the bots\' dots move, a kill shows, a followed player stays centred', asyn
     const was = before.find((b) => b.id === p.id);
     return was && Math.hypot(p.x - was.x, p.z - was.z) > 1;
   }), start, { timeout: 5000 });
-  // Drawn behind the newest frame, never past it, by about the delay (a frame comes every 50 ms).
+  // Drawn behind the newest frame, never past it: 100 ms behind the server's clock, so behind the
+  // newest frame by 100 ms less that frame's age (0..50 ms at 20 Hz; more on a loaded machine).
   const lags = await page.evaluate(() => new Promise((resolve) => {
     const lags = [];
     const sample = () => {
@@ -92,7 +93,7 @@ test('the bots\' dots move, a kill shows, a followed player stays centred', asyn
   }));
   assert.ok(Math.min(...lags) >= 0, `drawn past the newest frame: ${lags}`);
   const medianLag = quantile(lags, 0.5);
-  assert.ok(medianLag >= 50 && medianLag <= 160, `median lag ${medianLag} ms`);
+  assert.ok(medianLag >= 20 && medianLag <= 160, `median lag ${medianLag} ms`);
   // Positions between two frames are drawn, not only the frames' own.
   const distinct = await page.evaluate(() => new Promise((resolve) => {
     const seen = new Set();
