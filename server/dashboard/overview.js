@@ -60,7 +60,13 @@ function renderMatches(matches) {
                            `tick time of ${match.name}: p50 ${p50.toFixed(2)} ms, p99 ${p99.toFixed(2)} ms`),
                  figures);
     ticks.append(spark);
-    tr.append(cell(match.name), cell(match.map), cell(match.mode), cell(match.phase),
+    const name = cell('');
+    const live = document.createElement('a');
+    live.href = `/live.html?match=${match.id}`;
+    live.textContent = match.name;
+    live.title = `Watch ${match.name} live`;
+    name.append(live);
+    tr.append(name, cell(match.map), cell(match.mode), cell(match.phase),
               cell(`${match.connected} / ${match.max_players}`),
               cell(match.leader === null ? '—' : `${match.leader} (${match.leader_score})`),
               cell(duration(match.time_left_s)), ticks, cell(String(match.overruns)));

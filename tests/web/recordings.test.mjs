@@ -20,7 +20,7 @@ let bots;
 before(async () => {
   [server, browser] = await Promise.all([
     startServer({ matches: 1, record: true,
-                  matchKeys: `seed = 42\nwarmup_s = 0\nfrag_limit = 0\nmin_players = 2\ntime_limit_s = ${kMatchS}\n` }),
+                  toml: { matches: `seed = 42\nwarmup_s = 0\nfrag_limit = 0\nmin_players = 2\ntime_limit_s = ${kMatchS}\n` } }),
     launch()]);
   bots = startBots(server, { count: 2, match: 1, seconds: 30 });
 });

@@ -11,13 +11,13 @@ const binary = process.env.RICOCHET_SERVER_BINARY;
 const source = process.env.RICOCHET_SOURCE_DIR;
 
 /// Starts a server with `matches` matches; `token`: the admin token (none when empty); `record`:
-/// matches recorded under <dir>/data; `matchKeys`: more [matches] lines ("time_limit_s = 5\n").
-/// Resolves once it listens, within 20 s.
-export async function startServer({ matches = 2, token = '', record = false, matchKeys = '' } = {}) {
+/// matches recorded under <dir>/data; `toml`: more keys by section ({matches: 'warmup_s = 0\n',
+/// dashboard: ...}). Resolves once it listens, within 20 s.
+export async function startServer({ matches = 2, token = '', record = false, toml = {} } = {}) {
   if (!binary || !source) throw new Error('RICOCHET_SERVER_BINARY and RICOCHET_SOURCE_DIR must be set');
   const dir = mkdtempSync(join(tmpdir(), 'ricochet-web-'));
   const ports = join(dir, 'ports.json');
-  let admin = '[admin]\nbind = "127.0.0.1"\nport = 0\n';
+  let admin = `[admin]\nbind = "127.0.0.1"\nport = 0\n${toml.admin ?? ''}`;
   if (token) {
     writeFileSync(join(dir, 'token'), token);
     admin += `token_file = "${join(dir, 'token')}"\n`;
@@ -25,7 +25,8 @@ export async function startServer({ matches = 2, token = '', record = false, mat
   writeFileSync(join(dir, 'server.toml'),
     `[server]\ndata_dir = "${join(dir, 'data')}"\nports_file = "${ports}"\nthreads = 2\n` +
     '[control]\nbind = "127.0.0.1"\nport = 0\n[game]\nbind = "127.0.0.1"\nport = 0\n' + admin +
-    `[matches]\ncount = ${matches}\nmaps = ["${source}/server/maps/arena.toml"]\nrecord = ${record}\n` + matchKeys);
+    `[matches]\ncount = ${matches}\nmaps = ["${source}/server/maps/arena.toml"]\nrecord = ${record}\n` +
+    (toml.matches ?? '') + (toml.dashboard ? `[dashboard]\n${toml.dashboard}` : ''));
   const log = openSync(join(dir, 'server.log'), 'a');
   const child = spawn(binary, ['--config', join(dir, 'server.toml'), '--password-thread-nice', '0'],
                       { stdio: ['ignore', log, log] });
@@ -57,12 +58,13 @@ export async function startServer({ matches = 2, token = '', record = false, mat
 }
 
 /// `count` ricochet-bot players (one process) in match `match` of `server`, for `seconds`.
-export function startBots(server, { count, match, seconds }) {
+/// `skill`: their aim, 0..1 (1 kills soonest).
+export function startBots(server, { count, match, seconds, skill = 0.5 }) {
   const bot = process.env.RICOCHET_BOT_BINARY;
   if (!bot) throw new Error('RICOCHET_BOT_BINARY must be set');
   const child = spawn(bot, ['--port', String(server.controlPort), '--fingerprint', server.fingerprint,
                             '--bots', String(count), '--match', String(match), '--name', 'webbot',
-                            '--duration-s', String(seconds)],
+                            '--duration-s', String(seconds), '--skill', String(skill)],
                       { stdio: ['ignore', 'ignore', 'inherit'] });
   const exited = new Promise((resolve) => child.once('exit', resolve));
   return {

@@ -731,6 +731,15 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
         routed = text_response(static_cast<http::status>(reply.status), request.version(),
                                std::move(reply.body), reply.content_type);
       }
+      std::optional<AdminReply> instead;
+      if (auto* call = std::get_if<RouteCall>(&routed);
+          call && call->route->stream && call->route->before_stream) {
+        instead = call->route->before_stream(call->request);
+      }
+      if (instead) {
+        routed = text_response(static_cast<http::status>(instead->status), request.version(),
+                               std::move(instead->body), instead->content_type);
+      }
       if (auto* call = std::get_if<RouteCall>(&routed)) {
         if (call->route->stream) {
           co_await stream_events(state, connection, std::move(*call));

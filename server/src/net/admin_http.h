@@ -65,6 +65,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -192,6 +193,10 @@ struct AdminRoute {
   /// Or, when set instead, an event stream: given the open stream on the strand once its
   /// header went out; the producer keeps it and pushes to it.
   std::function<void(const AdminRequest& request, std::shared_ptr<AdminEventStream> stream)> stream;
+  /// With a stream, optionally: called on the strand first; a reply answers the request instead
+  /// of the stream (a refusal such as 404 or 503, or a path under the prefix that is not a
+  /// stream), nullopt opens the stream.
+  std::function<std::optional<AdminReply>(const AdminRequest& request)> before_stream;
 };
 
 class AdminHttp {

@@ -78,6 +78,17 @@ MatchHost::MatchHost(asio::io_context& io, Match match, GameChannel& channel, Se
 
 MatchHost::~MatchHost() = default;
 
+std::shared_ptr<LiveFeed> MatchHost::live_feed(const LiveFeedConfig& config) {
+  const std::lock_guard lock(live_mutex_);
+  if (!live_feed_) {
+    live_feed_ = std::make_shared<LiveFeed>(config);
+    asio::post(strand_, [self = shared_from_this(), feed = live_feed_] {
+      self->match_.set_live_feed(feed);
+    });
+  }
+  return live_feed_;
+}
+
 void MatchHost::start() {
   asio::co_spawn(strand_, tick_loop(shared_from_this()), asio::detached);
 }

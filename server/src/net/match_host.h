@@ -26,6 +26,7 @@
 
 #include "game_channel.h"
 #include "ricochet/db/records.h"
+#include "ricochet/server/live_frame.h"
 #include "ricochet/server/match.h"
 #include "ricochet/server/metrics.h"
 #include "tick_window.h"
@@ -116,6 +117,9 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   int snapshot_rate_hz() const { return snapshot_rate_hz_; }
   const proto::QuantizationSpec& quantization() const { return quantization_; }
   MatchHostStats stats() const;
+  /// The match's live feed (live_frame.h), made on the first call with `config` (valid) and
+  /// handed to the match on its strand; the same feed after. Thread-safe.
+  std::shared_ptr<LiveFeed> live_feed(const LiveFeedConfig& config);
   /// The tick times of the last kTickWindowTicks ticks, s (the quantiles /metrics reports).
   stats::Summary tick_summary() const;
   /// Reports the per-phase tick histograms (ricochet_tick_phase_seconds{match, phase}; they
@@ -169,6 +173,8 @@ class MatchHost : public std::enable_shared_from_this<MatchHost> {
   mutable std::mutex stats_mutex_;
   MatchHostStats stats_;
   TickWindow tick_window_;  ///< the tick's total time; guarded by stats_mutex_
+  std::mutex live_mutex_;
+  std::shared_ptr<LiveFeed> live_feed_;  ///< made by live_feed(); guarded by live_mutex_
 };
 
 }  // namespace ricochet::server

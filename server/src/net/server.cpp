@@ -31,6 +31,7 @@
 #include "episode_log.h"
 #include "fleet_view.h"
 #include "game_channel.h"
+#include "map_view.h"
 #include "match_defaults.h"
 #include "match_registry.h"
 #include "recording_files.h"
@@ -269,7 +270,8 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   // Every map of the rotation is loaded now, so a broken one stops the start, not a match end.
   std::vector<Map> maps;
   for (const std::string& path : config_.matches.maps) maps.push_back(load_map(path));
-  start_replays(maps);
+  start_replays();
+  for (const Map& map : maps) map_views_.try_emplace(map.name, web::map_view_json(map));
   matches_ = std::make_unique<MatchRegistry>(
       io_, std::move(registry), std::move(maps), *game_, [this](EndedMatch match) {
         if (agones_) agones_->match_finished();
@@ -319,6 +321,7 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   register_metrics();
   register_dashboard();
   register_replays();
+  register_live();
   if (const char* sdk_port = std::getenv("AGONES_SDK_HTTP_PORT")) start_agones(sdk_port);
 }
 
@@ -363,6 +366,7 @@ void Server::start() {
   write_ports_file();
   sweep_empty_matches();
   sample_overview();
+  poll_live();
   if (placement_) start_placement();
   const int threads = config_.worker_threads();
   for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });

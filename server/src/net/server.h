@@ -22,6 +22,7 @@
 /// UDP socket; close the control channel (SHUTTING_DOWN to every client) and the admin port;
 /// stop the threads; finish writing the recordings.
 
+#include <array>
 #include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
@@ -36,6 +37,7 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <variant>
 #include <vector>
 
 #include "episode_log.h"
@@ -71,9 +73,22 @@ struct OutboxRecord;
 class ControlServer;
 class DirectoryHeartbeat;
 class GameChannel;
+class MatchHost;
 class MatchRegistry;
 class RecordingFiles;
 class ResultsOutbox;
+
+/// Why a live view request (/api/matches/<id>/map or /live) was refused.
+enum class LiveRefusal {
+  BadId,           ///< not a match id (web/match_id.h): 404
+  UnknownMatch,    ///< no such match here (ended, or never): 404
+  UnknownPath,     ///< neither /map nor /live after the id: 404
+  TooManyViewers,  ///< the match's live_feed_max_viewers already watch: 503
+};
+inline constexpr std::size_t kLiveRefusalCount =
+    static_cast<std::size_t>(LiveRefusal::TooManyViewers) + 1;
+/// "bad_id", "unknown_match", "unknown_path", "too_many_viewers".
+const char* name(LiveRefusal refusal);
 
 class Server {
  public:
@@ -157,9 +172,8 @@ class Server {
   void sweep_empty_matches();
   /// The dashboard's routes on the admin port: GET /api/overview and /api/overview/events.
   void register_dashboard();
-  /// The Recordings page's catalog and replay pool ([dashboard] replay_*), and the top-down
-  /// views of `maps` (a recording's map is one of the rotation's).
-  void start_replays(const std::vector<Map>& maps);
+  /// The Recordings page's catalog and replay pool ([dashboard] replay_*).
+  void start_replays();
   /// GET /api/recordings and the routes under /api/recordings/ (server_replays.cpp).
   void register_replays();
   /// The recording a path's rest names ("<id>" or "<id>/<action>"): nothing when it is there,
@@ -174,6 +188,17 @@ class Server {
   void sample_overview();
   /// What the overview shows now, read from the copies each part publishes (as /metrics).
   OverviewSample overview_sample() const;
+  /// The live view's routes (server_live.cpp): GET /api/matches/<id>/map and the event stream
+  /// GET /api/matches/<id>/live.
+  void register_live();
+  /// Counts and logs (once per episode) a refused live view request.
+  void refuse_live(LiveRefusal refusal, std::string_view detail);
+  /// Every live feed interval while running: each viewer's newest frame, encoded on an io_
+  /// thread, pushed to its stream; viewers whose stream closed leave their seat.
+  void poll_live();
+  /// A /api/matches/ path's match (404 with the reason counted when there is none), or the
+  /// refusal to answer with.
+  std::variant<std::shared_ptr<MatchHost>, AdminReply> live_match(std::string_view id_text);
   /// [placement] on: the directory heartbeat, once the ports are bound (under Agones with an
   /// advertise key unset, once the sidecar said where players reach this server).
   void start_placement();
@@ -203,7 +228,6 @@ class Server {
   std::unique_ptr<RecordingCatalog> recording_catalog_;
   /// The replay workers; stopped (reset) once the io threads are joined.
   std::unique_ptr<ReplayJobs> replays_;
-  std::map<std::string, std::string> map_views_;  ///< map name: map_view_json, made at start
   std::atomic<std::uint64_t> replay_requests_refused_{0};  ///< bad paths, ranges; unknown ids
   std::unique_ptr<GameChannel> game_;
   std::unique_ptr<MatchRegistry> matches_;
@@ -223,6 +247,16 @@ class Server {
   std::string overview_json_;  ///< the last overview; guarded by overview_mutex_
   /// Open streams of the overview; guarded by overview_mutex_.
   std::vector<std::shared_ptr<AdminEventStream>> overview_streams_;
+  /// Each map's top-down view (web/map_view.h) by map name, made once at the start.
+  std::map<std::string, std::string, std::less<>> map_views_;
+  boost::asio::steady_timer live_timer_{io_};
+  struct LiveViewer;
+  std::mutex live_mutex_;
+  /// Open live streams with their seats; guarded by live_mutex_.
+  std::vector<std::shared_ptr<LiveViewer>>
+      live_viewers_;  ///< shared: LiveViewer is server_live.cpp's
+  /// /api/matches/ requests refused, by LiveRefusal.
+  std::array<std::atomic<std::uint64_t>, kLiveRefusalCount> live_refusals_{};
   std::vector<std::thread> threads_;
   std::thread stopper_;
   std::once_flag stop_once_;

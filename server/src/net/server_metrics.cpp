@@ -236,6 +236,13 @@ void Server::register_metrics() {
                    {{"outcome", name(static_cast<HeartbeatOutcome>(i))}},
                    static_cast<double>(placement_counters_.heartbeats[i].load()));
     }
+    for (std::size_t i = 0; i < kLiveRefusalCount; ++i) {
+      sink.counter("ricochet_live_view_refused_total",
+                   "Requests of a match's live view (/api/matches/<id>/map or /live) refused, by "
+                   "reason",
+                   {{"reason", name(static_cast<LiveRefusal>(i))}},
+                   static_cast<double>(live_refusals_[i].load()));
+    }
     const auto hosts = matches_->hosts();
     sink.gauge("ricochet_matches", "Matches hosted", {}, static_cast<double>(hosts.size()));
     sink.gauge("ricochet_players",

@@ -22,7 +22,6 @@
 #include <vector>
 
 #include "admin_http.h"
-#include "map_view.h"
 #include "recording_catalog.h"
 #include "replay_jobs.h"
 #include "server.h"
@@ -69,8 +68,7 @@ std::variant<std::vector<std::uint8_t>, std::string> read_whole(const std::files
 
 }  // namespace
 
-void Server::start_replays(const std::vector<Map>& maps) {
-  for (const Map& map : maps) map_views_.emplace(map.name, web::map_view_json(map));
+void Server::start_replays() {
   recording_catalog_ = std::make_unique<RecordingCatalog>(config_.recordings_path());
   const ReplayJobsConfig jobs{.workers = config_.dashboard.replay_workers,
                               .max_replays = config_.dashboard.max_replays,

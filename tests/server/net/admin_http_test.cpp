@@ -10,6 +10,7 @@
 #include <chrono>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -683,6 +684,41 @@ TEST_F(AdminHttpTest, AStreamSendsWhatItsProducerPushesAsServerSentEvents) {
   }));
   const std::lock_guard lock(mutex);
   EXPECT_FALSE(stream->push("late"));
+}
+
+TEST_F(AdminHttpTest, BeforeStreamAnswersInsteadOfOpeningTheStreamOrLetsItOpen) {
+  std::atomic<int> opened{0};
+  AdminRoute route;
+  route.path = "/api/matches/";
+  route.prefix = true;
+  route.before_stream = [](const AdminRequest& request) -> std::optional<AdminReply> {
+    if (request.path == "/api/matches/1/live") return std::nullopt;
+    if (request.path == "/api/matches/1/map") return AdminReply{200, "{}", "application/json"};
+    return AdminReply{404, "no such match\n"};
+  };
+  route.stream = [&opened](const AdminRequest&, std::shared_ptr<AdminEventStream> stream) {
+    ++opened;
+    stream->push("frame");
+  };
+  routes_ = {route};
+  start();
+  std::string response = exchange(get("/api/matches/9/live"));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 404 Not Found");
+  EXPECT_EQ(body_of(response), "no such match\n");
+  EXPECT_EQ(header_of(response, "X-Content-Type-Options"), "nosniff");
+  response = exchange(get("/api/matches/1/map"));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 200 OK");
+  EXPECT_EQ(header_of(response, "Content-Type"), "application/json");
+  EXPECT_EQ(opened.load(), 0);
+  Client client{port_};
+  client.send(get("/api/matches/1/live"));
+  std::string received;
+  ASSERT_TRUE(eventually([&] {
+    received += client.read_available();
+    return received.find("data: frame\n\n") != std::string::npos;
+  })) << received;
+  EXPECT_EQ(header_of(received, "Content-Type"), "text/event-stream");
+  EXPECT_EQ(opened.load(), 1);
 }
 
 TEST(AdminEventStream, AReaderThatFallsMaxQueueBehindIsDropped) {

@@ -10,6 +10,7 @@
 #include "ricochet/server/input_buffer.h"
 #include "ricochet/server/match.h"
 #include "ricochet/server/weapons.h"
+#include "server.h"
 
 namespace ricochet::server::enum_count_test {
 namespace {
@@ -31,6 +32,7 @@ TEST(EnumCountTest, Network) {
   expect_counted<SeatRefusal>(kSeatRefusalCount, [](SeatRefusal r) { return name(r); });
   expect_counted<AgonesCall>(kAgonesCallCount, [](AgonesCall c) { return name(c); });
   expect_counted<AgonesOutcome>(kAgonesOutcomeCount, [](AgonesOutcome o) { return name(o); });
+  expect_counted<LiveRefusal>(kLiveRefusalCount, [](LiveRefusal r) { return name(r); });
 }
 
 }  // namespace
