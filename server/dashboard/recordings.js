@@ -3,6 +3,8 @@
 // /api/recordings/<id>) then played on a canvas from above: frames fetched by tick range in
 // chunks ahead of the playhead (GET .../frames?from=&to=), the map from GET .../map. The shown
 // tick and the positions drawn are on window.ricochetReplay for the tests.
+import { TopDown } from './topdown.js';
+
 const $ = (id) => document.getElementById(id);
 
 /// Ticks per frames request (the server allows 600).
@@ -145,52 +147,9 @@ function nameOf(entity) {
   return replay.names.get(entity) ?? `#${entity}`;
 }
 
-/// The map's ground (x, z) onto the canvas, the whole map in view.
-function projection(canvas) {
-  const bounds = replay.map?.bounds ?? { min: [-50, 0, -50], max: [50, 10, 50] };
-  const [x0, , z0] = bounds.min;
-  const [x1, , z1] = bounds.max;
-  const scale = Math.min(canvas.width / (x1 - x0 || 1), canvas.height / (z1 - z0 || 1)) * 0.95;
-  const ox = (canvas.width - (x1 - x0) * scale) / 2;
-  const oz = (canvas.height - (z1 - z0) * scale) / 2;
-  return { scale, at: (x, z) => [ox + (x - x0) * scale, oz + (z - z0) * scale] };
-}
-
-/// A colour of style.css' palette ("--line").
-function colour(name) {
-  return getComputedStyle(document.documentElement).getPropertyValue(name).trim();
-}
-
-function drawMap(g, view) {
-  const map = replay.map;
-  if (!map) return;
-  g.fillStyle = colour('--line');
-  g.strokeStyle = colour('--muted');
-  for (const mesh of map.meshes) {
-    for (const [i, j, k] of mesh.triangles) {
-      g.beginPath();
-      for (const v of [i, j, k]) g.lineTo(...view.at(...mesh.vertices[v]));
-      g.closePath();
-      g.fill();
-    }
-  }
-  for (const box of map.boxes) {
-    g.beginPath();
-    for (const corner of box.corners) g.lineTo(...view.at(...corner));
-    g.closePath();
-    g.fill();
-    g.stroke();
-  }
-}
-
 function draw() {
   if (!replay) return;
   const tick = replay.tick;
-  const canvas = $('view');
-  const g = canvas.getContext('2d');
-  g.clearRect(0, 0, canvas.width, canvas.height);
-  const view = projection(canvas);
-  drawMap(g, view);
   const frame = frameAt(tick);
   $('tick').textContent = String(tick);
   $('timeline').value = String(tick);
@@ -203,35 +162,17 @@ function draw() {
   }
   $('replay-state').textContent = `Tick ${tick} of ${replay.summary.last_tick}, ` +
     `${(tick / replay.summary.tick_rate_hz).toFixed(2)} s`;
-  const positions = [];
-  g.font = '12px system-ui, sans-serif';
-  const text = colour('--fg');
-  for (const p of frame.projectiles) {
-    positions.push({ id: p.id, kind: p.kind, x: p.x, y: p.y, z: p.z });
-    const [cx, cy] = view.at(p.x, p.z);
-    g.fillStyle = p.kind === 'rocket' ? '#bf8700' : '#1a7f37';
-    g.fillRect(cx - 2, cy - 2, 4, 4);
-  }
-  for (const p of frame.players) {
-    positions.push({ id: p.id, kind: 'player', x: p.x, y: p.y, z: p.z });
-    const [cx, cy] = view.at(p.x, p.z);
-    const radius = Math.max(4, 0.5 * view.scale);
-    g.globalAlpha = p.alive ? (p.away ? 0.4 : 1) : 0.25;
-    g.fillStyle = kTeamColours[replay.teams.get(p.id) ?? 0];
-    g.beginPath();
-    g.arc(cx, cy, radius, 0, 2 * Math.PI);
-    g.fill();
-    // Yaw 0 faces -z (up on the canvas), counter-clockwise seen from above.
-    g.strokeStyle = g.fillStyle;
-    g.beginPath();
-    g.moveTo(cx, cy);
-    g.lineTo(cx - Math.sin(p.yaw) * radius * 2.2, cy - Math.cos(p.yaw) * radius * 2.2);
-    g.stroke();
-    g.fillStyle = text;
-    g.fillText(`${nameOf(p.id)} ${p.health}`, cx + radius + 2, cy - radius);
-    g.globalAlpha = 1;
-  }
-  exposed.positions = positions;
+  replay.view.draw({
+    players: frame.players.map((p) => ({
+      id: p.id, name: nameOf(p.id), x: p.x, z: p.z, yaw: p.yaw, alive: p.alive, health: p.health,
+      faded: p.away, colour: kTeamColours[replay.teams.get(p.id) ?? 0],
+    })),
+    projectiles: frame.projectiles,
+  });
+  exposed.positions = [
+    ...frame.projectiles.map((p) => ({ id: p.id, kind: p.kind, x: p.x, y: p.y, z: p.z })),
+    ...frame.players.map((p) => ({ id: p.id, kind: 'player', x: p.x, y: p.y, z: p.z })),
+  ];
   exposed.ready = true;
   renderScores(tick);
   renderKills(tick);
@@ -325,7 +266,8 @@ async function openRecording(entry) {
                                             getJson(`/api/recordings/${id}/map`)]);
     const summary = read.summary;
     replay = {
-      id: entry.id, summary, map, chunks: new Map(), tick: 1, playhead: 1, playing: false,
+      id: entry.id, summary, view: new TopDown($('view'), map), chunks: new Map(), tick: 1,
+      playhead: 1, playing: false,
       speed: Number($('speed').value), last: null,
       names: new Map(summary.players.map((p) => [p.entity, p.name])),
       teams: new Map(summary.players.map((p) => [p.entity, p.team])),
