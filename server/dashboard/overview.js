@@ -1,10 +1,13 @@
 // The overview page: the server's figures, its matches with their tick times as sparklines, and
 // every drop and refusal, from /api/overview/events (one JSON object a second, see
-// server/src/net/overview.h). Each top-level section of that object has a renderer below; a new
-// section (the fleet's servers) adds one.
+// server/src/net/overview.h). Each top-level section of that object has a renderer below. When
+// the server is in a fleet directory (server.fleet), the page also reads GET /fleet itself
+// (server/src/net/fleet_view.h) every FLEET_PERIOD_MS while it is open: a directory read per
+// open page, not one per overview sample.
 import { sparkline } from './sparkline.js';
 
 const $ = (id) => document.getElementById(id);
+const FLEET_PERIOD_MS = 5000;
 
 function cell(text, className) {
   const td = document.createElement('td');
@@ -26,6 +29,7 @@ function duration(seconds) {
 }
 
 function renderServer(server) {
+  if (server.fleet) watchFleet();
   const figures = [
     ['Matches', server.matches],
     ['Players', server.players],
@@ -82,12 +86,19 @@ function renderMatches(matches) {
   $('matches').replaceChildren(...rows);
 }
 
+// Expected drops (an input repeated by a later packet: the redundancy) are not problems; they
+// are listed under the table, apart.
 function renderRefusals(refusals) {
-  const rows = refusals.map((r) => {
+  const problems = refusals.filter((r) => !r.expected);
+  const expected = refusals.filter((r) => r.expected);
+  const rows = problems.map((r) => {
     const tr = document.createElement('tr');
     tr.append(cell(r.channel), cell(r.reason), cell(String(r.count)));
     return tr;
   });
+  $('expected').textContent = expected.length === 0 ? '' :
+    `Expected, not problems: ${expected.map((r) => `${r.count} ${r.channel} ${r.reason}`).join(', ')} ` +
+    '(every packet repeats the last inputs, so most arrive more than once).';
   if (rows.length === 0) {
     const tr = document.createElement('tr');
     const td = cell('None since the start', 'empty');
@@ -96,6 +107,62 @@ function renderRefusals(refusals) {
     rows.push(tr);
   }
   $('refusals').replaceChildren(...rows);
+}
+
+function seconds(ms) {
+  return `${(ms / 1000).toFixed(1)} s`;
+}
+
+function renderFleet(fleet) {
+  const rows = fleet.servers.map((server) => {
+    const tr = document.createElement('tr');
+    tr.dataset.server = server.server_id;
+    const id = cell(server.server_id);
+    if (server.self) {
+      id.append(' (this server)');
+      tr.className = 'self';
+    }
+    const dashboard = cell('');
+    if (!server.self && server.admin_port !== null) {
+      const link = document.createElement('a');
+      link.href = `http://${server.host}:${server.admin_port}/`;
+      link.textContent = 'Open';
+      link.title = `The dashboard of ${server.server_id}`;
+      dashboard.append(link);
+    } else {
+      dashboard.textContent = server.self ? 'here' : '—';
+    }
+    const open = server.matches.filter((m) => m.open).length;
+    tr.append(id, cell(`${server.host}:${server.control_port}`), cell(server.version),
+              cell(`${server.players} / ${server.capacity}`),
+              cell(`${server.matches.length} (${open} open)`),
+              cell(seconds(server.heartbeat_age_ms)), dashboard);
+    return tr;
+  });
+  $('fleet').replaceChildren(...rows);
+  $('fleet-status').textContent = `${fleet.servers.length} servers in the directory`;
+}
+
+let fleetTimer = null;
+
+async function readFleet() {
+  try {
+    const response = await fetch('/fleet');
+    if (!response.ok) {
+      $('fleet-status').textContent = `The directory did not answer (${response.status}): ${await response.text()}`;
+      return;
+    }
+    renderFleet(await response.json());
+  } catch (error) {
+    $('fleet-status').textContent = `The directory could not be read: ${error.message}`;
+  }
+}
+
+function watchFleet() {
+  if (fleetTimer !== null) return;
+  $('fleet-section').hidden = false;
+  readFleet();
+  fleetTimer = setInterval(readFleet, FLEET_PERIOD_MS);
 }
 
 const sections = { server: renderServer, matches: renderMatches, refusals: renderRefusals };

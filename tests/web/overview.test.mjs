@@ -1,7 +1,11 @@
 // The overview page of a server the test starts: it lists the server's matches and their tick
-// sparklines grow, at 1280x720 and at a phone's width, with no console error or failed request.
+// sparklines grow, at 1280x720 and at a phone's width, with no console error or failed request;
+// the expected drops stand apart from the problems; two servers on one database list each other.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
+import { mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
 import { launch, screenshot, watch } from './browser.mjs';
 import { startBots, startServer } from './server_process.mjs';
 
@@ -47,6 +51,13 @@ test('the overview lists the matches and their sparklines grow', async () => {
     (before) => Number(document.querySelector('#matches tr:nth-child(2) svg').dataset.points) > before,
     first, { timeout: 5000 });
   assert.ok(await points(page, 'ffa-2') > first);
+  // The bots' repeated inputs are expected, told apart, and not in the problems' table; a server
+  // outside a fleet directory shows no fleet.
+  await page.waitForFunction(() => /\d+ input stale/.test(document.getElementById('expected').textContent),
+                             null, { timeout: 5000 });
+  assert.deepEqual((await page.locator('#refusals td:nth-child(2)').allTextContents())
+                     .filter((reason) => reason === 'stale'), []);
+  assert.equal(await page.locator('#fleet-section').isHidden(), true);
   // Keyboard: the first Tab reaches the navigation, and the tables' scroll areas take focus.
   await page.keyboard.press('Tab');
   assert.equal(await page.evaluate(() => document.activeElement.textContent), 'Overview');
@@ -60,4 +71,43 @@ test('the overview lists the matches and their sparklines grow', async () => {
   await screenshot(page, 'overview-390x844');
   assert.deepEqual(problems, []);
   await page.close();
+});
+
+test('two servers in one fleet directory list each other, each row linking to its dashboard', async () => {
+  // Two servers on one SQLite database: the directory of section 2 of the scale-out issue, as a
+  // fleet on PostgreSQL has it (the page reads GET /fleet, whatever the store).
+  const data = mkdtempSync(join(tmpdir(), 'ricochet-web-fleet-'));
+  const placement = 'enabled = "on"\nadvertise_host = "127.0.0.1"\nheartbeat_s = 1\n';
+  const servers = [];
+  try {
+    servers.push(await startServer({ matches: 1, dataDir: data, toml: { placement } }));
+    servers.push(await startServer({ matches: 2, dataDir: data, toml: { placement } }));
+    const [a, b] = servers;
+    const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
+    const problems = watch(page);
+    await page.goto(`${a.url}/`);
+    await page.locator('#fleet-section').waitFor({ state: 'visible', timeout: 5000 });
+    await page.waitForFunction(() => document.querySelectorAll('#fleet tr').length === 2, null,
+                               { timeout: 8000 });
+    const rows = await page.locator('#fleet tr').evaluateAll((trs) => trs.map((tr) => ({
+      self: tr.classList.contains('self'),
+      address: tr.cells[1].textContent,
+      matches: tr.cells[4].textContent,
+      link: tr.cells[6].querySelector('a')?.getAttribute('href') ?? null,
+    })));
+    const self = rows.find((row) => row.self);
+    const other = rows.find((row) => !row.self);
+    assert.equal(self.address, `127.0.0.1:${a.controlPort}`);
+    assert.equal(self.matches, '1 (1 open)');
+    assert.equal(self.link, null);
+    assert.equal(other.address, `127.0.0.1:${b.controlPort}`);
+    assert.equal(other.matches, '2 (2 open)');
+    assert.equal(other.link, `${b.url}/`);
+    await screenshot(page, 'overview-fleet-1280x720');
+    assert.deepEqual(problems, []);
+    await page.close();
+  } finally {
+    for (const server of servers) await server.stop();
+    rmSync(data, { recursive: true, force: true });
+  }
 });

@@ -47,12 +47,12 @@ std::string Overview::update(proto::TimeUs now, const OverviewSample& sample) {
   const auto rate = [elapsed_s](std::uint64_t bytes, std::uint64_t before) {
     return elapsed_s > 0 && bytes >= before ? static_cast<double>(bytes - before) / elapsed_s : 0.0;
   };
-  std::string json =
-      fmt::format(R"({{"at_s":{},"server":{{"players":{},"matches":{},"bytes_in_per_s":{},)"
-                  R"("bytes_out_per_s":{},"db_queue_depth":{}}},"matches":[)",
-                  json_number(static_cast<double>(now - *first_at_) / 1e6), sample.players,
-                  sample.matches.size(), json_number(rate(sample.bytes_in, last_in_)),
-                  json_number(rate(sample.bytes_out, last_out_)), sample.db_queue_depth);
+  std::string json = fmt::format(
+      R"({{"at_s":{},"server":{{"players":{},"matches":{},"bytes_in_per_s":{},)"
+      R"("bytes_out_per_s":{},"db_queue_depth":{},"fleet":{}}},"matches":[)",
+      json_number(static_cast<double>(now - *first_at_) / 1e6), sample.players,
+      sample.matches.size(), json_number(rate(sample.bytes_in, last_in_)),
+      json_number(rate(sample.bytes_out, last_out_)), sample.db_queue_depth, sample.fleet);
   last_at_ = now;
   last_in_ = sample.bytes_in;
   last_out_ = sample.bytes_out;
@@ -84,8 +84,9 @@ std::string Overview::update(proto::TimeUs now, const OverviewSample& sample) {
     if (refusal.count == 0) continue;
     if (!first) json += ',';
     first = false;
-    json += fmt::format(R"({{"channel":{},"reason":{},"count":{}}})", json_string(refusal.channel),
-                        json_string(refusal.reason), refusal.count);
+    json += fmt::format(R"({{"channel":{},"reason":{},"count":{}{}}})",
+                        json_string(refusal.channel), json_string(refusal.reason), refusal.count,
+                        refusal.expected ? R"(,"expected":true)" : "");
   }
   return json + "]}";
 }

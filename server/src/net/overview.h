@@ -7,8 +7,10 @@
 /// the samples and sends the JSON (GET /api/overview and its event stream).
 ///
 /// The JSON is one object of sections, so another (the fleet's servers) joins as a key:
-///   {"at_s": s since the first sample, "server": {...}, "matches": [...],
-///    "refusals": [{"channel", "reason", "count"}]}
+///   {"at_s": s since the first sample, "server": {..., "fleet": bool}, "matches": [...],
+///    "refusals": [{"channel", "reason", "count", "expected": true only when set}]}
+/// "fleet": the server keeps a row in the fleet directory, so GET /fleet answers (fleet_view.h);
+/// the page reads that itself, only while it is open: a directory read per viewer, not per sample.
 
 #include <cstddef>
 #include <cstdint>
@@ -45,6 +47,9 @@ struct OverviewRefusal {
   std::string channel;  ///< "game", "control", "match", "admin" ...
   std::string reason;
   std::uint64_t count = 0;
+  /// Part of normal operation, not a problem: an input already applied arriving again in a
+  /// later packet (each packet repeats the last inputs, PROTOCOL.md). Shown apart.
+  bool expected = false;
 };
 
 /// The whole server at one moment.
@@ -54,6 +59,7 @@ struct OverviewSample {
   std::uint64_t bytes_in = 0;  ///< game and control channels, since the start
   std::uint64_t bytes_out = 0;
   std::size_t db_queue_depth = 0;  ///< jobs waiting for the DB thread
+  bool fleet = false;              ///< in the fleet directory: GET /fleet answers
   std::vector<OverviewRefusal> refusals;
 };
 

@@ -61,6 +61,7 @@ OverviewSample Server::overview_sample() const {
   sample.bytes_in = game.bytes_in + control.bytes_in;
   sample.bytes_out = game.bytes_out + control.bytes_out;
   sample.db_queue_depth = db_->queued();
+  sample.fleet = placement_ != nullptr;
   auto& refusals = sample.refusals;
   for (std::size_t i = 0; i < proto::kDropReasonCount; ++i) {
     refusals.push_back(
@@ -77,7 +78,8 @@ OverviewSample Server::overview_sample() const {
     refusals.push_back({"join", name(static_cast<JoinRefusal>(i)), join_refusals[i]});
   }
   for (std::size_t i = 0; i < kInputDropCount; ++i) {
-    refusals.push_back({"input", name(static_cast<InputDrop>(i)), input_drops[i]});
+    const auto drop = static_cast<InputDrop>(i);
+    refusals.push_back({"input", name(drop), input_drops[i], drop == InputDrop::Stale});
   }
   const auto chat = chat_limiter_->refusals();
   for (std::size_t i = 0; i < kChatLimitCount; ++i) {

@@ -33,17 +33,20 @@ TEST(Overview, EachMatchKeepsItsLastTickTimesAndBandwidthIsPerSecond) {
   sample.bytes_in = 1000;
   sample.bytes_out = 5000;
   sample.db_queue_depth = 4;
-  sample.refusals = {{"game", "bad_size", 0}, {"control", "rate_limited", 7}};
+  sample.fleet = true;
+  sample.refusals = {
+      {"game", "bad_size", 0}, {"control", "rate_limited", 7}, {"input", "stale", 12, true}};
   EXPECT_EQ(overview.update(10'000'000, sample),
             R"({"at_s":0.000,"server":{"players":3,"matches":2,"bytes_in_per_s":0.000,)"
-            R"("bytes_out_per_s":0.000,"db_queue_depth":4},"matches":[)"
+            R"("bytes_out_per_s":0.000,"db_queue_depth":4,"fleet":true},"matches":[)"
             R"({"id":1,"name":"ffa-1","map":"arena","mode":"ffa","phase":"running","seated":2,)"
             R"("connected":1,"max_players":8,"leader":"ann","leader_score":3,"time_left_s":61.500,)"
             R"("overruns":0,"tick_p50_ms":[0.500],"tick_p99_ms":[1.000]},)"
             R"({"id":2,"name":"say \"hi\"\u000a","map":"arena","mode":"ffa","phase":"running",)"
             R"("seated":2,"connected":1,"max_players":8,"leader":null,"leader_score":0,)"
             R"("time_left_s":null,"overruns":0,"tick_p50_ms":[1.000],"tick_p99_ms":[2.000]}],)"
-            R"("refusals":[{"channel":"control","reason":"rate_limited","count":7}]})");
+            R"("refusals":[{"channel":"control","reason":"rate_limited","count":7},)"
+            R"({"channel":"input","reason":"stale","count":12,"expected":true}]})");
 
   // Half a second later: 500 bytes in is 1000 B/s; three samples of match 1, two kept; match 2
   // ended, a match 3 began.
