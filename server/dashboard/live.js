@@ -141,36 +141,58 @@ function addKills(kills) {
   while (list.children.length > FEED_LENGTH) list.lastElementChild.remove();
 }
 
-let scoresKey = '';
+// The scoreboard's rows by player id, made once and updated in place: with 64 players someone's
+// health changes in nearly every frame, and rebuilding every row 20 times a second costs the
+// page more than drawing the map.
+const scoreRows = new Map();  // id -> {tr, button, cells: [score, kills, deaths, health]}
+
+function scoreRow(player) {
+  let row = scoreRows.get(player.id);
+  if (row) return row;
+  const tr = document.createElement('tr');
+  tr.dataset.player = String(player.id);
+  const name = document.createElement('td');
+  const button = document.createElement('button');
+  button.type = 'button';
+  button.dataset.player = String(player.id);
+  button.addEventListener('click', () => follow(state.followed === player.id ? null : player.id));
+  name.append(button);
+  const cells = [0, 1, 2, 3].map(() => document.createElement('td'));
+  tr.append(name, ...cells);
+  row = { tr, button, cells };
+  scoreRows.set(player.id, row);
+  return row;
+}
+
+function setText(node, text) {
+  if (node.textContent !== text) node.textContent = text;
+}
+
 function renderScores(frame) {
   const players = [...frame.players].sort((p, q) => q.score - p.score || p.id - q.id);
-  const key = JSON.stringify([state.followed, players.map((p) =>
-    [p.id, p.name, p.score, p.kills, p.deaths, p.alive ? p.health : 0])]);
-  if (key === scoresKey) return;  // nothing changed: keep the DOM (and the keyboard focus)
-  const focused = document.activeElement?.dataset?.player;
-  scoresKey = key;
-  const rows = players.map((p) => {
-    const tr = document.createElement('tr');
-    tr.dataset.player = String(p.id);
-    const name = document.createElement('td');
-    const button = document.createElement('button');
-    button.type = 'button';
-    button.textContent = p.name;
-    button.dataset.player = String(p.id);
-    button.setAttribute('aria-pressed', String(state.followed === p.id));
-    button.title = `Follow ${p.name}`;
-    button.addEventListener('click', () => follow(state.followed === p.id ? null : p.id));
-    name.append(button);
-    tr.append(name);
-    for (const value of [p.score, p.kills, p.deaths, p.alive ? p.health : 'dead']) {
-      const td = document.createElement('td');
-      td.textContent = String(value);
-      tr.append(td);
+  const present = new Set(players.map((p) => p.id));
+  for (const [id, row] of scoreRows) {
+    if (!present.has(id)) {
+      row.tr.remove();
+      scoreRows.delete(id);
     }
-    return tr;
+  }
+  const body = $('scores');
+  const rows = players.map((p) => {
+    const row = scoreRow(p);
+    setText(row.button, p.name);
+    row.button.title = `Follow ${p.name}`;
+    row.button.setAttribute('aria-pressed', String(state.followed === p.id));
+    [p.score, p.kills, p.deaths, p.alive ? p.health : 'dead']
+      .forEach((value, n) => setText(row.cells[n], String(value)));
+    return row.tr;
   });
-  $('scores').replaceChildren(...rows);
-  if (focused) $('scores').querySelector(`button[data-player="${focused}"]`)?.focus();
+  // Reordered only when the order changed; a moved row loses the keyboard focus: given back.
+  if (rows.some((tr, n) => body.children[n] !== tr)) {
+    const focused = document.activeElement?.dataset?.player;
+    body.replaceChildren(...rows);
+    if (focused) body.querySelector(`button[data-player="${focused}"]`)?.focus();
+  }
 }
 
 function follow(id) {

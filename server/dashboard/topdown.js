@@ -20,7 +20,7 @@ export class TopDown {
     const [x0, , z0] = map.bounds.min;
     const [x1, , z1] = map.bounds.max;
     this.bounds = { x0, z0, w: x1 - x0 || 1, h: z1 - z0 || 1 };
-    this.view = null;  // {scale px per m, width, height, dpr, layer}
+    this.view = null;  // {scale px per m, width, height, dpr, layer, palette}
     this.centre = null;  // [x, z] drawn at the middle of the canvas by the last draw, m
   }
 
@@ -35,7 +35,8 @@ export class TopDown {
     const target = players.find((p) => p.id === followed);
     this.centre = target ? [target.x, target.z] : [b.x0 + b.w / 2, b.z0 + b.h / 2];
     const [sx, sy] = [(x) => this.#x(x), (z) => this.#y(z)];
-    g.fillStyle = colour('--panel');
+    const palette = this.view.palette;
+    g.fillStyle = palette.panel;
     g.fillRect(0, 0, width, height);
     g.drawImage(this.view.layer, sx(b.x0), sy(b.z0));
     for (const shot of projectiles) {
@@ -77,12 +78,12 @@ export class TopDown {
         g.stroke();
       }
       if (p.id === followed) {
-        g.strokeStyle = colour('--accent');
+        g.strokeStyle = palette.accent;
         g.beginPath();
         g.arc(x, y, radius + 4 * dpr, 0, 2 * Math.PI);
         g.stroke();
       }
-      g.fillStyle = colour('--fg');
+      g.fillStyle = palette.fg;
       g.fillText(p.name, x, y - radius - 4 * dpr);
       g.globalAlpha = 1;
     }
@@ -184,6 +185,8 @@ export class TopDown {
       g.arc(sx, sy, 4 * dpr, 0, 2 * Math.PI);
       g.stroke();
     }
-    this.view = { scale, width, height, dpr, layer };
+    // The page's colours, read once per layout: getComputedStyle per player per frame is not free.
+    const palette = { panel: colour('--panel'), accent: colour('--accent'), fg: colour('--fg') };
+    this.view = { scale, width, height, dpr, layer, palette };
   }
 }

@@ -7,6 +7,7 @@
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { launch, screenshot, watch } from './browser.mjs';
+import { nearestRank } from './percentile.mjs';
 import { startBots, startServer } from './server_process.mjs';
 
 let server;
@@ -24,11 +25,6 @@ after(async () => {
   await browser?.close();
   await server?.stop();
 });
-
-function quantile(values, q) {
-  const sorted = [...values].sort((a, b) => a - b);
-  return sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
-}
 
 async function refusals() {
   const text = await (await fetch(`${server.url}/metrics`)).text();
@@ -92,7 +88,7 @@ test('the bots\' dots move, a kill shows, a followed player stays centred', asyn
     requestAnimationFrame(sample);
   }));
   assert.ok(Math.min(...lags) >= 0, `drawn past the newest frame: ${lags}`);
-  const medianLag = quantile(lags, 0.5);
+  const medianLag = nearestRank(lags, 0.5);
   assert.ok(medianLag >= 20 && medianLag <= 160, `median lag ${medianLag} ms`);
   // Positions between two frames are drawn, not only the frames' own.
   const distinct = await page.evaluate(() => new Promise((resolve) => {
@@ -152,9 +148,9 @@ test('the bots\' dots move, a kill shows, a followed player stays centred', asyn
 
   const times = await page.evaluate(() => ({ frame: window.ricochetLive.frameTimesMs,
                                              draw: window.ricochetLive.drawMs }));
-  console.log(`live view, 4 players, 1280x720 headless: rAF interval p50 ${quantile(times.frame, 0.5).toFixed(2)} ms, ` +
-              `p99 ${quantile(times.frame, 0.99).toFixed(2)} ms over ${times.frame.length} frames; ` +
-              `draw p99 ${quantile(times.draw, 0.99).toFixed(3)} ms`);
+  console.log(`live view, 4 players, 1280x720 headless: rAF interval p50 ${nearestRank(times.frame, 0.5).toFixed(2)} ms, ` +
+              `p99 ${nearestRank(times.frame, 0.99).toFixed(2)} ms over ${times.frame.length} frames; ` +
+              `draw p99 ${nearestRank(times.draw, 0.99).toFixed(3)} ms`);
 
   await page.setViewportSize({ width: 390, height: 844 });
   assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= window.innerWidth),

@@ -10,13 +10,13 @@ import { setTimeout as sleep } from 'node:timers/promises';
 const binary = process.env.RICOCHET_SERVER_BINARY;
 const source = process.env.RICOCHET_SOURCE_DIR;
 
-/// Starts a server with `matches` matches; `token`: the admin token (none when empty); `record`:
-/// matches recorded under <dir>/data; `dataDir`: another data directory (two servers on one
-/// SQLite database make a fleet directory of two); `toml`: more keys by section
-/// ({matches: 'warmup_s = 0\n', dashboard: ..., placement: ...}). Resolves once it listens,
-/// within 20 s.
-export async function startServer({ matches = 2, token = '', record = false, dataDir = '',
-                                    toml = {} } = {}) {
+/// Starts a server with `matches` matches of `map` (server/maps/<map>.toml); `token`: the admin
+/// token (none when empty); `record`: matches recorded under <dir>/data; `dataDir`: another data
+/// directory (two servers on one SQLite database make a fleet directory of two); `toml`: more
+/// keys by section ({matches: 'warmup_s = 0\n', dashboard: ..., placement: ...}). Resolves once
+/// it listens, within 20 s.
+export async function startServer({ matches = 2, map = 'arena', token = '', record = false,
+                                    dataDir = '', toml = {} } = {}) {
   if (!binary || !source) throw new Error('RICOCHET_SERVER_BINARY and RICOCHET_SOURCE_DIR must be set');
   const dir = mkdtempSync(join(tmpdir(), 'ricochet-web-'));
   const ports = join(dir, 'ports.json');
@@ -28,9 +28,10 @@ export async function startServer({ matches = 2, token = '', record = false, dat
   writeFileSync(join(dir, 'server.toml'),
     `[server]\ndata_dir = "${dataDir || join(dir, 'data')}"\nports_file = "${ports}"\nthreads = 2\n` +
     '[control]\nbind = "127.0.0.1"\nport = 0\n[game]\nbind = "127.0.0.1"\nport = 0\n' + admin +
-    `[matches]\ncount = ${matches}\nmaps = ["${source}/server/maps/arena.toml"]\nrecord = ${record}\n` +
-    (toml.matches ?? '') + (toml.dashboard ? `[dashboard]\n${toml.dashboard}` : '') +
-    (toml.placement ? `[placement]\n${toml.placement}` : ''));
+    `[matches]\ncount = ${matches}\nmaps = ["${source}/server/maps/${map}.toml"]\nrecord = ${record}\n` +
+    (toml.matches ?? '') +
+    Object.entries(toml).filter(([section]) => section !== 'admin' && section !== 'matches')
+      .map(([section, keys]) => `[${section}]\n${keys}`).join(''));
   const log = openSync(join(dir, 'server.log'), 'a');
   const child = spawn(binary, ['--config', join(dir, 'server.toml'), '--password-thread-nice', '0'],
                       { stdio: ['ignore', log, log] });
