@@ -36,12 +36,15 @@
 /// --record writes the last player count's recording to FILE (for ricochet-replay).
 /// --ticks-out appends one JSON line per measured tick to FILE: players, tick, ms, the phases,
 /// entities; where a tail comes from (a burst of new projectiles, a phase's spike).
-/// --watch-hz N measures instead what the live spectator feed (live_frame.h) costs the tick: two
-/// matches with the same script ticked in turn (which goes first swaps every tick), one with a
-/// viewer whose feed publishes at N Hz, each tick timed on the same clock; one "match_watch" line
-/// per player count: both matches' tick_ms, watch_cost_ratio (watched mean / unwatched mean, and
-/// of the p50s), the frames and what encoding them as JSON cost (timed apart: it runs on a
-/// viewer's thread, not the tick's), and whether both matches ended in the same state.
+/// --watch-hz N measures instead what the dashboard costs the tick. The live spectator feed
+/// (live_frame.h): two matches with the same script ticked in turn (which goes first swaps every
+/// tick), one with a viewer whose feed publishes at N Hz, each tick timed on the same clock; one
+/// "match_watch" line per player count: both matches' tick_ms, watch_cost_ratio (watched mean /
+/// unwatched mean, and of the p50s), the frames and what encoding them as JSON cost (timed apart:
+/// it runs on a viewer's thread, not the tick's), and whether both matches ended in the same
+/// state. The overview: its leader lookup once a second timed on the watched match
+/// (leader_lookup_us_*), and overview_cost_ratio, 1 + that spread over a second's ticks / the
+/// unwatched tick's mean.
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -392,9 +395,10 @@ bench::JsonObject watch_cost(const server::Map& map, int players, const Options&
   const int ticks = static_cast<int>(options.seconds * options.rate_hz);
   const int warmup = options.rate_hz;
   const auto tick_clock_ns = options.clock == "thread-cpu" ? thread_cpu_ns : steady_ns;
-  std::vector<double> plain_ms, watched_ms, encode_ms;
+  std::vector<double> plain_ms, watched_ms, encode_ms, leader_ms;
   std::uint64_t frame_bytes = 0;
   server::Outgoing outgoing;
+  std::string leader;  // what the overview shows, kept across lookups as MatchHost keeps it
   for (int t = 1; t <= warmup + ticks; ++t) {
     const proto::TimeUs now = t * tick_us;
     for (int turn = 0; turn < 2; ++turn) {
@@ -408,6 +412,20 @@ bench::JsonObject watch_cost(const server::Map& map, int players, const Options&
       while (match.poll_outbox(outgoing)) {
       }
       if (t > warmup) (watched_turn ? watched_ms : plain_ms).push_back(elapsed_ms);
+      // The overview's share, on the match's strand once a second: MatchHost::find_leader's
+      // scan of the scoreboard (its per-tick copies of phase and tick are three loads).
+      if (watched_turn && t > warmup && t % options.rate_hz == 0) {
+        const std::int64_t leader_started = tick_clock_ns();
+        int best = 0;
+        leader.clear();
+        for (const server::PlayerScore& score : match.scoreboard()) {
+          if (score.score > best) {
+            best = score.score;
+            leader = score.name;
+          }
+        }
+        leader_ms.push_back(static_cast<double>(tick_clock_ns() - leader_started) / 1e6);
+      }
     }
     // The viewer's side: each new frame encoded once, as a page's stream would.
     std::shared_ptr<const server::LiveFrame> frame = viewer->latest();
@@ -422,6 +440,7 @@ bench::JsonObject watch_cost(const server::Map& map, int players, const Options&
   const stats::Summary unwatched = stats::summarize(plain_ms);
   const stats::Summary with_viewer = stats::summarize(watched_ms);
   const stats::Summary encode = stats::summarize(encode_ms);
+  const stats::Summary leader_lookup = stats::summarize(leader_ms);
   return bench::result_line("match_watch")
       .text("map", map.name)
       .integer("players", players)
@@ -444,6 +463,9 @@ bench::JsonObject watch_cost(const server::Map& map, int players, const Options&
           "frame_bytes_avg",
           encode.count ? static_cast<double>(frame_bytes) / static_cast<double>(encode.count) : 0.0,
           0)
+      .number("leader_lookup_us_avg", leader_lookup.mean * 1000, 2)
+      .number("leader_lookup_us_max", leader_lookup.max * 1000, 2)
+      .number("overview_cost_ratio", 1 + leader_lookup.mean / options.rate_hz / unwatched.mean, 6)
       .flag("same_state", plain.match.state_hash() == watched.match.state_hash());
 }
 
