@@ -82,6 +82,7 @@ void check_rules(const Recording& recording) {
           "a hash on a tick that is not recorded, or out of order");
   }
   check(hash == recording.hashes.size(), "a hash after the last tick");
+  check(recording.complete || !recording.players, "a player count without a footer");
   for (std::size_t i = 1; i < recording.hashes.size(); ++i) {
     check(recording.hashes[i].tick > recording.hashes[i - 1].tick, "two hashes for one tick");
   }
@@ -107,6 +108,9 @@ void check_rewrite(const Recording& recording) {
   check(back->complete && !back->truncated, "a rewritten recording is not complete");
   check(back->ticks.size() == recording.ticks.size(), "rewrite changed the tick count");
   check(back->hashes.size() == recording.hashes.size(), "rewrite changed the hash count");
+  check(back->players.has_value(), "a rewritten footer without its player count");
+  check(!recording.players || back->players == recording.players,
+        "rewrite changed the player count");
   for (std::size_t i = 0; i < back->ticks.size(); ++i) {
     const RecordedTick& a = recording.ticks[i];
     const RecordedTick& b = back->ticks[i];

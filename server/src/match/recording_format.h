@@ -14,7 +14,10 @@ namespace ricochet::server::recording_format {
 
 /// "RCREC\r\n\x1a": a text transfer or a truncation to 7 bits shows in the first bytes.
 inline constexpr std::array<std::uint8_t, 8> kMagic = {'R', 'C', 'R', 'E', 'C', '\r', '\n', 0x1a};
-inline constexpr std::uint8_t kVersion = 1;
+/// The version the writer writes; the reader reads kOldestVersion..kVersion (server/RECORDING.md,
+/// Versions). 2: the footer counts the players.
+inline constexpr std::uint8_t kVersion = 2;
+inline constexpr std::uint8_t kOldestVersion = 1;
 
 enum ChunkType : std::uint8_t { kChunkHeader = 1, kChunkTicks = 2, kChunkFooter = 3 };
 const char* chunk_name(std::uint8_t type);
@@ -28,6 +31,12 @@ inline constexpr std::size_t kFrameBytes = kFrameHeadBytes + 4;
 inline constexpr std::size_t kTickChunkTarget = 16 * 1024;
 inline constexpr std::size_t kMaxTickChunkBytes = 1u << 20;
 inline constexpr std::size_t kMaxFooterBytes = 64;
+/// The longest footer payload of a file within kMaxRecordingBytes (2^30): the last tick (a u32)
+/// and the ticks, events, hashes, chunks and players (each at least a byte of the file) take at
+/// most 5 varint bytes, the inputs (up to 64 per tick) 6, then truncated u8 and file_crc u32.
+inline constexpr std::size_t kLongestFooterBytes = 6 * 5 + 6 + 1 + 4;
+static_assert(kLongestFooterBytes <= kMaxFooterBytes);
+static_assert(kMaxRecordingFooterBytes == kFrameBytes + kMaxFooterBytes);
 inline constexpr std::uint32_t kMaxHashInterval = 1'000'000;
 inline constexpr std::uint32_t kMaxTickRate = 1000;
 

@@ -272,8 +272,23 @@ struct Totals {
   std::uint32_t last_tick = 0;
 };
 
-/// Compares the footer with what the chunks held; returns the truncated flag.
-bool read_footer(Cursor& in, const Totals& totals, std::uint32_t file_crc) {
+/// Distinct accounts with a Connect event in `ticks`.
+std::uint64_t connected_accounts(const std::vector<RecordedTick>& ticks) {
+  std::vector<std::uint64_t> accounts;
+  for (const RecordedTick& tick : ticks) {
+    for (const RecordedEvent& event : tick.events) {
+      if (event.kind == RecordedEventKind::Connect) accounts.push_back(event.account);
+    }
+  }
+  std::sort(accounts.begin(), accounts.end());
+  return static_cast<std::uint64_t>(std::unique(accounts.begin(), accounts.end()) -
+                                    accounts.begin());
+}
+
+/// Compares the footer of a file of `version` with what the chunks held, sets the recording's
+/// truncated flag and player count.
+void read_footer(Cursor& in, std::uint8_t version, const Totals& totals, std::uint32_t file_crc,
+                 Recording& recording) {
   const auto expect = [&](const char* what, std::uint64_t stored, std::uint64_t counted) {
     if (stored == counted) return;
     std::string message = "the footer says ";
@@ -288,13 +303,20 @@ bool read_footer(Cursor& in, const Totals& totals, std::uint32_t file_crc) {
   expect("tick chunks", in.varint("tick chunk count"), totals.chunks);
   const std::uint8_t truncated = in.u8("truncated flag");
   if (truncated > 1) in.fail("truncated flag must be 0 or 1, got " + std::to_string(truncated));
+  recording.truncated = truncated == 1;
+  if (version >= 2) {
+    const auto players = static_cast<std::uint32_t>(
+        in.bounded("player count", std::numeric_limits<std::uint32_t>::max()));
+    expect("players (distinct accounts with a Connect event)", players,
+           connected_accounts(recording.ticks));
+    recording.players = players;
+  }
   const std::uint32_t stored = in.u32("file checksum");
   if (stored != file_crc) {
     in.fail("file CRC-32 mismatch (stored " + hex32(stored) + ", computed " + hex32(file_crc) +
             ")");
   }
   if (!in.at_end()) in.fail("bytes after the footer's last field");
-  return truncated == 1;
 }
 
 std::uint32_t read_le32(std::span<const std::uint8_t> bytes, std::size_t at) {
@@ -319,9 +341,11 @@ Recording read_all(std::span<const std::uint8_t> bytes) {
     throw Failure{"not a ricochet recording (the file does not start with \"RCREC\\r\\n\\x1a\")",
                   0};
   }
-  if (bytes[rf::kMagic.size()] != rf::kVersion) {
-    throw Failure{"recording format version " + std::to_string(bytes[rf::kMagic.size()]) +
-                      ", this build reads version " + std::to_string(rf::kVersion),
+  const std::uint8_t version = bytes[rf::kMagic.size()];
+  if (version < rf::kOldestVersion || version > rf::kVersion) {
+    throw Failure{"recording format version " + std::to_string(version) +
+                      ", this build reads versions " + std::to_string(rf::kOldestVersion) + " to " +
+                      std::to_string(rf::kVersion),
                   rf::kMagic.size()};
   }
   Recording recording;
@@ -418,7 +442,7 @@ Recording read_all(std::span<const std::uint8_t> bytes) {
       }
       totals.last_tick = state.last_tick;
     } else {
-      recording.truncated = read_footer(in, totals, rf::crc32(bytes.first(pos)));
+      read_footer(in, version, totals, rf::crc32(bytes.first(pos)), recording);
       recording.complete = true;
       const std::size_t end = payload_at + length + 4;
       if (end != bytes.size()) {
@@ -450,7 +474,7 @@ std::variant<std::size_t, RecordingError> recording_header_bytes(
     return RecordingError{"no header chunk", first.size()};
   }
   if (!std::equal(rf::kMagic.begin(), rf::kMagic.end(), first.begin()) ||
-      first[rf::kMagic.size()] != rf::kVersion) {
+      first[rf::kMagic.size()] < rf::kOldestVersion || first[rf::kMagic.size()] > rf::kVersion) {
     return std::get<RecordingError>(read_recording(first.first(prefix)));
   }
   if (first[prefix] != rf::kChunkHeader) {
@@ -500,6 +524,13 @@ std::optional<RecordingFooter> read_recording_footer(std::span<const std::uint8_
           in.bounded("last tick", std::numeric_limits<std::uint32_t>::max()));
       footer.tick_chunks = in.varint("tick chunk count");
       const std::uint8_t truncated = in.u8("truncated flag");
+      // Version 1 ends with the file checksum here; version 2 has the player count before it.
+      if (payload.size() > in.offset() + 4) {
+        const std::uint64_t players =
+            in.bounded("player count", std::numeric_limits<std::uint32_t>::max());
+        if (players > footer.events) continue;  // each came with a Connect event
+        footer.players = static_cast<std::uint32_t>(players);
+      }
       in.u32("file checksum");
       if (truncated > 1 || !in.at_end()) continue;
       footer.truncated = truncated == 1;

@@ -259,6 +259,11 @@ void RecordingWriter::encode_pending() {
       previous_inputs_.insert(it, input);
     }
   }
+  for (const RecordedEvent& event : pending_.events) {
+    if (event.kind != RecordedEventKind::Connect) continue;
+    const auto at = std::lower_bound(accounts_.begin(), accounts_.end(), event.account);
+    if (at == accounts_.end() || *at != event.account) accounts_.insert(at, event.account);
+  }
   ++tick_count_;
   event_count_ += pending_.events.size();
   input_count_ += pending_.inputs.size();
@@ -301,6 +306,7 @@ std::vector<std::uint8_t> RecordingWriter::finish() {
   rf::put_varint(footer, last_encoded_);
   rf::put_varint(footer, chunk_count_);
   footer.push_back(full() ? 1 : 0);
+  rf::put_varint(footer, accounts_.size());
   rf::put_u32(footer, file_crc_);
   std::vector<std::uint8_t> file;
   file.reserve(file_bytes_ - taken_bytes_ + rf::kFrameBytes + footer.size());

@@ -113,6 +113,7 @@ RecordingEntry describe_recording(const std::filesystem::path& file, const std::
     entry.truncated = footer->truncated;
     entry.ticks = footer->last_tick;
     entry.seconds = static_cast<double>(footer->last_tick) / head.tick_rate_hz;
+    entry.players = footer->players;
   }
   return entry;
 }
@@ -203,6 +204,7 @@ std::string recording_list_json(const RecordingList& list) {
     if (e.seconds) std::snprintf(seconds, sizeof seconds, "%.3f", *e.seconds);
     out += ",\"seconds\":";
     out += seconds;
+    out += ",\"players\":" + (e.players ? std::to_string(*e.players) : std::string("null"));
     out += '}';
   }
   out += "],\"unreadable\":" + std::to_string(list.unreadable) + "}";

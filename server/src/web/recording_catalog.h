@@ -43,6 +43,9 @@ struct RecordingEntry {
   std::optional<std::uint32_t> ticks;
   /// ticks / tick_rate_hz, s; unset with ticks.
   std::optional<double> seconds;
+  /// Distinct accounts that joined, from the footer; unset without one or in a version 1 file
+  /// (its footer does not count them).
+  std::optional<std::uint32_t> players;
 };
 
 /// One listing: every `.rcr` file of the directory, newest first.

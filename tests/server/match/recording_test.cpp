@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "recording_format.h"
+#include "version1_recording.h"
 
 namespace ricochet::server::recording_test {
 namespace {
@@ -422,6 +423,98 @@ TEST(RecordingTest, AListingReadsTheHeaderAndTheFooterAloneAndNoFooterInACutFile
   }
 }
 
+/// A recording of `ticks` ticks, one player's input each, with `events` at the ticks they name.
+Recording with_events(std::uint32_t ticks,
+                      const std::vector<std::pair<std::uint32_t, RecordedEvent>>& events) {
+  Recording recording;
+  recording.header = sample_header();
+  for (std::uint32_t t = 1; t <= ticks; ++t) {
+    RecordedTick tick;
+    tick.tick = t;
+    for (const auto& [at, event] : events) {
+      if (at == t) tick.events.push_back(event);
+    }
+    RecordedInput input;
+    input.entity_id = 1;
+    input.input.sequence = t;
+    input.input.yaw_rad = 0.001f * static_cast<float>(t);  // 4 bytes a tick
+    tick.inputs.push_back(input);
+    recording.ticks.push_back(std::move(tick));
+  }
+  return recording;
+}
+
+RecordedEvent connect(std::uint64_t account) {
+  return {RecordedEventKind::Connect, account, with_number("p", account), 0};
+}
+
+RecordedEvent gone(RecordedEventKind kind, std::uint64_t account) {
+  return {kind, account, "", 0};
+}
+
+TEST(RecordingTest, TheFooterCountsTheDistinctAccountsThatConnected) {
+  using K = RecordedEventKind;
+  const struct {
+    const char* what;
+    std::vector<std::pair<std::uint32_t, RecordedEvent>> events;
+    std::uint32_t players;
+  } cases[] = {
+      {"nobody", {{5, {K::End, 0, "", 2}}}, 0},
+      {"one", {{1, connect(7)}}, 1},
+      {"several", {{1, connect(7)}, {1, connect(8)}, {3, connect(9)}, {4, gone(K::Leave, 8)}}, 3},
+      {"reconnects",
+       {{1, connect(7)},
+        {2, connect(8)},
+        {3, gone(K::Disconnect, 7)},
+        {5, connect(7)},  // back within the grace
+        {6, gone(K::Leave, 8)},
+        {8, connect(8)},  // left, then joined again
+        {9, gone(K::TimedOut, 7)},
+        {10, connect(7)}},
+       2},
+  };
+  for (const auto& c : cases) {
+    const auto bytes = write(with_events(12, c.events));
+    const Recording back = read_ok(bytes);
+    EXPECT_EQ(back.players, c.players) << c.what;
+    const auto footer = read_recording_footer(std::span(bytes).last(kMaxRecordingFooterBytes));
+    ASSERT_TRUE(footer.has_value()) << c.what;
+    EXPECT_EQ(footer->players, c.players) << c.what;
+  }
+}
+
+TEST(RecordingTest, AStoppedWriterCountsThePlayersItRecorded) {
+  // Account 7 joins at tick 1, account 8 at tick 400: past the limit.
+  const Recording recording = with_events(400, {{1, connect(7)}, {400, connect(8)}});
+  const auto whole = write(recording);
+  const auto bytes = write(recording, whole.size() / 2);
+  const Recording back = read_ok(bytes);
+  ASSERT_TRUE(back.truncated);
+  EXPECT_EQ(back.players, 1u);
+  EXPECT_EQ(read_ok(whole).players, 2u);
+}
+
+TEST(RecordingTest, AVersion1FileReadsWithItsPlayersUnknown) {
+  const Recording recording = with_events(40, {{1, connect(7)}, {2, connect(8)}});
+  EXPECT_EQ(read_ok(write(recording)).players, 2u) << "written now: counted";
+  const auto bytes = as_version_1(write(recording));
+  ASSERT_EQ(bytes[8], 1);
+  const Recording back = read_ok(bytes);
+  EXPECT_TRUE(back.complete);
+  EXPECT_FALSE(back.players.has_value());
+  EXPECT_EQ(back.ticks.size(), 40u);
+  expect_prefix(recording, back);
+  const auto needed = recording_header_bytes(std::span(bytes).first(14));
+  ASSERT_TRUE(std::holds_alternative<std::size_t>(needed));
+  EXPECT_TRUE(std::holds_alternative<RecordingHeader>(
+      read_recording_header(std::span(bytes).first(std::get<std::size_t>(needed)))));
+  const auto footer = read_recording_footer(std::span(bytes).last(kMaxRecordingFooterBytes));
+  ASSERT_TRUE(footer.has_value());
+  EXPECT_EQ(footer->ticks, 40u);
+  EXPECT_EQ(footer->events, 2u);
+  EXPECT_FALSE(footer->players.has_value());
+}
+
 TEST(RecordingTest, ACorruptChunkBeforeACutIsStillAnError) {
   // A cut file is read up to the cut, but bad bytes in the middle are still refused.
   const auto bytes = write(random_recording(17, 600));
@@ -586,9 +679,53 @@ TEST(RecordingTest, ReaderRefusesBadValuesWithCorrectChecksums) {
   EXPECT_EQ(read_error(magic),
             "not a ricochet recording (the file does not start with \"RCREC\\r\\n\\x1a\")");
   magic[0] = 'R';
-  magic[8] = 2;
-  EXPECT_EQ(read_error(magic), "recording format version 2, this build reads version 1");
+  magic[8] = 3;
+  EXPECT_EQ(read_error(magic), "recording format version 3, this build reads versions 1 to 2");
+  magic[8] = 0;
+  EXPECT_EQ(read_error(magic), "recording format version 0, this build reads versions 1 to 2");
   EXPECT_EQ(read_error({}), "truncated at byte 0 in the magic (expected 9 more bytes)");
+}
+
+TEST(RecordingTest, AFooterWhosePlayerCountDisagreesWithTheConnectsIsRefused) {
+  // One tick with a Connect of account 7 (and a second one of it), then a footer counting
+  // `players`, checksums right.
+  std::vector<std::uint8_t> tick;
+  rf::put_varint(tick, 1u << rf::kTickFlagBits | rf::kTickEvents);
+  rf::put_varint(tick, 2);
+  for (int i = 0; i < 2; ++i) {
+    tick.push_back(static_cast<std::uint8_t>(RecordedEventKind::Connect));
+    rf::put_varint(tick, 7);
+    rf::put_string(tick, "ann");
+  }
+  const auto file = [&](std::uint64_t players) {
+    std::vector<std::uint8_t> footer;
+    const std::uint64_t totals[] = {1, 2, 0, 0, 1, 1};  // ticks .. tick chunks
+    for (const std::uint64_t total : totals) rf::put_varint(footer, total);
+    footer.push_back(0);
+    rf::put_varint(footer, players);
+    return craft({tick}, footer);
+  };
+  const auto tail = [](const std::vector<std::uint8_t>& bytes) {
+    return read_recording_footer(std::span(bytes).last(kMaxRecordingFooterBytes));
+  };
+  EXPECT_EQ(read_ok(file(1)).players, 1u) << "the same account twice is one player";
+  ASSERT_TRUE(tail(file(1)).has_value());
+  EXPECT_EQ(tail(file(1))->players, 1u);
+  EXPECT_EQ(read_error(file(2)),
+            "chunk 2 (footer): the footer says 2 players (distinct accounts with a Connect "
+            "event), the chunks hold 1");
+  ASSERT_TRUE(tail(file(2)).has_value()) << "no more than the events: the listing cannot tell";
+  EXPECT_EQ(tail(file(2))->players, 2u);
+  EXPECT_EQ(read_error(file(0)),
+            "chunk 2 (footer): the footer says 0 players (distinct accounts with a Connect "
+            "event), the chunks hold 1");
+  EXPECT_EQ(read_error(file(3)),
+            "chunk 2 (footer): the footer says 3 players (distinct accounts with a Connect "
+            "event), the chunks hold 1");
+  EXPECT_FALSE(tail(file(3)).has_value()) << "more players than events";
+  EXPECT_EQ(read_error(file(std::uint64_t{1} << 32)),
+            "chunk 2 (footer): player count must be at most 4294967295, got 4294967296");
+  EXPECT_FALSE(tail(file(std::uint64_t{1} << 32)).has_value());
 }
 
 /// A scripted 60 Hz stream as a real player sends it: the mouse turns every tick and pitches

@@ -13,6 +13,7 @@
 
 #include "scripted_recording.h"
 #include "temp_dir.h"
+#include "version1_recording.h"
 
 namespace ricochet::server::recording_catalog_test {
 namespace {
@@ -59,12 +60,14 @@ TEST(RecordingCatalogTest, ARecordingIsListedFromItsHeaderAndFooter) {
   ASSERT_TRUE(whole.ticks.has_value());
   EXPECT_EQ(*whole.ticks, std::get<Recording>(read).ticks.back().tick);
   EXPECT_DOUBLE_EQ(*whole.seconds, *whole.ticks / 60.0);
+  EXPECT_EQ(whole.players, 4u);
 
   const RecordingEntry& cut = list.entries[1];
   EXPECT_EQ(cut.unreadable, "");
   EXPECT_TRUE(cut.interrupted);
   EXPECT_FALSE(cut.complete);
   EXPECT_FALSE(cut.ticks.has_value());
+  EXPECT_FALSE(cut.players.has_value());
   EXPECT_EQ(cut.map, "arena");
 
   const std::string json = recording_list_json(list);
@@ -76,7 +79,29 @@ TEST(RecordingCatalogTest, ARecordingIsListedFromItsHeaderAndFooter) {
                       std::to_string(*whole.ticks)),
             std::string::npos)
       << json;
-  EXPECT_NE(json.find("\"ticks\":null,\"seconds\":null"), std::string::npos) << json;
+  EXPECT_NE(json.find(",\"players\":4}"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"ticks\":null,\"seconds\":null,\"players\":null}"), std::string::npos)
+      << json;
+}
+
+TEST(RecordingCatalogTest, AVersion1RecordingIsListedWithItsPlayersUnknown) {
+  ricochet::test::TempDir dir("ricochet-catalog");
+  const std::vector<std::uint8_t> bytes =
+      recording_test::as_version_1(web_test::scripted_recording(120));
+  write(dir.path() / "match-2-1764966000000.rcr", bytes);
+  RecordingCatalog catalog(dir.path());
+  const RecordingList list = catalog.list();
+  ASSERT_EQ(list.entries.size(), 1u);
+  const RecordingEntry& old = list.entries[0];
+  EXPECT_EQ(old.unreadable, "");
+  EXPECT_EQ(old.map, "arena");
+  EXPECT_TRUE(old.complete);
+  ASSERT_TRUE(old.ticks.has_value());
+  EXPECT_GT(*old.ticks, 0u);
+  EXPECT_FALSE(old.players.has_value());
+  const std::string json = recording_list_json(list);
+  EXPECT_NE(json.find(",\"ticks\":" + std::to_string(*old.ticks)), std::string::npos) << json;
+  EXPECT_NE(json.find(",\"players\":null}"), std::string::npos) << json;
 }
 
 TEST(RecordingCatalogTest, CorruptTruncatedAndStrangeFilesAreUnreadableWithAReasonCountedOnce) {

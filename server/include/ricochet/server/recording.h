@@ -93,6 +93,9 @@ struct Recording {
   std::vector<RecordedHash> hashes;  ///< increasing, each the tick of an entry of `ticks`
   bool complete = false;             ///< the footer was there: nothing is missing at the end
   bool truncated = false;            ///< the writer hit max_bytes and recorded no further ticks
+  /// The footer's player count: distinct accounts with a Connect event in `ticks`. None without
+  /// a footer (complete = false) or in a version 1 file, whose footer has no such field.
+  std::optional<std::uint32_t> players;
   /// complete = false: where the file stops, why, and the last tick it holds ("cut inside chunk
   /// 12 (ticks) at byte 40960 (8 of 16397 bytes there); replayable to tick 3600").
   std::string cut;
@@ -126,8 +129,9 @@ class RecordingWriter {
   /// every tick chunk once it is full (16 KiB). Empty when there are none. Appended one after
   /// the other, and then finish(), they make the file finish() alone would have returned.
   std::vector<std::uint8_t> take_completed();
-  /// Writes the last ticks and the footer (totals and a checksum) and returns the rest of the
-  /// file: all of it when take_completed() was never called. The writer records nothing after.
+  /// Writes the last ticks and the footer (totals, players and a checksum) and returns the rest
+  /// of the file: all of it when take_completed() was never called. The writer records nothing
+  /// after.
   std::vector<std::uint8_t> finish();
 
  private:
@@ -159,6 +163,7 @@ class RecordingWriter {
   std::vector<std::uint32_t> previous_entities_;
   std::vector<RecordedInput> previous_inputs_;  ///< the last input of every entity, by id
   std::uint64_t tick_count_ = 0, event_count_ = 0, input_count_ = 0, hash_count_ = 0;
+  std::vector<std::uint64_t> accounts_;  ///< sorted: every account a recorded Connect named
   std::uint32_t chunk_count_ = 0;
   bool finished_ = false;
   std::string stopped_reason_;
@@ -194,13 +199,16 @@ struct RecordingFooter {
   std::uint64_t ticks = 0, events = 0, inputs = 0, hashes = 0, tick_chunks = 0;
   std::uint32_t last_tick = 0;
   bool truncated = false;
+  /// Distinct accounts with a Connect event in the file; none in a version 1 footer.
+  std::optional<std::uint32_t> players;
 };
 /// A footer chunk is at most this many bytes, framing included.
 inline constexpr std::size_t kMaxRecordingFooterBytes = 77;
 /// The footer chunk `tail` (a file's last bytes, at least kMaxRecordingFooterBytes of them or the
-/// whole file) ends with, its frame and payload CRCs checked and its fields decoded; nothing when
-/// it ends with none (a file cut short: no footer). Neither the totals against the chunks nor
-/// the file's CRC are checked: read_recording() does that.
+/// whole file) ends with, its frame and payload CRCs checked and its fields decoded (a version 1
+/// footer, without the player count, too); nothing when it ends with none (a file cut short: no
+/// footer) or its fields are out of range (more players than events). Neither the totals against
+/// the chunks nor the file's CRC are checked: read_recording() does that.
 std::optional<RecordingFooter> read_recording_footer(std::span<const std::uint8_t> tail);
 
 }  // namespace ricochet::server
