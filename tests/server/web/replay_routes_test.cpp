@@ -1,0 +1,198 @@
+// The Recordings routes as requests and replies (replay_routes.h), over a
+// recordings directory of scripted recordings, the replay pool and its workers:
+// bad ids are 400, unknown recordings, paths and actions 404, tick queries
+// checked to the digit, frames before the replay is done 409, each refusal
+// counted where /metrics reads it. The tests wait for the workers on their
+// state (bounded), never on time.
+
+#include "replay_routes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "scripted_recording.h"
+#include "temp_dir.h"
+
+namespace ricochet::server::replay_routes_test {
+namespace {
+
+constexpr const char *kId = "match-3-1764966123456";
+constexpr const char *kOtherId = "match-4-1764966123457";
+constexpr const char *kThirdId = "match-5-1764966123458";
+constexpr const char *kMapView = "{\"map\":\"arena\"}";
+
+/// The scripted recording, made once.
+const std::vector<std::uint8_t> &recorded() {
+  static const std::vector<std::uint8_t> once =
+      web_test::scripted_recording(600);
+  return once;
+}
+
+class ReplayRoutesTest : public ::testing::Test {
+protected:
+  ReplayRoutesTest() {
+    for (const char *id : {kId, kOtherId, kThirdId}) {
+      std::ofstream out(dir_.path() / (std::string(id) + ".rcr"),
+                        std::ios::binary);
+      out.write(reinterpret_cast<const char *>(recorded().data()),
+                static_cast<std::streamsize>(recorded().size()));
+    }
+  }
+
+  RecordingsReply get(const std::string &rest, const std::string &query = {}) {
+    const std::string path = "/api/recordings/" + rest;
+    return routes_.answer({"GET", path, query});
+  }
+  RecordingsReply post(const std::string &rest) {
+    const std::string path = "/api/recordings/" + rest;
+    return routes_.answer({"POST", path, {}});
+  }
+  /// Until the job is no longer queued or running (bounded: its last status
+  /// after 30 s).
+  ReplayJobStatus wait_finished(const std::string &id) {
+    const auto give_up =
+        std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    for (;;) {
+      const auto status = jobs_.status(id);
+      if (!status)
+        return {};
+      if ((status->state != ReplayJobState::Queued &&
+           status->state != ReplayJobState::Running) ||
+          std::chrono::steady_clock::now() > give_up) {
+        return *status;
+      }
+      std::this_thread::yield();
+    }
+  }
+
+  ricochet::test::TempDir dir_{"ricochet-routes"};
+  RecordingCatalog catalog_{dir_.path()};
+  ReplayJobs jobs_{{.workers = 1, .max_replays = 2, .memory_mb = 16},
+                   recording_source(catalog_),
+                   [] { return 0.0; }};
+  ReplayRoutes::MapViews map_views_{{"arena", kMapView}};
+  ReplayRoutes routes_{catalog_, jobs_, map_views_};
+};
+
+TEST_F(ReplayRoutesTest,
+       BadIdsUnknownRecordingsAndActionsAreRefusedAndCounted) {
+  // A bad id: 400, counted by the catalog (reason bad_id).
+  for (const char *rest :
+       {"", "nope", "match-3-x", "..", "match-3-1764966123456.rcr"}) {
+    const RecordingsReply reply = get(rest);
+    EXPECT_EQ(reply.status, 400u) << rest;
+    EXPECT_TRUE(
+        reply.body.starts_with("bad recording id: a recording id is match-"))
+        << reply.body;
+  }
+  EXPECT_EQ(post("nope/replay").status, 400u);
+  EXPECT_EQ(catalog_.bad_ids(), 6u);
+  EXPECT_EQ(routes_.bad_requests(), 0u);
+
+  // A good id with no file, an unknown path or action: 404, counted (reason
+  // bad_request).
+  const RecordingsReply unknown = get("match-9-1764966123456");
+  EXPECT_EQ(unknown.status, 404u);
+  EXPECT_EQ(unknown.body, "no recording match-9-1764966123456\n");
+  EXPECT_EQ(routes_.bad_requests(), 1u);
+  EXPECT_EQ(post("match-9-1764966123456/replay").status, 404u);
+  EXPECT_EQ(routes_.bad_requests(), 2u);
+  EXPECT_EQ(get(std::string(kId) + "/nothing").body,
+            "unknown recording path\n");
+  EXPECT_EQ(get(std::string(kId) + "/frames/more", "from=1&to=2").status, 404u);
+  EXPECT_EQ(routes_.bad_requests(), 4u);
+  const RecordingsReply action = post(std::string(kId) + "/frames");
+  EXPECT_EQ(action.status, 404u);
+  EXPECT_EQ(action.body, "unknown recording action\n");
+  EXPECT_EQ(routes_.bad_requests(), 5u);
+
+  // The page's own timing, not counted: nothing to cancel, frames before the
+  // replay.
+  EXPECT_EQ(post(std::string(kId) + "/cancel").status, 404u);
+  const RecordingsReply early =
+      get(std::string(kId) + "/frames", "from=1&to=2");
+  EXPECT_EQ(early.status, 409u);
+  EXPECT_EQ(early.body,
+            "not replayed yet: POST .../replay and wait for done\n");
+  EXPECT_EQ(routes_.bad_requests(), 5u);
+  EXPECT_EQ(catalog_.bad_ids(), 6u);
+
+  // What is there: the recording, never replayed; its map; the list.
+  const RecordingsReply read = get(kId);
+  EXPECT_EQ(read.status, 200u);
+  EXPECT_EQ(read.content_type, "application/json");
+  EXPECT_EQ(read.body, std::string("{\"id\":\"") + kId +
+                           "\",\"job\":null,\"summary\":null}");
+  EXPECT_EQ(get(std::string(kId) + "/map").body, kMapView);
+  const RecordingsReply list = routes_.list();
+  EXPECT_EQ(list.status, 200u);
+  EXPECT_NE(list.body.find(std::string("\"id\":\"") + kId + "\""),
+            std::string::npos);
+}
+
+TEST_F(ReplayRoutesTest, TickQueriesAreCheckedBeforeAnyFrameIsRead) {
+  ASSERT_EQ(post(std::string(kId) + "/replay").status, 200u);
+  const ReplayJobStatus done = wait_finished(kId);
+  ASSERT_EQ(done.state, ReplayJobState::Done) << done.error;
+  const std::string last = std::to_string(done.ticks_total);
+
+  struct Case {
+    const char *query;
+    unsigned status;
+  };
+  const std::string past_end =
+      "from=1&to=" + std::to_string(done.ticks_total + 2);
+  const Case cases[] = {
+      {"", 400},                              // missing
+      {"from=1", 400},                        // `to` missing
+      {"from=&to=2", 400},                    // empty
+      {"from=+1&to=2", 400},                  // a sign
+      {"from=-1&to=2", 400},                  //
+      {"from=1&to=2x", 400},                  // not a number to its end
+      {"from=12345678901&to=2", 400},         // 11 digits
+      {"from=4294967296&to=4294967297", 400}, // 2^32
+      {"from=4294967295&to=4294967295", 400}, // fits 32 bits, beyond the replay
+      {"fromx=1&to=2", 400},                  // another key: `from` missing
+      {"from=1&from=2&to=3", 400},            // a key twice
+      {"from=5&to=3", 400},                   // reversed
+      {"from=0&to=1", 400},                   // ticks start at 1
+      {"from=1&to=602", 400},                 // over kMaxFramesPerRequest
+      {past_end.c_str(), 400},                // past the last tick + 1
+      {"from=1&to=2", 200},
+      {"to=3&from=2", 200},             // either order
+      {"from=0000000001&to=2", 200},    // 10 digits
+      {"x=1&from=1&to=2&fromx=3", 200}, // other keys are not read
+  };
+  std::uint64_t refused = 0;
+  for (const Case &c : cases) {
+    const RecordingsReply reply = get(std::string(kId) + "/frames", c.query);
+    EXPECT_EQ(reply.status, c.status) << c.query << ": " << reply.body;
+    if (c.status == 400)
+      ++refused;
+    EXPECT_EQ(routes_.bad_requests(), refused) << c.query;
+    if (c.status == 200) {
+      EXPECT_EQ(reply.content_type, "application/json");
+      EXPECT_TRUE(reply.body.starts_with("{\"first_tick\":"))
+          << reply.body.substr(0, 80);
+    }
+  }
+  // The whole replay's last tick is the end of a range that reaches it.
+  const RecordingsReply tail =
+      get(std::string(kId) + "/frames",
+          "from=" + last + "&to=" + std::to_string(done.ticks_total + 1));
+  EXPECT_EQ(tail.status, 200u) << tail.body;
+  EXPECT_EQ(query_tick("from=4294967295", "from"), 4294967295u);
+  EXPECT_EQ(query_tick("a=1&from=7", "from"), 7u);
+  EXPECT_EQ(query_tick("from=7&from=7", "from"), std::nullopt);
+  EXPECT_EQ(query_tick("from", "from"), std::nullopt);
+}
+
+} // namespace
+} // namespace ricochet::server::replay_routes_test
