@@ -2,8 +2,10 @@
 // recordings directory of scripted recordings, the replay pool and its workers:
 // bad ids are 400, unknown recordings, paths and actions 404, tick queries
 // checked to the digit, frames before the replay is done 409, each refusal
-// counted where /metrics reads it. The tests wait for the workers on their
-// state (bounded), never on time.
+// counted where /metrics reads it; more replays than max_replays are 503 with
+// the reason; a running replay, held mid-run by the pool's step hook, cancels,
+// frees its worker for the next. The tests wait for the workers on their state
+// (bounded), never on time.
 
 #include "replay_routes.h"
 
@@ -11,7 +13,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <fstream>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -35,6 +39,42 @@ const std::vector<std::uint8_t> &recorded() {
   return once;
 }
 
+/// Holds the replay of one recording after one step until released: a worker
+/// kept busy mid-replay. Waits are bounded (30 s).
+class Hold {
+public:
+  Hold(std::string id, std::uint32_t tick) : id_(std::move(id)), tick_(tick) {}
+  ReplayJobs::StepHook hook() {
+    return [this](const std::string &id, std::uint32_t tick) {
+      if (id != id_ || tick != tick_)
+        return;
+      std::unique_lock lock(mutex_);
+      held_ = true;
+      changed_.notify_all();
+      changed_.wait_for(lock, std::chrono::seconds(30),
+                        [&] { return released_; });
+    };
+  }
+  bool wait_held() {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, std::chrono::seconds(30),
+                             [&] { return held_; });
+  }
+  void release() {
+    const std::lock_guard lock(mutex_);
+    released_ = true;
+    changed_.notify_all();
+  }
+
+private:
+  const std::string id_;
+  const std::uint32_t tick_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool held_ = false;
+  bool released_ = false;
+};
+
 class ReplayRoutesTest : public ::testing::Test {
 protected:
   ReplayRoutesTest() {
@@ -45,6 +85,7 @@ protected:
                 static_cast<std::streamsize>(recorded().size()));
     }
   }
+  void TearDown() override { hold_.release(); }
 
   RecordingsReply get(const std::string &rest, const std::string &query = {}) {
     const std::string path = "/api/recordings/" + rest;
@@ -74,9 +115,11 @@ protected:
 
   ricochet::test::TempDir dir_{"ricochet-routes"};
   RecordingCatalog catalog_{dir_.path()};
+  Hold hold_{kId, 10};
   ReplayJobs jobs_{{.workers = 1, .max_replays = 2, .memory_mb = 16},
                    recording_source(catalog_),
-                   [] { return 0.0; }};
+                   [] { return 0.0; },
+                   hold_.hook()};
   ReplayRoutes::MapViews map_views_{{"arena", kMapView}};
   ReplayRoutes routes_{catalog_, jobs_, map_views_};
 };
@@ -138,6 +181,7 @@ TEST_F(ReplayRoutesTest,
 }
 
 TEST_F(ReplayRoutesTest, TickQueriesAreCheckedBeforeAnyFrameIsRead) {
+  hold_.release();
   ASSERT_EQ(post(std::string(kId) + "/replay").status, 200u);
   const ReplayJobStatus done = wait_finished(kId);
   ASSERT_EQ(done.state, ReplayJobState::Done) << done.error;
@@ -192,6 +236,57 @@ TEST_F(ReplayRoutesTest, TickQueriesAreCheckedBeforeAnyFrameIsRead) {
   EXPECT_EQ(query_tick("a=1&from=7", "from"), 7u);
   EXPECT_EQ(query_tick("from=7&from=7", "from"), std::nullopt);
   EXPECT_EQ(query_tick("from", "from"), std::nullopt);
+}
+
+TEST_F(ReplayRoutesTest,
+       BeyondMaxReplaysIsBusyAndARunningReplayCancelsFreeingItsWorker) {
+  // The one worker holds kId after its 10th step: running; kOtherId queued
+  // behind it.
+  const RecordingsReply started = post(std::string(kId) + "/replay");
+  ASSERT_EQ(started.status, 200u);
+  ASSERT_TRUE(hold_.wait_held());
+  EXPECT_NE(get(kId).body.find("\"state\":\"running\",\"ticks_done\":10,"),
+            std::string::npos)
+      << get(kId).body;
+  const RecordingsReply queued = post(std::string(kOtherId) + "/replay");
+  EXPECT_EQ(queued.status, 200u);
+  EXPECT_NE(queued.body.find("\"state\":\"queued\""), std::string::npos)
+      << queued.body;
+
+  // A third: max_replays (2) are queued or running.
+  const RecordingsReply busy = post(std::string(kThirdId) + "/replay");
+  EXPECT_EQ(busy.status, 503u);
+  EXPECT_EQ(busy.body, "busy: 2 replays are queued or running "
+                       "(dashboard.max_replays); ask again when one "
+                       "is done\n");
+  EXPECT_EQ(jobs_.refused_busy(), 1u);
+  EXPECT_EQ(routes_.bad_requests(), 0u);
+  EXPECT_EQ(get(kThirdId).body, std::string("{\"id\":\"") + kThirdId +
+                                    "\",\"job\":null,\"summary\":null}");
+
+  // Cancelled mid-run: it stops after the step it was held at, and gives no
+  // frames.
+  const RecordingsReply cancelled = post(std::string(kId) + "/cancel");
+  EXPECT_EQ(cancelled.status, 200u);
+  EXPECT_EQ(cancelled.body, "{\"cancelled\":true}");
+  hold_.release();
+  const ReplayJobStatus stopped = wait_finished(kId);
+  EXPECT_EQ(stopped.state, ReplayJobState::Cancelled);
+  EXPECT_EQ(stopped.ticks_done, 10u);
+  EXPECT_GT(stopped.ticks_total, 500u);
+  EXPECT_NE(get(kId).body.find("\"state\":\"cancelled\""), std::string::npos);
+  EXPECT_EQ(get(std::string(kId) + "/frames", "from=1&to=2").status, 409u);
+  EXPECT_EQ(post(std::string(kId) + "/cancel").status, 404u)
+      << "nothing left to cancel";
+
+  // The worker is free: the queued one runs to its end, then a new one does.
+  const ReplayJobStatus other = wait_finished(kOtherId);
+  EXPECT_EQ(other.state, ReplayJobState::Done) << other.error;
+  ASSERT_EQ(post(std::string(kThirdId) + "/replay").status, 200u);
+  const ReplayJobStatus third = wait_finished(kThirdId);
+  EXPECT_EQ(third.state, ReplayJobState::Done) << third.error;
+  EXPECT_EQ(third.ticks_done, third.ticks_total);
+  EXPECT_EQ(get(std::string(kThirdId) + "/frames", "from=1&to=2").status, 200u);
 }
 
 } // namespace
