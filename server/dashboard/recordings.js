@@ -76,14 +76,17 @@ function renderList(list) {
     const file = r.unreadable ? `unreadable: ${r.unreadable}`
       : r.complete ? (r.truncated ? 'complete (truncated)' : 'complete')
         : r.interrupted ? 'interrupted' : 'cut short';
-    tr.append(name, cell(r.map ?? '—'), cell(r.mode ?? '—'), cell(clock(r.seconds)),
-              cell(size(r.size_bytes)), cell(new Date(r.unix_ms).toLocaleString()), cell(file));
+    // players: the server's count, or null (an older recording), or absent (an older server).
+    const players = Number.isInteger(r.players) ? String(r.players) : '—';
+    tr.append(name, cell(r.map ?? '—'), cell(r.mode ?? '—'), cell(players),
+              cell(clock(r.seconds)), cell(size(r.size_bytes)),
+              cell(new Date(r.unix_ms).toLocaleString()), cell(file));
     return tr;
   });
   if (rows.length === 0) {
     const tr = document.createElement('tr');
     const td = cell('No recordings yet (set [matches] record = true).');
-    td.colSpan = 7;
+    td.colSpan = 8;
     td.className = 'empty';
     tr.append(td);
     rows.push(tr);

@@ -106,8 +106,11 @@ test('a recorded bot match replays on the page as ricochet-replay exports it', a
   await page.goto(`${server.url}/recordings.html?chunk_ticks=60`);
   const row = page.locator(`#recordings tr[data-recording="${recording.id}"]`);
   await row.waitFor({ timeout: 5000 });
-  assert.deepEqual((await row.locator('td').allTextContents()).slice(1, 3), ['arena', 'ffa']);
-  assert.equal(await row.locator('td').nth(6).textContent(), 'complete');
+  // Players: the server's count, or '—' from a server (or a recording) without it.
+  const players = Number.isInteger(recording.players) ? String(recording.players) : '—';
+  assert.deepEqual((await row.locator('td').allTextContents()).slice(1, 4),
+                   ['arena', 'ffa', players]);
+  assert.equal(await row.locator('td').nth(7).textContent(), 'complete');
   // Keyboard: the row's button opens it.
   await row.getByRole('button').focus();
   await page.keyboard.press('Enter');
@@ -195,4 +198,21 @@ test('a recorded bot match replays on the page as ricochet-replay exports it', a
   await screenshot(page, 'recordings-390x844');
   assert.deepEqual(problems, []);
   await page.close();
+
+  // A server that counts the players gives "players": N, or null for an older recording.
+  const later = await browser.newPage();
+  await later.route('**/api/recordings', async (route) => {
+    const list = await (await route.fetch()).json();
+    const [entry] = list.recordings;
+    list.recordings = [{ ...entry, id: 'match-98-1', players: 3 },
+                       { ...entry, id: 'match-99-1', players: null }];
+    await route.fulfill({ json: list });
+  });
+  await later.goto(`${server.url}/recordings.html`);
+  for (const [id, players] of [['match-98-1', '3'], ['match-99-1', '—']]) {
+    const cells = later.locator(`#recordings tr[data-recording="${id}"] td`);
+    await cells.first().waitFor({ timeout: 5000 });
+    assert.equal(await cells.nth(3).textContent(), players, id);
+  }
+  await later.close();
 });
