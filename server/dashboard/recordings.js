@@ -1,15 +1,23 @@
 // The Recordings page: the recordings directory (GET /api/recordings), and one recording
 // replayed by the server (POST /api/recordings/<id>/replay, its progress from GET
 // /api/recordings/<id>) then played on a canvas from above: frames fetched by tick range in
-// chunks ahead of the playhead (GET .../frames?from=&to=), the map from GET .../map. The shown
-// tick and the positions drawn are on window.ricochetReplay for the tests.
+// chunks about the playhead (GET .../frames?from=&to=), the others dropped (refetched when the
+// playhead comes back), the map from GET .../map. The shown tick, the positions drawn and the
+// chunks kept are on window.ricochetReplay for the tests.
 import { TopDown } from './topdown.js';
 
 const $ = (id) => document.getElementById(id);
 
-/// Ticks per frames request (the server allows 600).
-const kChunkTicks = 300;
-/// Chunks kept loaded ahead of the playhead.
+/// Ticks per frames request: 300, or ?chunk_ticks=N (30..600, the server allows 600; the tests
+/// cross many chunks of a short recording with small ones).
+const kChunkTicks = (() => {
+  const asked = Number(new URLSearchParams(location.search).get('chunk_ticks'));
+  return Number.isInteger(asked) && asked >= 30 && asked <= 600 ? asked : 300;
+})();
+/// Chunks of frames held about the playhead: the one under it and two ahead (fetched), one
+/// behind (kept for stepping back). Others are dropped; only their kills stay (for the kill
+/// feed: a few bytes each, fetched for the feed's kKillFeedS behind when not known yet).
+const kChunksBehind = 1;
 const kChunksAhead = 2;
 /// How long a kill stays in the feed, s.
 const kKillFeedS = 8;
@@ -18,7 +26,12 @@ const kTeamColours = ['#8250df', '#cf222e', '#0550ae'];
 const kWeapons = ['world', 'rifle', 'rocket', 'grenade'];
 
 /// What the tests read: the tick shown, the entities drawn at it, the verdict shown.
-const exposed = { tick: 0, positions: [], verdict: '', ready: false, playing: false, speed: 1 };
+/// `kills`: the feed shown ({killer, victim, tick: the Kill event's, step: the frame it shows
+/// in}), newest first; `chunks`: the chunks of frames held (loaded or loading), at most maxChunks.
+const exposed = {
+  tick: 0, positions: [], verdict: '', ready: false, playing: false, speed: 1, kills: [], chunks: 0,
+  maxChunks: kChunksBehind + 1 + kChunksAhead,
+};
 window.ricochetReplay = exposed;
 
 async function getJson(url, options) {
@@ -63,14 +76,17 @@ function renderList(list) {
     const file = r.unreadable ? `unreadable: ${r.unreadable}`
       : r.complete ? (r.truncated ? 'complete (truncated)' : 'complete')
         : r.interrupted ? 'interrupted' : 'cut short';
-    tr.append(name, cell(r.map ?? '—'), cell(r.mode ?? '—'), cell(clock(r.seconds)),
-              cell(size(r.size_bytes)), cell(new Date(r.unix_ms).toLocaleString()), cell(file));
+    // players: the server's count, or null (an older recording), or absent (an older server).
+    const players = Number.isInteger(r.players) ? String(r.players) : '—';
+    tr.append(name, cell(r.map ?? '—'), cell(r.mode ?? '—'), cell(players),
+              cell(clock(r.seconds)), cell(size(r.size_bytes)),
+              cell(new Date(r.unix_ms).toLocaleString()), cell(file));
     return tr;
   });
   if (rows.length === 0) {
     const tr = document.createElement('tr');
     const td = cell('No recordings yet (set [matches] record = true).');
-    td.colSpan = 7;
+    td.colSpan = 8;
     td.className = 'empty';
     tr.append(td);
     rows.push(tr);
@@ -85,26 +101,50 @@ let replay = null;
 
 function chunkOf(tick) { return Math.floor((tick - 1) / kChunkTicks); }
 
-/// Loads chunk `index` (ticks [1 + index * kChunkTicks, ...)) unless it is loaded or loading.
+/// Whether chunk `index` is within the frames kept about the playhead.
+function inWindow(index) {
+  const here = chunkOf(replay.tick);
+  return index >= here - kChunksBehind && index <= here + kChunksAhead;
+}
+
+/// Loads chunk `index` (ticks [1 + index * kChunkTicks, ...)) unless it is loaded or loading:
+/// its frames when it is within the window, else only its kills (kept once known).
 function loadChunk(index) {
   if (!replay || index < 0 || replay.chunks.has(index)) return;
+  if (!inWindow(index) && (replay.kills.has(index) || replay.killsLoading.has(index))) return;
   const first = 1 + index * kChunkTicks;
   if (first > replay.summary.last_tick) return;
   const end = Math.min(first + kChunkTicks, replay.summary.last_tick + 1);
   const current = replay;
   const entry = { loaded: false, scores: [], frames: [] };
-  current.chunks.set(index, entry);
+  if (inWindow(index)) current.chunks.set(index, entry);
+  current.killsLoading.add(index);
+  exposed.chunks = current.chunks.size;
   getJson(`/api/recordings/${encodeURIComponent(current.id)}/frames?from=${first}&to=${end}`)
     .then((data) => {
+      current.kills.set(index,
+                        data.frames.flatMap((f) => f.kills.map((k) => ({ ...k, step: f.tick }))));
+      current.killsLoading.delete(index);
       entry.scores = data.scores;
       entry.frames = data.frames;
       entry.loaded = true;
       if (replay === current) draw();
     })
     .catch((error) => {
-      current.chunks.delete(index);
+      current.killsLoading.delete(index);
+      if (current.chunks.get(index) === entry) current.chunks.delete(index);
+      exposed.chunks = current.chunks.size;
       $('status').textContent = `Frames not loaded: ${error.message}`;
     });
+}
+
+/// Drops the frames of the chunks outside the window (a fetch still under way for one fills
+/// an entry no longer held).
+function dropChunks() {
+  for (const index of [...replay.chunks.keys()]) {
+    if (!inWindow(index)) replay.chunks.delete(index);
+  }
+  exposed.chunks = replay.chunks.size;
 }
 
 function frameAt(tick) {
@@ -128,15 +168,13 @@ function scoresAt(tick) {
   return scores;
 }
 
-/// The kills of the last kKillFeedS up to `tick`, newest first, from the chunks loaded.
+/// The kills of the last kKillFeedS up to `tick`, newest first, from the chunks' kills known.
 function killsUpTo(tick) {
   const since = tick - kKillFeedS * replay.summary.tick_rate_hz;
   const kills = [];
   for (let index = chunkOf(Math.max(1, since)); index <= chunkOf(tick); ++index) {
-    const chunk = replay.chunks.get(index);
-    if (!chunk || !chunk.loaded) continue;
-    for (const frame of chunk.frames) {
-      if (frame.tick > since && frame.tick <= tick) kills.push(...frame.kills);
+    for (const kill of replay.kills.get(index) ?? []) {
+      if (kill.step > since && kill.step <= tick) kills.push(kill);
     }
   }
   return kills.reverse();
@@ -189,7 +227,11 @@ function renderScores(tick) {
 }
 
 function renderKills(tick) {
-  $('kills').replaceChildren(...killsUpTo(tick).map((k) => {
+  const kills = killsUpTo(tick);
+  exposed.kills = kills.map((k) => ({
+    killer: k.killer, victim: k.victim, tick: k.tick, step: k.step,
+  }));
+  $('kills').replaceChildren(...kills.map((k) => {
     const li = document.createElement('li');
     li.textContent = `${nameOf(k.killer)} → ${nameOf(k.victim)} (${kWeapons[k.weapon] ?? k.weapon})`;
     return li;
@@ -201,8 +243,10 @@ function seek(tick) {
   replay.tick = Math.min(Math.max(1, Math.round(tick)), replay.summary.last_tick);
   replay.playhead = replay.tick;
   const here = chunkOf(replay.tick);
-  loadChunk(chunkOf(Math.max(1, replay.tick - kKillFeedS * replay.summary.tick_rate_hz)));
+  dropChunks();
   for (let index = here; index <= here + kChunksAhead; ++index) loadChunk(index);
+  const since = Math.max(1, replay.tick - kKillFeedS * replay.summary.tick_rate_hz);
+  for (let index = chunkOf(since); index < here; ++index) loadChunk(index);
   draw();
 }
 
@@ -266,7 +310,8 @@ async function openRecording(entry) {
                                             getJson(`/api/recordings/${id}/map`)]);
     const summary = read.summary;
     replay = {
-      id: entry.id, summary, view: new TopDown($('view'), map), chunks: new Map(), tick: 1,
+      id: entry.id, summary, view: new TopDown($('view'), map), tick: 1,
+      chunks: new Map(), kills: new Map(), killsLoading: new Set(),
       playhead: 1, playing: false,
       speed: Number($('speed').value), last: null,
       names: new Map(summary.players.map((p) => [p.entity, p.name])),

@@ -628,6 +628,7 @@ void Server::shut_down() {
   io_.stop();
   for (auto& thread : threads_) thread.join();
   threads_.clear();
+  replay_routes_.reset();
   replays_.reset();     // no route can reach the pool now: its workers stop and are joined
   recordings_->stop();  // every match has handed its recording over by now
   db_->stop();

@@ -45,6 +45,7 @@
 #include "overview.h"
 #include "recording_catalog.h"
 #include "replay_jobs.h"
+#include "replay_routes.h"
 #include "ricochet/db/fleet_records.h"
 #include "ricochet/db/result.h"
 #include "ricochet/server/config.h"
@@ -176,12 +177,6 @@ class Server {
   void start_replays();
   /// GET /api/recordings and the routes under /api/recordings/ (server_replays.cpp).
   void register_replays();
-  /// The recording a path's rest names ("<id>" or "<id>/<action>"): nothing when it is there,
-  /// else the refusal (400 bad id, 404 none such).
-  std::optional<AdminReply> recording_of(std::string_view rest, std::string& id,
-                                         std::string& action);
-  AdminReply recording_get(const AdminRequest& request);
-  AdminReply recording_post(const AdminRequest& request);
   void report_replays(MetricsSink& sink) const;
   /// Every kOverviewPeriod while running: the overview sampled (never on a match's strand)
   /// and sent to every stream of it.
@@ -228,7 +223,8 @@ class Server {
   std::unique_ptr<RecordingCatalog> recording_catalog_;
   /// The replay workers; stopped (reset) once the io threads are joined.
   std::unique_ptr<ReplayJobs> replays_;
-  std::atomic<std::uint64_t> replay_requests_refused_{0};  ///< bad paths, ranges; unknown ids
+  /// The Recordings routes over the two above and map_views_; reset with replays_.
+  std::unique_ptr<ReplayRoutes> replay_routes_;
   std::unique_ptr<GameChannel> game_;
   std::unique_ptr<MatchRegistry> matches_;
   std::unique_ptr<ControlServer> control_;

@@ -126,6 +126,7 @@ std::variant<ReplayFrames, std::string> replay_frames(const Recording& recording
     }
     progress.ticks_done.store(tick, std::memory_order_relaxed);
     over_budget = frames.bytes() > max_bytes;
+    if (progress.after_step) progress.after_step(tick);
   };
   options.stop_requested = [&] {
     return over_budget || progress.stop.load(std::memory_order_relaxed);

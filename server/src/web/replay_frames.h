@@ -12,6 +12,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -75,6 +76,9 @@ struct ReplayProgress {
   std::atomic<std::uint32_t> ticks_done{0};
   std::uint32_t ticks_total = 0;  ///< the recording's last tick (set before the run)
   std::atomic<bool> stop{false};  ///< set from any thread: the run ends at its next step
+  /// Set before the run, or empty: called on the replaying thread after each step, before
+  /// `stop` is read (tests hold a replay there, mid-run).
+  std::function<void(std::uint32_t tick)> after_step;
 };
 
 /// Re-simulates `recording`, keeping every step's frame. Fails with what was wrong: the map or

@@ -52,12 +52,14 @@ std::string replay_job_json(const ReplayJobStatus& status) {
   return out;
 }
 
-ReplayJobs::ReplayJobs(const ReplayJobsConfig& config, Source source, Clock clock_s)
+ReplayJobs::ReplayJobs(const ReplayJobsConfig& config, Source source, Clock clock_s,
+                       StepHook after_step)
     : config_(config),
       job_bytes_(std::size_t(config.memory_mb) * (1u << 20) / (2 * std::size_t(config.workers))),
       cache_bytes_(std::size_t(config.memory_mb) * (1u << 20) / 2),
       source_(std::move(source)),
-      clock_(std::move(clock_s)) {
+      clock_(std::move(clock_s)),
+      after_step_(std::move(after_step)) {
   for (int i = 0; i < config_.workers; ++i) workers_.emplace_back([this] { work(); });
 }
 
@@ -115,6 +117,9 @@ std::optional<ReplayJobStatus> ReplayJobs::start(const std::string& id, std::str
   job.status.id = id;
   job.status.queued_at_s = clock_();
   job.progress = std::make_shared<ReplayProgress>();
+  if (after_step_) {
+    job.progress->after_step = [hook = after_step_, id](std::uint32_t tick) { hook(id, tick); };
+  }
   queue_.push_back(id);
   wake_.notify_one();
   return snapshot(job);

@@ -72,9 +72,13 @@ class ReplayJobs {
   using Source =
       std::function<std::variant<std::vector<std::uint8_t>, std::string>(const std::string& id)>;
   using Clock = std::function<double()>;
+  /// Called on a worker after each step of the replay of `id` (ReplayProgress::after_step).
+  using StepHook = std::function<void(const std::string& id, std::uint32_t tick)>;
 
-  /// Starts the workers. `config` must be valid.
-  ReplayJobs(const ReplayJobsConfig& config, Source source, Clock clock_s);
+  /// Starts the workers. `config` must be valid. `after_step`, when set, is every job's hook
+  /// (tests hold a worker mid-replay with it).
+  ReplayJobs(const ReplayJobsConfig& config, Source source, Clock clock_s,
+             StepHook after_step = {});
   /// Stops every job and joins the workers.
   ~ReplayJobs();
   ReplayJobs(const ReplayJobs&) = delete;
@@ -116,6 +120,7 @@ class ReplayJobs {
   const std::size_t cache_bytes_;  ///< the results kept at most
   const Source source_;
   const Clock clock_;
+  const StepHook after_step_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_ = false;

@@ -17,8 +17,10 @@
 
 namespace ricochet::server::web_test {
 
-/// The finished recording's bytes after `ticks` steps.
-inline std::vector<std::uint8_t> scripted_recording(int ticks = 900) {
+/// The finished recording's bytes after `ticks` steps; every Kill event of the match appended
+/// to `kills` when given (what the players were told, to compare a replay with).
+inline std::vector<std::uint8_t> scripted_recording(int ticks = 900,
+                                                    std::vector<wire::Kill>* kills = nullptr) {
   auto map = load_map_file(RICOCHET_SOURCE_DIR "/server/maps/arena.toml");
   EXPECT_TRUE(std::holds_alternative<Map>(map));
   MatchConfig config;
@@ -31,6 +33,11 @@ inline std::vector<std::uint8_t> scripted_recording(int ticks = 900) {
   auto created = Match::create(config, std::get<Map>(map), 1'000'000);
   EXPECT_TRUE(std::holds_alternative<Match>(created));
   Match match = std::get<Match>(std::move(created));
+  if (kills) {
+    match.observe_events([kills](const wire::GameEvent& event) {
+      if (event.has_kill()) kills->push_back(event.kill());
+    });
+  }
   proto::TimeUs now = 1'000'000;
   std::uint32_t sequence[5] = {};
   for (int tick = 0; tick < ticks; ++tick) {
