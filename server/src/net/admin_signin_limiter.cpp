@@ -17,15 +17,13 @@ proto::TimeUs AdminSignInLimiter::wait_us(const proto::HostKey& host, proto::Tim
 }
 
 void AdminSignInLimiter::fail(const proto::HostKey& host, proto::TimeUs now) {
-  const auto ended = [&](const auto& entry) { return entry.second.opened + window_us_ <= now; };
   auto found = windows_.find(host);
-  if (found != windows_.end() && ended(*found)) {
+  if (found != windows_.end() && found->second.opened + window_us_ <= now) {  // ended
     windows_.erase(found);
     found = windows_.end();
   }
   if (found == windows_.end()) {
-    if (windows_.size() >= max_addresses_) std::erase_if(windows_, ended);
-    if (windows_.size() >= max_addresses_) {
+    if (windows_.size() >= max_addresses_) {  // an ended window, if any, is the oldest
       windows_.erase(std::min_element(
           windows_.begin(), windows_.end(),
           [](const auto& a, const auto& b) { return a.second.opened < b.second.opened; }));

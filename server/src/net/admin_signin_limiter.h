@@ -8,8 +8,9 @@
 ///
 /// Memory: at most `max_addresses` windows; one more address forgets the window that opened
 /// first (a spray of addresses cannot grow the table, and the address forgotten gets a fresh
-/// budget no larger than a new address's). Ended windows are forgotten too. Time is passed in
-/// (µs, on the admin port's clock). Not thread-safe: AdminHttp calls it on its strand.
+/// budget no larger than a new address's); a window that ended goes then, or at its address's
+/// next failure. Time is passed in (µs, on the admin port's clock). Not thread-safe: AdminHttp
+/// calls it on its strand.
 
 #include <cstddef>
 #include <cstdint>
