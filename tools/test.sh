@@ -7,8 +7,9 @@
 #      the libraries they reach compile once for both
 #   3. ThreadSanitizer (clang 16, -O1): the binaries whose code runs on several threads, the
 #      database's (password threads, worker), the network layer's (server_tests; not match_tests,
-#      the single-threaded match library) and the in-process integration tests (control, tick and
-#      database threads of one Server); only their targets are built
+#      the single-threaded match library: the live feed's hand-off between a match and its
+#      viewers' threads is tested in server_tests for that) and the in-process integration tests
+#      (control, tick and database threads of one Server); only their targets are built
 #      The Java client's tests run in the Release pass only (no sanitizer sees into the JVM).
 #   4. Release with double-precision physics (RICOCHET_DOUBLE=ON), physics tests only (and only
 #      their targets are built)

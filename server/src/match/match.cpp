@@ -355,6 +355,9 @@ void Match::end(wire::MatchEndReason reason) {
   finish(game, reason);
   m.snapshots.payload_count = 0;  // no snapshot goes with it
   send(m.snapshots, m.mailbox, m.counters);
+  // The ended phase's frame, at the last step's time (or the first step's, before any).
+  const proto::TimeUs at = m.live.last_tick_us != 0 ? m.live.last_tick_us : m.clock.next_step_at();
+  publish_live_frame(at, m.config, m.tick, m.roster, m.combat, m.rules, m.live);
 }
 
 // --- the tick ---

@@ -24,12 +24,14 @@ void LiveKills::note(const LiveKill& kill) {
 void publish_live_frame(proto::TimeUs now, const MatchConfig& config, std::uint32_t tick,
                         const Roster& roster, const Combat& combat, const RulesState& rules,
                         LiveTap& tap) {
+  tap.last_tick_us = now;
   if (!tap.feed || !tap.feed->watched()) {
     tap.kills = LiveKills{};
     tap.next_frame_us = now;  // the first viewer gets a frame at the next tick
     return;
   }
-  if (now < tap.next_frame_us) return;
+  if (tap.ended_shown || (now < tap.next_frame_us && !rules.ended())) return;
+  tap.ended_shown = rules.ended();
   tap.next_frame_us += tap.feed->interval_us();
   if (tap.next_frame_us <= now) tap.next_frame_us = now + tap.feed->interval_us();
 

@@ -25,6 +25,7 @@
 #include <unordered_set>
 #include <variant>
 
+#include "admin_signin_limiter.h"
 #include "ricochet/proto/address.h"
 
 namespace ricochet::server {
@@ -56,6 +57,10 @@ const char* name(AdminRejectReason reason) {
       return "forbidden";
     case AdminRejectReason::SlowReader:
       return "slow_reader";
+    case AdminRejectReason::SignInLimited:
+      return "sign_in_limited";
+    case AdminRejectReason::TooManyStreams:
+      return "too_many_streams";
   }
   return "unknown";
 }
@@ -90,7 +95,11 @@ struct AdminHttp::State {
         acceptor(strand),
         options(std::move(options_in)),
         metrics(metrics_in),
-        callbacks(std::move(callbacks_in)) {}
+        callbacks(std::move(callbacks_in)),
+        sign_ins(
+            options.max_signin_failures,
+            std::chrono::duration_cast<std::chrono::microseconds>(options.signin_window).count(),
+            options.max_signin_addresses) {}
 
   void reject(AdminRejectReason reason) {
     rejected[static_cast<int>(reason)].fetch_add(1, std::memory_order_relaxed);
@@ -104,7 +113,8 @@ struct AdminHttp::State {
   std::unordered_set<AdminConnection*> connections;  ///< open ones; on the strand only
   std::vector<AdminRoute> routes;                    ///< add_route(), before start()
   std::vector<AdminSession> sessions;                ///< on the strand only
-  bool stopped = false;                              ///< on the strand only
+  AdminSignInLimiter sign_ins;       ///< wrong tokens by address; on the strand only
+  bool stopped = false;              ///< on the strand only
   std::uint64_t waits = 0;           ///< waits for a request begun so far; on the strand only
   std::atomic<std::size_t> open{0};  ///< connections.size(), for any thread
   std::atomic<std::uint64_t> responses{0};
@@ -349,12 +359,44 @@ std::string open_session(State& state) {
   return id;
 }
 
+/// The 429 of a sign-in from an address out of wrong tokens for `wait_us` more, logged once
+/// per episode per address.
+Response sign_in_limited(State& state, const AdminConnection& connection, unsigned version,
+                         proto::TimeUs now, proto::TimeUs wait_us) {
+  state.reject(AdminRejectReason::SignInLimited);
+  const auto& options = state.options;
+  if (options.episodes) {
+    options.episodes->refuse(name(AdminRejectReason::SignInLimited), connection.host.to_string(),
+                             std::to_string(options.max_signin_failures) +
+                                 " wrong admin tokens at POST /signin within " +
+                                 std::to_string(options.signin_window.count()) + " s",
+                             now);
+  }
+  const std::string seconds =
+      std::to_string((wait_us + proto::kMicrosPerSecond - 1) / proto::kMicrosPerSecond);
+  Response response = text_response(
+      http::status::too_many_requests, version,
+      "<!doctype html><html lang=\"en\"><meta charset=\"utf-8\"><title>Ricochet: too many "
+      "tries</title><p>Too many wrong tokens from your address. Try again in " +
+          seconds + " s. <a href=\"/signin\">Sign in</a></p>\n",
+      "text/html; charset=utf-8");
+  response.set(http::field::retry_after, seconds);
+  return response;
+}
+
 /// POST /signin: the token in the form field "token" opens a session for this browser.
 Response sign_in(State& state, const AdminConnection& connection, const Request& request) {
   const unsigned version = request.version();
   if (state.options.bearer_token.empty()) return redirect(version, "/");
+  const proto::TimeUs now = state.options.clock();
+  // A limited address's token is not compared, the right one neither: an answer that told the
+  // right token apart would let a guesser go on guessing at full speed, reading the verdicts.
+  if (const proto::TimeUs wait_us = state.sign_ins.wait_us(connection.host, now); wait_us > 0) {
+    return sign_in_limited(state, connection, version, now, wait_us);
+  }
   const std::optional<std::string> token = form_field(request.body(), "token");
   if (!token || !same_secret(*token, state.options.bearer_token)) {
+    state.sign_ins.fail(connection.host, now);
     refuse_unauthorized(state, connection, "a sign-in");
     Response response = text_response(
         http::status::unauthorized, version,
@@ -653,6 +695,21 @@ asio::awaitable<void> stream_events(std::shared_ptr<State> state,
   }
 }
 
+/// Event streams open from `host`.
+int streams_from(const State& state, const proto::HostKey& host) {
+  return static_cast<int>(std::count_if(
+      state.connections.begin(), state.connections.end(),
+      [&host](const AdminConnection* c) { return c->stream && !c->evicted && c->host == host; }));
+}
+
+/// The 503 of a stream above max_streams_per_address.
+Response too_many_streams(State& state, unsigned version) {
+  state.reject(AdminRejectReason::TooManyStreams);
+  return text_response(http::status::service_unavailable, version,
+                       "at most " + std::to_string(state.options.max_streams_per_address) +
+                           " live pages from one address at once; close one\n");
+}
+
 /// Closes the connection's socket once options.clock reaches its deadline (the pending read or
 /// write then ends with an error). The deadline may move on while it waits.
 asio::awaitable<void> watch(std::shared_ptr<State> state,
@@ -740,11 +797,14 @@ asio::awaitable<void> serve(std::shared_ptr<State> state,
         routed = text_response(static_cast<http::status>(instead->status), request.version(),
                                std::move(instead->body), instead->content_type);
       }
-      if (auto* call = std::get_if<RouteCall>(&routed)) {
-        if (call->route->stream) {
+      if (auto* call = std::get_if<RouteCall>(&routed); call && call->route->stream) {
+        if (streams_from(*state, connection->host) < options.max_streams_per_address) {
           co_await stream_events(state, connection, std::move(*call));
           break;
         }
+        routed = too_many_streams(*state, request.version());
+      }
+      if (auto* call = std::get_if<RouteCall>(&routed)) {
         connection->deadline = deadline_from_now(*state);
         AdminReply reply = co_await await_reply(
             state, [&call](AdminAnswer answer) { call->route->handler(call->request, answer); });
@@ -794,7 +854,7 @@ bool make_room(State& state, const proto::HostKey& host) {
   for (const AdminConnection* connection : state.connections) {
     if (connection->evicted) continue;
     ++open;
-    from_host += connection->host == host ? 1 : 0;
+    from_host += connection->host == host && !connection->stream ? 1 : 0;
   }
   if (from_host >= state.options.max_connections_per_address) {
     state.reject(AdminRejectReason::TooManyFromAddress);

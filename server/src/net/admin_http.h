@@ -17,7 +17,9 @@
 /// reason in ricochet_admin_rejected_total{reason}.
 ///
 /// Exposed (issue 29): at most max_connections open, and max_connections_per_address from one
-/// address (proto::HostKey). A connection beyond either cap closes the one of them that has
+/// address (proto::HostKey) besides its event streams, of which it may hold
+/// max_streams_per_address (one more is answered 503). A connection beyond either cap closes
+/// the one of them that has
 /// waited longest for a request (an idle keep-alive, a slow sender), so whoever holds
 /// connections open without using them cannot keep a /healthz probe out; only when every one is
 /// busy writing a response is the newcomer closed. With a bearer token, /metrics answers 401
@@ -43,8 +45,11 @@
 /// token=<token> (compared in constant time) makes a session: 32 random bytes, known to the
 /// server only by their value in its table (at most max_sessions, the oldest replaced; each
 /// lasts session_lifetime on options.clock), sent back in an HttpOnly, SameSite=Strict cookie;
-/// POST /signout ends it. A page asked for without either is sent to /signin (303), anything
-/// else is 401; both are counted and logged once per episode per address, as /metrics' are.
+/// POST /signout ends it. An address that sent max_signin_failures wrong tokens within
+/// signin_window is answered 429 with Retry-After until its window ends, the right token too
+/// (counted as sign_in_limited, logged once per episode per address). A page asked for without
+/// either is sent to /signin (303), anything else is 401; both are counted and logged once per
+/// episode per address, as /metrics' are.
 /// The account actions take the bearer token only (no cookie: a form elsewhere cannot ban).
 ///
 /// Live data goes as server-sent events (text/event-stream) over the connection that asked for
@@ -85,7 +90,17 @@ struct AdminHttpOptions {
   std::size_t max_request_bytes = 8192;             ///< request line and headers; body likewise
   std::chrono::milliseconds request_timeout{5000};  ///< from the first byte awaited to the last
   int max_connections = 16;                         ///< open at once
-  int max_connections_per_address = 4;              ///< open at once from one proto::HostKey
+  /// Open at once from one proto::HostKey, its event streams not counted: a browser's pages,
+  /// files and JSON, or a script's requests.
+  int max_connections_per_address = 4;
+  /// Event streams open at once from one proto::HostKey, beside those. A browser holds at most 6
+  /// connections to a host, and each dashboard tab one stream (the overview's events or a live
+  /// match) for as long as it is open, never idle, so never closed to make room: counted among
+  /// the 4 above, two tabs' streams left two connections for the pages' requests and four tabs'
+  /// none (each further connection closed at once). Apart, 4 streams and 4 requests hold any
+  /// browser's 6 however its tabs split them; one more stream is refused (503) and whatever one
+  /// address opens holds at most 8 of max_connections, so it cannot keep another out.
+  int max_streams_per_address = 4;
   /// What /metrics requires in "Authorization: Bearer <token>"; empty: nothing.
   std::string bearer_token;
   /// Logs refused tokens once per episode; nullptr: they are only counted.
@@ -97,6 +112,11 @@ struct AdminHttpOptions {
   int max_sessions = 32;                           ///< browser sessions held at once
   std::chrono::minutes session_lifetime{12 * 60};  ///< from the sign-in
   std::size_t max_stream_queue = 16;               ///< messages a stream holds for a slow reader
+  /// Wrong tokens at POST /signin from one address per signin_window; beyond: 429 until the
+  /// window (opened by the address's first wrong token) ends (admin_signin_limiter.h).
+  int max_signin_failures = 10;
+  std::chrono::seconds signin_window{60};
+  std::size_t max_signin_addresses = 1024;  ///< addresses whose wrong tokens are remembered
   /// What the deadlines are measured on, in µs; tests pass fake time and call check_deadlines().
   std::function<proto::TimeUs()> clock = steady_now_us;
 };
@@ -113,11 +133,14 @@ enum class AdminRejectReason {
   Unauthorized,        ///< /metrics, /fleet or an account action without the token: 401
   Forbidden,           ///< an account action, no token configured, bound beyond loopback: 403
   SlowReader,          ///< an event stream's reader max_stream_queue messages behind: closed
+  SignInLimited,       ///< POST /signin from an address out of wrong tokens: 429
+  TooManyStreams,      ///< an event stream above max_streams_per_address: 503
 };
 inline constexpr std::size_t kAdminRejectReasonCount =
-    static_cast<std::size_t>(AdminRejectReason::SlowReader) + 1;
+    static_cast<std::size_t>(AdminRejectReason::TooManyStreams) + 1;
 /// "malformed", "oversized", "timeout", "not_found", "method_not_allowed", "too_many_connections",
-/// "too_many_from_address", "unauthorized", "forbidden", "slow_reader".
+/// "too_many_from_address", "unauthorized", "forbidden", "slow_reader", "sign_in_limited",
+/// "too_many_streams".
 const char* name(AdminRejectReason reason);
 
 /// What an operator asks of an account.

@@ -209,6 +209,11 @@ std::vector<std::string> ServerConfig::validate() const {
                        std::to_string(admin.max_connections) + "), got " +
                        std::to_string(admin.max_connections_per_address));
   }
+  if (admin.max_streams_per_address > admin.max_connections) {
+    problems.push_back("admin.max_streams_per_address must be 1..admin.max_connections (" +
+                       std::to_string(admin.max_connections) + "), got " +
+                       std::to_string(admin.max_streams_per_address));
+  }
   const int rate = snapshot_rate_hz();
   if (rate > 0 && game.bandwidth_kbps_per_client * 125 < kMinSnapshotBytes * rate) {
     const int least_kbps = (kMinSnapshotBytes * rate + 124) / 125;

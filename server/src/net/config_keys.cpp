@@ -693,10 +693,27 @@ const std::array kKeys = {
     Key{.section = "admin",
         .name = "max_connections_per_address",
         .flag = "--admin-max-connections-per-address",
-        .help = "admin HTTP connections open at once from one address (IPv4, or IPv6 /64)",
+        .help = "admin HTTP connections open at once from one address (IPv4, or IPv6 /64), "
+                "its event streams not counted",
         .integer = &integer_of<&S::admin, &AdminConfig::max_connections_per_address>,
         .min = 1,
         .max = 1024},
+    Key{.section = "admin",
+        .name = "max_streams_per_address",
+        .flag = "--admin-max-streams-per-address",
+        .help = "event streams (a dashboard tab each) open at once from one address, beside its "
+                "other connections; one more is answered 503",
+        .integer = &integer_of<&S::admin, &AdminConfig::max_streams_per_address>,
+        .min = 1,
+        .max = 1024},
+    Key{.section = "admin",
+        .name = "signin_failures_per_minute",
+        .flag = "--admin-signin-failures-per-minute",
+        .help = "wrong tokens the dashboard's sign-in takes from one address (IPv4, or IPv6 /64) "
+                "in a minute from its first; then 429 until that minute ends",
+        .integer = &integer_of<&S::admin, &AdminConfig::signin_failures_per_minute>,
+        .min = 1,
+        .max = 1000},
     // The dashboard's live spectator feed (issue 32).
     Key{.section = "dashboard",
         .name = "live_feed_hz",

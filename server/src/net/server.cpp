@@ -300,6 +300,8 @@ Server::Server(ServerConfig config) : config_(std::move(config)) {
   admin.port = static_cast<std::uint16_t>(config_.admin.port);
   admin.max_connections = config_.admin.max_connections;
   admin.max_connections_per_address = config_.admin.max_connections_per_address;
+  admin.max_streams_per_address = config_.admin.max_streams_per_address;
+  admin.max_signin_failures = config_.admin.signin_failures_per_minute;
   if (!config_.admin.token_file.empty()) {
     admin.bearer_token = read_admin_token(config_.admin.token_file);
   }

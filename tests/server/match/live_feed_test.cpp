@@ -229,6 +229,63 @@ TEST(LiveFeed, FramesComeAtTheFeedRateWithWhatTheMatchHolds) {
   EXPECT_TRUE(played.frames.back()->time_left_s);
 }
 
+/// Two players in the fight's match, with a time limit of `time_limit_s` of running (0: none).
+Match two_player_match(float time_limit_s) {
+  MatchConfig config = fight_config();
+  config.rules.time_limit_s = time_limit_s;
+  auto created = Match::create(config, arena(), kStart);
+  EXPECT_TRUE(std::holds_alternative<Match>(created));
+  Match match = std::get<Match>(std::move(created));
+  match.connect(1, "ann");
+  match.connect(2, "bob");
+  return match;
+}
+
+TEST(LiveFeed, AMatchReachingItsEndShowsTheEndedPhaseAtOnce) {
+  Match match = two_player_match(1.0f);
+  // A frame a second: the end (0.5 s of warm-up, 1 s of running) falls between two.
+  auto feed = std::make_shared<LiveFeed>(LiveFeedConfig{1, 8});
+  match.set_live_feed(feed);
+  std::optional<LiveFeed::Viewer> viewer = feed->watch();
+  TimeUs now = kStart;
+  for (int k = 0; k < 300 && !match.ended(); ++k) match.tick(now += kTickUs);
+  ASSERT_TRUE(match.ended());
+  const std::shared_ptr<const LiveFrame> frame = viewer->latest();
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->phase, MatchPhase::Ended);
+  EXPECT_EQ(frame->tick, match.tick_number());
+  EXPECT_EQ(frame->server_time_us, now);
+  EXPECT_FALSE(frame->time_left_s);
+  EXPECT_EQ(frame->players.size(), 2u);
+  // It is the last one.
+  for (int k = 0; k < 120; ++k) match.tick(now += kTickUs);
+  EXPECT_EQ(viewer->latest(), frame);
+}
+
+TEST(LiveFeed, AMatchStoppedByEndShowsTheEndedPhase) {
+  Match match = two_player_match(0);
+  auto feed = std::make_shared<LiveFeed>(LiveFeedConfig{});
+  match.set_live_feed(feed);
+  std::optional<LiveFeed::Viewer> viewer = feed->watch();
+  TimeUs now = kStart;
+  for (int k = 0; k < 61; ++k) match.tick(now += kTickUs);
+  const std::shared_ptr<const LiveFrame> running = viewer->latest();
+  ASSERT_TRUE(running);
+  ASSERT_EQ(running->phase, MatchPhase::Running);
+  match.tick(now += kTickUs);  // a tick with no frame due (one every third)
+  ASSERT_EQ(viewer->latest(), running);
+  match.end(wire::MATCH_END_REASON_SERVER_SHUTDOWN);
+  const std::shared_ptr<const LiveFrame> ended = viewer->latest();
+  ASSERT_NE(ended, running);
+  EXPECT_EQ(ended->phase, MatchPhase::Ended);
+  EXPECT_EQ(ended->tick, match.tick_number());
+  EXPECT_EQ(ended->server_time_us, now);  // the last step's time
+  EXPECT_EQ(ended->players.size(), 2u);
+  match.end(wire::MATCH_END_REASON_SERVER_SHUTDOWN);
+  match.tick(now += kTickUs * 10);
+  EXPECT_EQ(viewer->latest(), ended);
+}
+
 TEST(LiveFeed, NoFrameIsBuiltWhileNobodyWatches) {
   auto created = Match::create(fight_config(), arena(), kStart);
   ASSERT_TRUE(std::holds_alternative<Match>(created));

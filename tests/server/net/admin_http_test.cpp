@@ -26,7 +26,11 @@ using namespace std::chrono_literals;
 /// blocking reads retry past SO_RCVTIMEO).
 class Client {
  public:
-  explicit Client(std::uint16_t port) : socket_(io_) {
+  /// Connects from `from`, an address of the loopback net (127.0.0.0/8): another address than
+  /// 127.0.0.1 is another proto::HostKey to the server.
+  explicit Client(std::uint16_t port, const char* from = "127.0.0.1") : socket_(io_) {
+    socket_.open(tcp::v4());
+    socket_.bind({asio::ip::make_address(from), 0});
     socket_.connect({asio::ip::make_address("127.0.0.1"), port});
   }
   void send(const std::string& bytes) { asio::write(socket_, asio::buffer(bytes)); }
@@ -149,8 +153,8 @@ class AdminHttpTest : public ::testing::Test {
     now_ += by.count();
     server_->check_deadlines();
   }
-  std::string exchange(const std::string& request) {
-    Client client{port_};
+  std::string exchange(const std::string& request, const char* from = "127.0.0.1") {
+    Client client{port_, from};
     client.send(request);
     return client.read_to_end();
   }
@@ -644,6 +648,55 @@ TEST_F(AdminHttpTest, WithATokenABrowserSignsInForASessionThatExpires) {
   EXPECT_EQ(status_line(exchange(get_with("/api/overview", again))), "HTTP/1.1 401 Unauthorized");
 }
 
+TEST_F(AdminHttpTest, WrongTokensFromOneAddressAreLimitedWhileAnotherSignsIn) {
+  EpisodeLog episodes;
+  AdminHttpOptions options;
+  options.files = kFiles;
+  options.public_files = {"/signin.html"};
+  options.bearer_token = "s3cret token";
+  options.max_signin_failures = 3;
+  options.signin_window = std::chrono::seconds(60);
+  options.episodes = &episodes;
+  start(options);
+  constexpr const char* kGuesser = "127.0.0.2";
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(
+        status_line(exchange(post_form("/signin", "token=guess" + std::to_string(i)), kGuesser)),
+        "HTTP/1.1 401 Unauthorized");
+  }
+  // Its fourth guess in the minute is not looked at.
+  std::string response = exchange(post_form("/signin", "token=guess3"), kGuesser);
+  EXPECT_EQ(status_line(response), "HTTP/1.1 429 Too Many Requests");
+  EXPECT_EQ(header_of(response, "Retry-After"), "60");
+  EXPECT_EQ(header_of(response, "Content-Type"), "text/html; charset=utf-8");
+  EXPECT_NE(body_of(response).find("Too many wrong tokens from your address. Try again in 60 s."),
+            std::string::npos)
+      << response;
+  // The operator, at another address, signs in meanwhile.
+  response = exchange(post_form("/signin", "token=s3cret+token"));
+  EXPECT_EQ(status_line(response), "HTTP/1.1 303 See Other");
+  EXPECT_EQ(header_of(response, "Set-Cookie").substr(0, 17), "ricochet_session=");
+  // One episode of each refusal, both the guesser's: logged once each.
+  EXPECT_EQ(episodes.open_episodes(now_.load()), 2U);
+  // The right token from the guesser is refused too until its minute ends: had it been let in,
+  // the answers would tell a right guess from the wrong ones, and guessing would go on at full
+  // speed.
+  advance(std::chrono::milliseconds(59'500));
+  response = exchange(post_form("/signin", "token=s3cret+token"), kGuesser);
+  EXPECT_EQ(status_line(response), "HTTP/1.1 429 Too Many Requests");
+  EXPECT_EQ(header_of(response, "Retry-After"), "1");
+  EXPECT_EQ(header_of(response, "Set-Cookie"), "");
+  EXPECT_EQ(server_->rejected(AdminRejectReason::SignInLimited), 2U);
+  EXPECT_EQ(server_->rejected(AdminRejectReason::Unauthorized), 3U);
+  EXPECT_NE(body_of(exchange(get_with("/metrics", "Authorization: Bearer s3cret token\r\n")))
+                .find("ricochet_admin_rejected_total{reason=\"sign_in_limited\"} 2\n"),
+            std::string::npos);
+  // The minute is over: the limit lifts.
+  advance(std::chrono::milliseconds(500));
+  EXPECT_EQ(status_line(exchange(post_form("/signin", "token=s3cret+token"), kGuesser)),
+            "HTTP/1.1 303 See Other");
+}
+
 TEST_F(AdminHttpTest, AStreamSendsWhatItsProducerPushesAsServerSentEvents) {
   std::mutex mutex;
   std::shared_ptr<AdminEventStream> stream;
@@ -719,6 +772,81 @@ TEST_F(AdminHttpTest, BeforeStreamAnswersInsteadOfOpeningTheStreamOrLetsItOpen) 
   })) << received;
   EXPECT_EQ(header_of(received, "Content-Type"), "text/event-stream");
   EXPECT_EQ(opened.load(), 1);
+}
+
+/// A stream route whose streams stay open and quiet, as a dashboard tab's between events.
+AdminRoute quiet_stream(std::string path) {
+  AdminRoute route;
+  route.path = std::move(path);
+  route.stream = [](const AdminRequest&, std::shared_ptr<AdminEventStream>) {};
+  return route;
+}
+
+/// Asks for `target` on `client` and returns the status line of what comes back first (empty
+/// when the server closed the connection or said nothing within 2 s).
+std::string status_of(Client& client, const std::string& request) {
+  client.send(request);
+  std::string received;
+  eventually([&] {
+    received += client.read_available();
+    return received.find("\r\n\r\n") != std::string::npos;
+  });
+  return status_line(received);
+}
+
+std::string keep_alive_get(const std::string& target) {
+  return "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+}
+
+TEST_F(AdminHttpTest, ABrowsersFourTabsHoldTheirStreamsAndStillLoadPages) {
+  routes_ = {quiet_stream("/api/overview/events"), json_route("/api/overview", false, "overview")};
+  start();  // the defaults: 4 connections and 4 streams per address
+  // Four tabs, each with its stream open, as a browser holds them: each a connection of its own
+  // that never goes idle.
+  std::vector<std::unique_ptr<Client>> tabs;
+  for (int i = 0; i < 4; ++i) {
+    tabs.push_back(std::make_unique<Client>(port_));
+    EXPECT_EQ(status_of(*tabs.back(), get("/api/overview/events")), "HTTP/1.1 200 OK") << i;
+  }
+  // The browser's two other connections (6 a host) load pages and JSON meanwhile.
+  Client first{port_};
+  Client second{port_};
+  for (int i = 0; i < 3; ++i) {
+    first.send(keep_alive_get("/api/overview"));
+    EXPECT_EQ(status_line(first.read_response()), "HTTP/1.1 200 OK") << i;
+    second.send(keep_alive_get("/healthz"));
+    EXPECT_EQ(status_line(second.read_response()), "HTTP/1.1 200 OK") << i;
+  }
+  EXPECT_EQ(server_->rejected(AdminRejectReason::TooManyFromAddress), 0U);
+  // A fifth stream is refused; the tabs' streams stay.
+  Client fifth{port_};
+  fifth.send(get("/api/overview/events"));
+  const std::string refused = fifth.read_to_end();
+  EXPECT_EQ(status_line(refused), "HTTP/1.1 503 Service Unavailable");
+  EXPECT_EQ(body_of(refused), "at most 4 live pages from one address at once; close one\n");
+  EXPECT_EQ(server_->rejected(AdminRejectReason::TooManyStreams), 1U);
+  EXPECT_TRUE(eventually([&] { return server_->connections() == 6; }));
+}
+
+TEST_F(AdminHttpTest, OneAddressOpeningStreamsAndConnectionsCannotKeepAnotherOut) {
+  AdminHttpOptions options;
+  options.max_connections = 10;
+  routes_ = {quiet_stream("/api/overview/events")};
+  start(options);
+  constexpr const char* kGreedy = "127.0.0.2";
+  std::vector<std::unique_ptr<Client>> greedy;
+  int opened = 0;
+  for (int i = 0; i < 12; ++i) {
+    greedy.push_back(std::make_unique<Client>(port_, kGreedy));
+    opened += status_of(*greedy.back(), get("/api/overview/events")) == "HTTP/1.1 200 OK" ? 1 : 0;
+  }
+  EXPECT_EQ(opened, 4);
+  for (int i = 0; i < 12; ++i) greedy.push_back(std::make_unique<Client>(port_, kGreedy));
+  ASSERT_TRUE(eventually([&] { return server_->connections() <= 8; }));
+  // Another address gets in, its stream too.
+  EXPECT_EQ(status_line(exchange(get("/healthz"))), "HTTP/1.1 200 OK");
+  Client tab{port_};
+  EXPECT_EQ(status_of(tab, get("/api/overview/events")), "HTTP/1.1 200 OK");
 }
 
 TEST(AdminEventStream, AReaderThatFallsMaxQueueBehindIsDropped) {
