@@ -15,8 +15,7 @@ let browser;
 let bots;
 before(async () => {
   [server, browser] = await Promise.all([
-    startServer({ matches: 2, toml: { matches: 'warmup_s = 0\n', dashboard: 'live_feed_max_viewers = 2\n',
-                                      admin: 'max_connections_per_address = 16\n' } }),
+    startServer({ matches: 2, toml: { matches: 'warmup_s = 0\n', dashboard: 'live_feed_max_viewers = 2\n' } }),
     launch()]);
   bots = startBots(server, { count: 4, match: 2, seconds: 40, skill: 1 });
 });

@@ -89,17 +89,19 @@ struct AdminHttpOptions {
   std::uint16_t port = 9100;                        ///< 0: any free port (see local_endpoint())
   std::size_t max_request_bytes = 8192;             ///< request line and headers; body likewise
   std::chrono::milliseconds request_timeout{5000};  ///< from the first byte awaited to the last
-  int max_connections = 16;                         ///< open at once
+  int max_connections = 32;                         ///< open at once
   /// Open at once from one proto::HostKey, its event streams not counted: a browser's pages,
-  /// files and JSON, or a script's requests.
-  int max_connections_per_address = 4;
-  /// Event streams open at once from one proto::HostKey, beside those. A browser holds at most 6
-  /// connections to a host, and each dashboard tab one stream (the overview's events or a live
-  /// match) for as long as it is open, never idle, so never closed to make room: counted among
-  /// the 4 above, two tabs' streams left two connections for the pages' requests and four tabs'
-  /// none (each further connection closed at once). Apart, 4 streams and 4 requests hold any
-  /// browser's 6 however its tabs split them; one more stream is refused (503) and whatever one
-  /// address opens holds at most 8 of max_connections, so it cannot keep another out.
+  /// files and JSON, or a script's requests. A browser opens up to 6 connections to a host when
+  /// a page fetches in parallel (the Recordings page reads frames ahead): at 4, its fifth closed
+  /// an idle keep-alive one the browser was about to reuse, and that request failed. 8 holds a
+  /// browser's 6 and a script's 2.
+  int max_connections_per_address = 8;
+  /// Event streams open at once from one proto::HostKey, beside those. Each dashboard tab holds
+  /// one stream (the overview's events or a live match) for as long as it is open, never idle, so
+  /// never closed to make room: counted among the connections above, a few tabs' streams left the
+  /// pages' requests none (each further connection closed at once). One more stream is refused
+  /// (503), and whatever one address opens holds at most 12 of max_connections, so it cannot keep
+  /// another out.
   int max_streams_per_address = 4;
   /// What /metrics requires in "Authorization: Bearer <token>"; empty: nothing.
   std::string bearer_token;

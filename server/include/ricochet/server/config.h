@@ -146,8 +146,8 @@ struct AdminConfig {
   std::string bind = "127.0.0.1";       ///< IP address literal; keep it private
   int port = 9100;                      ///< 0: any free port
   std::string token_file;               ///< bearer token /metrics requires; empty: none
-  int max_connections = 16;             ///< open at once
-  int max_connections_per_address = 4;  ///< its event streams not counted
+  int max_connections = 32;             ///< open at once
+  int max_connections_per_address = 8;  ///< its event streams not counted
   int max_streams_per_address = 4;      ///< event streams (dashboard tabs) from one address
   int signin_failures_per_minute = 10;  ///< wrong tokens at POST /signin per address, 1..1000
 };
