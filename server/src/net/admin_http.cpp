@@ -667,6 +667,19 @@ asio::awaitable<void> stream_events(std::shared_ptr<State> state,
   std::tie(error, written) =
       co_await asio::async_write(connection->socket, asio::buffer(bytes), token);
   state->responses.fetch_add(1, std::memory_order_release);
+  // A browser sends nothing more on a stream, so a read that completes means the tab closed (end
+  // of file) or a client broke the protocol: either way the stream ends now rather than at its
+  // next failed write, which for the overview is a second away and leaves the address's stream
+  // counted, so a reloaded tab at max_streams_per_address would get a 503 it never retries.
+  asio::co_spawn(
+      state->strand,
+      [connection, stream]() -> asio::awaitable<void> {
+        std::array<char, 64> ignored{};
+        co_await connection->socket.async_read_some(asio::buffer(ignored),
+                                                    asio::as_tuple(asio::use_awaitable));
+        stream->close();  // wakes the writer below
+      },
+      asio::detached);
   if (!error && !state->stopped) call.route->stream(call.request, stream);
   while (!error && !state->stopped) {
     std::deque<std::string> events = stream->take();

@@ -827,6 +827,13 @@ TEST_F(AdminHttpTest, ABrowsersFourTabsHoldTheirStreamsAndStillLoadPages) {
   EXPECT_EQ(body_of(refused), "at most 4 live pages from one address at once; close one\n");
   EXPECT_EQ(server_->rejected(AdminRejectReason::TooManyStreams), 1U);
   EXPECT_TRUE(eventually([&] { return server_->connections() == 6; }));
+  // A tab closed (reloaded) frees its stream at once, with no event written to find it gone: the
+  // reloaded tab's new stream opens.
+  tabs.front().reset();
+  EXPECT_TRUE(eventually([&] { return server_->connections() == 5; }));
+  Client reloaded{port_};
+  EXPECT_EQ(status_of(reloaded, get("/api/overview/events")), "HTTP/1.1 200 OK");
+  EXPECT_EQ(server_->rejected(AdminRejectReason::TooManyStreams), 1U);
 }
 
 TEST_F(AdminHttpTest, OneAddressOpeningStreamsAndConnectionsCannotKeepAnotherOut) {
