@@ -32,14 +32,12 @@ std::variant<std::vector<std::uint8_t>, std::string> read_whole(const std::files
 
 std::optional<std::uint32_t> query_tick(std::string_view query, std::string_view key) {
   std::optional<std::uint32_t> found;
-  bool seen = false;
   while (!query.empty()) {
     const auto amp = query.find('&');
     const std::string_view pair = query.substr(0, amp);
     query = amp == std::string_view::npos ? std::string_view{} : query.substr(amp + 1);
     if (!pair.starts_with(key) || pair.size() <= key.size() || pair[key.size()] != '=') continue;
-    if (seen) return std::nullopt;
-    seen = true;
+    if (found) return std::nullopt;  // the key twice: which one was meant is unknown
     const std::string_view text = pair.substr(key.size() + 1);
     std::uint32_t value = 0;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
